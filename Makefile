@@ -1,0 +1,128 @@
+# tanksim — build, run and test. The two commands a user needs are `make run`
+# and `make test`; both install missing Debian packages first (`make deps`).
+#
+# Layers (enforced by tests/check_layers.sh):
+#   sim/     libtanksim.a — the simulation library (libc, libm, SUNDIALS, LAPACKE, FFTW)
+#   render/  offscreen OpenGL (OSMesa) + PNG; reads sim geometry, no HTTP/JSON
+#   api/     JSON <-> model (jansson), problem documents, the embedded default store
+#   cli/     build/tanksim, the command-line runner
+#   server/  build/tanksimd, the HTTP daemon (libmicrohttpd)
+
+SHELL := /bin/bash
+BUILD ?= build
+CC ?= cc
+OPT ?= -O2
+SAN ?=
+CFLAGS := -std=c11 -Wall -Wextra -Werror $(OPT) -g -D_POSIX_C_SOURCE=200809L -MMD -MP $(SAN)
+LDFLAGS := $(SAN)
+
+# Debian packages the build, the tests and `make run` need.
+DEB_PACKAGES := build-essential pkg-config libmicrohttpd-dev libjansson-dev libosmesa6-dev \
+  libsundials-dev libpng-dev zlib1g-dev liblapacke-dev liblapack-dev libblas-dev libfftw3-dev \
+  libsqlite3-dev libcmocka-dev python3 python3-pytest python3-requests curl
+
+LIBS_SIM := -lsundials_cvode -lsundials_kinsol -lsundials_nvecserial \
+  -lsundials_sunlinsoldense -lsundials_sunmatrixdense -llapacke -llapack -lblas -lfftw3 -lm
+LIBS_API := -ljansson
+LIBS_RENDER := -lOSMesa -lpng -lz
+LIBS_SERVER := -lmicrohttpd -lsqlite3 -lpthread
+LIBS_ALL := $(LIBS_SERVER) $(LIBS_API) $(LIBS_RENDER) $(LIBS_SIM)
+
+SIM_SRC := $(sort $(wildcard sim/*.c))
+RENDER_SRC := $(sort $(wildcard render/*.c))
+API_SRC := $(sort $(wildcard api/*.c))
+CLI_SRC := $(sort $(wildcard cli/*.c))
+SERVER_SRC := $(sort $(wildcard server/*.c))
+TEST_SRC := $(sort $(wildcard tests/*/test_*.c))
+BENCH_SRC := $(sort $(wildcard tests/bench/bench_*.c))
+STORE_FILES := $(sort $(shell find sim/data -type f 2>/dev/null)) $(wildcard api/openapi.yaml)
+
+obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
+SIM_OBJ := $(call obj,$(SIM_SRC))
+RENDER_OBJ := $(call obj,$(RENDER_SRC))
+API_OBJ := $(call obj,$(API_SRC)) $(BUILD)/obj/gen/embedded_store.o
+CLI_OBJ := $(call obj,$(CLI_SRC))
+SERVER_OBJ := $(call obj,$(SERVER_SRC))
+TEST_BIN := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
+BENCH_BIN := $(patsubst tests/bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
+
+LIB_SIM := $(BUILD)/libtanksim.a
+LIB_RENDER := $(BUILD)/libtanksim_render.a
+LIB_API := $(BUILD)/libtanksim_api.a
+LIBS_OWN := $(LIB_API) $(LIB_RENDER) $(LIB_SIM)
+
+.PHONY: all deps run test asan bench format lint check-layers clean
+.DEFAULT_GOAL := all
+
+all: $(BUILD)/tanksimd $(BUILD)/tanksim $(LIB_SIM) | deps
+
+deps:
+	@./deploy/install-deps.sh $(DEB_PACKAGES)
+
+$(BUILD)/obj/%.o: %.c | deps
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/gen/embedded_store.c: $(STORE_FILES) api/embed.sh
+	@mkdir -p $(dir $@)
+	./api/embed.sh $@ $(STORE_FILES)
+
+$(BUILD)/obj/gen/embedded_store.o: $(BUILD)/gen/embedded_store.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -Iapi -c $< -o $@
+
+$(LIB_SIM): $(SIM_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+$(LIB_RENDER): $(RENDER_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+$(LIB_API): $(API_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/tanksimd: $(SERVER_OBJ) $(LIBS_OWN)
+	$(CC) $(LDFLAGS) -o $@ $(SERVER_OBJ) $(LIBS_OWN) $(LIBS_ALL)
+$(BUILD)/tanksim: $(CLI_OBJ) $(LIBS_OWN)
+	$(CC) $(LDFLAGS) -o $@ $(CLI_OBJ) $(LIBS_OWN) $(LIBS_ALL)
+
+# Each tests/MODULE/test_NAME.c is one cmocka program linked with every layer.
+$(BUILD)/tests/%: tests/%.c $(LIBS_OWN) tests/test_util.h | deps
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -I. -Itests -o $@ $< $(LIBS_OWN) $(LIBS_ALL) -lcmocka
+
+$(BUILD)/bench/%: tests/bench/%.c $(LIBS_OWN) | deps
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -I. -Itests -o $@ $< $(LIBS_OWN) $(LIBS_ALL)
+
+# `make run`: the daemon in the foreground on 127.0.0.1:8080, data under ./var.
+run: all
+	./$(BUILD)/tanksimd --bind 127.0.0.1 --port 8080 --data-dir ./var
+
+# `make test [T=module]`: every suite (C unit tests per module, layer check,
+# end-to-end tests against a real daemon); ends with "N passed, N failed".
+test: all $(TEST_BIN)
+	@./tests/run_all.sh $(BUILD) "$(T)"
+
+asan:
+	$(MAKE) BUILD=build-asan OPT=-O1 \
+	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" test
+
+bench: all $(BENCH_BIN)
+	@set -e; for b in $(BENCH_BIN); do echo "== $$b"; $$b; done; \
+	  [ -n "$(BENCH_BIN)" ] || echo "no benchmarks yet"
+
+check-layers:
+	@./tests/check_layers.sh
+
+C_FILES = $(shell git ls-files '*.c' '*.h' 2>/dev/null || find sim api cli server render tests -name '*.[ch]')
+format: | deps
+	clang-format -i $(C_FILES)
+lint: | deps
+	cppcheck --quiet --error-exitcode=1 --std=c11 --enable=warning,portability,performance \
+	  --suppress=missingIncludeSystem --inline-suppr -D__GNUC__ sim api cli server render
+
+clean:
+	rm -rf build build-asan
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

@@ -1,0 +1,490 @@
+/*
+ * config_json.c — resolving and reading JSON run configs (config_json.h).
+ */
+#include "config_json.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "store.h"
+
+#define PRESET_DIR "sim/data/presets/"
+#define DEFAULTS_DIR "sim/data/defaults/"
+#define MAX_PRESET_DEPTH 8
+
+json_t *tsa_store_json(const char *path, ts_err *err)
+{
+    const tsa_file *f = tsa_store_find(path);
+    if (!f) {
+        ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no file '%s' in the store", path);
+        return NULL;
+    }
+    json_error_t je;
+    json_t *j = json_loadb((const char *)f->data, f->size, 0, &je);
+    if (!j) ts_err_set(err, TS_ERR_INTERNAL, NULL, "%s:%d: %s", path, je.line, je.text);
+    return j;
+}
+
+/* Remove comment keys ("_...") recursively. */
+static void strip_comments(json_t *j)
+{
+    if (!json_is_object(j)) return;
+    const char *key;
+    json_t *val;
+    void *tmp;
+    json_object_foreach_safe(j, tmp, key, val)
+    {
+        if (key[0] == '_') json_object_del(j, key);
+        else strip_comments(val);
+    }
+}
+
+/* dst <- src, objects merged key by key, everything else replaced. */
+static void deep_merge(json_t *dst, const json_t *src)
+{
+    const char *key;
+    json_t *val;
+    json_object_foreach((json_t *)src, key, val)
+    {
+        if (key[0] == '_') continue;
+        json_t *cur = json_object_get(dst, key);
+        if (json_is_object(cur) && json_is_object(val)) deep_merge(cur, val);
+        else json_object_set_new(dst, key, json_deep_copy(val));
+    }
+}
+
+json_t *tsa_config_defaults(ts_err *err)
+{
+    json_t *root = json_object();
+    if (!root) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return NULL;
+    }
+    for (int s = 0; s < ts_param_nsections(); s++) {
+        const ts_param_section *sec = ts_param_section_at(s);
+        char path[256];
+        snprintf(path, sizeof path, DEFAULTS_DIR "%s.json", sec->name);
+        json_t *j = tsa_store_json(path, err);
+        if (!j) {
+            json_decref(root);
+            return NULL;
+        }
+        strip_comments(j);
+        json_object_set_new(root, sec->name, j);
+    }
+    return root;
+}
+
+json_t *tsa_preset_get(const char *name, ts_err *err)
+{
+    char path[256];
+    for (const char *c = name; *c; c++)
+        if (!(*c == '-' || *c == '_' || (*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9'))) {
+            ts_err_set(err, TS_ERR_NOTFOUND, "/preset", "/preset: no preset named '%s'", name);
+            return NULL;
+        }
+    snprintf(path, sizeof path, PRESET_DIR "%s.json", name);
+    if (!tsa_store_find(path)) {
+        ts_err_set(err, TS_ERR_NOTFOUND, "/preset", "/preset: no preset named '%s'", name);
+        return NULL;
+    }
+    return tsa_store_json(path, err);
+}
+
+/* Merge a document (and, first, the preset chain it names) into merged. */
+static ts_rc merge_document(json_t *merged, const json_t *doc, int depth, ts_err *err)
+{
+    json_t *preset = json_object_get(doc, "preset");
+    if (preset) {
+        if (!json_is_string(preset))
+            return ts_err_set(err, TS_ERR_PARAM, "/preset", "/preset: string expected, got %s",
+                              json_is_null(preset) ? "null" : "another type");
+        if (depth >= MAX_PRESET_DEPTH)
+            return ts_err_set(err, TS_ERR_PARAM, "/preset", "/preset: presets nest too deep");
+        json_t *p = tsa_preset_get(json_string_value(preset), err);
+        if (!p) return err ? err->code : TS_ERR_NOTFOUND;
+        ts_rc rc = merge_document(merged, p, depth + 1, err);
+        json_decref(p);
+        if (rc != TS_OK) return rc;
+    }
+    const char *key;
+    json_t *val;
+    json_object_foreach((json_t *)doc, key, val)
+    {
+        if (strcmp(key, "preset") == 0 || strcmp(key, "description") == 0) continue;
+        if (key[0] == '_') continue;
+        json_t *cur = json_object_get(merged, key);
+        if (json_is_object(cur) && json_is_object(val)) deep_merge(cur, val);
+        else json_object_set_new(merged, key, json_deep_copy(val));
+    }
+    return TS_OK;
+}
+
+json_t *tsa_config_resolve(const json_t *doc, ts_err *err)
+{
+    if (doc && !json_is_object(doc)) {
+        ts_err_set(err, TS_ERR_PARAM, "", "the config must be a JSON object");
+        return NULL;
+    }
+    json_t *merged = tsa_config_defaults(err);
+    if (!merged) return NULL;
+    if (doc && merge_document(merged, doc, 0, err) != TS_OK) {
+        json_decref(merged);
+        return NULL;
+    }
+    return merged;
+}
+
+/* Append {pointer, message} to errors and keep the first in err. */
+static void add_error(json_t *errors, ts_err *first, int *count, ts_rc code, const char *pointer,
+                      const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+static void add_error(json_t *errors, ts_err *first, int *count, ts_rc code, const char *pointer,
+                      const char *fmt, ...)
+{
+    char msg[TS_ERR_MSG_LEN];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (*count == 0) ts_err_set(first, code, pointer, "%s", msg);
+    if (errors) json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", pointer, "message", msg));
+    (*count)++;
+}
+
+static const char *json_type_word(const json_t *j)
+{
+    switch (json_typeof(j)) {
+    case JSON_OBJECT: return "object";
+    case JSON_ARRAY: return "array";
+    case JSON_STRING: return "string";
+    case JSON_INTEGER: return "integer";
+    case JSON_REAL: return "number";
+    case JSON_TRUE:
+    case JSON_FALSE: return "boolean";
+    default: return "null";
+    }
+}
+
+/* Read one field; returns 0 on success or after recording an error. */
+static void read_field(const ts_param *p, const json_t *v, char *base, json_t *errors,
+                       ts_err *first, int *count)
+{
+    char *at = base + p->offset;
+    ts_err e;
+    ts_err_clear(&e);
+    switch (p->type) {
+    case TS_PT_DOUBLE:
+    case TS_PT_INT: {
+        if (!json_is_number(v)) {
+            add_error(errors, first, count, TS_ERR_PARAM, p->pointer, "%s: %s expected, got %s",
+                      p->pointer, p->type == TS_PT_INT ? "integer" : "number", json_type_word(v));
+            return;
+        }
+        double x = json_number_value(v);
+        if (p->type == TS_PT_INT && x != floor(x)) {
+            add_error(errors, first, count, TS_ERR_PARAM, p->pointer,
+                      "%s: integer expected, got %g", p->pointer, x);
+            return;
+        }
+        if (ts_param_check_number(p, x, &e) != TS_OK) {
+            add_error(errors, first, count, e.code, p->pointer, "%s", e.msg);
+            return;
+        }
+        if (p->type == TS_PT_INT) *(int *)at = (int)x;
+        else *(double *)at = x;
+        return;
+    }
+    case TS_PT_BOOL:
+        if (!json_is_boolean(v)) {
+            add_error(errors, first, count, TS_ERR_PARAM, p->pointer, "%s: boolean expected, got %s",
+                      p->pointer, json_type_word(v));
+            return;
+        }
+        *(int *)at = json_is_true(v);
+        return;
+    case TS_PT_ENUM: {
+        int idx = json_is_string(v) ? ts_param_enum_index(p, json_string_value(v)) : -1;
+        if (idx < 0) {
+            char names[256] = "";
+            for (int i = 0; p->enum_names[i]; i++) {
+                strncat(names, i ? ", " : "", sizeof names - strlen(names) - 1);
+                strncat(names, p->enum_names[i], sizeof names - strlen(names) - 1);
+            }
+            if (json_is_string(v))
+                add_error(errors, first, count, TS_ERR_RANGE, p->pointer,
+                          "%s: one of [%s], got '%s'", p->pointer, names, json_string_value(v));
+            else
+                add_error(errors, first, count, TS_ERR_PARAM, p->pointer,
+                          "%s: one of [%s], got %s", p->pointer, names, json_type_word(v));
+            return;
+        }
+        *(int *)at = idx;
+        return;
+    }
+    case TS_PT_STRING: {
+        if (!json_is_string(v)) {
+            add_error(errors, first, count, TS_ERR_PARAM, p->pointer, "%s: string expected, got %s",
+                      p->pointer, json_type_word(v));
+            return;
+        }
+        size_t n = json_string_length(v);
+        if (n + 1 > (size_t)p->capacity) {
+            add_error(errors, first, count, TS_ERR_RANGE, p->pointer,
+                      "%s: at most %d characters, got %zu", p->pointer, p->capacity - 1, n);
+            return;
+        }
+        memcpy(at, json_string_value(v), n + 1);
+        return;
+    }
+    case TS_PT_DARRAY: {
+        if (!json_is_array(v)) {
+            add_error(errors, first, count, TS_ERR_PARAM, p->pointer,
+                      "%s: array of numbers expected, got %s", p->pointer, json_type_word(v));
+            return;
+        }
+        size_t n = json_array_size(v);
+        if (n > (size_t)p->capacity) {
+            add_error(errors, first, count, TS_ERR_RANGE, p->pointer,
+                      "%s: at most %d values, got %zu", p->pointer, p->capacity, n);
+            return;
+        }
+        for (size_t k = 0; k < n; k++) {
+            json_t *el = json_array_get(v, k);
+            char ptr[TS_ERR_POINTER_LEN];
+            snprintf(ptr, sizeof ptr, "%s/%zu", p->pointer, k);
+            if (!json_is_number(el)) {
+                add_error(errors, first, count, TS_ERR_PARAM, ptr, "%s: number expected, got %s",
+                          ptr, json_type_word(el));
+                return;
+            }
+            double x = json_number_value(el);
+            if (ts_param_check_number(p, x, &e) != TS_OK) {
+                add_error(errors, first, count, TS_ERR_RANGE, ptr,
+                          "%s: number in [%g, %g] %s, got %g", ptr, p->min, p->max, p->unit, x);
+                return;
+            }
+            ((double *)at)[k] = x;
+        }
+        *(int *)(base + p->count_offset) = (int)n;
+        return;
+    }
+    default: add_error(errors, first, count, TS_ERR_INTERNAL, p->pointer, "bad param type");
+    }
+}
+
+ts_rc tsa_config_read(const json_t *resolved, ts_config *cfg, json_t *errors, ts_err *err)
+{
+    ts_err_clear(err);
+    int count = 0;
+    memset(cfg, 0, sizeof *cfg);
+    char *base = (char *)cfg;
+    if (!json_is_object(resolved)) {
+        add_error(errors, err, &count, TS_ERR_PARAM, "", "the config must be a JSON object");
+        return TS_ERR_PARAM;
+    }
+    /* Unknown sections and fields first, so a typo is named as such. */
+    const char *skey;
+    json_t *sval;
+    json_object_foreach((json_t *)resolved, skey, sval)
+    {
+        if (skey[0] == '_') continue;
+        const ts_param_section *sec = NULL;
+        for (int s = 0; s < ts_param_nsections(); s++)
+            if (strcmp(ts_param_section_at(s)->name, skey) == 0) sec = ts_param_section_at(s);
+        char ptr[TS_ERR_POINTER_LEN];
+        snprintf(ptr, sizeof ptr, "/%s", skey);
+        if (!sec) {
+            add_error(errors, err, &count, TS_ERR_PARAM, ptr, "%s: unknown section", ptr);
+            continue;
+        }
+        if (!json_is_object(sval)) {
+            add_error(errors, err, &count, TS_ERR_PARAM, ptr, "%s: object expected, got %s", ptr,
+                      json_type_word(sval));
+            continue;
+        }
+        const char *fkey;
+        json_t *fval;
+        json_object_foreach(sval, fkey, fval)
+        {
+            if (fkey[0] == '_') continue;
+            char fptr[TS_ERR_POINTER_LEN];
+            snprintf(fptr, sizeof fptr, "/%s/%s", skey, fkey);
+            if (!ts_param_find(fptr))
+                add_error(errors, err, &count, TS_ERR_PARAM, fptr, "%s: unknown field", fptr);
+        }
+    }
+    for (int s = 0; s < ts_param_nsections(); s++) {
+        const ts_param_section *sec = ts_param_section_at(s);
+        json_t *sobj = json_object_get(resolved, sec->name);
+        for (int i = 0; i < sec->nparams; i++) {
+            const ts_param *p = &sec->params[i];
+            const char *field = strrchr(p->pointer, '/') + 1;
+            json_t *v = json_is_object(sobj) ? json_object_get(sobj, field) : NULL;
+            if (!v) {
+                add_error(errors, err, &count, TS_ERR_PARAM, p->pointer,
+                          "%s: missing (no default in the data files either)", p->pointer);
+                continue;
+            }
+            read_field(p, v, base, errors, err, &count);
+        }
+    }
+    return count ? err && err->code ? err->code : TS_ERR_PARAM : TS_OK;
+}
+
+ts_rc tsa_config_load(const json_t *doc, ts_config *cfg, json_t **resolved_out, json_t *errors,
+                      ts_err *err)
+{
+    ts_err_clear(err);
+    json_t *resolved = tsa_config_resolve(doc, err);
+    if (!resolved) {
+        if (errors && err)
+            json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", err->pointer,
+                                                    "message", err->msg));
+        return err ? err->code : TS_ERR_PARAM;
+    }
+    ts_rc rc = tsa_config_read(resolved, cfg, errors, err);
+    if (rc == TS_OK && resolved_out) *resolved_out = resolved;
+    else json_decref(resolved);
+    return rc;
+}
+
+ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out,
+                           json_t *errors, ts_err *err)
+{
+    json_error_t je;
+    json_t *doc = json_load_file(path, 0, &je);
+    if (!doc) {
+        if (je.line < 0 || strstr(je.text, "unable to open"))
+            return ts_err_set(err, TS_ERR_IO, NULL, "%s: %s", path, je.text);
+        return ts_err_set(err, TS_ERR_PARAM, "", "%s:%d:%d: %s", path, je.line, je.column,
+                          je.text);
+    }
+    ts_rc rc = tsa_config_load(doc, cfg, resolved_out, errors, err);
+    json_decref(doc);
+    return rc;
+}
+
+static json_t *field_to_json(const ts_param *p, const char *base)
+{
+    const char *at = base + p->offset;
+    switch (p->type) {
+    case TS_PT_DOUBLE: return json_real(*(const double *)at);
+    case TS_PT_INT: return json_integer(*(const int *)at);
+    case TS_PT_BOOL: return json_boolean(*(const int *)at);
+    case TS_PT_ENUM: return json_string(p->enum_names[*(const int *)at]);
+    case TS_PT_STRING: return json_string(at);
+    case TS_PT_DARRAY: {
+        json_t *a = json_array();
+        int n = *(const int *)(base + p->count_offset);
+        for (int k = 0; k < n; k++) json_array_append_new(a, json_real(((const double *)at)[k]));
+        return a;
+    }
+    default: return json_null();
+    }
+}
+
+json_t *tsa_config_to_json(const ts_config *cfg)
+{
+    json_t *root = json_object();
+    const char *base = (const char *)cfg;
+    for (int s = 0; s < ts_param_nsections(); s++) {
+        const ts_param_section *sec = ts_param_section_at(s);
+        json_t *o = json_object();
+        for (int i = 0; i < sec->nparams; i++) {
+            const ts_param *p = &sec->params[i];
+            json_object_set_new(o, strrchr(p->pointer, '/') + 1, field_to_json(p, base));
+        }
+        json_object_set_new(root, sec->name, o);
+    }
+    return root;
+}
+
+json_t *tsa_config_schema(void)
+{
+    ts_err e;
+    json_t *defaults = tsa_config_defaults(&e);
+    json_t *props = json_object();
+    json_object_set_new(props, "preset",
+                        json_pack("{s:s,s:s}", "type", "string", "description",
+                                  "name of a shipped preset to start from (GET /v1/presets)"));
+    json_object_set_new(props, "description",
+                        json_pack("{s:s,s:s}", "type", "string", "description", "free text"));
+    for (int s = 0; s < ts_param_nsections(); s++) {
+        const ts_param_section *sec = ts_param_section_at(s);
+        json_t *sprops = json_object();
+        json_t *sdef = json_object_get(defaults, sec->name);
+        for (int i = 0; i < sec->nparams; i++) {
+            const ts_param *p = &sec->params[i];
+            const char *field = strrchr(p->pointer, '/') + 1;
+            json_t *f = json_pack("{s:s,s:s}", "type", ts_param_type_name(p->type), "description",
+                                  p->description);
+            if (p->unit && p->unit[0]) json_object_set_new(f, "x-unit", json_string(p->unit));
+            switch (p->type) {
+            case TS_PT_DOUBLE:
+            case TS_PT_INT:
+                json_object_set_new(f, "minimum", json_real(p->min));
+                json_object_set_new(f, "maximum", json_real(p->max));
+                break;
+            case TS_PT_ENUM: {
+                json_t *en = json_array();
+                for (int k = 0; p->enum_names[k]; k++)
+                    json_array_append_new(en, json_string(p->enum_names[k]));
+                json_object_set_new(f, "enum", en);
+                break;
+            }
+            case TS_PT_STRING:
+                json_object_set_new(f, "maxLength", json_integer(p->capacity - 1));
+                break;
+            case TS_PT_DARRAY:
+                json_object_set_new(f, "maxItems", json_integer(p->capacity));
+                json_object_set_new(f, "items",
+                                    json_pack("{s:s,s:f,s:f}", "type", "number", "minimum",
+                                              p->min, "maximum", p->max));
+                break;
+            default: break;
+            }
+            json_t *dv = json_object_get(sdef, field);
+            if (dv) json_object_set(f, "default", dv);
+            json_object_set_new(sprops, field, f);
+        }
+        json_object_set_new(props, sec->name,
+                            json_pack("{s:s,s:s,s:o,s:b}", "type", "object", "description",
+                                      sec->description, "properties", sprops,
+                                      "additionalProperties", 0));
+    }
+    json_decref(defaults);
+    return json_pack("{s:s,s:s,s:s,s:o,s:b}", "$schema",
+                     "https://json-schema.org/draft/2020-12/schema", "title", "tanksim run config",
+                     "type", "object", "properties", props, "additionalProperties", 0);
+}
+
+static int cmp_name(const void *a, const void *b)
+{
+    return strcmp(json_string_value(json_object_get(*(json_t *const *)a, "name")),
+                  json_string_value(json_object_get(*(json_t *const *)b, "name")));
+}
+
+json_t *tsa_preset_list(void)
+{
+    json_t *items[256];
+    int n = 0;
+    const tsa_file *f;
+    for (int i = 0; n < 256 && (f = tsa_store_nth(PRESET_DIR, ".json", i)); i++) {
+        const char *base = f->path + strlen(PRESET_DIR);
+        char name[128];
+        snprintf(name, sizeof name, "%.*s", (int)(strlen(base) - 5), base);
+        json_error_t je;
+        json_t *doc = json_loadb((const char *)f->data, f->size, 0, &je);
+        json_t *desc = doc ? json_object_get(doc, "description") : NULL;
+        items[n++] = json_pack("{s:s,s:s}", "name", name, "description",
+                               json_is_string(desc) ? json_string_value(desc) : "");
+        json_decref(doc);
+    }
+    qsort(items, (size_t)n, sizeof items[0], cmp_name);
+    json_t *arr = json_array();
+    for (int i = 0; i < n; i++) json_array_append_new(arr, items[i]);
+    return arr;
+}

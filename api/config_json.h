@@ -1,0 +1,60 @@
+/*
+ * config_json.h — JSON run configs <-> ts_config, through the parameter table.
+ *
+ * A run config document is {"preset": NAME?, "<section>": {...}, ...}. It is
+ * resolved by deep-merging, in order: the defaults (sim/data/defaults/SECTION.json),
+ * the named preset (sim/data/presets/NAME.json, which may itself name a base
+ * preset), then the document's own fields. Objects merge key by key; numbers,
+ * strings and arrays replace. Keys starting with '_' are comments and ignored.
+ * The resolved document is then read field by field through the table:
+ * unknown fields, wrong types and out-of-range values are reported with the
+ * JSON Pointer of the field, every violation at once in an errors array of
+ * {"pointer", "message"} (RFC 9457 style), the first also in ts_err.
+ *
+ * Ownership: functions returning json_t* return a NEW reference the caller
+ * must json_decref; NULL on failure with err filled.
+ */
+#ifndef TSA_CONFIG_JSON_H
+#define TSA_CONFIG_JSON_H
+
+#include <jansson.h>
+
+#include "../sim/config.h"
+#include "../sim/errors.h"
+
+/* Parse a JSON file of the embedded store ("sim/data/presets/x.json"). */
+json_t *tsa_store_json(const char *path, ts_err *err);
+
+/* The defaults document {section: {field: value}} with comment keys removed. */
+json_t *tsa_config_defaults(ts_err *err);
+
+/* Resolve a document (see above); doc may be NULL for plain defaults. */
+json_t *tsa_config_resolve(const json_t *doc, ts_err *err);
+
+/* Read a resolved document into cfg. errors (may be NULL) is a JSON array that
+ * receives every violation; returns the first one's code. */
+ts_rc tsa_config_read(const json_t *resolved, ts_config *cfg, json_t *errors, ts_err *err);
+
+/* Resolve + read in one call; *resolved_out (if non-NULL) gets the resolved
+ * document (new reference) on success. */
+ts_rc tsa_config_load(const json_t *doc, ts_config *cfg, json_t **resolved_out, json_t *errors,
+                      ts_err *err);
+
+/* Write a config back as a document {section: {field: value}}. */
+json_t *tsa_config_to_json(const ts_config *cfg);
+
+/* JSON Schema (draft 2020-12) of a run-config document, generated from the
+ * parameter table with defaults from the data files. */
+json_t *tsa_config_schema(void);
+
+/* [{"name", "description"}] of every shipped preset, sorted by name. */
+json_t *tsa_preset_list(void);
+
+/* The preset document as shipped (not resolved). TS_ERR_NOTFOUND if unknown. */
+json_t *tsa_preset_get(const char *name, ts_err *err);
+
+/* Read a config from a file path (a JSON document as above). */
+ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out,
+                           json_t *errors, ts_err *err);
+
+#endif

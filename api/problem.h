@@ -1,0 +1,30 @@
+/*
+ * problem.h — HTTP problem details (RFC 9457) from tanksim errors.
+ *
+ * One table maps each ts_rc to an HTTP status and a problem "type" URI under
+ * /problems/ (documented in api/openapi.yaml); config errors carry an "errors"
+ * array of {pointer, message}.
+ */
+#ifndef TSA_PROBLEM_H
+#define TSA_PROBLEM_H
+
+#include <jansson.h>
+
+#include "../sim/errors.h"
+
+/* HTTP status for a result code (TS_ERR_PARAM -> 400, TS_ERR_NOTFOUND -> 404, ...). */
+int tsa_http_status(ts_rc rc);
+
+/* Problem "type" URI for a result code ("/problems/invalid-config", ...). */
+const char *tsa_problem_type(ts_rc rc);
+
+/* {"type","title","status","detail"[,"errors"]} — new reference. errors may be
+ * NULL or an array (a reference is taken). */
+json_t *tsa_problem(int status, const char *type, const char *title, const char *detail,
+                    json_t *errors);
+
+/* Problem from a ts_err: status and type from its code, detail from its
+ * message, and errors (if NULL, one built from err's pointer when non-empty). */
+json_t *tsa_problem_from_err(const ts_err *err, json_t *errors);
+
+#endif

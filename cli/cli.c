@@ -1,0 +1,67 @@
+/*
+ * cli.c — config loading and option helpers shared by the tanksim commands.
+ */
+#include "cli.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "../api/config_json.h"
+
+const char *tsc_option(int argc, char **argv, const char *name)
+{
+    for (int i = 1; i < argc - 1; i++) {
+        if (argv[i] && strcmp(argv[i], name) == 0) {
+            const char *v = argv[i + 1];
+            argv[i] = argv[i + 1] = NULL;
+            return v;
+        }
+    }
+    return NULL;
+}
+
+void tsc_print_err(const char *what, const ts_err *err)
+{
+    fprintf(stderr, "tanksim: %s: %s (%s)\n", what, err->msg, ts_rc_name(err->code));
+}
+
+int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
+{
+    const char *preset = tsc_option(argc, argv, "--preset");
+    const char *path = NULL;
+    for (int i = 1; i < argc; i++) {
+        if (argv[i] && argv[i][0] != '-') {
+            path = argv[i];
+            argv[i] = NULL;
+            break;
+        }
+    }
+    if (!!preset == !!path) {
+        fprintf(stderr, "tanksim: give either CONFIG.json or --preset NAME\n");
+        return TSC_EXIT_USAGE;
+    }
+    ts_err err;
+    json_t *errors = json_array();
+    ts_rc rc;
+    if (preset) {
+        json_t *doc = json_pack("{s:s}", "preset", preset);
+        rc = tsa_config_load(doc, cfg, resolved, errors, &err);
+        json_decref(doc);
+    } else {
+        rc = tsa_config_load_path(path, cfg, resolved, errors, &err);
+    }
+    if (rc != TS_OK) {
+        if (json_array_size(errors) > 0) {
+            size_t i;
+            json_t *e;
+            json_array_foreach(errors, i, e)
+                fprintf(stderr, "tanksim: config error at %s: %s\n",
+                        json_string_value(json_object_get(e, "pointer")),
+                        json_string_value(json_object_get(e, "message")));
+        } else {
+            tsc_print_err(preset ? preset : path, &err);
+        }
+    }
+    json_decref(errors);
+    return rc == TS_OK ? TSC_EXIT_OK : TSC_EXIT_FAIL;
+}

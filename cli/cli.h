@@ -1,0 +1,38 @@
+/*
+ * cli.h — shared pieces of the tanksim command-line runner: the command table
+ * row type and config loading from "CONFIG.json" or "--preset NAME".
+ */
+#ifndef TSC_CLI_H
+#define TSC_CLI_H
+
+#include <jansson.h>
+
+#include "../sim/tanksim.h"
+
+typedef struct tsc_command {
+    const char *name;                  /* sub-command word */
+    int (*run)(int argc, char **argv); /* argv[0] is the sub-command; returns exit status */
+    const char *usage;                 /* arguments, one line */
+    const char *help;                  /* what it does, one line */
+} tsc_command;
+
+/* Exit statuses shared by every command. */
+enum { TSC_EXIT_OK = 0, TSC_EXIT_FAIL = 1, TSC_EXIT_USAGE = 2 };
+
+/* Take the config source from argv: the first non-option argument is a
+ * CONFIG.json path, or "--preset NAME" names a shipped preset. Consumed
+ * arguments are set to NULL in argv. On failure prints every config error
+ * (JSON Pointer + message) to stderr and returns non-zero. resolved (may be
+ * NULL) receives the resolved document (caller json_decrefs). */
+int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved);
+
+/* Value of "--name VALUE" in argv (consumed), or NULL. */
+const char *tsc_option(int argc, char **argv, const char *name);
+
+/* Print a ts_err as "tanksim: <pointer>: message" to stderr. */
+void tsc_print_err(const char *what, const ts_err *err);
+
+/* Commands (cmd_*.c). */
+int tsc_cmd_run(int argc, char **argv);
+
+#endif

@@ -1,0 +1,46 @@
+/*
+ * main.c — tanksim, the command-line runner: one table of sub-commands, each
+ * taking a CONFIG.json path or --preset NAME (a JSON file shipped under
+ * sim/data/presets/). The table is the only list of commands; --help prints it.
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+
+/* name, handler, usage, help — one row per sub-command. */
+static const tsc_command commands[] = {
+    {"run", tsc_cmd_run, "(CONFIG.json | --preset NAME) [--out DIR] [--until T]",
+     "run a scenario; write DIR/series.csv and DIR/summary.json"},
+};
+#define NCOMMANDS (sizeof commands / sizeof commands[0])
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: tanksim COMMAND [ARGS]\n       tanksim --help | --version\n\n"
+               "M1 Abrams track, vehicle and diesel-powertrain simulation (Assanis et al. 1999).\n\n"
+               "commands:\n");
+    for (size_t i = 0; i < NCOMMANDS; i++)
+        fprintf(f, "  %-10s %s\n  %-10s   %s\n", commands[i].name, commands[i].usage, "",
+                commands[i].help);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return TSC_EXIT_USAGE;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+        usage(stdout);
+        return TSC_EXIT_OK;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("tanksim %s\n", TS_VERSION);
+        return TSC_EXIT_OK;
+    }
+    for (size_t i = 0; i < NCOMMANDS; i++)
+        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
+    fprintf(stderr, "tanksim: unknown command '%s' (see tanksim --help)\n", argv[1]);
+    return TSC_EXIT_USAGE;
+}

@@ -1,0 +1,25 @@
+#!/bin/sh
+# install-deps.sh PACKAGE... — install the Debian packages that are missing.
+# Silent and fast when everything is present (one dpkg-query call); otherwise
+# runs apt-get update once and installs only the missing ones. Needs root (or
+# sudo) only when something is missing.
+set -eu
+missing=""
+for p in "$@"; do
+  status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+  case "$status" in
+    *"install ok installed"*) ;;
+    *) missing="$missing $p" ;;
+  esac
+done
+[ -z "$missing" ] && exit 0
+echo "make deps: installing missing Debian packages:$missing" >&2
+SUDO=""
+if [ "$(id -u)" != 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+    echo "make deps: run as root (or install sudo) to install:$missing" >&2; exit 1; fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq >&2
+# shellcheck disable=SC2086
+$SUDO apt-get install -y -qq --no-install-recommends $missing >&2

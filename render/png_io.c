@@ -1,0 +1,100 @@
+/*
+ * png_io.c — in-memory PNG encode/decode over libpng (png_io.h). libpng reports
+ * errors by longjmp; each call keeps its own jmp_buf, so this is thread-safe.
+ */
+#include "png_io.h"
+
+#include <png.h>
+#include <setjmp.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    unsigned char *buf;
+    size_t len, cap;
+    int oom;
+} membuf;
+
+static void write_cb(png_structp p, png_bytep data, png_size_t n)
+{
+    membuf *m = png_get_io_ptr(p);
+    if (m->oom) return;
+    if (m->len + n > m->cap) {
+        size_t cap = m->cap ? m->cap : 65536;
+        while (cap < m->len + n) cap *= 2;
+        unsigned char *nb = realloc(m->buf, cap);
+        if (!nb) {
+            m->oom = 1;
+            return;
+        }
+        m->buf = nb;
+        m->cap = cap;
+    }
+    memcpy(m->buf + m->len, data, n);
+    m->len += n;
+}
+
+static void flush_cb(png_structp p) { (void)p; }
+
+ts_rc tsr_png_encode(const unsigned char *rgba, int width, int height, size_t stride,
+                     const tsr_png_opts *opts, unsigned char **out, size_t *out_len, ts_err *err)
+{
+    static const int filters[] = {PNG_FILTER_NONE, PNG_FILTER_SUB, PNG_FILTER_UP, PNG_FILTER_AVG,
+                                  PNG_FILTER_PAETH};
+    int level = opts ? opts->compression : 2;
+    int filter = opts ? opts->filter : 1;
+    if (width <= 0 || height <= 0 || level < 0 || level > 9 || filter < 0 || filter > 4)
+        return ts_err_set(err, TS_ERR_PARAM, NULL, "png: bad size or options");
+    membuf m = {0};
+    png_structp p = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = p ? png_create_info_struct(p) : NULL;
+    if (!p || !info) {
+        png_destroy_write_struct(&p, NULL);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "png: out of memory");
+    }
+    if (setjmp(png_jmpbuf(p))) {
+        png_destroy_write_struct(&p, &info);
+        free(m.buf);
+        return ts_err_set(err, TS_ERR_INTERNAL, NULL, "png: libpng failed while encoding");
+    }
+    png_set_write_fn(p, &m, write_cb, flush_cb);
+    png_set_IHDR(p, info, (png_uint_32)width, (png_uint_32)height, 8, PNG_COLOR_TYPE_RGBA,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(p, level);
+    png_set_filter(p, PNG_FILTER_TYPE_BASE, filters[filter]);
+    png_write_info(p, info);
+    for (int y = 0; y < height; y++) png_write_row(p, (png_const_bytep)(rgba + (size_t)y * stride));
+    png_write_end(p, NULL);
+    png_destroy_write_struct(&p, &info);
+    if (m.oom) {
+        free(m.buf);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "png: out of memory");
+    }
+    *out = m.buf;
+    *out_len = m.len;
+    return TS_OK;
+}
+
+ts_rc tsr_png_decode(const unsigned char *png, size_t len, unsigned char **rgba, int *width,
+                     int *height, ts_err *err)
+{
+    png_image img;
+    memset(&img, 0, sizeof img);
+    img.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_memory(&img, png, len))
+        return ts_err_set(err, TS_ERR_PARAM, NULL, "png: not a PNG (%s)", img.message);
+    img.format = PNG_FORMAT_RGBA;
+    unsigned char *buf = malloc(PNG_IMAGE_SIZE(img));
+    if (!buf) {
+        png_image_free(&img);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "png: out of memory");
+    }
+    if (!png_image_finish_read(&img, NULL, buf, 0, NULL)) {
+        free(buf);
+        return ts_err_set(err, TS_ERR_PARAM, NULL, "png: decode failed (%s)", img.message);
+    }
+    *rgba = buf;
+    *width = (int)img.width;
+    *height = (int)img.height;
+    return TS_OK;
+}

@@ -1,0 +1,147 @@
+/*
+ * main.c — tanksimd: parse flags, block SIGINT/SIGTERM in every thread, start
+ * the HTTP server, wait for a signal with sigwait, shut down cleanly.
+ * Blocking the signals before any thread starts means no handler and no
+ * global flag are needed: the main thread simply waits for one.
+ */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <limits.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "../sim/version.h"
+#include "server.h"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: tanksimd [OPTIONS]\n"
+            "Simulation server for the M1 Abrams track/vehicle/powertrain model.\n\n"
+            "  --bind ADDR      listen address (default 127.0.0.1)\n"
+            "  --port N         TCP port (default 8080)\n"
+            "  --data-dir DIR   sessions and results are kept here (default ./var)\n"
+            "  --threads N      simulation worker threads (default: number of cores)\n"
+            "  --max-body N     largest request body in bytes (default 1048576)\n"
+            "  --timeout S      idle connection timeout in seconds (default 60)\n"
+            "  --token T        require 'Authorization: Bearer T' (all but /v1/health)\n"
+            "  --help           this text\n"
+            "  --version        print the version\n");
+}
+
+static int parse_int(const char *flag, const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || *end || v < lo || v > hi) {
+        fprintf(stderr, "tanksimd: %s: integer in [%ld, %ld] expected, got '%s'\n", flag, lo, hi,
+                s);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int make_dirs(const char *path)
+{
+    char buf[PATH_MAX];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/') continue;
+        *p = '\0';
+        if (mkdir(buf, 0755) != 0 && errno != EEXIST) return -1;
+        *p = '/';
+    }
+    return (mkdir(buf, 0755) != 0 && errno != EEXIST) ? -1 : 0;
+}
+
+int main(int argc, char **argv)
+{
+    tsd_server srv;
+    memset(&srv, 0, sizeof srv);
+    tsd_options *o = &srv.opt;
+    snprintf(o->bind, sizeof o->bind, "127.0.0.1");
+    o->port = 8080;
+    snprintf(o->data_dir, sizeof o->data_dir, "./var");
+    long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+    o->threads = ncpu > 0 ? (int)ncpu : 2;
+    o->http_threads = 4;
+    o->max_body = 1 << 20;
+    o->conn_timeout = 60;
+
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        long n;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            return 0;
+        } else if (strcmp(a, "--version") == 0) {
+            printf("tanksimd %s\n", TS_VERSION);
+            return 0;
+        } else if (!v) {
+            fprintf(stderr, "tanksimd: unknown option or missing value: %s\n", a);
+            usage(stderr);
+            return 2;
+        } else if (strcmp(a, "--bind") == 0) {
+            snprintf(o->bind, sizeof o->bind, "%s", v);
+        } else if (strcmp(a, "--port") == 0) {
+            if (parse_int(a, v, 0, 65535, &n)) return 2;
+            o->port = (int)n;
+        } else if (strcmp(a, "--data-dir") == 0) {
+            snprintf(o->data_dir, sizeof o->data_dir, "%s", v);
+        } else if (strcmp(a, "--threads") == 0) {
+            if (parse_int(a, v, 1, 256, &n)) return 2;
+            o->threads = (int)n;
+        } else if (strcmp(a, "--max-body") == 0) {
+            if (parse_int(a, v, 1024, 1L << 30, &n)) return 2;
+            o->max_body = (size_t)n;
+        } else if (strcmp(a, "--timeout") == 0) {
+            if (parse_int(a, v, 1, 86400, &n)) return 2;
+            o->conn_timeout = (unsigned)n;
+        } else if (strcmp(a, "--token") == 0) {
+            snprintf(o->token, sizeof o->token, "%s", v);
+        } else {
+            fprintf(stderr, "tanksimd: unknown option: %s\n", a);
+            usage(stderr);
+            return 2;
+        }
+        i++;
+    }
+    if (make_dirs(o->data_dir) != 0) {
+        fprintf(stderr, "tanksimd: cannot create data dir %s: %s\n", o->data_dir,
+                strerror(errno));
+        return 1;
+    }
+
+    sigset_t stop;
+    sigemptyset(&stop);
+    sigaddset(&stop, SIGINT);
+    sigaddset(&stop, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &stop, NULL);
+    signal(SIGPIPE, SIG_IGN);
+
+    char err[256];
+    if (tsd_server_start(&srv, err, sizeof err) != 0) {
+        fprintf(stderr, "tanksimd: %s\n", err);
+        return 1;
+    }
+    const char *host = strchr(o->bind, ':') ? "[::1]" : o->bind;
+    fprintf(stderr, "tanksimd %s listening on %s port %d, data in %s\n", TS_VERSION, o->bind,
+            o->port, o->data_dir);
+    printf("tanksimd: open http://%s:%d/ (health: http://%s:%d/v1/health)\n", host, o->port, host,
+           o->port);
+    fflush(stdout);
+
+    int sig = 0;
+    sigwait(&stop, &sig);
+    fprintf(stderr, "tanksimd: %s received, shutting down\n", sig == SIGINT ? "SIGINT" : "SIGTERM");
+    tsd_server_stop(&srv);
+    return 0;
+}

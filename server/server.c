@@ -1,0 +1,179 @@
+/*
+ * server.c — tanksimd's HTTP plumbing over libmicrohttpd: listening socket,
+ * the per-request lifecycle (allocate on first call, collect the body, route,
+ * log and free on completion) and the response helpers.
+ */
+#define _GNU_SOURCE
+#include "server.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <time.h>
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static enum MHD_Result queue(tsd_request *r, unsigned status, struct MHD_Response *resp,
+                             const char *content_type, size_t len)
+{
+    if (!resp) return MHD_NO;
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
+    MHD_add_response_header(resp, "Cache-Control", "no-store");
+    r->status = status;
+    r->bytes = len;
+    enum MHD_Result ret = MHD_queue_response(r->conn, status, resp);
+    MHD_destroy_response(resp);
+    return ret;
+}
+
+enum MHD_Result tsd_reply_text(tsd_request *r, unsigned status, const char *content_type,
+                               const char *text, size_t len)
+{
+    struct MHD_Response *resp =
+        MHD_create_response_from_buffer(len, (void *)text, MHD_RESPMEM_MUST_COPY);
+    return queue(r, status, resp, content_type, len);
+}
+
+static enum MHD_Result reply_dump(tsd_request *r, unsigned status, json_t *body,
+                                  const char *content_type)
+{
+    char *text = body ? json_dumps(body, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
+    json_decref(body);
+    if (!text) {
+        static const char oom[] = "{\"type\":\"/problems/internal\",\"title\":\"Internal error\","
+                                  "\"status\":500,\"detail\":\"could not build the response\"}";
+        return tsd_reply_text(r, 500, "application/problem+json", oom, sizeof oom - 1);
+    }
+    size_t len = strlen(text);
+    struct MHD_Response *resp = MHD_create_response_from_buffer(len, text, MHD_RESPMEM_MUST_FREE);
+    if (!resp) free(text);
+    return queue(r, status, resp, content_type, len);
+}
+
+enum MHD_Result tsd_reply_json(tsd_request *r, unsigned status, json_t *body)
+{
+    return reply_dump(r, status, body, "application/json");
+}
+
+enum MHD_Result tsd_reply_problem(tsd_request *r, unsigned status, const char *type,
+                                  const char *title, const char *detail, json_t *errors)
+{
+    json_t *p = json_pack("{s:s,s:s,s:i,s:s}", "type", type, "title", title, "status", status,
+                          "detail", detail ? detail : "");
+    if (p && errors) json_object_set(p, "errors", errors);
+    return reply_dump(r, status, p, "application/problem+json");
+}
+
+static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, const char *url,
+                                      const char *method, const char *version,
+                                      const char *upload_data, size_t *upload_data_size,
+                                      void **con_cls)
+{
+    (void)version;
+    tsd_server *s = cls;
+    tsd_request *r = *con_cls;
+    if (!r) { /* first call: headers only */
+        r = calloc(1, sizeof *r);
+        if (!r) return MHD_NO;
+        r->srv = s;
+        r->conn = conn;
+        r->method = method;
+        r->url = url;
+        r->t_start = now_seconds();
+        *con_cls = r;
+        return MHD_YES;
+    }
+    if (*upload_data_size > 0) { /* body chunk */
+        if (!r->body_too_large) {
+            if (r->body_len + *upload_data_size > s->opt.max_body) {
+                r->body_too_large = 1;
+            } else {
+                char *nb = realloc(r->body, r->body_len + *upload_data_size + 1);
+                if (!nb) return MHD_NO;
+                memcpy(nb + r->body_len, upload_data, *upload_data_size);
+                r->body = nb;
+                r->body_len += *upload_data_size;
+                r->body[r->body_len] = '\0';
+            }
+        }
+        *upload_data_size = 0;
+        return MHD_YES;
+    }
+    if (r->status) return MHD_YES; /* already answered (resumed connection) */
+    if (r->body_too_large) {
+        char detail[128];
+        snprintf(detail, sizeof detail, "request body larger than %zu bytes", s->opt.max_body);
+        return tsd_reply_problem(r, MHD_HTTP_CONTENT_TOO_LARGE, "/problems/body-too-large",
+                                 "Request body too large", detail, NULL);
+    }
+    return tsd_route(r);
+}
+
+static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
+                      enum MHD_RequestTerminationCode toe)
+{
+    (void)cls;
+    (void)conn;
+    tsd_request *r = *con_cls;
+    if (!r) return;
+    char when[32];
+    time_t now = time(NULL);
+    struct tm tm;
+    gmtime_r(&now, &tm);
+    strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    fprintf(stderr, "%s %s %s %u %zu %.1fms%s\n", when, r->method, r->url, r->status, r->bytes,
+            1e3 * (now_seconds() - r->t_start),
+            toe == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " (aborted)");
+    free(r->body);
+    free(r);
+    *con_cls = NULL;
+}
+
+int tsd_server_start(tsd_server *s, char *err, size_t errlen)
+{
+    struct sockaddr_in a4;
+    struct sockaddr_in6 a6;
+    struct sockaddr *addr;
+    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL_LINUX_ONLY |
+                     MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG;
+    memset(&a4, 0, sizeof a4);
+    memset(&a6, 0, sizeof a6);
+    if (inet_pton(AF_INET, s->opt.bind, &a4.sin_addr) == 1) {
+        a4.sin_family = AF_INET;
+        a4.sin_port = htons((uint16_t)s->opt.port);
+        addr = (struct sockaddr *)&a4;
+    } else if (inet_pton(AF_INET6, s->opt.bind, &a6.sin6_addr) == 1) {
+        a6.sin6_family = AF_INET6;
+        a6.sin6_port = htons((uint16_t)s->opt.port);
+        addr = (struct sockaddr *)&a6;
+        flags |= MHD_USE_IPv6;
+    } else {
+        snprintf(err, errlen, "--bind: '%s' is not an IPv4 or IPv6 address", s->opt.bind);
+        return -1;
+    }
+    s->mhd = MHD_start_daemon(
+        flags, (uint16_t)s->opt.port, NULL, NULL, access_handler, s, MHD_OPTION_SOCK_ADDR, addr,
+        MHD_OPTION_NOTIFY_COMPLETED, completed, s, MHD_OPTION_THREAD_POOL_SIZE,
+        (unsigned)s->opt.http_threads, MHD_OPTION_CONNECTION_TIMEOUT, s->opt.conn_timeout,
+        MHD_OPTION_END);
+    if (!s->mhd) {
+        snprintf(err, errlen, "cannot listen on %s port %d (in use, or no permission)",
+                 s->opt.bind, s->opt.port);
+        return -1;
+    }
+    return 0;
+}
+
+void tsd_server_stop(tsd_server *s)
+{
+    if (s->mhd) MHD_stop_daemon(s->mhd);
+    s->mhd = NULL;
+}

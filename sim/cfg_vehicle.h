@@ -1,0 +1,52 @@
+/*
+ * cfg_vehicle.h — "vehicle", "terrain" and "drive" sections of a run config:
+ * whole-vehicle quantities, the ground under it and the prescribed sprocket drive.
+ * The multibody (hull, road arms, wheels) fields are added by the vehicle module.
+ */
+#ifndef TS_CFG_VEHICLE_H
+#define TS_CFG_VEHICLE_H
+
+#define TS_DRIVE_TABLE_MAX 512
+#define TS_NAME_LEN 64
+#define TS_PATH_LEN 256
+
+typedef struct ts_vehicle_config {
+    double mass;                     /* combat mass, whole vehicle [kg] */
+    double sprocket_radius;          /* sprocket pitch radius [m] */
+    double rolling_resistance;       /* rolling-resistance coefficient at rest [1] */
+    double rolling_resistance_speed; /* its growth with speed [s/m] */
+    double cda;                      /* drag coefficient x frontal area [m^2] */
+    double air_density;              /* [kg/m^3] */
+    double grade;                    /* road slope, positive uphill [rad] */
+    double rotating_mass_factor;     /* effective/actual mass for point-mass runs [1] */
+} ts_vehicle_config;
+
+typedef enum ts_terrain_kind { TS_TERRAIN_FLAT, TS_TERRAIN_BUMPS, TS_TERRAIN_PROFILE, TS_NTERRAIN } ts_terrain_kind;
+extern const char *const ts_terrain_kind_names[];
+
+typedef struct ts_terrain_config {
+    int kind;                      /* ts_terrain_kind */
+    char course[TS_NAME_LEN];      /* shipped course name for kind "bumps" */
+    char profile_csv[TS_PATH_LEN]; /* user CSV (distance m, height m) for kind "profile" */
+} ts_terrain_config;
+
+typedef enum ts_drive_kind {
+    TS_DRIVE_CONSTANT,   /* constant sprocket torque */
+    TS_DRIVE_RAMP,       /* linear ramp from 0 to torque over ramp_time, then constant */
+    TS_DRIVE_TABLE,      /* piecewise-linear time history (table_t, table_torque) */
+    TS_DRIVE_POWERTRAIN, /* torque from the engine and driveline */
+    TS_NDRIVE
+} ts_drive_kind;
+extern const char *const ts_drive_kind_names[];
+
+typedef struct ts_drive_config {
+    int kind;                                /* ts_drive_kind */
+    double torque;                           /* torque at EACH of the two sprockets [N*m] */
+    double ramp_time;                        /* [s] */
+    int table_n;                             /* rows in the time history */
+    double table_t[TS_DRIVE_TABLE_MAX];      /* [s], increasing */
+    int table_torque_n;                      /* must equal table_n */
+    double table_torque[TS_DRIVE_TABLE_MAX]; /* torque at each sprocket [N*m] */
+} ts_drive_config;
+
+#endif

@@ -1,0 +1,273 @@
+/*
+ * model.c — the generic model interface (model.h): scenario dispatch, the
+ * channel registry, and the sampling loop shared by every scenario kind.
+ *
+ * Sampling: row k is at t_k = k / run.sample_rate. ts_advance asks the scenario
+ * to step_to(t_k) for every row after the current one up to t_end and hands
+ * each row to the caller's callback, so output times never depend on the
+ * integrator's internal steps.
+ */
+#include "model.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "scenario.h"
+
+/* One row per run kind; NULL where the kind is not built into this library. */
+static const ts_scenario_ops *const scenarios[TS_NRUN_KIND] = {
+    [TS_RUN_POINTMASS] = &ts_scenario_pointmass,
+};
+
+#define CHANNEL_STRINGS_CAP 65536
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static const char *copy_string(ts_model *m, const char *s)
+{
+    size_t n = strlen(s) + 1;
+    if (m->channel_strings_used + n > m->channel_strings_cap) return NULL;
+    char *dst = m->channel_strings + m->channel_strings_used;
+    memcpy(dst, s, n);
+    m->channel_strings_used += n;
+    return dst;
+}
+
+int ts_model_add_channel(ts_model *m, const char *name, const char *unit,
+                         const char *description, ts_err *err)
+{
+    if (m->nchannel >= TS_MAX_CHANNELS) {
+        ts_err_set(err, TS_ERR_LIMIT, NULL, "too many channels (limit %d)", TS_MAX_CHANNELS);
+        return -1;
+    }
+    if (ts_model_channel_index(m, name) >= 0) {
+        ts_err_set(err, TS_ERR_INTERNAL, NULL, "channel '%s' declared twice", name);
+        return -1;
+    }
+    ts_channel *c = &m->channel[m->nchannel];
+    c->name = copy_string(m, name);
+    c->unit = copy_string(m, unit ? unit : "1");
+    c->description = copy_string(m, description ? description : "");
+    if (!c->name || !c->unit || !c->description) {
+        ts_err_set(err, TS_ERR_LIMIT, NULL, "channel name storage exhausted");
+        return -1;
+    }
+    return m->nchannel++;
+}
+
+ts_model *ts_model_make(const ts_config *cfg, ts_err *err)
+{
+    ts_err_clear(err);
+    if (!cfg) {
+        ts_err_set(err, TS_ERR_PARAM, NULL, "no config given");
+        return NULL;
+    }
+    if (ts_param_validate(cfg, err) != TS_OK) return NULL;
+    const ts_scenario_ops *ops = scenarios[cfg->run.kind];
+    if (!ops) {
+        ts_err_set(err, TS_ERR_UNSUPPORTED, "/run/kind",
+                   "/run/kind: scenario '%s' is not available in this build",
+                   ts_run_kind_names[cfg->run.kind]);
+        return NULL;
+    }
+    ts_model *m = calloc(1, sizeof *m);
+    if (!m) goto nomem;
+    m->channel_strings = malloc(CHANNEL_STRINGS_CAP);
+    if (!m->channel_strings) goto nomem;
+    m->channel_strings_cap = CHANNEL_STRINGS_CAP;
+    m->cfg = *cfg;
+    m->ops = ops;
+    if (ts_model_add_channel(m, "t", "s", "simulated time", err) < 0) goto fail;
+    if (ops->model_init(m, err) != TS_OK) goto fail;
+    return m;
+nomem:
+    ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory building the model");
+fail:
+    if (m) {
+        if (m->impl && ops->model_fini) ops->model_fini(m);
+        free(m->channel_strings);
+        free(m);
+    }
+    return NULL;
+}
+
+void ts_model_free(ts_model *m)
+{
+    if (!m) return;
+    if (m->ops->model_fini) m->ops->model_fini(m);
+    free(m->channel_strings);
+    free(m);
+}
+
+const ts_config *ts_model_config(const ts_model *m) { return &m->cfg; }
+const char *ts_model_kind(const ts_model *m) { return m->ops->kind; }
+int ts_model_dof(const ts_model *m) { return m->dof; }
+int ts_model_nstate(const ts_model *m) { return m->nstate; }
+int ts_model_nchannel(const ts_model *m) { return m->nchannel; }
+double ts_model_sample_period(const ts_model *m) { return 1.0 / m->cfg.run.sample_rate; }
+
+const ts_channel *ts_model_channel(const ts_model *m, int i)
+{
+    return (i >= 0 && i < m->nchannel) ? &m->channel[i] : NULL;
+}
+
+int ts_model_channel_index(const ts_model *m, const char *name)
+{
+    if (!name) return -1;
+    for (int i = 0; i < m->nchannel; i++)
+        if (strcmp(m->channel[i].name, name) == 0) return i;
+    return -1;
+}
+
+ts_data *ts_data_make(const ts_model *m, ts_err *err)
+{
+    ts_err_clear(err);
+    ts_data *d = calloc(1, sizeof *d);
+    if (!d) goto nomem;
+    d->m = m;
+    d->latest = calloc((size_t)m->nchannel, sizeof *d->latest);
+    if (!d->latest) goto nomem;
+    if (m->ops->data_init(m, d, err) != TS_OK) goto fail;
+    return d;
+nomem:
+    ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory making run data");
+fail:
+    if (d) {
+        free(d->latest);
+        free(d);
+    }
+    return NULL;
+}
+
+void ts_data_free(ts_data *d)
+{
+    if (!d) return;
+    if (d->m->ops->data_fini) d->m->ops->data_fini(d->m, d);
+    free(d->latest);
+    free(d);
+}
+
+static void take_sample(const ts_model *m, ts_data *d)
+{
+    m->ops->sample(m, d, d->latest);
+    d->latest[0] = d->t;
+}
+
+ts_rc ts_reset(const ts_model *m, ts_data *d, ts_err *err)
+{
+    ts_err_clear(err);
+    d->t = 0.0;
+    d->index = 0;
+    d->ready = 0;
+    d->sticky = TS_OK;
+    ts_rc rc = m->ops->reset(m, d, err);
+    if (rc != TS_OK) return rc;
+    d->ready = 1;
+    take_sample(m, d);
+    return TS_OK;
+}
+
+ts_rc ts_advance(const ts_model *m, ts_data *d, double t_end, ts_sample_fn fn, void *ud,
+                 ts_err *err)
+{
+    ts_err_clear(err);
+    if (!d->ready) return ts_err_set(err, TS_ERR_STATE, NULL, "ts_reset has not been called");
+    if (d->sticky != TS_OK)
+        return ts_err_set(err, TS_ERR_STATE, NULL,
+                          "an earlier advance failed (%s); reset or restore first",
+                          ts_rc_name(d->sticky));
+    if (t_end > m->cfg.run.duration) t_end = m->cfg.run.duration;
+    const double dt = 1.0 / m->cfg.run.sample_rate;
+    const long last = (long)floor(t_end / dt + 1e-9);
+    double t0 = now_seconds();
+    ts_rc rc = TS_OK;
+    while (d->index < last) {
+        long k = d->index + 1;
+        double tk = (double)k * dt;
+        rc = m->ops->step_to(m, d, tk, err);
+        if (rc != TS_OK) {
+            d->sticky = rc;
+            break;
+        }
+        d->t = tk;
+        d->index = k;
+        take_sample(m, d);
+        for (int i = 0; i < m->nchannel; i++) {
+            if (!isfinite(d->latest[i])) {
+                rc = ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                                "channel '%s' became %g at t = %.6g s", m->channel[i].name,
+                                d->latest[i], tk);
+                d->sticky = rc;
+                break;
+            }
+        }
+        if (rc != TS_OK) break;
+        if (fn && fn(ud, k, tk, d->latest, m->nchannel) != 0) {
+            rc = ts_err_set(err, TS_ERR_CANCELLED, NULL, "stopped by the caller at t = %.6g s",
+                            tk);
+            break;
+        }
+    }
+    d->wall += now_seconds() - t0;
+    return rc;
+}
+
+double ts_time(const ts_data *d) { return d->t; }
+long ts_sample_index(const ts_data *d) { return d->index; }
+const double *ts_latest(const ts_data *d) { return d->latest; }
+double ts_wall_seconds(const ts_data *d) { return d->wall; }
+
+/* Saved state = header (t, index) + the scenario's own bytes. */
+typedef struct {
+    double t;
+    long index;
+} state_header;
+
+size_t ts_state_size(const ts_model *m) { return sizeof(state_header) + m->ops->state_size(m); }
+
+ts_rc ts_state_save(const ts_model *m, const ts_data *d, void *buf, size_t n, ts_err *err)
+{
+    if (n < ts_state_size(m))
+        return ts_err_set(err, TS_ERR_PARAM, NULL, "state buffer too small (%zu < %zu)", n,
+                          ts_state_size(m));
+    if (!d->ready) return ts_err_set(err, TS_ERR_STATE, NULL, "nothing to save before ts_reset");
+    state_header h = {d->t, d->index};
+    memcpy(buf, &h, sizeof h);
+    return m->ops->state_save(m, d, (char *)buf + sizeof h, err);
+}
+
+ts_rc ts_state_restore(const ts_model *m, ts_data *d, const void *buf, size_t n, ts_err *err)
+{
+    if (n != ts_state_size(m))
+        return ts_err_set(err, TS_ERR_PARAM, NULL, "state size %zu does not match model (%zu)", n,
+                          ts_state_size(m));
+    state_header h;
+    memcpy(&h, buf, sizeof h);
+    d->t = h.t;
+    d->index = h.index;
+    d->sticky = TS_OK;
+    ts_rc rc = m->ops->state_restore(m, d, (const char *)buf + sizeof h, err);
+    if (rc != TS_OK) {
+        d->ready = 0;
+        return rc;
+    }
+    d->ready = 1;
+    take_sample(m, d);
+    return TS_OK;
+}
+
+ts_rc ts_geometry(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err)
+{
+    if (!m->ops->geometry)
+        return ts_err_set(err, TS_ERR_UNSUPPORTED, NULL, "scenario '%s' has no geometry",
+                          m->ops->kind);
+    if (!d->ready) return ts_err_set(err, TS_ERR_STATE, NULL, "no state before ts_reset");
+    return m->ops->geometry(m, d, out, err);
+}

@@ -1,0 +1,89 @@
+/*
+ * model.h — the generic model interface: one small API over every scenario kind.
+ *
+ * Split as in MuJoCo: a ts_model is built once from a ts_config and is then
+ * read-only (parameters, derived constants, DOF layout, channel list) and may be
+ * shared by many threads; a ts_data holds everything that changes while a run
+ * advances (state, integrator, latest sample) and belongs to one thread at a
+ * time. Every call takes (const ts_model *m, ts_data *d, ...).
+ *
+ * Output is a registry of named channels (name, SI unit, description). A run
+ * produces one row of channel values per sample period (run.sample_rate), row 0
+ * at t = 0 after ts_reset. The server, the CSV writer, the stream and the
+ * dashboard all read the same registry.
+ *
+ * Ownership: ts_model_make/ts_model_free, ts_data_make/ts_data_free; *_free(NULL)
+ * is a no-op. A ts_data must be freed before the ts_model it was made from.
+ * Strings returned by accessors belong to the model.
+ */
+#ifndef TS_MODEL_H
+#define TS_MODEL_H
+
+#include <stddef.h>
+
+#include "config.h"
+#include "errors.h"
+#include "geometry.h"
+
+typedef struct ts_model ts_model;
+typedef struct ts_data ts_data;
+
+typedef struct ts_channel {
+    const char *name;        /* stable API name, e.g. "vehicle.speed" */
+    const char *unit;        /* SI unit, e.g. "m/s"; "1" for dimensionless */
+    const char *description; /* one line */
+} ts_channel;
+
+/* ---- model: built once, read-only ---------------------------------------- */
+
+/* Build a model from a config (copied). NULL on failure with err filled. */
+ts_model *ts_model_make(const ts_config *cfg, ts_err *err);
+void ts_model_free(ts_model *m);
+
+const ts_config *ts_model_config(const ts_model *m);
+const char *ts_model_kind(const ts_model *m);     /* scenario kind name, "pointmass" */
+int ts_model_dof(const ts_model *m);              /* mechanical degrees of freedom */
+int ts_model_nstate(const ts_model *m);           /* first-order states integrated */
+int ts_model_nchannel(const ts_model *m);
+const ts_channel *ts_model_channel(const ts_model *m, int i); /* NULL if out of range */
+int ts_model_channel_index(const ts_model *m, const char *name); /* -1 if unknown */
+double ts_model_sample_period(const ts_model *m);  /* 1 / run.sample_rate [s] */
+
+/* ---- data: one per running instance -------------------------------------- */
+
+ts_data *ts_data_make(const ts_model *m, ts_err *err);
+void ts_data_free(ts_data *d);
+
+/* Initial conditions (static equilibrium where the scenario has one), t = 0,
+ * sample row 0 computed. Must be called before ts_advance. */
+ts_rc ts_reset(const ts_model *m, ts_data *d, ts_err *err);
+
+/* Called once per sample row: index counts from 0 at t = 0; values holds
+ * ts_model_nchannel numbers in channel order. Return non-zero to stop the run
+ * (ts_advance then returns TS_ERR_CANCELLED, the state stays consistent at t). */
+typedef int (*ts_sample_fn)(void *ud, long index, double t, const double *values, int n);
+
+/* Integrate up to t_end (clamped to run.duration), calling fn (may be NULL) for
+ * every sample row after the current one. On error the data keeps the last good
+ * sample time and the error is sticky until ts_reset or ts_state_restore. */
+ts_rc ts_advance(const ts_model *m, ts_data *d, double t_end, ts_sample_fn fn, void *ud,
+                 ts_err *err);
+
+double ts_time(const ts_data *d);            /* time of the latest sample row [s] */
+long ts_sample_index(const ts_data *d);      /* index of the latest sample row */
+const double *ts_latest(const ts_data *d);   /* latest row, ts_model_nchannel values */
+double ts_wall_seconds(const ts_data *d);    /* wall time spent inside ts_advance [s] */
+
+/* ---- state snapshots (persistence, re-rendering past times) --------------- */
+
+size_t ts_state_size(const ts_model *m);  /* bytes of a saved state */
+ts_rc ts_state_save(const ts_model *m, const ts_data *d, void *buf, size_t n, ts_err *err);
+ts_rc ts_state_restore(const ts_model *m, ts_data *d, const void *buf, size_t n, ts_err *err);
+
+/* ---- geometry for renderers ----------------------------------------------- */
+
+/* Fill a read-only geometric snapshot of the current state (see geometry.h).
+ * TS_ERR_UNSUPPORTED for scenarios without running gear (engine_dyno). */
+ts_rc ts_geometry(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err);
+
+#endif

@@ -1,0 +1,72 @@
+/*
+ * scenario.h — how a scenario kind plugs into the generic model interface.
+ * Internal to sim/: implementers include it, callers use model.h only.
+ *
+ * A scenario is a table of operations (as MuJoCo's plugins are): model_init
+ * derives constants and declares channels into the ts_model; data_init takes
+ * every allocation the run will need (the step path does not allocate);
+ * step_to integrates to exactly the requested time; sample writes one row of
+ * channel values for the current state. model.c owns the sampling loop, the
+ * time bookkeeping, wall-clock accounting and cancellation.
+ */
+#ifndef TS_SCENARIO_H
+#define TS_SCENARIO_H
+
+#include "model.h"
+
+#define TS_MAX_CHANNELS 256
+
+typedef struct ts_scenario_ops {
+    const char *kind; /* run.kind name this table serves */
+    /* Fill m->impl, m->dof, m->nstate and declare channels (ts_model_add_channel). */
+    ts_rc (*model_init)(ts_model *m, ts_err *err);
+    void (*model_fini)(ts_model *m);
+    /* Allocate d->impl (integrator, scratch). */
+    ts_rc (*data_init)(const ts_model *m, ts_data *d, ts_err *err);
+    void (*data_fini)(const ts_model *m, ts_data *d);
+    /* Initial state at t = 0 (static equilibrium where applicable). */
+    ts_rc (*reset)(const ts_model *m, ts_data *d, ts_err *err);
+    /* Integrate from the current time to exactly t. */
+    ts_rc (*step_to)(const ts_model *m, ts_data *d, double t, ts_err *err);
+    /* Write nchannel values for the current state at the current time. */
+    void (*sample)(const ts_model *m, const ts_data *d, double *values);
+    /* Saved-state size and (de)serialisation; restore re-initialises the integrator. */
+    size_t (*state_size)(const ts_model *m);
+    ts_rc (*state_save)(const ts_model *m, const ts_data *d, void *buf, ts_err *err);
+    ts_rc (*state_restore)(const ts_model *m, ts_data *d, const void *buf, ts_err *err);
+    /* Optional (NULL: TS_ERR_UNSUPPORTED). */
+    ts_rc (*geometry)(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err);
+} ts_scenario_ops;
+
+struct ts_model {
+    ts_config cfg;                    /* private copy of the config */
+    const ts_scenario_ops *ops;       /* scenario kind */
+    void *impl;                       /* scenario's derived constants (model_init) */
+    int dof;                          /* mechanical DOF (model_init) */
+    int nstate;                       /* first-order states (model_init) */
+    int nchannel;                     /* channels declared (model_init) */
+    ts_channel channel[TS_MAX_CHANNELS];
+    char *channel_strings;            /* owned copies of dynamic channel names */
+    size_t channel_strings_used, channel_strings_cap;
+};
+
+struct ts_data {
+    const ts_model *m;
+    void *impl;           /* scenario state (data_init) */
+    double t;             /* time of the latest sample row [s] */
+    long index;           /* index of the latest sample row */
+    double *latest;       /* latest row (nchannel) */
+    int ready;            /* ts_reset done */
+    ts_rc sticky;         /* non-OK after a failed advance until reset/restore */
+    double wall;          /* wall seconds inside ts_advance */
+};
+
+/* Declare a channel during model_init. Names and units are copied. Returns its
+ * index or -1 (err filled) when the registry is full or the name is taken. */
+int ts_model_add_channel(ts_model *m, const char *name, const char *unit,
+                         const char *description, ts_err *err);
+
+/* Scenario tables, one per kind (scenario_*.c). */
+extern const ts_scenario_ops ts_scenario_pointmass;
+
+#endif

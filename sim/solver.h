@@ -1,0 +1,59 @@
+/*
+ * solver.h — a thin, checked wrapper over SUNDIALS CVODE (BDF, dense direct
+ * linear solver) shared by every scenario.
+ *
+ * Set-up follows the CVODE examples in a fixed order (context -> vectors ->
+ * create -> init -> tolerances -> roots -> matrix -> linear solver), every call
+ * checked; SUNDIALS' own error messages are captured into the handle (sim/
+ * never prints) and copied into ts_err with the failing function's name and
+ * CVodeGetReturnFlagName. One SUNContext per ts_ode, no globals: ts_ode
+ * handles may live on different threads.
+ *
+ * Ownership: ts_ode_make / ts_ode_free (NULL is a no-op).
+ */
+#ifndef TS_SOLVER_H
+#define TS_SOLVER_H
+
+#include "errors.h"
+
+/* Right-hand side ydot = f(t, y). Return 0 on success, > 0 for a recoverable
+ * failure (CVODE retries with a smaller step), < 0 to stop. */
+typedef int (*ts_rhs_fn)(double t, const double *y, double *ydot, void *ud);
+/* Root functions g_i(t, y), nroots of them; same return convention. */
+typedef int (*ts_root_fn)(double t, const double *y, double *g, void *ud);
+
+typedef struct ts_ode ts_ode;
+
+typedef struct ts_ode_opts {
+    double rtol;          /* relative tolerance */
+    double atol;          /* absolute tolerance applied to every state ... */
+    const double *atol_v; /* ... or per-state absolute tolerances (n values), if non-NULL */
+    double max_step;      /* 0 = unlimited [s] */
+    long max_steps;       /* internal steps per call, 0 = 100000 */
+    int nroots;           /* number of root functions (0: none) */
+    ts_root_fn roots;     /* may be NULL when nroots == 0 */
+} ts_ode_opts;
+
+typedef struct ts_ode_stats {
+    long steps, rhs_evals, jac_evals, err_test_fails, nonlin_iters, nonlin_fails;
+} ts_ode_stats;
+
+ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_err *err);
+void ts_ode_free(ts_ode *o);
+
+/* (Re)start at t0 from y0 (n values). Use after any discontinuity of f. */
+ts_rc ts_ode_init(ts_ode *o, double t0, const double *y0, ts_err *err);
+
+/* Integrate towards tout. On return *t holds the time reached: tout, or the
+ * time of a root when *root_found is set (pass NULL to ignore roots; then
+ * integration continues through them). */
+ts_rc ts_ode_advance(ts_ode *o, double tout, double *t, int *root_found, ts_err *err);
+
+/* Which roots fired at the last root return (nroots ints, -1/0/+1 direction). */
+ts_rc ts_ode_root_info(ts_ode *o, int *dirs, ts_err *err);
+
+double *ts_ode_y(ts_ode *o);      /* current state (n values), owned by the handle */
+int ts_ode_n(const ts_ode *o);
+void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s);
+
+#endif

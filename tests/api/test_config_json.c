@@ -1,0 +1,147 @@
+/*
+ * test_config_json.c — JSON configs through the parameter table: defaults
+ * cover every field, presets and overrides merge, and every kind of bad input
+ * is reported with the JSON Pointer of the field (config_json.h contract).
+ */
+#include "test_util.h"
+
+#include <string.h>
+
+#include "api/config_json.h"
+#include "api/problem.h"
+#include "sim/tanksim.h"
+
+static void defaults_cover_every_field(void **state)
+{
+    (void)state;
+    ts_config c;
+    ts_err err;
+    json_t *errors = json_array();
+    ts_rc rc = tsa_config_load(NULL, &c, NULL, errors, &err);
+    if (rc != TS_OK) fail_msg("defaults incomplete: %s", err.msg);
+    assert_int_equal(json_array_size(errors), 0);
+    assert_int_equal(ts_param_validate(&c, &err), TS_OK);
+    assert_close(c.track.tension, 66700, 0, 0);
+    assert_int_equal(c.driveline.gear_ratio_n, 4);
+    json_decref(errors);
+}
+
+static void preset_then_overrides(void **state)
+{
+    (void)state;
+    ts_config c;
+    ts_err err;
+    json_t *doc = json_pack("{s:s,s:{s:f}}", "preset", "pointmass-prescribed", "drive", "torque",
+                            1234.5);
+    json_t *resolved = NULL;
+    assert_int_equal(tsa_config_load(doc, &c, &resolved, NULL, &err), TS_OK);
+    assert_int_equal(c.run.kind, TS_RUN_POINTMASS);
+    assert_close(c.run.duration, 30, 0, 0);      /* from the preset */
+    assert_close(c.drive.torque, 1234.5, 0, 0);  /* from the override */
+    assert_close(c.vehicle.mass, 58967, 0, 0);   /* from the defaults */
+    assert_null(json_object_get(resolved, "preset"));
+    /* round trip: config -> JSON -> config */
+    json_t *back = tsa_config_to_json(&c);
+    ts_config c2;
+    assert_int_equal(tsa_config_read(back, &c2, NULL, &err), TS_OK);
+    assert_memory_equal(&c.drive, &c2.drive, sizeof c.drive);
+    json_decref(back);
+    json_decref(resolved);
+    json_decref(doc);
+}
+
+static void expect_error(const char *json, const char *pointer, const char *words)
+{
+    json_error_t je;
+    json_t *doc = json_loads(json, 0, &je);
+    assert_non_null(doc);
+    ts_config c;
+    ts_err err;
+    json_t *errors = json_array();
+    ts_rc rc = tsa_config_load(doc, &c, NULL, errors, &err);
+    assert_int_not_equal(rc, TS_OK);
+    int found = 0;
+    size_t i;
+    json_t *e;
+    json_array_foreach(errors, i, e)
+    {
+        const char *p = json_string_value(json_object_get(e, "pointer"));
+        const char *msg = json_string_value(json_object_get(e, "message"));
+        if (strcmp(p, pointer) == 0 && strstr(msg, words)) found = 1;
+    }
+    if (!found) fail_msg("%s: no error at %s mentioning '%s' (first: %s)", json, pointer, words,
+                         err.msg);
+    json_decref(errors);
+    json_decref(doc);
+}
+
+static void bad_input_names_the_field(void **state)
+{
+    (void)state;
+    expect_error("{\"track\":{\"ea\":\"stiff\"}}", "/track/ea", "number expected, got string");
+    expect_error("{\"track\":{\"n_trans\":99}}", "/track/n_trans", "got 99");
+    expect_error("{\"track\":{\"n_trans\":1.5}}", "/track/n_trans", "integer expected");
+    expect_error("{\"track\":{\"eaa\":1}}", "/track/eaa", "unknown field");
+    expect_error("{\"trak\":{}}", "/trak", "unknown section");
+    expect_error("{\"track\":{\"fidelity\":\"wobbly\"}}", "/track/fidelity", "coupled");
+    expect_error("{\"preset\":\"no-such-preset\"}", "/preset", "no preset");
+    expect_error("{\"preset\":7}", "/preset", "string expected");
+    expect_error("{\"driveline\":{\"gear_ratio\":[3,\"x\"]}}", "/driveline/gear_ratio/1",
+                 "number expected");
+    expect_error("{\"vehicle\":{\"mass\":-5}}", "/vehicle/mass", "got -5");
+    expect_error("{\"track\":{\"translation_terms\":1}}", "/track/translation_terms", "boolean");
+    /* several errors at once */
+    json_t *doc = json_loads("{\"track\":{\"ea\":-1,\"tension\":-1}}", 0, NULL);
+    json_t *errors = json_array();
+    ts_config c;
+    ts_err err;
+    assert_int_not_equal(tsa_config_load(doc, &c, NULL, errors, &err), TS_OK);
+    assert_int_equal(json_array_size(errors), 2);
+    json_decref(errors);
+    json_decref(doc);
+}
+
+static void schema_comes_from_the_table(void **state)
+{
+    (void)state;
+    json_t *s = tsa_config_schema();
+    json_t *ea = json_object_get(
+        json_object_get(json_object_get(json_object_get(s, "properties"), "track"), "properties"),
+        "ea");
+    assert_non_null(ea);
+    assert_string_equal(json_string_value(json_object_get(ea, "x-unit")), "N");
+    assert_close(json_number_value(json_object_get(ea, "default")), 3e7, 0, 0);
+    assert_close(json_number_value(json_object_get(ea, "minimum")),
+                 ts_param_find("/track/ea")->min, 0, 0);
+    json_decref(s);
+    json_t *list = tsa_preset_list();
+    assert_true(json_array_size(list) >= 1);
+    json_decref(list);
+}
+
+static void problem_mapping(void **state)
+{
+    (void)state;
+    assert_int_equal(tsa_http_status(TS_ERR_PARAM), 400);
+    assert_int_equal(tsa_http_status(TS_ERR_NOTFOUND), 404);
+    assert_int_equal(tsa_http_status(TS_ERR_LIMIT), 429);
+    ts_err err;
+    ts_err_set(&err, TS_ERR_RANGE, "/track/ea", "/track/ea: too small");
+    json_t *p = tsa_problem_from_err(&err, NULL);
+    assert_int_equal(json_integer_value(json_object_get(p, "status")), 400);
+    json_t *e0 = json_array_get(json_object_get(p, "errors"), 0);
+    assert_string_equal(json_string_value(json_object_get(e0, "pointer")), "/track/ea");
+    json_decref(p);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(defaults_cover_every_field),
+        cmocka_unit_test(preset_then_overrides),
+        cmocka_unit_test(bad_input_names_the_field),
+        cmocka_unit_test(schema_comes_from_the_table),
+        cmocka_unit_test(problem_mapping),
+    };
+    return cmocka_run_group_tests_name("api/config_json", tests, NULL, NULL);
+}

@@ -1,0 +1,54 @@
+"""tanksim runner basics (issue 2): help, version, unknown commands, config
+errors naming the field, and a run writing series.csv + summary.json."""
+import csv
+import json
+import os
+import subprocess
+
+from conftest import TANKSIM
+
+
+def run(*args, cwd=None):
+    return subprocess.run([TANKSIM, *args], capture_output=True, text=True, cwd=cwd, timeout=300)
+
+
+def test_help_lists_commands_and_version():
+    out = run("--help")
+    assert out.returncode == 0 and "run" in out.stdout
+    out = run("--version")
+    assert out.returncode == 0 and out.stdout.startswith("tanksim ")
+
+
+def test_unknown_command():
+    out = run("frobnicate")
+    assert out.returncode == 2 and "unknown command 'frobnicate'" in out.stderr
+
+
+def test_run_preset_writes_series_and_summary(tmp_path):
+    out = run("run", "--preset", "pointmass-prescribed", "--out", str(tmp_path / "o"),
+              "--until", "5")
+    assert out.returncode == 0, out.stderr
+    with open(tmp_path / "o" / "series.csv") as f:
+        rows = list(csv.reader(f))
+    header = rows[0]
+    assert header[0] == "t" and "vehicle.speed" in header
+    assert len(rows) == 1 + 5 * 500 + 1  # header + rows 0..2500 at 500 Hz
+    summary = json.load(open(tmp_path / "o" / "summary.json"))
+    units = {c["name"]: c["unit"] for c in summary["channels"]}
+    assert units["vehicle.speed"] == "m/s" and units["t"] == "s"
+    assert summary["dof"] == 1 and summary["config"]["run"]["kind"] == "pointmass"
+    v = [float(r[header.index("vehicle.speed")]) for r in rows[1:]]
+    assert v[0] == 0 and all(b >= a - 1e-9 for a, b in zip(v, v[1:]))  # accelerates
+
+
+def test_config_file_errors_name_the_field(tmp_path):
+    cfg = tmp_path / "bad.json"
+    cfg.write_text(json.dumps({"preset": "pointmass-prescribed",
+                               "track": {"n_trans": 99}, "vehicle": {"mass": "heavy"}}))
+    out = run("run", str(cfg), "--out", str(tmp_path / "o"))
+    assert out.returncode != 0
+    assert "/track/n_trans" in out.stderr and "/vehicle/mass" in out.stderr
+    out = run("run", str(tmp_path / "missing.json"))
+    assert out.returncode != 0 and "missing.json" in out.stderr
+    out = run("run", "--preset", "nope")
+    assert out.returncode != 0 and "no preset named 'nope'" in out.stderr

@@ -1,0 +1,61 @@
+"""tanksimd foundation behaviour (issue 2): flags, health, problem+json 404,
+request log lines, clean shutdown on SIGTERM and SIGINT."""
+import signal
+import subprocess
+
+import requests
+
+from conftest import TANKSIMD, Daemon
+
+
+def test_health_reports_ok_and_version(daemon):
+    r = requests.get(daemon.url + "/v1/health")
+    assert r.status_code == 200
+    assert r.headers["Content-Type"].startswith("application/json")
+    body = r.json()
+    assert body["status"] == "ok"
+    assert body["version"].count(".") == 2
+
+
+def test_unknown_path_is_problem_json_404(daemon):
+    r = requests.get(daemon.url + "/nope")
+    assert r.status_code == 404
+    assert r.headers["Content-Type"] == "application/problem+json"
+    p = r.json()
+    assert p["status"] == 404
+    assert p["title"] and p["type"] and "/nope" in p["detail"]
+
+
+def test_wrong_method_is_405(daemon):
+    r = requests.delete(daemon.url + "/v1/health")
+    assert r.status_code == 405
+    assert r.json()["status"] == 405
+
+
+def test_one_log_line_per_request(daemon):
+    requests.get(daemon.url + "/v1/health?probe=log")
+    requests.get(daemon.url + "/nope-logged")
+    lines = [l for l in daemon.stderr().splitlines() if "/nope-logged" in l]
+    assert len(lines) == 1 and " 404 " in lines[0]
+
+
+def test_sigterm_and_sigint_shut_down_cleanly():
+    for sig in (signal.SIGTERM, signal.SIGINT):
+        d = Daemon()
+        assert requests.get(d.url + "/v1/health").ok
+        assert d.stop(sig) == 0
+        assert "shutting down" in d.stderr()
+
+
+def test_help_version_and_bad_flags():
+    out = subprocess.run([TANKSIMD, "--help"], capture_output=True, text=True)
+    assert out.returncode == 0 and "--data-dir" in out.stdout and "--threads" in out.stdout
+    out = subprocess.run([TANKSIMD, "--version"], capture_output=True, text=True)
+    assert out.returncode == 0 and out.stdout.startswith("tanksimd ")
+    out = subprocess.run([TANKSIMD, "--port", "99999"], capture_output=True, text=True)
+    assert out.returncode == 2 and "--port" in out.stderr
+    out = subprocess.run([TANKSIMD, "--bogus", "1"], capture_output=True, text=True)
+    assert out.returncode == 2 and "unknown option" in out.stderr
+    out = subprocess.run([TANKSIMD, "--bind", "not-an-ip", "--port", "0"],
+                         capture_output=True, text=True, timeout=10)
+    assert out.returncode == 1 and "--bind" in out.stderr

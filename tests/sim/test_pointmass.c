@@ -1,0 +1,207 @@
+/*
+ * test_pointmass.c — the point-mass vehicle under a prescribed sprocket torque
+ * against Newton's second law in closed form, and the prescribed-drive tables.
+ */
+#include "test_util.h"
+
+#include <string.h>
+
+#include "api/config_json.h"
+#include "sim/tanksim.h"
+
+static ts_config defaults(void)
+{
+    ts_config c;
+    ts_err err;
+    json_t *doc = json_pack("{s:{s:s}}", "run", "kind", "pointmass");
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    json_decref(doc);
+    return c;
+}
+
+typedef struct {
+    long rows;
+    double last_v;
+} counter;
+
+static int count_rows(void *ud, long index, double t, const double *v, int n)
+{
+    (void)t;
+    (void)n;
+    counter *c = ud;
+    assert_int_equal(index, c->rows + 1);
+    c->rows++;
+    c->last_v = v[2];
+    return 0;
+}
+
+/* EVIDENCE: Newton's second law, no resistance: v(t) = 2 T / (r_s m_eff) t,
+ * x(t) = v t / 2. Closed form; nothing calibrated. Tolerance 1e-6 relative. */
+static void constant_torque_no_resistance_is_uniform_acceleration(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    c.vehicle.rolling_resistance = 0;
+    c.vehicle.rolling_resistance_speed = 0;
+    c.vehicle.cda = 0;
+    c.drive.kind = TS_DRIVE_CONSTANT;
+    c.drive.torque = 5000;
+    c.run.duration = 10;
+    c.run.sample_rate = 100;
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    assert_non_null(m);
+    ts_data *d = ts_data_make(m, &err);
+    assert_non_null(d);
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    counter cnt = {0, 0};
+    assert_int_equal(ts_advance(m, d, 10.0, count_rows, &cnt, &err), TS_OK);
+    assert_int_equal(cnt.rows, 1000); /* 100 Hz for 10 s after row 0 */
+    double a = 2 * 5000 / (c.vehicle.sprocket_radius * c.vehicle.rotating_mass_factor *
+                           c.vehicle.mass);
+    int iv = ts_model_channel_index(m, "vehicle.speed");
+    int ix = ts_model_channel_index(m, "vehicle.x");
+    assert_true(iv > 0 && ix > 0);
+    assert_close(ts_latest(d)[iv], a * 10, 1e-6, 1e-9);
+    assert_close(ts_latest(d)[ix], 0.5 * a * 100, 1e-6, 1e-9);
+    assert_string_equal(ts_model_channel(m, iv)->unit, "m/s");
+    ts_data_free(d);
+    ts_model_free(m);
+}
+
+/* EVIDENCE: force balance at terminal speed: 2T/r_s = m g (f0 + f1 v).
+ * With f1 > 0 the speed approaches v* = (2T/(r_s m g) - f0)/f1. Closed form. */
+static void rolling_resistance_sets_terminal_speed(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    c.vehicle.cda = 0;
+    c.vehicle.rolling_resistance = 0.03;
+    c.vehicle.rolling_resistance_speed = 0.01;
+    c.drive.torque = 4000;
+    c.run.duration = 600;
+    c.run.sample_rate = 1;
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    ts_data *d = ts_data_make(m, &err);
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, 600, NULL, NULL, &err), TS_OK);
+    double g = 9.80665;
+    double vstar = (2 * 4000 / (c.vehicle.sprocket_radius * c.vehicle.mass * g) - 0.03) / 0.01;
+    assert_close(ts_latest(d)[ts_model_channel_index(m, "vehicle.speed")], vstar, 1e-3, 0);
+    ts_data_free(d);
+    ts_model_free(m);
+}
+
+/* A torque below breakaway leaves the vehicle (practically) at rest. */
+static void too_little_torque_stays_at_rest(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    c.drive.torque = 1000; /* 2*1000/0.327 = 6.1 kN < 0.03 m g = 17.4 kN */
+    c.run.duration = 5;
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    ts_data *d = ts_data_make(m, &err);
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, 5, NULL, NULL, &err), TS_OK);
+    assert_true(fabs(ts_latest(d)[ts_model_channel_index(m, "vehicle.speed")]) < 0.01);
+    ts_data_free(d);
+    ts_model_free(m);
+}
+
+/* Save, run on, restore, run again: the same numbers (state round trip). */
+static void state_save_restore_reproduces_the_run(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    c.drive.kind = TS_DRIVE_RAMP;
+    c.drive.ramp_time = 4;
+    c.drive.torque = 8000;
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    ts_data *d = ts_data_make(m, &err);
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, 3, NULL, NULL, &err), TS_OK);
+    size_t n = ts_state_size(m);
+    unsigned char *buf = malloc(n);
+    assert_int_equal(ts_state_save(m, d, buf, n, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, 8, NULL, NULL, &err), TS_OK);
+    int iv = ts_model_channel_index(m, "vehicle.speed");
+    double v1 = ts_latest(d)[iv];
+    assert_int_equal(ts_state_restore(m, d, buf, n, &err), TS_OK);
+    assert_close(ts_time(d), 3.0, 0, 1e-12);
+    assert_int_equal(ts_advance(m, d, 8, NULL, NULL, &err), TS_OK);
+    assert_close(ts_latest(d)[iv], v1, 1e-5, 1e-9);
+    assert_int_equal(ts_state_restore(m, d, buf, n - 1, &err), TS_ERR_PARAM);
+    free(buf);
+    ts_data_free(d);
+    ts_model_free(m);
+}
+
+static void drive_histories(void **state)
+{
+    (void)state;
+    ts_drive_config dc;
+    memset(&dc, 0, sizeof dc);
+    dc.kind = TS_DRIVE_RAMP;
+    dc.torque = 100;
+    dc.ramp_time = 2;
+    assert_close(ts_drive_torque(&dc, -1), 0, 0, 0);
+    assert_close(ts_drive_torque(&dc, 1), 50, 1e-12, 0);
+    assert_close(ts_drive_torque(&dc, 5), 100, 1e-12, 0);
+    dc.kind = TS_DRIVE_TABLE;
+    double tt[] = {0, 1, 3}, tq[] = {0, 10, -10};
+    dc.table_n = dc.table_torque_n = 3;
+    memcpy(dc.table_t, tt, sizeof tt);
+    memcpy(dc.table_torque, tq, sizeof tq);
+    ts_err err;
+    assert_int_equal(ts_drive_check(&dc, &err), TS_OK);
+    assert_close(ts_drive_torque(&dc, 0.5), 5, 1e-12, 0);
+    assert_close(ts_drive_torque(&dc, 2), 0, 0, 1e-12);
+    assert_close(ts_drive_torque(&dc, 9), -10, 1e-12, 0);
+    dc.table_t[2] = 0.5; /* not increasing */
+    assert_int_equal(ts_drive_check(&dc, &err), TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/drive/table_t");
+    dc.table_t[2] = 3;
+    dc.table_torque_n = 2;
+    assert_int_equal(ts_drive_check(&dc, &err), TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/drive/table_torque");
+}
+
+static int stop_after(void *ud, long i, double t, const double *v, int n)
+{
+    (void)ud;
+    (void)t;
+    (void)v;
+    (void)n;
+    return i >= 10;
+}
+
+static void cancel_from_callback(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    ts_data *d = ts_data_make(m, &err);
+    assert_int_equal(ts_advance(m, d, 1, NULL, NULL, &err), TS_ERR_STATE); /* no reset yet */
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, 10, stop_after, NULL, &err), TS_ERR_CANCELLED);
+    assert_int_equal(ts_sample_index(d), 10);
+    ts_data_free(d);
+    ts_model_free(m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(constant_torque_no_resistance_is_uniform_acceleration),
+        cmocka_unit_test(rolling_resistance_sets_terminal_speed),
+        cmocka_unit_test(too_little_torque_stays_at_rest),
+        cmocka_unit_test(state_save_restore_reproduces_the_run),
+        cmocka_unit_test(drive_histories),
+        cmocka_unit_test(cancel_from_callback),
+    };
+    return cmocka_run_group_tests_name("sim/pointmass", tests, NULL, NULL);
+}
