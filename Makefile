@@ -61,39 +61,48 @@ deps:
 
 $(BUILD)/obj/%.o: %.c | deps
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -c $< -o $@
+	@echo "  CC      $<"
+	@$(CC) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/gen/embedded_store.c: $(STORE_FILES) api/embed.sh
 	@mkdir -p $(dir $@)
-	./api/embed.sh $@ $(STORE_FILES)
+	@echo "  EMBED   $@"
+	@./api/embed.sh $@ $(STORE_FILES)
 
 $(BUILD)/obj/gen/embedded_store.o: $(BUILD)/gen/embedded_store.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -Iapi -c $< -o $@
+	@$(CC) $(CFLAGS) -Iapi -c $< -o $@
 
 $(LIB_SIM): $(SIM_OBJ)
 	@rm -f $@
-	ar rcs $@ $^
+	@echo "  AR      $@"
+	@ar rcs $@ $^
 $(LIB_RENDER): $(RENDER_OBJ)
 	@rm -f $@
-	ar rcs $@ $^
+	@echo "  AR      $@"
+	@ar rcs $@ $^
 $(LIB_API): $(API_OBJ)
 	@rm -f $@
-	ar rcs $@ $^
+	@echo "  AR      $@"
+	@ar rcs $@ $^
 
 $(BUILD)/tanksimd: $(SERVER_OBJ) $(LIBS_OWN)
-	$(CC) $(LDFLAGS) -o $@ $(SERVER_OBJ) $(LIBS_OWN) $(LIBS_ALL)
+	@echo "  LD      $@"
+	@$(CC) $(LDFLAGS) -o $@ $(SERVER_OBJ) $(LIBS_OWN) $(LIBS_ALL)
 $(BUILD)/tanksim: $(CLI_OBJ) $(LIBS_OWN)
-	$(CC) $(LDFLAGS) -o $@ $(CLI_OBJ) $(LIBS_OWN) $(LIBS_ALL)
+	@echo "  LD      $@"
+	@$(CC) $(LDFLAGS) -o $@ $(CLI_OBJ) $(LIBS_OWN) $(LIBS_ALL)
 
 # Each tests/MODULE/test_NAME.c is one cmocka program linked with every layer.
 $(BUILD)/tests/%: tests/%.c $(LIBS_OWN) tests/test_util.h | deps
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -I. -Itests -o $@ $< $(LIBS_OWN) $(LIBS_ALL) -lcmocka
+	@echo "  TEST    $@"
+	@$(CC) $(CFLAGS) -I. -Itests -o $@ $< $(LIBS_OWN) $(LIBS_ALL) -lcmocka
 
 $(BUILD)/bench/%: tests/bench/%.c $(LIBS_OWN) | deps
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -I. -Itests -o $@ $< $(LIBS_OWN) $(LIBS_ALL)
+	@echo "  BENCH   $@"
+	@$(CC) $(CFLAGS) -I. -Itests -o $@ $< $(LIBS_OWN) $(LIBS_ALL)
 
 # `make run`: the daemon in the foreground on 127.0.0.1:8080, data under ./var.
 run: all

@@ -2,9 +2,11 @@
  * cmd_run.c — "tanksim run": build the model of a config, run it from rest to
  * run.duration (or --until T) and write DIR/series.csv (header of channel
  * names, one row per sample) and DIR/summary.json (config echo, DOF count,
- * wall time, real-time factor, the unit of every channel).
+ * wall time, real-time factor, the unit of every channel, and the scenario's
+ * metrics computed from the series, e.g. Table 2's acceleration times).
  */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,8 +15,11 @@
 #include "../api/config_json.h"
 #include "cli.h"
 
+/* Rows go to the CSV as they come and are kept for the run's metrics. */
 typedef struct {
     FILE *csv;
+    double *rows;
+    long nrows, cap;
 } run_sink;
 
 static int write_row(void *ud, long index, double t, const double *v, int n)
@@ -24,6 +29,15 @@ static int write_row(void *ud, long index, double t, const double *v, int n)
     run_sink *s = ud;
     for (int i = 0; i < n; i++) fprintf(s->csv, i ? ",%.9g" : "%.9g", v[i]);
     fputc('\n', s->csv);
+    if (s->nrows == s->cap) {
+        long cap = s->cap ? 2 * s->cap : 4096;
+        double *nr = realloc(s->rows, (size_t)cap * (size_t)n * sizeof *nr);
+        if (!nr) return 1;
+        s->rows = nr;
+        s->cap = cap;
+    }
+    memcpy(s->rows + (size_t)s->nrows * (size_t)n, v, (size_t)n * sizeof *v);
+    s->nrows++;
     return ferror(s->csv) ? 1 : 0;
 }
 
@@ -55,6 +69,7 @@ int tsc_cmd_run(int argc, char **argv)
     ts_model *m = NULL;
     ts_data *d = NULL;
     FILE *csv = NULL;
+    run_sink sink = {0};
     int status = TSC_EXIT_FAIL;
     char path[1200];
 
@@ -85,7 +100,7 @@ int tsc_cmd_run(int argc, char **argv)
         tsc_print_err("reset", &err);
         goto done;
     }
-    run_sink sink = {csv};
+    sink.csv = csv;
     write_row(&sink, 0, 0.0, ts_latest(d), ts_model_nchannel(m));
     ts_rc arc = ts_advance(m, d, until, write_row, &sink, &err);
     if (fclose(csv) != 0) arc = TS_ERR_IO;
@@ -101,12 +116,22 @@ int tsc_cmd_run(int argc, char **argv)
         json_array_append_new(channels, json_pack("{s:s,s:s,s:s}", "name", c->name, "unit",
                                                   c->unit, "description", c->description));
     }
+    ts_metric metrics[32];
+    int nmetric = ts_model_metrics(m, sink.rows, sink.nrows, metrics, 32);
+    json_t *mj = json_object();
+    for (int i = 0; i < nmetric; i++)
+        json_object_set_new(mj, metrics[i].name,
+                            json_pack("{s:o,s:s,s:s}", "value",
+                                      isfinite(metrics[i].value) ? json_real(metrics[i].value)
+                                                                 : json_null(),
+                                      "unit", metrics[i].unit, "description",
+                                      metrics[i].description));
     double wall = ts_wall_seconds(d);
     json_t *summary = json_pack(
-        "{s:s,s:O,s:i,s:i,s:f,s:I,s:f,s:f,s:o}", "kind", ts_model_kind(m), "config", resolved,
+        "{s:s,s:O,s:i,s:i,s:f,s:I,s:f,s:f,s:o,s:o}", "kind", ts_model_kind(m), "config", resolved,
         "dof", ts_model_dof(m), "nstate", ts_model_nstate(m), "t_end_s", ts_time(d), "samples",
         (json_int_t)(ts_sample_index(d) + 1), "wall_time_s", wall, "real_time_factor",
-        wall > 0 ? ts_time(d) / wall : 0.0, "channels", channels);
+        wall > 0 ? ts_time(d) / wall : 0.0, "channels", channels, "metrics", mj);
     snprintf(path, sizeof path, "%s/summary.json", out);
     if (json_dump_file(summary, path, JSON_INDENT(2) | JSON_REAL_PRECISION(10)) != 0) {
         fprintf(stderr, "tanksim: cannot write %s\n", path);
@@ -120,6 +145,7 @@ int tsc_cmd_run(int argc, char **argv)
     status = TSC_EXIT_OK;
 done:
     if (csv) fclose(csv);
+    free(sink.rows);
     ts_data_free(d);
     ts_model_free(m);
     json_decref(resolved);

@@ -7,6 +7,7 @@
 #define TS_CFG_VEHICLE_H
 
 #define TS_DRIVE_TABLE_MAX 512
+#define TS_MAX_ROAD_WHEELS 10
 #define TS_NAME_LEN 64
 #define TS_PATH_LEN 256
 
@@ -19,6 +20,18 @@ typedef struct ts_vehicle_config {
     double air_density;              /* [kg/m^3] */
     double grade;                    /* road slope, positive uphill [rad] */
     double rotating_mass_factor;     /* effective/actual mass for point-mass runs [1] */
+    /* Running-gear layout, hull-fixed, at static equilibrium on flat ground:
+     * origin on the ground below the sprocket axle, x forward, z up [m]. */
+    double sprocket_x, sprocket_z;           /* drive sprocket centre (rear) */
+    double rear_roller_x, rear_roller_z;     /* rear ("second") support roller centre */
+    double front_roller_x, front_roller_z;   /* front support roller centre */
+    double roller_radius;                    /* support roller radius */
+    double idler_x, idler_z;                 /* idler centre (front, on the adjusting link) */
+    double idler_radius;
+    int road_wheel_n;                        /* road wheels per side (7) */
+    double road_wheel_x[TS_MAX_ROAD_WHEELS]; /* hub x, road wheel 1 (front) to 7 (rear) */
+    double road_wheel_z;                     /* hub height at static equilibrium */
+    double road_wheel_radius;
 } ts_vehicle_config;
 
 typedef enum ts_terrain_kind { TS_TERRAIN_FLAT, TS_TERRAIN_BUMPS, TS_TERRAIN_PROFILE, TS_NTERRAIN } ts_terrain_kind;

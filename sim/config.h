@@ -9,7 +9,9 @@
 #ifndef TS_CONFIG_H
 #define TS_CONFIG_H
 
-#include "cfg_powertrain.h"
+#include "cfg_control.h"
+#include "cfg_driveline.h"
+#include "cfg_engine.h"
 #include "cfg_run.h"
 #include "cfg_track.h"
 #include "cfg_vehicle.h"

@@ -224,6 +224,12 @@ long ts_sample_index(const ts_data *d) { return d->index; }
 const double *ts_latest(const ts_data *d) { return d->latest; }
 double ts_wall_seconds(const ts_data *d) { return d->wall; }
 
+int ts_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
+{
+    if (!m->ops->metrics || !rows || nrows <= 0 || max <= 0) return 0;
+    return m->ops->metrics(m, rows, nrows, out, max);
+}
+
 /* Saved state = header (t, index) + the scenario's own bytes. */
 typedef struct {
     double t;

@@ -74,6 +74,20 @@ long ts_sample_index(const ts_data *d);      /* index of the latest sample row *
 const double *ts_latest(const ts_data *d);   /* latest row, ts_model_nchannel values */
 double ts_wall_seconds(const ts_data *d);    /* wall time spent inside ts_advance [s] */
 
+/* ---- figures of a finished run --------------------------------------------- */
+
+typedef struct ts_metric {
+    char name[64];         /* e.g. "speed_at_20s_kmh" */
+    char unit[16];         /* unit of value ("km/h", "s", "N") */
+    double value;          /* NAN when the run does not reach it */
+    char description[160]; /* one line, says "predicted" or "calibrated to" where it matters */
+} ts_metric;
+
+/* Scenario-specific figures computed from a run's sample rows (nrows rows of
+ * ts_model_nchannel values, row-major, as ts_advance produced them), e.g. the
+ * Table 2 acceleration times. Writes at most max metrics; returns the count. */
+int ts_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max);
+
 /* ---- state snapshots (persistence, re-rendering past times) --------------- */
 
 size_t ts_state_size(const ts_model *m);  /* bytes of a saved state */

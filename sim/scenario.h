@@ -34,6 +34,8 @@ typedef struct ts_scenario_ops {
     size_t (*state_size)(const ts_model *m);
     ts_rc (*state_save)(const ts_model *m, const ts_data *d, void *buf, ts_err *err);
     ts_rc (*state_restore)(const ts_model *m, ts_data *d, const void *buf, ts_err *err);
+    /* Optional: figures of a finished run (see ts_model_metrics). */
+    int (*metrics)(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max);
     /* Optional (NULL: TS_ERR_UNSUPPORTED). */
     ts_rc (*geometry)(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err);
 } ts_scenario_ops;
