@@ -129,7 +129,8 @@ format: | deps
 	clang-format -i $(C_FILES)
 lint: | deps
 	cppcheck --quiet --error-exitcode=1 --std=c11 --enable=warning,portability,performance \
-	  --suppress=missingIncludeSystem --inline-suppr -D__GNUC__ sim api cli server render
+	  --suppress=missingIncludeSystem --inline-suppr -D__GNUC__ \
+	  --library=tests/lint/jansson.cfg sim api cli server render
 
 clean:
 	rm -rf build build-asan

@@ -11,8 +11,8 @@
 
 #include "store.h"
 
-#define PRESET_DIR "sim/data/presets/"
-#define DEFAULTS_DIR "sim/data/defaults/"
+#define PRESET_DIR       "sim/data/presets/"
+#define DEFAULTS_DIR     "sim/data/defaults/"
 #define MAX_PRESET_DEPTH 8
 
 json_t *tsa_store_json(const char *path, ts_err *err)
@@ -37,8 +37,10 @@ static void strip_comments(json_t *j)
     void *tmp;
     json_object_foreach_safe(j, tmp, key, val)
     {
-        if (key[0] == '_') json_object_del(j, key);
-        else strip_comments(val);
+        if (key[0] == '_')
+            json_object_del(j, key);
+        else
+            strip_comments(val);
     }
 }
 
@@ -51,8 +53,10 @@ static void deep_merge(json_t *dst, const json_t *src)
     {
         if (key[0] == '_') continue;
         json_t *cur = json_object_get(dst, key);
-        if (json_is_object(cur) && json_is_object(val)) deep_merge(cur, val);
-        else json_object_set_new(dst, key, json_deep_copy(val));
+        if (json_is_object(cur) && json_is_object(val))
+            deep_merge(cur, val);
+        else
+            json_object_set_new(dst, key, json_deep_copy(val));
     }
 }
 
@@ -117,8 +121,10 @@ static ts_rc merge_document(json_t *merged, const json_t *doc, int depth, ts_err
         if (strcmp(key, "preset") == 0 || strcmp(key, "description") == 0) continue;
         if (key[0] == '_') continue;
         json_t *cur = json_object_get(merged, key);
-        if (json_is_object(cur) && json_is_object(val)) deep_merge(cur, val);
-        else json_object_set_new(merged, key, json_deep_copy(val));
+        if (json_is_object(cur) && json_is_object(val))
+            deep_merge(cur, val);
+        else
+            json_object_set_new(merged, key, json_deep_copy(val));
     }
     return TS_OK;
 }
@@ -150,21 +156,29 @@ static void add_error(json_t *errors, ts_err *first, int *count, ts_rc code, con
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
     if (*count == 0) ts_err_set(first, code, pointer, "%s", msg);
-    if (errors) json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", pointer, "message", msg));
+    if (errors)
+        json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", pointer, "message", msg));
     (*count)++;
 }
 
 static const char *json_type_word(const json_t *j)
 {
     switch (json_typeof(j)) {
-    case JSON_OBJECT: return "object";
-    case JSON_ARRAY: return "array";
-    case JSON_STRING: return "string";
-    case JSON_INTEGER: return "integer";
-    case JSON_REAL: return "number";
+    case JSON_OBJECT:
+        return "object";
+    case JSON_ARRAY:
+        return "array";
+    case JSON_STRING:
+        return "string";
+    case JSON_INTEGER:
+        return "integer";
+    case JSON_REAL:
+        return "number";
     case JSON_TRUE:
-    case JSON_FALSE: return "boolean";
-    default: return "null";
+    case JSON_FALSE:
+        return "boolean";
+    default:
+        return "null";
     }
 }
 
@@ -193,17 +207,19 @@ static void read_field(const ts_param *p, const json_t *v, char *base, json_t *e
             add_error(errors, first, count, e.code, p->pointer, "%s", e.msg);
             return;
         }
-        if (p->type == TS_PT_INT) *(int *)at = (int)x;
-        else *(double *)at = x;
+        if (p->type == TS_PT_INT)
+            ts_param_set_int(base, p->offset, (int)x);
+        else
+            ts_param_set_double(base, p, 0, x);
         return;
     }
     case TS_PT_BOOL:
         if (!json_is_boolean(v)) {
-            add_error(errors, first, count, TS_ERR_PARAM, p->pointer, "%s: boolean expected, got %s",
-                      p->pointer, json_type_word(v));
+            add_error(errors, first, count, TS_ERR_PARAM, p->pointer,
+                      "%s: boolean expected, got %s", p->pointer, json_type_word(v));
             return;
         }
-        *(int *)at = json_is_true(v);
+        ts_param_set_int(base, p->offset, json_is_true(v));
         return;
     case TS_PT_ENUM: {
         int idx = json_is_string(v) ? ts_param_enum_index(p, json_string_value(v)) : -1;
@@ -217,11 +233,11 @@ static void read_field(const ts_param *p, const json_t *v, char *base, json_t *e
                 add_error(errors, first, count, TS_ERR_RANGE, p->pointer,
                           "%s: one of [%s], got '%s'", p->pointer, names, json_string_value(v));
             else
-                add_error(errors, first, count, TS_ERR_PARAM, p->pointer,
-                          "%s: one of [%s], got %s", p->pointer, names, json_type_word(v));
+                add_error(errors, first, count, TS_ERR_PARAM, p->pointer, "%s: one of [%s], got %s",
+                          p->pointer, names, json_type_word(v));
             return;
         }
-        *(int *)at = idx;
+        ts_param_set_int(base, p->offset, idx);
         return;
     }
     case TS_PT_STRING: {
@@ -266,12 +282,13 @@ static void read_field(const ts_param *p, const json_t *v, char *base, json_t *e
                           "%s: number in [%g, %g] %s, got %g", ptr, p->min, p->max, p->unit, x);
                 return;
             }
-            ((double *)at)[k] = x;
+            ts_param_set_double(base, p, (int)k, x);
         }
-        *(int *)(base + p->count_offset) = (int)n;
+        ts_param_set_int(base, p->count_offset, (int)n);
         return;
     }
-    default: add_error(errors, first, count, TS_ERR_INTERNAL, p->pointer, "bad param type");
+    default:
+        add_error(errors, first, count, TS_ERR_INTERNAL, p->pointer, "bad param type");
     }
 }
 
@@ -341,26 +358,27 @@ ts_rc tsa_config_load(const json_t *doc, ts_config *cfg, json_t **resolved_out, 
     json_t *resolved = tsa_config_resolve(doc, err);
     if (!resolved) {
         if (errors && err)
-            json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", err->pointer,
-                                                    "message", err->msg));
+            json_array_append_new(
+                errors, json_pack("{s:s,s:s}", "pointer", err->pointer, "message", err->msg));
         return err ? err->code : TS_ERR_PARAM;
     }
     ts_rc rc = tsa_config_read(resolved, cfg, errors, err);
-    if (rc == TS_OK && resolved_out) *resolved_out = resolved;
-    else json_decref(resolved);
+    if (rc == TS_OK && resolved_out)
+        *resolved_out = resolved;
+    else
+        json_decref(resolved);
     return rc;
 }
 
-ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out,
-                           json_t *errors, ts_err *err)
+ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out, json_t *errors,
+                           ts_err *err)
 {
     json_error_t je;
     json_t *doc = json_load_file(path, 0, &je);
     if (!doc) {
         if (je.line < 0 || strstr(je.text, "unable to open"))
             return ts_err_set(err, TS_ERR_IO, NULL, "%s: %s", path, je.text);
-        return ts_err_set(err, TS_ERR_PARAM, "", "%s:%d:%d: %s", path, je.line, je.column,
-                          je.text);
+        return ts_err_set(err, TS_ERR_PARAM, "", "%s:%d:%d: %s", path, je.line, je.column, je.text);
     }
     ts_rc rc = tsa_config_load(doc, cfg, resolved_out, errors, err);
     json_decref(doc);
@@ -371,18 +389,25 @@ static json_t *field_to_json(const ts_param *p, const char *base)
 {
     const char *at = base + p->offset;
     switch (p->type) {
-    case TS_PT_DOUBLE: return json_real(*(const double *)at);
-    case TS_PT_INT: return json_integer(*(const int *)at);
-    case TS_PT_BOOL: return json_boolean(*(const int *)at);
-    case TS_PT_ENUM: return json_string(p->enum_names[*(const int *)at]);
-    case TS_PT_STRING: return json_string(at);
+    case TS_PT_DOUBLE:
+        return json_real(ts_param_get_double(base, p, 0));
+    case TS_PT_INT:
+        return json_integer(ts_param_get_int(base, p->offset));
+    case TS_PT_BOOL:
+        return json_boolean(ts_param_get_int(base, p->offset));
+    case TS_PT_ENUM:
+        return json_string(p->enum_names[ts_param_get_int(base, p->offset)]);
+    case TS_PT_STRING:
+        return json_string(at);
     case TS_PT_DARRAY: {
         json_t *a = json_array();
-        int n = *(const int *)(base + p->count_offset);
-        for (int k = 0; k < n; k++) json_array_append_new(a, json_real(((const double *)at)[k]));
+        int n = ts_param_get_int(base, p->count_offset);
+        for (int k = 0; k < n; k++)
+            json_array_append_new(a, json_real(ts_param_get_double(base, p, k)));
         return a;
     }
-    default: return json_null();
+    default:
+        return json_null();
     }
 }
 
@@ -441,10 +466,11 @@ json_t *tsa_config_schema(void)
             case TS_PT_DARRAY:
                 json_object_set_new(f, "maxItems", json_integer(p->capacity));
                 json_object_set_new(f, "items",
-                                    json_pack("{s:s,s:f,s:f}", "type", "number", "minimum",
-                                              p->min, "maximum", p->max));
+                                    json_pack("{s:s,s:f,s:f}", "type", "number", "minimum", p->min,
+                                              "maximum", p->max));
                 break;
-            default: break;
+            default:
+                break;
             }
             json_t *dv = json_object_get(sdef, field);
             if (dv) json_object_set(f, "default", dv);
@@ -469,7 +495,7 @@ static int cmp_name(const void *a, const void *b)
 
 json_t *tsa_preset_list(void)
 {
-    json_t *items[256];
+    json_t *items[256] = {0};
     int n = 0;
     const tsa_file *f;
     for (int i = 0; n < 256 && (f = tsa_store_nth(PRESET_DIR, ".json", i)); i++) {
@@ -485,6 +511,7 @@ json_t *tsa_preset_list(void)
     }
     qsort(items, (size_t)n, sizeof items[0], cmp_name);
     json_t *arr = json_array();
-    for (int i = 0; i < n; i++) json_array_append_new(arr, items[i]);
+    for (int i = 0; i < n; i++)
+        json_array_append_new(arr, items[i]);
     return arr;
 }

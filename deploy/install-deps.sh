@@ -20,6 +20,10 @@ if [ "$(id -u)" != 0 ]; then
     echo "make deps: run as root (or install sudo) to install:$missing" >&2; exit 1; fi
 fi
 export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq >&2
+# Another apt may hold the lists lock for a while: retry the update.
+for try in 1 2 3 4 5 6 7 8 9 10; do
+  $SUDO apt-get -o DPkg::Lock::Timeout=600 update -qq >&2 && break
+  sleep 10
+done
 # shellcheck disable=SC2086
-$SUDO apt-get install -y -qq --no-install-recommends $missing >&2
+$SUDO apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends $missing >&2

@@ -11,13 +11,16 @@
 #include "config.h"
 
 static const ts_param_section *const sections[] = {
-    &ts_section_run,    &ts_section_track,  &ts_section_vehicle,
-    &ts_section_terrain, &ts_section_drive, &ts_section_engine,
+    &ts_section_run,       &ts_section_track,   &ts_section_vehicle,
+    &ts_section_terrain,   &ts_section_drive,   &ts_section_engine,
     &ts_section_driveline, &ts_section_control, &ts_section_coupling,
 };
 #define NSECTIONS ((int)(sizeof sections / sizeof sections[0]))
 
-int ts_param_nsections(void) { return NSECTIONS; }
+int ts_param_nsections(void)
+{
+    return NSECTIONS;
+}
 
 const ts_param_section *ts_param_section_at(int i)
 {
@@ -29,28 +32,35 @@ const ts_param *ts_param_find(const char *pointer)
     if (!pointer) return NULL;
     for (int s = 0; s < NSECTIONS; s++)
         for (int i = 0; i < sections[s]->nparams; i++)
-            if (strcmp(sections[s]->params[i].pointer, pointer) == 0) return &sections[s]->params[i];
+            if (strcmp(sections[s]->params[i].pointer, pointer) == 0)
+                return &sections[s]->params[i];
     return NULL;
 }
 
 const char *ts_param_type_name(ts_param_type t)
 {
     switch (t) {
-    case TS_PT_DOUBLE: return "number";
-    case TS_PT_INT: return "integer";
-    case TS_PT_BOOL: return "boolean";
-    case TS_PT_ENUM: return "string";
-    case TS_PT_STRING: return "string";
-    case TS_PT_DARRAY: return "array";
-    default: return "unknown";
+    case TS_PT_DOUBLE:
+        return "number";
+    case TS_PT_INT:
+        return "integer";
+    case TS_PT_BOOL:
+        return "boolean";
+    case TS_PT_ENUM:
+        return "string";
+    case TS_PT_STRING:
+        return "string";
+    case TS_PT_DARRAY:
+        return "array";
+    default:
+        return "unknown";
     }
 }
 
 ts_rc ts_param_check_number(const ts_param *p, double v, ts_err *err)
 {
     if (!isfinite(v))
-        return ts_err_set(err, TS_ERR_RANGE, p->pointer, "%s: must be a finite number",
-                          p->pointer);
+        return ts_err_set(err, TS_ERR_RANGE, p->pointer, "%s: must be a finite number", p->pointer);
     if (v < p->min || v > p->max) {
         if (p->type == TS_PT_INT)
             return ts_err_set(err, TS_ERR_RANGE, p->pointer, "%s: integer in [%g, %g], got %g",
@@ -72,8 +82,45 @@ int ts_param_enum_index(const ts_param *p, const char *name)
 static int enum_count(const ts_param *p)
 {
     int n = 0;
-    while (p->enum_names && p->enum_names[n]) n++;
+    while (p->enum_names && p->enum_names[n])
+        n++;
     return n;
+}
+
+/* Fields are read by byte offset into the config struct; memcpy keeps that
+ * free of alignment and aliasing questions. */
+static double get_double(const char *at, int k)
+{
+    double v;
+    memcpy(&v, at + (size_t)k * sizeof v, sizeof v);
+    return v;
+}
+
+static int get_int(const char *at)
+{
+    int v;
+    memcpy(&v, at, sizeof v);
+    return v;
+}
+
+double ts_param_get_double(const void *cfg, const ts_param *p, int k)
+{
+    return get_double((const char *)cfg + p->offset, k);
+}
+
+void ts_param_set_double(void *cfg, const ts_param *p, int k, double v)
+{
+    memcpy((char *)cfg + p->offset + (size_t)k * sizeof v, &v, sizeof v);
+}
+
+int ts_param_get_int(const void *cfg, size_t offset)
+{
+    return get_int((const char *)cfg + offset);
+}
+
+void ts_param_set_int(void *cfg, size_t offset, int v)
+{
+    memcpy((char *)cfg + offset, &v, sizeof v);
 }
 
 ts_rc ts_param_validate(const void *cfg, ts_err *err)
@@ -85,17 +132,21 @@ ts_rc ts_param_validate(const void *cfg, ts_err *err)
             const char *at = base + p->offset;
             ts_rc rc = TS_OK;
             switch (p->type) {
-            case TS_PT_DOUBLE: rc = ts_param_check_number(p, *(const double *)at, err); break;
-            case TS_PT_INT: rc = ts_param_check_number(p, *(const int *)at, err); break;
+            case TS_PT_DOUBLE:
+                rc = ts_param_check_number(p, get_double(at, 0), err);
+                break;
+            case TS_PT_INT:
+                rc = ts_param_check_number(p, get_int(at), err);
+                break;
             case TS_PT_BOOL: {
-                int v = *(const int *)at;
+                int v = get_int(at);
                 if (v != 0 && v != 1)
                     rc = ts_err_set(err, TS_ERR_RANGE, p->pointer, "%s: boolean, got %d",
                                     p->pointer, v);
                 break;
             }
             case TS_PT_ENUM: {
-                int v = *(const int *)at;
+                int v = get_int(at);
                 if (v < 0 || v >= enum_count(p))
                     rc = ts_err_set(err, TS_ERR_RANGE, p->pointer, "%s: enum index %d out of range",
                                     p->pointer, v);
@@ -107,7 +158,7 @@ ts_rc ts_param_validate(const void *cfg, ts_err *err)
                                     p->pointer);
                 break;
             case TS_PT_DARRAY: {
-                int n = *(const int *)(base + p->count_offset);
+                int n = get_int(base + p->count_offset);
                 if (n < 0 || n > p->capacity) {
                     rc = ts_err_set(err, TS_ERR_RANGE, p->pointer,
                                     "%s: array of at most %d numbers, got %d", p->pointer,
@@ -115,7 +166,7 @@ ts_rc ts_param_validate(const void *cfg, ts_err *err)
                     break;
                 }
                 for (int k = 0; k < n && rc == TS_OK; k++) {
-                    rc = ts_param_check_number(p, ((const double *)at)[k], err);
+                    rc = ts_param_check_number(p, get_double(at, k), err);
                     if (rc != TS_OK && err) {
                         char ptr[TS_ERR_POINTER_LEN];
                         snprintf(ptr, sizeof ptr, "%s/%d", p->pointer, k);
@@ -124,7 +175,8 @@ ts_rc ts_param_validate(const void *cfg, ts_err *err)
                 }
                 break;
             }
-            default: rc = ts_err_set(err, TS_ERR_INTERNAL, p->pointer, "bad param type");
+            default:
+                rc = ts_err_set(err, TS_ERR_INTERNAL, p->pointer, "bad param type");
             }
             if (rc != TS_OK) return rc;
         }

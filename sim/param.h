@@ -52,9 +52,9 @@ typedef struct ts_param {
 
 /* One section of the table (one JSON object under the config root). */
 typedef struct ts_param_section {
-    const char *name;          /* "track" */
-    const char *description;   /* one line */
-    const ts_param *params;    /* rows */
+    const char *name;        /* "track" */
+    const char *description; /* one line */
+    const ts_param *params;  /* rows */
     int nparams;
 } ts_param_section;
 
@@ -74,6 +74,14 @@ ts_rc ts_param_check_number(const ts_param *p, double v, ts_err *err);
 
 /* Index of name in a TS_PT_ENUM row's names, or -1. */
 int ts_param_enum_index(const ts_param *p, const char *name);
+
+/* Field access by table row, for code that walks the table (api/). k indexes
+ * TS_PT_DARRAY elements (0 otherwise); INT, BOOL and ENUM fields are ints;
+ * the count of a TS_PT_DARRAY is at p->count_offset. */
+double ts_param_get_double(const void *cfg, const ts_param *p, int k);
+void ts_param_set_double(void *cfg, const ts_param *p, int k, double v);
+int ts_param_get_int(const void *cfg, size_t offset);
+void ts_param_set_int(void *cfg, size_t offset, int v);
 
 /* Validate a whole config struct against the table (ranges, enum indices,
  * array counts). Used after programmatic edits; JSON input is checked on read. */
