@@ -11,6 +11,7 @@
 #include <string.h>
 
 #define TWO_PI 6.28318530717958647692
+#define GRAVITY 9.80665 /* standard gravity [m/s^2] */
 
 const char *const ts_circuit_support_names[TS_CIRCUIT_NSUPPORTS] = {
     "road_wheel_1", "idler", "front_roller", "rear_roller", "sprocket", "road_wheel_7"};
@@ -342,4 +343,65 @@ void ts_circuit_mode_character(const ts_circuit *c, const double *shape, ts_mode
         }
     }
     ch->transverse = trans > lon;
+}
+
+ts_rc ts_circuit_params_from_config(const ts_config *cfg, ts_circuit_params *p, ts_err *err)
+{
+    const ts_vehicle_config *v = &cfg->vehicle;
+    const ts_track_config *t = &cfg->track;
+    memset(p, 0, sizeof *p);
+    if (v->road_wheel_n < 2)
+        return ts_err_set(err, TS_ERR_PARAM, "/vehicle/road_wheel_x",
+                          "the upper circuit needs at least two road wheels, got %d",
+                          v->road_wheel_n);
+    double off = t->pitch_line_offset;
+    double rw = v->road_wheel_radius + off;
+    const ts_span_support sup[TS_CIRCUIT_NSUPPORTS] = {
+        {v->road_wheel_x[0], v->road_wheel_z, rw, 1},
+        {v->idler_x, v->idler_z, v->idler_radius + off, 1},
+        {v->front_roller_x, v->front_roller_z, v->roller_radius + off, 1},
+        {v->rear_roller_x, v->rear_roller_z, v->roller_radius + off, 1},
+        {v->sprocket_x, v->sprocket_z, v->sprocket_radius, 1},
+        {v->road_wheel_x[v->road_wheel_n - 1], v->road_wheel_z, rw, 1},
+    };
+    memcpy(p->support, sup, sizeof sup);
+    p->inertia[1] = t->idler_inertia;
+    p->inertia[2] = t->roller_inertia;
+    p->inertia[3] = t->roller_inertia;
+    p->inertia[4] = t->sprocket_inertia;
+    p->rho = t->mass_per_length;
+    p->ea = t->ea;
+    p->tension = t->tension;
+    p->gravity = GRAVITY;
+    p->speed = t->modes_speed;
+    p->translation_terms = t->translation_terms;
+    p->n_long = t->n_long;
+    p->n_trans = t->n_trans;
+    p->quasi_static_stretch = t->n_long == 0;
+    return TS_OK;
+}
+
+ts_rc ts_span_params_from_config(const ts_config *cfg, int i, ts_span_params *p, ts_err *err)
+{
+    const ts_track_config *t = &cfg->track;
+    if (t->span_inclination_n != t->span_n)
+        return ts_err_set(err, TS_ERR_PARAM, "/track/span_inclination",
+                          "needs one angle per /track/span_length entry (%d), got %d", t->span_n,
+                          t->span_inclination_n);
+    if (i < 0 || i >= t->span_n)
+        return ts_err_set(err, TS_ERR_PARAM, "/track/span_length", "no span %d (have %d)", i,
+                          t->span_n);
+    memset(p, 0, sizeof *p);
+    p->length = t->span_length[i];
+    p->g_y = GRAVITY * cos(t->span_inclination[i]); /* chord run in +x: e_y up-ish; sag sign only */
+    p->rho = t->mass_per_length;
+    p->ea = t->ea;
+    p->tension = t->tension;
+    p->speed = t->modes_speed;
+    p->translation_terms = t->translation_terms;
+    p->n_long = t->n_long;
+    p->n_trans = t->n_trans;
+    p->quasi_static_stretch = t->n_long == 0;
+    p->damping_ratio = t->damping_ratio;
+    return TS_OK;
 }
