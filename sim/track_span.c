@@ -33,6 +33,42 @@ double ts_span_gravity_normal(double theta, double g)
     return -g * cos(theta);
 }
 
+void ts_span_kinematics(const double P[2][2], const double Vp[2][2], const double Ap[2][2],
+                        double g, ts_span_geometry *geom, ts_span_motion *mo, double *ldot)
+{
+    double dx = P[1][0] - P[0][0], dz = P[1][1] - P[0][1];
+    double L = hypot(dx, dz);
+    double ex = L > 0 ? dx / L : 1.0, ez = L > 0 ? dz / L : 0.0;
+    double yx = -ez, yz = ex;
+    geom->p0[0] = P[0][0];
+    geom->p0[1] = P[0][1];
+    geom->p1[0] = P[1][0];
+    geom->p1[1] = P[1][1];
+    geom->length = L;
+    geom->angle = atan2(ez, ex);
+    geom->ex[0] = ex;
+    geom->ex[1] = ez;
+    geom->ey[0] = yx;
+    geom->ey[1] = yz;
+    double rvx = Vp[1][0] - Vp[0][0], rvz = Vp[1][1] - Vp[0][1];
+    double ld = rvx * ex + rvz * ez;
+    double thd = L > 0 ? (rvx * yx + rvz * yz) / L : 0.0;
+    double a0[2] = {0, 0}, ra[2] = {0, 0};
+    if (Ap) {
+        a0[0] = Ap[0][0];
+        a0[1] = Ap[0][1];
+        ra[0] = Ap[1][0] - Ap[0][0];
+        ra[1] = Ap[1][1] - Ap[0][1];
+    }
+    memset(mo, 0, sizeof *mo);
+    mo->theta_d = thd;
+    mo->theta_dd = L > 0 ? ((ra[0] * yx + ra[1] * yz) - 2.0 * ld * thd) / L : 0.0;
+    mo->a0x = a0[0] * ex + a0[1] * ez;
+    mo->a0y = a0[0] * yx + a0[1] * yz;
+    mo->g_y = -g * yz; /* (0, -g) . e_y */
+    if (ldot) *ldot = ld;
+}
+
 ts_rc ts_span_tangent(const ts_span_support *a, const ts_span_support *b, ts_span_geometry *g,
                       ts_err *err)
 {

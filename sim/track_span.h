@@ -33,8 +33,8 @@
  * constraint mode (static stretch u1 - u0). They are SUPPORT coordinates: the
  * caller ties them to support motion, e.g. for a support of pitch radius r
  * turning by phi (positive feeding track along the circuit direction):
- *   u0 = r_a phi_a + (tangent-point-0 displacement along e_x, usually 0)
- *   u1 = r_b phi_b + (L(t) - L_ref)      [chord length change moves end 1]
+ *   u0 = r_a phi_a                  (the chord frame rides on tangent point 0)
+ *   u1 = r_b phi_b + (L(t) - L_ref)  (a longer chord moves end 1 along e_x)
  * The modal coordinates q are the span's own DOFs (fixed–fixed sine modes).
  *
  * MATRICES (n x n, row-major, per span, in chord-frame coordinates; constant
@@ -48,7 +48,9 @@
  *      W = EA/(2L) (u1 - u0 + kappa \int V)^2 + 1/2 P0 \int V_x^2.
  *   G  gyroscopic        rho c (\int N_i N_j' - \int N_i' N_j)   (zero unless
  *                        translation_terms and c != 0)
- *   C  damping           2 zeta omega_j M_jj on the modal diagonal only
+ *   C  damping           2 zeta sqrt(K_jj M_jj) on the modal diagonal only
+ *   (G needs >= 2 modes of a family to act: one sine mode has no
+ *   gyroscopic partner, only the -rho c^2 softening.)
  *   W  Coriolis          rho \int N_i phi_k (long. row i, trans. col k), minus
  *                        its transpose: the 2 theta_dot terms of Eqs. 4–5
  *   Equations of motion of all n coordinates in the (rotating, accelerating)
@@ -71,16 +73,20 @@
  *     (Y0' + V_x) at the ends); rotate with the chord axes to hull/global.
  *   Included in f: elastic/geometric stiffness (Eqs. 1–2, 4–5 with k1, k2,
  *   P0), modal damping, gyroscopic transport terms (option), the support-
- *   acceleration inertial loading rho(x0_dd) on U and rho(y0_dd + s theta_dd)
- *   on V, the centripetal -rho s theta_d^2 on U, the Coriolis -2 theta_d V_t
- *   (on U) and +2 theta_d U_t (on V) of Eqs. 4–5, and a change of g_y from the
- *   value the sag was built for. Left out (second order in small
- *   quantities): -theta_dd (Y0 + V) on U, -theta_d^2 (Y0 + V) on V, P0 U_x^2
- *   geometric stiffness (P0/EA ~ 0.2 %), and the rigid-body Eqs. 6–8 of the
- *   segment as a whole: the span's rigid mass m = rho L, first moment n and
- *   inertia I (Eq. 9, in ts_span) are for the caller to lump onto the
- *   supports (e.g. m/2 at each tangent point) if its support bodies should
- *   carry them.
+ *   acceleration inertial loading rho(x0_dd) on U (all longitudinal rows,
+ *   so f[0] + f[1] carries the span mass times -a0x) and rho(y0_dd +
+ *   s theta_dd) on V (modal rows), the centripetal -rho s theta_d^2 on U, the
+ *   Coriolis -2 theta_d V_t (on U) and +2 theta_d U_t (on V) of Eqs. 4–5, and
+ *   a change of g_y from the value the sag was built for.
+ *   Left out (second order in small quantities or the caller's part):
+ *   -theta_dd (Y0 + V) on U and -theta_d^2 (Y0 + V) on V; P0 U_x^2 geometric
+ *   stiffness (P0/EA ~ 0.2 %); the tension gradient rho g_x along the chord
+ *   (gravity along e_x); and the rigid-body Eqs. 6–8 of the segment NORMAL to
+ *   the chord: V is measured from the chord, so the span's rigid mass moving
+ *   with the tangent points normal to the chord is not in any row — lump
+ *   m/2 = rho L/2 onto each tangent point (or use Eqs. 6–8 with m, n1,
+ *   inertia of ts_span). The end forces of ts_span_end_forces_eval() are the
+ *   elastic forces (P0 + tau along the track tangent) without inertia.
  *
  * OWNERSHIP: ts_span_make() allocates; ts_span_free() releases (NULL ok).
  * A ts_span is immutable after construction and may be shared read-only.
@@ -166,6 +172,17 @@ typedef struct ts_span_end_forces {
     double f1x, f1y; /* on support 1 along e_x, e_y [N] */
     double tension0, tension1; /* P0 + tau at s = 0 and s = L [N] */
 } ts_span_end_forces;
+
+/* Chord kinematics from the two tangent points (positions P, velocities Vp,
+ * accelerations Ap, x–z frame, index 0/1 = end 0/1; Ap may be NULL for
+ * zero): fills the chord frame of the current position (length, angle, axes)
+ * and the motion terms of Eqs. 4–8 (theta_d, theta_dd, a0x, a0y in chord
+ * axes; g_y = gravity g along -z projected on e_y). *ldot gets dL/dt (for
+ * u1's chord-length term). With L the chord, d = P1 - P0 = L e_x:
+ *   L_d = (V1 - V0).e_x,  theta_d = (V1 - V0).e_y / L,
+ *   theta_dd = ((A1 - A0).e_y - 2 L_d theta_d) / L.                         */
+void ts_span_kinematics(const double P[2][2], const double Vp[2][2], const double Ap[2][2],
+                        double g, ts_span_geometry *geom, ts_span_motion *mo, double *ldot);
 
 /* Gravity component along e_y for a chord at angle theta (x–z, gravity -z). */
 double ts_span_gravity_normal(double theta, double g);
