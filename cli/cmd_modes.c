@@ -26,10 +26,14 @@
 static void to_config_pointer(ts_err *err, int override_index)
 {
     static const char *const map[][2] = {
-        {"/span/tension", "/track/tension"},     {"/span/rho", "/track/mass_per_length"},
-        {"/span/ea", "/track/ea"},               {"/span/n_long", "/track/n_long"},
-        {"/span/n_trans", "/track/n_trans"},     {"/span/speed", "/track/modes_speed"},
-        {"/span/damping_ratio", "/track/damping_ratio"}, {"/span/g_y", "/track/span_inclination"},
+        {"/span/tension", "/track/tension"},
+        {"/span/rho", "/track/mass_per_length"},
+        {"/span/ea", "/track/ea"},
+        {"/span/n_long", "/track/n_long"},
+        {"/span/n_trans", "/track/n_trans"},
+        {"/span/speed", "/track/modes_speed"},
+        {"/span/damping_ratio", "/track/damping_ratio"},
+        {"/span/g_y", "/track/span_inclination"},
     };
     if (strcmp(err->pointer, "/span/length") == 0) {
         if (override_index >= 0)
@@ -48,7 +52,8 @@ static void to_config_pointer(ts_err *err, int override_index)
 static json_t *freq_array(const ts_modes *m)
 {
     json_t *a = json_array();
-    for (int i = 0; m && i < m->n; i++) json_array_append_new(a, json_real(m->freq[i]));
+    for (int i = 0; m && i < m->n; i++)
+        json_array_append_new(a, json_real(m->freq[i]));
     return a;
 }
 
@@ -70,11 +75,10 @@ static json_t *span_json(const char *name, const ts_span_params *p, double incli
     if (!mc) goto done;
     double L = p->length;
     o = json_pack("{s:s, s:f, s:f, s:f, s:f, s:f, s:f, s:{s:o, s:o, s:o}}", "name", name,
-                  "length_m", L, "inclination_rad", inclination, "sag_m", sp->sag,
-                  "lambda2", sp->k2 * L * L / p->tension, "string_f1_hz",
-                  sqrt(p->tension / p->rho) / (2 * L), "kappa_per_m", sp->kappa,
-                  "frequencies_hz", "longitudinal", freq_array(ml), "transverse",
-                  freq_array(mt), "coupled", freq_array(mc));
+                  "length_m", L, "inclination_rad", inclination, "sag_m", sp->sag, "lambda2",
+                  sp->k2 * L * L / p->tension, "string_f1_hz", sqrt(p->tension / p->rho) / (2 * L),
+                  "kappa_per_m", sp->kappa, "frequencies_hz", "longitudinal", freq_array(ml),
+                  "transverse", freq_array(mt), "coupled", freq_array(mc));
 done:
     if (!o && err->code != TS_OK) to_config_pointer(err, override_index);
     ts_modes_free(ml);
@@ -106,9 +110,9 @@ static json_t *mode_json(const ts_circuit *c, const ts_modes *m, int k)
     double scale = fmax(vmax, umax);
     if (!(scale > 0)) scale = 1;
     for (int i = 0; i < TS_CIRCUIT_NSPANS; i++) {
-        json_object_set_new(shares, ts_circuit_span_names[i],
-                            json_pack("{s:f, s:f}", "transverse", ch.trans[i], "longitudinal",
-                                      ch.lon[i]));
+        json_object_set_new(
+            shares, ts_circuit_span_names[i],
+            json_pack("{s:f, s:f}", "transverse", ch.trans[i], "longitudinal", ch.lon[i]));
         json_t *v = json_array(), *u = json_array();
         for (int s = 0; s < NSAMPLE; s++) {
             json_array_append_new(v, json_real(V[i][s] / scale));
@@ -132,8 +136,8 @@ static json_t *mode_json(const ts_circuit *c, const ts_modes *m, int k)
         snprintf(desc + len, sizeof desc - (size_t)len, " wheels %.0f%%", 100 * ch.wheels);
     return json_pack("{s:i, s:f, s:s, s:s, s:s, s:o, s:o}", "mode", k + 1, "frequency_hz",
                      m->freq[k], "character", ch.transverse ? "transverse" : "longitudinal",
-                     "dominant_span", ts_circuit_span_names[ch.dominant_span], "description",
-                     desc, "energy_share", shares, "deflection", defl);
+                     "dominant_span", ts_circuit_span_names[ch.dominant_span], "description", desc,
+                     "energy_share", shares, "deflection", defl);
 }
 
 static json_t *circuit_json(const ts_circuit *c, int nreport, ts_err *err)
@@ -141,7 +145,8 @@ static json_t *circuit_json(const ts_circuit *c, int nreport, ts_err *err)
     ts_modes *m = ts_circuit_modes(c, nreport, err);
     if (!m) return NULL;
     json_t *freqs = freq_array(m), *shapes = json_array(), *sup = json_array();
-    for (int k = 0; k < m->n; k++) json_array_append_new(shapes, mode_json(c, m, k));
+    for (int k = 0; k < m->n; k++)
+        json_array_append_new(shapes, mode_json(c, m, k));
     for (int w = 0; w < TS_CIRCUIT_NSUPPORTS; w++) {
         const ts_span_support *s = &c->p.support[w];
         json_array_append_new(sup, json_pack("{s:s, s:f, s:f, s:f, s:f, s:b}", "name",
@@ -202,9 +207,8 @@ int tsc_cmd_modes(int argc, char **argv)
                     spans, "circuit", circ, "units", "frequencies_hz", "Hz", "length_m", "m",
                     "deflection", "1 (mode shape scaled to max |U|,|V| = 1)", "energy_share",
                     "1 (fraction of the mode's kinetic energy, diagonal mass)", "track", "n_long",
-                    cfg.track.n_long, "n_trans", cfg.track.n_trans, "tension_n",
-                    cfg.track.tension, "mass_per_length_kg_m", cfg.track.mass_per_length,
-                    "ea_n", cfg.track.ea);
+                    cfg.track.n_long, "n_trans", cfg.track.n_trans, "tension_n", cfg.track.tension,
+                    "mass_per_length_kg_m", cfg.track.mass_per_length, "ea_n", cfg.track.ea);
     spans = circ = NULL;
     if (!doc) {
         fprintf(stderr, "tanksim: modes: could not build the JSON output\n");

@@ -6,9 +6,8 @@
 
 #include "config.h"
 
-const char *const ts_track_fidelity_names[] = {"static",       "lumped",     "quasi_static",
-                                               "longitudinal", "transverse", "coupled",
-                                               NULL};
+const char *const ts_track_fidelity_names[] = {
+    "static", "lumped", "quasi_static", "longitudinal", "transverse", "coupled", NULL};
 
 #define F(field) offsetof(ts_config, track.field)
 static const ts_param rows[] = {

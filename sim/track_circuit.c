@@ -10,19 +10,20 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define TWO_PI 6.28318530717958647692
+#define TWO_PI  6.28318530717958647692
 #define GRAVITY 9.80665 /* standard gravity [m/s^2] */
 
 const char *const ts_circuit_support_names[TS_CIRCUIT_NSUPPORTS] = {
     "road_wheel_1", "idler", "front_roller", "rear_roller", "sprocket", "road_wheel_7"};
 const char *const ts_circuit_span_names[TS_CIRCUIT_NSPANS] = {
-    "road_wheel_1-idler", "idler-front_roller", "front_roller-rear_roller",
-    "rear_roller-sprocket", "sprocket-road_wheel_7"};
+    "road_wheel_1-idler", "idler-front_roller", "front_roller-rear_roller", "rear_roller-sprocket",
+    "sprocket-road_wheel_7"};
 
 void ts_circuit_free(ts_circuit *c)
 {
     if (!c) return;
-    for (int i = 0; i < TS_CIRCUIT_NSPANS; i++) ts_span_free(c->span[i]);
+    for (int i = 0; i < TS_CIRCUIT_NSPANS; i++)
+        ts_span_free(c->span[i]);
     free(c->M);
     free(c);
 }
@@ -186,7 +187,8 @@ static ts_modes *eig_sym(int n, const double *M, const double *K, int nmax, ts_e
     for (int j = 0; j < n && k < nm; j++) {
         if (!(w[j] > 0)) continue;
         m->freq[k] = sqrt(w[j]) / TWO_PI;
-        for (int i = 0; i < n; i++) m->shape[k * n + i] = a[i * n + j]; /* column j */
+        for (int i = 0; i < n; i++)
+            m->shape[k * n + i] = a[i * n + j]; /* column j */
         k++;
     }
     m->n = k;
@@ -265,7 +267,8 @@ static ts_modes *eig_gyro(int n, const double *M, const double *K, const double 
             if (mag > amax) amax = mag;
         }
         if (amax > 0)
-            for (int i = 0; i < n; i++) m->shape[q * n + i] /= amax;
+            for (int i = 0; i < n; i++)
+                m->shape[q * n + i] /= amax;
     }
     m->n = nm;
     free(a);
@@ -320,7 +323,8 @@ void ts_circuit_mode_character(const ts_circuit *c, const double *shape, ts_mode
     memset(ch, 0, sizeof *ch);
     int nd = c->ndof;
     double total = 0;
-    for (int g = 0; g < nd; g++) total += c->M[g * nd + g] * shape[g] * shape[g];
+    for (int g = 0; g < nd; g++)
+        total += c->M[g * nd + g] * shape[g] * shape[g];
     if (!(total > 0)) total = 1;
     for (int g = 0; g < TS_CIRCUIT_NSUPPORTS - 2; g++)
         ch->wheels += c->M[g * nd + g] * shape[g] * shape[g] / total;

@@ -34,7 +34,7 @@
 #include "errors.h"
 #include "track_span.h"
 
-#define TS_CIRCUIT_NSPANS 5
+#define TS_CIRCUIT_NSPANS    5
 #define TS_CIRCUIT_NSUPPORTS 6 /* rw1, idler, front roller, rear roller, sprocket, rw7 */
 
 /* Names of the supports and spans (static strings). */
@@ -43,13 +43,13 @@ extern const char *const ts_circuit_span_names[TS_CIRCUIT_NSPANS];
 
 typedef struct ts_circuit_params {
     ts_span_support support[TS_CIRCUIT_NSUPPORTS]; /* pitch-line circles, loop order */
-    double inertia[TS_CIRCUIT_NSUPPORTS]; /* spin inertia [kg m^2] (ends unused: fixed) */
-    double rho, ea, tension;              /* track [kg/m], [N], [N] */
-    double gravity;                       /* [m/s^2] */
-    double speed;                         /* track speed around the loop [m/s] */
-    int translation_terms;                /* gyroscopic terms of Eqs. 1–2 */
-    int quasi_static_stretch;             /* spans with uniform tension (n_long must be 0) */
-    int n_long, n_trans;                  /* modes per span */
+    double inertia[TS_CIRCUIT_NSUPPORTS];          /* spin inertia [kg m^2] (ends unused: fixed) */
+    double rho, ea, tension;                       /* track [kg/m], [N], [N] */
+    double gravity;                                /* [m/s^2] */
+    double speed;                                  /* track speed around the loop [m/s] */
+    int translation_terms;                         /* gyroscopic terms of Eqs. 1–2 */
+    int quasi_static_stretch; /* spans with uniform tension (n_long must be 0) */
+    int n_long, n_trans;      /* modes per span */
 } ts_circuit_params;
 
 typedef struct ts_circuit {
@@ -85,10 +85,10 @@ void ts_circuit_span_state(const ts_circuit *c, int i, const double *y, double *
 
 /* Result of an eigenanalysis. */
 typedef struct ts_modes {
-    int n;          /* modes found (ascending frequency) */
-    int ndof;       /* length of each shape */
-    double *freq;   /* [n] natural frequencies [Hz] */
-    double *shape;  /* [n * ndof] mass-normalised shapes (real part for gyroscopic) */
+    int n;         /* modes found (ascending frequency) */
+    int ndof;      /* length of each shape */
+    double *freq;  /* [n] natural frequencies [Hz] */
+    double *shape; /* [n * ndof] mass-normalised shapes (real part for gyroscopic) */
 } ts_modes;
 void ts_modes_free(ts_modes *m);
 
@@ -111,8 +111,8 @@ typedef struct ts_mode_character {
     double trans[TS_CIRCUIT_NSPANS];
     double lon[TS_CIRCUIT_NSPANS];
     double wheels;
-    int dominant_span;  /* span with the largest share */
-    int transverse;     /* 1 if transverse energy > longitudinal + wheels */
+    int dominant_span; /* span with the largest share */
+    int transverse;    /* 1 if transverse energy > longitudinal + wheels */
 } ts_mode_character;
 void ts_circuit_mode_character(const ts_circuit *c, const double *shape, ts_mode_character *ch);
 

@@ -22,8 +22,8 @@
 #define PI 3.14159265358979323846
 
 /* 5-point Gauss–Legendre nodes and weights on [-1, 1] (method constants). */
-static const double gl_x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0,
-                               0.5384693101056831, 0.9061798459386640};
+static const double gl_x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                               0.9061798459386640};
 static const double gl_w[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
                                0.4786286704993665, 0.2369268850561891};
 
@@ -218,8 +218,10 @@ ts_span *ts_span_make(const ts_span_params *p, ts_err *err)
         for (int g = 0; g < 5; g++) {
             double s = (e + 0.5) * h + 0.5 * h * gl_x[g];
             double w = 0.5 * h * gl_w[g];
-            for (int i = 0; i < nlong; i++) long_shape(i, s, L, &Nl[i], &dNl[i]);
-            for (int k = 0; k < nt; k++) trans_shape(k + 1, s, L, &Nt[k], &dNt[k]);
+            for (int i = 0; i < nlong; i++)
+                long_shape(i, s, L, &Nl[i], &dNl[i]);
+            for (int k = 0; k < nt; k++)
+                trans_shape(k + 1, s, L, &Nt[k], &dNt[k]);
             for (int i = 0; i < nlong; i++) {
                 sp->ax[i] += w * rho * Nl[i];
                 sp->sx[i] += w * rho * s * Nl[i];
@@ -263,9 +265,11 @@ ts_span *ts_span_make(const ts_span_params *p, ts_err *err)
         memset(b, 0, sizeof b);
         b[0] = -1.0;
         b[1] = 1.0;
-        for (int k = 0; k < nt; k++) b[2 + k] = kappa * at[k];
+        for (int k = 0; k < nt; k++)
+            b[2 + k] = kappa * at[k];
         for (int i = 0; i < n; i++)
-            for (int j = 0; j < n; j++) K[i * n + j] += EA / L * b[i] * b[j];
+            for (int j = 0; j < n; j++)
+                K[i * n + j] += EA / L * b[i] * b[j];
         K[0] -= rho * c * c / L;
         K[1] += rho * c * c / L;
         K[n] += rho * c * c / L;
@@ -312,12 +316,13 @@ void ts_span_force(const ts_span *sp, const ts_span_motion *mo, const double *x,
     double dg = mo->g_y - sp->p.g_y;
     for (int i = 0; i < n; i++) {
         double cor = 0.0;
-        for (int j = 0; j < n; j++) cor += sp->W[i * n + j] * xd[j];
-        f[i] += 2.0 * mo->theta_d * cor                                   /* Eqs. 4-5 Coriolis */
-                - mo->a0x * sp->ax[i] - mo->a0y * sp->ay[i]               /* x0_dd, y0_dd */
-                + mo->theta_d * mo->theta_d * sp->sx[i]                   /* -x theta_d^2 */
-                - mo->theta_dd * sp->sy[i]                                /* x theta_dd */
-                + dg * sp->ay[i];                                         /* weight change */
+        for (int j = 0; j < n; j++)
+            cor += sp->W[i * n + j] * xd[j];
+        f[i] += 2.0 * mo->theta_d * cor                     /* Eqs. 4-5 Coriolis */
+                - mo->a0x * sp->ax[i] - mo->a0y * sp->ay[i] /* x0_dd, y0_dd */
+                + mo->theta_d * mo->theta_d * sp->sx[i]     /* -x theta_d^2 */
+                - mo->theta_dd * sp->sy[i]                  /* x theta_dd */
+                + dg * sp->ay[i];                           /* weight change */
     }
 }
 

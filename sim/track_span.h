@@ -142,20 +142,20 @@ typedef struct ts_span {
     int i_long;       /* index of the first longitudinal mode (2) */
     int i_trans;      /* index of the first transverse mode (2 + n_long) */
     /* Eq. 9 constants */
-    double kappa;     /* equilibrium curvature rho g_y / P0 [1/m] */
-    double k;         /* kappa L [1] (shallow sag: |k| < 1) */
-    double m;         /* rho L [kg] */
-    double n1;        /* 1/2 rho L^2 [kg m] (the paper's n) */
-    double inertia;   /* 1/3 rho L^3 [kg m^2] (the paper's I, about end 0) */
-    double k1;        /* EA kappa [N/m] */
-    double k2;        /* EA kappa^2 [N/m^2] */
-    double sag;       /* mid-span sag Y0(L/2) = kappa L^2 / 8 [m], along e_y */
+    double kappa;          /* equilibrium curvature rho g_y / P0 [1/m] */
+    double k;              /* kappa L [1] (shallow sag: |k| < 1) */
+    double m;              /* rho L [kg] */
+    double n1;             /* 1/2 rho L^2 [kg m] (the paper's n) */
+    double inertia;        /* 1/3 rho L^3 [kg m^2] (the paper's I, about end 0) */
+    double k1;             /* EA kappa [N/m] */
+    double k2;             /* EA kappa^2 [N/m^2] */
+    double sag;            /* mid-span sag Y0(L/2) = kappa L^2 / 8 [m], along e_y */
     double *M, *K, *G, *C; /* n x n mass, stiffness, gyroscopic, damping */
-    double *W;        /* n x n Coriolis matrix (skew), see header comment */
-    double *ax;       /* [n] rho \int N_i (longitudinal rows), 0 else: load per x0_dd */
-    double *ay;       /* [n] rho \int phi_k (transverse rows), 0 else: load per y0_dd */
-    double *sx;       /* [n] rho \int s N_i (longitudinal rows): centripetal load */
-    double *sy;       /* [n] rho \int s phi_k (transverse rows): load per theta_dd */
+    double *W;             /* n x n Coriolis matrix (skew), see header comment */
+    double *ax;            /* [n] rho \int N_i (longitudinal rows), 0 else: load per x0_dd */
+    double *ay;            /* [n] rho \int phi_k (transverse rows), 0 else: load per y0_dd */
+    double *sx;            /* [n] rho \int s N_i (longitudinal rows): centripetal load */
+    double *sy;            /* [n] rho \int s phi_k (transverse rows): load per theta_dd */
 } ts_span;
 
 /* Support motion in the chord frame, for ts_span_force(). */
@@ -168,8 +168,8 @@ typedef struct ts_span_motion {
 
 /* Force of the span on each support, chord axes (excludes span inertia). */
 typedef struct ts_span_end_forces {
-    double f0x, f0y; /* on support 0 along e_x, e_y [N] */
-    double f1x, f1y; /* on support 1 along e_x, e_y [N] */
+    double f0x, f0y;           /* on support 0 along e_x, e_y [N] */
+    double f1x, f1y;           /* on support 1 along e_x, e_y [N] */
     double tension0, tension1; /* P0 + tau at s = 0 and s = L [N] */
 } ts_span_end_forces;
 

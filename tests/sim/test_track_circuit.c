@@ -69,7 +69,8 @@ static void track_circuit_no_sag_is_five_strings(void **state)
     assert_non_null(m);
     double f[TS_CIRCUIT_NSPANS * 4];
     string_frequencies(c, 0.0, f, 4);
-    for (int i = 0; i < 10; i++) assert_close(m->freq[i], f[i], 0.001, 0);
+    for (int i = 0; i < 10; i++)
+        assert_close(m->freq[i], f[i], 0.001, 0);
     ts_modes_free(m);
     ts_circuit_free(c);
 }
@@ -94,7 +95,8 @@ static void track_circuit_moving_track_gyroscopic(void **state)
     assert_non_null(m);
     double f[TS_CIRCUIT_NSPANS * 4];
     string_frequencies(c, 11.2, f, 4);
-    for (int i = 0; i < 6; i++) assert_close(m->freq[i], f[i], 0.01, 0);
+    for (int i = 0; i < 6; i++)
+        assert_close(m->freq[i], f[i], 0.01, 0);
     ts_modes_free(m);
     ts_circuit_free(c);
 }
@@ -121,8 +123,8 @@ static void track_circuit_idler_spin_oscillator(void **state)
     double want = sqrt(k / mass) / (2 * PI);
     int found = 0;
     for (int i = 0; i < m->n; i++) {
-        const double *y = m->shape + i * m->ndof; /* mass-normalised: y^T M y = 1 */
-        double idler_share = c->M[0] * y[0] * y[0];   /* DOF 0 = u_idler */
+        const double *y = m->shape + i * m->ndof;   /* mass-normalised: y^T M y = 1 */
+        double idler_share = c->M[0] * y[0] * y[0]; /* DOF 0 = u_idler */
         if (idler_share > 0.5) {
             assert_close(m->freq[i], want, 0.01, 0);
             found = 1;
@@ -179,7 +181,8 @@ static void track_circuit_convergence_monotone(void **state)
      * (the preset m1 keeps 4). Not calibrated. */
     ts_circuit_params p = m1_params();
     double prev[6], at4[6];
-    for (int i = 0; i < 6; i++) prev[i] = INFINITY;
+    for (int i = 0; i < 6; i++)
+        prev[i] = INFINITY;
     for (int n = 1; n <= 8; n++) {
         p.n_long = p.n_trans = n;
         ts_circuit *c = make(&p);
@@ -194,7 +197,8 @@ static void track_circuit_convergence_monotone(void **state)
         ts_modes_free(m);
         ts_circuit_free(c);
     }
-    for (int i = 0; i < 6; i++) assert_close(at4[i], prev[i], 0.005, 0);
+    for (int i = 0; i < 6; i++)
+        assert_close(at4[i], prev[i], 0.005, 0);
 }
 
 static void track_circuit_config_errors(void **state)

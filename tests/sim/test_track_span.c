@@ -18,13 +18,13 @@
 /* Track data of sim/data/defaults/track.json (repeated here so the theory
  * checks do not depend on the data file; any positive values would do). */
 #define RHO 165.0
-#define EA 3.0e7
-#define P0 66700.0
+#define EA  3.0e7
+#define P0  66700.0
 
 static ts_span_params base(double L, double g_y, int nl, int nt)
 {
-    ts_span_params p = {.length = L, .g_y = g_y, .rho = RHO, .ea = EA, .tension = P0,
-                        .n_long = nl, .n_trans = nt};
+    ts_span_params p = {
+        .length = L, .g_y = g_y, .rho = RHO, .ea = EA, .tension = P0, .n_long = nl, .n_trans = nt};
     return p;
 }
 
@@ -46,7 +46,7 @@ static int irvine_roots(double lam2, double *x, int nroot)
 {
     int k = 0;
     double h = 1e-3, a = 0.05;
-#define IRV(t) (sin(t) - cos(t) * ((t) - 4.0 * (t) * (t) * (t) / lam2))
+#define IRV(t) (sin(t) - cos(t) * ((t)-4.0 * (t) * (t) * (t) / lam2))
     double fa = IRV(a);
     while (k < nroot && a < 20.0) {
         double b = a + h, fb = IRV(b);
@@ -156,7 +156,8 @@ static void track_span_matrices_and_eq9(void **state)
     ts_span_force(sp, NULL, x, xd, f);
     assert_close(f[0], P0, 1e-12, 0);
     assert_close(f[1], -P0, 1e-12, 0);
-    for (int i = 2; i < n; i++) assert_close(f[i], 0, 0, 1e-9);
+    for (int i = 2; i < n; i++)
+        assert_close(f[i], 0, 0, 1e-9);
     ts_span_free(sp);
     /* parameter errors name the field */
     p.n_trans = 99;
@@ -213,7 +214,8 @@ static void check_irvine(int quasi_static, int nl, int nt, double tol, double to
         for (int i = 0; i < m->n && (nsym < 2 || nanti < 2); i++) {
             if (m->freq[i] > 6 * f0) break;
             double share = 0; /* skip longitudinal-dominated modes (none this low) */
-            for (int k = 0; k < nt; k++) share += pow(m->shape[i * m->ndof + i_trans + k], 2);
+            for (int k = 0; k < nt; k++)
+                share += pow(m->shape[i * m->ndof + i_trans + k], 2);
             if (share == 0) continue;
             if (is_symmetric(m, i, i_trans, nt)) {
                 if (nsym < 2) {
@@ -311,7 +313,8 @@ static void track_span_convergence_monotone(void **state)
         }
         ts_modes_free(m);
     }
-    for (int i = 0; i < 3; i++) assert_close(at8[i], prev[i], 0.005, 0);
+    for (int i = 0; i < 3; i++)
+        assert_close(at8[i], prev[i], 0.005, 0);
 }
 
 static void track_span_moving_string(void **state)
@@ -380,7 +383,8 @@ static void static_response(const ts_span *sp, const ts_span_motion *mo, double 
     memset(x, 0, sizeof(double) * (size_t)n);
     ts_span_force(sp, mo, x, xd, f);
     for (int i = 0; i < m; i++)
-        for (int j = 0; j < m; j++) A[i * m + j] = sp->K[(i + 2) * n + (j + 2)];
+        for (int j = 0; j < m; j++)
+            A[i * m + j] = sp->K[(i + 2) * n + (j + 2)];
     double *b = f + 2;
     /* Gaussian elimination with partial pivoting (m <= 32) */
     for (int k = 0; k < m; k++) {
@@ -397,13 +401,15 @@ static void static_response(const ts_span *sp, const ts_span_motion *mo, double 
         b[piv] = t;
         for (int i = k + 1; i < m; i++) {
             double r = A[i * m + k] / A[k * m + k];
-            for (int j = k; j < m; j++) A[i * m + j] -= r * A[k * m + j];
+            for (int j = k; j < m; j++)
+                A[i * m + j] -= r * A[k * m + j];
             b[i] -= r * b[k];
         }
     }
     for (int i = m - 1; i >= 0; i--) {
         double acc = b[i];
-        for (int j = i + 1; j < m; j++) acc -= A[i * m + j] * x[2 + j];
+        for (int j = i + 1; j < m; j++)
+            acc -= A[i * m + j] * x[2 + j];
         x[2 + i] = acc / A[i * m + i];
     }
 }
@@ -449,7 +455,8 @@ static void track_span_support_motion_loads(void **state)
     xd[sp->i_trans] = 1.0; /* V_t = sin(pi s/L) */
     ts_span_force(sp, &mw, x, xd, f);
     double rate = 0;
-    for (int i = 0; i < sp->n; i++) rate += f[i] * xd[i];
+    for (int i = 0; i < sp->n; i++)
+        rate += f[i] * xd[i];
     assert_close(rate, 0, 0, 1e-9); /* Coriolis is workless (W skew) */
     /* end-1 row: -P0 + centripetal theta_d^2 rho \int s (s/L) + Coriolis
      * 2 theta_d rho \int (s/L) sin(pi s/L) = 2 theta_d rho L/pi */
@@ -499,8 +506,8 @@ static void track_span_table1_test_span(void **state)
     ts_modes *m = modes_of(&p, 0, 4);
     const double pred[4] = {7.2, 14.6, 23.2, 29.7}, meas[4] = {7.2, 14.7, 25.3, 37.0};
     for (int i = 0; i < 4; i++)
-        print_message("  Table 1 f%d: model %.2f Hz, paper predicted %.1f, measured %.1f\n",
-                      i + 1, m->freq[i], pred[i], meas[i]);
+        print_message("  Table 1 f%d: model %.2f Hz, paper predicted %.1f, measured %.1f\n", i + 1,
+                      m->freq[i], pred[i], meas[i]);
     assert_close(m->freq[0], 7.2, 0.05, 0);
     assert_close(m->freq[1], 14.6, 0.05, 0);
     ts_modes_free(m);
