@@ -365,6 +365,16 @@ static void track_span_end_forces_static(void **state)
      * transverse modes -EA kappa e \int sin = -k1 e 2L/(k pi) for odd k */
     assert_close(f[sp->i_trans], -sp->k1 * 1e-3 * 2 * L / PI, 1e-9, 0);
     assert_close(f[sp->i_trans + 1], 0, 0, 1e-6);
+    /* uniform-tension variant: tau = EA/L (u1 - u0 + kappa \int V), same end
+     * tension for the stretch, and the sag term for a first-mode deflection */
+    ts_span_params pq = base(L, G0, 0, 4);
+    pq.quasi_static_stretch = 1;
+    ts_span *sq = ts_span_make(&pq, &err);
+    assert_non_null(sq);
+    double xq[6] = {0, 1e-3 * L, 0.01, 0, 0, 0}, tq;
+    ts_span_eval(sq, xq, 0.3, NULL, NULL, &tq);
+    assert_close(tq, EA / L * (1e-3 * L + sq->kappa * 0.01 * 2 * L / PI), 1e-12, 0);
+    ts_span_free(sq);
     /* uniform acceleration of the supports a0y loads the modes by -rho a \int phi */
     ts_span_motion mo = {.a0y = 2.0, .g_y = G0};
     memset(x, 0, sizeof x);
