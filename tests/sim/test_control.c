@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "sim/cosim.h"
+#include "sim/governor.h"
 #include "sim/ivs_controller.h"
 #include "sim/zn_tuning.h"
 
@@ -271,6 +272,23 @@ static void cosim_rejects_bad_options(void **state)
     assert_string_equal(err.pointer, "/coupling");
 }
 
+/* EVIDENCE: §IV.B.2 two-speed governor: rack passes unchanged between the
+ * idle limits; fuel is added in proportion to the speed deficit below low idle
+ * (full rack at the end of the band) and cut in proportion to the excess above
+ * high idle (zero at the end of the band). Limits 650/2100 rpm, bands 100/150 rpm. */
+static void two_speed_governor(void **state)
+{
+    (void)state;
+    const double rpm = 3.14159265358979 / 30;
+    ts_governor g = {650 * rpm, 100 * rpm, 2100 * rpm, 150 * rpm};
+    assert_close(ts_governor_rack(&g, 0.3, 1500 * rpm), 0.3, 1e-12, 0);
+    assert_close(ts_governor_rack(&g, 0.2, 600 * rpm), 0.6, 1e-12, 0);  /* half the band */
+    assert_close(ts_governor_rack(&g, 0.0, 500 * rpm), 1.0, 1e-12, 0);  /* past the band */
+    assert_close(ts_governor_rack(&g, 1.0, 2175 * rpm), 0.5, 1e-12, 0); /* half the band */
+    assert_close(ts_governor_rack(&g, 1.0, 2300 * rpm), 0.0, 0, 0);
+    assert_close(ts_governor_rack(&g, 1.7, 1500 * rpm), 1.0, 0, 0);     /* clamped input */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -281,6 +299,7 @@ int main(void)
         cmocka_unit_test(zn_two_lag_inflection),
         cmocka_unit_test(cosim_converges_to_monolithic),
         cmocka_unit_test(cosim_rejects_bad_options),
+        cmocka_unit_test(two_speed_governor),
     };
     return cmocka_run_group_tests_name("sim/control", tests, NULL, NULL);
 }

@@ -1,0 +1,20 @@
+/*
+ * governor.c — two-speed governor (governor.h, paper §IV.B.2).
+ */
+#include "governor.h"
+
+static double clamp01(double x) { return x < 0 ? 0 : x > 1 ? 1 : x; }
+
+double ts_governor_rack(const ts_governor *g, double rack, double w)
+{
+    rack = clamp01(rack);
+    if (w < g->low_idle) { /* stall protection: add fuel in proportion to the deficit */
+        double add = (g->low_idle - w) / g->low_band;
+        return clamp01(rack + (1.0 - rack) * clamp01(add));
+    }
+    if (w > g->high_idle) { /* overspeed protection: cut fuel in proportion to the excess */
+        double cut = (w - g->high_idle) / g->high_band;
+        return clamp01(rack * (1.0 - clamp01(cut)));
+    }
+    return rack;
+}
