@@ -13,6 +13,12 @@
  *   geometry.h  geometric snapshot for renderers
  *   solver.h    CVODE wrapper
  *   drive.h     prescribed sprocket torque
+ *   track_span.h     one free track span: shallow-sag continuum, component modes (Eqs. 1-9)
+ *   track_circuit.h  the upper track circuit and its eigenanalysis (Fig. 5)
+ *   ivs_controller.h PI speed controller with saturation and gain schedule (Eq. 10, Fig. 27)
+ *   zn_tuning.h      Ziegler-Nichols reaction-curve tuning (Eqs. 11-12, Fig. 26)
+ *   governor.h       two-speed governor of the fuel actuator (Section IV.B.2)
+ *   cosim.h          leading-following co-simulation driver (Section IV.A)
  */
 #ifndef TANKSIM_H
 #define TANKSIM_H
@@ -24,6 +30,12 @@
 #include "model.h"
 #include "param.h"
 #include "solver.h"
+#include "track_circuit.h"
+#include "track_span.h"
+#include "cosim.h"
+#include "governor.h"
+#include "ivs_controller.h"
+#include "zn_tuning.h"
 #include "version.h"
 
 #endif
