@@ -12,6 +12,8 @@
 static const tsc_command commands[] = {
     {"run", tsc_cmd_run, "(CONFIG.json | --preset NAME) [--out DIR] [--until T]",
      "run a scenario; write DIR/series.csv and DIR/summary.json"},
+    {"modes", tsc_cmd_modes, "(CONFIG.json | --preset NAME)",
+     "track span and upper-circuit eigenanalysis (Table 1, Fig. 5) as JSON"},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 
