@@ -2,7 +2,8 @@
  * render.c — the OpenGL side of render.h: an OSMesa core-profile context per
  * tsr_ctx, one shader pair (flat-lit triangles, or flat part colours for the
  * id images), a 4x multisampled framebuffer object resolved into a single-
- * sample one, glReadPixels readback flipped to top-down rows, the text
+ * sample one, glReadPixels readback in top-down rows (the projection flips y,
+ * so the rows arrive in image order without a copy), the text
  * overlay drawn on the CPU with the built-in font, and PNG through png_io.
  *
  * Why these choices: OSMesa/llvmpipe needs no display or GPU (Paper II.C.2
@@ -100,6 +101,7 @@ void tsr_view_default(tsr_view *v)
     v->overlay = 1;
     v->span = 0.0;
     v->shading = TSR_SHADE_LIT;
+    v->antialias = 0;
 }
 
 ts_rc tsr_view_check(const tsr_view *v, ts_err *err)
@@ -121,6 +123,8 @@ ts_rc tsr_view_check(const tsr_view *v, ts_err *err)
         return ts_err_set(err, TS_ERR_RANGE, "/overlay", "0 or 1");
     if (!isfinite(v->span) || v->span < 0 || v->span > 1000)
         return ts_err_set(err, TS_ERR_RANGE, "/span", "number in [0, 1000] m, got %g", v->span);
+    if (v->antialias != 0 && v->antialias != 1)
+        return ts_err_set(err, TS_ERR_RANGE, "/antialias", "0 or 1");
     if (v->shading < 0 || v->shading >= TSR_NSHADE)
         return ts_err_set(err, TS_ERR_RANGE, "/shading", "lit or ids");
     size_t n = strnlen(v->text, TSR_TEXT_LEN);
@@ -157,7 +161,7 @@ void tsr_part_color(int part, unsigned char rgb[3])
 
 tsr_png_opts tsr_png_fast(void)
 {
-    tsr_png_opts o = {1, 1};
+    tsr_png_opts o = {3, 0};
     return o;
 }
 
@@ -196,9 +200,9 @@ static void delete_targets(tsr_ctx *c)
     c->fb_w = c->fb_h = 0;
 }
 
-static ts_rc make_targets(tsr_ctx *c, int w, int h, ts_err *err)
+static ts_rc make_targets(tsr_ctx *c, int w, int h, int want_ms, ts_err *err)
 {
-    if (c->fb_w == w && c->fb_h == h) return TS_OK;
+    if (c->fb_w == w && c->fb_h == h && (!want_ms || c->fbo_ms)) return TS_OK;
     delete_targets(c);
     glGenFramebuffers(1, &c->fbo);
     glGenRenderbuffers(1, &c->rb_color);
@@ -215,7 +219,7 @@ static ts_rc make_targets(tsr_ctx *c, int w, int h, ts_err *err)
         return ts_err_set(err, TS_ERR_INTERNAL, NULL, "render: framebuffer %dx%d incomplete", w,
                           h);
     }
-    if (c->samples > 1) {
+    if (c->samples > 1 && want_ms) {
         glGenFramebuffers(1, &c->fbo_ms);
         glGenRenderbuffers(1, &c->rb_ms_color);
         glGenRenderbuffers(1, &c->rb_ms_depth);
@@ -415,13 +419,13 @@ ts_rc tsr_render(tsr_ctx *c, const tsr_scene *s, const tsr_view *v, tsr_image *o
     if (make_current(c) != 0)
         return ts_err_set(err, TS_ERR_INTERNAL, NULL, "render: OSMesaMakeCurrent failed");
     int W = v->width, H = v->height;
-    rc = make_targets(c, W, H, err);
+    int ids = v->shading == TSR_SHADE_IDS;
+    int ms = !ids && v->antialias && c->samples > 1;
+    rc = make_targets(c, W, H, ms, err);
     if (rc != TS_OK) {
         release_current();
         return rc;
     }
-    int ids = v->shading == TSR_SHADE_IDS;
-    int ms = !ids && c->samples > 1;
     glBindFramebuffer(GL_FRAMEBUFFER, ms ? c->fbo_ms : c->fbo);
     glViewport(0, 0, W, H);
     if (ids) glClearColor(0, 0, 0, 1);
@@ -434,6 +438,9 @@ ts_rc tsr_render(tsr_ctx *c, const tsr_scene *s, const tsr_view *v, tsr_image *o
         glUseProgram(c->prog);
         float mvp[16], idcol[16 * 3] = {0};
         tsr_scene_mvp(s, v, mvp);
+        /* Flip clip-space y so that GL's bottom-up rows read back top-down: the
+         * readback needs no row swap. */
+        for (int k = 0; k < 4; k++) mvp[k * 4 + 1] = -mvp[k * 4 + 1];
         for (int p = 0; p < TSR_NPART; p++)
             for (int k = 0; k < 3; k++) idcol[p * 3 + k] = PART_COLORS[p][k] / 255.f;
         const float light[3] = {0.36f, -0.62f, 0.70f}; /* unit: from front-right, above */
@@ -465,19 +472,7 @@ ts_rc tsr_render(tsr_ctx *c, const tsr_scene *s, const tsr_view *v, tsr_image *o
     release_current();
     if (glerr != GL_NO_ERROR)
         return ts_err_set(err, TS_ERR_INTERNAL, NULL, "render: GL error 0x%x", glerr);
-    /* GL rows are bottom-up: swap to top-down */
     size_t stride = (size_t)W * 4;
-    unsigned char tmp[4 * 1024];
-    for (int y = 0; y < H / 2; y++) {
-        unsigned char *a = c->pixels + (size_t)y * stride;
-        unsigned char *b = c->pixels + (size_t)(H - 1 - y) * stride;
-        for (size_t off = 0; off < stride; off += sizeof tmp) {
-            size_t n = stride - off < sizeof tmp ? stride - off : sizeof tmp;
-            memcpy(tmp, a + off, n);
-            memcpy(a + off, b + off, n);
-            memcpy(b + off, tmp, n);
-        }
-    }
     if (!ids) draw_overlay(s, v, c->pixels, stride);
     out->width = W;
     out->height = H;
@@ -499,6 +494,6 @@ ts_rc tsr_render_png(tsr_ctx *c, const ts_geom *g, const tsr_view *v, const tsr_
     rc = tsr_render(c, c->scene, v, &img, err);
     if (rc != TS_OK) return rc;
     tsr_png_opts fast = tsr_png_fast();
-    return tsr_png_encode(img.rgba, img.width, img.height, img.stride, png ? png : &fast, out,
-                          out_len, err);
+    return tsr_png_encode_opaque(img.rgba, img.width, img.height, img.stride, png ? png : &fast,
+                                 out, out_len, err);
 }

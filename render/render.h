@@ -21,13 +21,15 @@
  *
  * Hull placement (so tests and overlays can predict pixels): the hull is
  * drawn in the body frame attached to the hull reference point (hull_x,
- * hull_z) and pitched by hull_pitch (positive nose-down). Its length is
- * hull_length (7.92 m when 0) and it is placed along x so that its overhang
- * beyond the track envelope (sprocket rear .. idler front) is split 45 % rear,
- * 55 % front; its belly is TSR_BELLY_BELOW_AXLES below the lower of the
- * sprocket and idler centres, and its turret roof is hull_height (2.44 m when
- * 0) minus TSR_GROUND_CLEARANCE above the belly. The gun points forward
- * TSR_GUN_REACH metres beyond the hull front.
+ * hull_z) and pitched by hull_pitch (positive nose-down), located by the
+ * hull-fixed running gear: its length is TSR_HULL_LENGTH, placed along x so
+ * that its overhang beyond the track envelope (sprocket rear .. idler front)
+ * is split 45 % rear, 55 % front; its belly is TSR_BELLY_BELOW_AXLES below the
+ * lower of the sprocket and idler centres, and its turret roof is
+ * TSR_HULL_HEIGHT - TSR_GROUND_CLEARANCE above the belly. The gun points
+ * forward TSR_GUN_REACH metres beyond the hull front. The snapshot's
+ * hull_length and hull_height are framing hints of the model (geometry.h) and
+ * do not size the drawing.
  *
  * Threads: a tsr_ctx is used by one thread at a time (make one per render
  * thread); each call makes its OpenGL context current on the calling thread
@@ -54,8 +56,8 @@
 #define TSR_TEXT_LEN 96    /* capacity of tsr_view.text including the NUL */
 
 /* Drawing constants of the hull placement rule above [m]. */
-#define TSR_DEFAULT_HULL_LENGTH 7.92  /* M1 hull length, gun excluded (public data) */
-#define TSR_DEFAULT_HULL_HEIGHT 2.44  /* M1 height to turret roof (public data) */
+#define TSR_HULL_LENGTH 7.92          /* M1 hull length, gun excluded (public data) */
+#define TSR_HULL_HEIGHT 2.44          /* M1 height to turret roof (public data) */
 #define TSR_GROUND_CLEARANCE 0.48     /* M1 ground clearance (public data) */
 #define TSR_BELLY_BELOW_AXLES 0.15    /* belly below the lower of sprocket/idler centres */
 #define TSR_GUN_REACH 1.91            /* 9.83 m overall with gun forward - 7.92 m hull */
@@ -68,7 +70,7 @@ typedef enum tsr_view_kind {
 } tsr_view_kind;
 
 typedef enum tsr_shading {
-    TSR_SHADE_LIT, /* lit colours, 4x multisampled edges, overlay text */
+    TSR_SHADE_LIT, /* lit colours, overlay text, optional multisampling (antialias) */
     TSR_SHADE_IDS, /* each part in its flat tsr_part_color, no AA, no overlay (tests, picking) */
     TSR_NSHADE
 } tsr_shading;
@@ -100,9 +102,12 @@ typedef struct tsr_view {
     char text[TSR_TEXT_LEN]; /* extra overlay line, printable ASCII, may be empty */
     double span;             /* side view: metres across the image width; 0 = 13 m */
     int shading;             /* tsr_shading */
+    int antialias;           /* 1: 4x multisampled edges (lit only; about 2.5x the draw time
+                                on llvmpipe, so off by default for streamed frames) */
 } tsr_view;
 
-/* 1280 x 720, side view, exaggeration 1, no tension colours, overlay on, lit. */
+/* 1280 x 720, side view, exaggeration 1, no tension colours, overlay on, lit,
+ * no antialiasing. */
 void tsr_view_default(tsr_view *v);
 
 /* TS_OK, or TS_ERR_RANGE / TS_ERR_PARAM naming the bad field ("/width", ...). */
@@ -130,12 +135,16 @@ ts_rc tsr_scene_update(tsr_scene *s, const ts_geom *g, const tsr_view *v, ts_err
 
 /* Pixel coordinates (x right, y down, pixel i covers [i, i+1)) of world point
  * (x, y, z) [m] in the image of scene s seen with view v, as tsr_render draws
- * it. TS_ERR_RANGE if the point is behind a perspective camera. */
+ * it. TS_ERR_RANGE if the point is behind a perspective camera.
+ * Side view: with (cx, cz) the world position of the hull box centre and
+ * k = width / span (span 13 m when 0): px = width/2 + k (x - cx),
+ * py = height/2 - k (z - cz), whatever y. */
 ts_rc tsr_project(const tsr_scene *s, const tsr_view *v, double x, double y, double z,
                   double *px, double *py, ts_err *err);
 
-/* Body-frame box of the drawn hull (placement rule above), in world x/z of the
- * unpitched body axes [m]: rear, front (gun excluded), belly, roof. */
+/* Box of the drawn hull (placement rule above) in the body frame: x forward,
+ * z up, relative to the hull reference point (hull_x, hull_z) before pitch
+ * [m]: rear, front (gun excluded), belly, turret roof. */
 void tsr_scene_hull_box(const tsr_scene *s, double *x_rear, double *x_front, double *z_belly,
                         double *z_roof);
 
@@ -169,8 +178,8 @@ ts_rc tsr_render(tsr_ctx *c, const tsr_scene *s, const tsr_view *v, tsr_image *o
 ts_rc tsr_render_png(tsr_ctx *c, const ts_geom *g, const tsr_view *v, const tsr_png_opts *png,
                      unsigned char **out, size_t *out_len, ts_err *err);
 
-/* The PNG settings frames use: zlib level 1, "sub" row filter (see render.c
- * for the measurement behind the choice). */
+/* The PNG settings frames use (see render.c for the measurement behind the
+ * choice); tsr_render_png writes opaque RGB PNGs (tsr_png_encode_opaque). */
 tsr_png_opts tsr_png_fast(void);
 
 #endif

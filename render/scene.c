@@ -161,8 +161,22 @@ static void extrude(mb *b, const double (*poly)[2], int n, double cx, double cz,
         double pf[3] = {p[0], y0 + dp, p[1]}, qf[3] = {q[0], y0 + dq, q[1]};
         double pb[3] = {p[0], y1 - dp, p[1]}, qb[3] = {q[0], y1 - dq, q[1]};
         double cf[3] = {cx, y0 + dc, cz}, cb[3] = {cx, y1 - dc, cz};
-        tri(b, cf, pf, qf, centre);
-        tri(b, cb, qb, pb, centre);
+        if (n == 4) { /* convex quads (shoes, beams): two triangles per face */
+            if (i < 2) {
+                const double *r0 = poly[0], *r2 = poly[i + 1], *r3 = poly[i + 2];
+                double d0 = taper * (r0[1] - zref), d2 = taper * (r2[1] - zref),
+                       d3 = taper * (r3[1] - zref);
+                double f0[3] = {r0[0], y0 + d0, r0[1]}, f2[3] = {r2[0], y0 + d2, r2[1]},
+                       f3[3] = {r3[0], y0 + d3, r3[1]};
+                double b0[3] = {r0[0], y1 - d0, r0[1]}, b2[3] = {r2[0], y1 - d2, r2[1]},
+                       b3[3] = {r3[0], y1 - d3, r3[1]};
+                tri(b, f0, f2, f3, centre);
+                tri(b, b0, b3, b2, centre);
+            }
+        } else {
+            tri(b, cf, pf, qf, centre);
+            tri(b, cb, qb, pb, centre);
+        }
         tri(b, pf, qf, qb, centre);
         tri(b, pf, qb, pb, centre);
     }
@@ -316,11 +330,14 @@ static void build_ground(mb *b, const ts_geom *g, double xc)
     }
 }
 
-/* Closed polyline (deformed track centreline) with arc length. */
+/* The track loop: arc length is measured on the quasi-static centreline
+ * (track_x/z), so shoe pins are material points; each pin is then placed at the
+ * same segment and fraction of the deformed line (centreline + exaggeration x
+ * modal deflection). The modal deflection thus moves shoes across the line, not
+ * along it, and shoes outside a vibrating span stay where they are. */
 typedef struct {
-    const double *x, *z; /* not owned */
-    double px[TS_GEOM_MAX_TRACK], pz[TS_GEOM_MAX_TRACK];
-    double cum[TS_GEOM_MAX_TRACK + 1];
+    double px[TS_GEOM_MAX_TRACK], pz[TS_GEOM_MAX_TRACK]; /* deformed points */
+    double cum[TS_GEOM_MAX_TRACK + 1];                   /* quasi-static arc length */
     int n;
 } loop;
 
@@ -361,8 +378,9 @@ static void build_track(mb *b, const ts_geom *g, const tsr_view *v, double phase
     lp->cum[0] = 0;
     for (int i = 0; i < n; i++) {
         int k = (i + 1) % n;
-        lp->cum[i + 1] = lp->cum[i] + hypot(lp->px[k] - lp->px[i], lp->pz[k] - lp->pz[i]);
-        area += lp->px[i] * lp->pz[k] - lp->px[k] * lp->pz[i];
+        lp->cum[i + 1] = lp->cum[i] + hypot(g->track_x[k] - g->track_x[i],
+                                            g->track_z[k] - g->track_z[i]);
+        area += g->track_x[i] * g->track_z[k] - g->track_x[k] * g->track_z[i];
     }
     double L = lp->cum[n];
     if (!(L > 0)) {
@@ -411,8 +429,21 @@ static void build_track(mb *b, const ts_geom *g, const tsr_view *v, double phase
     free(lp);
 }
 
-/* Spoked look for a wheel's outer face: hub and lightening holes that turn
- * with the spin angle (so animations show rolling). */
+/* Flat disc (a lid facing direction out = -1 or +1 along y) at y: cheap
+ * detail on the outer faces of wheels. */
+static void lid(mb *b, double x, double z, double r, double y, double out, int nseg)
+{
+    double behind[3] = {x, y - out, z}, c[3] = {x, y, z};
+    for (int i = 0; i < nseg; i++) {
+        double a0 = 2.0 * TSR_PI * i / nseg, a1 = 2.0 * TSR_PI * (i + 1) / nseg;
+        double p0[3] = {x + r * cos(a0), y, z + r * sin(a0)};
+        double p1[3] = {x + r * cos(a1), y, z + r * sin(a1)};
+        tri(b, c, p0, p1, behind);
+    }
+}
+
+/* Spoked look for a wheel's outer face at y = yface: hub and lightening holes
+ * that turn with the spin angle (so animations show rolling). */
 static void wheel_face(mb *b, const ts_geom_wheel *w, double yface, double out, int nholes)
 {
     double r = w->radius;
@@ -420,13 +451,11 @@ static void wheel_face(mb *b, const ts_geom_wheel *w, double yface, double out, 
     for (int k = 0; k < nholes; k++) {
         /* spin positive = forward rolling = clockwise seen from -y (x right, z up) */
         double a = -w->angle + 2.0 * TSR_PI * k / nholes;
-        double hx = w->x + 0.52 * r * cos(a), hz = w->z + 0.52 * r * sin(a);
-        double y0 = out < 0 ? yface - 0.015 : yface, y1 = out < 0 ? yface : yface + 0.015;
-        disc(b, hx, hz, 0.13 * r, y0, y1, 10);
+        lid(b, w->x + 0.52 * r * cos(a), w->z + 0.52 * r * sin(a), 0.13 * r, yface + 0.005 * out,
+            out, 8);
     }
     set_paint(b, b->part, COL_STEEL);
-    double y0 = out < 0 ? yface - 0.03 : yface, y1 = out < 0 ? yface : yface + 0.03;
-    disc(b, w->x, w->z, 0.2 * r, y0, y1, 12);
+    lid(b, w->x, w->z, 0.2 * r, yface + 0.01 * out, out, 10);
 }
 
 /* A dual wheel (road wheel, idler, roller) on the side whose track centre is yc. */
@@ -434,15 +463,14 @@ static void dual_wheel(mb *b, const ts_geom_wheel *w, int part, double yc, doubl
                        double out, int nholes)
 {
     double r = w->radius, gap = 0.06;
-    int nseg = r > 0.2 ? 28 : 16;
+    int nseg = r > 0.2 ? 22 : 14;
     set_paint(b, part, COL_RUBBER);
     disc(b, w->x, w->z, r, yc - half_w, yc - gap, nseg);
     disc(b, w->x, w->z, r, yc + gap, yc + half_w, nseg);
     set_paint(b, part, COL_HULL);
-    double yo = yc + out * half_w; /* outer face */
-    double y0 = out < 0 ? yo - 0.02 : yo - 0.05, y1 = out < 0 ? yo + 0.05 : yo + 0.02;
-    disc(b, w->x, w->z, 0.8 * r, y0, y1, nseg);
-    wheel_face(b, w, out < 0 ? y0 : y1, out, nholes);
+    double yo = yc + out * (half_w + 0.005); /* just outside the outer tyre face */
+    lid(b, w->x, w->z, 0.8 * r, yo, out, nseg);
+    wheel_face(b, w, yo, out, nholes);
 }
 
 static void sprocket(mb *b, const ts_geom_wheel *w, double yc, double out)
@@ -467,7 +495,7 @@ static void sprocket(mb *b, const ts_geom_wheel *w, double yc, double out)
     double y0 = out < 0 ? edge - 0.10 : edge, y1 = out < 0 ? edge : edge + 0.10;
     extrude(b, (const double(*)[2])poly, np, w->x, w->z, y0, y1, 0, 0);
     set_paint(b, TSR_PART_SPROCKET, COL_HULL);
-    disc(b, w->x, w->z, 0.7 * r, yc - TRACK_WIDTH / 2, yc + TRACK_WIDTH / 2, 24);
+    disc(b, w->x, w->z, 0.7 * r, yc - TRACK_WIDTH / 2, yc + TRACK_WIDTH / 2, 16);
     wheel_face(b, w, out < 0 ? y0 : y1, out, 6);
 }
 
@@ -479,8 +507,9 @@ static void build_hull(mb *b, tsr_scene *s, const ts_geom *g, int isp, int iid)
     /* world -> body (inverse of to_world) for hull-fixed points */
 #define BX(x, z) (((x) - g->hull_x) * c - ((z) - g->hull_z) * sn)
 #define BZ(x, z) (((x) - g->hull_x) * sn + ((z) - g->hull_z) * c)
-    double L = g->hull_length > 0 ? g->hull_length : TSR_DEFAULT_HULL_LENGTH;
-    double H = g->hull_height > 0 ? g->hull_height : TSR_DEFAULT_HULL_HEIGHT;
+    /* the M1 silhouette's own size: the snapshot's hull_length/height are
+     * framing hints of the model (e.g. the track envelope), not a drawing */
+    const double L = TSR_HULL_LENGTH, H = TSR_HULL_HEIGHT;
     double spx = BX(sp->x, sp->z), spz = BZ(sp->x, sp->z);
     double idx = BX(id->x, id->z), idz = BZ(id->x, id->z);
     double rear = fmin(spx - sp->radius, idx - id->radius);
