@@ -4,21 +4,26 @@
  *
  * State diagram (the function that makes each transition in brackets):
  *
- *                 [tsd_session_run]            [run_finish: until < duration
- *     created ─────────────────────▶ running ──────────────────▶ paused
- *        │                           ▲  │ │    or cancelled]       │
- *        │ [step_job]                │  │ └──[run_finish: t =     │
- *        ▼                           │  │     duration]──▶ done   │
- *      paused ◀──[step_job]── paused │  │                         │
- *        │                           │  └──[run_finish: model     │
- *        └──────[tsd_session_run]────┘      error]──▶ failed      │
- *                                    ▲                (sticky)    │
- *     interrupted ──[tsd_session_run]┘                            │
- *        ▲                                                        │
- *        └──[load_session: "running" found at start-up, or        │
- *            run_finish while the daemon shuts down]              │
- *     paused ⇄ running as above; step_job: created | paused | interrupted
- *     → paused | done | failed.
+ *            [tsd_session_create]
+ *                    │
+ *                    ▼        [tsd_session_run]
+ *                 created ─────────────────────────┐
+ *                    │ [step_job]                  ▼
+ *                    ▼        [tsd_session_run]
+ *        ┌───────▶ paused ─────────────────────▶ running ──[run_finish: t = duration]──▶ done
+ *        │           ▲ │ [step_job]              │  │ │
+ *        │           │ └──────────┘              │  │ └──[run_finish: model error]──▶ failed
+ *        │           │                           │  │                                (sticky)
+ *        │           └──[run_finish: until <     │  │
+ *        │               duration, or cancelled]─┘  │
+ *        │                                          │ [run_finish during shutdown;
+ *        │ [step_job]                               ▼  load_session: "running" in the
+ *        └──────────────────────────────── interrupted  database at start-up]
+ *                                   [tsd_session_run] ──▶ running
+ *
+ *   step_job also goes to done (t reached run.duration) or failed (model error)
+ *   from created | paused | interrupted. tsd_session_delete removes a session
+ *   in any state (a running job stops at its next sample).
  *
  * Invariants:
  *  (1) Only the holder of `busy` touches d, the batch and the snapshot, and
