@@ -104,6 +104,8 @@ typedef struct ts_engine_config {
     double turbo_inertia_ref;                     /* [kg*m^2] */
     double turbo_mech_eff;                        /* [1] */
     double turbo_idle_speed;                      /* initial rotor speed [rad/s] */
+    double wg_area;                               /* wastegate full-open effective area [m^2] */
+    double wg_crack, wg_full;                     /* boost at which it cracks / is fully open [Pa] */
     /* intercooler and manifolds (per bank) */
     double ic_ua, ic_wall_temp, ic_cda, ic_volume; /* [W/K], [K], [m^2], [m^3] */
     double intake_volume, exhaust_volume;           /* [m^3] */
