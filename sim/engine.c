@@ -202,6 +202,12 @@ void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double
     if (e->fidelity == TS_ENGINE_CRANK_ANGLE) en_crank_init(e, omega, p_amb, T_amb, x);
 }
 
+void ts_engine_set_turbo_speed(const ts_engine *e, double *x, double w)
+{
+    if (e->off_bank < 0) return;
+    for (int b = 0; b < EN_NBANK; b++) x[e->off_bank + b * EN_BANK_NX + BX_TC] = w;
+}
+
 void ts_engine_atol(const ts_engine *e, double atol, double *v)
 {
     for (int i = 0; i < e->nx; i++) v[i] = atol;

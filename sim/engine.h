@@ -84,6 +84,12 @@ int ts_engine_nstate(const ts_engine *e);       /* length of x */
 void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double T_amb,
                           double *x);
 
+/* Set both turbocharger rotor speeds in x [rad/s] (no-op for the map
+ * fidelity). With the constant-phi fuel law the turbo match can settle on a
+ * low-boost branch; a steady-state search started from spun-up rotors finds
+ * the full-load (high-boost) one, as a dynamometer lug-down from rated does. */
+void ts_engine_set_turbo_speed(const ts_engine *e, double *x, double w);
+
 /* Absolute tolerance scale of each state for a caller's integrator (n values). */
 void ts_engine_atol(const ts_engine *e, double atol, double *atol_v);
 
