@@ -229,9 +229,9 @@ void ts_engine_atol(const ts_engine *e, double atol, double *v)
             vc[CX_T] = atol * 1e4;
             vc[CX_BURN] = atol * 1e2;
         }
+    if (e->off_coolant >= 0) v[e->off_coolant] = v[e->off_coolant + 1] = atol * 1e4;
     if (e->off_wall >= 0)
-        for (int i = 0; i < EN_NCYL * EN_NSURF * EN_WALL_NODES + 2; i++)
-            v[e->off_coolant + i] = atol * 1e4;
+        for (int i = 0; i < EN_NCYL * EN_NSURF * EN_WALL_NODES; i++) v[e->off_wall + i] = atol * 1e4;
 }
 
 int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,

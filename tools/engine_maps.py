@@ -26,7 +26,7 @@ def main():
         if any(p.wait() for p in procs):
             sys.exit("engine-map failed")
     path = "sim/data/defaults/engine.json"
-    doc = json.load(open(path))
+    doc = json.load(open(path))  # _sources are kept as they are
     for v in VARIANTS:
         rows = list(csv.reader(open("sim/data/engine_maps/%s.csv" % v)))
         head = [h.split(" ")[0] for h in rows[0]]
