@@ -92,6 +92,8 @@ static const ts_param engine_rows[] = {
     D(zirconia_rho_c, "J/m^3/K", 1e6, 5e6, "plasma-sprayed zirconia volumetric heat capacity"),
     D(coating_lhr05, "m", 0, 0.003, "zirconia thickness of variant lhr05"),
     D(coating_lhr10, "m", 0, 0.003, "zirconia thickness of variant lhr10"),
+    {"/engine/coat_liner", TS_PT_BOOL, F(coat_liner), "", 0, 1, NULL, 0, 0,
+     "LHR variants: zirconia also on the liner (otherwise piston and head only)"},
     D(h_coolant, "W/m^2/K", 100, 1e5, "head and liner back side to coolant"),
     D(h_oil, "W/m^2/K", 100, 1e5, "piston underside to oil"),
     D(coolant_temp, "K", 300, 420, "coolant thermostat set point"),

@@ -86,6 +86,7 @@ typedef struct ts_engine_config {
     double piston_thickness, head_thickness, liner_thickness; /* metal [m] */
     double zirconia_k, zirconia_rho_c;     /* [W/m/K], [J/m^3/K] */
     double coating_lhr05, coating_lhr10;   /* coating thickness per variant [m] */
+    int coat_liner;                        /* LHR coating also on the liner (bool) */
     double h_coolant, h_oil;               /* back-side film coefficients [W/m^2/K] */
     double coolant_temp, oil_temp;         /* thermostat set points [K] */
     double coolant_capacity, oil_capacity; /* lumped heat capacities [J/K] */

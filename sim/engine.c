@@ -97,15 +97,15 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
                           .bsr_opt = c->turb_bsr_opt,
                           .inertia = c->turbo_inertia_ref * pow(s, 2.5),
                           .mech_eff = c->turbo_mech_eff};
-    /* Walls: coating per variant on piston and head (combustion-chamber
-     * surfaces, Section III.B.3); liner all-metal (coating it would scuff). */
+    /* Walls: coating per variant on the combustion-chamber surfaces (Section
+     * III.B.3): piston and head, and the liner unless /engine/coat_liner is off. */
     double coat = c->variant == TS_ENGINE_LHR05 ? c->coating_lhr05
                 : c->variant == TS_ENGINE_LHR10 ? c->coating_lhr10 : 0.0;
     en_wall_build(&e->wall[EN_PISTON], coat, c->zirconia_k, c->zirconia_rho_c, c->piston_thickness,
                   c->metal_k, c->metal_rho_c, c->h_oil);
     en_wall_build(&e->wall[EN_HEAD], coat, c->zirconia_k, c->zirconia_rho_c, c->head_thickness,
                   c->metal_k, c->metal_rho_c, c->h_coolant);
-    en_wall_build(&e->wall[EN_LINER], 0.0, c->zirconia_k, c->zirconia_rho_c, c->liner_thickness,
+    en_wall_build(&e->wall[EN_LINER], c->coat_liner ? coat : 0.0, c->zirconia_k, c->zirconia_rho_c, c->liner_thickness,
                   c->metal_k, c->metal_rho_c, c->h_coolant);
     e->surf_area[EN_PISTON] = g->area * c->piston_area_factor;
     e->surf_area[EN_HEAD] = g->area * c->head_area_factor;
