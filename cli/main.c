@@ -18,6 +18,8 @@ static const tsc_command commands[] = {
      "(CONFIG.json | --preset NAME) --out FILE.png [--t T] [--width W] [--height H] "
      "[--view side|three_quarter] [--exaggeration E] [--color tension] [--text S] [--antialias]",
      "run to time T and draw the tank and its deformed track into a PNG"},
+    {"engine-map", tsc_cmd_engine_map, "(CONFIG.json | --preset NAME) --out FILE.csv",
+     "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18)"},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 
