@@ -17,6 +17,7 @@
 
 #include "../sim/version.h"
 #include "server.h"
+#include "static_files.h"
 
 static void usage(FILE *f)
 {
@@ -30,6 +31,8 @@ static void usage(FILE *f)
             "  --max-body N     largest request body in bytes (default 1048576)\n"
             "  --timeout S      idle connection timeout in seconds (default 60)\n"
             "  --token T        require 'Authorization: Bearer T' (all but /v1/health)\n"
+            "  --web-root DIR   dashboard files served at / (default: web_static/ beside the\n"
+            "                   build directory of this binary, else ./web_static)\n"
             "  --help           this text\n"
             "  --version        print the version\n");
 }
@@ -74,6 +77,7 @@ int main(int argc, char **argv)
     o->http_threads = 4;
     o->max_body = 1 << 20;
     o->conn_timeout = 60;
+    tsd_static_default_root(o->web_root, sizeof o->web_root);
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -107,6 +111,8 @@ int main(int argc, char **argv)
             o->conn_timeout = (unsigned)n;
         } else if (strcmp(a, "--token") == 0) {
             snprintf(o->token, sizeof o->token, "%s", v);
+        } else if (strcmp(a, "--web-root") == 0) {
+            snprintf(o->web_root, sizeof o->web_root, "%s", v);
         } else {
             fprintf(stderr, "tanksimd: unknown option: %s\n", a);
             usage(stderr);

@@ -11,6 +11,7 @@
 
 #include "../sim/version.h"
 #include "server.h"
+#include "static_files.h"
 
 typedef enum MHD_Result (*tsd_handler)(tsd_request *r);
 
@@ -28,6 +29,8 @@ static enum MHD_Result get_health(tsd_request *r)
 
 static const tsd_route_row routes[] = {
     {"GET", "/v1/health", get_health},
+    {"GET", "/", tsd_static_index},
+    {"GET", "/static/{file}", tsd_static_file},
 };
 #define NROUTES (sizeof routes / sizeof routes[0])
 

@@ -25,6 +25,7 @@ typedef struct tsd_options {
     size_t max_body;        /* largest request body accepted [bytes] */
     unsigned conn_timeout;  /* idle connection timeout [s] */
     char token[128];        /* bearer token; empty = no authentication */
+    char web_root[512];     /* dashboard files served at / (static_files.c) */
 } tsd_options;
 
 typedef struct tsd_server {
