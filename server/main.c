@@ -1,8 +1,16 @@
 /*
- * main.c — tanksimd: parse flags, block SIGINT/SIGTERM in every thread, start
- * the HTTP server, wait for a signal with sigwait, shut down cleanly.
+ * main.c — tanksimd: parse flags, block SIGINT/SIGTERM in every thread, open
+ * the database and reload stored sessions (runs that were in progress become
+ * "interrupted"), start the worker pool and the HTTP server, wait for a
+ * signal with sigwait, shut down cleanly.
  * Blocking the signals before any thread starts means no handler and no
  * global flag are needed: the main thread simply waits for one.
+ *
+ * Shutdown order: mark stopping (running jobs stop at their next sample and
+ * store what they have; their sessions become "interrupted"), wake streams,
+ * drain and join the pool (deferred step replies are resumed by their jobs),
+ * wake streams again, stop libmicrohttpd (no connection is left suspended),
+ * then free sessions and close the database.
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -16,7 +24,11 @@
 #include <unistd.h>
 
 #include "../sim/version.h"
+#include "db.h"
+#include "operations.h"
+#include "pool.h"
 #include "server.h"
+#include "session.h"
 #include "static_files.h"
 
 static void usage(FILE *f)
@@ -33,6 +45,10 @@ static void usage(FILE *f)
             "  --token T        require 'Authorization: Bearer T' (all but /v1/health)\n"
             "  --web-root DIR   dashboard files served at / (default: web_static/ beside the\n"
             "                   build directory of this binary, else ./web_static)\n"
+            "  --max-sessions N sessions kept at once (default 1000; more -> 429)\n"
+            "  --max-samples N  sample rows per series/FFT response (default 100000)\n"
+            "  --max-step S     longest synchronous step in simulated seconds (default 10)\n"
+            "  --routes         print the routing table and exit\n"
             "  --help           this text\n"
             "  --version        print the version\n");
 }
@@ -77,6 +93,9 @@ int main(int argc, char **argv)
     o->http_threads = 4;
     o->max_body = 1 << 20;
     o->conn_timeout = 60;
+    o->max_sessions = 1000;
+    o->max_samples = 100000;
+    o->max_step = 10.0;
     tsd_static_default_root(o->web_root, sizeof o->web_root);
 
     for (int i = 1; i < argc; i++) {
@@ -85,6 +104,9 @@ int main(int argc, char **argv)
         long n;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
+            return 0;
+        } else if (strcmp(a, "--routes") == 0) {
+            tsd_routes_print();
             return 0;
         } else if (strcmp(a, "--version") == 0) {
             printf("tanksimd %s\n", TS_VERSION);
@@ -109,6 +131,20 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--timeout") == 0) {
             if (parse_int(a, v, 1, 86400, &n)) return 2;
             o->conn_timeout = (unsigned)n;
+        } else if (strcmp(a, "--max-sessions") == 0) {
+            if (parse_int(a, v, 1, 1000000, &n)) return 2;
+            o->max_sessions = (int)n;
+        } else if (strcmp(a, "--max-samples") == 0) {
+            if (parse_int(a, v, 10, 100000000, &n)) return 2;
+            o->max_samples = n;
+        } else if (strcmp(a, "--max-step") == 0) {
+            char *end;
+            double x = strtod(v, &end);
+            if (*end || !(x > 0) || x > 1e6) {
+                fprintf(stderr, "tanksimd: %s: seconds in (0, 1e6] expected, got '%s'\n", a, v);
+                return 2;
+            }
+            o->max_step = x;
         } else if (strcmp(a, "--token") == 0) {
             snprintf(o->token, sizeof o->token, "%s", v);
         } else if (strcmp(a, "--web-root") == 0) {
@@ -134,13 +170,31 @@ int main(int argc, char **argv)
     signal(SIGPIPE, SIG_IGN);
 
     char err[256];
-    if (tsd_server_start(&srv, err, sizeof err) != 0) {
+    srv.db = tsd_db_open(o->data_dir, err, sizeof err);
+    if (!srv.db) {
         fprintf(stderr, "tanksimd: %s\n", err);
         return 1;
     }
+    pthread_mutex_init(&srv.fft_lock, NULL);
+    if (tsd_ops_init(&srv) != 0 || tsd_sessions_init(&srv, err, sizeof err) != 0) {
+        fprintf(stderr, "tanksimd: %s\n", err);
+        tsd_sessions_free(&srv);
+        tsd_ops_free(&srv);
+        tsd_db_close(srv.db);
+        return 1;
+    }
+    srv.pool = tsd_pool_start(o->threads);
+    if (!srv.pool || tsd_server_start(&srv, err, sizeof err) != 0) {
+        fprintf(stderr, "tanksimd: %s\n", srv.pool ? err : "cannot start worker threads");
+        tsd_pool_stop(srv.pool);
+        tsd_sessions_free(&srv);
+        tsd_ops_free(&srv);
+        tsd_db_close(srv.db);
+        return 1;
+    }
     const char *host = strchr(o->bind, ':') ? "[::1]" : o->bind;
-    fprintf(stderr, "tanksimd %s listening on %s port %d, data in %s\n", TS_VERSION, o->bind,
-            o->port, o->data_dir);
+    fprintf(stderr, "tanksimd %s listening on %s port %d, data in %s, %d workers\n", TS_VERSION,
+            o->bind, o->port, o->data_dir, o->threads);
     printf("tanksimd: open http://%s:%d/ (health: http://%s:%d/v1/health)\n", host, o->port, host,
            o->port);
     fflush(stdout);
@@ -148,6 +202,16 @@ int main(int argc, char **argv)
     int sig = 0;
     sigwait(&stop, &sig);
     fprintf(stderr, "tanksimd: %s received, shutting down\n", sig == SIGINT ? "SIGINT" : "SIGTERM");
+    atomic_store(&srv.stopping, 1);
+    tsd_sessions_wake_all(&srv);
+    tsd_pool_stop(srv.pool);
+    srv.pool = NULL;
+    tsd_sessions_wake_all(&srv);
     tsd_server_stop(&srv);
+    tsd_sessions_free(&srv);
+    tsd_ops_free(&srv);
+    tsd_db_close(srv.db);
+    pthread_mutex_destroy(&srv.fft_lock);
+    fprintf(stderr, "tanksimd: stopped\n");
     return 0;
 }

@@ -1,25 +1,123 @@
 /*
  * routes.c — the routing table of tanksimd and its handlers.
  *
- * Columns: method, path pattern ("{name}" matches one path segment, captured
- * into r->params in order), handler. Rows are tried in order; a path that
- * matches no row gets 404, a path that matches with another method 405. Every
- * error body is application/problem+json (RFC 9457).
+ * Table columns:
+ *   method   HTTP method the row answers
+ *   pattern  path; "{name}" matches one path segment (up to '/' or ':'),
+ *            captured into r->params in order
+ *   handler  function that queues exactly one response
+ *   flags    RF_PUBLIC  served without the bearer token (--token)
+ *            RF_SESSION the first parameter is a session id: the session is
+ *                       looked up (404 problem if unknown) into r->session
+ *                       before the handler runs, released after the response
+ *   summary  one line, the same as the operation summary in api/openapi.yaml
+ * Rows are tried in order; a path that matches no row gets 404, a path that
+ * matches with another method 405. Every error body is
+ * application/problem+json (RFC 9457). The table is printed by
+ * `tanksimd --routes`; tests compare it with api/openapi.yaml.
+ *
+ * Handlers parse only query strings here; JSON bodies go through api/
+ * (session_json.h, config_json.h) and sessions through session.h.
+ * Not here yet: the frame/animation routes (render branch not merged) and
+ * POST /v1/modes (track branch not merged).
  */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
+#include "../api/config_json.h"
+#include "../api/problem.h"
+#include "../api/session_json.h"
+#include "../api/spectrum.h"
+#include "../api/store.h"
 #include "../sim/version.h"
+#include "db.h"
+#include "operations.h"
+#include "pool.h"
 #include "server.h"
+#include "session.h"
+#include "stream.h"
 #include "static_files.h"
 
 typedef enum MHD_Result (*tsd_handler)(tsd_request *r);
+
+enum { RF_PUBLIC = 1, RF_SESSION = 2 };
 
 typedef struct tsd_route_row {
     const char *method;
     const char *pattern;
     tsd_handler handler;
+    int flags;
+    const char *summary;
 } tsd_route_row;
+
+#define MAX_CHANNELS_SELECT 512
+
+/* ---- small helpers -------------------------------------------------------------- */
+
+const char *tsd_arg(tsd_request *r, const char *name)
+{
+    return MHD_lookup_connection_value(r->conn, MHD_GET_ARGUMENT_KIND, name);
+}
+
+static enum MHD_Result bad_param(tsd_request *r, const char *name, const char *fmt, const char *v)
+{
+    ts_err e;
+    char ptr[64];
+    snprintf(ptr, sizeof ptr, "/%s", name);
+    ts_err_set(&e, TS_ERR_PARAM, ptr, "query parameter %s: %s, got '%.100s'", name, fmt, v);
+    return tsd_reply_err(r, &e, NULL);
+}
+
+/* Optional query number in [lo, hi]: 1 present, 0 absent, -1 replied 400. */
+static int q_number(tsd_request *r, const char *name, double lo, double hi, double *out,
+                    enum MHD_Result *ret)
+{
+    const char *v = tsd_arg(r, name);
+    if (!v || !*v) return 0;
+    char *end;
+    errno = 0;
+    double x = strtod(v, &end);
+    if (errno || *end || !isfinite(x) || x < lo || x > hi) {
+        char what[96];
+        snprintf(what, sizeof what, "number in [%g, %g] expected", lo, hi);
+        *ret = bad_param(r, name, what, v);
+        return -1;
+    }
+    *out = x;
+    return 1;
+}
+
+static int q_integer(tsd_request *r, const char *name, long lo, long hi, long *out,
+                     enum MHD_Result *ret)
+{
+    const char *v = tsd_arg(r, name);
+    if (!v || !*v) return 0;
+    char *end;
+    errno = 0;
+    long x = strtol(v, &end, 10);
+    if (errno || *end || x < lo || x > hi) {
+        char what[96];
+        snprintf(what, sizeof what, "integer in [%ld, %ld] expected", lo, hi);
+        *ret = bad_param(r, name, what, v);
+        return -1;
+    }
+    *out = x;
+    return 1;
+}
+
+static enum MHD_Result reply_body_err(tsd_request *r, const ts_err *e, json_t *errors)
+{
+    enum MHD_Result ret = tsd_reply_err(r, e, json_array_size(errors) ? errors : NULL);
+    json_decref(errors);
+    return ret;
+}
+
+/* ---- service --------------------------------------------------------------------- */
 
 static enum MHD_Result get_health(tsd_request *r)
 {
@@ -27,12 +125,491 @@ static enum MHD_Result get_health(tsd_request *r)
                           json_pack("{s:s,s:s}", "status", "ok", "version", TS_VERSION));
 }
 
+static enum MHD_Result get_openapi(tsd_request *r)
+{
+    const tsa_file *f = tsa_store_find("api/openapi.yaml");
+    if (!f) {
+        ts_err e;
+        ts_err_set(&e, TS_ERR_NOTFOUND, NULL, "api/openapi.yaml is not in this build");
+        return tsd_reply_err(r, &e, NULL);
+    }
+    return tsd_reply_text(r, MHD_HTTP_OK, "application/yaml", (const char *)f->data, f->size);
+}
+
+static enum MHD_Result get_metrics(tsd_request *r)
+{
+    tsd_server *s = r->srv;
+    tsd_metrics *m = &s->metrics;
+    tsa_buf b = {0};
+    long counts[TSD_NSTATUS];
+    tsd_sessions_count(s, counts);
+    tsa_buf_printf(&b, "# HELP tanksimd_sessions Sessions held, by status.\n"
+                       "# TYPE tanksimd_sessions gauge\n");
+    for (int i = 0; i < TSD_NSTATUS; i++)
+        tsa_buf_printf(&b, "tanksimd_sessions{status=\"%s\"} %ld\n",
+                       tsd_status_name((tsd_status)i), counts[i]);
+    tsa_buf_printf(&b,
+                   "# HELP tanksimd_sessions_created_total Sessions created since start.\n"
+                   "# TYPE tanksimd_sessions_created_total counter\n"
+                   "tanksimd_sessions_created_total %ld\n",
+                   atomic_load(&m->sessions_created));
+    tsa_buf_printf(&b,
+                   "# HELP tanksimd_runs_started_total Run operations started.\n"
+                   "# TYPE tanksimd_runs_started_total counter\n"
+                   "tanksimd_runs_started_total %ld\n"
+                   "# HELP tanksimd_runs_ended_total Run operations ended, by result.\n"
+                   "# TYPE tanksimd_runs_ended_total counter\n",
+                   atomic_load(&m->runs_started));
+    for (int i = 0; i < TSD_NRUN_RESULTS; i++)
+        tsa_buf_printf(&b, "tanksimd_runs_ended_total{result=\"%s\"} %ld\n",
+                       tsd_run_result_names[i], atomic_load(&m->runs_ended[i]));
+    tsa_buf_printf(&b,
+                   "# HELP tanksimd_steps_total Synchronous steps executed.\n"
+                   "# TYPE tanksimd_steps_total counter\n"
+                   "tanksimd_steps_total %ld\n"
+                   "# HELP tanksimd_simulated_seconds_total Simulated time advanced [s].\n"
+                   "# TYPE tanksimd_simulated_seconds_total counter\n"
+                   "tanksimd_simulated_seconds_total %.6f\n"
+                   "# HELP tanksimd_advance_wall_seconds_total Wall time spent advancing [s].\n"
+                   "# TYPE tanksimd_advance_wall_seconds_total counter\n"
+                   "tanksimd_advance_wall_seconds_total %.6f\n"
+                   "# HELP tanksimd_samples_stored_total Sample rows written to the database.\n"
+                   "# TYPE tanksimd_samples_stored_total counter\n"
+                   "tanksimd_samples_stored_total %ld\n"
+                   "# HELP tanksimd_jobs_pending Worker-pool jobs queued or running.\n"
+                   "# TYPE tanksimd_jobs_pending gauge\n"
+                   "tanksimd_jobs_pending %d\n"
+                   "# HELP tanksimd_http_requests_total HTTP requests answered, by status.\n"
+                   "# TYPE tanksimd_http_requests_total counter\n",
+                   atomic_load(&m->steps), 1e-6 * (double)atomic_load(&m->sim_microseconds),
+                   1e-6 * (double)atomic_load(&m->wall_microseconds),
+                   atomic_load(&m->samples_stored), tsd_pool_pending(s->pool));
+    for (int c = 1; c < 6; c++)
+        for (int k = 0; k < 100; k++) {
+            long n = atomic_load(&m->requests[c][k]);
+            if (n) tsa_buf_printf(&b, "tanksimd_http_requests_total{code=\"%d\"} %ld\n",
+                                  100 * c + k, n);
+        }
+    size_t len;
+    char *text = tsa_buf_take(&b, &len);
+    if (!text) return MHD_NO;
+    enum MHD_Result ret =
+        tsd_reply_text(r, MHD_HTTP_OK, "text/plain; version=0.0.4; charset=utf-8", text, len);
+    free(text);
+    return ret;
+}
+
+/* ---- presets and schema ----------------------------------------------------------- */
+
+/* Scenario kind a preset resolves to ("" if it does not resolve). */
+static void preset_kind(const char *name, char *kind, size_t n)
+{
+    ts_err e;
+    json_t *doc = json_pack("{s:s}", "preset", name);
+    json_t *res = tsa_config_resolve(doc, &e);
+    json_t *k = json_object_get(json_object_get(res, "run"), "kind");
+    snprintf(kind, n, "%s", json_is_string(k) ? json_string_value(k) : "");
+    json_decref(res);
+    json_decref(doc);
+}
+
+static enum MHD_Result get_presets(tsd_request *r)
+{
+    json_t *list = tsa_preset_list();
+    size_t i;
+    json_t *p;
+    json_array_foreach(list, i, p)
+    {
+        char kind[64], link[200];
+        const char *name = json_string_value(json_object_get(p, "name"));
+        preset_kind(name, kind, sizeof kind);
+        snprintf(link, sizeof link, "/v1/presets/%s", name);
+        json_object_set_new(p, "kind", json_string(kind));
+        json_object_set_new(p, "links", json_pack("{s:s}", "self", link));
+    }
+    return tsd_reply_json(r, MHD_HTTP_OK, json_pack("{s:o}", "presets", list));
+}
+
+static enum MHD_Result get_preset(tsd_request *r)
+{
+    ts_err e;
+    json_t *doc = tsa_preset_get(r->params[0], &e);
+    if (!doc) return tsd_reply_err(r, &e, NULL);
+    json_t *req = json_pack("{s:s}", "preset", r->params[0]);
+    json_t *resolved = tsa_config_resolve(req, &e);
+    json_decref(req);
+    if (!resolved) {
+        json_decref(doc);
+        return tsd_reply_err(r, &e, NULL);
+    }
+    return tsd_reply_json(r, MHD_HTTP_OK,
+                          json_pack("{s:s,s:o,s:o}", "name", r->params[0], "preset", doc,
+                                    "config", resolved));
+}
+
+static enum MHD_Result get_schema(tsd_request *r)
+{
+    return tsd_reply_json(r, MHD_HTTP_OK, tsa_config_schema());
+}
+
+/* ---- sessions -------------------------------------------------------------------- */
+
+static enum MHD_Result post_sessions(tsd_request *r)
+{
+    ts_err e;
+    json_t *doc = tsa_parse_object(r->body, r->body_len, &e);
+    if (!doc) return tsd_reply_err(r, &e, NULL);
+    json_t *errors = json_array();
+    tsd_session *s = NULL;
+    ts_rc rc = tsd_session_create(r->srv, doc, &s, errors, &e);
+    json_decref(doc);
+    if (rc != TS_OK) return reply_body_err(r, &e, errors);
+    json_decref(errors);
+    char loc[64];
+    snprintf(loc, sizeof loc, "/v1/sessions/%s", s->id);
+    snprintf(r->location, sizeof r->location, "%s", loc);
+    json_t *j = tsd_session_json(s, 0);
+    tsd_session_put(s);
+    return tsd_reply_json(r, MHD_HTTP_CREATED, j);
+}
+
+static enum MHD_Result get_sessions(tsd_request *r)
+{
+    enum MHD_Result ret = MHD_NO;
+    long page_size = 50, after = 0;
+    if (q_integer(r, "page_size", 1, 1000, &page_size, &ret) < 0) return ret;
+    if (q_integer(r, "page_token", 0, 1L << 62, &after, &ret) < 0) return ret;
+    return tsd_reply_json(r, MHD_HTTP_OK, tsd_session_list(r->srv, page_size, after));
+}
+
+static enum MHD_Result get_session(tsd_request *r)
+{
+    return tsd_reply_json(r, MHD_HTTP_OK, tsd_session_json(r->session, 0));
+}
+
+static enum MHD_Result delete_session(tsd_request *r)
+{
+    ts_err e;
+    if (tsd_session_delete(r->srv, r->params[0], &e) != TS_OK) return tsd_reply_err(r, &e, NULL);
+    return tsd_reply_text(r, MHD_HTTP_NO_CONTENT, "application/json", "", 0);
+}
+
+/* Step: parse, hand to the pool, suspend; step_resumed replies. */
+static void step_done(void *ud) { tsd_request_resume(ud); }
+
+static enum MHD_Result step_resumed(tsd_request *r)
+{
+    if (r->async_result) {
+        json_t *j = r->async_result;
+        r->async_result = NULL;
+        return tsd_reply_json(r, MHD_HTTP_OK, j);
+    }
+    return tsd_reply_err(r, &r->async_err, NULL);
+}
+
+static enum MHD_Result post_step(tsd_request *r)
+{
+    ts_err e;
+    json_t *doc = tsa_parse_object(r->body, r->body_len, &e);
+    if (!doc) return tsd_reply_err(r, &e, NULL);
+    double duration = 0;
+    tsa_num_field f[] = {{"duration", 1, 0.0, 1e9, &duration, NULL}};
+    json_t *errors = json_array();
+    ts_rc rc = tsa_read_numbers(doc, f, 1, errors, &e);
+    json_decref(doc);
+    if (rc != TS_OK) return reply_body_err(r, &e, errors);
+    json_decref(errors);
+    if (duration > r->srv->opt.max_step) {
+        char detail[300];
+        snprintf(detail, sizeof detail,
+                 "/duration: a synchronous step is at most %g s (--max-step), got %g; use POST "
+                 "/v1/sessions/%s/run for longer advances",
+                 r->srv->opt.max_step, duration, r->session->id);
+        char run[96];
+        snprintf(run, sizeof run, "/v1/sessions/%s/run", r->session->id);
+        json_t *errs = json_pack("[{s:s,s:s}]", "pointer", "/duration", "message", detail);
+        json_t *p = tsa_problem(422, "/problems/step-too-long", "Step too long", detail, errs);
+        json_decref(errs);
+        json_object_set_new(p, "run", json_string(run));
+        return tsd_reply_problem_json(r, 422, p);
+    }
+    tsd_request_defer(r, step_resumed);
+    if (tsd_session_step(r->session, duration, &r->async_result, &r->async_err, step_done, r) !=
+        TS_OK) {
+        /* nothing queued: r->async_err holds why; reply from the resume path */
+        tsd_request_resume(r);
+    }
+    return MHD_YES;
+}
+
+static enum MHD_Result post_run(tsd_request *r)
+{
+    ts_err e;
+    json_t *doc = tsa_parse_object(r->body_len ? r->body : "{}", r->body_len ? r->body_len : 2,
+                                   &e);
+    if (!doc) return tsd_reply_err(r, &e, NULL);
+    tsd_session *s = r->session;
+    double until = s->m ? ts_model_config(s->m)->run.duration : 0, rtf = 0;
+    tsa_num_field f[] = {{"until", 0, 0.0, 1e12, &until, NULL},
+                         {"real_time_factor", 0, 1e-3, 1e9, &rtf, NULL}};
+    json_t *errors = json_array();
+    ts_rc rc = tsa_read_numbers(doc, f, 2, errors, &e);
+    json_decref(doc);
+    if (rc != TS_OK) return reply_body_err(r, &e, errors);
+    json_decref(errors);
+    json_t *op = NULL;
+    if (tsd_session_run(s, until, rtf, &op, &e) != TS_OK) return tsd_reply_err(r, &e, NULL);
+    snprintf(r->location, sizeof r->location, "/v1/operations/%s",
+             json_string_value(json_object_get(op, "id")));
+    return tsd_reply_json(r, MHD_HTTP_ACCEPTED, op);
+}
+
+/* Parse channels=, from=, to= against a session; -1 when a reply was queued. */
+typedef struct range_q {
+    int idx[MAX_CHANNELS_SELECT];
+    int n;
+    long from, to; /* sample indexes, inclusive */
+} range_q;
+
+static int parse_range(tsd_request *r, tsd_session *s, const char *channels, range_q *q,
+                       enum MHD_Result *ret)
+{
+    ts_err e;
+    if (!s->m) {
+        ts_err_set(&e, TS_ERR_STATE, NULL, "session %s has no model: %s", s->id, s->error);
+        *ret = tsd_reply_err(r, &e, NULL);
+        return -1;
+    }
+    if (tsa_channel_select(s->m, channels, q->idx, MAX_CHANNELS_SELECT, &q->n, &e) != TS_OK) {
+        *ret = tsd_reply_err(r, &e, NULL);
+        return -1;
+    }
+    double rate = 1.0 / ts_model_sample_period(s->m);
+    double from = 0, to = 1e300;
+    if (q_number(r, "from", 0, 1e12, &from, ret) < 0) return -1;
+    if (q_number(r, "to", 0, 1e12, &to, ret) < 0) return -1;
+    pthread_mutex_lock(&s->mu);
+    long last = s->persisted - 1;
+    pthread_mutex_unlock(&s->mu);
+    q->from = (long)ceil(from * rate - 1e-6);
+    q->to = to * rate + 1e-6 >= (double)last ? last : (long)floor(to * rate + 1e-6);
+    return 0;
+}
+
+static enum MHD_Result get_series(tsd_request *r)
+{
+    tsd_session *s = r->session;
+    enum MHD_Result ret = MHD_NO;
+    range_q q;
+    if (parse_range(r, s, tsd_arg(r, "channels"), &q, &ret) < 0) return ret;
+    long every = 1, page_size = r->srv->opt.max_samples, token = -1;
+    if (q_integer(r, "every", 1, 1L << 40, &every, &ret) < 0) return ret;
+    if (q_integer(r, "page_size", 1, r->srv->opt.max_samples, &page_size, &ret) < 0) return ret;
+    if (q_integer(r, "page_token", 0, 1L << 62, &token, &ret) < 0) return ret;
+    const char *format = tsd_arg(r, "format");
+    const char *accept = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Accept");
+    int csv = format ? strcmp(format, "csv") == 0 : (accept && strstr(accept, "text/csv"));
+    if (format && !csv && strcmp(format, "json") != 0)
+        return bad_param(r, "format", "json or csv expected", format);
+    long start = token >= 0 ? token : q.from;
+    long *index = malloc(sizeof(long) * (size_t)page_size);
+    double *rows = malloc(sizeof(double) * (size_t)page_size * (size_t)s->nch);
+    if (!index || !rows) {
+        free(index);
+        free(rows);
+        ts_err e;
+        ts_err_set(&e, TS_ERR_NOMEM, NULL, "out of memory for %ld rows", page_size);
+        return tsd_reply_err(r, &e, NULL);
+    }
+    int more = 0;
+    long n = start <= q.to ? tsd_db_rows(r->srv->db, s->seq, start, q.to, every, page_size,
+                                         s->nch, index, rows, &more)
+                           : 0;
+    if (n < 0) {
+        free(index);
+        free(rows);
+        ts_err e;
+        ts_err_set(&e, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
+        return tsd_reply_err(r, &e, NULL);
+    }
+    char next[32] = "";
+    if (more && n > 0) snprintf(next, sizeof next, "%ld", index[n - 1] + every);
+    tsa_buf b = {0};
+    if (csv) {
+        tsa_csv_header(&b, s->m, q.idx, q.n);
+        for (long k = 0; k < n; k++)
+            tsa_csv_row(&b, rows + (size_t)k * (size_t)s->nch, q.idx, q.n);
+    } else {
+        tsa_series_json(&b, s->id, s->m, q.idx, q.n, index, rows, n, every, next[0] ? next : NULL);
+    }
+    free(index);
+    free(rows);
+    size_t len;
+    char *text = tsa_buf_take(&b, &len);
+    if (!text) return MHD_NO;
+    if (next[0]) snprintf(r->next_token, sizeof r->next_token, "%s", next);
+    ret = tsd_reply_owned(r, MHD_HTTP_OK, csv ? "text/csv; charset=utf-8" : "application/json",
+                          text, len);
+    return ret;
+}
+
+static enum MHD_Result get_stream(tsd_request *r)
+{
+    tsd_session *s = r->session;
+    enum MHD_Result ret = MHD_NO;
+    range_q q;
+    if (parse_range(r, s, tsd_arg(r, "channels"), &q, &ret) < 0) return ret;
+    long since = -1;
+    const char *last_id = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Last-Event-ID");
+    if (q_integer(r, "since", -1, 1L << 62, &since, &ret) < 0) return ret;
+    if (last_id && *last_id) {
+        char *end;
+        errno = 0;
+        long v = strtol(last_id, &end, 10);
+        if (errno || *end || v < -1) return bad_param(r, "Last-Event-ID", "sample index", last_id);
+        since = v;
+    }
+    const char *accept = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Accept");
+    const char *format = tsd_arg(r, "format");
+    int ndjson = (accept && strstr(accept, "application/x-ndjson")) ||
+                 (format && strcmp(format, "ndjson") == 0);
+    return tsd_stream_reply(r, s, q.idx, q.n, since, ndjson);
+}
+
+static enum MHD_Result get_fft(tsd_request *r)
+{
+    tsd_session *s = r->session;
+    enum MHD_Result ret = MHD_NO;
+    const char *ch = tsd_arg(r, "channel");
+    ts_err e;
+    if (!ch || !*ch) {
+        ts_err_set(&e, TS_ERR_PARAM, "/channel", "query parameter channel: required");
+        return tsd_reply_err(r, &e, NULL);
+    }
+    if (strchr(ch, ',')) return bad_param(r, "channel", "exactly one channel name", ch);
+    range_q q;
+    if (parse_range(r, s, ch, &q, &ret) < 0) return ret;
+    long want = q.to - q.from + 1;
+    if (want > r->srv->opt.max_samples) {
+        char msg[200];
+        snprintf(msg, sizeof msg,
+                 "/to: the range holds %ld samples, more than --max-samples = %ld; narrow "
+                 "from/to",
+                 want, r->srv->opt.max_samples);
+        ts_err_set(&e, TS_ERR_LIMIT, "/to", "%s", msg);
+        json_t *p = tsa_problem_from_err(&e, NULL);
+        json_object_set_new(p, "status", json_integer(422));
+        return tsd_reply_problem_json(r, 422, p);
+    }
+    if (want < 2) {
+        ts_err_set(&e, TS_ERR_PARAM, "/from",
+                   "the range holds %ld stored samples; a spectrum needs at least 2", want);
+        return tsd_reply_err(r, &e, NULL);
+    }
+    long *index = malloc(sizeof(long) * (size_t)want);
+    double *rows = malloc(sizeof(double) * (size_t)want * (size_t)s->nch);
+    double *x = malloc(sizeof(double) * (size_t)want);
+    long nf = want / 2 + 1;
+    double *freq = malloc(sizeof(double) * (size_t)nf), *amp = malloc(sizeof(double) * (size_t)nf);
+    int more;
+    long n = (index && rows && x && freq && amp)
+                 ? tsd_db_rows(r->srv->db, s->seq, q.from, q.to, 1, want, s->nch, index, rows,
+                               &more)
+                 : -1;
+    ts_rc rc = TS_OK;
+    if (n != want) rc = ts_err_set(&e, TS_ERR_IO, NULL, "could not read %ld samples", want);
+    int c = q.idx[q.n - 1]; /* the named channel (t is always idx[0]) */
+    if (rc == TS_OK) {
+        for (long k = 0; k < n; k++) x[k] = rows[(size_t)k * (size_t)s->nch + (size_t)c];
+        pthread_mutex_lock(&r->srv->fft_lock);
+        rc = tsa_amplitude_spectrum(x, n, 1.0 / ts_model_sample_period(s->m), 1, freq, amp, &e);
+        pthread_mutex_unlock(&r->srv->fft_lock);
+    }
+    json_t *out = NULL;
+    if (rc == TS_OK) {
+        json_t *fa = json_array(), *aa = json_array();
+        for (long k = 0; k < nf; k++) {
+            json_array_append_new(fa, json_real(freq[k]));
+            json_array_append_new(aa, json_real(amp[k]));
+        }
+        const ts_channel *chn = ts_model_channel(s->m, c);
+        out = json_pack("{s:s,s:s,s:s,s:f,s:f,s:I,s:f,s:s,s:o,s:o}", "session", s->id, "channel",
+                        chn->name, "unit", chn->unit, "from", (double)q.from * ts_model_sample_period(s->m),
+                        "to", (double)q.to * ts_model_sample_period(s->m), "n", (json_int_t)n,
+                        "df", 1.0 / ((double)n * ts_model_sample_period(s->m)), "detrend",
+                        "mean removed", "frequency", fa, "amplitude", aa);
+    }
+    free(index);
+    free(rows);
+    free(x);
+    free(freq);
+    free(amp);
+    if (!out) return tsd_reply_err(r, &e, NULL);
+    return tsd_reply_json(r, MHD_HTTP_OK, out);
+}
+
+/* ---- operations ------------------------------------------------------------------- */
+
+static enum MHD_Result get_operation(tsd_request *r)
+{
+    json_t *j = tsd_op_json(r->srv, r->params[0], NULL, NULL);
+    if (!j) {
+        ts_err e;
+        ts_err_set(&e, TS_ERR_NOTFOUND, NULL,
+                   "no operation '%s' (operations are kept in memory; a restart forgets them)",
+                   r->params[0]);
+        return tsd_reply_err(r, &e, NULL);
+    }
+    return tsd_reply_json(r, MHD_HTTP_OK, j);
+}
+
+static enum MHD_Result cancel_operation(tsd_request *r)
+{
+    char sid[24] = "";
+    int done = 0;
+    json_t *j = tsd_op_json(r->srv, r->params[0], sid, &done);
+    if (!j) return get_operation(r);
+    json_decref(j);
+    if (!done) {
+        tsd_session *s = tsd_session_get(r->srv, sid);
+        if (s) {
+            tsd_session_cancel(s);
+            tsd_session_put(s);
+        }
+    }
+    return tsd_reply_json(r, MHD_HTTP_OK, tsd_op_json(r->srv, r->params[0], NULL, NULL));
+}
+
+/* ---- the table ---------------------------------------------------------------------- */
+
 static const tsd_route_row routes[] = {
-    {"GET", "/v1/health", get_health},
-    {"GET", "/", tsd_static_index},
-    {"GET", "/static/{file}", tsd_static_file},
+    {"GET", "/v1/health", get_health, RF_PUBLIC, "Liveness and version"},
+    {"GET", "/v1/openapi.yaml", get_openapi, 0, "This API description"},
+    {"GET", "/metrics", get_metrics, 0, "Prometheus metrics"},
+    {"GET", "/v1/presets", get_presets, 0, "List shipped presets"},
+    {"GET", "/v1/presets/{name}", get_preset, 0, "One preset, as shipped and resolved"},
+    {"GET", "/v1/schema", get_schema, 0, "JSON Schema of a run config"},
+    {"POST", "/v1/sessions", post_sessions, 0, "Create a session from a preset and overrides"},
+    {"GET", "/v1/sessions", get_sessions, 0, "List sessions (paged)"},
+    {"GET", "/v1/sessions/{id}", get_session, RF_SESSION, "One session"},
+    {"DELETE", "/v1/sessions/{id}", delete_session, RF_SESSION, "Delete a session and its data"},
+    {"POST", "/v1/sessions/{id}/step", post_step, RF_SESSION, "Advance synchronously (bounded)"},
+    {"POST", "/v1/sessions/{id}/run", post_run, RF_SESSION, "Start an asynchronous run"},
+    {"GET", "/v1/sessions/{id}/series", get_series, RF_SESSION, "Stored samples (JSON or CSV)"},
+    {"GET", "/v1/sessions/{id}/stream", get_stream, RF_SESSION, "Live samples (SSE or NDJSON)"},
+    {"GET", "/v1/sessions/{id}/fft", get_fft, RF_SESSION, "Amplitude spectrum of a channel"},
+    {"GET", "/v1/operations/{id}", get_operation, 0, "State of a run operation"},
+    {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "Cancel a run operation"},
+    {"GET", "/", tsd_static_index, RF_PUBLIC, "The browser dashboard (web_static/index.html)"},
+    {"GET", "/static/{file}", tsd_static_file, RF_PUBLIC, "Dashboard assets (web_static/FILE)"},
 };
 #define NROUTES (sizeof routes / sizeof routes[0])
+
+void tsd_routes_print(void)
+{
+    for (size_t i = 0; i < NROUTES; i++)
+        printf("%s %s\t%s\n", routes[i].method, routes[i].pattern, routes[i].summary);
+}
 
 /* Match url against pattern, capturing {..} segments. 1 on match. */
 static int match(const char *pattern, const char *url, tsd_request *r)
@@ -42,8 +619,7 @@ static int match(const char *pattern, const char *url, tsd_request *r)
     while (*p && *u) {
         if (*p == '{') {
             const char *pe = strchr(p, '}');
-            const char *ue = strchr(u, '/');
-            size_t len = ue ? (size_t)(ue - u) : strlen(u);
+            size_t len = strcspn(u, "/:");
             if (!pe || len == 0 || len >= sizeof r->params[0] || n >= TSD_MAX_PATH_PARAMS)
                 return 0;
             memcpy(r->params[n], u, len);
@@ -62,13 +638,50 @@ static int match(const char *pattern, const char *url, tsd_request *r)
     return 1;
 }
 
+/* Constant-time comparison of the Authorization header with "Bearer TOKEN". */
+static int authorized(tsd_request *r)
+{
+    const char *tok = r->srv->opt.token;
+    if (!tok[0]) return 1;
+    const char *h = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Authorization");
+    if (!h || strncasecmp(h, "Bearer ", 7) != 0) return 0;
+    h += 7;
+    size_t a = strlen(h), b = strlen(tok);
+    unsigned diff = (unsigned)(a ^ b);
+    for (size_t i = 0; i < a; i++) diff |= (unsigned char)h[i] ^ (unsigned char)tok[i % b];
+    return diff == 0;
+}
+
 enum MHD_Result tsd_route(tsd_request *r)
 {
     int path_matched = 0;
+    const tsd_route_row *row = NULL;
     for (size_t i = 0; i < NROUTES; i++) {
         if (!match(routes[i].pattern, r->url, r)) continue;
         path_matched = 1;
-        if (strcmp(routes[i].method, r->method) == 0) return routes[i].handler(r);
+        if (strcmp(routes[i].method, r->method) == 0) {
+            row = &routes[i];
+            break;
+        }
+    }
+    if (!(row && (row->flags & RF_PUBLIC)) && !authorized(r)) {
+        r->www_authenticate = 1;
+        return tsd_reply_problem(r, MHD_HTTP_UNAUTHORIZED, "/problems/unauthorized",
+                                 "Unauthorized",
+                                 "this daemon needs 'Authorization: Bearer TOKEN' (--token)",
+                                 NULL);
+    }
+    if (row) {
+        if (row->flags & RF_SESSION) {
+            r->session = tsd_session_get(r->srv, r->params[0]);
+            if (!r->session) {
+                char detail[200];
+                snprintf(detail, sizeof detail, "no session '%s'", r->params[0]);
+                return tsd_reply_problem(r, MHD_HTTP_NOT_FOUND, "/problems/not-found",
+                                         "Not found", detail, NULL);
+            }
+        }
+        return row->handler(r);
     }
     char detail[600];
     if (path_matched) {

@@ -6,6 +6,9 @@
 #define _GNU_SOURCE
 #include "server.h"
 
+#include "../api/problem.h"
+#include "session.h"
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <stdio.h>
@@ -27,6 +30,11 @@ static enum MHD_Result queue(tsd_request *r, unsigned status, struct MHD_Respons
     if (!resp) return MHD_NO;
     MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
     MHD_add_response_header(resp, "Cache-Control", "no-store");
+    if (r->location[0]) MHD_add_response_header(resp, MHD_HTTP_HEADER_LOCATION, r->location);
+    if (r->next_token[0]) MHD_add_response_header(resp, "X-Next-Page-Token", r->next_token);
+    if (r->www_authenticate)
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_WWW_AUTHENTICATE,
+                                "Bearer realm=\"tanksimd\"");
     r->status = status;
     r->bytes = len;
     enum MHD_Result ret = MHD_queue_response(r->conn, status, resp);
@@ -57,6 +65,33 @@ static enum MHD_Result reply_dump(tsd_request *r, unsigned status, json_t *body,
     if (!resp) free(text);
     return queue(r, status, resp, content_type, len);
 }
+
+enum MHD_Result tsd_reply_owned(tsd_request *r, unsigned status, const char *content_type,
+                                char *text, size_t len)
+{
+    struct MHD_Response *resp = MHD_create_response_from_buffer(len, text, MHD_RESPMEM_MUST_FREE);
+    if (!resp) free(text);
+    return queue(r, status, resp, content_type, len);
+}
+
+enum MHD_Result tsd_reply_problem_json(tsd_request *r, unsigned status, json_t *p)
+{
+    return reply_dump(r, status, p, "application/problem+json");
+}
+
+enum MHD_Result tsd_reply_err(tsd_request *r, const ts_err *err, json_t *errors)
+{
+    json_t *p = tsa_problem_from_err(err, errors);
+    return reply_dump(r, (unsigned)tsa_http_status(err->code), p, "application/problem+json");
+}
+
+void tsd_request_defer(tsd_request *r, enum MHD_Result (*on_resume)(tsd_request *r))
+{
+    r->on_resume = on_resume;
+    MHD_suspend_connection(r->conn);
+}
+
+void tsd_request_resume(tsd_request *r) { MHD_resume_connection(r->conn); }
 
 enum MHD_Result tsd_reply_json(tsd_request *r, unsigned status, json_t *body)
 {
@@ -107,7 +142,12 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         *upload_data_size = 0;
         return MHD_YES;
     }
-    if (r->status) return MHD_YES; /* already answered (resumed connection) */
+    if (r->on_resume) { /* a worker finished what this request waited for */
+        enum MHD_Result (*fn)(tsd_request *) = r->on_resume;
+        r->on_resume = NULL;
+        return fn(r);
+    }
+    if (r->status) return MHD_YES; /* already answered */
     if (r->body_too_large) {
         char detail[128];
         snprintf(detail, sizeof detail, "request body larger than %zu bytes", s->opt.max_body);
@@ -120,10 +160,11 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
 static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
                       enum MHD_RequestTerminationCode toe)
 {
-    (void)cls;
     (void)conn;
+    tsd_server *s = cls;
     tsd_request *r = *con_cls;
     if (!r) return;
+    tsd_metrics_request(&s->metrics, r->status);
     char when[32];
     time_t now = time(NULL);
     struct tm tm;
@@ -132,6 +173,8 @@ static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     fprintf(stderr, "%s %s %s %u %zu %.1fms%s\n", when, r->method, r->url, r->status, r->bytes,
             1e3 * (now_seconds() - r->t_start),
             toe == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " (aborted)");
+    tsd_session_put(r->session);
+    json_decref(r->async_result);
     free(r->body);
     free(r);
     *con_cls = NULL;

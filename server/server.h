@@ -12,7 +12,17 @@
 
 #include <jansson.h>
 #include <microhttpd.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stddef.h>
+
+#include "../sim/errors.h"
+#include "metrics.h"
+
+struct tsd_pool;
+struct tsd_db;
+struct tsd_registry;
+struct tsd_ops;
 
 #define TSD_MAX_PATH_PARAMS 4
 
@@ -25,12 +35,23 @@ typedef struct tsd_options {
     size_t max_body;        /* largest request body accepted [bytes] */
     unsigned conn_timeout;  /* idle connection timeout [s] */
     char token[128];        /* bearer token; empty = no authentication */
+    int max_sessions;       /* sessions kept at once (create beyond -> 429) */
+    long max_samples;       /* sample rows per series/FFT response (page past it) */
+    double max_step;        /* longest synchronous step [s simulated] (longer -> 422) */
+    int list_routes;        /* --routes: print the routing table and exit */
     char web_root[512];     /* dashboard files served at / (static_files.c) */
 } tsd_options;
 
 typedef struct tsd_server {
     tsd_options opt;
     struct MHD_Daemon *mhd;
+    struct tsd_pool *pool;      /* simulation workers (pool.h) */
+    struct tsd_db *db;          /* persistence (db.h) */
+    struct tsd_registry *reg;   /* sessions (session.h) */
+    struct tsd_ops *ops;        /* run operations (operations.h) */
+    tsd_metrics metrics;        /* counters for /metrics (metrics.h) */
+    pthread_mutex_t fft_lock;   /* FFTW's planner is not thread-safe */
+    atomic_int stopping;        /* set once shutdown begins */
 } tsd_server;
 
 typedef struct tsd_request {
@@ -46,6 +67,16 @@ typedef struct tsd_request {
     unsigned status;          /* status sent (for the log) */
     size_t bytes;             /* response body bytes (for the log) */
     double t_start;           /* monotonic seconds at arrival */
+    /* Deferred replies: a handler that hands work to the pool suspends the
+     * connection and sets on_resume; the worker fills async_* and resumes it;
+     * the next access-handler call runs on_resume to queue the response. */
+    enum MHD_Result (*on_resume)(struct tsd_request *r);
+    json_t *async_result;     /* owned; set by the worker */
+    ts_err async_err;         /* set by the worker on failure */
+    struct tsd_session *session; /* RF_SESSION routes: looked-up session (reference) */
+    char location[96];        /* Location header of the reply ("" = none) */
+    char next_token[32];      /* X-Next-Page-Token header of the reply ("" = none) */
+    int www_authenticate;     /* add WWW-Authenticate: Bearer (401) */
 } tsd_request;
 
 /* Start listening as configured; 0 on success, -1 with a message in err. */
@@ -59,7 +90,22 @@ enum MHD_Result tsd_reply_text(tsd_request *r, unsigned status, const char *cont
 enum MHD_Result tsd_reply_problem(tsd_request *r, unsigned status, const char *type,
                                   const char *title, const char *detail, json_t *errors);
 
+/* Reply with a malloc'd buffer, which the response takes over. */
+enum MHD_Result tsd_reply_owned(tsd_request *r, unsigned status, const char *content_type,
+                                char *text, size_t len);
+/* Reply with a ready problem document (steals p). */
+enum MHD_Result tsd_reply_problem_json(tsd_request *r, unsigned status, json_t *p);
+/* Problem from a ts_err (status from api/problem.h); errors may be NULL (not stolen). */
+enum MHD_Result tsd_reply_err(tsd_request *r, const ts_err *err, json_t *errors);
+/* Suspend r until a worker calls tsd_request_resume; on_resume then replies. */
+void tsd_request_defer(tsd_request *r, enum MHD_Result (*on_resume)(tsd_request *r));
+void tsd_request_resume(tsd_request *r);
+
 /* Route the request (routes.c). */
 enum MHD_Result tsd_route(tsd_request *r);
+/* Print the routing table, "METHOD PATTERN" per line (routes.c; --routes). */
+void tsd_routes_print(void);
+/* Query argument or NULL. */
+const char *tsd_arg(tsd_request *r, const char *name);
 
 #endif

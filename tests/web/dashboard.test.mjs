@@ -214,7 +214,7 @@ async function main() {
       const nt = schema.properties.track.properties.n_trans;
       const inp = page.locator('#schema-form [data-pointer="/track/n_trans"] input');
       assert((await inp.getAttribute('min')) === String(nt.minimum) && (await inp.getAttribute('max')) === String(nt.maximum), 'n_trans min/max differ from the schema');
-      const dur = await text(page, '#schema-form [data-pointer="/run/duration"]');
+      const dur = await text(page, '#schema-form .field[data-pointer="/run/duration"]');
       assert(dur.includes(`[${schema.properties.run.properties.duration['x-unit']}]`), `duration row lacks its unit: ${dur}`);
       /* every schema field has an input (key fields up front, the rest under "All parameters") */
       let n = 0;
@@ -324,6 +324,8 @@ async function main() {
       assert(await page.locator('#fft-error').isHidden(), `FFT error: ${await text(page, '#fft-error').catch(() => '')}`);
       const bins = await page.evaluate(() => window.tanksimDebug.fft.plot.data[0].length);
       assert(bins > 10, `only ${bins} bins`);
+      await page.locator('#fft-panel').scrollIntoViewIfNeeded();
+      await shot(page, '05-fft');
     });
 
     await check('compare overlays the same channel from two sessions', async () => {
@@ -338,12 +340,13 @@ async function main() {
       await page.click('#compare-btn');
       await waitFor(async () => (await page.locator('#compare-plot .uplot').count()) === 1 || !(await page.locator('#compare-error').isHidden()), 'overlay');
       assert(await page.locator('#compare-error').isHidden(), `compare error: ${await text(page, '#compare-error').catch(() => '')}`);
-      const series = await page.evaluate(() => window.tanksimDebug.compare.plot.series.length - 1);
-      assert(series === 2, `${series} series overlaid`);
+      const series = await page.evaluate(() => window.tanksimDebug.compare.plot.series.map((x) => x.label).slice(1));
+      assert(series.length === 2, `${series.length} series overlaid`);
+      if (torque) assert(series.every((l) => /drive\/torque=/.test(l)), `legend does not name the differing field: ${series}`);
       const last = await page.evaluate(() => window.tanksimDebug.compare.plot.data.slice(1).map((s) => s.filter((v) => v !== null).length));
       assert(last.every((n) => n > 10), `overlay series lengths ${last}`);
       await page.locator('#compare-panel').scrollIntoViewIfNeeded();
-      await shot(page, '05-compare');
+      await shot(page, '06-compare');
     });
 
     await check('no JavaScript errors in the page', async () => {
@@ -359,7 +362,7 @@ async function main() {
       await page2.goto(`${dt.url}/`);
       await waitFor(async () => !(await page2.locator('#banner').isHidden()), 'the token banner');
       assert(/token/i.test(await text(page2, '#banner')), 'banner does not mention the token');
-      await shot(page2, '06-token-needed');
+      await shot(page2, '07-token-needed');
       await page2.fill('#token-input', token);
       await page2.click('#token-form button');
       await waitFor(async () => (await page2.locator('#preset-select option').count()) > 0, 'presets after the token');
@@ -375,7 +378,7 @@ async function main() {
       assert(await page2.locator('#banner').isHidden(), 'token banner shown again');
       await page2.locator('#session-table tbody tr').first().click();
       await waitFor(async () => (await sampleCount(page2)) > 10, 'history loaded with the token');
-      await shot(page2, '07-token-reload');
+      await shot(page2, '08-token-reload');
     });
   } finally {
     await browser.close().catch(() => {});

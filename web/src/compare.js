@@ -23,6 +23,7 @@ export class ComparePanel {
     const d = display(ch.unit);
     const tables = [];
     const labels = [];
+    const differing = differingFields(sessions);
     for (const s of sessions) {
       const rate = s.config?.run?.sample_rate || 500;
       const count = Math.max(1, Math.round((s.t || 0) * rate));
@@ -30,7 +31,7 @@ export class ComparePanel {
       const ser = await seriesAll(s.id, { channels: channel, every });
       const ys = (ser.cols[channel] || []).map((v) => (v === null ? null : v * d.factor));
       tables.push([ser.t, ys]);
-      labels.push(describe(s));
+      labels.push(describe(s, differing));
     }
     this.plot?.destroy();
     this.root.replaceChildren();
@@ -52,11 +53,28 @@ export class ComparePanel {
   }
 }
 
-/* "a1b2c3 · coupled · pointmass-prescribed" — what distinguishes sessions. */
-export function describe(s) {
+/* Flatten a config document to {"/section/field": value}. */
+function flatten(doc, prefix = '', out = {}) {
+  for (const [k, v] of Object.entries(doc || {})) {
+    if (k.startsWith('_') || k === 'description') continue;
+    if (v && typeof v === 'object' && !Array.isArray(v)) flatten(v, `${prefix}/${k}`, out);
+    else out[`${prefix}/${k}`] = JSON.stringify(v);
+  }
+  return out;
+}
+
+/* JSON Pointers whose values differ between the sessions' resolved configs. */
+export function differingFields(sessions) {
+  const flat = sessions.map((s) => flatten(s.config));
+  const keys = new Set(flat.flatMap((f) => Object.keys(f)));
+  return [...keys].filter((k) => new Set(flat.map((f) => f[k])).size > 1).sort();
+}
+
+/* "a1b2c3d4 · track/fidelity=coupled · drive/torque=9000" — what tells the sessions apart. */
+export function describe(s, differing = []) {
   const parts = [String(s.id).slice(0, 8)];
-  const fid = s.config?.track?.fidelity;
-  if (fid) parts.push(fid);
-  if (s.preset) parts.push(s.preset);
+  const flat = flatten(s.config);
+  for (const k of differing.slice(0, 3)) parts.push(`${k.slice(1)}=${flat[k] === undefined ? '—' : flat[k].replace(/"/g, '')}`);
+  if (!differing.length && s.preset) parts.push(s.preset);
   return parts.join(' · ');
 }

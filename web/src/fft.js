@@ -19,7 +19,9 @@ export class FftPanel {
     this.plot = null;
   }
 
-  async compute(session, channel, from, to) {
+  /* fmax: highest frequency shown [Hz] (the whole spectrum is kept: zoom out
+   * with a double-click); log: logarithmic amplitude axis. */
+  async compute(session, channel, from, to, { fmax, log } = {}) {
     const ch = (session.channels || []).find((c) => c.name === channel) || { unit: '' };
     const doc = await api.fft(session.id, { channel, from, to });
     const freq = pick(doc, 'frequency', 'freq', 'f');
@@ -28,15 +30,23 @@ export class FftPanel {
     const d = display(unit);
     const ys = d.factor === 1 ? amp : amp.map((v) => v * d.factor);
     /* Leave out the DC bin: the mean dwarfs the vibration content. */
-    const xs = freq.slice(1);
-    const yy = ys.slice(1);
+    let xs = freq.slice(1);
+    let yy = ys.slice(1);
+    if (log) yy = yy.map((v) => (v > 0 ? v : null));
+    if (fmax > 0) {
+      const n = xs.findIndex((f) => f > fmax);
+      if (n > 1) {
+        xs = xs.slice(0, n);
+        yy = yy.slice(0, n);
+      }
+    }
     this.plot?.destroy();
     this.root.replaceChildren();
     const opts = {
       title: `Amplitude spectrum of ${channel} (${fmt(doc.from ?? from ?? 0)}–${fmt(doc.to ?? to ?? 0)} s, ${freq.length} bins)`,
       width: chartWidth(this.root),
       height: 220,
-      scales: { x: { time: false } },
+      scales: { x: { time: false }, y: log ? { distr: 3 } : {} },
       cursor: { drag: { x: true, y: false } },
       axes: [{ label: 'frequency [Hz]' }, { label: `amplitude [${d.label}]`, size: 64, values: (u, t) => t.map((v) => fmt(v)) }],
       series: [

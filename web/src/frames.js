@@ -35,9 +35,15 @@ export class FrameViewer {
   updateRange(tMax) {
     const s = this.els.scrub;
     const atEnd = Number(s.value) >= Number(s.max) - 1e-9;
+    if (Number(s.max) === Math.max(tMax, 0)) return;
     s.max = String(Math.max(tMax, 0));
     s.step = 'any';
-    if (atEnd && !this.playing) s.value = s.max;
+    if (atEnd && !this.playing) {
+      /* follow the newest sample; fetch its frame only when frames exist */
+      s.value = s.max;
+      if (this.available) this.request(Number(s.max));
+      else this.els.time.textContent = `t = ${fmt(Number(s.max))} s`;
+    }
   }
 
   scrubTime() {

@@ -15,7 +15,7 @@ import { SeriesStore, streamSession } from './stream.js';
 import { LivePlots, defaultPicks } from './plots.js';
 import { FftPanel } from './fft.js';
 import { FrameViewer } from './frames.js';
-import { ComparePanel, describe } from './compare.js';
+import { ComparePanel } from './compare.js';
 import { choices, display, setDisplay, fmt } from './units.js';
 
 const $ = (id) => document.getElementById(id);
@@ -38,7 +38,8 @@ function showError(box, err) {
   const e = err instanceof ApiError ? err : new ApiError(0, { title: 'Error', detail: String(err?.message || err) });
   box.replaceChildren();
   const head = document.createElement('strong');
-  head.textContent = e.message;
+  /* with a field list the detail repeats its first entry: show the title only */
+  head.textContent = e.errors.length ? e.problem.title || e.message : e.message;
   box.append(head);
   if (e.errors.length) {
     const ul = document.createElement('ul');
@@ -326,7 +327,7 @@ function startStream() {
     },
     /* The daemon ends a stream when the session is not running; reconnect
      * only while a run of this session is being polled. */
-    isFinished: async () => !(state.op && state.op.sessionId === id),
+    isFinished: () => !(state.op && state.op.sessionId === id),
   });
   state.stream = handle;
 }
@@ -517,7 +518,7 @@ async function onCompare() {
     const sel = $('compare-channel');
     if (!chans.some((c) => c.name === sel.value)) fillChannelSelect(sel, chans, state.picks[0]);
     const r = await compare.show(sessions, sel.value);
-    $('compare-info').textContent = `${r.series} sessions · ${sessions.map(describe).join(' | ')}`;
+    $('compare-info').textContent = `${r.series} sessions overlaid`;
   } catch (e) {
     showError(box, e);
   }
@@ -536,7 +537,10 @@ async function onFft() {
   hideError(box);
   const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
   try {
-    await fft.compute(state.session, $('fft-channel').value, num('fft-from'), num('fft-to'));
+    await fft.compute(state.session, $('fft-channel').value, num('fft-from'), num('fft-to'), {
+      fmax: num('fft-fmax'),
+      log: $('fft-log').checked,
+    });
   } catch (e) {
     showError(box, e);
   }

@@ -85,7 +85,17 @@ export class LivePlots {
         { label: `${ch.name} [${d.label}]`, stroke, width: 1.5, value: (u, v) => fmt(v) },
       ],
       hooks: {
-        setSelect: [() => (entry.zoomed = true)],
+        /* zoomed = the x range is narrower than the data: then new data must
+         * not reset the user's zoom. */
+        setScale: [
+          (u, key) => {
+            if (key !== 'x') return;
+            const xs = u.data[0];
+            if (!xs || xs.length < 2) return;
+            const eps = 1e-9 * Math.max(1, Math.abs(xs[xs.length - 1]));
+            entry.zoomed = u.scales.x.min > xs[0] + eps || u.scales.x.max < xs[xs.length - 1] - eps;
+          },
+        ],
       },
     };
     entry.plot = new uPlot(opts, [[], []], box);

@@ -55,10 +55,10 @@ class RetryableClose extends Error {}
 /**
  * Stream samples of session id into store. onStatus(text) reports the state
  * ("live", "reconnecting", "ended"). Returns {stop()}.
- * isFinished() is asked when the daemon closes the stream: true ends it,
+ * isFinished() (synchronous) is asked when the daemon closes the stream: true ends it,
  * false reconnects (resuming with Last-Event-ID).
  */
-export function streamSession(id, store, { onStatus = () => {}, isFinished = async () => false } = {}) {
+export function streamSession(id, store, { onStatus = () => {}, isFinished = () => false } = {}) {
   const ctrl = new AbortController();
   const url = api.streamUrl(id, { since: store.lastIndex }); /* rows after `since` */
   fetchEventSource(url, {
@@ -93,9 +93,10 @@ export function streamSession(id, store, { onStatus = () => {}, isFinished = asy
         store.push(row);
       }
     },
-    async onclose() {
+    onclose() {
+      /* must not be async: the library does not await it */
       if (ctrl.signal.aborted) return;
-      if (await isFinished()) {
+      if (isFinished()) {
         onStatus('ended');
         return;
       }
@@ -105,6 +106,10 @@ export function streamSession(id, store, { onStatus = () => {}, isFinished = asy
       if (err instanceof ApiError) {
         onStatus(`error: ${err.message}`);
         throw err;
+      }
+      if (err instanceof RetryableClose) {
+        onStatus('waiting for samples');
+        return 300;
       }
       onStatus('reconnecting');
       return 1000;

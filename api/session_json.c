@@ -1,0 +1,371 @@
+/*
+ * session_json.c — the daemon's session/series/stream shapes (session_json.h).
+ *
+ * Numbers are printed with %.9g (enough for float64 channels at the precision
+ * the models integrate to: rtol 1e-6) except time, printed with %.12g so that
+ * t = index / sample_rate round-trips. Non-finite values (never produced by a
+ * healthy run: ts_advance stops on them) print as null.
+ */
+#include "session_json.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- buffer --------------------------------------------------------------- */
+
+static int reserve(tsa_buf *b, size_t extra)
+{
+    if (b->oom) return -1;
+    if (b->n + extra + 1 <= b->cap) return 0;
+    size_t cap = b->cap ? b->cap : 4096;
+    while (cap < b->n + extra + 1) cap *= 2;
+    char *np = realloc(b->p, cap);
+    if (!np) {
+        b->oom = 1;
+        return -1;
+    }
+    b->p = np;
+    b->cap = cap;
+    return 0;
+}
+
+void tsa_buf_put(tsa_buf *b, const char *s, size_t n)
+{
+    if (reserve(b, n) != 0) return;
+    memcpy(b->p + b->n, s, n);
+    b->n += n;
+    b->p[b->n] = '\0';
+}
+
+void tsa_buf_printf(tsa_buf *b, const char *fmt, ...)
+{
+    va_list ap;
+    char small[256];
+    va_start(ap, fmt);
+    int k = vsnprintf(small, sizeof small, fmt, ap);
+    va_end(ap);
+    if (k < 0) return;
+    if ((size_t)k < sizeof small) {
+        tsa_buf_put(b, small, (size_t)k);
+        return;
+    }
+    if (reserve(b, (size_t)k) != 0) return;
+    va_start(ap, fmt);
+    vsnprintf(b->p + b->n, (size_t)k + 1, fmt, ap);
+    va_end(ap);
+    b->n += (size_t)k;
+}
+
+void tsa_buf_free(tsa_buf *b)
+{
+    free(b->p);
+    memset(b, 0, sizeof *b);
+}
+
+char *tsa_buf_take(tsa_buf *b, size_t *len)
+{
+    if (b->oom) {
+        tsa_buf_free(b);
+        return NULL;
+    }
+    if (!b->p) reserve(b, 0);
+    if (b->oom) return NULL;
+    b->p[b->n] = '\0';
+    char *p = b->p;
+    if (len) *len = b->n;
+    memset(b, 0, sizeof *b);
+    return p;
+}
+
+static void put_num(tsa_buf *b, double v, int time)
+{
+    if (!isfinite(v)) tsa_buf_put(b, "null", 4);
+    else tsa_buf_printf(b, time ? "%.12g" : "%.9g", v);
+}
+
+/* JSON string literal: escapes quotes, backslashes and control characters. */
+static void put_str(tsa_buf *b, const char *s)
+{
+    tsa_buf_put(b, "\"", 1);
+    for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; p++) {
+        if (*p == '"' || *p == '\\') tsa_buf_printf(b, "\\%c", *p);
+        else if (*p < 0x20) tsa_buf_printf(b, "\\u%04x", *p);
+        else tsa_buf_put(b, (const char *)p, 1);
+    }
+    tsa_buf_put(b, "\"", 1);
+}
+
+/* ---- request bodies -------------------------------------------------------- */
+
+json_t *tsa_parse_object(const char *body, size_t len, ts_err *err)
+{
+    if (!body || len == 0) {
+        ts_err_set(err, TS_ERR_PARAM, "", "the request body must be a JSON object; it is empty");
+        return NULL;
+    }
+    json_error_t je;
+    json_t *j = json_loadb(body, len, JSON_REJECT_DUPLICATES, &je);
+    if (!j) {
+        ts_err_set(err, TS_ERR_PARAM, "", "malformed JSON at line %d, column %d: %s", je.line,
+                   je.column, je.text);
+        return NULL;
+    }
+    if (!json_is_object(j)) {
+        json_decref(j);
+        ts_err_set(err, TS_ERR_PARAM, "", "the request body must be a JSON object");
+        return NULL;
+    }
+    return j;
+}
+
+static void add_error(json_t *errors, ts_err *err, int *count, ts_rc code, const char *pointer,
+                      const char *msg)
+{
+    if (errors)
+        json_array_append_new(errors,
+                              json_pack("{s:s,s:s}", "pointer", pointer, "message", msg));
+    if ((*count)++ == 0) ts_err_set(err, code, pointer, "%s", msg);
+}
+
+static const char *type_word(const json_t *j)
+{
+    switch (json_typeof(j)) {
+    case JSON_OBJECT: return "an object";
+    case JSON_ARRAY: return "an array";
+    case JSON_STRING: return "a string";
+    case JSON_INTEGER:
+    case JSON_REAL: return "a number";
+    case JSON_TRUE:
+    case JSON_FALSE: return "a boolean";
+    default: return "null";
+    }
+}
+
+ts_rc tsa_read_numbers(const json_t *obj, const tsa_num_field *f, int nf, json_t *errors,
+                       ts_err *err)
+{
+    int count = 0;
+    ts_rc first = TS_OK;
+    char ptr[TS_ERR_POINTER_LEN], msg[TS_ERR_MSG_LEN];
+    const char *key;
+    json_t *val;
+    json_object_foreach((json_t *)obj, key, val)
+    {
+        int known = 0;
+        for (int i = 0; i < nf; i++) known |= strcmp(f[i].name, key) == 0;
+        if (known) continue;
+        snprintf(ptr, sizeof ptr, "/%.100s", key);
+        snprintf(msg, sizeof msg, "%s: unknown field", ptr);
+        if (!count) first = TS_ERR_PARAM;
+        add_error(errors, err, &count, TS_ERR_PARAM, ptr, msg);
+    }
+    for (int i = 0; i < nf; i++) {
+        json_t *v = json_object_get(obj, f[i].name);
+        snprintf(ptr, sizeof ptr, "/%s", f[i].name);
+        if (f[i].present) *f[i].present = v != NULL;
+        if (!v) {
+            if (!f[i].required) continue;
+            snprintf(msg, sizeof msg, "%s: required number is missing", ptr);
+            if (!count) first = TS_ERR_PARAM;
+            add_error(errors, err, &count, TS_ERR_PARAM, ptr, msg);
+            continue;
+        }
+        if (!json_is_number(v)) {
+            snprintf(msg, sizeof msg, "%s: number expected, got %s", ptr, type_word(v));
+            if (!count) first = TS_ERR_PARAM;
+            add_error(errors, err, &count, TS_ERR_PARAM, ptr, msg);
+            continue;
+        }
+        double x = json_number_value(v);
+        if (!(x >= f[i].min && x <= f[i].max)) {
+            snprintf(msg, sizeof msg, "%s: number in [%g, %g] expected, got %g", ptr, f[i].min,
+                     f[i].max, x);
+            if (!count) first = TS_ERR_RANGE;
+            add_error(errors, err, &count, TS_ERR_RANGE, ptr, msg);
+            continue;
+        }
+        *f[i].out = x;
+    }
+    return first;
+}
+
+/* ---- channels --------------------------------------------------------------- */
+
+json_t *tsa_channels_json(const ts_model *m)
+{
+    json_t *a = json_array();
+    for (int i = 0; i < ts_model_nchannel(m); i++) {
+        const ts_channel *c = ts_model_channel(m, i);
+        json_array_append_new(a, json_pack("{s:s,s:s,s:s}", "name", c->name, "unit", c->unit,
+                                           "description", c->description));
+    }
+    return a;
+}
+
+json_t *tsa_values_json(const ts_model *m, const double *row)
+{
+    json_t *o = json_object();
+    for (int i = 0; i < ts_model_nchannel(m); i++)
+        json_object_set_new(o, ts_model_channel(m, i)->name,
+                            isfinite(row[i]) ? json_real(row[i]) : json_null());
+    return o;
+}
+
+ts_rc tsa_channel_select(const ts_model *m, const char *list, int *idx, int max, int *n,
+                         ts_err *err)
+{
+    int k = 0;
+    if (max < 1) return ts_err_set(err, TS_ERR_INTERNAL, NULL, "no room for channels");
+    idx[k++] = 0;
+    if (!list || !*list) {
+        for (int i = 1; i < ts_model_nchannel(m) && k < max; i++) idx[k++] = i;
+        *n = k;
+        return TS_OK;
+    }
+    const char *p = list;
+    while (*p) {
+        const char *e = strchr(p, ',');
+        size_t len = e ? (size_t)(e - p) : strlen(p);
+        char name[128];
+        if (len >= sizeof name)
+            return ts_err_set(err, TS_ERR_PARAM, "/channels", "channels: name too long");
+        memcpy(name, p, len);
+        name[len] = '\0';
+        if (len > 0) {
+            int c = ts_model_channel_index(m, name);
+            if (c < 0)
+                return ts_err_set(err, TS_ERR_NOTFOUND, "/channels",
+                                  "channels: no channel named '%s' (see the session's channels)",
+                                  name);
+            int dup = 0;
+            for (int i = 0; i < k; i++) dup |= idx[i] == c;
+            if (!dup) {
+                if (k >= max)
+                    return ts_err_set(err, TS_ERR_LIMIT, "/channels", "channels: too many");
+                idx[k++] = c;
+            }
+        }
+        p += len;
+        if (*p == ',') p++;
+    }
+    *n = k;
+    return TS_OK;
+}
+
+/* ---- rows as text ----------------------------------------------------------- */
+
+void tsa_csv_header(tsa_buf *b, const ts_model *m, const int *idx, int n)
+{
+    for (int i = 0; i < n; i++) {
+        const ts_channel *c = ts_model_channel(m, idx[i]);
+        tsa_buf_printf(b, "%s%s [%s]", i ? "," : "", c->name, c->unit);
+    }
+    tsa_buf_put(b, "\n", 1);
+}
+
+void tsa_csv_row(tsa_buf *b, const double *row, const int *idx, int n)
+{
+    for (int i = 0; i < n; i++) {
+        if (i) tsa_buf_put(b, ",", 1);
+        if (isfinite(row[idx[i]])) tsa_buf_printf(b, idx[i] == 0 ? "%.12g" : "%.9g", row[idx[i]]);
+    }
+    tsa_buf_put(b, "\n", 1);
+}
+
+void tsa_row_json(tsa_buf *b, const ts_model *m, long index, const double *row, const int *idx,
+                  int n)
+{
+    tsa_buf_printf(b, "{\"index\":%ld,\"t\":", index);
+    put_num(b, row[0], 1);
+    tsa_buf_put(b, ",\"values\":{", 11);
+    int first = 1;
+    for (int i = 0; i < n; i++) {
+        if (idx[i] == 0) continue;
+        if (!first) tsa_buf_put(b, ",", 1);
+        first = 0;
+        put_str(b, ts_model_channel(m, idx[i])->name);
+        tsa_buf_put(b, ":", 1);
+        put_num(b, row[idx[i]], 0);
+    }
+    tsa_buf_put(b, "}}", 2);
+}
+
+void tsa_series_json(tsa_buf *b, const char *session, const ts_model *m, const int *idx, int n,
+                     const long *index, const double *rows, long nrows, long every,
+                     const char *next_token)
+{
+    const int nch = ts_model_nchannel(m);
+    tsa_buf_put(b, "{\"session\":", 11);
+    put_str(b, session);
+    tsa_buf_printf(b, ",\"sample_rate\":%.12g,\"every\":%ld,\"count\":%ld,\"index\":[",
+                   1.0 / ts_model_sample_period(m), every, nrows);
+    for (long r = 0; r < nrows; r++) tsa_buf_printf(b, r ? ",%ld" : "%ld", index[r]);
+    tsa_buf_put(b, "],\"channels\":[", 14);
+    for (int i = 0; i < n; i++) {
+        const ts_channel *c = ts_model_channel(m, idx[i]);
+        tsa_buf_put(b, i ? ",{\"name\":" : "{\"name\":", i ? 9 : 8);
+        put_str(b, c->name);
+        tsa_buf_put(b, ",\"unit\":", 8);
+        put_str(b, c->unit);
+        tsa_buf_put(b, ",\"values\":[", 11);
+        for (long r = 0; r < nrows; r++) {
+            if (r) tsa_buf_put(b, ",", 1);
+            put_num(b, rows[(size_t)r * (size_t)nch + (size_t)idx[i]], idx[i] == 0);
+        }
+        tsa_buf_put(b, "]}", 2);
+    }
+    tsa_buf_put(b, "]", 1);
+    if (next_token) {
+        tsa_buf_put(b, ",\"next_page_token\":", 19);
+        put_str(b, next_token);
+    }
+    tsa_buf_put(b, "}", 1);
+}
+
+/* ---- session ---------------------------------------------------------------- */
+
+json_t *tsa_session_json(const tsa_session_view *v, int summary)
+{
+    char base[160];
+    snprintf(base, sizeof base, "/v1/sessions/%s", v->id);
+    json_t *links = json_object();
+    json_object_set_new(links, "self", json_string(base));
+    static const char *const rel[] = {"step", "run", "series", "stream", "fft"};
+    for (size_t i = 0; i < sizeof rel / sizeof rel[0]; i++) {
+        char u[200];
+        snprintf(u, sizeof u, "%s/%s", base, rel[i]);
+        json_object_set_new(links, rel[i], json_string(u));
+    }
+    if (v->operation && v->operation[0]) {
+        char u[200];
+        snprintf(u, sizeof u, "/v1/operations/%s", v->operation);
+        json_object_set_new(links, "operation", json_string(u));
+    }
+    json_t *o = json_pack("{s:s,s:s,s:s,s:f,s:f,s:I,s:I}", "id", v->id, "status", v->status,
+                          "preset", v->preset ? v->preset : "", "created", v->created, "t", v->t,
+                          "index", (json_int_t)v->index, "samples", (json_int_t)v->persisted);
+    if (!o) {
+        json_decref(links);
+        return NULL;
+    }
+    if (v->m) {
+        json_object_set_new(o, "kind", json_string(ts_model_kind(v->m)));
+        json_object_set_new(o, "duration", json_real(ts_model_config(v->m)->run.duration));
+        json_object_set_new(o, "sample_rate", json_real(1.0 / ts_model_sample_period(v->m)));
+    }
+    if (v->error && v->error[0]) json_object_set_new(o, "error", json_string(v->error));
+    if (v->operation && v->operation[0])
+        json_object_set_new(o, "operation", json_string(v->operation));
+    if (!summary) {
+        if (v->config) json_object_set(o, "config", (json_t *)v->config);
+        if (v->m) {
+            json_object_set_new(o, "channels", tsa_channels_json(v->m));
+            if (v->latest) json_object_set_new(o, "latest", tsa_values_json(v->m, v->latest));
+        }
+    }
+    json_object_set_new(o, "links", links);
+    return o;
+}

@@ -1,0 +1,113 @@
+/*
+ * session_json.h — JSON and text shapes of the daemon's session resources:
+ * request bodies in (step/run numbers, the session-create document), and out
+ * the session object, channel lists, latest values, sample rows as CSV,
+ * NDJSON/SSE lines and the columnar series document.
+ *
+ * Why here and not in server/: handlers never parse or build JSON by hand
+ * (style guide, rule 13), so the mapping can be tested without HTTP and reused
+ * by other front ends. Nothing here knows about sockets or SQLite.
+ *
+ * Ownership: json_t* results are NEW references (caller json_decref);
+ * tsa_buf memory is the caller's (tsa_buf_free). All numbers are SI, with the
+ * unit of every channel given beside it (model.h channel registry).
+ */
+#ifndef TSA_SESSION_JSON_H
+#define TSA_SESSION_JSON_H
+
+#include <jansson.h>
+#include <stddef.h>
+
+#include "../sim/model.h"
+
+/* ---- growable text buffer ------------------------------------------------ */
+
+typedef struct tsa_buf {
+    char *p;    /* NUL-terminated text (NULL while empty) */
+    size_t n;   /* bytes used, without the NUL */
+    size_t cap; /* bytes allocated */
+    int oom;    /* set once an allocation failed; later appends are dropped */
+} tsa_buf;
+
+void tsa_buf_printf(tsa_buf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void tsa_buf_put(tsa_buf *b, const char *s, size_t n);
+void tsa_buf_free(tsa_buf *b);
+/* Hand the text to the caller (malloc'd, free()) and empty the buffer; NULL on oom. */
+char *tsa_buf_take(tsa_buf *b, size_t *len);
+
+/* ---- request bodies ------------------------------------------------------- */
+
+/* Parse a request body that must be a JSON object. Malformed JSON or another
+ * type -> TS_ERR_PARAM (pointer "" and the parser's line/column). New ref. */
+json_t *tsa_parse_object(const char *body, size_t len, ts_err *err);
+
+/* One numeric member of a small request body ({"duration": 0.5}). */
+typedef struct tsa_num_field {
+    const char *name; /* member name; its pointer is "/name" */
+    int required;     /* 1: missing is an error */
+    double min, max;  /* closed range */
+    double *out;      /* receives the value when present */
+    int *present;     /* may be NULL; set to 1 when present */
+} tsa_num_field;
+
+/* Read the fields from obj; unknown members, wrong types, missing required
+ * members and out-of-range values each append {pointer, message} to errors
+ * (may be NULL) and the first goes to err. TS_OK, TS_ERR_PARAM or TS_ERR_RANGE. */
+ts_rc tsa_read_numbers(const json_t *obj, const tsa_num_field *f, int nf, json_t *errors,
+                       ts_err *err);
+
+/* ---- channels and values ------------------------------------------------- */
+
+/* [{"name","unit","description"}] of every channel. */
+json_t *tsa_channels_json(const ts_model *m);
+
+/* {"name": value, ...} of one row of ts_model_nchannel values. */
+json_t *tsa_values_json(const ts_model *m, const double *row);
+
+/* Parse a comma-separated channel list ("vehicle.speed,sprocket.torque") into
+ * channel indexes; "t" (index 0) is always first and never repeated. NULL or ""
+ * selects every channel. Unknown names -> TS_ERR_NOTFOUND with pointer
+ * "/channels". Writes at most max indexes to idx, the count to *n. */
+ts_rc tsa_channel_select(const ts_model *m, const char *list, int *idx, int max, int *n,
+                         ts_err *err);
+
+/* ---- sample rows as text --------------------------------------------------- */
+
+/* "name [unit],..." header line for the selected channels. */
+void tsa_csv_header(tsa_buf *b, const ts_model *m, const int *idx, int n);
+/* One CSV line of the selected values of a full row. */
+void tsa_csv_row(tsa_buf *b, const double *row, const int *idx, int n);
+/* One JSON object {"index":k,"t":t,"values":{name:value}} without newline. */
+void tsa_row_json(tsa_buf *b, const ts_model *m, long index, const double *row, const int *idx,
+                  int n);
+
+/* The columnar series document:
+ * {"session","sample_rate","every","count","channels":[{"name","unit","values":[...]}],
+ *  "index":[...], "next_page_token"?: "K"} — rows are full rows (nchannel
+ * values each), index[k] the sample index of row k; next_token NULL when this
+ * page is the last. */
+void tsa_series_json(tsa_buf *b, const char *session, const ts_model *m, const int *idx, int n,
+                     const long *index, const double *rows, long nrows, long every,
+                     const char *next_token);
+
+/* ---- the session resource ------------------------------------------------ */
+
+typedef struct tsa_session_view {
+    const char *id;
+    const char *status;    /* created | running | paused | done | failed | interrupted */
+    const char *preset;    /* "" when none */
+    double created;        /* Unix time [s] */
+    double t;              /* time of the latest sample [s] */
+    long index;            /* index of the latest sample */
+    long persisted;        /* samples stored (index of the last stored row + 1) */
+    const json_t *config;  /* resolved config document (may be NULL in summaries) */
+    const ts_model *m;     /* channels, duration (may be NULL: no model could be built) */
+    const double *latest;  /* latest row (may be NULL) */
+    const char *error;     /* message of a failed run ("" or NULL when none) */
+    const char *operation; /* id of the run in progress ("" or NULL) */
+} tsa_session_view;
+
+/* The session object with links; summary = 1 leaves out config and channels. */
+json_t *tsa_session_json(const tsa_session_view *v, int summary);
+
+#endif

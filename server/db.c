@@ -1,0 +1,305 @@
+/*
+ * db.c — SQLite persistence (db.h). Prepared statements are made per call:
+ * sqlite3_prepare_v2 of these short statements costs microseconds next to a
+ * batch commit, and it keeps the module free of statement caches.
+ */
+#define _GNU_SOURCE
+#include "db.h"
+
+#include <pthread.h>
+#include <sqlite3.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct tsd_db {
+    sqlite3 *w;          /* writer connection */
+    sqlite3 *r;          /* reader connection */
+    pthread_mutex_t wmu; /* guards w */
+    pthread_mutex_t rmu; /* guards r */
+};
+
+static const char schema[] =
+    "PRAGMA journal_mode=WAL;"
+    "PRAGMA synchronous=NORMAL;"
+    "CREATE TABLE IF NOT EXISTS sessions(seq INTEGER PRIMARY KEY, id TEXT UNIQUE NOT NULL,"
+    " created REAL, preset TEXT, config TEXT, nchannel INTEGER, status TEXT, t REAL,"
+    " idx INTEGER, error TEXT);"
+    "CREATE TABLE IF NOT EXISTS samples(seq INTEGER, idx INTEGER, vals BLOB,"
+    " PRIMARY KEY(seq, idx)) WITHOUT ROWID;"
+    "CREATE TABLE IF NOT EXISTS states(seq INTEGER PRIMARY KEY, idx INTEGER, t REAL, blob BLOB);";
+
+static void log_err(sqlite3 *c, const char *what)
+{
+    fprintf(stderr, "tanksimd: sqlite: %s: %s\n", what, sqlite3_errmsg(c));
+}
+
+static sqlite3 *open_conn(const char *path, char *err, size_t errlen)
+{
+    sqlite3 *c = NULL;
+    if (sqlite3_open_v2(path, &c, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE |
+                                      SQLITE_OPEN_NOMUTEX, NULL) != SQLITE_OK) {
+        snprintf(err, errlen, "cannot open %s: %s", path, c ? sqlite3_errmsg(c) : "no memory");
+        sqlite3_close(c);
+        return NULL;
+    }
+    sqlite3_busy_timeout(c, 5000);
+    return c;
+}
+
+tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/tanksimd.db", dir);
+    tsd_db *db = calloc(1, sizeof *db);
+    if (!db) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    db->w = open_conn(path, err, errlen);
+    if (!db->w) goto fail;
+    char *msg = NULL;
+    if (sqlite3_exec(db->w, schema, NULL, NULL, &msg) != SQLITE_OK) {
+        snprintf(err, errlen, "%s: %s", path, msg ? msg : "schema failed");
+        sqlite3_free(msg);
+        goto fail;
+    }
+    db->r = open_conn(path, err, errlen);
+    if (!db->r) goto fail;
+    pthread_mutex_init(&db->wmu, NULL);
+    pthread_mutex_init(&db->rmu, NULL);
+    return db;
+fail:
+    sqlite3_close(db->w);
+    sqlite3_close(db->r);
+    free(db);
+    return NULL;
+}
+
+void tsd_db_close(tsd_db *db)
+{
+    if (!db) return;
+    sqlite3_close(db->r);
+    sqlite3_close(db->w);
+    pthread_mutex_destroy(&db->wmu);
+    pthread_mutex_destroy(&db->rmu);
+    free(db);
+}
+
+/* Run one statement with bound text/int/double parameters described by fmt:
+ * 'i' long, 'd' double, 's' text (NULL -> SQL NULL). Writer connection. */
+static int exec_w(tsd_db *db, const char *sql, const char *fmt, ...)
+{
+    va_list ap;
+    sqlite3_stmt *st = NULL;
+    int rc = -1;
+    pthread_mutex_lock(&db->wmu);
+    if (sqlite3_prepare_v2(db->w, sql, -1, &st, NULL) != SQLITE_OK) goto out;
+    va_start(ap, fmt);
+    for (int i = 0; fmt[i]; i++) {
+        if (fmt[i] == 'i') sqlite3_bind_int64(st, i + 1, va_arg(ap, long));
+        else if (fmt[i] == 'd') sqlite3_bind_double(st, i + 1, va_arg(ap, double));
+        else {
+            const char *s = va_arg(ap, const char *);
+            if (s) sqlite3_bind_text(st, i + 1, s, -1, SQLITE_TRANSIENT);
+            else sqlite3_bind_null(st, i + 1);
+        }
+    }
+    va_end(ap);
+    rc = sqlite3_step(st) == SQLITE_DONE ? 0 : -1;
+out:
+    if (rc != 0) log_err(db->w, sql);
+    sqlite3_finalize(st);
+    pthread_mutex_unlock(&db->wmu);
+    return rc;
+}
+
+int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created,
+                          const char *preset, const char *config_json, int nchannel,
+                          const char *status)
+{
+    return exec_w(db,
+                  "INSERT INTO sessions(seq,id,created,preset,config,nchannel,status,t,idx,error)"
+                  " VALUES(?,?,?,?,?,?,?,0,0,NULL)",
+                  "isdssis", seq, id, created, preset, config_json, (long)nchannel, status);
+}
+
+int tsd_db_session_status(tsd_db *db, long seq, const char *status, const char *error)
+{
+    return exec_w(db, "UPDATE sessions SET status=?, error=? WHERE seq=?", "ssi", status,
+                  error && error[0] ? error : NULL, seq);
+}
+
+int tsd_db_session_delete(tsd_db *db, long seq)
+{
+    int rc = exec_w(db, "DELETE FROM samples WHERE seq=?", "i", seq);
+    rc |= exec_w(db, "DELETE FROM states WHERE seq=?", "i", seq);
+    rc |= exec_w(db, "DELETE FROM sessions WHERE seq=?", "i", seq);
+    return rc;
+}
+
+int tsd_db_truncate(tsd_db *db, long seq, long idx)
+{
+    return exec_w(db, "DELETE FROM samples WHERE seq=? AND idx>?", "ii", seq, idx);
+}
+
+int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, const double *rows,
+                  const void *state, size_t state_size, double t, long idx, const char *status)
+{
+    sqlite3_stmt *ins = NULL, *st = NULL, *up = NULL;
+    int rc = -1;
+    const char *what = "BEGIN";
+    pthread_mutex_lock(&db->wmu);
+    if (sqlite3_exec(db->w, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK) goto out;
+    what = "insert samples";
+    if (sqlite3_prepare_v2(db->w, "INSERT OR REPLACE INTO samples(seq,idx,vals) VALUES(?,?,?)",
+                           -1, &ins, NULL) != SQLITE_OK)
+        goto rollback;
+    for (long k = 0; k < nrows; k++) {
+        sqlite3_bind_int64(ins, 1, seq);
+        sqlite3_bind_int64(ins, 2, first + k);
+        sqlite3_bind_blob(ins, 3, rows + (size_t)k * (size_t)nchannel,
+                          (int)(sizeof(double) * (size_t)nchannel), SQLITE_STATIC);
+        if (sqlite3_step(ins) != SQLITE_DONE) goto rollback;
+        sqlite3_reset(ins);
+    }
+    if (state) {
+        what = "save state";
+        if (sqlite3_prepare_v2(db->w,
+                               "INSERT OR REPLACE INTO states(seq,idx,t,blob) VALUES(?,?,?,?)",
+                               -1, &st, NULL) != SQLITE_OK)
+            goto rollback;
+        sqlite3_bind_int64(st, 1, seq);
+        sqlite3_bind_int64(st, 2, idx);
+        sqlite3_bind_double(st, 3, t);
+        sqlite3_bind_blob(st, 4, state, (int)state_size, SQLITE_STATIC);
+        if (sqlite3_step(st) != SQLITE_DONE) goto rollback;
+    }
+    what = "update session";
+    if (sqlite3_prepare_v2(db->w, "UPDATE sessions SET t=?, idx=?, status=? WHERE seq=?", -1,
+                           &up, NULL) != SQLITE_OK)
+        goto rollback;
+    sqlite3_bind_double(up, 1, t);
+    sqlite3_bind_int64(up, 2, idx);
+    sqlite3_bind_text(up, 3, status, -1, SQLITE_STATIC);
+    sqlite3_bind_int64(up, 4, seq);
+    if (sqlite3_step(up) != SQLITE_DONE) goto rollback;
+    what = "COMMIT";
+    if (sqlite3_exec(db->w, "COMMIT", NULL, NULL, NULL) != SQLITE_OK) goto rollback;
+    rc = 0;
+    goto out;
+rollback:
+    log_err(db->w, what);
+    sqlite3_exec(db->w, "ROLLBACK", NULL, NULL, NULL);
+    what = NULL;
+out:
+    if (rc != 0 && what) log_err(db->w, what);
+    sqlite3_finalize(ins);
+    sqlite3_finalize(st);
+    sqlite3_finalize(up);
+    pthread_mutex_unlock(&db->wmu);
+    return rc;
+}
+
+static const char *col_text(sqlite3_stmt *st, int i)
+{
+    const unsigned char *s = sqlite3_column_text(st, i);
+    return s ? (const char *)s : "";
+}
+
+int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
+{
+    sqlite3_stmt *st = NULL;
+    int rc = -1;
+    pthread_mutex_lock(&db->rmu);
+    if (sqlite3_prepare_v2(db->r,
+                           "SELECT seq,id,created,preset,config,nchannel,status,t,idx,error"
+                           " FROM sessions ORDER BY seq",
+                           -1, &st, NULL) != SQLITE_OK)
+        goto out;
+    int s;
+    while ((s = sqlite3_step(st)) == SQLITE_ROW)
+        fn(ud, (long)sqlite3_column_int64(st, 0), col_text(st, 1), sqlite3_column_double(st, 2),
+           col_text(st, 3), col_text(st, 4), sqlite3_column_int(st, 5), col_text(st, 6),
+           sqlite3_column_double(st, 7), (long)sqlite3_column_int64(st, 8), col_text(st, 9));
+    rc = s == SQLITE_DONE ? 0 : -1;
+out:
+    if (rc) log_err(db->r, "list sessions");
+    sqlite3_finalize(st);
+    pthread_mutex_unlock(&db->rmu);
+    return rc;
+}
+
+int tsd_db_state(tsd_db *db, long seq, void **blob, size_t *size, long *idx)
+{
+    sqlite3_stmt *st = NULL;
+    int rc = -1;
+    *blob = NULL;
+    *size = 0;
+    pthread_mutex_lock(&db->rmu);
+    if (sqlite3_prepare_v2(db->r, "SELECT idx, blob FROM states WHERE seq=?", -1, &st, NULL) !=
+        SQLITE_OK)
+        goto out;
+    sqlite3_bind_int64(st, 1, seq);
+    int s = sqlite3_step(st);
+    if (s == SQLITE_ROW) {
+        size_t n = (size_t)sqlite3_column_bytes(st, 1);
+        const void *p = sqlite3_column_blob(st, 1);
+        *blob = malloc(n ? n : 1);
+        if (!*blob) goto out;
+        if (n) memcpy(*blob, p, n);
+        *size = n;
+        *idx = (long)sqlite3_column_int64(st, 0);
+        rc = 0;
+    } else {
+        rc = s == SQLITE_DONE ? 0 : -1;
+    }
+out:
+    if (rc) log_err(db->r, "read state");
+    sqlite3_finalize(st);
+    pthread_mutex_unlock(&db->rmu);
+    return rc;
+}
+
+long tsd_db_rows(tsd_db *db, long seq, long from, long to, long every, long max, int nchannel,
+                 long *index, double *rows, int *more)
+{
+    sqlite3_stmt *st = NULL;
+    long n = -1;
+    *more = 0;
+    if (every < 1) every = 1;
+    pthread_mutex_lock(&db->rmu);
+    const char *sql = every == 1
+                          ? "SELECT idx, vals FROM samples WHERE seq=?1 AND idx BETWEEN ?2 AND ?3"
+                            " ORDER BY idx"
+                          : "SELECT idx, vals FROM samples WHERE seq=?1 AND idx BETWEEN ?2 AND ?3"
+                            " AND (idx - ?2) % ?4 = 0 ORDER BY idx";
+    if (sqlite3_prepare_v2(db->r, sql, -1, &st, NULL) != SQLITE_OK) goto out;
+    sqlite3_bind_int64(st, 1, seq);
+    sqlite3_bind_int64(st, 2, from);
+    sqlite3_bind_int64(st, 3, to);
+    if (every > 1) sqlite3_bind_int64(st, 4, every);
+    n = 0;
+    int s;
+    const size_t rowbytes = sizeof(double) * (size_t)nchannel;
+    while ((s = sqlite3_step(st)) == SQLITE_ROW) {
+        if (n == max) {
+            *more = 1;
+            break;
+        }
+        index[n] = (long)sqlite3_column_int64(st, 0);
+        const void *b = sqlite3_column_blob(st, 1);
+        size_t nb = (size_t)sqlite3_column_bytes(st, 1);
+        double *dst = rows + (size_t)n * (size_t)nchannel;
+        memset(dst, 0, rowbytes);
+        memcpy(dst, b, nb < rowbytes ? nb : rowbytes);
+        n++;
+    }
+    if (s != SQLITE_ROW && s != SQLITE_DONE) n = -1;
+out:
+    if (n < 0) log_err(db->r, "read samples");
+    sqlite3_finalize(st);
+    pthread_mutex_unlock(&db->rmu);
+    return n;
+}

@@ -1,0 +1,63 @@
+/*
+ * db.h — persistence of sessions and their samples in SQLite (DATA_DIR/tanksimd.db).
+ *
+ * Tables:
+ *   sessions(seq PK, id UNIQUE, created, preset, config JSON, nchannel, status,
+ *            t, idx, error)         one row per session, updated on each batch
+ *   samples(seq, idx, vals BLOB)     one row per sample row: nchannel float64
+ *                                    in channel order (native byte order)
+ *   states(seq PK, idx, t, blob)     the latest ts_state_save snapshot
+ * WAL journal, synchronous=NORMAL: a committed batch survives a killed daemon
+ * (not necessarily a power cut). Samples and the state they end at are
+ * written in ONE transaction (tsd_db_append), so after a crash the stored
+ * state always matches the last stored sample and a run continues from it
+ * without gaps or duplicates.
+ *
+ * Threads: one writer connection and one reader connection, each behind its
+ * own mutex; WAL lets readers (series, streams) proceed while a batch commits.
+ * All calls return 0 on success, -1 on failure with the SQLite message
+ * written to the daemon's log.
+ */
+#ifndef TSD_DB_H
+#define TSD_DB_H
+
+#include <stddef.h>
+
+typedef struct tsd_db tsd_db;
+
+/* Open (create) DIR/tanksimd.db; NULL with a message in err on failure. */
+tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen);
+void tsd_db_close(tsd_db *db); /* NULL is a no-op */
+
+int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created,
+                          const char *preset, const char *config_json, int nchannel,
+                          const char *status);
+int tsd_db_session_status(tsd_db *db, long seq, const char *status, const char *error);
+int tsd_db_session_delete(tsd_db *db, long seq);
+
+/* One batch: rows[nrows][nchannel] with indexes first..first+nrows-1, then
+ * the state snapshot (may be NULL) taken at the last row, and the session's
+ * status/t/idx — all in one transaction. */
+int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, const double *rows,
+                  const void *state, size_t state_size, double t, long idx, const char *status);
+
+/* Visit every stored session in seq order (startup recovery). */
+typedef void (*tsd_db_session_fn)(void *ud, long seq, const char *id, double created,
+                                   const char *preset, const char *config_json, int nchannel,
+                                   const char *status, double t, long idx, const char *error);
+int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud);
+
+/* The stored state snapshot: *blob malloc'd (caller frees), *idx its index;
+ * *blob = NULL when there is none. */
+int tsd_db_state(tsd_db *db, long seq, void **blob, size_t *size, long *idx);
+
+/* Drop samples after idx (rows a crash left beyond the last snapshot). */
+int tsd_db_truncate(tsd_db *db, long seq, long idx);
+
+/* Read rows with from <= index <= to and (index - from) % every == 0, in
+ * index order, at most max rows: index[] and rows[max][nchannel] (caller
+ * allocated). Returns the count, or -1. *more = 1 when further rows match. */
+long tsd_db_rows(tsd_db *db, long seq, long from, long to, long every, long max, int nchannel,
+                 long *index, double *rows, int *more);
+
+#endif

@@ -1,0 +1,155 @@
+/*
+ * operations.c — run operations (operations.h): a fixed-capacity list kept in
+ * creation order; when full, the oldest finished operation is dropped.
+ */
+#define _GNU_SOURCE
+#include "operations.h"
+
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/random.h>
+
+#include "pool.h"
+
+struct tsd_op {
+    char id[24];
+    char sid[24];
+    double t_start, until, t;
+    double wall_start, wall_last;
+    int done;
+    json_t *response, *error;
+};
+
+typedef struct tsd_ops {
+    pthread_mutex_t mu;
+    tsd_op *v[TSD_MAX_OPS];
+    int n;
+} tsd_ops;
+
+int tsd_ops_init(tsd_server *srv)
+{
+    srv->ops = calloc(1, sizeof *srv->ops);
+    if (!srv->ops) return -1;
+    pthread_mutex_init(&srv->ops->mu, NULL);
+    return 0;
+}
+
+static void op_free(tsd_op *op)
+{
+    json_decref(op->response);
+    json_decref(op->error);
+    free(op);
+}
+
+void tsd_ops_free(tsd_server *srv)
+{
+    if (!srv->ops) return;
+    for (int i = 0; i < srv->ops->n; i++) op_free(srv->ops->v[i]);
+    pthread_mutex_destroy(&srv->ops->mu);
+    free(srv->ops);
+    srv->ops = NULL;
+}
+
+tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double until)
+{
+    tsd_ops *o = srv->ops;
+    tsd_op *op = calloc(1, sizeof *op);
+    if (!op) return NULL;
+    unsigned char rnd[8] = {0};
+    if (getrandom(rnd, sizeof rnd, 0) != (ssize_t)sizeof rnd) {
+        double x = tsd_now();
+        memcpy(rnd, &x, sizeof rnd);
+    }
+    snprintf(op->id, sizeof op->id, "op%02x%02x%02x%02x%02x%02x%02x%02x", rnd[0], rnd[1], rnd[2],
+             rnd[3], rnd[4], rnd[5], rnd[6], rnd[7]);
+    snprintf(op->sid, sizeof op->sid, "%s", sid);
+    op->t_start = op->t = t_start;
+    op->until = until;
+    op->wall_start = op->wall_last = tsd_now();
+    pthread_mutex_lock(&o->mu);
+    if (o->n == TSD_MAX_OPS) {
+        int drop = -1;
+        for (int i = 0; i < o->n && drop < 0; i++)
+            if (o->v[i]->done) drop = i;
+        if (drop < 0) {
+            pthread_mutex_unlock(&o->mu);
+            free(op);
+            return NULL;
+        }
+        op_free(o->v[drop]);
+        memmove(&o->v[drop], &o->v[drop + 1], sizeof o->v[0] * (size_t)(o->n - drop - 1));
+        o->n--;
+    }
+    o->v[o->n++] = op;
+    pthread_mutex_unlock(&o->mu);
+    return op;
+}
+
+const char *tsd_op_id(const tsd_op *op) { return op->id; }
+
+void tsd_op_progress(tsd_server *srv, tsd_op *op, double t)
+{
+    pthread_mutex_lock(&srv->ops->mu);
+    op->t = t;
+    op->wall_last = tsd_now();
+    pthread_mutex_unlock(&srv->ops->mu);
+}
+
+void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
+{
+    pthread_mutex_lock(&srv->ops->mu);
+    op->done = 1;
+    op->wall_last = tsd_now();
+    op->response = response;
+    op->error = error;
+    pthread_mutex_unlock(&srv->ops->mu);
+}
+
+/* Caller holds the lock. */
+static json_t *op_json(const tsd_op *op)
+{
+    double span = op->until - op->t_start;
+    double progress = span > 0 ? (op->t - op->t_start) / span : 1.0;
+    if (progress < 0) progress = 0;
+    if (progress > 1) progress = 1;
+    if (op->done && !op->error) progress = 1.0;
+    double wall = op->wall_last - op->wall_start;
+    char name[48];
+    snprintf(name, sizeof name, "operations/%s", op->id);
+    json_t *j = json_pack(
+        "{s:s,s:s,s:b,s:{s:s,s:f,s:f,s:f,s:f,s:f,s:f}}", "name", name, "id", op->id, "done",
+        op->done, "metadata", "session", op->sid, "progress", progress, "t", op->t, "t_start",
+        op->t_start, "until", op->until, "wall_time_s", wall, "real_time_factor",
+        wall > 0 ? (op->t - op->t_start) / wall : 0.0);
+    if (j && op->done) {
+        if (op->error) json_object_set(j, "error", op->error);
+        else if (op->response) json_object_set(j, "response", op->response);
+    }
+    return j;
+}
+
+json_t *tsd_op_json_of(tsd_server *srv, tsd_op *op)
+{
+    pthread_mutex_lock(&srv->ops->mu);
+    json_t *j = op_json(op);
+    pthread_mutex_unlock(&srv->ops->mu);
+    return j;
+}
+
+json_t *tsd_op_json(tsd_server *srv, const char *id, char *sid, int *done)
+{
+    json_t *j = NULL;
+    pthread_mutex_lock(&srv->ops->mu);
+    for (int i = 0; i < srv->ops->n; i++) {
+        tsd_op *op = srv->ops->v[i];
+        if (strcmp(op->id, id) != 0) continue;
+        j = op_json(op);
+        if (sid) snprintf(sid, 24, "%s", op->sid);
+        if (done) *done = op->done;
+        break;
+    }
+    pthread_mutex_unlock(&srv->ops->mu);
+    return j;
+}

@@ -1,0 +1,41 @@
+/*
+ * pool.h — the simulation worker pool: N threads taking jobs from one queue.
+ *
+ * Physics never runs on an HTTP thread: handlers submit a job and either
+ * suspend their connection until it completes (step) or answer 202 at once
+ * (run). A job may carry a "not before" time (monotonic seconds); a worker
+ * takes the oldest job that is due and sleeps on a condition variable until
+ * one is — no polling. Long runs re-submit themselves after each slice, so
+ * sessions share the workers fairly and a short step is never stuck behind a
+ * long run (see session.c).
+ *
+ * Shutdown (tsd_pool_stop): no new jobs are accepted, every queued job is
+ * still run (jobs see tsd_pool_stopping() and finish quickly), then the
+ * threads are joined. Jobs own their argument.
+ */
+#ifndef TSD_POOL_H
+#define TSD_POOL_H
+
+typedef struct tsd_pool tsd_pool;
+typedef void (*tsd_job_fn)(void *arg);
+
+/* Start nthreads workers; NULL on failure. */
+tsd_pool *tsd_pool_start(int nthreads);
+
+/* Queue fn(arg) to run at or after monotonic time not_before (0 = now).
+ * 0 on success, -1 when the pool is stopping (the job is not run). */
+int tsd_pool_submit(tsd_pool *p, tsd_job_fn fn, void *arg, double not_before);
+
+/* 1 once tsd_pool_stop has begun. */
+int tsd_pool_stopping(tsd_pool *p);
+
+/* Jobs queued or running (for /metrics). */
+int tsd_pool_pending(tsd_pool *p);
+
+/* Drain (run every queued job, ignoring not_before), join, free. NULL is a no-op. */
+void tsd_pool_stop(tsd_pool *p);
+
+/* Monotonic clock [s]. */
+double tsd_now(void);
+
+#endif

@@ -1,0 +1,835 @@
+/*
+ * session.c — simulation sessions (session.h): registry, state machine, and
+ * the step and run jobs that advance a session's model on the worker pool.
+ *
+ * State diagram (the function that makes each transition in brackets):
+ *
+ *                 [tsd_session_run]            [run_finish: until < duration
+ *     created ─────────────────────▶ running ──────────────────▶ paused
+ *        │                           ▲  │ │    or cancelled]       │
+ *        │ [step_job]                │  │ └──[run_finish: t =     │
+ *        ▼                           │  │     duration]──▶ done   │
+ *      paused ◀──[step_job]── paused │  │                         │
+ *        │                           │  └──[run_finish: model     │
+ *        └──────[tsd_session_run]────┘      error]──▶ failed      │
+ *                                    ▲                (sticky)    │
+ *     interrupted ──[tsd_session_run]┘                            │
+ *        ▲                                                        │
+ *        └──[load_session: "running" found at start-up, or        │
+ *            run_finish while the daemon shuts down]              │
+ *     paused ⇄ running as above; step_job: created | paused | interrupted
+ *     → paused | done | failed.
+ *
+ * Invariants:
+ *  (1) Only the holder of `busy` touches d, the batch and the snapshot, and
+ *      only workers hold it; HTTP threads read the copies kept under mu.
+ *  (2) Rows reach the database in batches (BATCH_ROWS, or at the end of each
+ *      slice), each batch together with the state snapshot at its last row
+ *      in one transaction (db.h), so stored rows and stored state agree; t,
+ *      index, latest and persisted describe the last STORED row.
+ *  (3) A run advances in slices of at most SLICE_WALL seconds and re-queues
+ *      itself, so many sessions share few workers; with rtf > 0 the next
+ *      slice is queued for when real time has caught up (no sleeping).
+ *  (4) failed is sticky: ts_advance's error is sticky too, and a failed
+ *      session accepts no step or run (409).
+ *  (5) A deleted session's rows are removed by whoever releases it last
+ *      from busy (the worker) or at once when idle (the handler).
+ */
+#define _GNU_SOURCE
+#include "session.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/random.h>
+#include <time.h>
+
+#include "../api/config_json.h"
+#include "../api/problem.h"
+#include "../api/session_json.h"
+#include "db.h"
+#include "operations.h"
+#include "pool.h"
+
+#define BATCH_ROWS 256     /* rows per database transaction during a run */
+#define SLICE_WALL 0.05    /* wall seconds a run may hold a worker before re-queueing */
+
+typedef struct tsd_registry {
+    pthread_mutex_t mu;
+    tsd_session **v; /* in seq order */
+    int n, cap;
+    long next_seq;
+} tsd_registry;
+
+static const char *const status_names[TSD_NSTATUS] = {"created", "running",     "paused",
+                                                       "done",    "failed",      "interrupted"};
+
+const char *tsd_status_name(tsd_status st)
+{
+    return (st >= 0 && st < TSD_NSTATUS) ? status_names[st] : "unknown";
+}
+
+static tsd_status status_from_name(const char *s)
+{
+    for (int i = 0; i < TSD_NSTATUS; i++)
+        if (strcmp(status_names[i], s) == 0) return (tsd_status)i;
+    return TSD_FAILED;
+}
+
+static double unix_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---- lifetime ---------------------------------------------------------------- */
+
+static void session_free(tsd_session *s)
+{
+    ts_data_free(s->d);
+    ts_model_free(s->m);
+    json_decref(s->config);
+    free(s->batch);
+    free(s->snapshot);
+    free(s->latest);
+    pthread_mutex_destroy(&s->mu);
+    free(s);
+}
+
+void tsd_session_put(tsd_session *s)
+{
+    if (!s) return;
+    pthread_mutex_lock(&s->mu);
+    int last = --s->refs == 0;
+    pthread_mutex_unlock(&s->mu);
+    if (last) session_free(s);
+}
+
+static void ref(tsd_session *s)
+{
+    pthread_mutex_lock(&s->mu);
+    s->refs++;
+    pthread_mutex_unlock(&s->mu);
+}
+
+/* Allocate a session around a resolved config; builds model and data when it
+ * can (m stays NULL and err is filled when it cannot). */
+static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, ts_err *err)
+{
+    tsd_session *s = calloc(1, sizeof *s);
+    if (!s) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        json_decref(resolved);
+        return NULL;
+    }
+    pthread_mutex_init(&s->mu, NULL);
+    s->srv = srv;
+    s->refs = 1;
+    s->config = resolved;
+    s->index = 0;
+    ts_config cfg;
+    ts_err_clear(err);
+    if (tsa_config_load(resolved, &cfg, NULL, NULL, err) != TS_OK) return s;
+    s->m = ts_model_make(&cfg, err);
+    if (!s->m) return s;
+    s->d = ts_data_make(s->m, err);
+    s->nch = ts_model_nchannel(s->m);
+    s->batch_cap = BATCH_ROWS;
+    s->batch = calloc((size_t)s->batch_cap * (size_t)s->nch, sizeof *s->batch);
+    s->latest = calloc((size_t)s->nch, sizeof *s->latest);
+    s->snapshot_size = ts_state_size(s->m);
+    s->snapshot = malloc(s->snapshot_size ? s->snapshot_size : 1);
+    if (!s->d || !s->batch || !s->latest || !s->snapshot) {
+        if (s->d) ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        ts_data_free(s->d);
+        s->d = NULL;
+        ts_model_free(s->m);
+        s->m = NULL;
+    }
+    return s;
+}
+
+/* ---- registry ---------------------------------------------------------------- */
+
+static int registry_add(tsd_registry *g, tsd_session *s)
+{
+    if (g->n == g->cap) {
+        int cap = g->cap ? 2 * g->cap : 64;
+        tsd_session **nv = realloc(g->v, sizeof *nv * (size_t)cap);
+        if (!nv) return -1;
+        g->v = nv;
+        g->cap = cap;
+    }
+    g->v[g->n++] = s;
+    return 0;
+}
+
+/* Recovery of one stored session (tsd_db_sessions callback). */
+typedef struct {
+    tsd_server *srv;
+    int loaded, interrupted;
+} load_ctx;
+
+static void load_session(void *ud, long seq, const char *id, double created, const char *preset,
+                         const char *config_json, int nchannel, const char *status, double t,
+                         long idx, const char *error)
+{
+    load_ctx *lc = ud;
+    tsd_server *srv = lc->srv;
+    (void)nchannel;
+    (void)t;
+    (void)idx;
+    json_error_t je;
+    json_t *resolved = json_loads(config_json, 0, &je);
+    ts_err err;
+    tsd_session *s = session_alloc(srv, resolved ? resolved : json_object(), &err);
+    if (!s) return;
+    snprintf(s->id, sizeof s->id, "%s", id);
+    snprintf(s->preset, sizeof s->preset, "%s", preset);
+    s->seq = seq;
+    s->created = created;
+    s->status = status_from_name(status);
+    snprintf(s->error, sizeof s->error, "%s", error);
+    if (s->status == TSD_RUNNING) {
+        s->status = TSD_INTERRUPTED; /* the daemon died during the run */
+        lc->interrupted++;
+    }
+    if (!s->m) {
+        s->status = TSD_FAILED;
+        snprintf(s->error, sizeof s->error, "model cannot be rebuilt: %.300s", err.msg);
+    } else {
+        void *blob = NULL;
+        size_t n = 0;
+        long sidx = 0;
+        ts_rc rc = ts_reset(s->m, s->d, &err);
+        if (rc == TS_OK && tsd_db_state(srv->db, seq, &blob, &n, &sidx) == 0 && blob)
+            rc = ts_state_restore(s->m, s->d, blob, n, &err);
+        free(blob);
+        if (rc != TS_OK) {
+            s->status = TSD_FAILED;
+            snprintf(s->error, sizeof s->error, "state cannot be restored: %.300s", err.msg);
+        }
+        /* Rows beyond the snapshot cannot exist (invariant 2); drop any anyway. */
+        tsd_db_truncate(srv->db, seq, ts_sample_index(s->d));
+        s->t = ts_time(s->d);
+        s->index = ts_sample_index(s->d);
+        s->persisted = s->index + 1;
+        memcpy(s->latest, ts_latest(s->d), sizeof(double) * (size_t)s->nch);
+    }
+    tsd_db_session_status(srv->db, seq, tsd_status_name(s->status), s->error);
+    if (registry_add(srv->reg, s) != 0) {
+        session_free(s);
+        return;
+    }
+    if (seq >= srv->reg->next_seq) srv->reg->next_seq = seq + 1;
+    lc->loaded++;
+}
+
+int tsd_sessions_init(tsd_server *srv, char *err, size_t errlen)
+{
+    srv->reg = calloc(1, sizeof *srv->reg);
+    if (!srv->reg) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    pthread_mutex_init(&srv->reg->mu, NULL);
+    srv->reg->next_seq = 1;
+    load_ctx lc = {srv, 0, 0};
+    if (tsd_db_sessions(srv->db, load_session, &lc) != 0) {
+        snprintf(err, errlen, "cannot read stored sessions");
+        return -1;
+    }
+    if (lc.loaded)
+        fprintf(stderr, "tanksimd: %d stored sessions loaded, %d interrupted runs\n", lc.loaded,
+                lc.interrupted);
+    return 0;
+}
+
+
+
+void tsd_sessions_free(tsd_server *srv)
+{
+    tsd_registry *g = srv->reg;
+    if (!g) return;
+    for (int i = 0; i < g->n; i++) tsd_session_put(g->v[i]);
+    free(g->v);
+    pthread_mutex_destroy(&g->mu);
+    free(g);
+    srv->reg = NULL;
+}
+
+void tsd_sessions_count(tsd_server *srv, long counts[TSD_NSTATUS])
+{
+    for (int i = 0; i < TSD_NSTATUS; i++) counts[i] = 0;
+    pthread_mutex_lock(&srv->reg->mu);
+    for (int i = 0; i < srv->reg->n; i++) {
+        tsd_session *s = srv->reg->v[i];
+        pthread_mutex_lock(&s->mu);
+        counts[s->status]++;
+        pthread_mutex_unlock(&s->mu);
+    }
+    pthread_mutex_unlock(&srv->reg->mu);
+}
+
+tsd_session *tsd_session_get(tsd_server *srv, const char *id)
+{
+    tsd_session *found = NULL;
+    pthread_mutex_lock(&srv->reg->mu);
+    for (int i = 0; i < srv->reg->n; i++)
+        if (strcmp(srv->reg->v[i]->id, id) == 0) {
+            found = srv->reg->v[i];
+            ref(found);
+            break;
+        }
+    pthread_mutex_unlock(&srv->reg->mu);
+    return found;
+}
+
+/* ---- streams ---------------------------------------------------------------- */
+
+/* Resume every waiting stream. Caller holds s->mu. */
+static void wake_locked(tsd_session *s)
+{
+    for (tsd_waiter *w = s->waiters; w; w = w->next) {
+        w->linked = 0;
+        MHD_resume_connection(w->conn);
+    }
+    s->waiters = NULL;
+}
+
+void tsd_sessions_wake_all(tsd_server *srv)
+{
+    pthread_mutex_lock(&srv->reg->mu);
+    for (int i = 0; i < srv->reg->n; i++) {
+        tsd_session *s = srv->reg->v[i];
+        pthread_mutex_lock(&s->mu);
+        wake_locked(s);
+        pthread_mutex_unlock(&s->mu);
+    }
+    pthread_mutex_unlock(&srv->reg->mu);
+}
+
+int tsd_session_await(tsd_session *s, long next, tsd_waiter *w)
+{
+    int r;
+    pthread_mutex_lock(&s->mu);
+    if (next < s->persisted) r = 1;
+    else if (s->status != TSD_RUNNING || s->deleted || atomic_load(&s->srv->stopping)) r = -1;
+    else {
+        w->next = s->waiters;
+        w->linked = 1;
+        s->waiters = w;
+        MHD_suspend_connection(w->conn);
+        r = 0;
+    }
+    pthread_mutex_unlock(&s->mu);
+    return r;
+}
+
+void tsd_session_unwait(tsd_session *s, tsd_waiter *w)
+{
+    pthread_mutex_lock(&s->mu);
+    if (w->linked) {
+        for (tsd_waiter **p = &s->waiters; *p; p = &(*p)->next)
+            if (*p == w) {
+                *p = w->next;
+                break;
+            }
+        w->linked = 0;
+    }
+    pthread_mutex_unlock(&s->mu);
+}
+
+/* ---- create / delete / describe ------------------------------------------------ */
+
+ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, json_t *errors,
+                         ts_err *err)
+{
+    *out = NULL;
+    ts_config cfg;
+    json_t *resolved = NULL;
+    ts_rc rc = tsa_config_load(doc, &cfg, &resolved, errors, err);
+    if (rc != TS_OK) return rc;
+    pthread_mutex_lock(&srv->reg->mu);
+    int full = srv->reg->n >= srv->opt.max_sessions;
+    pthread_mutex_unlock(&srv->reg->mu);
+    if (full) {
+        json_decref(resolved);
+        return ts_err_set(err, TS_ERR_LIMIT, NULL,
+                          "%d sessions exist (--max-sessions); delete some first",
+                          srv->opt.max_sessions);
+    }
+    tsd_session *s = session_alloc(srv, resolved, err);
+    if (!s) return err->code;
+    if (!s->m) {
+        rc = err->code != TS_OK ? err->code : TS_ERR_INTERNAL;
+        session_free(s);
+        return rc;
+    }
+    rc = ts_reset(s->m, s->d, err);
+    if (rc != TS_OK) {
+        session_free(s);
+        return rc;
+    }
+    const json_t *preset = json_object_get(doc, "preset");
+    snprintf(s->preset, sizeof s->preset, "%s",
+             json_is_string(preset) ? json_string_value(preset) : "");
+    unsigned char rnd[8] = {0};
+    if (getrandom(rnd, sizeof rnd, 0) != (ssize_t)sizeof rnd) {
+        double x = unix_now();
+        memcpy(rnd, &x, sizeof rnd);
+    }
+    snprintf(s->id, sizeof s->id, "s%02x%02x%02x%02x%02x%02x%02x%02x", rnd[0], rnd[1], rnd[2],
+             rnd[3], rnd[4], rnd[5], rnd[6], rnd[7]);
+    s->created = unix_now();
+    s->status = TSD_CREATED;
+    s->t = 0.0;
+    s->index = 0;
+    s->persisted = 1;
+    memcpy(s->latest, ts_latest(s->d), sizeof(double) * (size_t)s->nch);
+
+    pthread_mutex_lock(&srv->reg->mu);
+    s->seq = srv->reg->next_seq++;
+    pthread_mutex_unlock(&srv->reg->mu);
+    char *cfg_text = json_dumps(resolved, JSON_COMPACT | JSON_REAL_PRECISION(17));
+    int dbrc = cfg_text ? tsd_db_session_insert(srv->db, s->seq, s->id, s->created, s->preset,
+                                                cfg_text, s->nch, "created")
+                        : -1;
+    free(cfg_text);
+    if (dbrc == 0) {
+        ts_err e2;
+        dbrc = ts_state_save(s->m, s->d, s->snapshot, s->snapshot_size, &e2) == TS_OK ? 0 : -1;
+        if (dbrc == 0)
+            dbrc = tsd_db_append(srv->db, s->seq, 0, 1, s->nch, ts_latest(s->d), s->snapshot,
+                                 s->snapshot_size, 0.0, 0, "created");
+    }
+    if (dbrc != 0) {
+        tsd_db_session_delete(srv->db, s->seq);
+        session_free(s);
+        return ts_err_set(err, TS_ERR_IO, NULL, "cannot store the session (see the daemon log)");
+    }
+    pthread_mutex_lock(&srv->reg->mu);
+    int ok = registry_add(srv->reg, s) == 0;
+    pthread_mutex_unlock(&srv->reg->mu);
+    if (!ok) {
+        tsd_db_session_delete(srv->db, s->seq);
+        session_free(s);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    }
+    atomic_fetch_add(&srv->metrics.sessions_created, 1);
+    atomic_fetch_add(&srv->metrics.samples_stored, 1);
+    ref(s);
+    *out = s;
+    return TS_OK;
+}
+
+ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
+{
+    tsd_session *s = NULL;
+    pthread_mutex_lock(&srv->reg->mu);
+    for (int i = 0; i < srv->reg->n; i++)
+        if (strcmp(srv->reg->v[i]->id, id) == 0) {
+            s = srv->reg->v[i];
+            memmove(&srv->reg->v[i], &srv->reg->v[i + 1],
+                    sizeof srv->reg->v[0] * (size_t)(srv->reg->n - i - 1));
+            srv->reg->n--;
+            break;
+        }
+    pthread_mutex_unlock(&srv->reg->mu);
+    if (!s) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
+    pthread_mutex_lock(&s->mu);
+    s->deleted = 1;
+    atomic_store(&s->cancel, 1);
+    int idle = !s->busy;
+    wake_locked(s);
+    pthread_mutex_unlock(&s->mu);
+    if (idle) tsd_db_session_delete(srv->db, s->seq); /* invariant 5 */
+    tsd_session_put(s); /* the registry's reference */
+    return TS_OK;
+}
+
+static json_t *json_locked(tsd_session *s, int summary)
+{
+    tsa_session_view v = {
+        .id = s->id,
+        .status = tsd_status_name(s->status),
+        .preset = s->preset,
+        .created = s->created,
+        .t = s->t,
+        .index = s->index,
+        .persisted = s->persisted,
+        .config = s->config,
+        .m = s->m,
+        .latest = s->m ? s->latest : NULL,
+        .error = s->error,
+        .operation = s->op_id,
+    };
+    return tsa_session_json(&v, summary);
+}
+
+json_t *tsd_session_json(tsd_session *s, int summary)
+{
+    pthread_mutex_lock(&s->mu);
+    json_t *j = json_locked(s, summary);
+    pthread_mutex_unlock(&s->mu);
+    return j;
+}
+
+json_t *tsd_session_list(tsd_server *srv, long page_size, long after_seq)
+{
+    json_t *arr = json_array();
+    long last = -1;
+    int more = 0;
+    pthread_mutex_lock(&srv->reg->mu);
+    for (int i = 0; i < srv->reg->n; i++) {
+        tsd_session *s = srv->reg->v[i];
+        if (s->seq <= after_seq) continue;
+        if ((long)json_array_size(arr) == page_size) {
+            more = 1;
+            break;
+        }
+        json_array_append_new(arr, tsd_session_json(s, 1));
+        last = s->seq;
+    }
+    pthread_mutex_unlock(&srv->reg->mu);
+    json_t *o = json_pack("{s:o}", "sessions", arr);
+    if (more) {
+        char tok[32];
+        snprintf(tok, sizeof tok, "%ld", last);
+        json_object_set_new(o, "next_page_token", json_string(tok));
+    }
+    return o;
+}
+
+/* ---- advancing (worker side) ---------------------------------------------------- */
+
+/* Store the batch with the snapshot at its last row (invariant 2) and publish
+ * the last row to readers. Busy holder only. 0 on success. */
+static int flush(tsd_session *s, const char *status)
+{
+    if (s->batch_n == 0) return 0;
+    pthread_mutex_lock(&s->mu);
+    int deleted = s->deleted;
+    pthread_mutex_unlock(&s->mu);
+    if (deleted) {
+        s->batch_n = 0;
+        return 0;
+    }
+    ts_err err;
+    const double *last = s->batch + (size_t)(s->batch_n - 1) * (size_t)s->nch;
+    long idx = s->batch_first + s->batch_n - 1;
+    int rc = ts_state_save(s->m, s->d, s->snapshot, s->snapshot_size, &err) == TS_OK ? 0 : -1;
+    if (rc == 0)
+        rc = tsd_db_append(s->srv->db, s->seq, s->batch_first, s->batch_n, s->nch, s->batch,
+                           s->snapshot, s->snapshot_size, last[0], idx, status);
+    if (rc == 0) {
+        atomic_fetch_add(&s->srv->metrics.samples_stored, s->batch_n);
+        pthread_mutex_lock(&s->mu);
+        s->t = last[0];
+        s->index = idx;
+        s->persisted = idx + 1;
+        memcpy(s->latest, last, sizeof(double) * (size_t)s->nch);
+        wake_locked(s);
+        pthread_mutex_unlock(&s->mu);
+    }
+    s->batch_n = 0;
+    return rc;
+}
+
+typedef enum { ADV_NONE, ADV_YIELD, ADV_PACE, ADV_CANCEL, ADV_STOP, ADV_IO } adv_reason;
+
+typedef struct advance_ctx {
+    tsd_session *s;
+    const char *status;   /* status stored with each batch */
+    double slice_end;     /* monotonic deadline of this slice (0 = none) */
+    double rtf;           /* real-time cap (0 = none) */
+    double pace_t0;       /* simulated time at pace_wall0 */
+    double pace_wall0;    /* monotonic time the run started */
+    double resume_at;     /* when paced out: monotonic time to continue */
+    adv_reason reason;
+} advance_ctx;
+
+/* ts_sample_fn: batch the row; stop for cancel, shutdown, end of slice, pacing. */
+static int on_sample(void *ud, long index, double t, const double *v, int n)
+{
+    advance_ctx *a = ud;
+    tsd_session *s = a->s;
+    if (s->batch_n == 0) s->batch_first = index;
+    memcpy(s->batch + (size_t)s->batch_n * (size_t)s->nch, v, sizeof(double) * (size_t)n);
+    s->batch_n++;
+    if (s->batch_n == s->batch_cap && flush(s, a->status) != 0) {
+        a->reason = ADV_IO;
+        return 1;
+    }
+    if (atomic_load(&s->cancel)) {
+        a->reason = ADV_CANCEL;
+        return 1;
+    }
+    if (atomic_load(&s->srv->stopping)) {
+        a->reason = ADV_STOP;
+        return 1;
+    }
+    double now = a->slice_end > 0 || a->rtf > 0 ? tsd_now() : 0;
+    if (a->rtf > 0) {
+        double due = a->pace_wall0 + (t - a->pace_t0) / a->rtf;
+        if (due > now) {
+            a->resume_at = due;
+            a->reason = ADV_PACE;
+            return 1;
+        }
+    }
+    if (a->slice_end > 0 && now >= a->slice_end) {
+        a->reason = ADV_YIELD;
+        return 1;
+    }
+    return 0;
+}
+
+static int at_end(const tsd_session *s, double t)
+{
+    return t >= ts_model_config(s->m)->run.duration - 0.5 * ts_model_sample_period(s->m);
+}
+
+static void add_sim_time(tsd_server *srv, double dt_sim, double dt_wall)
+{
+    atomic_fetch_add(&srv->metrics.sim_microseconds, (long long)llround(dt_sim * 1e6));
+    atomic_fetch_add(&srv->metrics.wall_microseconds, (long long)llround(dt_wall * 1e6));
+}
+
+/* Release busy with the new status; store it; wake streams; delete if asked. */
+static void release(tsd_session *s, tsd_status st, const char *error)
+{
+    pthread_mutex_lock(&s->mu);
+    s->status = st;
+    if (error) snprintf(s->error, sizeof s->error, "%s", error);
+    s->busy = 0;
+    int deleted = s->deleted;
+    wake_locked(s);
+    pthread_mutex_unlock(&s->mu);
+    if (deleted) tsd_db_session_delete(s->srv->db, s->seq); /* invariant 5 */
+    else tsd_db_session_status(s->srv->db, s->seq, tsd_status_name(st), error);
+}
+
+/* ---- step -------------------------------------------------------------------- */
+
+typedef struct step_job_arg {
+    tsd_session *s;
+    double duration;
+    json_t **result;
+    ts_err *err;
+    void (*done)(void *ud);
+    void *ud;
+} step_job_arg;
+
+/* created | paused | interrupted -> paused | done | failed. */
+static void step_job(void *arg)
+{
+    step_job_arg *j = arg;
+    tsd_session *s = j->s;
+    advance_ctx a = {.s = s, .status = "paused"};
+    ts_err err;
+    double t0 = ts_time(s->d), w0 = tsd_now();
+    ts_rc rc = ts_advance(s->m, s->d, t0 + j->duration, on_sample, &a, &err);
+    int io = flush(s, "paused") != 0 || a.reason == ADV_IO;
+    add_sim_time(s->srv, ts_time(s->d) - t0, tsd_now() - w0);
+    atomic_fetch_add(&s->srv->metrics.steps, 1);
+    if (rc == TS_ERR_CANCELLED && a.reason != ADV_IO) rc = TS_OK; /* deleted/shutdown: stop */
+    if (io && rc == TS_OK)
+        rc = ts_err_set(&err, TS_ERR_IO, NULL, "cannot store samples (see the daemon log)");
+    tsd_status st = rc == TS_OK ? (at_end(s, ts_time(s->d)) ? TSD_DONE : TSD_PAUSED) : TSD_FAILED;
+    release(s, st, rc == TS_OK ? NULL : err.msg);
+    if (rc == TS_OK) {
+        pthread_mutex_lock(&s->mu);
+        *j->result = json_pack("{s:s,s:s,s:f,s:I,s:o}", "id", s->id, "status",
+                               tsd_status_name(s->status), "t", s->t, "index",
+                               (json_int_t)s->index, "values", tsa_values_json(s->m, s->latest));
+        pthread_mutex_unlock(&s->mu);
+    } else {
+        *j->err = err;
+    }
+    j->done(j->ud);
+    tsd_session_put(s);
+    free(j);
+}
+
+/* Take busy for a step or run: 409 unless created | paused | interrupted. */
+static ts_rc acquire(tsd_session *s, ts_err *err)
+{
+    if (!s->m) return ts_err_set(err, TS_ERR_STATE, NULL, "session %s has no model: %s", s->id,
+                                 s->error);
+    pthread_mutex_lock(&s->mu);
+    ts_rc rc = TS_OK;
+    if (s->busy || s->deleted)
+        rc = ts_err_set(err, TS_ERR_STATE, NULL, "session %s is busy (%s)", s->id,
+                        s->status == TSD_RUNNING ? "a run is in progress" : "a step is in progress");
+    else if (s->status == TSD_DONE)
+        rc = ts_err_set(err, TS_ERR_STATE, NULL,
+                        "session %s is done: it reached run.duration = %g s", s->id,
+                        ts_model_config(s->m)->run.duration);
+    else if (s->status == TSD_FAILED)
+        rc = ts_err_set(err, TS_ERR_STATE, NULL, "session %s failed earlier: %s", s->id,
+                        s->error);
+    else {
+        s->busy = 1;
+        atomic_store(&s->cancel, 0);
+    }
+    pthread_mutex_unlock(&s->mu);
+    return rc;
+}
+
+ts_rc tsd_session_step(tsd_session *s, double duration, json_t **result, ts_err *err,
+                       void (*done)(void *ud), void *ud)
+{
+    ts_rc rc = acquire(s, err);
+    if (rc != TS_OK) return rc;
+    step_job_arg *j = calloc(1, sizeof *j);
+    if (!j) {
+        release(s, s->status, NULL);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    }
+    ref(s);
+    *j = (step_job_arg){s, duration, result, err, done, ud};
+    if (tsd_pool_submit(s->srv->pool, step_job, j, 0) != 0) {
+        free(j);
+        pthread_mutex_lock(&s->mu);
+        s->busy = 0;
+        pthread_mutex_unlock(&s->mu);
+        tsd_session_put(s);
+        return ts_err_set(err, TS_ERR_STATE, NULL, "the daemon is shutting down");
+    }
+    return TS_OK;
+}
+
+/* ---- run --------------------------------------------------------------------- */
+
+typedef struct run_job_arg {
+    tsd_session *s;
+    tsd_op *op;
+    double until, rtf;
+    double t_start, wall_start;
+} run_job_arg;
+
+static void run_slice(void *arg);
+
+/* running -> paused | done | failed | interrupted; finishes the operation. */
+static void run_finish(run_job_arg *j, tsd_status st, ts_rc rc, const ts_err *err)
+{
+    tsd_session *s = j->s;
+    tsd_server *srv = s->srv;
+    release(s, st, rc == TS_OK || rc == TS_ERR_CANCELLED ? NULL : err->msg);
+    json_t *error = NULL, *response = NULL;
+    if (rc != TS_OK) {
+        error = tsa_problem_from_err(err, NULL);
+        /* AIP-151 google.rpc.Status style code beside the problem fields */
+        json_object_set_new(error, "code", json_integer(rc == TS_ERR_CANCELLED ? 1 : 13));
+        json_object_set_new(error, "message", json_string(err->msg));
+    } else {
+        response = tsd_session_json(s, 1);
+    }
+    int r = st == TSD_DONE          ? 0
+            : st == TSD_PAUSED      ? (rc == TS_ERR_CANCELLED ? 2 : 1)
+            : st == TSD_FAILED      ? 3
+                                    : 4;
+    atomic_fetch_add(&srv->metrics.runs_ended[r], 1);
+    tsd_op_progress(srv, j->op, ts_time(s->d));
+    tsd_op_finish(srv, j->op, response, error);
+    tsd_session_put(s);
+    free(j);
+}
+
+static void run_slice(void *arg)
+{
+    run_job_arg *j = arg;
+    tsd_session *s = j->s;
+    tsd_server *srv = s->srv;
+    advance_ctx a = {.s = s,
+                     .status = "running",
+                     .slice_end = tsd_now() + SLICE_WALL,
+                     .rtf = j->rtf,
+                     .pace_t0 = j->t_start,
+                     .pace_wall0 = j->wall_start};
+    ts_err err;
+    ts_err_clear(&err);
+    double t0 = ts_time(s->d), w0 = tsd_now();
+    ts_rc rc = TS_OK;
+    if (!atomic_load(&srv->stopping) && !atomic_load(&s->cancel))
+        rc = ts_advance(s->m, s->d, j->until, on_sample, &a, &err);
+    else
+        a.reason = atomic_load(&s->cancel) ? ADV_CANCEL : ADV_STOP;
+    int io = flush(s, "running") != 0 || a.reason == ADV_IO;
+    add_sim_time(srv, ts_time(s->d) - t0, tsd_now() - w0);
+    tsd_op_progress(srv, j->op, ts_time(s->d));
+    if (io) {
+        ts_err_set(&err, TS_ERR_IO, NULL, "cannot store samples (see the daemon log)");
+        run_finish(j, TSD_FAILED, TS_ERR_IO, &err);
+        return;
+    }
+    if (rc != TS_OK && rc != TS_ERR_CANCELLED) {
+        run_finish(j, TSD_FAILED, rc, &err);
+        return;
+    }
+    if (a.reason == ADV_YIELD || a.reason == ADV_PACE) {
+        double due = a.reason == ADV_PACE ? a.resume_at : 0;
+        if (tsd_pool_submit(srv->pool, run_slice, j, due) == 0) return;
+        a.reason = ADV_STOP;
+    }
+    if (a.reason == ADV_STOP || (a.reason == ADV_NONE && atomic_load(&srv->stopping) &&
+                                 ts_time(s->d) < j->until - 0.5 * ts_model_sample_period(s->m))) {
+        ts_err_set(&err, TS_ERR_CANCELLED, NULL,
+                   "the daemon shut down at t = %g s; run the session again to continue",
+                   ts_time(s->d));
+        run_finish(j, TSD_INTERRUPTED, TS_ERR_CANCELLED, &err);
+        return;
+    }
+    if (a.reason == ADV_CANCEL) {
+        ts_err_set(&err, TS_ERR_CANCELLED, NULL, "cancelled at t = %g s", ts_time(s->d));
+        run_finish(j, TSD_PAUSED, TS_ERR_CANCELLED, &err);
+        return;
+    }
+    run_finish(j, at_end(s, ts_time(s->d)) ? TSD_DONE : TSD_PAUSED, TS_OK, &err);
+}
+
+ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, ts_err *err)
+{
+    if (s->m && until > ts_model_config(s->m)->run.duration + 1e-9)
+        return ts_err_set(err, TS_ERR_RANGE, "/until",
+                          "/until: at most run.duration = %g s for this session, got %g",
+                          ts_model_config(s->m)->run.duration, until);
+    ts_rc rc = acquire(s, err);
+    if (rc != TS_OK) return rc;
+    double t0 = ts_time(s->d);
+    if (until < t0) {
+        release(s, s->status, NULL);
+        return ts_err_set(err, TS_ERR_RANGE, "/until",
+                          "/until: the session is already at t = %g s, got %g", t0, until);
+    }
+    run_job_arg *j = calloc(1, sizeof *j);
+    tsd_op *op = j ? tsd_op_new(s->srv, s->id, t0, until) : NULL;
+    if (!op) {
+        free(j);
+        release(s, s->status, NULL);
+        return ts_err_set(err, TS_ERR_LIMIT, NULL, "too many operations in progress");
+    }
+    ref(s);
+    *j = (run_job_arg){s, op, until, rtf, t0, tsd_now()};
+    pthread_mutex_lock(&s->mu);
+    tsd_status before = s->status;
+    s->status = TSD_RUNNING; /* created | paused | interrupted -> running */
+    s->error[0] = '\0';
+    snprintf(s->op_id, sizeof s->op_id, "%s", tsd_op_id(op));
+    pthread_mutex_unlock(&s->mu);
+    tsd_db_session_status(s->srv->db, s->seq, "running", NULL);
+    *opdoc = tsd_op_json_of(s->srv, op);
+    if (tsd_pool_submit(s->srv->pool, run_slice, j, 0) != 0) {
+        ts_err e2;
+        ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "the daemon is shutting down");
+        run_finish(j, before, TS_ERR_CANCELLED, &e2);
+        return TS_OK; /* the operation reports it */
+    }
+    atomic_fetch_add(&s->srv->metrics.runs_started, 1);
+    return TS_OK;
+}
+
+void tsd_session_cancel(tsd_session *s) { atomic_store(&s->cancel, 1); }

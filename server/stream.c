@@ -1,0 +1,136 @@
+/*
+ * stream.c — SSE / NDJSON streaming of stored samples (stream.h).
+ */
+#define _GNU_SOURCE
+#include "stream.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "../api/session_json.h"
+#include "db.h"
+
+#define CHUNK_ROWS 256  /* rows read from the database per refill */
+#define MAX_STREAM_CHANNELS 512
+
+typedef struct stream_ctx {
+    tsd_server *srv;
+    tsd_session *s;     /* reference held until the response is freed */
+    tsd_waiter w;
+    int idx[MAX_STREAM_CHANNELS];
+    int n;
+    long next;          /* index of the next row to send */
+    int ndjson;
+    int ended;
+    tsa_buf buf;        /* formatted text not yet handed to MHD */
+    size_t off;
+    long index[CHUNK_ROWS];
+    double *rows;       /* CHUNK_ROWS x nch */
+} stream_ctx;
+
+static void refill(stream_ctx *c)
+{
+    tsd_session *s = c->s;
+    int more;
+    long got = tsd_db_rows(c->srv->db, s->seq, c->next, c->next + CHUNK_ROWS - 1, 1, CHUNK_ROWS,
+                           s->nch, c->index, c->rows, &more);
+    if (got <= 0) { /* database error or rows deleted under us: end */
+        c->ended = 1;
+        return;
+    }
+    for (long k = 0; k < got; k++) {
+        const double *row = c->rows + (size_t)k * (size_t)s->nch;
+        if (c->ndjson) {
+            tsa_row_json(&c->buf, s->m, c->index[k], row, c->idx, c->n);
+            tsa_buf_put(&c->buf, "\n", 1);
+        } else {
+            tsa_buf_printf(&c->buf, "id: %ld\nevent: sample\ndata: ", c->index[k]);
+            tsa_row_json(&c->buf, s->m, c->index[k], row, c->idx, c->n);
+            tsa_buf_put(&c->buf, "\n\n", 2);
+        }
+    }
+    c->next = c->index[got - 1] + 1;
+}
+
+static void finish(stream_ctx *c)
+{
+    c->ended = 1;
+    if (c->ndjson) return;
+    json_t *j = tsd_session_json(c->s, 1);
+    json_t *st = json_pack("{s:O,s:O,s:O}", "status", json_object_get(j, "status"), "t",
+                           json_object_get(j, "t"), "index", json_object_get(j, "index"));
+    char *text = st ? json_dumps(st, JSON_COMPACT) : NULL;
+    tsa_buf_printf(&c->buf, "event: end\ndata: %s\n\n", text ? text : "{}");
+    free(text);
+    json_decref(st);
+    json_decref(j);
+}
+
+static ssize_t reader(void *cls, uint64_t pos, char *out, size_t max)
+{
+    (void)pos;
+    stream_ctx *c = cls;
+    if (c->off >= c->buf.n) {
+        c->buf.n = 0;
+        c->off = 0;
+        if (c->ended) return MHD_CONTENT_READER_END_OF_STREAM;
+        int r = tsd_session_await(c->s, c->next, &c->w);
+        if (r == 0) return 0; /* suspended; resumed by the next stored batch */
+        if (r > 0) refill(c);
+        else finish(c);
+        if (c->buf.oom) return MHD_CONTENT_READER_END_WITH_ERROR;
+        if (c->buf.n == 0) return c->ended ? MHD_CONTENT_READER_END_OF_STREAM : 0;
+    }
+    size_t k = c->buf.n - c->off;
+    if (k > max) k = max;
+    memcpy(out, c->buf.p + c->off, k);
+    c->off += k;
+    return (ssize_t)k;
+}
+
+static void release(void *cls)
+{
+    stream_ctx *c = cls;
+    tsd_session_unwait(c->s, &c->w);
+    tsd_session_put(c->s);
+    tsa_buf_free(&c->buf);
+    free(c->rows);
+    free(c);
+}
+
+enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx, int n,
+                                 long since, int ndjson)
+{
+    stream_ctx *c = calloc(1, sizeof *c);
+    if (!c) return MHD_NO;
+    c->rows = calloc((size_t)CHUNK_ROWS * (size_t)s->nch, sizeof *c->rows);
+    if (!c->rows) {
+        free(c);
+        return MHD_NO;
+    }
+    c->srv = r->srv;
+    c->s = s;
+    c->w.conn = r->conn;
+    c->n = n < MAX_STREAM_CHANNELS ? n : MAX_STREAM_CHANNELS;
+    memcpy(c->idx, idx, sizeof(int) * (size_t)c->n);
+    c->next = since + 1 > 0 ? since + 1 : 0;
+    c->ndjson = ndjson;
+    pthread_mutex_lock(&s->mu);
+    s->refs++;
+    pthread_mutex_unlock(&s->mu);
+    if (!ndjson) tsa_buf_put(&c->buf, "retry: 1000\n\n", 13);
+    struct MHD_Response *resp =
+        MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 16384, reader, c, release);
+    if (!resp) {
+        release(c);
+        return MHD_NO;
+    }
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE,
+                            ndjson ? "application/x-ndjson" : "text/event-stream");
+    MHD_add_response_header(resp, "Cache-Control", "no-store");
+    MHD_add_response_header(resp, "X-Accel-Buffering", "no");
+    r->status = MHD_HTTP_OK;
+    enum MHD_Result ret = MHD_queue_response(r->conn, MHD_HTTP_OK, resp);
+    MHD_destroy_response(resp);
+    return ret;
+}
