@@ -349,6 +349,42 @@ async function main() {
       await shot(page, '06-compare');
     });
 
+    await check('paced run: plot data grows while running; cancel stops it (status paused, progress < 100 %)', async () => {
+      await page.click('#reset-form');
+      await page.waitForTimeout(100);
+      const id = await createSession(page);
+      await page.selectOption('#run-pace', '10');
+      await page.click('#run-btn');
+      const seen = [];
+      const pts = [];
+      await waitFor(
+        async () => {
+          seen.push(await sampleCount(page));
+          pts.push((await chartPoints(page))[0] || 0);
+          return new Set(seen.filter((c) => c > 1)).size >= 4;
+        },
+        'four growing sample counts while the run streams',
+        15000,
+        250,
+      );
+      assert(seen.every((c, i) => i === 0 || c >= seen[i - 1]), `counts not monotonic: ${seen}`);
+      assert(Math.max(...pts) > Math.min(...pts), `chart points did not grow: ${pts}`);
+      await page.click('#cancel-btn');
+      await waitFor(async () => (await page.locator('#progress-text').getAttribute('data-outcome')) === 'cancelled', 'the cancelled outcome');
+      const st = await text(page, '#session-status');
+      assert(st === 'paused', `status after cancel: ${st}`);
+      const pct = Number(await page.locator('.progress').getAttribute('data-percent'));
+      assert(pct > 0 && pct < 100, `progress after cancel ${pct} %`);
+      const n1 = await sampleCount(page);
+      await page.waitForTimeout(800);
+      assert((await sampleCount(page)) === n1, 'samples kept arriving after cancel');
+      assert(!(await page.locator('#run-btn').isDisabled()), 'Run not re-enabled after cancel');
+      notes.push(`paced run (10x): sample counts while streaming ${[...new Set(seen)].join(' -> ')}; cancelled at ${pct} %`);
+      await shot(page, '07-cancelled');
+      await page.selectOption('#run-pace', '');
+      await page.click(`#session-table tr[data-id="${id}"] td:nth-child(2)`);
+    });
+
     await check('no JavaScript errors in the page', async () => {
       const real = consoleErrors.filter((m) => !/Failed to load resource/.test(m));
       assert(real.length === 0, real.join(' | '));
@@ -362,7 +398,7 @@ async function main() {
       await page2.goto(`${dt.url}/`);
       await waitFor(async () => !(await page2.locator('#banner').isHidden()), 'the token banner');
       assert(/token/i.test(await text(page2, '#banner')), 'banner does not mention the token');
-      await shot(page2, '07-token-needed');
+      await shot(page2, '08-token-needed');
       await page2.fill('#token-input', token);
       await page2.click('#token-form button');
       await waitFor(async () => (await page2.locator('#preset-select option').count()) > 0, 'presets after the token');
@@ -378,7 +414,7 @@ async function main() {
       assert(await page2.locator('#banner').isHidden(), 'token banner shown again');
       await page2.locator('#session-table tbody tr').first().click();
       await waitFor(async () => (await sampleCount(page2)) > 10, 'history loaded with the token');
-      await shot(page2, '08-token-reload');
+      await shot(page2, '09-token-reload');
     });
   } finally {
     await browser.close().catch(() => {});

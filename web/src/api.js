@@ -94,7 +94,11 @@ export const api = {
   createSession: (doc) => request('POST', '/v1/sessions', { body: doc }),
   deleteSession: (id) => request('DELETE', `/v1/sessions/${enc(id)}`),
   step: (id, duration) => request('POST', `/v1/sessions/${enc(id)}/step`, { body: { duration } }),
-  run: (id, until) => request('POST', `/v1/sessions/${enc(id)}/run`, { body: until === undefined ? {} : { until } }),
+  /* until [s]: end time (default: the config's duration); rtf: real-time factor cap (0/undefined = none) */
+  run: (id, until, rtf) =>
+    request('POST', `/v1/sessions/${enc(id)}/run`, {
+      body: { ...(until === undefined ? {} : { until }), ...(rtf ? { real_time_factor: rtf } : {}) },
+    }),
   operation: (opId) => request('GET', `/v1/operations/${enc(opId)}`),
   cancel: (opId) => request('POST', `/v1/operations/${enc(opId)}:cancel`),
   series: (id, params) => request('GET', `/v1/sessions/${enc(id)}/series${qs({ format: 'json', ...params })}`),

@@ -360,13 +360,17 @@ async function onRun() {
   const s = state.session;
   hideError($('session-error'));
   try {
-    const op = await api.run(s.id, s.config?.run?.duration);
+    const pace = Number($('run-pace').value) || undefined;
+    const op = await api.run(s.id, s.config?.run?.duration, pace);
     pollOperation(opId(op), op);
     startStream();
   } catch (e) {
     showError($('session-error'), e);
   }
 }
+
+/* google.rpc code 1 = CANCELLED (the daemon also sends a problem type). */
+const isCancelled = (err) => err.code === 1 || /cancel/i.test(err.type || '');
 
 const opId = (op) => op.id || (op.name ? String(op.name).split('/').pop() : undefined);
 
@@ -379,6 +383,7 @@ function pollOperation(id, first) {
   stopOpPolling();
   const sessionId = state.session.id;
   state.op = { id, sessionId, timer: null };
+  delete $('progress-text').dataset.outcome;
   renderSessionHeader();
   const tick = async (op) => {
     if (!state.op || state.op.id !== id || state.session?.id !== sessionId) return;
@@ -395,14 +400,12 @@ function pollOperation(id, first) {
     if (p > 1.0001) p /= 100;
     if (op.done) {
       stopOpPolling();
-      if (op.error) {
-        showError($('session-error'), new ApiError(op.error.status || op.error.code || 500, op.error));
-        setProgress(p, m);
-      } else {
-        setProgress(1, m);
-      }
+      const cancelled = op.error && isCancelled(op.error);
+      if (op.error && !cancelled) showError($('session-error'), new ApiError(op.error.status || 500, op.error));
       await refreshSession();
-      if (!op.error) setProgress(1, m);
+      setProgress(op.error ? p : 1, m);
+      if (cancelled) $('progress-text').textContent += ' · cancelled';
+      $('progress-text').dataset.outcome = cancelled ? 'cancelled' : op.error ? 'failed' : 'done';
       startStream(); /* catch up on rows stored after the stream last closed */
       refreshSessions();
       return;
