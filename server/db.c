@@ -208,9 +208,19 @@ static const char *col_text(sqlite3_stmt *st, int i)
     return s ? (const char *)s : "";
 }
 
+typedef struct stored_session {
+    long seq, idx;
+    int nchannel;
+    double created, t;
+    char *id, *preset, *config, *status, *error;
+} stored_session;
+
 int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
 {
+    /* Copy the rows out first: fn may read the database again (state blobs). */
     sqlite3_stmt *st = NULL;
+    stored_session *v = NULL;
+    long n = 0, cap = 0;
     int rc = -1;
     pthread_mutex_lock(&db->rmu);
     if (sqlite3_prepare_v2(db->r,
@@ -219,15 +229,42 @@ int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
                            -1, &st, NULL) != SQLITE_OK)
         goto out;
     int s;
-    while ((s = sqlite3_step(st)) == SQLITE_ROW)
-        fn(ud, (long)sqlite3_column_int64(st, 0), col_text(st, 1), sqlite3_column_double(st, 2),
-           col_text(st, 3), col_text(st, 4), sqlite3_column_int(st, 5), col_text(st, 6),
-           sqlite3_column_double(st, 7), (long)sqlite3_column_int64(st, 8), col_text(st, 9));
+    while ((s = sqlite3_step(st)) == SQLITE_ROW) {
+        if (n == cap) {
+            cap = cap ? 2 * cap : 64;
+            stored_session *nv = realloc(v, sizeof *v * (size_t)cap);
+            if (!nv) goto out;
+            v = nv;
+        }
+        stored_session *x = &v[n++];
+        x->seq = (long)sqlite3_column_int64(st, 0);
+        x->id = strdup(col_text(st, 1));
+        x->created = sqlite3_column_double(st, 2);
+        x->preset = strdup(col_text(st, 3));
+        x->config = strdup(col_text(st, 4));
+        x->nchannel = sqlite3_column_int(st, 5);
+        x->status = strdup(col_text(st, 6));
+        x->t = sqlite3_column_double(st, 7);
+        x->idx = (long)sqlite3_column_int64(st, 8);
+        x->error = strdup(col_text(st, 9));
+    }
     rc = s == SQLITE_DONE ? 0 : -1;
 out:
     if (rc) log_err(db->r, "list sessions");
     sqlite3_finalize(st);
     pthread_mutex_unlock(&db->rmu);
+    for (long i = 0; i < n; i++) {
+        stored_session *x = &v[i];
+        if (rc == 0 && x->id && x->preset && x->config && x->status && x->error)
+            fn(ud, x->seq, x->id, x->created, x->preset, x->config, x->nchannel, x->status, x->t,
+               x->idx, x->error);
+        free(x->id);
+        free(x->preset);
+        free(x->config);
+        free(x->status);
+        free(x->error);
+    }
+    free(v);
     return rc;
 }
 

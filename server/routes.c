@@ -133,7 +133,7 @@ static enum MHD_Result get_openapi(tsd_request *r)
         ts_err_set(&e, TS_ERR_NOTFOUND, NULL, "api/openapi.yaml is not in this build");
         return tsd_reply_err(r, &e, NULL);
     }
-    return tsd_reply_text(r, MHD_HTTP_OK, "application/yaml", (const char *)f->data, f->size);
+    return tsd_reply_text(r, MHD_HTTP_OK, "application/yaml; charset=utf-8", (const char *)f->data, f->size);
 }
 
 static enum MHD_Result get_metrics(tsd_request *r)

@@ -66,3 +66,66 @@ def daemon():
     d = Daemon()
     yield d
     d.stop()
+
+
+# ---- helpers for the daemon API tests (tests/server/) ----------------------
+
+REPO = os.path.join(os.path.dirname(__file__), "..")
+BASE_PRESET = "pointmass-prescribed"  # the foundation's preset; every build has it
+
+
+def preset_names():
+    """Names of the shipped presets, from the source tree (the daemon embeds the same files)."""
+    d = os.path.join(REPO, "sim", "data", "presets")
+    return sorted(f[:-5] for f in os.listdir(d) if f.endswith(".json"))
+
+
+def is_problem(r, status, pointer=None):
+    """Assert r is an RFC 9457 problem with this status (and an errors entry for pointer)."""
+    assert r.status_code == status, (r.status_code, r.text)
+    assert r.headers["Content-Type"] == "application/problem+json", r.headers
+    p = r.json()
+    assert p["status"] == status and p["title"] and p["type"] and "detail" in p
+    if pointer is not None:
+        pointers = [e["pointer"] for e in p.get("errors", [])]
+        assert pointer in pointers, (pointer, p)
+    return p
+
+
+def wait_op(url, op_id, timeout=30, seen=None):
+    """Poll an operation until done; appends each metadata to seen (list)."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        op = requests.get(f"{url}/v1/operations/{op_id}", timeout=10).json()
+        if seen is not None:
+            seen.append(op["metadata"])
+        if op["done"]:
+            return op
+        time.sleep(0.02)
+    raise AssertionError(f"operation {op_id} not done after {timeout} s")
+
+
+def sse_events(resp, stop_after=None):
+    """Parse a text/event-stream response into [(event, id, data_str)]; stop after
+    stop_after sample events (then the caller closes the connection)."""
+    events, ev, eid, data = [], None, None, []
+    for raw in resp.iter_lines(decode_unicode=True):
+        line = raw if raw is not None else ""
+        if line == "":
+            if data or ev:
+                events.append((ev or "message", eid, "\n".join(data)))
+                if stop_after is not None and sum(e[0] == "sample" for e in events) >= stop_after:
+                    return events
+            ev, eid, data = None, None, []
+            continue
+        if line.startswith(":"):
+            continue
+        field, _, value = line.partition(":")
+        value = value[1:] if value.startswith(" ") else value
+        if field == "event":
+            ev = value
+        elif field == "id":
+            eid = value
+        elif field == "data":
+            data.append(value)
+    return events

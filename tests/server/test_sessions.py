@@ -1,0 +1,316 @@
+"""tanksimd session API end to end (issue 7): presets, schema, create from every
+preset, step, asynchronous runs as operations (progress, cancel), stored series
+as JSON and CSV with units and paging, SSE stream resumed with Last-Event-ID,
+NDJSON stream, FFT, delete, metrics. A real daemon on loopback; the physics is
+whatever the preset's scenario computes — these tests check the plumbing:
+times, indexes, units, counts and that values are passed through unchanged."""
+import json
+import math
+
+import pytest
+import requests
+
+from conftest import BASE_PRESET, is_problem, preset_names, sse_events, wait_op
+
+
+def create(d, preset=BASE_PRESET, **overrides):
+    r = requests.post(d.url + "/v1/sessions", json={"preset": preset, **overrides})
+    assert r.status_code == 201, r.text
+    s = r.json()
+    assert r.headers["Location"] == f"/v1/sessions/{s['id']}"
+    return s
+
+
+def test_presets_list_and_each_preset(daemon):
+    r = requests.get(daemon.url + "/v1/presets")
+    assert r.status_code == 200
+    listed = {p["name"]: p for p in r.json()["presets"]}
+    assert sorted(listed) == preset_names()
+    for name, p in listed.items():
+        assert p["kind"], name
+        one = requests.get(daemon.url + p["links"]["self"]).json()
+        assert one["name"] == name and one["config"]["run"]["kind"] == p["kind"]
+    is_problem(requests.get(daemon.url + "/v1/presets/no-such-preset"), 404)
+
+
+def test_schema_is_generated_from_the_parameter_table(daemon):
+    s = requests.get(daemon.url + "/v1/schema").json()
+    assert s["$schema"].startswith("https://json-schema.org/")
+    run = s["properties"]["run"]["properties"]
+    assert run["duration"]["x-unit"] == "s" and "default" in run["duration"]
+    assert s["additionalProperties"] is False
+
+
+def test_openapi_is_served(daemon):
+    r = requests.get(daemon.url + "/v1/openapi.yaml")
+    assert r.status_code == 200 and r.text.startswith("openapi: 3.1")
+
+
+@pytest.mark.parametrize("preset", preset_names())
+def test_create_from_each_preset(daemon, preset):
+    r = requests.post(daemon.url + "/v1/sessions", json={"preset": preset})
+    if r.status_code == 422:
+        p = is_problem(r, 422)
+        assert "not available in this build" in p["detail"]
+        pytest.skip(f"preset {preset}: scenario not in this build ({p['detail']})")
+    assert r.status_code == 201, r.text
+    s = r.json()
+    assert s["status"] == "created" and s["t"] == 0 and s["index"] == 0 and s["samples"] == 1
+    assert s["preset"] == preset and s["config"]["run"]["kind"] == s["kind"]
+    names = [c["name"] for c in s["channels"]]
+    assert names[0] == "t" and len(set(names)) == len(names)
+    assert all(c["unit"] for c in s["channels"])
+    assert set(s["latest"]) == set(names)
+    for rel in ("self", "step", "run", "series", "stream", "fft"):
+        assert s["links"][rel].startswith(f"/v1/sessions/{s['id']}")
+    # one short step works for every scenario
+    st = requests.post(daemon.url + s["links"]["step"], json={"duration": 0.01})
+    assert st.status_code == 200, st.text
+    rate = s["sample_rate"]
+    assert st.json()["index"] == round(0.01 * rate)
+    assert requests.delete(daemon.url + s["links"]["self"]).status_code == 204
+
+
+def test_step_advances_time_and_returns_latest_values(daemon):
+    s = create(daemon, drive={"torque": 5000.0})
+    r = requests.post(daemon.url + s["links"]["step"], json={"duration": 0.5})
+    assert r.status_code == 200
+    st = r.json()
+    assert st["status"] == "paused"
+    assert st["t"] == pytest.approx(0.5) and st["index"] == 250
+    assert st["values"]["t"] == pytest.approx(0.5)
+    assert st["values"]["sprocket.torque"] == 5000.0
+    assert st["values"]["vehicle.speed"] > 0
+    r2 = requests.post(daemon.url + s["links"]["step"], json={"duration": 0.25}).json()
+    assert r2["t"] == pytest.approx(0.75) and r2["values"]["vehicle.speed"] > st["values"]["vehicle.speed"]
+    got = requests.get(daemon.url + s["links"]["self"]).json()
+    assert got["t"] == pytest.approx(0.75) and got["samples"] == 376
+    assert got["latest"] == r2["values"]
+
+
+def test_step_longer_than_limit_points_to_run(daemon):
+    s = create(daemon)
+    r = requests.post(daemon.url + s["links"]["step"], json={"duration": 11})
+    p = is_problem(r, 422, "/duration")
+    assert p["run"] == s["links"]["run"] and "run" in p["detail"]
+
+
+def test_run_to_completion_with_rising_progress(daemon):
+    s = create(daemon, run={"duration": 4.0})
+    r = requests.post(daemon.url + s["links"]["run"], json={"real_time_factor": 8})
+    assert r.status_code == 202, r.text
+    op = r.json()
+    assert r.headers["Location"] == f"/v1/operations/{op['id']}"
+    assert op["done"] is False and op["metadata"]["until"] == 4.0
+    assert requests.get(daemon.url + s["links"]["self"]).json()["status"] == "running"
+    seen = []
+    final = wait_op(daemon.url, op["id"], seen=seen)
+    progress = [m["progress"] for m in seen]
+    assert progress == sorted(progress), progress            # never goes back
+    assert len({round(p, 3) for p in progress}) >= 5, progress  # rises in steps
+    assert 0 <= progress[0] < 0.5 and progress[-1] == 1.0
+    assert "error" not in final and final["response"]["status"] == "done"
+    md = final["metadata"]
+    assert md["t"] == pytest.approx(4.0)
+    assert 4 < md["real_time_factor"] < 10   # paced at 8x real time
+    got = requests.get(daemon.url + s["links"]["self"]).json()
+    assert got["status"] == "done" and got["samples"] == 2001
+    is_problem(requests.post(daemon.url + s["links"]["step"], json={"duration": 0.1}), 409)
+
+
+def test_run_until_pauses_then_runs_on(daemon):
+    s = create(daemon, run={"duration": 3.0})
+    op = requests.post(daemon.url + s["links"]["run"], json={"until": 1.0}).json()
+    assert wait_op(daemon.url, op["id"])["response"]["status"] == "paused"
+    assert requests.get(daemon.url + s["links"]["self"]).json()["t"] == pytest.approx(1.0)
+    is_problem(requests.post(daemon.url + s["links"]["run"], json={"until": 0.5}), 400, "/until")
+    is_problem(requests.post(daemon.url + s["links"]["run"], json={"until": 9.0}), 400, "/until")
+    op = requests.post(daemon.url + s["links"]["run"], json={}).json()
+    assert wait_op(daemon.url, op["id"])["response"]["status"] == "done"
+    ser = requests.get(daemon.url + s["links"]["series"], params={"channels": "t"}).json()
+    assert ser["index"] == list(range(1501))
+
+
+def test_cancel_stops_a_run(daemon):
+    s = create(daemon)
+    op = requests.post(daemon.url + s["links"]["run"],
+                       json={"until": 30, "real_time_factor": 5}).json()
+    busy = requests.post(daemon.url + s["links"]["step"], json={"duration": 0.1})
+    is_problem(busy, 409)
+    c = requests.post(f"{daemon.url}/v1/operations/{op['id']}:cancel")
+    assert c.status_code == 200
+    final = wait_op(daemon.url, op["id"])
+    assert final["error"]["code"] == 1 and final["error"]["status"] == 409
+    got = requests.get(daemon.url + s["links"]["self"]).json()
+    assert got["status"] == "paused" and 0 < got["t"] < 30
+    # everything up to the stop is stored
+    ser = requests.get(daemon.url + s["links"]["series"], params={"channels": "t"}).json()
+    assert ser["index"] == list(range(got["index"] + 1))
+    is_problem(requests.get(daemon.url + "/v1/operations/opnope"), 404)
+
+
+def test_series_json_csv_units_decimation_and_paging(daemon):
+    s = create(daemon)
+    requests.post(daemon.url + s["links"]["step"], json={"duration": 2.0})
+    url = daemon.url + s["links"]["series"]
+    j = requests.get(url, params={"channels": "vehicle.speed,sprocket.torque",
+                                  "from": 0.5, "to": 1.0}).json()
+    names = [c["name"] for c in j["channels"]]
+    assert names == ["t", "vehicle.speed", "sprocket.torque"]
+    assert [c["unit"] for c in j["channels"]] == ["s", "m/s", "N*m"]
+    assert j["index"] == list(range(250, 501)) and j["count"] == 251
+    t = j["channels"][0]["values"]
+    assert t[0] == 0.5 and t[-1] == 1.0
+    assert "next_page_token" not in j
+    # decimation keeps every 10th row from `from`
+    d = requests.get(url, params={"channels": "vehicle.speed", "every": 10, "to": 1.0}).json()
+    assert d["index"] == list(range(0, 501, 10))
+    full = requests.get(url, params={"channels": "vehicle.speed", "to": 1.0}).json()
+    assert d["channels"][1]["values"] == full["channels"][1]["values"][::10]
+    # CSV: header with units, same numbers
+    c = requests.get(url, params={"channels": "vehicle.speed", "to": 1.0, "format": "csv"})
+    assert c.headers["Content-Type"].startswith("text/csv")
+    lines = c.text.strip().split("\n")
+    assert lines[0] == "t [s],vehicle.speed [m/s]" and len(lines) == 502
+    assert [float(l.split(",")[1]) for l in lines[1:]] == pytest.approx(
+        full["channels"][1]["values"], rel=1e-8)
+    # paging: pages of 300 cover all 1001 rows exactly once
+    got, token = [], None
+    while True:
+        params = {"channels": "t", "page_size": 300}
+        if token:
+            params["page_token"] = token
+        r = requests.get(url, params=params)
+        page = r.json()
+        got += page["index"]
+        token = page.get("next_page_token")
+        assert (r.headers.get("X-Next-Page-Token") or None) == token
+        if not token:
+            break
+    assert got == list(range(1001))
+
+
+def test_series_is_capped_by_max_samples(tmp_path):
+    from conftest import Daemon
+    d = Daemon("--max-samples", "100", data_dir=str(tmp_path))
+    try:
+        s = create(d)
+        requests.post(d.url + s["links"]["step"], json={"duration": 1.0})
+        j = requests.get(d.url + s["links"]["series"]).json()
+        assert j["count"] == 100 and j["next_page_token"] == "100"
+        is_problem(requests.get(d.url + s["links"]["series"], params={"page_size": 101}), 400,
+                   "/page_size")
+        is_problem(requests.get(d.url + s["links"]["fft"], params={"channel": "vehicle.speed"}),
+                   422, "/to")
+    finally:
+        d.stop()
+
+
+def test_sse_stream_resumes_with_last_event_id_without_loss_or_duplicates(daemon):
+    s = create(daemon, run={"duration": 2.0})
+    op = requests.post(daemon.url + s["links"]["run"], json={"real_time_factor": 4}).json()
+    url = daemon.url + s["links"]["stream"]
+    with requests.get(url, params={"channels": "vehicle.speed"}, stream=True,
+                      headers={"Accept": "text/event-stream"}, timeout=30) as r:
+        assert r.headers["Content-Type"] == "text/event-stream"
+        first = sse_events(r, stop_after=300)
+    first = [e for e in first if e[0] == "sample"]
+    last_id = first[-1][1]
+    assert requests.get(daemon.url + s["links"]["self"]).json()["status"] == "running"
+    with requests.get(url, params={"channels": "vehicle.speed"}, stream=True,
+                      headers={"Last-Event-ID": last_id}, timeout=30) as r:
+        second = sse_events(r)
+    assert second[-1][0] == "end" and json.loads(second[-1][2])["status"] == "done"
+    samples = first + [e for e in second if e[0] == "sample"]
+    ids = [int(e[1]) for e in samples]
+    assert ids == list(range(1001))                 # none lost, none duplicated
+    for e in samples:
+        row = json.loads(e[2])
+        assert row["index"] == int(e[1]) and set(row["values"]) == {"vehicle.speed"}
+        assert row["t"] == pytest.approx(row["index"] / 500)
+    # the streamed values are the stored ones
+    ser = requests.get(daemon.url + s["links"]["series"], params={"channels": "vehicle.speed"}).json()
+    assert [json.loads(e[2])["values"]["vehicle.speed"] for e in samples] == pytest.approx(
+        ser["channels"][1]["values"], rel=1e-8)
+    assert wait_op(daemon.url, op["id"])["done"]
+    # ?since= resumes the same way
+    with requests.get(url, params={"since": 995}, stream=True) as r:
+        tail = [int(e[1]) for e in sse_events(r) if e[0] == "sample"]
+    assert tail == [996, 997, 998, 999, 1000]
+
+
+def test_ndjson_stream(daemon):
+    s = create(daemon, run={"duration": 1.0})
+    requests.post(daemon.url + s["links"]["run"], json={"real_time_factor": 5})
+    with requests.get(daemon.url + s["links"]["stream"], params={"channels": "sprocket.torque"},
+                      headers={"Accept": "application/x-ndjson"}, stream=True, timeout=30) as r:
+        assert r.headers["Content-Type"] == "application/x-ndjson"
+        rows = [json.loads(l) for l in r.iter_lines() if l]
+    assert [x["index"] for x in rows] == list(range(501))
+    assert all(x["values"]["sprocket.torque"] == 6000.0 for x in rows)
+
+
+def test_fft_amplitude_spectrum(daemon):
+    s = create(daemon)
+    requests.post(daemon.url + s["links"]["step"], json={"duration": 2.0})
+    r = requests.get(daemon.url + s["links"]["fft"],
+                     params={"channel": "vehicle.speed", "from": 0, "to": 1.998})
+    assert r.status_code == 200, r.text
+    f = r.json()
+    assert f["n"] == 1000 and f["unit"] == "m/s"
+    assert f["df"] == pytest.approx(0.5)
+    assert len(f["frequency"]) == len(f["amplitude"]) == 501
+    assert f["frequency"][-1] == pytest.approx(250.0)
+    # speed rises almost linearly: a ramp's spectrum falls off as 1/f
+    a = f["amplitude"]
+    assert a[0] == pytest.approx(0, abs=1e-12)  # mean removed
+    assert a[1] > a[2] > a[4] > a[8]
+    is_problem(requests.get(daemon.url + s["links"]["fft"], params={"channel": "nope"}), 404,
+               "/channels")
+    is_problem(requests.get(daemon.url + s["links"]["fft"]), 400, "/channel")
+
+
+def test_list_sessions_paged(daemon):
+    ids = {create(daemon)["id"] for _ in range(5)}
+    seen, token = [], None
+    while True:
+        params = {"page_size": 2}
+        if token:
+            params["page_token"] = token
+        page = requests.get(daemon.url + "/v1/sessions", params=params).json()
+        assert len(page["sessions"]) <= 2
+        seen += [x["id"] for x in page["sessions"]]
+        token = page.get("next_page_token")
+        if not token:
+            break
+    assert ids <= set(seen) and len(seen) == len(set(seen))
+
+
+def test_delete_removes_session_and_data(daemon):
+    s = create(daemon)
+    requests.post(daemon.url + s["links"]["run"], json={"until": 20, "real_time_factor": 10})
+    r = requests.delete(daemon.url + s["links"]["self"])
+    assert r.status_code == 204
+    is_problem(requests.get(daemon.url + s["links"]["self"]), 404)
+    is_problem(requests.get(daemon.url + s["links"]["series"]), 404)
+    is_problem(requests.delete(daemon.url + s["links"]["self"]), 404)
+
+
+def test_metrics_count_sessions_runs_requests_and_time(daemon):
+    before = requests.get(daemon.url + "/metrics").text
+    s = create(daemon)
+    requests.post(daemon.url + s["links"]["step"], json={"duration": 1.0})
+    requests.get(daemon.url + "/nope")
+    m = requests.get(daemon.url + "/metrics")
+    assert m.headers["Content-Type"].startswith("text/plain")
+
+    def value(text, name):
+        for line in text.splitlines():
+            if line.startswith(name + " "):
+                return float(line.split()[-1])
+        return 0.0
+
+    assert value(m.text, "tanksimd_sessions_created_total") == value(before, "tanksimd_sessions_created_total") + 1
+    assert value(m.text, "tanksimd_simulated_seconds_total") >= value(before, "tanksimd_simulated_seconds_total") + 1.0 - 1e-9
+    assert value(m.text, 'tanksimd_http_requests_total{code="404"}') >= 1
+    assert value(m.text, 'tanksimd_sessions{status="paused"}') >= 1
