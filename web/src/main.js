@@ -19,6 +19,7 @@ import { ComparePanel } from './compare.js';
 import { choices, display, setDisplay, fmt } from './units.js';
 
 const $ = (id) => document.getElementById(id);
+const HISTORY_POINTS = 50000;
 
 const state = {
   schema: null,
@@ -53,7 +54,11 @@ function showError(box, err) {
     box.append(ul);
   }
   box.hidden = false;
-  if (e.status === 401) banner('The daemon requires an API token: enter it at the top right and press Save.');
+  if (e.status === 401) {
+    banner(getToken() ? 'The daemon rejected the saved API token: enter the right one at the top right and press Save.' : 'The daemon requires an API token: enter it at the top right and press Save.');
+    $('token-input').classList.add('attention');
+    $('token-input').focus();
+  }
 }
 
 const hideError = (box) => {
@@ -75,6 +80,7 @@ function initToken() {
     ev.preventDefault();
     setToken($('token-input').value.trim());
     banner('');
+    $('token-input').classList.remove('attention');
     boot();
   });
 }
@@ -110,7 +116,7 @@ async function refreshSessions() {
       mono(String(s.id).slice(0, 8)),
       text(s.preset || '—'),
       pill(s.status),
-      text(s.t !== undefined ? fmt(s.t, 4) : '—'),
+      text(s.t !== undefined ? `${fmt(s.t, 4)}${s.duration ? ` / ${fmt(s.duration)}` : ''}` : '—'),
     ];
     cells.forEach((c, i) => {
       const td = document.createElement('td');
@@ -232,7 +238,9 @@ async function openSession(id, given) {
   $('fft-btn').disabled = false;
   fft.clear();
   try {
-    if ((s.t || 0) > 0 || (s.index || 0) > 0) await state.store.loadHistory(s.id);
+    /* long histories are thinned to about HISTORY_POINTS rows; live rows come at full rate */
+    const every = Math.max(1, Math.ceil((s.index || 0) / HISTORY_POINTS));
+    if ((s.t || 0) > 0 || (s.index || 0) > 0) await state.store.loadHistory(s.id, every);
   } catch (e) {
     showError($('session-error'), e);
   }

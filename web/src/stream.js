@@ -23,9 +23,9 @@ export class SeriesStore {
     this.version = 0; /* bumped on every change; plots redraw when it moved */
   }
 
-  /** Load history from GET /series (all channels). */
-  async loadHistory(id) {
-    const s = await seriesAll(id, {});
+  /** Load history from GET /series (all channels), every `every`-th row. */
+  async loadHistory(id, every = 1) {
+    const s = await seriesAll(id, every > 1 ? { every } : {});
     this.t = s.t;
     for (const c of this.channels) this.cols[c.name] = s.cols[c.name] || new Array(s.t.length).fill(null);
     this.lastIndex = s.index.length ? s.index[s.index.length - 1] : s.t.length - 1;
