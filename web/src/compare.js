@@ -6,7 +6,7 @@
  */
 import uPlot from 'uplot';
 import { seriesAll } from './api.js';
-import { display, fmt } from './units.js';
+import { bracket, display, fmt } from './units.js';
 import { chartWidth, color } from './plots.js';
 
 const MAX_POINTS = 4000;
@@ -37,12 +37,12 @@ export class ComparePanel {
     this.root.replaceChildren();
     const data = uPlot.join(tables);
     const opts = {
-      title: `${channel} [${d.label}] — ${sessions.length} sessions`,
+      title: `${channel}${bracket(d.label)} — ${sessions.length} sessions`,
       width: chartWidth(this.root),
       height: 260,
       scales: { x: { time: false } },
       cursor: { drag: { x: true, y: false } },
-      axes: [{ label: 't [s]' }, { label: d.label, size: 64, values: (u, t) => t.map((v) => fmt(v)) }],
+      axes: [{ label: 't [s]' }, { label: d.label || channel, size: 64, values: (u, t) => t.map((v) => fmt(v)) }],
       series: [
         { label: 't [s]', value: (u, v) => fmt(v) },
         ...labels.map((label, i) => ({ label, stroke: color(i), width: 1.5, spanGaps: true, value: (u, v) => fmt(v) })),

@@ -6,7 +6,7 @@
  */
 import uPlot from 'uplot';
 import { api } from './api.js';
-import { display, fmt } from './units.js';
+import { bracket, display, fmt } from './units.js';
 import { chartWidth } from './plots.js';
 
 /* Accept the few plausible spellings of the arrays in the response. */
@@ -48,10 +48,10 @@ export class FftPanel {
       height: 220,
       scales: { x: { time: false }, y: log ? { distr: 3 } : {} },
       cursor: { drag: { x: true, y: false } },
-      axes: [{ label: 'frequency [Hz]' }, { label: `amplitude [${d.label}]`, size: 64, values: (u, t) => t.map((v) => fmt(v)) }],
+      axes: [{ label: 'frequency [Hz]' }, { label: `amplitude${bracket(d.label)}`, size: 64, values: (u, t) => t.map((v) => fmt(v)) }],
       series: [
         { label: 'f [Hz]', value: (u, v) => fmt(v) },
-        { label: `|${channel}| [${d.label}]`, stroke: '#7c3aed', width: 1.5, fill: 'rgba(124,58,237,0.08)', value: (u, v) => fmt(v) },
+        { label: `|${channel}|${bracket(d.label)}`, stroke: '#7c3aed', width: 1.5, fill: 'rgba(124,58,237,0.08)', value: (u, v) => fmt(v) },
       ],
     };
     this.plot = new uPlot(opts, [xs, yy], this.root);

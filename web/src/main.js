@@ -16,7 +16,7 @@ import { LivePlots, defaultPicks } from './plots.js';
 import { FftPanel } from './fft.js';
 import { FrameViewer } from './frames.js';
 import { ComparePanel } from './compare.js';
-import { choices, display, setDisplay, fmt } from './units.js';
+import { bracket, choices, display, setDisplay, fmt } from './units.js';
 
 const $ = (id) => document.getElementById(id);
 const HISTORY_POINTS = 50000;
@@ -254,7 +254,8 @@ async function openSession(id, given) {
 
 function pickFftDefault(chans) {
   const names = chans.map((c) => c.name);
-  return names.find((n) => /hull.*acc|accel/.test(n)) || names[0];
+  /* the paper's spectra (Figs. 13-14) are of the hull's vertical acceleration */
+  return names.find((n) => n === 'hull.accel_z') || names.find((n) => /hull.*acc|accel/.test(n)) || names[0];
 }
 
 function fillChannelSelect(sel, chans, selected) {
@@ -471,7 +472,7 @@ function renderChannelPicker() {
     lab.append(cb, ` ${c.name} `);
     const u = document.createElement('span');
     u.className = 'unit';
-    u.textContent = `[${display(c.unit).label}]`;
+    u.textContent = bracket(display(c.unit).label);
     lab.append(u);
     box.append(lab);
   }
@@ -489,7 +490,7 @@ function renderUnitToggles() {
     group.dataset.unit = u;
     const cap = document.createElement('span');
     cap.className = 'muted';
-    cap.textContent = u === 'm/s' ? 'speed' : u === 'rad/s' ? 'rotation' : u;
+    cap.textContent = { 'm/s': 'speed', 'rad/s': 'rotation', rad: 'angle', W: 'power', Pa: 'pressure' }[u] || u;
     group.append(cap);
     for (const c of list) {
       const b = document.createElement('button');

@@ -4,29 +4,35 @@
  * display-unit conversion (SI in the data; mph / rpm only on screen).
  */
 import uPlot from 'uplot';
-import { display, fmt } from './units.js';
+import { bracket, display, fmt } from './units.js';
 
 /* Channels picked by default when a session opens: the paper's plotted
  * quantities (vehicle speed, engine speed, gear, rack, sprocket torque, rear
  * roller track tension, roller normal force, hull acceleration), matched by
  * name so any scenario's equivalents are found. */
 const DEFAULT_PICKS = [
-  /^vehicle\.speed$/,
-  /^engine\.speed$/,
-  /gear/,
-  /rack/,
-  /^sprocket\.torque$/,
-  /tension.*rear|rear.*tension/,
-  /roller.*(normal|force)|normal.*roller/,
-  /hull.*acc|^vehicle\.accel$/,
+  [/^vehicle\.speed$/],
+  [/^engine\.speed$/],
+  [/gear$/, /gear/],
+  [/rack/],
+  [/^sprocket\.torque$/],
+  [/^track\.tension\.rear_roller$/, /tension.*rear|rear.*tension/],
+  [/^roller\.rear\.normal_force$/, /roller.*normal|normal.*roller/],
+  [/^hull\.accel_z$/, /hull.*acc/, /^vehicle\.accel$/],
 ];
 
+/** Names of the channels to show first: per entry the first alternative present. */
 export function defaultPicks(channels) {
   const names = channels.map((c) => c.name);
   const picked = [];
-  for (const re of DEFAULT_PICKS) {
-    const n = names.find((x) => re.test(x) && !picked.includes(x));
-    if (n) picked.push(n);
+  for (const alts of DEFAULT_PICKS) {
+    for (const re of alts) {
+      const n = names.find((x) => re.test(x) && !picked.includes(x));
+      if (n) {
+        picked.push(n);
+        break;
+      }
+    }
   }
   return picked.length ? picked : names.slice(0, 4);
 }
@@ -70,7 +76,7 @@ export class LivePlots {
     this.root.append(box);
     const entry = { name: ch.name, unit: ch.unit, d, zoomed: false, el: box };
     const opts = {
-      title: `${ch.name}  [${d.label}]${ch.description ? ' — ' + ch.description : ''}`,
+      title: `${ch.name}${bracket(d.label)}${ch.description ? ' — ' + ch.description : ''}`,
       width: chartWidth(this.root),
       height: 190,
       cursor: { sync: { key: 'tanksim-live' }, drag: { x: true, y: false } },
@@ -78,11 +84,11 @@ export class LivePlots {
       legend: { live: true },
       axes: [
         { label: 't [s]', size: 36 },
-        { label: d.label, size: 64, values: (u, ticks) => ticks.map((v) => fmt(v)) },
+        { label: d.label || ch.name, size: 64, values: (u, ticks) => ticks.map((v) => fmt(v)) },
       ],
       series: [
         { label: 't [s]', value: (u, v) => fmt(v) },
-        { label: `${ch.name} [${d.label}]`, stroke, width: 1.5, value: (u, v) => fmt(v) },
+        { label: `${ch.name}${bracket(d.label)}`, stroke, width: 1.5, value: (u, v) => fmt(v) },
       ],
       hooks: {
         /* zoomed = the x range is narrower than the data: then new data must

@@ -18,6 +18,20 @@ const DISPLAY = {
     { label: 'rpm', factor: RAD_S_TO_RPM },
     { label: 'rad/s', factor: 1 },
   ],
+  rad: [
+    { label: 'deg', factor: 180 / Math.PI },
+    { label: 'rad', factor: 1 },
+  ],
+  W: [
+    { label: 'kW', factor: 1e-3 },
+    { label: 'W', factor: 1 },
+  ],
+  Pa: [
+    { label: 'kPa', factor: 1e-3 },
+    { label: 'Pa', factor: 1 },
+  ],
+  /* dimensionless (gear number, ratios, efficiencies): no unit label */
+  1: [{ label: '', factor: 1 }],
 };
 
 /* The user's choice per SI unit (e.g. {'m/s': 'mph'}), kept in localStorage. */
@@ -34,6 +48,9 @@ function prefs() {
 export function choices(siUnit) {
   return DISPLAY[siUnit] || [{ label: siUnit || '', factor: 1 }];
 }
+
+/** " [mph]", or "" for a dimensionless quantity. */
+export const bracket = (label) => (label ? ` [${label}]` : '');
 
 /** {label, factor} for showing values of an SI unit. */
 export function display(siUnit) {
