@@ -266,6 +266,7 @@ async function main() {
       assert(pts.length > 0 && pts.every((n) => n >= want), `chart points ${pts}, want >= ${want}`);
       const prog = await text(page, '#progress-text');
       assert(prog.startsWith('100'), `progress text: ${prog}`);
+      await page.waitForTimeout(300); /* let the bar's width transition finish */
       await shot(page, '03-run-done');
     });
 
