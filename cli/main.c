@@ -12,6 +12,12 @@
 static const tsc_command commands[] = {
     {"run", tsc_cmd_run, "(CONFIG.json | --preset NAME) [--out DIR] [--until T]",
      "run a scenario; write DIR/series.csv and DIR/summary.json"},
+    {"modes", tsc_cmd_modes, "(CONFIG.json | --preset NAME)",
+     "track span and upper-circuit eigenanalysis (Table 1, Fig. 5) as JSON"},
+    {"render", tsc_cmd_render,
+     "(CONFIG.json | --preset NAME) --out FILE.png [--t T] [--width W] [--height H] "
+     "[--view side|three_quarter] [--exaggeration E] [--color tension] [--text S] [--antialias]",
+     "run to time T and draw the tank and its deformed track into a PNG"},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

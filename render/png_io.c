@@ -36,8 +36,9 @@ static void write_cb(png_structp p, png_bytep data, png_size_t n)
 
 static void flush_cb(png_structp p) { (void)p; }
 
-ts_rc tsr_png_encode(const unsigned char *rgba, int width, int height, size_t stride,
-                     const tsr_png_opts *opts, unsigned char **out, size_t *out_len, ts_err *err)
+static ts_rc encode(const unsigned char *rgba, int width, int height, size_t stride,
+                    const tsr_png_opts *opts, int opaque, unsigned char **out, size_t *out_len,
+                    ts_err *err)
 {
     static const int filters[] = {PNG_FILTER_NONE, PNG_FILTER_SUB, PNG_FILTER_UP, PNG_FILTER_AVG,
                                   PNG_FILTER_PAETH};
@@ -58,11 +59,13 @@ ts_rc tsr_png_encode(const unsigned char *rgba, int width, int height, size_t st
         return ts_err_set(err, TS_ERR_INTERNAL, NULL, "png: libpng failed while encoding");
     }
     png_set_write_fn(p, &m, write_cb, flush_cb);
-    png_set_IHDR(p, info, (png_uint_32)width, (png_uint_32)height, 8, PNG_COLOR_TYPE_RGBA,
+    png_set_IHDR(p, info, (png_uint_32)width, (png_uint_32)height, 8,
+                 opaque ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGBA,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_compression_level(p, level);
     png_set_filter(p, PNG_FILTER_TYPE_BASE, filters[filter]);
     png_write_info(p, info);
+    if (opaque) png_set_filler(p, 0, PNG_FILLER_AFTER); /* input keeps 4 bytes a pixel */
     for (int y = 0; y < height; y++) png_write_row(p, (png_const_bytep)(rgba + (size_t)y * stride));
     png_write_end(p, NULL);
     png_destroy_write_struct(&p, &info);
@@ -73,6 +76,19 @@ ts_rc tsr_png_encode(const unsigned char *rgba, int width, int height, size_t st
     *out = m.buf;
     *out_len = m.len;
     return TS_OK;
+}
+
+ts_rc tsr_png_encode(const unsigned char *rgba, int width, int height, size_t stride,
+                     const tsr_png_opts *opts, unsigned char **out, size_t *out_len, ts_err *err)
+{
+    return encode(rgba, width, height, stride, opts, 0, out, out_len, err);
+}
+
+ts_rc tsr_png_encode_opaque(const unsigned char *rgba, int width, int height, size_t stride,
+                            const tsr_png_opts *opts, unsigned char **out, size_t *out_len,
+                            ts_err *err)
+{
+    return encode(rgba, width, height, stride, opts, 1, out, out_len, err);
 }
 
 ts_rc tsr_png_decode(const unsigned char *png, size_t len, unsigned char **rgba, int *width,

@@ -18,8 +18,6 @@
  *
  * Handlers parse only query strings here; JSON bodies go through api/
  * (session_json.h, config_json.h) and sessions through session.h.
- * Not here yet: the frame/animation routes (render branch not merged) and
- * POST /v1/modes (track branch not merged).
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -30,6 +28,7 @@
 #include <strings.h>
 
 #include "../api/config_json.h"
+#include "../api/modes_json.h"
 #include "../api/problem.h"
 #include "../api/session_json.h"
 #include "../api/spectrum.h"
@@ -254,23 +253,45 @@ static enum MHD_Result get_schema(tsd_request *r)
 
 /* ---- sessions -------------------------------------------------------------------- */
 
+/* Create: building a model and its initial state (ts_reset may solve for a
+ * static equilibrium) is physics, so it runs on the pool like a step. */
+static void create_job(void *arg)
+{
+    tsd_request *r = arg;
+    tsd_session *s = NULL;
+    if (tsd_session_create(r->srv, r->async_doc, &s, r->async_errors, &r->async_err) == TS_OK) {
+        snprintf(r->location, sizeof r->location, "/v1/sessions/%s", s->id);
+        r->async_result = tsd_session_json(s, 0);
+        tsd_session_put(s);
+    }
+    tsd_request_resume(r);
+}
+
+static enum MHD_Result create_resumed(tsd_request *r)
+{
+    if (r->async_result) {
+        json_t *j = r->async_result;
+        r->async_result = NULL;
+        return tsd_reply_json(r, MHD_HTTP_CREATED, j);
+    }
+    r->location[0] = '\0';
+    return tsd_reply_err(r, &r->async_err,
+                         json_array_size(r->async_errors) ? r->async_errors : NULL);
+}
+
 static enum MHD_Result post_sessions(tsd_request *r)
 {
     ts_err e;
     json_t *doc = tsa_parse_object(r->body, r->body_len, &e);
     if (!doc) return tsd_reply_err(r, &e, NULL);
-    json_t *errors = json_array();
-    tsd_session *s = NULL;
-    ts_rc rc = tsd_session_create(r->srv, doc, &s, errors, &e);
-    json_decref(doc);
-    if (rc != TS_OK) return reply_body_err(r, &e, errors);
-    json_decref(errors);
-    char loc[64];
-    snprintf(loc, sizeof loc, "/v1/sessions/%s", s->id);
-    snprintf(r->location, sizeof r->location, "%s", loc);
-    json_t *j = tsd_session_json(s, 0);
-    tsd_session_put(s);
-    return tsd_reply_json(r, MHD_HTTP_CREATED, j);
+    r->async_doc = doc;
+    r->async_errors = json_array();
+    tsd_request_defer(r, create_resumed);
+    if (tsd_pool_submit(r->srv->pool, create_job, r, 0) != 0) {
+        ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "the daemon is shutting down");
+        tsd_request_resume(r);
+    }
+    return MHD_YES;
 }
 
 static enum MHD_Result get_sessions(tsd_request *r)
@@ -548,6 +569,45 @@ static enum MHD_Result get_fft(tsd_request *r)
     return tsd_reply_json(r, MHD_HTTP_OK, out);
 }
 
+/* ---- track eigenanalysis (tanksim modes over HTTP) -------------------------------- */
+
+/* Eigenanalysis is physics: it runs on the pool; the connection waits suspended. */
+static void modes_job(void *arg)
+{
+    tsd_request *r = arg;
+    ts_config cfg;
+    if (tsa_config_load(r->async_doc, &cfg, NULL, r->async_errors, &r->async_err) == TS_OK)
+        r->async_result = tsa_modes_json(&cfg, &r->async_err);
+    tsd_request_resume(r);
+}
+
+static enum MHD_Result modes_resumed(tsd_request *r)
+{
+    if (r->async_result) {
+        json_t *j = r->async_result;
+        r->async_result = NULL;
+        return tsd_reply_json(r, MHD_HTTP_OK, j);
+    }
+    return tsd_reply_err(r, &r->async_err,
+                         json_array_size(r->async_errors) ? r->async_errors : NULL);
+}
+
+static enum MHD_Result post_modes(tsd_request *r)
+{
+    ts_err e;
+    json_t *doc = tsa_parse_object(r->body_len ? r->body : "{}", r->body_len ? r->body_len : 2,
+                                   &e);
+    if (!doc) return tsd_reply_err(r, &e, NULL);
+    r->async_doc = doc;
+    r->async_errors = json_array();
+    tsd_request_defer(r, modes_resumed);
+    if (tsd_pool_submit(r->srv->pool, modes_job, r, 0) != 0) {
+        ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "the daemon is shutting down");
+        tsd_request_resume(r);
+    }
+    return MHD_YES;
+}
+
 /* ---- operations ------------------------------------------------------------------- */
 
 static enum MHD_Result get_operation(tsd_request *r)
@@ -598,6 +658,7 @@ static const tsd_route_row routes[] = {
     {"GET", "/v1/sessions/{id}/series", get_series, RF_SESSION, "Stored samples (JSON or CSV)"},
     {"GET", "/v1/sessions/{id}/stream", get_stream, RF_SESSION, "Live samples (SSE or NDJSON)"},
     {"GET", "/v1/sessions/{id}/fft", get_fft, RF_SESSION, "Amplitude spectrum of a channel"},
+    {"POST", "/v1/modes", post_modes, 0, "Track eigenanalysis (tanksim modes)"},
     {"GET", "/v1/operations/{id}", get_operation, 0, "State of a run operation"},
     {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "Cancel a run operation"},
     {"GET", "/", tsd_static_index, RF_PUBLIC, "The browser dashboard (web_static/index.html)"},

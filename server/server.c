@@ -175,6 +175,8 @@ static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
             toe == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " (aborted)");
     tsd_session_put(r->session);
     json_decref(r->async_result);
+    json_decref(r->async_errors);
+    json_decref(r->async_doc);
     free(r->body);
     free(r);
     *con_cls = NULL;

@@ -73,6 +73,8 @@ typedef struct tsd_request {
     enum MHD_Result (*on_resume)(struct tsd_request *r);
     json_t *async_result;     /* owned; set by the worker */
     ts_err async_err;         /* set by the worker on failure */
+    json_t *async_errors;     /* owned; config errors [{pointer, message}] on failure */
+    json_t *async_doc;        /* owned; the parsed body handed to the worker */
     struct tsd_session *session; /* RF_SESSION routes: looked-up session (reference) */
     char location[96];        /* Location header of the reply ("" = none) */
     char next_token[32];      /* X-Next-Page-Token header of the reply ("" = none) */

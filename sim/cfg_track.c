@@ -1,14 +1,13 @@
 /*
  * cfg_track.c — parameter-table rows of the "track" section (columns in param.h).
- * Defaults and their sources: sim/data/track.json.
+ * Defaults and their sources: sim/data/defaults/track.json.
  */
 #include <stddef.h>
 
 #include "config.h"
 
-const char *const ts_track_fidelity_names[] = {"static",       "lumped",     "quasi_static",
-                                               "longitudinal", "transverse", "coupled",
-                                               NULL};
+const char *const ts_track_fidelity_names[] = {
+    "static", "lumped", "quasi_static", "longitudinal", "transverse", "coupled", NULL};
 
 #define F(field) offsetof(ts_config, track.field)
 static const ts_param rows[] = {
@@ -28,6 +27,23 @@ static const ts_param rows[] = {
      "modal damping ratio of the span modes"},
     {"/track/translation_terms", TS_PT_BOOL, F(translation_terms), "", 0, 1, NULL, 0, 0,
      "keep the track translation-speed terms of Eqs. 1-2"},
+    {"/track/pitch_line_offset", TS_PT_DOUBLE, F(pitch_line_offset), "m", 0, 0.2, NULL, 0, 0,
+     "track pitch line above the rims of road wheels, idler and rollers"},
+    {"/track/idler_inertia", TS_PT_DOUBLE, F(idler_inertia), "kg*m^2", 0, 1000, NULL, 0, 0,
+     "idler spin inertia"},
+    {"/track/roller_inertia", TS_PT_DOUBLE, F(roller_inertia), "kg*m^2", 0, 1000, NULL, 0, 0,
+     "support-roller spin inertia (each)"},
+    {"/track/sprocket_inertia", TS_PT_DOUBLE, F(sprocket_inertia), "kg*m^2", 0, 1000, NULL, 0, 0,
+     "sprocket spin inertia (free in the upper-circuit eigenanalysis)"},
+    {"/track/modes_speed", TS_PT_DOUBLE, F(modes_speed), "m/s", -100, 100, NULL, 0, 0,
+     "track speed for the eigenanalysis when translation_terms is on"},
+    {"/track/modes_reported", TS_PT_INT, F(modes_reported), "1", 1, 200, NULL, 0, 0,
+     "number of upper-circuit modes reported by tanksim modes"},
+    {"/track/span_length", TS_PT_DARRAY, F(span_length), "m", 0.05, 20, NULL, TS_TRACK_MAX_SPANS,
+     F(span_n), "single spans to analyse (chord lengths); empty: the layout's five spans"},
+    {"/track/span_inclination", TS_PT_DARRAY, F(span_inclination), "rad", -1.6, 1.6, NULL,
+     TS_TRACK_MAX_SPANS, F(span_inclination_n),
+     "chord angle above horizontal of each /track/span_length span (same count)"},
 };
 #undef F
 

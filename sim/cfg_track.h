@@ -17,16 +17,28 @@ typedef enum ts_track_fidelity {
 } ts_track_fidelity;
 extern const char *const ts_track_fidelity_names[];
 
+#define TS_TRACK_MAX_SPANS 8 /* single-span analysis overrides (/track/span_length) */
+
 typedef struct ts_track_config {
-    int fidelity;           /* ts_track_fidelity */
-    int n_long;             /* longitudinal modes per free span */
-    int n_trans;            /* transverse modes per free span */
-    double pitch;           /* track pitch [m] */
-    double mass_per_length; /* rho, mass per unit length [kg/m] */
-    double ea;              /* axial stiffness EA [N] */
-    double tension;         /* static track tension P0 [N] */
-    double damping_ratio;   /* modal damping ratio of span modes [1] */
-    int translation_terms;  /* keep the track-speed terms of Eqs. 1-2 [bool] */
+    int fidelity;             /* ts_track_fidelity */
+    int n_long;               /* longitudinal modes per free span */
+    int n_trans;              /* transverse modes per free span */
+    double pitch;             /* track pitch [m] */
+    double mass_per_length;   /* rho, mass per unit length [kg/m] */
+    double ea;                /* axial stiffness EA [N] */
+    double tension;           /* static track tension P0 [N] */
+    double damping_ratio;     /* modal damping ratio of span modes [1] */
+    int translation_terms;    /* keep the track-speed terms of Eqs. 1-2 [bool] */
+    double pitch_line_offset; /* pitch line above the road-wheel/idler/roller rim [m] */
+    double idler_inertia;     /* idler spin inertia [kg m^2] */
+    double roller_inertia;    /* support-roller spin inertia, each [kg m^2] */
+    double sprocket_inertia;  /* sprocket spin inertia [kg m^2] */
+    double modes_speed;       /* track speed for eigenanalysis with translation_terms [m/s] */
+    int modes_reported;       /* circuit modes reported by `tanksim modes` */
+    int span_n;               /* single spans to analyse (0: the layout's five spans) */
+    double span_length[TS_TRACK_MAX_SPANS];      /* their chord lengths [m] */
+    int span_inclination_n;                      /* must equal span_n */
+    double span_inclination[TS_TRACK_MAX_SPANS]; /* chord angle above horizontal [rad] */
 } ts_track_config;
 
 #endif

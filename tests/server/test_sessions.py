@@ -5,7 +5,7 @@ NDJSON stream, FFT, delete, metrics. A real daemon on loopback; the physics is
 whatever the preset's scenario computes — these tests check the plumbing:
 times, indexes, units, counts and that values are passed through unchanged."""
 import json
-import math
+import time
 
 import pytest
 import requests
@@ -112,7 +112,7 @@ def test_run_to_completion_with_rising_progress(daemon):
     assert "error" not in final and final["response"]["status"] == "done"
     md = final["metadata"]
     assert md["t"] == pytest.approx(4.0)
-    assert 4 < md["real_time_factor"] < 10   # paced at 8x real time
+    assert 1 < md["real_time_factor"] < 8.5   # paced at (at most) 8x real time
     got = requests.get(daemon.url + s["links"]["self"]).json()
     assert got["status"] == "done" and got["samples"] == 2001
     is_problem(requests.post(daemon.url + s["links"]["step"], json={"duration": 0.1}), 409)
@@ -137,6 +137,8 @@ def test_cancel_stops_a_run(daemon):
                        json={"until": 30, "real_time_factor": 5}).json()
     busy = requests.post(daemon.url + s["links"]["step"], json={"duration": 0.1})
     is_problem(busy, 409)
+    while requests.get(f"{daemon.url}/v1/operations/{op['id']}").json()["metadata"]["t"] <= 0:
+        time.sleep(0.02)
     c = requests.post(f"{daemon.url}/v1/operations/{op['id']}:cancel")
     assert c.status_code == 200
     final = wait_op(daemon.url, op["id"])

@@ -1,0 +1,160 @@
+/*
+ * cmd_render.c — "tanksim render": build the model of a config, run it from
+ * rest to --t T, take the geometry snapshot (ts_geometry) and draw it into a
+ * PNG with the offscreen renderer (render/render.h): the stills behind the
+ * paper's animation sequences (II.C.2) and Figs. 9-10.
+ *
+ * Scenarios without running gear (the point-mass one) have no geometry: the
+ * command then says so (TS_ERR_UNSUPPORTED) and writes nothing.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../render/render.h"
+#include "cli.h"
+
+/* "--name" given without a value: consumed, returns 1. */
+static int flag(int argc, char **argv, const char *name)
+{
+    for (int i = 1; i < argc; i++)
+        if (argv[i] && strcmp(argv[i], name) == 0) {
+            argv[i] = NULL;
+            return 1;
+        }
+    return 0;
+}
+
+static int number(const char *s, const char *name, double lo, double hi, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || end == s || *end || !isfinite(v) || v < lo || v > hi) {
+        fprintf(stderr, "tanksim: %s: number in [%g, %g], got '%s'\n", name, lo, hi, s);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+int tsc_cmd_render(int argc, char **argv)
+{
+    const char *t_s = tsc_option(argc, argv, "--t");
+    const char *out = tsc_option(argc, argv, "--out");
+    const char *w_s = tsc_option(argc, argv, "--width");
+    const char *h_s = tsc_option(argc, argv, "--height");
+    const char *view_s = tsc_option(argc, argv, "--view");
+    const char *ex_s = tsc_option(argc, argv, "--exaggeration");
+    const char *color_s = tsc_option(argc, argv, "--color");
+    const char *text_s = tsc_option(argc, argv, "--text");
+    const char *span_s = tsc_option(argc, argv, "--span");
+    int antialias = flag(argc, argv, "--antialias");
+    int no_overlay = flag(argc, argv, "--no-overlay");
+
+    tsr_view v;
+    tsr_view_default(&v);
+    double t = 0, x;
+    if (!out) {
+        fprintf(stderr, "tanksim: render: --out FILE.png is required\n");
+        return TSC_EXIT_USAGE;
+    }
+    if (t_s && number(t_s, "--t", 0, 1e6, &t) != 0) return TSC_EXIT_USAGE;
+    if (w_s) {
+        if (number(w_s, "--width", TSR_MIN_SIZE, TSR_MAX_SIZE, &x) != 0) return TSC_EXIT_USAGE;
+        v.width = (int)x;
+    }
+    if (h_s) {
+        if (number(h_s, "--height", TSR_MIN_SIZE, TSR_MAX_SIZE, &x) != 0) return TSC_EXIT_USAGE;
+        v.height = (int)x;
+    }
+    if (view_s && (v.kind = tsr_view_kind_parse(view_s)) < 0) {
+        fprintf(stderr, "tanksim: --view: side or three_quarter, got '%s'\n", view_s);
+        return TSC_EXIT_USAGE;
+    }
+    if (ex_s && number(ex_s, "--exaggeration", 0, 1000, &v.exaggeration) != 0)
+        return TSC_EXIT_USAGE;
+    if (span_s && number(span_s, "--span", 0, 1000, &v.span) != 0) return TSC_EXIT_USAGE;
+    if (color_s) {
+        if (strcmp(color_s, "tension") == 0) v.color_by_tension = 1;
+        else if (strcmp(color_s, "none") != 0) {
+            fprintf(stderr, "tanksim: --color: tension or none, got '%s'\n", color_s);
+            return TSC_EXIT_USAGE;
+        }
+    }
+    if (text_s) snprintf(v.text, sizeof v.text, "%s", text_s);
+    v.antialias = antialias;
+    v.overlay = !no_overlay;
+    ts_err err;
+    if (tsr_view_check(&v, &err) != TS_OK) {
+        fprintf(stderr, "tanksim: render: %s: %s\n", err.pointer, err.msg);
+        return TSC_EXIT_USAGE;
+    }
+
+    ts_config cfg;
+    int rc = tsc_load_config(argc, argv, &cfg, NULL);
+    if (rc != TSC_EXIT_OK) return rc;
+    int status = TSC_EXIT_FAIL;
+    ts_model *m = NULL;
+    ts_data *d = NULL;
+    tsr_ctx *c = NULL;
+    unsigned char *png = NULL;
+    size_t len = 0;
+    FILE *f = NULL;
+    ts_geom *g = malloc(sizeof *g);
+    if (!g) {
+        fprintf(stderr, "tanksim: out of memory\n");
+        return TSC_EXIT_FAIL;
+    }
+    m = ts_model_make(&cfg, &err);
+    if (!m) {
+        tsc_print_err("model", &err);
+        goto done;
+    }
+    d = ts_data_make(m, &err);
+    if (!d) {
+        tsc_print_err("data", &err);
+        goto done;
+    }
+    if (ts_reset(m, d, &err) != TS_OK) {
+        tsc_print_err("reset", &err);
+        goto done;
+    }
+    if (t > 0 && ts_advance(m, d, t, NULL, NULL, &err) != TS_OK) {
+        tsc_print_err("run", &err);
+        goto done;
+    }
+    if (ts_geometry(m, d, g, &err) != TS_OK) {
+        tsc_print_err("geometry", &err);
+        goto done;
+    }
+    c = tsr_ctx_make(&err);
+    if (!c) {
+        tsc_print_err("render", &err);
+        goto done;
+    }
+    if (tsr_render_png(c, g, &v, NULL, &png, &len, &err) != TS_OK) {
+        tsc_print_err("render", &err);
+        goto done;
+    }
+    f = fopen(out, "wb");
+    if (!f || fwrite(png, 1, len, f) != len || fclose(f) != 0) {
+        fprintf(stderr, "tanksim: cannot write %s: %s\n", out, strerror(errno));
+        f = NULL;
+        goto done;
+    }
+    f = NULL;
+    printf("%s: t = %.3f s, %dx%d %s view -> %s (%zu bytes)\n", ts_model_kind(m), ts_time(d),
+           v.width, v.height, tsr_view_kind_name(v.kind), out, len);
+    status = TSC_EXIT_OK;
+done:
+    if (f) fclose(f);
+    free(png);
+    free(g);
+    tsr_ctx_free(c);
+    ts_data_free(d);
+    ts_model_free(m);
+    return status;
+}

@@ -1,0 +1,236 @@
+/*
+ * test_track_circuit.c — the upper track circuit of Fig. 5 (track_circuit.h):
+ * closed-form limits of the assembled circuit (taut strings, moving strings,
+ * a wheel-spin oscillator) and the paper's Fig. 5 frequencies from the shipped
+ * data (preset m1).
+ */
+#include "test_util.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "api/config_json.h"
+#include "sim/track_circuit.h"
+
+#define PI 3.14159265358979323846
+
+static ts_circuit_params m1_params(void)
+{
+    ts_err err;
+    ts_config cfg;
+    json_t *doc = json_pack("{s:s}", "preset", "m1");
+    if (tsa_config_load(doc, &cfg, NULL, NULL, &err) != TS_OK)
+        fail_msg("preset m1: %s %s", err.pointer, err.msg);
+    json_decref(doc);
+    ts_circuit_params p;
+    assert_int_equal(ts_circuit_params_from_config(&cfg, &p, &err), TS_OK);
+    return p;
+}
+
+static ts_circuit *make(const ts_circuit_params *p)
+{
+    ts_err err;
+    ts_circuit *c = ts_circuit_make(p, &err);
+    if (!c) fail_msg("ts_circuit_make: %s", err.msg);
+    return c;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Sorted taut-string frequencies n c (1 - v^2/c^2) / (2 L_i) of all spans. */
+static int string_frequencies(const ts_circuit *c, double v, double *f, int nmodes)
+{
+    double cw = sqrt(c->p.tension / c->p.rho);
+    int k = 0;
+    for (int i = 0; i < TS_CIRCUIT_NSPANS; i++)
+        for (int n = 1; n <= nmodes; n++)
+            f[k++] = n * cw * (1 - v * v / (cw * cw)) / (2 * c->geom[i].length);
+    qsort(f, (size_t)k, sizeof *f, cmp_double);
+    return k;
+}
+
+static void track_circuit_no_sag_is_five_strings(void **state)
+{
+    (void)state;
+    /* EVIDENCE: closed form. Without gravity (kappa = 0) transverse and
+     * longitudinal motion decouple (Eqs. 1-2 with k1 = k2 = 0) and wheel spin
+     * only touches the longitudinal field, so the circuit's transverse
+     * frequencies are the taut-string series n/(2 L_i) sqrt(P0/rho) of the five
+     * spans (lengths from the tangent geometry). First 10 within 0.1 %. */
+    ts_circuit_params p = m1_params();
+    p.gravity = 0.0;
+    ts_circuit *c = make(&p);
+    ts_err err;
+    ts_modes *m = ts_circuit_modes(c, 10, &err);
+    assert_non_null(m);
+    double f[TS_CIRCUIT_NSPANS * 4];
+    string_frequencies(c, 0.0, f, 4);
+    for (int i = 0; i < 10; i++)
+        assert_close(m->freq[i], f[i], 0.001, 0);
+    ts_modes_free(m);
+    ts_circuit_free(c);
+}
+
+static void track_circuit_moving_track_gyroscopic(void **state)
+{
+    (void)state;
+    /* EVIDENCE: axially moving string (parameters.md §2.3, Wickert & Mote):
+     * f_n = n c (1 - v^2/c^2)/(2L) for each span; the assembled gyroscopic
+     * circuit (dggev first-order form) at v = 11.2 m/s (25 mph), no sag, with
+     * 8 transverse modes per span: first 6 within 1 %. Not calibrated. */
+    ts_circuit_params p = m1_params();
+    p.gravity = 0.0;
+    p.translation_terms = 1;
+    p.speed = 11.2;
+    p.n_long = 2;
+    p.n_trans = 8;
+    ts_circuit *c = make(&p);
+    assert_true(c->gyroscopic);
+    ts_err err;
+    ts_modes *m = ts_circuit_modes(c, 6, &err);
+    assert_non_null(m);
+    double f[TS_CIRCUIT_NSPANS * 4];
+    string_frequencies(c, 11.2, f, 4);
+    for (int i = 0; i < 6; i++)
+        assert_close(m->freq[i], f[i], 0.01, 0);
+    ts_modes_free(m);
+    ts_circuit_free(c);
+}
+
+static void track_circuit_idler_spin_oscillator(void **state)
+{
+    (void)state;
+    /* EVIDENCE: closed form (Rayleigh, static shape): a heavy idler (J = 500
+     * kg m^2) whose neighbours are locked (J = 1e9) turns against the axial
+     * stiffness of its two spans, f = sqrt(k/m)/2pi with k = EA/L0 + EA/L1 and
+     * m = J/r^2 + rho r alpha (wrapped track) + rho (L0 + L1)/3 (consistent
+     * span mass). Within 1 %: checks the spin coupling u = r phi of Fig. 5's
+     * free wheels. Not calibrated. */
+    ts_circuit_params p = m1_params();
+    p.inertia[1] = 500.0;
+    p.inertia[2] = p.inertia[3] = p.inertia[4] = 1e6;
+    ts_circuit *c = make(&p);
+    ts_err err;
+    ts_modes *m = ts_circuit_modes(c, 200, &err);
+    assert_non_null(m);
+    double r = p.support[1].radius, L0 = c->geom[0].length, L1 = c->geom[1].length;
+    double k = p.ea / L0 + p.ea / L1;
+    double mass = p.inertia[1] / (r * r) + p.rho * r * c->wrap[1] + p.rho * (L0 + L1) / 3;
+    double want = sqrt(k / mass) / (2 * PI);
+    int found = 0;
+    for (int i = 0; i < m->n; i++) {
+        const double *y = m->shape + i * m->ndof;   /* mass-normalised: y^T M y = 1 */
+        double idler_share = c->M[0] * y[0] * y[0]; /* DOF 0 = u_idler */
+        if (idler_share > 0.5) {
+            assert_close(m->freq[i], want, 0.01, 0);
+            found = 1;
+            break;
+        }
+    }
+    assert_true(found);
+    ts_modes_free(m);
+    ts_circuit_free(c);
+}
+
+static void track_circuit_fig5_m1(void **state)
+{
+    (void)state;
+    /* EVIDENCE: paper Fig. 5, upper track circuit with road wheels 1 and 7
+     * fixed: 3.7, 5.5, 7.3, 7.6 Hz; first four within 15 %. CALIBRATED: the
+     * roller/idler positions in vehicle.json and P0, rho in track.json were
+     * chosen (parameters.md §1.2, §2.4) so the three upper spans' taut-string
+     * fundamentals are 3.7, 5.5 and 7.3 Hz — this checks the assembled model
+     * (sag, wheel coupling, slope spans) stays consistent with that reading,
+     * it does not predict Fig. 5. The mode characters are the model's own:
+     * modes 1 and 2 sit in the two spans beside the rear roller, whose
+     * contact force the paper says peaks at 3.7 and 5.5 Hz (Fig. 14). */
+    ts_circuit_params p = m1_params();
+    ts_circuit *c = make(&p);
+    ts_err err;
+    ts_modes *m = ts_circuit_modes(c, 6, &err);
+    assert_non_null(m);
+    const double paper[4] = {3.7, 5.5, 7.3, 7.6};
+    for (int i = 0; i < 4; i++) {
+        ts_mode_character ch;
+        ts_circuit_mode_character(c, m->shape + i * m->ndof, &ch);
+        print_message("  Fig. 5 f%d: model %.2f Hz (paper %.1f), %s, span %s (%.0f %%)\n", i + 1,
+                      m->freq[i], paper[i], ch.transverse ? "transverse" : "longitudinal",
+                      ts_circuit_span_names[ch.dominant_span],
+                      100 * (ch.trans[ch.dominant_span] + ch.lon[ch.dominant_span]));
+        assert_close(m->freq[i], paper[i], 0.15, 0);
+        assert_true(ch.transverse);
+        if (i < 2) /* a span adjacent to the rear roller (spans 2, 3) */
+            assert_true(ch.dominant_span == 2 || ch.dominant_span == 3);
+    }
+    for (int i = 0; i < TS_CIRCUIT_NSPANS; i++)
+        print_message("  span %-26s L = %.3f m\n", ts_circuit_span_names[i], c->geom[i].length);
+    ts_modes_free(m);
+    ts_circuit_free(c);
+}
+
+static void track_circuit_convergence_monotone(void **state)
+{
+    (void)state;
+    /* EVIDENCE: Rayleigh–Ritz with nested bases (Section II.C component
+     * modes): the circuit's first six frequencies do not rise as modes per
+     * span are added (n_long = n_trans = 1..8), and change < 0.5 % from 4 to 8
+     * (the preset m1 keeps 4). Not calibrated. */
+    ts_circuit_params p = m1_params();
+    double prev[6], at4[6];
+    for (int i = 0; i < 6; i++)
+        prev[i] = INFINITY;
+    for (int n = 1; n <= 8; n++) {
+        p.n_long = p.n_trans = n;
+        ts_circuit *c = make(&p);
+        ts_err err;
+        ts_modes *m = ts_circuit_modes(c, 6, &err);
+        assert_non_null(m);
+        for (int i = 0; i < 6; i++) {
+            assert_true(m->freq[i] <= prev[i] * (1 + 1e-9));
+            prev[i] = m->freq[i];
+            if (n == 4) at4[i] = m->freq[i];
+        }
+        ts_modes_free(m);
+        ts_circuit_free(c);
+    }
+    for (int i = 0; i < 6; i++)
+        assert_close(at4[i], prev[i], 0.005, 0);
+}
+
+static void track_circuit_config_errors(void **state)
+{
+    (void)state;
+    /* Contract: config errors name the field (errors.h). */
+    ts_err err;
+    ts_config cfg;
+    json_t *doc = json_pack("{s:s}", "preset", "m1");
+    assert_int_equal(tsa_config_load(doc, &cfg, NULL, NULL, &err), TS_OK);
+    json_decref(doc);
+    cfg.track.span_n = 1;
+    cfg.track.span_length[0] = 1.0;
+    cfg.track.span_inclination_n = 0;
+    ts_span_params sp;
+    assert_int_equal(ts_span_params_from_config(&cfg, 0, &sp, &err), TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/track/span_inclination");
+    cfg.vehicle.road_wheel_n = 1;
+    ts_circuit_params cp;
+    assert_int_equal(ts_circuit_params_from_config(&cfg, &cp, &err), TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/vehicle/road_wheel_x");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(track_circuit_no_sag_is_five_strings),
+        cmocka_unit_test(track_circuit_moving_track_gyroscopic),
+        cmocka_unit_test(track_circuit_idler_spin_oscillator),
+        cmocka_unit_test(track_circuit_fig5_m1),
+        cmocka_unit_test(track_circuit_convergence_monotone),
+        cmocka_unit_test(track_circuit_config_errors),
+    };
+    return cmocka_run_group_tests_name("sim/track_circuit", tests, NULL, NULL);
+}
