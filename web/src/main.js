@@ -170,7 +170,7 @@ async function initCreateForm() {
 async function loadPreset(list) {
   const name = $('preset-select').value;
   const meta = list.find((p) => p.name === name);
-  $('preset-desc').textContent = meta?.description || '';
+  $('preset-desc').textContent = [meta?.kind && `scenario ${meta.kind}.`, meta?.description].filter(Boolean).join(' ');
   hideError($('create-error'));
   let doc = {};
   if (name) {
