@@ -244,6 +244,8 @@ async function openSession(id, given) {
   } catch (e) {
     showError($('session-error'), e);
   }
+  if (state.session !== s) return; /* another session was opened meanwhile */
+  $('plots-empty').hidden = true;
   plots.show(state.store, state.picks);
   updateSampleCount();
   frames.setSession(s);
@@ -445,6 +447,8 @@ async function onDelete() {
     stopOpPolling();
     state.session = null;
     plots.stop();
+    $('plots-empty').hidden = false;
+    $('channel-list').replaceChildren();
     renderSessionHeader();
     refreshSessions();
   } catch (e) {
