@@ -392,6 +392,18 @@ async function main() {
       await page.click(`#session-table tr[data-id="${id}"] td:nth-child(2)`);
     });
 
+    await check('delete the open session (after confirming): it leaves the list', async () => {
+      const id = await page.evaluate(() => window.tanksimDebug.state.session.id);
+      const rows = await page.locator('#session-table tbody tr').count();
+      page.once('dialog', (dlg) => dlg.accept());
+      await page.click('#delete-session');
+      await waitFor(async () => (await page.locator(`#session-table tr[data-id="${id}"]`).count()) === 0, 'the row to go');
+      assert((await page.locator('#session-table tbody tr').count()) === rows - 1, 'other rows changed');
+      assert((await text(page, '#session-title')) === 'No session open', 'session still shown');
+      const r = await fetch(`${d.url}/v1/sessions/${id}`);
+      assert(r.status === 404, `deleted session still answers ${r.status}`);
+    });
+
     await check('no JavaScript errors in the page', async () => {
       const real = consoleErrors.filter((m) => !/Failed to load resource/.test(m));
       assert(real.length === 0, real.join(' | '));

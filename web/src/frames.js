@@ -31,6 +31,16 @@ export class FrameViewer {
     this.request(session.t || 0);
   }
 
+  /** No session open: back to the initial placeholder. */
+  clear() {
+    this.pause();
+    this.session = null;
+    this.els.img.hidden = true;
+    this.els.placeholder.hidden = false;
+    this.els.placeholder.textContent = 'Open a session to see its frames.';
+    this.els.status.textContent = '';
+  }
+
   /** Keep the scrubber's range at [0, latest sample time]. */
   updateRange(tMax) {
     const s = this.els.scrub;

@@ -449,6 +449,9 @@ async function onDelete() {
     plots.stop();
     $('plots-empty').hidden = false;
     $('channel-list').replaceChildren();
+    frames.clear();
+    fft.clear();
+    $('fft-btn').disabled = true;
     renderSessionHeader();
     refreshSessions();
   } catch (e) {
