@@ -217,8 +217,9 @@ async function main() {
       const dur = await text(page, '#schema-form .field[data-pointer="/run/duration"]');
       assert(dur.includes(`[${schema.properties.run.properties.duration['x-unit']}]`), `duration row lacks its unit: ${dur}`);
       /* every schema field has an input (key fields up front, the rest under "All parameters") */
+      const leaves = (props) => Object.values(props || {}).reduce((k, p) => k + (p.type === 'object' && p.properties ? leaves(p.properties) : 1), 0);
       let n = 0;
-      for (const sec of Object.values(schema.properties)) if (sec.type === 'object') n += Object.keys(sec.properties || {}).length;
+      for (const sec of Object.values(schema.properties)) if (sec.type === 'object') n += leaves(sec.properties);
       const inputs = await page.locator('#schema-form .field').count();
       assert(inputs === n, `${inputs} fields in the form, ${n} in the schema`);
       /* the preset's own values are shown (preset doc over schema defaults) */

@@ -45,13 +45,20 @@ const el = (tag, attrs = {}, ...kids) => {
   return e;
 };
 
-/** Flatten the schema into [{pointer, section, name, prop}] in schema order. */
+/** Flatten the schema into [{pointer, section, name, prop}] in schema order
+ * (objects inside a section are walked too: name "a/b" for /section/a/b). */
 export function schemaFields(schema) {
   const out = [];
+  const walk = (section, sectionDoc, prefix, props) => {
+    for (const [name, prop] of Object.entries(props)) {
+      const rel = prefix ? `${prefix}/${name}` : name;
+      if (prop.type === 'object' && prop.properties) walk(section, sectionDoc, rel, prop.properties);
+      else out.push({ pointer: `/${section}/${rel}`, section, name: rel, prop, sectionDoc });
+    }
+  };
   for (const [section, sec] of Object.entries(schema.properties || {})) {
     if (sec.type !== 'object' || !sec.properties) continue;
-    for (const [name, prop] of Object.entries(sec.properties))
-      out.push({ pointer: `/${section}/${name}`, section, name, prop, sectionDoc: sec.description || '' });
+    walk(section, sec.description || '', '', sec.properties);
   }
   return out;
 }
@@ -80,7 +87,7 @@ function rangeText(prop) {
 }
 
 function labelText(f) {
-  return f.name.replace(/_/g, ' ');
+  return f.name.replace(/_/g, ' ').replace(/\//g, ' › ');
 }
 
 export class SchemaForm {
@@ -120,7 +127,7 @@ export class SchemaForm {
 
   row(f, isKey) {
     const { prop } = f;
-    const id = `fld-${f.section}-${f.name}`;
+    const id = `fld-${f.section}-${f.name.replace(/\//g, '-')}`;
     let input;
     if (Array.isArray(prop.enum)) {
       input = el('select', { id });
