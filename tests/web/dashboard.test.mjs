@@ -227,6 +227,9 @@ async function main() {
       const pd = (pdoc.config || pdoc).run?.duration;
       if (pd !== undefined) assert(Number(await page.locator('#schema-form [data-pointer="/run/duration"] input').inputValue()) === pd, 'preset duration not shown');
       await shot(page, '01-form');
+      await page.click('#schema-form .all-params summary');
+      await shot(page, '01b-all-parameters');
+      await page.click('#schema-form .all-params summary');
     });
 
     await check('API error shown in words on the named field (out-of-range /track/n_trans)', async () => {

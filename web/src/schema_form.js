@@ -161,10 +161,16 @@ export class SchemaForm {
     const range = rangeText(prop);
     const row = el(
       'div',
-      { class: 'field', 'data-pointer': f.pointer },
+      { class: 'field', 'data-pointer': f.pointer, title: isKey ? undefined : prop.description },
       label,
       el('div', { class: 'control' }, input, hint),
-      el('div', { class: 'desc', text: [prop.description, range && `range ${range}`].filter(Boolean).join(' · ') }),
+      el(
+        'div',
+        { class: 'desc' },
+        prop.description ? el('span', { class: 'd-text', text: prop.description }) : null,
+        prop.description && range ? el('span', { class: 'd-text', text: ' · ' }) : null,
+        range ? el('span', { class: 'd-range', text: `range ${range}` }) : null,
+      ),
       msg,
     );
     const onChange = () => {
