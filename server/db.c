@@ -28,7 +28,8 @@ static const char schema[] =
     " idx INTEGER, error TEXT);"
     "CREATE TABLE IF NOT EXISTS samples(seq INTEGER, idx INTEGER, vals BLOB,"
     " PRIMARY KEY(seq, idx)) WITHOUT ROWID;"
-    "CREATE TABLE IF NOT EXISTS states(seq INTEGER PRIMARY KEY, idx INTEGER, t REAL, blob BLOB);";
+    "CREATE TABLE IF NOT EXISTS snapshots(seq INTEGER, idx INTEGER, t REAL, blob BLOB,"
+    " PRIMARY KEY(seq, idx)) WITHOUT ROWID;";
 
 static void log_err(sqlite3 *c, const char *what)
 {
@@ -134,14 +135,15 @@ int tsd_db_session_status(tsd_db *db, long seq, const char *status, const char *
 int tsd_db_session_delete(tsd_db *db, long seq)
 {
     int rc = exec_w(db, "DELETE FROM samples WHERE seq=?", "i", seq);
-    rc |= exec_w(db, "DELETE FROM states WHERE seq=?", "i", seq);
+    rc |= exec_w(db, "DELETE FROM snapshots WHERE seq=?", "i", seq);
     rc |= exec_w(db, "DELETE FROM sessions WHERE seq=?", "i", seq);
     return rc;
 }
 
 int tsd_db_truncate(tsd_db *db, long seq, long idx)
 {
-    return exec_w(db, "DELETE FROM samples WHERE seq=? AND idx>?", "ii", seq, idx);
+    int rc = exec_w(db, "DELETE FROM samples WHERE seq=? AND idx>?", "ii", seq, idx);
+    return rc | exec_w(db, "DELETE FROM snapshots WHERE seq=? AND idx>?", "ii", seq, idx);
 }
 
 int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, const double *rows,
@@ -167,7 +169,7 @@ int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, co
     if (state) {
         what = "save state";
         if (sqlite3_prepare_v2(db->w,
-                               "INSERT OR REPLACE INTO states(seq,idx,t,blob) VALUES(?,?,?,?)",
+                               "INSERT OR REPLACE INTO snapshots(seq,idx,t,blob) VALUES(?,?,?,?)",
                                -1, &st, NULL) != SQLITE_OK)
             goto rollback;
         sqlite3_bind_int64(st, 1, seq);
@@ -270,15 +272,23 @@ out:
 
 int tsd_db_state(tsd_db *db, long seq, void **blob, size_t *size, long *idx)
 {
+    return tsd_db_snapshot_at(db, seq, 1L << 62, blob, size, idx);
+}
+
+int tsd_db_snapshot_at(tsd_db *db, long seq, long at, void **blob, size_t *size, long *idx)
+{
     sqlite3_stmt *st = NULL;
     int rc = -1;
     *blob = NULL;
     *size = 0;
     pthread_mutex_lock(&db->rmu);
-    if (sqlite3_prepare_v2(db->r, "SELECT idx, blob FROM states WHERE seq=?", -1, &st, NULL) !=
-        SQLITE_OK)
+    if (sqlite3_prepare_v2(db->r,
+                           "SELECT idx, blob FROM snapshots WHERE seq=? AND idx<=?"
+                           " ORDER BY idx DESC LIMIT 1",
+                           -1, &st, NULL) != SQLITE_OK)
         goto out;
     sqlite3_bind_int64(st, 1, seq);
+    sqlite3_bind_int64(st, 2, at);
     int s = sqlite3_step(st);
     if (s == SQLITE_ROW) {
         size_t n = (size_t)sqlite3_column_bytes(st, 1);

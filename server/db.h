@@ -6,7 +6,9 @@
  *            t, idx, error)         one row per session, updated on each batch
  *   samples(seq, idx, vals BLOB)     one row per sample row: nchannel float64
  *                                    in channel order (native byte order)
- *   states(seq PK, idx, t, blob)     the latest ts_state_save snapshot
+ *   snapshots(seq, idx, t, blob)     ts_state_save snapshots, one per batch: the
+ *                                    latest restarts an interrupted run; older
+ *                                    ones let frames of past times be rebuilt
  * WAL journal, synchronous=NORMAL: a committed batch survives a killed daemon
  * (not necessarily a power cut). Samples and the state they end at are
  * written in ONE transaction (tsd_db_append), so after a crash the stored
@@ -51,7 +53,10 @@ int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud);
  * *blob = NULL when there is none. */
 int tsd_db_state(tsd_db *db, long seq, void **blob, size_t *size, long *idx);
 
-/* Drop samples after idx (rows a crash left beyond the last snapshot). */
+/* The latest snapshot with index <= at (same contract as tsd_db_state). */
+int tsd_db_snapshot_at(tsd_db *db, long seq, long at, void **blob, size_t *size, long *idx);
+
+/* Drop samples and snapshots after idx (rows a crash left beyond the last snapshot). */
 int tsd_db_truncate(tsd_db *db, long seq, long idx);
 
 /* Read rows with from <= index <= to and (index - from) % every == 0, in

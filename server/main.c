@@ -25,6 +25,7 @@
 
 #include "../sim/version.h"
 #include "db.h"
+#include "frames.h"
 #include "operations.h"
 #include "pool.h"
 #include "server.h"
@@ -176,8 +177,11 @@ int main(int argc, char **argv)
         return 1;
     }
     pthread_mutex_init(&srv.fft_lock, NULL);
-    if (tsd_ops_init(&srv) != 0 || tsd_sessions_init(&srv, err, sizeof err) != 0) {
+    snprintf(err, sizeof err, "out of memory");
+    if (tsd_ops_init(&srv) != 0 || tsd_renderers_init(&srv) != 0 ||
+        tsd_sessions_init(&srv, err, sizeof err) != 0) {
         fprintf(stderr, "tanksimd: %s\n", err);
+        tsd_renderers_free(&srv);
         tsd_sessions_free(&srv);
         tsd_ops_free(&srv);
         tsd_db_close(srv.db);
@@ -187,6 +191,7 @@ int main(int argc, char **argv)
     if (!srv.pool || tsd_server_start(&srv, err, sizeof err) != 0) {
         fprintf(stderr, "tanksimd: %s\n", srv.pool ? err : "cannot start worker threads");
         tsd_pool_stop(srv.pool);
+        tsd_renderers_free(&srv);
         tsd_sessions_free(&srv);
         tsd_ops_free(&srv);
         tsd_db_close(srv.db);
@@ -208,6 +213,7 @@ int main(int argc, char **argv)
     srv.pool = NULL;
     tsd_sessions_wake_all(&srv);
     tsd_server_stop(&srv);
+    tsd_renderers_free(&srv);
     tsd_sessions_free(&srv);
     tsd_ops_free(&srv);
     tsd_db_close(srv.db);

@@ -35,6 +35,7 @@
 #include "../api/store.h"
 #include "../sim/version.h"
 #include "db.h"
+#include "frames.h"
 #include "operations.h"
 #include "pool.h"
 #include "server.h"
@@ -569,6 +570,95 @@ static enum MHD_Result get_fft(tsd_request *r)
     return tsd_reply_json(r, MHD_HTTP_OK, out);
 }
 
+/* ---- frames ------------------------------------------------------------------------ */
+
+/* View from query parameters: width, height, view, exaggeration, color, text,
+ * overlay, antialias. -1 when a 400 reply was queued. */
+static int parse_view(tsd_request *r, tsr_view *v, enum MHD_Result *ret)
+{
+    tsr_view_default(v);
+    double w = v->width, h = v->height, ex = v->exaggeration, ov = v->overlay, aa = v->antialias;
+    if (q_number(r, "width", TSR_MIN_SIZE, TSR_MAX_SIZE, &w, ret) < 0) return -1;
+    if (q_number(r, "height", TSR_MIN_SIZE, TSR_MAX_SIZE, &h, ret) < 0) return -1;
+    if (q_number(r, "exaggeration", 0, 1000, &ex, ret) < 0) return -1;
+    if (q_number(r, "overlay", 0, 1, &ov, ret) < 0) return -1;
+    if (q_number(r, "antialias", 0, 1, &aa, ret) < 0) return -1;
+    v->width = (int)w;
+    v->height = (int)h;
+    v->exaggeration = ex;
+    v->overlay = ov != 0;
+    v->antialias = aa != 0;
+    const char *kind = tsd_arg(r, "view");
+    if (kind && (v->kind = tsr_view_kind_parse(kind)) < 0) {
+        *ret = bad_param(r, "view", "side or three_quarter expected", kind);
+        return -1;
+    }
+    const char *color = tsd_arg(r, "color");
+    if (color) {
+        if (strcmp(color, "tension") == 0) v->color_by_tension = 1;
+        else if (strcmp(color, "plain") == 0) v->color_by_tension = 0;
+        else {
+            *ret = bad_param(r, "color", "tension or plain expected", color);
+            return -1;
+        }
+    }
+    const char *text = tsd_arg(r, "text");
+    if (text) snprintf(v->text, sizeof v->text, "%s", text);
+    ts_err e;
+    if (tsr_view_check(v, &e) != TS_OK) {
+        *ret = tsd_reply_err(r, &e, NULL);
+        return -1;
+    }
+    return 0;
+}
+
+static enum MHD_Result get_frame(tsd_request *r)
+{
+    tsd_session *s = r->session;
+    enum MHD_Result ret = MHD_NO;
+    range_q q;
+    if (parse_range(r, s, "t", &q, &ret) < 0) return ret;
+    tsr_view v;
+    if (parse_view(r, &v, &ret) < 0) return ret;
+    double rate = 1.0 / ts_model_sample_period(s->m), t = (double)q.to / rate;
+    if (q_number(r, "t", 0, 1e12, &t, &ret) < 0) return ret;
+    if (t * rate > (double)q.to + 0.5) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "%g s (the last stored sample)", (double)q.to / rate);
+        return bad_param(r, "t", "time at most", msg);
+    }
+    return tsd_frames_reply(r, s, &v, t * rate, 0, 1, 1);
+}
+
+static enum MHD_Result get_frames(tsd_request *r)
+{
+    tsd_session *s = r->session;
+    enum MHD_Result ret = MHD_NO;
+    range_q q;
+    if (parse_range(r, s, "t", &q, &ret) < 0) return ret;
+    tsr_view v;
+    if (parse_view(r, &v, &ret) < 0) return ret;
+    double fps = 25;
+    if (q_number(r, "fps", 0.01, 1000, &fps, &ret) < 0) return ret;
+    double rate = 1.0 / ts_model_sample_period(s->m);
+    long n = q.to >= q.from ? (long)floor((double)(q.to - q.from) / rate * fps + 1e-9) + 1 : 0;
+    ts_err e;
+    if (n < 1) {
+        ts_err_set(&e, TS_ERR_PARAM, "/from", "query parameter from: after the last stored sample");
+        return tsd_reply_err(r, &e, NULL);
+    }
+    if (n > TSD_MAX_FRAMES) {
+        ts_err_set(&e, TS_ERR_LIMIT, "/fps",
+                   "/fps: %ld frames requested, at most %d per request; lower fps or narrow "
+                   "from/to",
+                   n, TSD_MAX_FRAMES);
+        json_t *p = tsa_problem_from_err(&e, NULL);
+        json_object_set_new(p, "status", json_integer(422));
+        return tsd_reply_problem_json(r, 422, p);
+    }
+    return tsd_frames_reply(r, s, &v, (double)q.from, rate / fps, n, 0);
+}
+
 /* ---- track eigenanalysis (tanksim modes over HTTP) -------------------------------- */
 
 /* Eigenanalysis is physics: it runs on the pool; the connection waits suspended. */
@@ -658,6 +748,8 @@ static const tsd_route_row routes[] = {
     {"GET", "/v1/sessions/{id}/series", get_series, RF_SESSION, "Stored samples (JSON or CSV)"},
     {"GET", "/v1/sessions/{id}/stream", get_stream, RF_SESSION, "Live samples (SSE or NDJSON)"},
     {"GET", "/v1/sessions/{id}/fft", get_fft, RF_SESSION, "Amplitude spectrum of a channel"},
+    {"GET", "/v1/sessions/{id}/frame.png", get_frame, RF_SESSION, "One rendered frame (PNG)"},
+    {"GET", "/v1/sessions/{id}/frames", get_frames, RF_SESSION, "Animation of stored frames"},
     {"POST", "/v1/modes", post_modes, 0, "Track eigenanalysis (tanksim modes)"},
     {"GET", "/v1/operations/{id}", get_operation, 0, "State of a run operation"},
     {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "Cancel a run operation"},

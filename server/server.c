@@ -177,6 +177,7 @@ static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     json_decref(r->async_result);
     json_decref(r->async_errors);
     json_decref(r->async_doc);
+    if (r->async_free) r->async_free(r->async_ctx);
     free(r->body);
     free(r);
     *con_cls = NULL;

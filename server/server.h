@@ -23,6 +23,7 @@ struct tsd_pool;
 struct tsd_db;
 struct tsd_registry;
 struct tsd_ops;
+struct tsd_renderers;
 
 #define TSD_MAX_PATH_PARAMS 4
 
@@ -49,6 +50,7 @@ typedef struct tsd_server {
     struct tsd_db *db;          /* persistence (db.h) */
     struct tsd_registry *reg;   /* sessions (session.h) */
     struct tsd_ops *ops;        /* run operations (operations.h) */
+    struct tsd_renderers *renderers; /* OpenGL contexts for frames (frames.h) */
     tsd_metrics metrics;        /* counters for /metrics (metrics.h) */
     pthread_mutex_t fft_lock;   /* FFTW's planner is not thread-safe */
     atomic_int stopping;        /* set once shutdown begins */
@@ -75,6 +77,8 @@ typedef struct tsd_request {
     ts_err async_err;         /* set by the worker on failure */
     json_t *async_errors;     /* owned; config errors [{pointer, message}] on failure */
     json_t *async_doc;        /* owned; the parsed body handed to the worker */
+    void *async_ctx;          /* handler's own job context */
+    void (*async_free)(void *ctx); /* frees async_ctx at completion (NULL: nothing) */
     struct tsd_session *session; /* RF_SESSION routes: looked-up session (reference) */
     char location[96];        /* Location header of the reply ("" = none) */
     char next_token[32];      /* X-Next-Page-Token header of the reply ("" = none) */

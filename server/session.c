@@ -54,6 +54,8 @@
 
 #define BATCH_ROWS 256     /* rows per database transaction during a run */
 #define SLICE_WALL 0.05    /* wall seconds a run may hold a worker before re-queueing */
+#define PACE_AHEAD 0.02    /* a paced run yields once it is this far ahead of real time [s]
+                              (so a batch holds >= 20 ms of samples, not one row) */
 
 typedef struct tsd_registry {
     pthread_mutex_t mu;
@@ -574,7 +576,7 @@ static int on_sample(void *ud, long index, double t, const double *v, int n)
     double now = a->slice_end > 0 || a->rtf > 0 ? tsd_now() : 0;
     if (a->rtf > 0) {
         double due = a->pace_wall0 + (t - a->pace_t0) / a->rtf;
-        if (due > now) {
+        if (due > now + PACE_AHEAD) {
             a->resume_at = due;
             a->reason = ADV_PACE;
             return 1;

@@ -1,0 +1,260 @@
+/*
+ * frames.c — PNG frames and animations of a session (frames.h).
+ */
+#define _GNU_SOURCE
+#include "frames.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../api/session_json.h"
+#include "db.h"
+#include "pool.h"
+
+#define MAX_RENDERERS 64
+
+typedef struct tsd_renderers {
+    pthread_mutex_t mu;
+    tsr_ctx *idle[MAX_RENDERERS];
+    int nidle;
+} tsd_renderers;
+
+int tsd_renderers_init(tsd_server *srv)
+{
+    srv->renderers = calloc(1, sizeof *srv->renderers);
+    if (!srv->renderers) return -1;
+    pthread_mutex_init(&srv->renderers->mu, NULL);
+    return 0;
+}
+
+void tsd_renderers_free(tsd_server *srv)
+{
+    tsd_renderers *g = srv->renderers;
+    if (!g) return;
+    for (int i = 0; i < g->nidle; i++) tsr_ctx_free(g->idle[i]);
+    pthread_mutex_destroy(&g->mu);
+    free(g);
+    srv->renderers = NULL;
+}
+
+static tsr_ctx *renderer_take(tsd_server *srv, ts_err *err)
+{
+    tsd_renderers *g = srv->renderers;
+    tsr_ctx *c = NULL;
+    pthread_mutex_lock(&g->mu);
+    if (g->nidle > 0) c = g->idle[--g->nidle];
+    pthread_mutex_unlock(&g->mu);
+    return c ? c : tsr_ctx_make(err);
+}
+
+static void renderer_give(tsd_server *srv, tsr_ctx *c)
+{
+    tsd_renderers *g = srv->renderers;
+    pthread_mutex_lock(&g->mu);
+    if (g->nidle < MAX_RENDERERS) {
+        g->idle[g->nidle++] = c;
+        c = NULL;
+    }
+    pthread_mutex_unlock(&g->mu);
+    tsr_ctx_free(c);
+}
+
+typedef struct frames_ctx {
+    tsd_server *srv;
+    tsd_session *s;          /* reference */
+    struct MHD_Connection *conn;
+    tsr_view view;
+    double k0, dk;           /* sample index of frame i: round(k0 + i dk) */
+    long n, i;               /* frames in all, next to draw */
+    int single;
+    int pending;             /* a draw job is queued or running */
+    ts_data *d;              /* scratch state (draw jobs only) */
+    int have_state;
+    ts_geom *g;
+    unsigned char *png;      /* the frame drawn last, not yet sent */
+    size_t png_len;
+    long png_k;
+    ts_rc rc;                /* first failure */
+    ts_err err;
+    tsa_buf out;             /* multipart text not yet handed to MHD */
+    size_t off;
+    int ended;
+} frames_ctx;
+
+static void frames_free(void *cls)
+{
+    frames_ctx *f = cls;
+    if (!f) return;
+    ts_data_free(f->d);
+    free(f->g);
+    free(f->png);
+    tsa_buf_free(&f->out);
+    tsd_session_put(f->s);
+    free(f);
+}
+
+/* Rebuild the stored state at sample index k into f->d. */
+static ts_rc state_at(frames_ctx *f, long k)
+{
+    const ts_model *m = f->s->m;
+    if (!f->d && !(f->d = ts_data_make(m, &f->err))) return f->err.code;
+    void *blob = NULL;
+    size_t n = 0;
+    long sidx = -1;
+    if (tsd_db_snapshot_at(f->srv->db, f->s->seq, k, &blob, &n, &sidx) != 0 || !blob) {
+        free(blob);
+        return ts_err_set(&f->err, TS_ERR_NOTFOUND, "/t", "/t: no stored state at or before t = %g s",
+                          (double)k * ts_model_sample_period(m));
+    }
+    ts_rc rc = TS_OK;
+    long cur = f->have_state ? ts_sample_index(f->d) : -1;
+    if (!f->have_state || k < cur || sidx > cur) {
+        rc = ts_state_restore(m, f->d, blob, n, &f->err);
+        f->have_state = rc == TS_OK;
+    }
+    free(blob);
+    if (rc == TS_OK && ts_sample_index(f->d) < k)
+        rc = ts_advance(m, f->d, (double)k * ts_model_sample_period(m), NULL, NULL, &f->err);
+    if (rc != TS_OK) f->have_state = 0;
+    return rc;
+}
+
+/* Worker: draw frame f->i into f->png, then resume the connection. */
+static void draw_job(void *arg)
+{
+    frames_ctx *f = arg;
+    pthread_mutex_lock(&f->s->mu);
+    long last = f->s->persisted - 1;
+    pthread_mutex_unlock(&f->s->mu);
+    long k = lround(f->k0 + (double)f->i * f->dk);
+    if (k > last) k = last;
+    if (k < 0) k = 0;
+    ts_rc rc = state_at(f, k);
+    if (rc == TS_OK && !f->g && !(f->g = malloc(sizeof *f->g)))
+        rc = ts_err_set(&f->err, TS_ERR_NOMEM, NULL, "out of memory");
+    if (rc == TS_OK) rc = ts_geometry(f->s->m, f->d, f->g, &f->err);
+    if (rc == TS_OK) {
+        tsr_ctx *c = renderer_take(f->srv, &f->err);
+        if (!c) rc = f->err.code != TS_OK ? f->err.code : TS_ERR_UNSUPPORTED;
+        else {
+            rc = tsr_render_png(c, f->g, &f->view, NULL, &f->png, &f->png_len, &f->err);
+            renderer_give(f->srv, c);
+        }
+    }
+    if (rc == TS_OK) f->png_k = k;
+    else if (f->rc == TS_OK) f->rc = rc;
+    f->i++;
+    f->pending = 0;
+    MHD_resume_connection(f->conn);
+}
+
+/* Queue the next draw with the connection suspended; 0 on success. */
+static int queue_draw(frames_ctx *f)
+{
+    f->pending = 1;
+    MHD_suspend_connection(f->conn);
+    if (tsd_pool_submit(f->srv->pool, draw_job, f, 0) != 0) {
+        f->pending = 0;
+        f->rc = ts_err_set(&f->err, TS_ERR_STATE, NULL, "the daemon is shutting down");
+        MHD_resume_connection(f->conn);
+        return -1;
+    }
+    return 0;
+}
+
+static void put_part(frames_ctx *f)
+{
+    double t = (double)f->png_k * ts_model_sample_period(f->s->m);
+    tsa_buf_printf(&f->out,
+                   "--frame\r\nContent-Type: image/png\r\nContent-Length: %zu\r\n"
+                   "X-Frame-Index: %ld\r\nX-Frame-Time: %.9g\r\n\r\n",
+                   f->png_len, f->png_k, t);
+    tsa_buf_put(&f->out, (const char *)f->png, f->png_len);
+    tsa_buf_put(&f->out, "\r\n", 2);
+    free(f->png);
+    f->png = NULL;
+}
+
+static ssize_t reader(void *cls, uint64_t pos, char *buf, size_t max)
+{
+    (void)pos;
+    frames_ctx *f = cls;
+    if (f->off >= f->out.n) {
+        f->out.n = 0;
+        f->off = 0;
+        if (f->ended) return MHD_CONTENT_READER_END_OF_STREAM;
+        if (f->png) put_part(f);
+        else if (f->rc != TS_OK) return MHD_CONTENT_READER_END_WITH_ERROR; /* cut the stream */
+        else if (f->i < f->n) {
+            if (!f->pending) queue_draw(f);
+            return 0; /* suspended until the frame is drawn */
+        } else {
+            tsa_buf_put(&f->out, "--frame--\r\n", 11);
+            f->ended = 1;
+        }
+        if (f->out.oom) return MHD_CONTENT_READER_END_WITH_ERROR;
+    }
+    size_t k = f->out.n - f->off;
+    if (k > max) k = max;
+    memcpy(buf, f->out.p + f->off, k);
+    f->off += k;
+    return (ssize_t)k;
+}
+
+/* The first frame is drawn: answer the request. */
+static enum MHD_Result first_frame_ready(tsd_request *r)
+{
+    frames_ctx *f = r->async_ctx;
+    r->async_ctx = NULL;
+    r->async_free = NULL;
+    if (f->rc != TS_OK) {
+        enum MHD_Result ret = tsd_reply_err(r, &f->err, NULL);
+        frames_free(f);
+        return ret;
+    }
+    if (f->single) {
+        unsigned char *png = f->png;
+        size_t len = f->png_len;
+        f->png = NULL;
+        frames_free(f);
+        return tsd_reply_owned(r, MHD_HTTP_OK, "image/png", (char *)png, len);
+    }
+    struct MHD_Response *resp =
+        MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 1 << 16, reader, f, frames_free);
+    if (!resp) {
+        frames_free(f);
+        return MHD_NO;
+    }
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE,
+                            "multipart/x-mixed-replace; boundary=frame");
+    MHD_add_response_header(resp, "Cache-Control", "no-store");
+    r->status = MHD_HTTP_OK;
+    enum MHD_Result ret = MHD_queue_response(r->conn, MHD_HTTP_OK, resp);
+    MHD_destroy_response(resp);
+    return ret;
+}
+
+enum MHD_Result tsd_frames_reply(tsd_request *r, tsd_session *s, const tsr_view *v, double k0,
+                                 double dk, long n, int single)
+{
+    frames_ctx *f = calloc(1, sizeof *f);
+    if (!f) return MHD_NO;
+    f->srv = r->srv;
+    f->s = s;
+    pthread_mutex_lock(&s->mu);
+    s->refs++;
+    pthread_mutex_unlock(&s->mu);
+    f->conn = r->conn;
+    f->view = *v;
+    f->k0 = k0;
+    f->dk = dk;
+    f->n = n;
+    f->single = single;
+    r->async_ctx = f;
+    r->async_free = frames_free;
+    r->on_resume = first_frame_ready;
+    queue_draw(f); /* on failure f->rc is set and the connection already resumed */
+    return MHD_YES;
+}
