@@ -111,7 +111,7 @@ export class FrameViewer {
     this.els.img.hidden = true;
     this.els.placeholder.hidden = false;
     this.els.placeholder.textContent = unavailable
-      ? `No frame available: ${e.message}. Frames need the renderer (GET …/frame.png); the plots and spectra work without it.`
+      ? `No frame available — ${e.message}. Frames are drawn for scenarios with vehicle geometry (and builds with the renderer); the plots and spectra work without them.`
       : `Frame could not be loaded: ${e.message}`;
     this.els.placeholder.dataset.status = String(e.status ?? '');
     this.els.status.textContent = 'frames unavailable';
