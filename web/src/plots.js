@@ -14,7 +14,7 @@ const DEFAULT_PICKS = [
   [/^vehicle\.speed$/],
   [/^engine\.speed$/],
   [/gear$/, /gear/],
-  [/rack/],
+  [/(^|[._])rack($|[._])/], /* not the 'rack' inside 'track' */
   [/^sprocket\.torque$/],
   [/^track\.tension\.rear_roller$/, /tension.*rear|rear.*tension/],
   [/^roller\.rear\.normal_force$/, /roller.*normal|normal.*roller/],
