@@ -191,12 +191,13 @@ json_t *tsa_modes_json(const ts_config *cfg, ts_err *err)
     }
     circ = circuit_json(c, cfg->track.modes_reported, err);
     if (!circ) goto fail;
-    doc = json_pack("{s:o, s:o, s:{s:s, s:s, s:s, s:s}, s:{s:i, s:i, s:f, s:f, s:f}}", "spans",
-                    spans, "circuit", circ, "units", "frequencies_hz", "Hz", "length_m", "m",
-                    "deflection", "1 (mode shape scaled to max |U|,|V| = 1)", "energy_share",
-                    "1 (fraction of the mode's kinetic energy, diagonal mass)", "track", "n_long",
-                    cfg->track.n_long, "n_trans", cfg->track.n_trans, "tension_n", cfg->track.tension,
-                    "mass_per_length_kg_m", cfg->track.mass_per_length, "ea_n", cfg->track.ea);
+    doc =
+        json_pack("{s:o, s:o, s:{s:s, s:s, s:s, s:s}, s:{s:i, s:i, s:f, s:f, s:f}}", "spans", spans,
+                  "circuit", circ, "units", "frequencies_hz", "Hz", "length_m", "m", "deflection",
+                  "1 (mode shape scaled to max |U|,|V| = 1)", "energy_share",
+                  "1 (fraction of the mode's kinetic energy, diagonal mass)", "track", "n_long",
+                  cfg->track.n_long, "n_trans", cfg->track.n_trans, "tension_n", cfg->track.tension,
+                  "mass_per_length_kg_m", cfg->track.mass_per_length, "ea_n", cfg->track.ea);
     spans = circ = NULL;
     if (!doc) ts_err_set(err, TS_ERR_NOMEM, NULL, "could not build the modes JSON document");
     ts_circuit_free(c);

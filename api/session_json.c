@@ -21,7 +21,8 @@ static int reserve(tsa_buf *b, size_t extra)
     if (b->oom) return -1;
     if (b->n + extra + 1 <= b->cap) return 0;
     size_t cap = b->cap ? b->cap : 4096;
-    while (cap < b->n + extra + 1) cap *= 2;
+    while (cap < b->n + extra + 1)
+        cap *= 2;
     char *np = realloc(b->p, cap);
     if (!np) {
         b->oom = 1;
@@ -82,8 +83,10 @@ char *tsa_buf_take(tsa_buf *b, size_t *len)
 
 static void put_num(tsa_buf *b, double v, int time)
 {
-    if (!isfinite(v)) tsa_buf_put(b, "null", 4);
-    else tsa_buf_printf(b, time ? "%.12g" : "%.9g", v);
+    if (!isfinite(v))
+        tsa_buf_put(b, "null", 4);
+    else
+        tsa_buf_printf(b, time ? "%.12g" : "%.9g", v);
 }
 
 /* JSON string literal: escapes quotes, backslashes and control characters. */
@@ -91,9 +94,12 @@ static void put_str(tsa_buf *b, const char *s)
 {
     tsa_buf_put(b, "\"", 1);
     for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; p++) {
-        if (*p == '"' || *p == '\\') tsa_buf_printf(b, "\\%c", *p);
-        else if (*p < 0x20) tsa_buf_printf(b, "\\u%04x", *p);
-        else tsa_buf_put(b, (const char *)p, 1);
+        if (*p == '"' || *p == '\\')
+            tsa_buf_printf(b, "\\%c", *p);
+        else if (*p < 0x20)
+            tsa_buf_printf(b, "\\u%04x", *p);
+        else
+            tsa_buf_put(b, (const char *)p, 1);
     }
     tsa_buf_put(b, "\"", 1);
 }
@@ -125,22 +131,27 @@ static void add_error(json_t *errors, ts_err *err, int *count, ts_rc code, const
                       const char *msg)
 {
     if (errors)
-        json_array_append_new(errors,
-                              json_pack("{s:s,s:s}", "pointer", pointer, "message", msg));
+        json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", pointer, "message", msg));
     if ((*count)++ == 0) ts_err_set(err, code, pointer, "%s", msg);
 }
 
 static const char *type_word(const json_t *j)
 {
     switch (json_typeof(j)) {
-    case JSON_OBJECT: return "an object";
-    case JSON_ARRAY: return "an array";
-    case JSON_STRING: return "a string";
+    case JSON_OBJECT:
+        return "an object";
+    case JSON_ARRAY:
+        return "an array";
+    case JSON_STRING:
+        return "a string";
     case JSON_INTEGER:
-    case JSON_REAL: return "a number";
+    case JSON_REAL:
+        return "a number";
     case JSON_TRUE:
-    case JSON_FALSE: return "a boolean";
-    default: return "null";
+    case JSON_FALSE:
+        return "a boolean";
+    default:
+        return "null";
     }
 }
 
@@ -155,7 +166,8 @@ ts_rc tsa_read_numbers(const json_t *obj, const tsa_num_field *f, int nf, json_t
     json_object_foreach((json_t *)obj, key, val)
     {
         int known = 0;
-        for (int i = 0; i < nf; i++) known |= strcmp(f[i].name, key) == 0;
+        for (int i = 0; i < nf; i++)
+            known |= strcmp(f[i].name, key) == 0;
         if (known) continue;
         snprintf(ptr, sizeof ptr, "/%.100s", key);
         snprintf(msg, sizeof msg, "%s: unknown field", ptr);
@@ -221,7 +233,8 @@ ts_rc tsa_channel_select(const ts_model *m, const char *list, int *idx, int max,
     if (max < 1) return ts_err_set(err, TS_ERR_INTERNAL, NULL, "no room for channels");
     idx[k++] = 0;
     if (!list || !*list) {
-        for (int i = 1; i < ts_model_nchannel(m) && k < max; i++) idx[k++] = i;
+        for (int i = 1; i < ts_model_nchannel(m) && k < max; i++)
+            idx[k++] = i;
         *n = k;
         return TS_OK;
     }
@@ -241,7 +254,8 @@ ts_rc tsa_channel_select(const ts_model *m, const char *list, int *idx, int max,
                                   "channels: no channel named '%s' (see the session's channels)",
                                   name);
             int dup = 0;
-            for (int i = 0; i < k; i++) dup |= idx[i] == c;
+            for (int i = 0; i < k; i++)
+                dup |= idx[i] == c;
             if (!dup) {
                 if (k >= max)
                     return ts_err_set(err, TS_ERR_LIMIT, "/channels", "channels: too many");
@@ -302,7 +316,8 @@ void tsa_series_json(tsa_buf *b, const char *session, const ts_model *m, const i
     put_str(b, session);
     tsa_buf_printf(b, ",\"sample_rate\":%.12g,\"every\":%ld,\"count\":%ld,\"index\":[",
                    1.0 / ts_model_sample_period(m), every, nrows);
-    for (long r = 0; r < nrows; r++) tsa_buf_printf(b, r ? ",%ld" : "%ld", index[r]);
+    for (long r = 0; r < nrows; r++)
+        tsa_buf_printf(b, r ? ",%ld" : "%ld", index[r]);
     tsa_buf_put(b, "],\"channels\":[", 14);
     for (int i = 0; i < n; i++) {
         const ts_channel *c = ts_model_channel(m, idx[i]);

@@ -23,10 +23,12 @@ ts_rc tsa_amplitude_spectrum(const double *x, long n, double fs, int detrend, do
     if (!plan) goto nomem;
     double mean = 0.0;
     if (detrend) {
-        for (long i = 0; i < n; i++) mean += x[i];
+        for (long i = 0; i < n; i++)
+            mean += x[i];
         mean /= (double)n;
     }
-    for (long i = 0; i < n; i++) in[i] = x[i] - mean;
+    for (long i = 0; i < n; i++)
+        in[i] = x[i] - mean;
     fftw_execute(plan);
     for (long k = 0; k < nf; k++) {
         double mag = hypot(out[k][0], out[k][1]) / (double)n;

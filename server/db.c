@@ -39,8 +39,8 @@ static void log_err(sqlite3 *c, const char *what)
 static sqlite3 *open_conn(const char *path, char *err, size_t errlen)
 {
     sqlite3 *c = NULL;
-    if (sqlite3_open_v2(path, &c, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE |
-                                      SQLITE_OPEN_NOMUTEX, NULL) != SQLITE_OK) {
+    if (sqlite3_open_v2(path, &c, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX,
+                        NULL) != SQLITE_OK) {
         snprintf(err, errlen, "cannot open %s: %s", path, c ? sqlite3_errmsg(c) : "no memory");
         sqlite3_close(c);
         return NULL;
@@ -99,12 +99,16 @@ static int exec_w(tsd_db *db, const char *sql, const char *fmt, ...)
     if (sqlite3_prepare_v2(db->w, sql, -1, &st, NULL) != SQLITE_OK) goto out;
     va_start(ap, fmt);
     for (int i = 0; fmt[i]; i++) {
-        if (fmt[i] == 'i') sqlite3_bind_int64(st, i + 1, va_arg(ap, long));
-        else if (fmt[i] == 'd') sqlite3_bind_double(st, i + 1, va_arg(ap, double));
+        if (fmt[i] == 'i')
+            sqlite3_bind_int64(st, i + 1, va_arg(ap, long));
+        else if (fmt[i] == 'd')
+            sqlite3_bind_double(st, i + 1, va_arg(ap, double));
         else {
             const char *s = va_arg(ap, const char *);
-            if (s) sqlite3_bind_text(st, i + 1, s, -1, SQLITE_TRANSIENT);
-            else sqlite3_bind_null(st, i + 1);
+            if (s)
+                sqlite3_bind_text(st, i + 1, s, -1, SQLITE_TRANSIENT);
+            else
+                sqlite3_bind_null(st, i + 1);
         }
     }
     va_end(ap);
@@ -116,9 +120,8 @@ out:
     return rc;
 }
 
-int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created,
-                          const char *preset, const char *config_json, int nchannel,
-                          const char *status)
+int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created, const char *preset,
+                          const char *config_json, int nchannel, const char *status)
 {
     return exec_w(db,
                   "INSERT INTO sessions(seq,id,created,preset,config,nchannel,status,t,idx,error)"
@@ -155,8 +158,8 @@ int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, co
     pthread_mutex_lock(&db->wmu);
     if (sqlite3_exec(db->w, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK) goto out;
     what = "insert samples";
-    if (sqlite3_prepare_v2(db->w, "INSERT OR REPLACE INTO samples(seq,idx,vals) VALUES(?,?,?)",
-                           -1, &ins, NULL) != SQLITE_OK)
+    if (sqlite3_prepare_v2(db->w, "INSERT OR REPLACE INTO samples(seq,idx,vals) VALUES(?,?,?)", -1,
+                           &ins, NULL) != SQLITE_OK)
         goto rollback;
     for (long k = 0; k < nrows; k++) {
         sqlite3_bind_int64(ins, 1, seq);
@@ -179,8 +182,8 @@ int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, co
         if (sqlite3_step(st) != SQLITE_DONE) goto rollback;
     }
     what = "update session";
-    if (sqlite3_prepare_v2(db->w, "UPDATE sessions SET t=?, idx=?, status=? WHERE seq=?", -1,
-                           &up, NULL) != SQLITE_OK)
+    if (sqlite3_prepare_v2(db->w, "UPDATE sessions SET t=?, idx=?, status=? WHERE seq=?", -1, &up,
+                           NULL) != SQLITE_OK)
         goto rollback;
     sqlite3_bind_double(up, 1, t);
     sqlite3_bind_int64(up, 2, idx);

@@ -31,9 +31,8 @@ typedef struct tsd_db tsd_db;
 tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen);
 void tsd_db_close(tsd_db *db); /* NULL is a no-op */
 
-int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created,
-                          const char *preset, const char *config_json, int nchannel,
-                          const char *status);
+int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created, const char *preset,
+                          const char *config_json, int nchannel, const char *status);
 int tsd_db_session_status(tsd_db *db, long seq, const char *status, const char *error);
 int tsd_db_session_delete(tsd_db *db, long seq);
 
@@ -45,8 +44,8 @@ int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, co
 
 /* Visit every stored session in seq order (startup recovery). */
 typedef void (*tsd_db_session_fn)(void *ud, long seq, const char *id, double created,
-                                   const char *preset, const char *config_json, int nchannel,
-                                   const char *status, double t, long idx, const char *error);
+                                  const char *preset, const char *config_json, int nchannel,
+                                  const char *status, double t, long idx, const char *error);
 int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud);
 
 /* The stored state snapshot: *blob malloc'd (caller frees), *idx its index;

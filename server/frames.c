@@ -33,7 +33,8 @@ void tsd_renderers_free(tsd_server *srv)
 {
     tsd_renderers *g = srv->renderers;
     if (!g) return;
-    for (int i = 0; i < g->nidle; i++) tsr_ctx_free(g->idle[i]);
+    for (int i = 0; i < g->nidle; i++)
+        tsr_ctx_free(g->idle[i]);
     pthread_mutex_destroy(&g->mu);
     free(g);
     srv->renderers = NULL;
@@ -63,22 +64,22 @@ static void renderer_give(tsd_server *srv, tsr_ctx *c)
 
 typedef struct frames_ctx {
     tsd_server *srv;
-    tsd_session *s;          /* reference */
+    tsd_session *s; /* reference */
     struct MHD_Connection *conn;
     tsr_view view;
-    double k0, dk;           /* sample index of frame i: round(k0 + i dk) */
-    long n, i;               /* frames in all, next to draw */
+    double k0, dk; /* sample index of frame i: round(k0 + i dk) */
+    long n, i;     /* frames in all, next to draw */
     int single;
-    int pending;             /* a draw job is queued or running */
-    ts_data *d;              /* scratch state (draw jobs only) */
+    int pending; /* a draw job is queued or running */
+    ts_data *d;  /* scratch state (draw jobs only) */
     int have_state;
     ts_geom *g;
-    unsigned char *png;      /* the frame drawn last, not yet sent */
+    unsigned char *png; /* the frame drawn last, not yet sent */
     size_t png_len;
     long png_k;
-    ts_rc rc;                /* first failure */
+    ts_rc rc; /* first failure */
     ts_err err;
-    tsa_buf out;             /* multipart text not yet handed to MHD */
+    tsa_buf out; /* multipart text not yet handed to MHD */
     size_t off;
     int ended;
 } frames_ctx;
@@ -105,7 +106,8 @@ static ts_rc state_at(frames_ctx *f, long k)
     long sidx = -1;
     if (tsd_db_snapshot_at(f->srv->db, f->s->seq, k, &blob, &n, &sidx) != 0 || !blob) {
         free(blob);
-        return ts_err_set(&f->err, TS_ERR_NOTFOUND, "/t", "/t: no stored state at or before t = %g s",
+        return ts_err_set(&f->err, TS_ERR_NOTFOUND, "/t",
+                          "/t: no stored state at or before t = %g s",
                           (double)k * ts_model_sample_period(m));
     }
     ts_rc rc = TS_OK;
@@ -137,14 +139,17 @@ static void draw_job(void *arg)
     if (rc == TS_OK) rc = ts_geometry(f->s->m, f->d, f->g, &f->err);
     if (rc == TS_OK) {
         tsr_ctx *c = renderer_take(f->srv, &f->err);
-        if (!c) rc = f->err.code != TS_OK ? f->err.code : TS_ERR_UNSUPPORTED;
+        if (!c)
+            rc = f->err.code != TS_OK ? f->err.code : TS_ERR_UNSUPPORTED;
         else {
             rc = tsr_render_png(c, f->g, &f->view, NULL, &f->png, &f->png_len, &f->err);
             renderer_give(f->srv, c);
         }
     }
-    if (rc == TS_OK) f->png_k = k;
-    else if (f->rc == TS_OK) f->rc = rc;
+    if (rc == TS_OK)
+        f->png_k = k;
+    else if (f->rc == TS_OK)
+        f->rc = rc;
     f->i++;
     f->pending = 0;
     MHD_resume_connection(f->conn);
@@ -185,8 +190,10 @@ static ssize_t reader(void *cls, uint64_t pos, char *buf, size_t max)
         f->out.n = 0;
         f->off = 0;
         if (f->ended) return MHD_CONTENT_READER_END_OF_STREAM;
-        if (f->png) put_part(f);
-        else if (f->rc != TS_OK) return MHD_CONTENT_READER_END_WITH_ERROR; /* cut the stream */
+        if (f->png)
+            put_part(f);
+        else if (f->rc != TS_OK)
+            return MHD_CONTENT_READER_END_WITH_ERROR; /* cut the stream */
         else if (f->i < f->n) {
             if (!f->pending) queue_draw(f);
             return 0; /* suspended until the frame is drawn */

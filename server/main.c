@@ -34,24 +34,23 @@
 
 static void usage(FILE *f)
 {
-    fprintf(f,
-            "usage: tanksimd [OPTIONS]\n"
-            "Simulation server for the M1 Abrams track/vehicle/powertrain model.\n\n"
-            "  --bind ADDR      listen address (default 127.0.0.1)\n"
-            "  --port N         TCP port (default 8080)\n"
-            "  --data-dir DIR   sessions and results are kept here (default ./var)\n"
-            "  --threads N      simulation worker threads (default: number of cores)\n"
-            "  --max-body N     largest request body in bytes (default 1048576)\n"
-            "  --timeout S      idle connection timeout in seconds (default 60)\n"
-            "  --token T        require 'Authorization: Bearer T' (all but /v1/health)\n"
-            "  --web-root DIR   dashboard files served at / (default: web_static/ beside the\n"
-            "                   build directory of this binary, else ./web_static)\n"
-            "  --max-sessions N sessions kept at once (default 1000; more -> 429)\n"
-            "  --max-samples N  sample rows per series/FFT response (default 100000)\n"
-            "  --max-step S     longest synchronous step in simulated seconds (default 10)\n"
-            "  --routes         print the routing table and exit\n"
-            "  --help           this text\n"
-            "  --version        print the version\n");
+    fprintf(f, "usage: tanksimd [OPTIONS]\n"
+               "Simulation server for the M1 Abrams track/vehicle/powertrain model.\n\n"
+               "  --bind ADDR      listen address (default 127.0.0.1)\n"
+               "  --port N         TCP port (default 8080)\n"
+               "  --data-dir DIR   sessions and results are kept here (default ./var)\n"
+               "  --threads N      simulation worker threads (default: number of cores)\n"
+               "  --max-body N     largest request body in bytes (default 1048576)\n"
+               "  --timeout S      idle connection timeout in seconds (default 60)\n"
+               "  --token T        require 'Authorization: Bearer T' (all but /v1/health)\n"
+               "  --web-root DIR   dashboard files served at / (default: web_static/ beside the\n"
+               "                   build directory of this binary, else ./web_static)\n"
+               "  --max-sessions N sessions kept at once (default 1000; more -> 429)\n"
+               "  --max-samples N  sample rows per series/FFT response (default 100000)\n"
+               "  --max-step S     longest synchronous step in simulated seconds (default 10)\n"
+               "  --routes         print the routing table and exit\n"
+               "  --help           this text\n"
+               "  --version        print the version\n");
 }
 
 static int parse_int(const char *flag, const char *s, long lo, long hi, long *out)
@@ -158,8 +157,7 @@ int main(int argc, char **argv)
         i++;
     }
     if (make_dirs(o->data_dir) != 0) {
-        fprintf(stderr, "tanksimd: cannot create data dir %s: %s\n", o->data_dir,
-                strerror(errno));
+        fprintf(stderr, "tanksimd: cannot create data dir %s: %s\n", o->data_dir, strerror(errno));
         return 1;
     }
 

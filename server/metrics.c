@@ -5,8 +5,8 @@
  */
 #include "metrics.h"
 
-const char *const tsd_run_result_names[TSD_NRUN_RESULTS] = {"done", "paused", "cancelled",
-                                                            "failed", "interrupted"};
+const char *const tsd_run_result_names[TSD_NRUN_RESULTS] = {"done", "paused", "cancelled", "failed",
+                                                            "interrupted"};
 
 void tsd_metrics_request(tsd_metrics *m, unsigned status)
 {

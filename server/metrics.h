@@ -12,14 +12,14 @@
 #define TSD_NRUN_RESULTS 5 /* done, paused, cancelled, failed, interrupted */
 
 typedef struct tsd_metrics {
-    atomic_long requests[6][100];    /* by status class (1xx..5xx) and last two digits */
+    atomic_long requests[6][100]; /* by status class (1xx..5xx) and last two digits */
     atomic_long runs_started;
     atomic_long runs_ended[TSD_NRUN_RESULTS];
     atomic_long steps;
     atomic_long sessions_created;
     atomic_long samples_stored;
-    atomic_llong sim_microseconds;   /* simulated time advanced [us] */
-    atomic_llong wall_microseconds;  /* wall time spent advancing [us] */
+    atomic_llong sim_microseconds;  /* simulated time advanced [us] */
+    atomic_llong wall_microseconds; /* wall time spent advancing [us] */
 } tsd_metrics;
 
 extern const char *const tsd_run_result_names[TSD_NRUN_RESULTS];

@@ -46,7 +46,8 @@ static void op_free(tsd_op *op)
 void tsd_ops_free(tsd_server *srv)
 {
     if (!srv->ops) return;
-    for (int i = 0; i < srv->ops->n; i++) op_free(srv->ops->v[i]);
+    for (int i = 0; i < srv->ops->n; i++)
+        op_free(srv->ops->v[i]);
     pthread_mutex_destroy(&srv->ops->mu);
     free(srv->ops);
     srv->ops = NULL;
@@ -87,7 +88,10 @@ tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double unti
     return op;
 }
 
-const char *tsd_op_id(const tsd_op *op) { return op->id; }
+const char *tsd_op_id(const tsd_op *op)
+{
+    return op->id;
+}
 
 void tsd_op_progress(tsd_server *srv, tsd_op *op, double t)
 {
@@ -118,14 +122,16 @@ static json_t *op_json(const tsd_op *op)
     double wall = op->wall_last - op->wall_start;
     char name[48];
     snprintf(name, sizeof name, "operations/%s", op->id);
-    json_t *j = json_pack(
-        "{s:s,s:s,s:b,s:{s:s,s:f,s:f,s:f,s:f,s:f,s:f}}", "name", name, "id", op->id, "done",
-        op->done, "metadata", "session", op->sid, "progress", progress, "t", op->t, "t_start",
-        op->t_start, "until", op->until, "wall_time_s", wall, "real_time_factor",
-        wall > 0 ? (op->t - op->t_start) / wall : 0.0);
+    json_t *j =
+        json_pack("{s:s,s:s,s:b,s:{s:s,s:f,s:f,s:f,s:f,s:f,s:f}}", "name", name, "id", op->id,
+                  "done", op->done, "metadata", "session", op->sid, "progress", progress, "t",
+                  op->t, "t_start", op->t_start, "until", op->until, "wall_time_s", wall,
+                  "real_time_factor", wall > 0 ? (op->t - op->t_start) / wall : 0.0);
     if (j && op->done) {
-        if (op->error) json_object_set(j, "error", op->error);
-        else if (op->response) json_object_set(j, "response", op->response);
+        if (op->error)
+            json_object_set(j, "error", op->error);
+        else if (op->response)
+            json_object_set(j, "response", op->response);
     }
     return j;
 }

@@ -25,8 +25,8 @@ struct tsd_pool {
     pthread_cond_t cv;
     job *head, *tail;
     int stopping;
-    int njobs;    /* queued */
-    int running;  /* being run */
+    int njobs;   /* queued */
+    int running; /* being run */
     int nthreads;
     pthread_t *threads;
 };
@@ -45,8 +45,10 @@ static job *take_due(tsd_pool *p, double now, double *earliest)
     *earliest = INFINITY;
     for (job *j = p->head; j; prev = j, j = j->next) {
         if (p->stopping || j->not_before <= now) {
-            if (prev) prev->next = j->next;
-            else p->head = j->next;
+            if (prev)
+                prev->next = j->next;
+            else
+                p->head = j->next;
             if (p->tail == j) p->tail = prev;
             p->njobs--;
             return j;
@@ -127,8 +129,10 @@ int tsd_pool_submit(tsd_pool *p, tsd_job_fn fn, void *arg, double not_before)
         free(j);
         return -1;
     }
-    if (p->tail) p->tail->next = j;
-    else p->head = j;
+    if (p->tail)
+        p->tail->next = j;
+    else
+        p->head = j;
     p->tail = j;
     p->njobs++;
     pthread_cond_broadcast(&p->cv);
@@ -159,7 +163,8 @@ void tsd_pool_stop(tsd_pool *p)
     p->stopping = 1;
     pthread_cond_broadcast(&p->cv);
     pthread_mutex_unlock(&p->mu);
-    for (int i = 0; i < p->nthreads; i++) pthread_join(p->threads[i], NULL);
+    for (int i = 0; i < p->nthreads; i++)
+        pthread_join(p->threads[i], NULL);
     pthread_mutex_destroy(&p->mu);
     pthread_cond_destroy(&p->cv);
     free(p->threads);

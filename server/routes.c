@@ -133,7 +133,8 @@ static enum MHD_Result get_openapi(tsd_request *r)
         ts_err_set(&e, TS_ERR_NOTFOUND, NULL, "api/openapi.yaml is not in this build");
         return tsd_reply_err(r, &e, NULL);
     }
-    return tsd_reply_text(r, MHD_HTTP_OK, "application/yaml; charset=utf-8", (const char *)f->data, f->size);
+    return tsd_reply_text(r, MHD_HTTP_OK, "application/yaml; charset=utf-8", (const char *)f->data,
+                          f->size);
 }
 
 static enum MHD_Result get_metrics(tsd_request *r)
@@ -146,8 +147,8 @@ static enum MHD_Result get_metrics(tsd_request *r)
     tsa_buf_printf(&b, "# HELP tanksimd_sessions Sessions held, by status.\n"
                        "# TYPE tanksimd_sessions gauge\n");
     for (int i = 0; i < TSD_NSTATUS; i++)
-        tsa_buf_printf(&b, "tanksimd_sessions{status=\"%s\"} %ld\n",
-                       tsd_status_name((tsd_status)i), counts[i]);
+        tsa_buf_printf(&b, "tanksimd_sessions{status=\"%s\"} %ld\n", tsd_status_name((tsd_status)i),
+                       counts[i]);
     tsa_buf_printf(&b,
                    "# HELP tanksimd_sessions_created_total Sessions created since start.\n"
                    "# TYPE tanksimd_sessions_created_total counter\n"
@@ -187,8 +188,9 @@ static enum MHD_Result get_metrics(tsd_request *r)
     for (int c = 1; c < 6; c++)
         for (int k = 0; k < 100; k++) {
             long n = atomic_load(&m->requests[c][k]);
-            if (n) tsa_buf_printf(&b, "tanksimd_http_requests_total{code=\"%d\"} %ld\n",
-                                  100 * c + k, n);
+            if (n)
+                tsa_buf_printf(&b, "tanksimd_http_requests_total{code=\"%d\"} %ld\n", 100 * c + k,
+                               n);
         }
     size_t len;
     char *text = tsa_buf_take(&b, &len);
@@ -242,9 +244,9 @@ static enum MHD_Result get_preset(tsd_request *r)
         json_decref(doc);
         return tsd_reply_err(r, &e, NULL);
     }
-    return tsd_reply_json(r, MHD_HTTP_OK,
-                          json_pack("{s:s,s:o,s:o}", "name", r->params[0], "preset", doc,
-                                    "config", resolved));
+    return tsd_reply_json(
+        r, MHD_HTTP_OK,
+        json_pack("{s:s,s:o,s:o}", "name", r->params[0], "preset", doc, "config", resolved));
 }
 
 static enum MHD_Result get_schema(tsd_request *r)
@@ -317,7 +319,10 @@ static enum MHD_Result delete_session(tsd_request *r)
 }
 
 /* Step: parse, hand to the pool, suspend; step_resumed replies. */
-static void step_done(void *ud) { tsd_request_resume(ud); }
+static void step_done(void *ud)
+{
+    tsd_request_resume(ud);
+}
 
 static enum MHD_Result step_resumed(tsd_request *r)
 {
@@ -367,8 +372,7 @@ static enum MHD_Result post_step(tsd_request *r)
 static enum MHD_Result post_run(tsd_request *r)
 {
     ts_err e;
-    json_t *doc = tsa_parse_object(r->body_len ? r->body : "{}", r->body_len ? r->body_len : 2,
-                                   &e);
+    json_t *doc = tsa_parse_object(r->body_len ? r->body : "{}", r->body_len ? r->body_len : 2, &e);
     if (!doc) return tsd_reply_err(r, &e, NULL);
     tsd_session *s = r->session;
     double until = s->m ? ts_model_config(s->m)->run.duration : 0, rtf = 0;
@@ -444,8 +448,8 @@ static enum MHD_Result get_series(tsd_request *r)
         return tsd_reply_err(r, &e, NULL);
     }
     int more = 0;
-    long n = start <= q.to ? tsd_db_rows(r->srv->db, s->seq, start, q.to, every, page_size,
-                                         s->nch, index, rows, &more)
+    long n = start <= q.to ? tsd_db_rows(r->srv->db, s->seq, start, q.to, every, page_size, s->nch,
+                                         index, rows, &more)
                            : 0;
     if (n < 0) {
         free(index);
@@ -534,15 +538,15 @@ static enum MHD_Result get_fft(tsd_request *r)
     long nf = want / 2 + 1;
     double *freq = malloc(sizeof(double) * (size_t)nf), *amp = malloc(sizeof(double) * (size_t)nf);
     int more;
-    long n = (index && rows && x && freq && amp)
-                 ? tsd_db_rows(r->srv->db, s->seq, q.from, q.to, 1, want, s->nch, index, rows,
-                               &more)
-                 : -1;
+    long n = (index && rows && x && freq && amp) ? tsd_db_rows(r->srv->db, s->seq, q.from, q.to, 1,
+                                                               want, s->nch, index, rows, &more)
+                                                 : -1;
     ts_rc rc = TS_OK;
     if (n != want) rc = ts_err_set(&e, TS_ERR_IO, NULL, "could not read %ld samples", want);
     int c = q.idx[q.n - 1]; /* the named channel (t is always idx[0]) */
     if (rc == TS_OK) {
-        for (long k = 0; k < n; k++) x[k] = rows[(size_t)k * (size_t)s->nch + (size_t)c];
+        for (long k = 0; k < n; k++)
+            x[k] = rows[(size_t)k * (size_t)s->nch + (size_t)c];
         pthread_mutex_lock(&r->srv->fft_lock);
         rc = tsa_amplitude_spectrum(x, n, 1.0 / ts_model_sample_period(s->m), 1, freq, amp, &e);
         pthread_mutex_unlock(&r->srv->fft_lock);
@@ -556,10 +560,11 @@ static enum MHD_Result get_fft(tsd_request *r)
         }
         const ts_channel *chn = ts_model_channel(s->m, c);
         out = json_pack("{s:s,s:s,s:s,s:f,s:f,s:I,s:f,s:s,s:o,s:o}", "session", s->id, "channel",
-                        chn->name, "unit", chn->unit, "from", (double)q.from * ts_model_sample_period(s->m),
-                        "to", (double)q.to * ts_model_sample_period(s->m), "n", (json_int_t)n,
-                        "df", 1.0 / ((double)n * ts_model_sample_period(s->m)), "detrend",
-                        "mean removed", "frequency", fa, "amplitude", aa);
+                        chn->name, "unit", chn->unit, "from",
+                        (double)q.from * ts_model_sample_period(s->m), "to",
+                        (double)q.to * ts_model_sample_period(s->m), "n", (json_int_t)n, "df",
+                        1.0 / ((double)n * ts_model_sample_period(s->m)), "detrend", "mean removed",
+                        "frequency", fa, "amplitude", aa);
     }
     free(index);
     free(rows);
@@ -595,8 +600,10 @@ static int parse_view(tsd_request *r, tsr_view *v, enum MHD_Result *ret)
     }
     const char *color = tsd_arg(r, "color");
     if (color) {
-        if (strcmp(color, "tension") == 0) v->color_by_tension = 1;
-        else if (strcmp(color, "plain") == 0) v->color_by_tension = 0;
+        if (strcmp(color, "tension") == 0)
+            v->color_by_tension = 1;
+        else if (strcmp(color, "plain") == 0)
+            v->color_by_tension = 0;
         else {
             *ret = bad_param(r, "color", "tension or plain expected", color);
             return -1;
@@ -685,8 +692,7 @@ static enum MHD_Result modes_resumed(tsd_request *r)
 static enum MHD_Result post_modes(tsd_request *r)
 {
     ts_err e;
-    json_t *doc = tsa_parse_object(r->body_len ? r->body : "{}", r->body_len ? r->body_len : 2,
-                                   &e);
+    json_t *doc = tsa_parse_object(r->body_len ? r->body : "{}", r->body_len ? r->body_len : 2, &e);
     if (!doc) return tsd_reply_err(r, &e, NULL);
     r->async_doc = doc;
     r->async_errors = json_array();
@@ -773,8 +779,7 @@ static int match(const char *pattern, const char *url, tsd_request *r)
         if (*p == '{') {
             const char *pe = strchr(p, '}');
             size_t len = strcspn(u, "/:");
-            if (!pe || len == 0 || len >= sizeof r->params[0] || n >= TSD_MAX_PATH_PARAMS)
-                return 0;
+            if (!pe || len == 0 || len >= sizeof r->params[0] || n >= TSD_MAX_PATH_PARAMS) return 0;
             memcpy(r->params[n], u, len);
             r->params[n][len] = '\0';
             n++;
@@ -801,7 +806,8 @@ static int authorized(tsd_request *r)
     h += 7;
     size_t a = strlen(h), b = strlen(tok);
     unsigned diff = (unsigned)(a ^ b);
-    for (size_t i = 0; i < a; i++) diff |= (unsigned char)h[i] ^ (unsigned char)tok[i % b];
+    for (size_t i = 0; i < a; i++)
+        diff |= (unsigned char)h[i] ^ (unsigned char)tok[i % b];
     return diff == 0;
 }
 
@@ -819,10 +825,8 @@ enum MHD_Result tsd_route(tsd_request *r)
     }
     if (!(row && (row->flags & RF_PUBLIC)) && !authorized(r)) {
         r->www_authenticate = 1;
-        return tsd_reply_problem(r, MHD_HTTP_UNAUTHORIZED, "/problems/unauthorized",
-                                 "Unauthorized",
-                                 "this daemon needs 'Authorization: Bearer TOKEN' (--token)",
-                                 NULL);
+        return tsd_reply_problem(r, MHD_HTTP_UNAUTHORIZED, "/problems/unauthorized", "Unauthorized",
+                                 "this daemon needs 'Authorization: Bearer TOKEN' (--token)", NULL);
     }
     if (row) {
         if (row->flags & RF_SESSION) {
@@ -830,8 +834,8 @@ enum MHD_Result tsd_route(tsd_request *r)
             if (!r->session) {
                 char detail[200];
                 snprintf(detail, sizeof detail, "no session '%s'", r->params[0]);
-                return tsd_reply_problem(r, MHD_HTTP_NOT_FOUND, "/problems/not-found",
-                                         "Not found", detail, NULL);
+                return tsd_reply_problem(r, MHD_HTTP_NOT_FOUND, "/problems/not-found", "Not found",
+                                         detail, NULL);
             }
         }
         return row->handler(r);

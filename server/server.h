@@ -28,61 +28,60 @@ struct tsd_renderers;
 #define TSD_MAX_PATH_PARAMS 4
 
 typedef struct tsd_options {
-    char bind[64];          /* listen address (IPv4 or IPv6 literal) */
-    int port;               /* TCP port */
-    char data_dir[512];     /* where sessions and results persist */
-    int threads;            /* simulation worker threads */
-    int http_threads;       /* libmicrohttpd thread-pool size */
-    size_t max_body;        /* largest request body accepted [bytes] */
-    unsigned conn_timeout;  /* idle connection timeout [s] */
-    char token[128];        /* bearer token; empty = no authentication */
-    int max_sessions;       /* sessions kept at once (create beyond -> 429) */
-    long max_samples;       /* sample rows per series/FFT response (page past it) */
-    double max_step;        /* longest synchronous step [s simulated] (longer -> 422) */
-    int list_routes;        /* --routes: print the routing table and exit */
-    char web_root[512];     /* dashboard files served at / (static_files.c) */
+    char bind[64];         /* listen address (IPv4 or IPv6 literal) */
+    int port;              /* TCP port */
+    char data_dir[512];    /* where sessions and results persist */
+    int threads;           /* simulation worker threads */
+    int http_threads;      /* libmicrohttpd thread-pool size */
+    size_t max_body;       /* largest request body accepted [bytes] */
+    unsigned conn_timeout; /* idle connection timeout [s] */
+    char token[128];       /* bearer token; empty = no authentication */
+    int max_sessions;      /* sessions kept at once (create beyond -> 429) */
+    long max_samples;      /* sample rows per series/FFT response (page past it) */
+    double max_step;       /* longest synchronous step [s simulated] (longer -> 422) */
+    char web_root[512];    /* dashboard files served at / (static_files.c) */
 } tsd_options;
 
 typedef struct tsd_server {
     tsd_options opt;
     struct MHD_Daemon *mhd;
-    struct tsd_pool *pool;      /* simulation workers (pool.h) */
-    struct tsd_db *db;          /* persistence (db.h) */
-    struct tsd_registry *reg;   /* sessions (session.h) */
-    struct tsd_ops *ops;        /* run operations (operations.h) */
+    struct tsd_pool *pool;           /* simulation workers (pool.h) */
+    struct tsd_db *db;               /* persistence (db.h) */
+    struct tsd_registry *reg;        /* sessions (session.h) */
+    struct tsd_ops *ops;             /* run operations (operations.h) */
     struct tsd_renderers *renderers; /* OpenGL contexts for frames (frames.h) */
-    tsd_metrics metrics;        /* counters for /metrics (metrics.h) */
-    pthread_mutex_t fft_lock;   /* FFTW's planner is not thread-safe */
-    atomic_int stopping;        /* set once shutdown begins */
+    tsd_metrics metrics;             /* counters for /metrics (metrics.h) */
+    pthread_mutex_t fft_lock;        /* FFTW's planner is not thread-safe */
+    atomic_int stopping;             /* set once shutdown begins */
 } tsd_server;
 
 typedef struct tsd_request {
     tsd_server *srv;
     struct MHD_Connection *conn;
-    const char *method;       /* "GET", ... (owned by libmicrohttpd) */
-    const char *url;          /* path without query (owned by libmicrohttpd) */
-    char *body;               /* request body, NUL-terminated (owned) */
+    const char *method; /* "GET", ... (owned by libmicrohttpd) */
+    const char *url;    /* path without query (owned by libmicrohttpd) */
+    char *body;         /* request body, NUL-terminated (owned) */
     size_t body_len;
-    int body_too_large;       /* set when the body passed opt.max_body */
+    int body_too_large;                    /* set when the body passed opt.max_body */
     char params[TSD_MAX_PATH_PARAMS][128]; /* {id}-style path segments matched */
     int nparams;
-    unsigned status;          /* status sent (for the log) */
-    size_t bytes;             /* response body bytes (for the log) */
-    double t_start;           /* monotonic seconds at arrival */
+    unsigned status; /* status sent (for the log) */
+    size_t bytes;    /* response body bytes (for the log) */
+    double t_start;  /* monotonic seconds at arrival */
     /* Deferred replies: a handler that hands work to the pool suspends the
      * connection and sets on_resume; the worker fills async_* and resumes it;
      * the next access-handler call runs on_resume to queue the response. */
     enum MHD_Result (*on_resume)(struct tsd_request *r);
-    json_t *async_result;     /* owned; set by the worker */
-    ts_err async_err;         /* set by the worker on failure */
-    json_t *async_errors;     /* owned; config errors [{pointer, message}] on failure */
-    json_t *async_doc;        /* owned; the parsed body handed to the worker */
-    void *async_ctx;          /* handler's own job context */
+    json_t *async_result;          /* owned; set by the worker */
+    ts_err async_err;              /* set by the worker on failure */
+    json_t *async_errors;          /* owned; config errors [{pointer, message}] on failure */
+    json_t *async_doc;             /* owned; the parsed body handed to the worker */
+    void *async_ctx;               /* handler's own job context */
     void (*async_free)(void *ctx); /* frees async_ctx at completion (NULL: nothing) */
-    struct tsd_session *session; /* RF_SESSION routes: looked-up session (reference) */
-    char location[96];        /* Location header of the reply ("" = none) */
-    char next_token[32];      /* X-Next-Page-Token header of the reply ("" = none) */
-    int www_authenticate;     /* add WWW-Authenticate: Bearer (401) */
+    struct tsd_session *session;   /* RF_SESSION routes: looked-up session (reference) */
+    char location[96];             /* Location header of the reply ("" = none) */
+    char next_token[32];           /* X-Next-Page-Token header of the reply ("" = none) */
+    int www_authenticate;          /* add WWW-Authenticate: Bearer (401) */
 } tsd_request;
 
 /* Start listening as configured; 0 on success, -1 with a message in err. */

@@ -4,21 +4,26 @@
  *
  * State diagram (the function that makes each transition in brackets):
  *
- *                 [tsd_session_run]            [run_finish: until < duration
- *     created ─────────────────────▶ running ──────────────────▶ paused
- *        │                           ▲  │ │    or cancelled]       │
- *        │ [step_job]                │  │ └──[run_finish: t =     │
- *        ▼                           │  │     duration]──▶ done   │
- *      paused ◀──[step_job]── paused │  │                         │
- *        │                           │  └──[run_finish: model     │
- *        └──────[tsd_session_run]────┘      error]──▶ failed      │
- *                                    ▲                (sticky)    │
- *     interrupted ──[tsd_session_run]┘                            │
- *        ▲                                                        │
- *        └──[load_session: "running" found at start-up, or        │
- *            run_finish while the daemon shuts down]              │
- *     paused ⇄ running as above; step_job: created | paused | interrupted
- *     → paused | done | failed.
+ *            [tsd_session_create]
+ *                    │
+ *                    ▼        [tsd_session_run]
+ *                 created ─────────────────────────┐
+ *                    │ [step_job]                  ▼
+ *                    ▼        [tsd_session_run]
+ *        ┌───────▶ paused ─────────────────────▶ running ──[run_finish: t = duration]──▶ done
+ *        │           ▲ │ [step_job]              │  │ │
+ *        │           │ └──────────┘              │  │ └──[run_finish: model error]──▶ failed
+ *        │           │                           │  │                                (sticky)
+ *        │           └──[run_finish: until <     │  │
+ *        │               duration, or cancelled]─┘  │
+ *        │                                          │ [run_finish during shutdown;
+ *        │ [step_job]                               ▼  load_session: "running" in the
+ *        └──────────────────────────────── interrupted  database at start-up]
+ *                                   [tsd_session_run] ──▶ running
+ *
+ *   step_job also goes to done (t reached run.duration) or failed (model error)
+ *   from created | paused | interrupted. tsd_session_delete removes a session
+ *   in any state (a running job stops at its next sample).
  *
  * Invariants:
  *  (1) Only the holder of `busy` touches d, the batch and the snapshot, and
@@ -52,10 +57,11 @@
 #include "operations.h"
 #include "pool.h"
 
-#define BATCH_ROWS 256     /* rows per database transaction during a run */
-#define SLICE_WALL 0.05    /* wall seconds a run may hold a worker before re-queueing */
-#define PACE_AHEAD 0.02    /* a paced run yields once it is this far ahead of real time [s]
-                              (so a batch holds >= 20 ms of samples, not one row) */
+#define BATCH_ROWS 256  /* rows per database transaction during a run */
+#define SLICE_WALL 0.05 /* wall seconds a run may hold a worker before re-queueing */
+#define PACE_AHEAD                                                                                 \
+    0.02 /* a paced run yields once it is this far ahead of real time [s]                          \
+            (so a batch holds >= 20 ms of samples, not one row) */
 
 typedef struct tsd_registry {
     pthread_mutex_t mu;
@@ -64,8 +70,8 @@ typedef struct tsd_registry {
     long next_seq;
 } tsd_registry;
 
-static const char *const status_names[TSD_NSTATUS] = {"created", "running",     "paused",
-                                                       "done",    "failed",      "interrupted"};
+static const char *const status_names[TSD_NSTATUS] = {"created", "running", "paused",
+                                                      "done",    "failed",  "interrupted"};
 
 const char *tsd_status_name(tsd_status st)
 {
@@ -249,13 +255,12 @@ int tsd_sessions_init(tsd_server *srv, char *err, size_t errlen)
     return 0;
 }
 
-
-
 void tsd_sessions_free(tsd_server *srv)
 {
     tsd_registry *g = srv->reg;
     if (!g) return;
-    for (int i = 0; i < g->n; i++) tsd_session_put(g->v[i]);
+    for (int i = 0; i < g->n; i++)
+        tsd_session_put(g->v[i]);
     free(g->v);
     pthread_mutex_destroy(&g->mu);
     free(g);
@@ -264,7 +269,8 @@ void tsd_sessions_free(tsd_server *srv)
 
 void tsd_sessions_count(tsd_server *srv, long counts[TSD_NSTATUS])
 {
-    for (int i = 0; i < TSD_NSTATUS; i++) counts[i] = 0;
+    for (int i = 0; i < TSD_NSTATUS; i++)
+        counts[i] = 0;
     pthread_mutex_lock(&srv->reg->mu);
     for (int i = 0; i < srv->reg->n; i++) {
         tsd_session *s = srv->reg->v[i];
@@ -317,8 +323,10 @@ int tsd_session_await(tsd_session *s, long next, tsd_waiter *w)
 {
     int r;
     pthread_mutex_lock(&s->mu);
-    if (next < s->persisted) r = 1;
-    else if (s->status != TSD_RUNNING || s->deleted || atomic_load(&s->srv->stopping)) r = -1;
+    if (next < s->persisted)
+        r = 1;
+    else if (s->status != TSD_RUNNING || s->deleted || atomic_load(&s->srv->stopping))
+        r = -1;
     else {
         w->next = s->waiters;
         w->linked = 1;
@@ -448,7 +456,7 @@ ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
     wake_locked(s);
     pthread_mutex_unlock(&s->mu);
     if (idle) tsd_db_session_delete(srv->db, s->seq); /* invariant 5 */
-    tsd_session_put(s); /* the registry's reference */
+    tsd_session_put(s);                               /* the registry's reference */
     return TS_OK;
 }
 
@@ -544,12 +552,12 @@ typedef enum { ADV_NONE, ADV_YIELD, ADV_PACE, ADV_CANCEL, ADV_STOP, ADV_IO } adv
 
 typedef struct advance_ctx {
     tsd_session *s;
-    const char *status;   /* status stored with each batch */
-    double slice_end;     /* monotonic deadline of this slice (0 = none) */
-    double rtf;           /* real-time cap (0 = none) */
-    double pace_t0;       /* simulated time at pace_wall0 */
-    double pace_wall0;    /* monotonic time the run started */
-    double resume_at;     /* when paced out: monotonic time to continue */
+    const char *status; /* status stored with each batch */
+    double slice_end;   /* monotonic deadline of this slice (0 = none) */
+    double rtf;         /* real-time cap (0 = none) */
+    double pace_t0;     /* simulated time at pace_wall0 */
+    double pace_wall0;  /* monotonic time the run started */
+    double resume_at;   /* when paced out: monotonic time to continue */
     adv_reason reason;
 } advance_ctx;
 
@@ -610,8 +618,10 @@ static void release(tsd_session *s, tsd_status st, const char *error)
     int deleted = s->deleted;
     wake_locked(s);
     pthread_mutex_unlock(&s->mu);
-    if (deleted) tsd_db_session_delete(s->srv->db, s->seq); /* invariant 5 */
-    else tsd_db_session_status(s->srv->db, s->seq, tsd_status_name(st), error);
+    if (deleted)
+        tsd_db_session_delete(s->srv->db, s->seq); /* invariant 5 */
+    else
+        tsd_db_session_status(s->srv->db, s->seq, tsd_status_name(st), error);
 }
 
 /* ---- step -------------------------------------------------------------------- */
@@ -645,8 +655,8 @@ static void step_job(void *arg)
     if (rc == TS_OK) {
         pthread_mutex_lock(&s->mu);
         *j->result = json_pack("{s:s,s:s,s:f,s:I,s:o}", "id", s->id, "status",
-                               tsd_status_name(s->status), "t", s->t, "index",
-                               (json_int_t)s->index, "values", tsa_values_json(s->m, s->latest));
+                               tsd_status_name(s->status), "t", s->t, "index", (json_int_t)s->index,
+                               "values", tsa_values_json(s->m, s->latest));
         pthread_mutex_unlock(&s->mu);
     } else {
         *j->err = err;
@@ -659,20 +669,20 @@ static void step_job(void *arg)
 /* Take busy for a step or run: 409 unless created | paused | interrupted. */
 static ts_rc acquire(tsd_session *s, ts_err *err)
 {
-    if (!s->m) return ts_err_set(err, TS_ERR_STATE, NULL, "session %s has no model: %s", s->id,
-                                 s->error);
+    if (!s->m)
+        return ts_err_set(err, TS_ERR_STATE, NULL, "session %s has no model: %s", s->id, s->error);
     pthread_mutex_lock(&s->mu);
     ts_rc rc = TS_OK;
     if (s->busy || s->deleted)
-        rc = ts_err_set(err, TS_ERR_STATE, NULL, "session %s is busy (%s)", s->id,
-                        s->status == TSD_RUNNING ? "a run is in progress" : "a step is in progress");
+        rc =
+            ts_err_set(err, TS_ERR_STATE, NULL, "session %s is busy (%s)", s->id,
+                       s->status == TSD_RUNNING ? "a run is in progress" : "a step is in progress");
     else if (s->status == TSD_DONE)
         rc = ts_err_set(err, TS_ERR_STATE, NULL,
                         "session %s is done: it reached run.duration = %g s", s->id,
                         ts_model_config(s->m)->run.duration);
     else if (s->status == TSD_FAILED)
-        rc = ts_err_set(err, TS_ERR_STATE, NULL, "session %s failed earlier: %s", s->id,
-                        s->error);
+        rc = ts_err_set(err, TS_ERR_STATE, NULL, "session %s failed earlier: %s", s->id, s->error);
     else {
         s->busy = 1;
         atomic_store(&s->cancel, 0);
@@ -730,10 +740,10 @@ static void run_finish(run_job_arg *j, tsd_status st, ts_rc rc, const ts_err *er
     } else {
         response = tsd_session_json(s, 1);
     }
-    int r = st == TSD_DONE          ? 0
-            : st == TSD_PAUSED      ? (rc == TS_ERR_CANCELLED ? 2 : 1)
-            : st == TSD_FAILED      ? 3
-                                    : 4;
+    int r = st == TSD_DONE     ? 0
+            : st == TSD_PAUSED ? (rc == TS_ERR_CANCELLED ? 2 : 1)
+            : st == TSD_FAILED ? 3
+                               : 4;
     atomic_fetch_add(&srv->metrics.runs_ended[r], 1);
     tsd_op_progress(srv, j->op, ts_time(s->d));
     tsd_op_finish(srv, j->op, response, error);
@@ -834,4 +844,7 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
     return TS_OK;
 }
 
-void tsd_session_cancel(tsd_session *s) { atomic_store(&s->cancel, 1); }
+void tsd_session_cancel(tsd_session *s)
+{
+    atomic_store(&s->cancel, 1);
+}

@@ -44,19 +44,19 @@ typedef struct tsd_waiter {
 
 typedef struct tsd_session {
     tsd_server *srv;
-    char id[24];         /* "s" + 16 hex digits */
-    long seq;            /* creation order; the database key */
-    double created;      /* Unix time [s] */
-    char preset[128];    /* preset named at creation ("" if none) */
-    json_t *config;      /* resolved config document (immutable) */
-    ts_model *m;         /* NULL when the model could not be rebuilt after a restart */
-    ts_data *d;          /* owned by the busy holder */
-    int nch;             /* channels per row */
-    double *batch;       /* rows not yet stored, batch_cap x nch (busy holder) */
+    char id[24];      /* "s" + 16 hex digits */
+    long seq;         /* creation order; the database key */
+    double created;   /* Unix time [s] */
+    char preset[128]; /* preset named at creation ("" if none) */
+    json_t *config;   /* resolved config document (immutable) */
+    ts_model *m;      /* NULL when the model could not be rebuilt after a restart */
+    ts_data *d;       /* owned by the busy holder */
+    int nch;          /* channels per row */
+    double *batch;    /* rows not yet stored, batch_cap x nch (busy holder) */
     long batch_n, batch_cap, batch_first;
-    void *snapshot;      /* ts_state_size bytes (busy holder) */
+    void *snapshot; /* ts_state_size bytes (busy holder) */
     size_t snapshot_size;
-    atomic_int cancel;   /* set by cancel/delete/shutdown; read by the running job */
+    atomic_int cancel; /* set by cancel/delete/shutdown; read by the running job */
     pthread_mutex_t mu;
     int refs;            /* (mu) */
     tsd_status status;   /* (mu) */

@@ -10,22 +10,22 @@
 #include "../api/session_json.h"
 #include "db.h"
 
-#define CHUNK_ROWS 256  /* rows read from the database per refill */
+#define CHUNK_ROWS          256 /* rows read from the database per refill */
 #define MAX_STREAM_CHANNELS 512
 
 typedef struct stream_ctx {
     tsd_server *srv;
-    tsd_session *s;     /* reference held until the response is freed */
+    tsd_session *s; /* reference held until the response is freed */
     tsd_waiter w;
     int idx[MAX_STREAM_CHANNELS];
     int n;
-    long next;          /* index of the next row to send */
+    long next; /* index of the next row to send */
     int ndjson;
     int ended;
-    tsa_buf buf;        /* formatted text not yet handed to MHD */
+    tsa_buf buf; /* formatted text not yet handed to MHD */
     size_t off;
     long index[CHUNK_ROWS];
-    double *rows;       /* CHUNK_ROWS x nch */
+    double *rows; /* CHUNK_ROWS x nch */
 } stream_ctx;
 
 static void refill(stream_ctx *c)
@@ -76,8 +76,10 @@ static ssize_t reader(void *cls, uint64_t pos, char *out, size_t max)
         if (c->ended) return MHD_CONTENT_READER_END_OF_STREAM;
         int r = tsd_session_await(c->s, c->next, &c->w);
         if (r == 0) return 0; /* suspended; resumed by the next stored batch */
-        if (r > 0) refill(c);
-        else finish(c);
+        if (r > 0)
+            refill(c);
+        else
+            finish(c);
         if (c->buf.oom) return MHD_CONTENT_READER_END_WITH_ERROR;
         if (c->buf.n == 0) return c->ended ? MHD_CONTENT_READER_END_OF_STREAM : 0;
     }
@@ -98,8 +100,8 @@ static void release(void *cls)
     free(c);
 }
 
-enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx, int n,
-                                 long since, int ndjson)
+enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx, int n, long since,
+                                 int ndjson)
 {
     stream_ctx *c = calloc(1, sizeof *c);
     if (!c) return MHD_NO;

@@ -22,7 +22,7 @@
 #include "session.h"
 
 /* Queue the streaming response. idx[n] are the channels (index 0 = t first). */
-enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx, int n,
-                                 long since, int ndjson);
+enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx, int n, long since,
+                                 int ndjson);
 
 #endif

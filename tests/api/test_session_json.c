@@ -33,9 +33,9 @@ static void spectrum_of_two_sines(void **state)
     assert_int_equal(tsa_amplitude_spectrum(x, n, fs, 1, f, a, &err), TS_OK);
     assert_close(f[1], 0.5, 1e-12, 0);
     assert_close(f[n / 2], 250.0, 1e-12, 0);
-    assert_close(a[0], 0.0, 0, 1e-9);   /* mean removed */
-    assert_close(a[10], 2.0, 1e-9, 0);  /* 5 Hz */
-    assert_close(a[85], 0.5, 1e-9, 0);  /* 42.5 Hz */
+    assert_close(a[0], 0.0, 0, 1e-9);  /* mean removed */
+    assert_close(a[10], 2.0, 1e-9, 0); /* 5 Hz */
+    assert_close(a[85], 0.5, 1e-9, 0); /* 42.5 Hz */
     for (long k = 1; k <= n / 2; k++)
         if (k != 10 && k != 85) assert_close(a[k], 0.0, 0, 1e-9);
     /* without detrending the mean shows at DC */
@@ -55,16 +55,17 @@ static void numbers_report_every_field(void **state)
     json_t *doc = tsa_parse_object(body, strlen(body), &err);
     assert_non_null(doc);
     double d = 0, u = 0;
-    tsa_num_field f[] = {{"duration", 1, 0, 10, &d, NULL}, {"until", 0, 0, 10, &u, NULL},
+    tsa_num_field f[] = {{"duration", 1, 0, 10, &d, NULL},
+                         {"until", 0, 0, 10, &u, NULL},
                          {"rate", 1, 0, 1, &u, NULL}};
     json_t *errors = json_array();
     assert_int_not_equal(tsa_read_numbers(doc, f, 3, errors, &err), TS_OK);
     assert_int_equal(json_array_size(errors), 4);
     const char *want[] = {"/extra", "/duration", "/until", "/rate"};
     for (int i = 0; i < 4; i++)
-        assert_string_equal(json_string_value(json_object_get(json_array_get(errors, (size_t)i),
-                                                              "pointer")),
-                            want[i]);
+        assert_string_equal(
+            json_string_value(json_object_get(json_array_get(errors, (size_t)i), "pointer")),
+            want[i]);
     assert_string_equal(err.pointer, "/extra");
     json_decref(errors);
     json_decref(doc);
@@ -107,7 +108,8 @@ static void channels_rows_and_series(void **state)
     double rows[3 * 16];
     long index[3] = {4, 6, 8};
     for (int r = 0; r < 3; r++)
-        for (int c = 0; c < nch; c++) rows[r * nch + c] = r * 100 + c + 0.25;
+        for (int c = 0; c < nch; c++)
+            rows[r * nch + c] = r * 100 + c + 0.25;
     tsa_buf b = {0};
     int sel[2] = {0, 2};
     tsa_series_json(&b, "s1", m, sel, 2, index, rows, 3, 2, "10");
@@ -119,9 +121,9 @@ static void channels_rows_and_series(void **state)
     json_t *ch = json_array_get(json_object_get(j, "channels"), 1);
     assert_string_equal(json_string_value(json_object_get(ch, "name")),
                         ts_model_channel(m, 2)->name);
-    assert_string_equal(json_string_value(json_object_get(ch, "unit")), ts_model_channel(m, 2)->unit);
-    assert_close(json_number_value(json_array_get(json_object_get(ch, "values"), 2)), 202.25, 0,
-                 0);
+    assert_string_equal(json_string_value(json_object_get(ch, "unit")),
+                        ts_model_channel(m, 2)->unit);
+    assert_close(json_number_value(json_array_get(json_object_get(ch, "values"), 2)), 202.25, 0, 0);
     json_decref(j);
     tsa_buf_free(&b);
 
@@ -148,7 +150,8 @@ static void buffer_grows_past_first_block(void **state)
 {
     (void)state;
     tsa_buf b = {0};
-    for (int i = 0; i < 10000; i++) tsa_buf_printf(&b, "%05d,", i);
+    for (int i = 0; i < 10000; i++)
+        tsa_buf_printf(&b, "%05d,", i);
     assert_int_equal(b.n, 60000);
     assert_memory_equal(b.p + 6 * 9999, "09999,", 6);
     size_t len;

@@ -239,8 +239,7 @@ int main(int argc, char **argv)
     int hport = free_port();
     struct MHD_Daemon *h = MHD_start_daemon(
         MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL_LINUX_ONLY | MHD_ALLOW_SUSPEND_RESUME,
-        (uint16_t)hport, NULL, NULL, hello, NULL, MHD_OPTION_THREAD_POOL_SIZE, 4u,
-        MHD_OPTION_END);
+        (uint16_t)hport, NULL, NULL, hello, NULL, MHD_OPTION_THREAD_POOL_SIZE, 4u, MHD_OPTION_END);
     if (!h) {
         fprintf(stderr, "bench_http: cannot start the hello-world daemon\n");
         return 1;

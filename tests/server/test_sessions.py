@@ -5,6 +5,7 @@ NDJSON stream, FFT, delete, metrics. A real daemon on loopback; the physics is
 whatever the preset's scenario computes — these tests check the plumbing:
 times, indexes, units, counts and that values are passed through unchanged."""
 import json
+import os
 import time
 
 import pytest
@@ -316,3 +317,31 @@ def test_metrics_count_sessions_runs_requests_and_time(daemon):
     assert value(m.text, "tanksimd_simulated_seconds_total") >= value(before, "tanksimd_simulated_seconds_total") + 1.0 - 1e-9
     assert value(m.text, 'tanksimd_http_requests_total{code="404"}') >= 1
     assert value(m.text, 'tanksimd_sessions{status="paused"}') >= 1
+
+
+def cpu_seconds(pid):
+    with open(f"/proc/{pid}/stat") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def test_waiting_streams_do_not_spin(daemon):
+    """Four streams wait on a run paced at 1/100 of real time: the daemon must
+    sleep between batches (suspended connections), not poll."""
+    s = create(daemon)
+    op = requests.post(daemon.url + s["links"]["run"],
+                       json={"until": 30, "real_time_factor": 0.01}).json()
+    streams = [requests.get(daemon.url + s["links"]["stream"], stream=True, timeout=30)
+               for _ in range(4)]
+    try:
+        time.sleep(0.3)
+        c0, w0 = cpu_seconds(daemon.proc.pid), time.time()
+        time.sleep(1.5)
+        used = cpu_seconds(daemon.proc.pid) - c0
+        assert used < 0.25 * (time.time() - w0), f"daemon used {used:.2f} s CPU while idle"
+        assert all(r.status_code == 200 for r in streams)
+    finally:
+        requests.post(f"{daemon.url}/v1/operations/{op['id']}:cancel")
+        for r in streams:
+            r.close()
+    assert wait_op(daemon.url, op["id"])["error"]["code"] == 1
