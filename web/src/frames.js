@@ -51,8 +51,12 @@ export class FrameViewer {
     if (atEnd && !this.playing) {
       /* follow the newest sample; fetch its frame only when frames exist */
       s.value = s.max;
-      if (this.available) this.request(Number(s.max));
-      else this.els.time.textContent = `t = ${fmt(Number(s.max))} s`;
+      /* at most one follow-the-run frame a second: rendering shares the workers */
+      const now = Date.now();
+      if (this.available && now - (this.lastFollow || 0) > 1000) {
+        this.lastFollow = now;
+        this.request(Number(s.max));
+      } else this.els.time.textContent = `t = ${fmt(Number(s.max))} s`;
     }
   }
 
