@@ -24,6 +24,7 @@ export class FrameViewer {
   }
 
   setSession(session) {
+    clearTimeout(this.followTimer);
     this.session = session;
     this.pause();
     this.available = null;
@@ -34,6 +35,7 @@ export class FrameViewer {
   /** No session open: back to the initial placeholder. */
   clear() {
     this.pause();
+    clearTimeout(this.followTimer);
     this.session = null;
     this.els.img.hidden = true;
     this.els.placeholder.hidden = false;
@@ -51,12 +53,17 @@ export class FrameViewer {
     if (atEnd && !this.playing) {
       /* follow the newest sample; fetch its frame only when frames exist */
       s.value = s.max;
-      /* at most one follow-the-run frame a second: rendering shares the workers */
-      const now = Date.now();
-      if (this.available && now - (this.lastFollow || 0) > 1000) {
-        this.lastFollow = now;
-        this.request(Number(s.max));
-      } else this.els.time.textContent = `t = ${fmt(Number(s.max))} s`;
+      this.els.time.textContent = `t = ${fmt(Number(s.max))} s`;
+      /* follow the run with at most one frame a second (rendering shares the
+       * simulation workers); the trailing call fetches the final frame */
+      if (this.available) {
+        clearTimeout(this.followTimer);
+        const wait = Math.max(0, 1000 - (Date.now() - (this.lastFollow || 0)));
+        this.followTimer = setTimeout(() => {
+          this.lastFollow = Date.now();
+          if (!this.playing && Number(s.value) === Number(s.max)) this.request(Number(s.max));
+        }, wait);
+      }
     }
   }
 
