@@ -10,7 +10,7 @@
 // a second daemon with --token (token entered once, kept in localStorage).
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
-import { mkdirSync, mkdtempSync, rmSync, openSync } from 'node:fs';
+import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import net from 'node:net';
 import os from 'node:os';
@@ -25,6 +25,8 @@ const { chromium } = require('playwright-core');
 const BUILD = process.env.TANKSIM_BUILD || path.join(repo, 'build');
 const OUT = path.join(repo, 'tests', 'out', 'web');
 mkdirSync(OUT, { recursive: true });
+/* screenshots and logs of earlier runs would mislead: start empty */
+for (const f of readdirSync(OUT)) if (/^(\d\d|fail-|tanksimd-)/.test(f)) rmSync(path.join(OUT, f));
 
 let passed = 0;
 let failed = 0;
