@@ -19,7 +19,7 @@ LDFLAGS := $(SAN)
 # Debian packages the build, the tests and `make run` need.
 DEB_PACKAGES := build-essential pkg-config libmicrohttpd-dev libjansson-dev libosmesa6-dev \
   libsundials-dev libpng-dev zlib1g-dev liblapacke-dev liblapack-dev libblas-dev libfftw3-dev \
-  libsqlite3-dev libcmocka-dev python3 python3-pytest python3-requests curl
+  libsqlite3-dev libcmocka-dev python3 python3-pytest python3-requests curl nodejs chromium
 
 LIBS_SIM := -lsundials_cvode -lsundials_kinsol -lsundials_nvecserial \
   -lsundials_sunlinsoldense -lsundials_sunmatrixdense -llapacke -llapack -lblas -lfftw3 -lm
@@ -51,13 +51,33 @@ LIB_RENDER := $(BUILD)/libtanksim_render.a
 LIB_API := $(BUILD)/libtanksim_api.a
 LIBS_OWN := $(LIB_API) $(LIB_RENDER) $(LIB_SIM)
 
-.PHONY: all deps run test asan bench format lint check-layers clean
+.PHONY: all deps web run test asan bench format lint check-layers clean
 .DEFAULT_GOAL := all
 
-all: $(BUILD)/tanksimd $(BUILD)/tanksim $(LIB_SIM) | deps
+all: $(BUILD)/tanksimd $(BUILD)/tanksim $(LIB_SIM) web | deps
 
+# Debian's nodejs 18 ships npm as a separate package; NodeSource's nodejs
+# includes it. Install Debian's npm only when no npm is on PATH.
 deps:
 	@./deploy/install-deps.sh $(DEB_PACKAGES)
+	@command -v npm >/dev/null 2>&1 || ./deploy/install-deps.sh npm
+
+# `make web`: the browser dashboard. Sources and the npm lock file live in
+# web/; `npm ci` fetches uPlot, fetch-event-source, esbuild and playwright-core
+# (for tests/web) into web/node_modules; esbuild bundles into web_static/
+# (app.js, app.css, index.html — gitignored), which tanksimd serves at /.
+# Both steps are file targets, so an up-to-date tree costs nothing.
+WEB_SRC := $(sort $(wildcard web/src/*)) web/build.mjs
+WEB_STAMP := web/node_modules/.package-lock.json
+web: web_static/app.js
+
+$(WEB_STAMP): web/package.json web/package-lock.json | deps
+	@echo "  NPM     web/ (npm ci)"
+	@cd web && npm ci --no-audit --no-fund --loglevel=error
+	@touch $@
+
+web_static/app.js: $(WEB_SRC) $(WEB_STAMP)
+	@cd web && node build.mjs
 
 $(BUILD)/obj/%.o: %.c | deps
 	@mkdir -p $(dir $@)
@@ -133,6 +153,6 @@ lint: | deps
 	  --library=tests/lint/jansson.cfg sim api cli server render
 
 clean:
-	rm -rf build build-asan
+	rm -rf build build-asan web_static/app.* web_static/index.html
 
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

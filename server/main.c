@@ -30,6 +30,7 @@
 #include "pool.h"
 #include "server.h"
 #include "session.h"
+#include "static_files.h"
 
 static void usage(FILE *f)
 {
@@ -42,6 +43,8 @@ static void usage(FILE *f)
                "  --max-body N     largest request body in bytes (default 1048576)\n"
                "  --timeout S      idle connection timeout in seconds (default 60)\n"
                "  --token T        require 'Authorization: Bearer T' (all but /v1/health)\n"
+               "  --web-root DIR   dashboard files served at / (default: web_static/ beside the\n"
+               "                   build directory of this binary, else ./web_static)\n"
                "  --max-sessions N sessions kept at once (default 1000; more -> 429)\n"
                "  --max-samples N  sample rows per series/FFT response (default 100000)\n"
                "  --max-step S     longest synchronous step in simulated seconds (default 10)\n"
@@ -93,6 +96,7 @@ int main(int argc, char **argv)
     o->max_sessions = 1000;
     o->max_samples = 100000;
     o->max_step = 10.0;
+    tsd_static_default_root(o->web_root, sizeof o->web_root);
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -143,6 +147,8 @@ int main(int argc, char **argv)
             o->max_step = x;
         } else if (strcmp(a, "--token") == 0) {
             snprintf(o->token, sizeof o->token, "%s", v);
+        } else if (strcmp(a, "--web-root") == 0) {
+            snprintf(o->web_root, sizeof o->web_root, "%s", v);
         } else {
             fprintf(stderr, "tanksimd: unknown option: %s\n", a);
             usage(stderr);

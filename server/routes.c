@@ -41,6 +41,7 @@
 #include "server.h"
 #include "session.h"
 #include "stream.h"
+#include "static_files.h"
 
 typedef enum MHD_Result (*tsd_handler)(tsd_request *r);
 
@@ -758,6 +759,8 @@ static const tsd_route_row routes[] = {
     {"POST", "/v1/modes", post_modes, 0, "Track eigenanalysis (tanksim modes)"},
     {"GET", "/v1/operations/{id}", get_operation, 0, "State of a run operation"},
     {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "Cancel a run operation"},
+    {"GET", "/", tsd_static_index, RF_PUBLIC, "The browser dashboard (web_static/index.html)"},
+    {"GET", "/static/{file}", tsd_static_file, RF_PUBLIC, "Dashboard assets (web_static/FILE)"},
 };
 #define NROUTES (sizeof routes / sizeof routes[0])
 

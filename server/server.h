@@ -39,6 +39,7 @@ typedef struct tsd_options {
     int max_sessions;      /* sessions kept at once (create beyond -> 429) */
     long max_samples;      /* sample rows per series/FFT response (page past it) */
     double max_step;       /* longest synchronous step [s simulated] (longer -> 422) */
+    char web_root[512];    /* dashboard files served at / (static_files.c) */
 } tsd_options;
 
 typedef struct tsd_server {

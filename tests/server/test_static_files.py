@@ -1,0 +1,66 @@
+"""tanksimd serves the dashboard: GET / and GET /static/FILE from --web-root
+(server/static_files.c). Checks content types, the default root beside the
+binary, a custom --web-root, the 404 naming `make web` when the dashboard is
+not built, that static files need no token, and that nothing outside the web
+root (traversal, dot files, symlinks, unknown types) is served."""
+import os
+
+import requests
+
+from conftest import Daemon
+
+
+def test_index_and_assets_from_default_root(daemon):
+    r = requests.get(daemon.url + "/")
+    assert r.status_code == 200
+    assert r.headers["Content-Type"].startswith("text/html")
+    assert "/static/app.js" in r.text
+    for name, ctype in [("app.js", "text/javascript"), ("app.css", "text/css")]:
+        a = requests.get(daemon.url + "/static/" + name)
+        assert a.status_code == 200, name
+        assert a.headers["Content-Type"].startswith(ctype)
+        assert len(a.content) > 100
+
+
+def test_no_traversal_or_hidden_files(daemon):
+    for path in ["/static/..%2FMakefile", "/static/%2e%2e%2fMakefile", "/static/../Makefile",
+                 "/static/.gitignore", "/static/README.md", "/static/", "/static/a/b.js",
+                 "/static/nope.js"]:
+        r = requests.get(daemon.url + path)
+        assert r.status_code in (404, 405), path
+        assert r.headers["Content-Type"] == "application/problem+json", path
+
+
+def test_custom_web_root_and_symlinks(tmp_path):
+    (tmp_path / "index.html").write_text("<!doctype html><title>custom</title>")
+    (tmp_path / "x.js").write_text("export const x = 1;")
+    secret = tmp_path.parent / "secret.js"
+    secret.write_text("leak")
+    os.symlink(secret, tmp_path / "link.js")
+    d = Daemon("--web-root", str(tmp_path))
+    try:
+        assert "custom" in requests.get(d.url + "/").text
+        assert requests.get(d.url + "/static/x.js").text == "export const x = 1;"
+        assert requests.get(d.url + "/static/link.js").status_code == 404
+    finally:
+        d.stop()
+
+
+def test_missing_dashboard_names_make_web(tmp_path):
+    d = Daemon("--web-root", str(tmp_path / "none"))
+    try:
+        r = requests.get(d.url + "/")
+        assert r.status_code == 404
+        assert "make web" in r.json()["detail"]
+    finally:
+        d.stop()
+
+
+def test_static_files_need_no_token():
+    d = Daemon("--token", "sekrit")
+    try:
+        assert requests.get(d.url + "/").status_code == 200
+        assert requests.get(d.url + "/static/app.js").status_code == 200
+        assert requests.get(d.url + "/v1/presets").status_code == 401
+    finally:
+        d.stop()

@@ -1,0 +1,469 @@
+// dashboard.test.mjs — end-to-end browser test of the tanksim dashboard.
+//
+// Starts a real tanksimd ($TANKSIM_BUILD/tanksimd) on a free loopback port,
+// drives Debian's headless chromium through playwright-core (from web/'s npm
+// packages) and checks what a user sees: the form generated from /v1/schema,
+// an out-of-range field reported on that field, create + run with a growing
+// plot and a progress bar reaching 100 %, the frame viewer (an image, or the
+// placeholder when this build has no renderer — the log says which), the time
+// scrubber, the FFT panel, the display-unit toggle, the compare overlay, and
+// a second daemon with --token (token entered once, kept in localStorage).
+// Screenshots go to tests/out/web/. Last line: "N passed, N failed".
+import { spawn } from 'node:child_process';
+import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import net from 'node:net';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const repo = path.resolve(here, '..', '..');
+const require = createRequire(path.join(repo, 'web', 'package.json'));
+const { chromium } = require('playwright-core');
+
+const BUILD = process.env.TANKSIM_BUILD || path.join(repo, 'build');
+const OUT = path.join(repo, 'tests', 'out', 'web');
+mkdirSync(OUT, { recursive: true });
+/* screenshots and logs of earlier runs would mislead: start empty */
+for (const f of readdirSync(OUT)) if (/^(\d\d|fail-|tanksimd-)/.test(f)) rmSync(path.join(OUT, f));
+
+let passed = 0;
+let failed = 0;
+const notes = [];
+const daemons = [];
+
+/* ---------- harness ---------- */
+
+async function check(name, fn) {
+  const t0 = Date.now();
+  try {
+    await fn();
+    passed++;
+    console.log(`ok   ${name} (${Date.now() - t0} ms)`);
+  } catch (e) {
+    failed++;
+    console.log(`FAIL ${name}: ${e && e.stack ? e.stack.split('\n').slice(0, 4).join('\n     ') : e}`);
+    if (currentPage) await currentPage.screenshot({ path: path.join(OUT, `fail-${slug(name)}.png`), fullPage: true }).catch(() => {});
+  }
+}
+const slug = (s) => s.replace(/[^a-z0-9]+/gi, '-').toLowerCase().slice(0, 60);
+
+function assert(cond, msg) {
+  if (!cond) throw new Error(msg);
+}
+
+async function waitFor(fn, what, timeout = 15000, every = 100) {
+  const end = Date.now() + timeout;
+  let last;
+  while (Date.now() < end) {
+    try {
+      last = await fn();
+      if (last) return last;
+    } catch (e) {
+      last = e;
+    }
+    await new Promise((r) => setTimeout(r, every));
+  }
+  throw new Error(`timed out waiting for ${what} (last: ${last instanceof Error ? last.message : JSON.stringify(last)})`);
+}
+
+/* ---------- daemon ---------- */
+
+function freePort() {
+  return new Promise((resolve, reject) => {
+    const s = net.createServer();
+    s.listen(0, '127.0.0.1', () => {
+      const { port } = s.address();
+      s.close(() => resolve(port));
+    });
+    s.on('error', reject);
+  });
+}
+
+async function startDaemon(...extra) {
+  const port = await freePort();
+  const dataDir = mkdtempSync(path.join(os.tmpdir(), 'tanksimd-web-'));
+  const logPath = path.join(OUT, `tanksimd-${port}.log`);
+  const log = openSync(logPath, 'w');
+  const proc = spawn(path.join(BUILD, 'tanksimd'), ['--port', String(port), '--data-dir', dataDir, ...extra], {
+    stdio: ['ignore', 'ignore', log],
+  });
+  const url = `http://127.0.0.1:${port}`;
+  const d = { proc, url, dataDir, logPath };
+  daemons.push(d);
+  await waitFor(async () => (await fetch(`${url}/v1/health`)).ok, `tanksimd on port ${port} (log ${logPath})`, 20000, 50);
+  return d;
+}
+
+async function stopDaemons() {
+  for (const d of daemons) {
+    if (d.proc.exitCode === null) {
+      d.proc.kill('SIGTERM');
+      await Promise.race([new Promise((r) => d.proc.once('exit', r)), new Promise((r) => setTimeout(r, 10000))]);
+      if (d.proc.exitCode === null) d.proc.kill('SIGKILL');
+    }
+    rmSync(d.dataDir, { recursive: true, force: true });
+  }
+}
+
+/* ---------- page helpers ---------- */
+
+let currentPage = null;
+const consoleErrors = [];
+
+async function newPage(browser) {
+  const ctx = await browser.newContext({ viewport: { width: 1440, height: 1000 } });
+  const page = await ctx.newPage();
+  page.setDefaultTimeout(8000);
+  page.on('console', (m) => {
+    if (m.type() === 'error') consoleErrors.push(m.text());
+  });
+  page.on('pageerror', (e) => consoleErrors.push(`pageerror: ${e.message}`));
+  currentPage = page;
+  return page;
+}
+
+const shot = (page, name) => page.screenshot({ path: path.join(OUT, `${name}.png`), fullPage: true });
+const text = (page, sel) => page.locator(sel).innerText();
+
+/* Set a form field (by JSON Pointer) as a user would. */
+async function setField(page, pointer, value) {
+  const input = page.locator(`#schema-form [data-pointer="${pointer}"] :is(input, select)`).first();
+  const tag = await input.evaluate((e) => e.tagName);
+  if (tag === 'SELECT') await input.selectOption(String(value));
+  else await input.fill(String(value));
+}
+
+async function createSession(page) {
+  const before = await page.locator('#session-table tbody tr').count();
+  await page.click('#create-btn');
+  await waitFor(async () => (await page.locator('#session-table tbody tr').count()) > before, 'the new session in the list');
+  await waitFor(async () => (await text(page, '#session-title')).startsWith('Session '), 'the session to open');
+  return page.evaluate(() => window.tanksimDebug.state.session.id);
+}
+
+const sampleCount = (page) => page.evaluate(() => window.tanksimDebug.state.store?.length || 0);
+const chartPoints = (page) => page.evaluate(() => window.tanksimDebug.plots.charts.map((c) => c.plot.data[0].length));
+
+async function runToEnd(page, { watchGrowth = false } = {}) {
+  const counts = [];
+  await page.click('#run-btn');
+  await waitFor(
+    async () => {
+      if (watchGrowth) counts.push(await sampleCount(page));
+      return (await page.locator('.progress').getAttribute('data-percent')) === '100.0';
+    },
+    'progress 100 %',
+    60000,
+    60,
+  );
+  await waitFor(async () => (await page.locator('#session-status').innerText()) === 'done', 'status done', 15000);
+  return counts;
+}
+
+/* ---------- the test ---------- */
+
+async function main() {
+  const browser = await chromium.launch({
+    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+    args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-quic', '--no-first-run', '--disable-component-update', '--disable-sync'],
+  });
+  let d;
+  let schema;
+  let preset;
+  let page;
+  let firstId;
+  let secondId;
+  try {
+    d = await startDaemon();
+
+    await check('daemon serves the dashboard: / is HTML, assets with content types, no traversal', async () => {
+      const r = await fetch(`${d.url}/`);
+      assert(r.status === 200 && r.headers.get('content-type').startsWith('text/html'), `GET / -> ${r.status} ${r.headers.get('content-type')}`);
+      const html = await r.text();
+      assert(html.includes('/static/app.js'), 'index.html does not load /static/app.js');
+      const js = await fetch(`${d.url}/static/app.js`);
+      assert(js.status === 200 && js.headers.get('content-type').startsWith('text/javascript'), `app.js -> ${js.status} ${js.headers.get('content-type')}`);
+      const css = await fetch(`${d.url}/static/app.css`);
+      assert(css.status === 200 && css.headers.get('content-type').startsWith('text/css'), `app.css -> ${css.status}`);
+      for (const bad of ['/static/..%2F..%2Fetc%2Fpasswd', '/static/.hidden.js', '/static/README.md', '/static/%2e%2e%2fMakefile', '/static/../Makefile']) {
+        const b = await fetch(`${d.url}${bad}`);
+        assert(b.status === 404, `${bad} -> ${b.status}, want 404`);
+        assert(b.headers.get('content-type') === 'application/problem+json', `${bad} is not a problem document`);
+      }
+    });
+
+    schema = await (await fetch(`${d.url}/v1/schema`)).json().catch(() => null);
+    const presets = await (await fetch(`${d.url}/v1/presets`)).json().catch(() => null);
+    const list = Array.isArray(presets) ? presets : presets?.presets || [];
+    preset = list[0]?.name;
+    notes.push(`preset used: ${preset}`);
+
+    page = await newPage(browser);
+    await check('page loads: daemon version shown, preset list filled from /v1/presets', async () => {
+      await page.goto(`${d.url}/`);
+      await waitFor(async () => /tanksimd/.test(await text(page, '#health')), 'the health line');
+      await waitFor(async () => (await page.locator('#preset-select option').count()) === list.length && list.length > 0, 'presets in the select');
+      assert((await page.locator('#preset-select').inputValue()) === preset, 'first preset not selected');
+    });
+
+    await check('form is generated from /v1/schema (enum -> select, number range and unit)', async () => {
+      assert(schema && schema.properties, 'no schema');
+      const fid = schema.properties.track.properties.fidelity;
+      const opts = await page.locator('#schema-form [data-pointer="/track/fidelity"] select option').allInnerTexts();
+      assert(JSON.stringify(opts) === JSON.stringify(fid.enum), `fidelity options ${opts} != schema enum ${fid.enum}`);
+      const nt = schema.properties.track.properties.n_trans;
+      const inp = page.locator('#schema-form [data-pointer="/track/n_trans"] input');
+      assert((await inp.getAttribute('min')) === String(nt.minimum) && (await inp.getAttribute('max')) === String(nt.maximum), 'n_trans min/max differ from the schema');
+      const dur = await text(page, '#schema-form .field[data-pointer="/run/duration"]');
+      assert(dur.includes(`[${schema.properties.run.properties.duration['x-unit']}]`), `duration row lacks its unit: ${dur}`);
+      /* every schema field has an input (key fields up front, the rest under "All parameters") */
+      const leaves = (props) => Object.values(props || {}).reduce((k, p) => k + (p.type === 'object' && p.properties ? leaves(p.properties) : 1), 0);
+      let n = 0;
+      for (const sec of Object.values(schema.properties)) if (sec.type === 'object') n += leaves(sec.properties);
+      const inputs = await page.locator('#schema-form .field').count();
+      assert(inputs === n, `${inputs} fields in the form, ${n} in the schema`);
+      /* the preset's own values are shown (preset doc over schema defaults) */
+      const pdoc = await (await fetch(`${d.url}/v1/presets/${preset}`)).json();
+      const pd = (pdoc.config || pdoc).run?.duration;
+      if (pd !== undefined) assert(Number(await page.locator('#schema-form [data-pointer="/run/duration"] input').inputValue()) === pd, 'preset duration not shown');
+      await shot(page, '01-form');
+      await page.click('#schema-form .all-params summary');
+      await shot(page, '01b-all-parameters');
+      await page.click('#schema-form .all-params summary');
+    });
+
+    await check('API error shown in words on the named field (out-of-range /track/n_trans)', async () => {
+      const max = schema.properties.track.properties.n_trans.maximum;
+      await setField(page, '/track/n_trans', max + 83);
+      await page.click('#create-btn');
+      const row = page.locator('#schema-form .field[data-pointer="/track/n_trans"]');
+      await waitFor(async () => (await row.getAttribute('class')).includes('invalid'), 'the n_trans field marked invalid');
+      const msg = await row.locator('.field-error').innerText();
+      assert(msg.length > 0 && msg.includes(String(max + 83)), `field message does not name the value: "${msg}"`);
+      const box = await text(page, '#create-error');
+      assert(box.includes('/track/n_trans'), `error box does not name the pointer: ${box}`);
+      await shot(page, '02-field-error');
+      /* fixing the field clears its error */
+      await setField(page, '/track/n_trans', 1);
+      assert(!(await row.getAttribute('class')).includes('invalid'), 'error not cleared after edit');
+    });
+
+    await check('create a session from the first preset', async () => {
+      await page.click('#reset-form');
+      await page.waitForTimeout(200);
+      /* a short run keeps the suite fast whatever model the first preset selects */
+      const durInput = page.locator('#schema-form .field[data-pointer="/run/duration"] input');
+      const presetDur = Number(await durInput.inputValue());
+      if (presetDur > 5) await setField(page, '/run/duration', 5);
+      firstId = await createSession(page);
+      const cfgDur = await page.evaluate(() => window.tanksimDebug.state.session.config.run.duration);
+      assert(cfgDur === Math.min(presetDur, 5), `edited duration not sent as an override: ${cfgDur}`);
+      const row = await text(page, `#session-table tr[data-id="${firstId}"]`);
+      assert(row.includes(preset), `list row lacks the preset: ${row}`);
+      assert(/created|paused/.test(row), `list row status: ${row}`);
+    });
+
+    await check('run to end: progress reaches 100 %, plot data grows over the stream', async () => {
+      const dur = await page.evaluate(() => window.tanksimDebug.state.session.config.run.duration);
+      const rate = await page.evaluate(() => window.tanksimDebug.state.session.config.run.sample_rate);
+      const c0 = await sampleCount(page);
+      const counts = await runToEnd(page, { watchGrowth: true });
+      const want = Math.round(dur * rate) + 1;
+      await waitFor(async () => (await sampleCount(page)) >= want, `${want} samples in the plots`, 20000);
+      const distinct = [...new Set(counts)].filter((c) => c > c0);
+      notes.push(`run: ${c0} -> ${await sampleCount(page)} samples; ${distinct.length} distinct counts seen while running`);
+      const pts = await chartPoints(page);
+      assert(pts.length > 0 && pts.every((n) => n >= want), `chart points ${pts}, want >= ${want}`);
+      const prog = await text(page, '#progress-text');
+      assert(prog.startsWith('100'), `progress text: ${prog}`);
+      await page.waitForTimeout(300); /* let the bar's width transition finish */
+      await shot(page, '03-run-done');
+    });
+
+    await check('speed unit toggle converts for display only (m/s <-> mph)', async () => {
+      const has = await page.locator('.seg[data-unit="m/s"]').count();
+      assert(has === 1, 'no m/s toggle');
+      const speedChart = () =>
+        page.evaluate(() => {
+          const c = window.tanksimDebug.plots.charts.find((x) => x.unit === 'm/s');
+          return c ? { label: c.d.label, last: c.plot.data[1][c.plot.data[1].length - 1] } : null;
+        });
+      await page.click('.seg[data-unit="m/s"] button:text-is("m/s")');
+      const si = await speedChart();
+      await page.click('.seg[data-unit="m/s"] button:text-is("mph")');
+      const mph = await speedChart();
+      assert(si.label === 'm/s' && mph.label === 'mph', `labels ${si.label} ${mph.label}`);
+      assert(Math.abs(mph.last / si.last - 1 / 0.44704) < 1e-9, `mph/m/s ratio ${mph.last / si.last}`);
+    });
+
+    await check('frame viewer shows the frame at the current time, or the placeholder when frames are unavailable', async () => {
+      await waitFor(
+        async () => (await page.locator('#frame-img').isVisible()) || (await page.locator('#frame-placeholder').isVisible()) && (await text(page, '#frame-placeholder')).length > 0,
+        'frame or placeholder',
+      );
+      if (await page.locator('#frame-img').isVisible()) {
+        const w = await page.locator('#frame-img').evaluate((e) => e.naturalWidth);
+        assert(w > 0, 'image did not decode');
+        notes.push(`frames: rendered PNG loaded (${w} px wide)`);
+      } else {
+        const msg = await text(page, '#frame-placeholder');
+        const st = await page.locator('#frame-placeholder').getAttribute('data-status');
+        assert(/No frame available/.test(msg) && ['404', '422', '501'].includes(st), `placeholder: ${st} ${msg}`);
+        notes.push(`frames: not available in this build -> placeholder (HTTP ${st}: ${msg.slice(0, 120)})`);
+      }
+    });
+
+    await check('time scrubber selects the frame time', async () => {
+      const max = Number(await page.locator('#scrub').getAttribute('max'));
+      assert(max > 0, `scrubber max ${max}`);
+      await page.locator('#scrub').evaluate((e, v) => {
+        e.value = String(v);
+        e.dispatchEvent(new Event('input', { bubbles: true }));
+      }, max / 2);
+      await waitFor(async () => (await text(page, '#frame-time')).includes(String(Number((max / 2).toPrecision(4)))), 'frame time label');
+      if (await page.locator('#frame-img').isVisible())
+        await waitFor(async () => Math.abs(Number(await page.locator('#frame-img').getAttribute('data-t')) - max / 2) < 1e-3, 'frame at the scrubbed time');
+      await page.click('#play-btn');
+      await page.waitForTimeout(400);
+      await page.click('#play-btn');
+      await shot(page, '04-scrubbed');
+    });
+
+    await check('FFT panel draws the amplitude spectrum of a channel from /fft', async () => {
+      await page.click('#fft-btn');
+      await waitFor(async () => (await page.locator('#fft-plot .uplot').count()) === 1 || !(await page.locator('#fft-error').isHidden()), 'spectrum or error');
+      assert(await page.locator('#fft-error').isHidden(), `FFT error: ${await text(page, '#fft-error').catch(() => '')}`);
+      const bins = await page.evaluate(() => window.tanksimDebug.fft.plot.data[0].length);
+      assert(bins > 10, `only ${bins} bins`);
+      await page.locator('#fft-panel').scrollIntoViewIfNeeded();
+      await shot(page, '05-fft');
+    });
+
+    await check('compare overlays the same channel from two sessions', async () => {
+      const torque = schema.properties.drive?.properties?.torque;
+      if (torque) await setField(page, '/drive/torque', Math.min(torque.maximum ?? 1e9, (torque.default || 1000) * 1.5));
+      secondId = await createSession(page);
+      assert(secondId !== firstId, 'same id twice');
+      await runToEnd(page);
+      for (const id of [firstId, secondId]) await page.locator(`#session-table tr[data-id="${id}"] input.cmp`).check();
+      await page.locator('#compare-channel').focus();
+      await page.selectOption('#compare-channel', 'vehicle.speed').catch(() => {});
+      await page.click('#compare-btn');
+      await waitFor(async () => (await page.locator('#compare-plot .uplot').count()) === 1 || !(await page.locator('#compare-error').isHidden()), 'overlay');
+      assert(await page.locator('#compare-error').isHidden(), `compare error: ${await text(page, '#compare-error').catch(() => '')}`);
+      const series = await page.evaluate(() => window.tanksimDebug.compare.plot.series.map((x) => x.label).slice(1));
+      assert(series.length === 2, `${series.length} series overlaid`);
+      if (torque) assert(series.every((l) => /drive\/torque=/.test(l)), `legend does not name the differing field: ${series}`);
+      const last = await page.evaluate(() => window.tanksimDebug.compare.plot.data.slice(1).map((s) => s.filter((v) => v !== null).length));
+      assert(last.every((n) => n > 10), `overlay series lengths ${last}`);
+      await page.locator('#compare-panel').scrollIntoViewIfNeeded();
+      await shot(page, '06-compare');
+    });
+
+    await check('paced run: plot data grows while running; cancel stops it (status paused, progress < 100 %)', async () => {
+      await page.click('#reset-form');
+      await page.waitForTimeout(100);
+      const id = await createSession(page);
+      await page.selectOption('#run-pace', '10');
+      await page.click('#run-btn');
+      const seen = [];
+      const pts = [];
+      await waitFor(
+        async () => {
+          seen.push(await sampleCount(page));
+          pts.push((await chartPoints(page))[0] || 0);
+          return new Set(seen.filter((c) => c > 1)).size >= 4;
+        },
+        'four growing sample counts while the run streams',
+        15000,
+        250,
+      );
+      assert(seen.every((c, i) => i === 0 || c >= seen[i - 1]), `counts not monotonic: ${seen}`);
+      assert(Math.max(...pts) > Math.min(...pts), `chart points did not grow: ${pts}`);
+      await page.click('#cancel-btn');
+      await waitFor(async () => (await page.locator('#progress-text').getAttribute('data-outcome')) === 'cancelled', 'the cancelled outcome');
+      const st = await text(page, '#session-status');
+      assert(st === 'paused', `status after cancel: ${st}`);
+      const pct = Number(await page.locator('.progress').getAttribute('data-percent'));
+      assert(pct > 0 && pct < 100, `progress after cancel ${pct} %`);
+      const n1 = await sampleCount(page);
+      await page.waitForTimeout(800);
+      assert((await sampleCount(page)) === n1, 'samples kept arriving after cancel');
+      assert(!(await page.locator('#run-btn').isDisabled()), 'Run not re-enabled after cancel');
+      notes.push(`paced run (10x): sample counts while streaming ${[...new Set(seen)].join(' -> ')}; cancelled at ${pct} %`);
+      await shot(page, '07-cancelled');
+      await page.selectOption('#run-pace', '');
+      await page.click(`#session-table tr[data-id="${id}"] td:nth-child(2)`);
+    });
+
+    await check('delete the open session (after confirming): it leaves the list', async () => {
+      const id = await page.evaluate(() => window.tanksimDebug.state.session.id);
+      const rows = await page.locator('#session-table tbody tr').count();
+      page.once('dialog', (dlg) => dlg.accept());
+      await page.click('#delete-session');
+      await waitFor(async () => (await page.locator(`#session-table tr[data-id="${id}"]`).count()) === 0, 'the row to go');
+      assert((await page.locator('#session-table tbody tr').count()) === rows - 1, 'other rows changed');
+      assert((await text(page, '#session-title')) === 'No session open', 'session still shown');
+      const r = await fetch(`${d.url}/v1/sessions/${id}`);
+      assert(r.status === 404, `deleted session still answers ${r.status}`);
+    });
+
+    await check('no JavaScript errors in the page', async () => {
+      const real = consoleErrors.filter((m) => !/Failed to load resource/.test(m));
+      assert(real.length === 0, real.join(' | '));
+    });
+
+    /* --token: the token is entered once and kept in localStorage */
+    const token = 'web-test-token-1234';
+    const dt = await startDaemon('--token', token);
+    const page2 = await newPage(browser);
+    await check('with --token: the page asks for the token, then works', async () => {
+      await page2.goto(`${dt.url}/`);
+      await waitFor(async () => !(await page2.locator('#banner').isHidden()), 'the token banner');
+      assert(/token/i.test(await text(page2, '#banner')), 'banner does not mention the token');
+      await shot(page2, '08-token-needed');
+      await page2.fill('#token-input', token);
+      await page2.click('#token-form button');
+      await waitFor(async () => (await page2.locator('#preset-select option').count()) > 0, 'presets after the token');
+      assert(await page2.evaluate(() => localStorage.getItem('tanksim.token')) === 'web-test-token-1234', 'token not in localStorage');
+      await createSession(page2);
+      await runToEnd(page2);
+      await waitFor(async () => (await sampleCount(page2)) > 10, 'streamed samples with the token');
+    });
+
+    await check('with --token: a reload keeps the token (localStorage), no prompt', async () => {
+      await page2.reload();
+      await waitFor(async () => (await page2.locator('#session-table tbody tr').count()) === 1, 'the session list after reload');
+      assert(await page2.locator('#banner').isHidden(), 'token banner shown again');
+      await page2.locator('#session-table tbody tr').first().click();
+      await waitFor(async () => (await sampleCount(page2)) > 10, 'history loaded with the token');
+      await shot(page2, '09-token-reload');
+    });
+  } finally {
+    await browser.close().catch(() => {});
+    await stopDaemons();
+  }
+}
+
+const timer = setTimeout(() => {
+  console.log('FAIL whole suite: timed out after 240 s');
+  failed++;
+  console.log(`${passed} passed, ${failed} failed`);
+  for (const d of daemons) d.proc.kill('SIGKILL');
+  process.exit(1);
+}, 240000);
+
+main()
+  .catch((e) => {
+    failed++;
+    console.log(`FAIL setup: ${e.stack || e}`);
+  })
+  .finally(() => {
+    clearTimeout(timer);
+    for (const n of notes) console.log(`note: ${n}`);
+    console.log(`screenshots: ${OUT}`);
+    console.log(`${passed} passed, ${failed} failed`);
+    process.exit(failed ? 1 : 0);
+  });

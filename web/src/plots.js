@@ -1,0 +1,146 @@
+/*
+ * plots.js — live time-series charts (uPlot) for the chosen channels of one
+ * session, with synchronized cursors, drag-to-zoom (double-click resets) and
+ * display-unit conversion (SI in the data; mph / rpm only on screen).
+ */
+import uPlot from 'uplot';
+import { bracket, display, fmt } from './units.js';
+
+/* Channels picked by default when a session opens: the paper's plotted
+ * quantities (vehicle speed, engine speed, gear, rack, sprocket torque, rear
+ * roller track tension, roller normal force, hull acceleration), matched by
+ * name so any scenario's equivalents are found. */
+const DEFAULT_PICKS = [
+  [/^vehicle\.speed$/],
+  [/^engine\.speed$/],
+  [/gear$/, /gear/],
+  [/(^|[._])rack($|[._])/], /* not the 'rack' inside 'track' */
+  [/^sprocket\.torque$/],
+  [/^track\.tension\.rear_roller$/, /tension.*rear|rear.*tension/],
+  [/^roller\.rear\.normal_force$/, /roller.*normal|normal.*roller/],
+  [/^hull\.accel_z$/, /hull.*acc/, /^vehicle\.accel$/],
+];
+
+/** Names of the channels to show first: per entry the first alternative present. */
+export function defaultPicks(channels) {
+  const names = channels.map((c) => c.name);
+  const picked = [];
+  for (const alts of DEFAULT_PICKS) {
+    for (const re of alts) {
+      const n = names.find((x) => re.test(x) && !picked.includes(x));
+      if (n) {
+        picked.push(n);
+        break;
+      }
+    }
+  }
+  return picked.length ? picked : names.slice(0, 4);
+}
+
+const COLORS = ['#2563eb', '#dc2626', '#059669', '#d97706', '#7c3aed', '#0891b2', '#db2777', '#4b5563'];
+export const color = (i) => COLORS[i % COLORS.length];
+
+export function chartWidth(container) {
+  return Math.max(280, Math.floor(container.getBoundingClientRect().width) - 4);
+}
+
+export class LivePlots {
+  constructor(root) {
+    this.root = root;
+    this.charts = []; /* {name, unit, plot, zoomed, el} */
+    this.store = null;
+    this.drawnVersion = -1;
+    this.timer = null;
+    this.resizeObs = new ResizeObserver(() => this.resize());
+    this.resizeObs.observe(root);
+  }
+
+  /** Show the channels `names` of `store`. */
+  show(store, names) {
+    this.destroyCharts();
+    this.store = store;
+    this.drawnVersion = -1;
+    names.forEach((name, i) => {
+      const ch = store.channels.find((c) => c.name === name);
+      if (ch) this.charts.push(this.makeChart(ch, color(i)));
+    });
+    this.redraw(true);
+    if (!this.timer) this.timer = setInterval(() => this.redraw(false), 250);
+  }
+
+  makeChart(ch, stroke) {
+    const d = display(ch.unit);
+    const box = document.createElement('div');
+    box.className = 'chart';
+    box.dataset.channel = ch.name;
+    this.root.append(box);
+    const entry = { name: ch.name, unit: ch.unit, d, zoomed: false, el: box };
+    const opts = {
+      title: `${ch.name}${bracket(d.label)}${ch.description ? ' — ' + ch.description : ''}`,
+      width: chartWidth(this.root),
+      height: 190,
+      cursor: { sync: { key: 'tanksim-live' }, drag: { x: true, y: false } },
+      scales: { x: { time: false } },
+      legend: { live: true },
+      axes: [
+        { label: 't [s]', size: 36 },
+        { label: d.label || ch.name, size: 64, values: (u, ticks) => ticks.map((v) => fmt(v)) },
+      ],
+      series: [
+        { label: 't [s]', value: (u, v) => fmt(v) },
+        { label: `${ch.name}${bracket(d.label)}`, stroke, width: 1.5, value: (u, v) => fmt(v) },
+      ],
+      hooks: {
+        /* zoomed = the x range is narrower than the data: then new data must
+         * not reset the user's zoom. */
+        setScale: [
+          (u, key) => {
+            if (key !== 'x') return;
+            const xs = u.data[0];
+            if (!xs || xs.length < 2) return;
+            const eps = 1e-9 * Math.max(1, Math.abs(xs[xs.length - 1]));
+            entry.zoomed = u.scales.x.min > xs[0] + eps || u.scales.x.max < xs[xs.length - 1] - eps;
+          },
+        ],
+      },
+    };
+    entry.plot = new uPlot(opts, [[], []], box);
+    entry.plot.over.addEventListener('dblclick', () => {
+      entry.zoomed = false;
+      this.redraw(true);
+    });
+    return entry;
+  }
+
+  data(entry) {
+    const ys = this.store.cols[entry.name] || [];
+    const f = entry.d.factor;
+    return [this.store.t, f === 1 ? ys : ys.map((v) => (v === null ? null : v * f))];
+  }
+
+  redraw(force) {
+    if (!this.store || (!force && this.store.version === this.drawnVersion)) return;
+    this.drawnVersion = this.store.version;
+    for (const c of this.charts) c.plot.setData(this.data(c), !c.zoomed);
+  }
+
+  resize() {
+    const w = chartWidth(this.root);
+    for (const c of this.charts) if (Math.abs(c.plot.width - w) > 2) c.plot.setSize({ width: w, height: 190 });
+  }
+
+  destroyCharts() {
+    for (const c of this.charts) {
+      c.plot.destroy();
+      c.el.remove();
+    }
+    this.charts = [];
+  }
+
+  stop() {
+    clearInterval(this.timer);
+    this.timer = null;
+    this.destroyCharts();
+    this.store = null;
+  }
+}

@@ -1,0 +1,79 @@
+/*
+ * units.js — display-only unit conversion. The API speaks SI (every channel
+ * carries its SI unit); the dashboard converts to mph / rpm / km/h only when
+ * drawing, never when sending. One table: SI unit -> display choices.
+ */
+
+const RAD_S_TO_RPM = 60 / (2 * Math.PI);
+const MS_TO_MPH = 1 / 0.44704; /* 1 mph = 0.44704 m/s exactly */
+
+/* SI unit -> [{label, factor}] ; the first is the default display unit. */
+const DISPLAY = {
+  'm/s': [
+    { label: 'mph', factor: MS_TO_MPH },
+    { label: 'm/s', factor: 1 },
+    { label: 'km/h', factor: 3.6 },
+  ],
+  'rad/s': [
+    { label: 'rpm', factor: RAD_S_TO_RPM },
+    { label: 'rad/s', factor: 1 },
+  ],
+  rad: [
+    { label: 'deg', factor: 180 / Math.PI },
+    { label: 'rad', factor: 1 },
+  ],
+  W: [
+    { label: 'kW', factor: 1e-3 },
+    { label: 'W', factor: 1 },
+  ],
+  Pa: [
+    { label: 'kPa', factor: 1e-3 },
+    { label: 'Pa', factor: 1 },
+  ],
+  /* dimensionless (gear number, ratios, efficiencies): no unit label */
+  1: [{ label: '', factor: 1 }],
+};
+
+/* The user's choice per SI unit (e.g. {'m/s': 'mph'}), kept in localStorage. */
+const PREF_KEY = 'tanksim.units';
+
+function prefs() {
+  try {
+    return JSON.parse(localStorage.getItem(PREF_KEY) || '{}');
+  } catch {
+    return {};
+  }
+}
+
+export function choices(siUnit) {
+  return DISPLAY[siUnit] || [{ label: siUnit || '', factor: 1 }];
+}
+
+/** " [mph]", or "" for a dimensionless quantity. */
+export const bracket = (label) => (label ? ` [${label}]` : '');
+
+/** {label, factor} for showing values of an SI unit. */
+export function display(siUnit) {
+  const list = choices(siUnit);
+  const want = prefs()[siUnit];
+  return list.find((c) => c.label === want) || list[0];
+}
+
+export function setDisplay(siUnit, label) {
+  const p = prefs();
+  p[siUnit] = label;
+  localStorage.setItem(PREF_KEY, JSON.stringify(p));
+}
+
+export function convertible(siUnit) {
+  return (DISPLAY[siUnit] || []).length > 1;
+}
+
+/** Format a number compactly for tables and labels. */
+export function fmt(v, digits = 4) {
+  if (v === null || v === undefined || Number.isNaN(v)) return '—';
+  if (v === 0) return '0';
+  const a = Math.abs(v);
+  if (a >= 1e5 || a < 1e-3) return v.toExponential(2);
+  return Number(v.toPrecision(digits)).toString();
+}
