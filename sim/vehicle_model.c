@@ -459,10 +459,10 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
     double B[2 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES];
     double rx[8 + 2 * TS_SPAN_MAX_MODES], ry0[8 + 2 * TS_SPAN_MAX_MODES],
         ry1[8 + 2 * TS_SPAN_MAX_MODES];
-    memset(B, 0, sizeof B);
-    memset(rx, 0, sizeof rx);
-    memset(ry0, 0, sizeof ry0);
-    memset(ry1, 0, sizeof ry1);
+    int ncap = 8 + se->nm; /* hull 3, two arms, two spins, the modes (+1 spare) */
+    for (int r = 0; r < n; r++)
+        for (int c = 0; c < ncap; c++) B[r][c] = 0;
+    for (int c = 0; c < ncap; c++) rx[c] = ry0[c] = ry1[c] = 0;
     double ell = e->ell;
     /* rows 0, 1: u0 = rho_a (Phi_a + dpsi), u1 = rho_b (Phi_b + dpsi) + l - l0 */
     for (int side = 0; side < 2; side++) {
@@ -471,7 +471,10 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
         for (int c = 0; c < j->n; c++) {
             int ci = cset_add(&cs, j->idx[c]);
             double dpsi = sg * (e->n[0] * j->v[c][0] + e->n[1] * j->v[c][1]) / ell;
-            double dl = sg * (e->u[0] * j->v[c][0] + e->u[1] * j->v[c][1]);
+            /* dl/dc_b = u + (rho_a - rho_b)/l n (d = l u + (rho_a - rho_b) n) */
+            double cr = (v->rho_b[a] - v->rho_b[b]) / ell;
+            double dl = sg * ((e->u[0] + cr * e->n[0]) * j->v[c][0] +
+                              (e->u[1] + cr * e->n[1]) * j->v[c][1]);
             B[0][ci] += v->rho_b[a] * dpsi;
             B[1][ci] += v->rho_b[b] * dpsi + dl;
             if (side == 0) {
@@ -503,8 +506,24 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
         psid = ((k->v[b][0] - k->v[a][0]) * e->n[0] + (k->v[b][1] - k->v[a][1]) * e->n[1]) / ell;
     }
     double gx = -GRAVITY * e->u[1], gy = -GRAVITY * e->n[1];
-    ts_span_motion mo = {0, 0, psid, 0, gy};
+    /* The frame's translation and rotation enter through the mass matrix (the
+     * frame-velocity coupling below), so no support accelerations are passed;
+     * the chord's rotation rate is not passed either: its centripetal term
+     * would do work the lumped frame kinetic energy does not account for, and
+     * its Coriolis term (no work) is second order at hull pitch rates. */
+    (void)psid;
+    ts_span_motion mo = {0, 0, 0, 0, gy};
     ts_span_force(sp, &mo, x, xd, f);
+    /* Kelvin-Voigt track damping, the same retardation time as the chain
+     * elements: -tau_d K x_d (stiffness-proportional, damps the span's
+     * high longitudinal modes hard and its transverse string modes lightly) */
+    double kv = v->dscale * v->tau_d;
+    if (kv > 0)
+        for (int r = 0; r < n; r++) {
+            double s = 0;
+            for (int c = 0; c < n; c++) s += sp->K[r * n + c] * xd[c];
+            f[r] -= kv * s;
+        }
     /* gravity along the chord on the longitudinal sine modes (the tension
      * gradient); not on the rigid feed u0, u1: over the whole closed loop the
      * track's weight along the circuit sums to zero, and only the free spans
@@ -984,6 +1003,7 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
         double u1 = v->rho_b[b] * (q[QS0 + b] + e.dpsi) + e.ell - v->ell0[el];
         if (!se) {
             double s = u1 - u0, kel = v->ea / v->len_el[el];
+            if (s < -v->p0 / kel) s = -v->p0 / kel; /* slack: T = 0, energy flat */
             pe += v->p0 * s + 0.5 * kel * s * s;
             continue;
         }
@@ -1109,4 +1129,10 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
         g->terrain_z[i] = ts_terrain_height(v->terrain, x, NULL);
         g->nterrain = i + 1;
     }
+}
+
+void vm_forces(const vm *v, vm_work *w, double t, const double *y, int drive_on, double *Q)
+{
+    forces(v, w, t, y, y + v->nq, w->M, w->Q, 1, drive_on, NULL);
+    memcpy(Q, w->Q, (size_t)v->nq * sizeof(double));
 }

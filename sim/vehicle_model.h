@@ -98,6 +98,10 @@ int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_
  * the same consistent approximations as vm_rhs (see vehicle_model.c). */
 double vm_energy(const vm *v, vm_work *w, const double *y);
 
+/* Generalised forces Q(q, dq/dt, t) of state y (nq values): everything but the
+ * inertia M q_dd (rigid-body velocity terms and gravity included). */
+void vm_forces(const vm *v, vm_work *w, double t, const double *y, int drive_on, double *Q);
+
 /* Geometry snapshot (geometry.h) of state y at time t. */
 void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g);
 
