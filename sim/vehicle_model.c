@@ -1136,3 +1136,9 @@ void vm_forces(const vm *v, vm_work *w, double t, const double *y, int drive_on,
     forces(v, w, t, y, y + v->nq, w->M, w->Q, 1, drive_on, NULL);
     memcpy(Q, w->Q, (size_t)v->nq * sizeof(double));
 }
+
+void vm_mass(const vm *v, vm_work *w, const double *y, double *M)
+{
+    forces(v, w, 0.0, y, y + v->nq, w->M, w->Q, 1, 0, NULL);
+    memcpy(M, w->M, (size_t)v->nq * (size_t)v->nq * sizeof(double));
+}

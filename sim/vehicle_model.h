@@ -102,6 +102,9 @@ double vm_energy(const vm *v, vm_work *w, const double *y);
  * inertia M q_dd (rigid-body velocity terms and gravity included). */
 void vm_forces(const vm *v, vm_work *w, double t, const double *y, int drive_on, double *Q);
 
+/* Mass matrix M(q) of state y (nq x nq, row-major, symmetric). */
+void vm_mass(const vm *v, vm_work *w, const double *y, double *M);
+
 /* Geometry snapshot (geometry.h) of state y at time t. */
 void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g);
 
