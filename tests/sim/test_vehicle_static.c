@@ -162,6 +162,43 @@ static void sprocket_torque_accelerates_by_energy_balance(void **state)
     ts_model_free(m);
 }
 
+/* The geometry snapshot (geometry.h) for the renderer: 11 wheels with their
+ * roles, a closed track polyline through every wheel's wrap, tensions at P0 at
+ * rest, terrain around the hull. Structural checks, exact. */
+static void geometry_snapshot_is_complete(void **state)
+{
+    (void)state;
+    ts_config c = config("coupled");
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    assert_non_null(m);
+    ts_data *d = ts_data_make(m, &err);
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    static ts_geom g;
+    assert_int_equal(ts_geometry(m, d, &g, &err), TS_OK);
+    assert_int_equal(g.nwheel, 11);
+    int roles[TS_NWHEEL_ROLE] = {0};
+    for (int i = 0; i < g.nwheel; i++) roles[g.wheel[i].role]++;
+    assert_int_equal(roles[TS_WHEEL_ROAD], 7);
+    assert_int_equal(roles[TS_WHEEL_SPROCKET], 1);
+    assert_int_equal(roles[TS_WHEEL_IDLER], 1);
+    assert_int_equal(roles[TS_WHEEL_ROLLER], 2);
+    assert_true(g.ntrack > 100);
+    double len = 0;
+    for (int i = 0; i < g.ntrack; i++) {
+        int j = (i + 1) % g.ntrack;
+        len += hypot(g.track_x[j] - g.track_x[i], g.track_z[j] - g.track_z[i]);
+        assert_close(g.track_tension[i], c.track.tension, 0.01, 0);
+    }
+    /* the closed pitch line is the 78-pitch loop [P II.C.1] within 1 % */
+    assert_close(len, 78 * c.track.pitch, 0.01, 0);
+    assert_close(g.track_static_tension, c.track.tension, 1e-6, 0);
+    assert_true(g.nterrain > 10);
+    assert_close(g.hull_pitch, 0, 0, 1e-3);
+    ts_data_free(d);
+    ts_model_free(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -169,6 +206,7 @@ int main(void)
         cmocka_unit_test(wheel_loads_carry_the_weight),
         cmocka_unit_test(dof_counts_match_the_paper),
         cmocka_unit_test(sprocket_torque_accelerates_by_energy_balance),
+        cmocka_unit_test(geometry_snapshot_is_complete),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
