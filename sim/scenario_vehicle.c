@@ -26,6 +26,7 @@
 
 #define MPH 0.44704  /* m/s per mph */
 #define LBF 4.44822  /* N per lbf */
+#define VELOCITY_TIME 0.01 /* s: velocity tolerance = atol / this (numerical choice) */
 
 enum {
     CH_X = 1, CH_SPEED, CH_Z, CH_PITCH, CH_AX, CH_AZ, CH_T_RR, CH_N_RR, CH_TORQUE, CH_SPR_SPEED,
@@ -40,7 +41,7 @@ typedef struct veh_model {
 typedef struct veh_data {
     ts_ode *ode;
     vm_work *w;
-    double *y, *ydot;
+    double *y, *ydot, *atol;
 } veh_data;
 
 static int rhs(double t, const double *y, double *ydot, void *ud)
@@ -135,8 +136,18 @@ static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
         data_fini(m, d);
         return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     }
+    /* Absolute tolerances: run.atol for the coordinates (m, rad), and run.atol
+     * per VELOCITY_TIME for the rates (a position error of atol accrued over
+     * 10 ms): velocities need no tighter absolute control than positions. */
+    p->atol = calloc((size_t)ny, sizeof(double));
+    if (!p->atol) {
+        data_fini(m, d);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    }
+    for (int i = 0; i < ny; i++)
+        p->atol[i] = i < ny / 2 ? m->cfg.run.atol : m->cfg.run.atol / VELOCITY_TIME;
     ts_ode_opts o = {.rtol = m->cfg.run.rtol,
-                     .atol = m->cfg.run.atol,
+                     .atol_v = p->atol,
                      .max_step = m->cfg.run.max_step,
                      .max_steps = 500000};
     p->ode = ts_ode_make(ny, rhs, d, &o, err);
@@ -156,6 +167,7 @@ static void data_fini(const ts_model *m, ts_data *d)
     vm_work_free(p->w);
     free(p->y);
     free(p->ydot);
+    free(p->atol);
     free(p);
     d->impl = NULL;
 }
