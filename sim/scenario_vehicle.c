@@ -24,14 +24,27 @@
 #include "solver.h"
 #include "vehicle_model.h"
 
-#define MPH 0.44704  /* m/s per mph */
-#define LBF 4.44822  /* N per lbf */
-#define VELOCITY_TIME 0.01 /* s: velocity tolerance = atol / this (numerical choice) */
+#define MPH           0.44704 /* m/s per mph */
+#define LBF           4.44822 /* N per lbf */
+#define VELOCITY_TIME 0.01    /* s: velocity tolerance = atol / this (numerical choice) */
 
 enum {
-    CH_X = 1, CH_SPEED, CH_Z, CH_PITCH, CH_AX, CH_AZ, CH_T_RR, CH_N_RR, CH_TORQUE, CH_SPR_SPEED,
-    CH_ANCHOR, CH_ARM0, CH_LOAD0 = CH_ARM0 + VM_NRW, CH_SPAN_T0 = CH_LOAD0 + VM_NRW,
-    CH_SPAN_V0 = CH_SPAN_T0 + VM_NSPAN, NCH = CH_SPAN_V0 + VM_NSPAN
+    CH_X = 1,
+    CH_SPEED,
+    CH_Z,
+    CH_PITCH,
+    CH_AX,
+    CH_AZ,
+    CH_T_RR,
+    CH_N_RR,
+    CH_TORQUE,
+    CH_SPR_SPEED,
+    CH_ANCHOR,
+    CH_ARM0,
+    CH_LOAD0 = CH_ARM0 + VM_NRW,
+    CH_SPAN_T0 = CH_LOAD0 + VM_NRW,
+    CH_SPAN_V0 = CH_SPAN_T0 + VM_NSPAN,
+    NCH = CH_SPAN_V0 + VM_NSPAN
 };
 
 typedef struct veh_model {
@@ -89,24 +102,28 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     for (int i = 0; i < VM_NRW; i++) {
         snprintf(name, sizeof name, "road_arm.%d.angle", i + 1);
         snprintf(desc, sizeof desc, "road arm %d angle below hull x (1 = front)", i + 1);
-        if (ts_model_add_channel(m, name, "rad", desc, err) < 0) return err ? err->code : TS_ERR_INTERNAL;
+        if (ts_model_add_channel(m, name, "rad", desc, err) < 0)
+            return err ? err->code : TS_ERR_INTERNAL;
     }
     for (int i = 0; i < VM_NRW; i++) {
         snprintf(name, sizeof name, "road_wheel.%d.load", i + 1);
         snprintf(desc, sizeof desc, "ground load under road wheel %d, one side", i + 1);
-        if (ts_model_add_channel(m, name, "N", desc, err) < 0) return err ? err->code : TS_ERR_INTERNAL;
+        if (ts_model_add_channel(m, name, "N", desc, err) < 0)
+            return err ? err->code : TS_ERR_INTERNAL;
     }
     for (int s = 0; s < VM_NSPAN; s++) {
         snprintf(name, sizeof name, "span.%s.tension", vm_span_names[s]);
         snprintf(desc, sizeof desc, "track tension at mid-span, span %s", vm_span_names[s]);
-        if (ts_model_add_channel(m, name, "N", desc, err) < 0) return err ? err->code : TS_ERR_INTERNAL;
+        if (ts_model_add_channel(m, name, "N", desc, err) < 0)
+            return err ? err->code : TS_ERR_INTERNAL;
     }
     for (int s = 0; s < VM_NSPAN; s++) {
         snprintf(name, sizeof name, "span.%s.deflection", vm_span_names[s]);
         snprintf(desc, sizeof desc,
                  "dynamic transverse mid-span deflection (outward), span %s (0 without modes)",
                  vm_span_names[s]);
-        if (ts_model_add_channel(m, name, "m", desc, err) < 0) return err ? err->code : TS_ERR_INTERNAL;
+        if (ts_model_add_channel(m, name, "m", desc, err) < 0)
+            return err ? err->code : TS_ERR_INTERNAL;
     }
     return TS_OK;
 }
@@ -266,9 +283,10 @@ static double spectrum_peak(const ts_model *m, const double *rows, long nrows, i
     double *fr = malloc(sizeof(double) * (size_t)nb), *am = malloc(sizeof(double) * (size_t)nb);
     double f = NAN;
     if (x && fr && am) {
-        for (long i = 0; i < nrows; i++) x[i] = rows[i * nc + ch];
-        if (ts_fft_amplitude(x, (int)nrows, m->cfg.run.sample_rate, TS_FFT_LINEAR, TS_FFT_HANN,
-                             fr, am, NULL) == TS_OK)
+        for (long i = 0; i < nrows; i++)
+            x[i] = rows[i * nc + ch];
+        if (ts_fft_amplitude(x, (int)nrows, m->cfg.run.sample_rate, TS_FFT_LINEAR, TS_FFT_HANN, fr,
+                             am, NULL) == TS_OK)
             f = ts_fft_peak(fr, am, nb, f0, f1, amp);
     }
     free(x);
@@ -290,7 +308,8 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
         nmax = fmax(nmax, fabs(r[CH_N_RR]));
     }
     double t0 = vm_static_tension(vmm->v);
-    n = add_metric(out, n, max, "dof", "1", m->dof, "mechanical degrees of freedom (paper: 21/26/31)");
+    n = add_metric(out, n, max, "dof", "1", m->dof,
+                   "mechanical degrees of freedom (paper: 21/26/31)");
     n = add_metric(out, n, max, "top_speed_mph", "mph", vmax / MPH,
                    "predicted top speed (paper II.D: ~25 mph; torque calibrated to it)");
     n = add_metric(out, n, max, "static_tension", "N", t0,

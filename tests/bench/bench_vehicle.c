@@ -87,20 +87,22 @@ static int run(const char *preset)
     printf("  %-34s %12s   %s\n", "figure", "model", "paper");
     printf("  %-34s %12.1f   %s\n", "top speed [mph] (torque calibrated)",
            metric(mt, nm, "top_speed_mph"), "~25 (II.D), 27 (IV.C)");
-    printf("  %-34s %12.0f   %s\n", "static tension [lbf]", metric(mt, nm, "static_tension") / 4.44822,
-           "~15,000 (inferred)");
+    printf("  %-34s %12.0f   %s\n", "static tension [lbf]",
+           metric(mt, nm, "static_tension") / 4.44822, "~15,000 (inferred)");
     printf("  %-34s %12.0f   %s\n", "peak rear-roller tension [lbf]",
            metric(mt, nm, "peak_tension_lb"), "~30,000 (Fig. 12)");
-    printf("  %-34s %12.2f   %s\n", "peak / static tension", metric(mt, nm, "tension_amplification"),
-           "~2 ('nearly 100 %'), dynamic models");
+    printf("  %-34s %12.2f   %s\n", "peak / static tension",
+           metric(mt, nm, "tension_amplification"), "~2 ('nearly 100 %'), dynamic models");
     printf("  %-34s %12.2f   %s\n", "peak |accel_x| [m/s^2]", metric(mt, nm, "peak_abs_accel_x"),
            "static model largest (Fig. 11)");
     printf("  %-34s %12.2f   %s\n", "tension FFT peak 2-6 Hz [Hz]",
            metric(mt, nm, "tension_peak_2_6hz"), "3.7 (coupled only, Fig. 13c)");
-    printf("  %-34s %12.0f   %s\n", "  its amplitude [N]", metric(mt, nm, "tension_peak_2_6hz_amp"), "");
+    printf("  %-34s %12.0f   %s\n", "  its amplitude [N]", metric(mt, nm, "tension_peak_2_6hz_amp"),
+           "");
     printf("  %-34s %12.2f   %s\n", "tension FFT peak 13-20 Hz [Hz]",
            metric(mt, nm, "tension_peak_13_20hz"), "14.0 (dynamic models, Fig. 13b-c)");
-    printf("  %-34s %12.0f   %s\n", "  its amplitude [N]", metric(mt, nm, "tension_peak_13_20hz_amp"), "");
+    printf("  %-34s %12.0f   %s\n", "  its amplitude [N]",
+           metric(mt, nm, "tension_peak_13_20hz_amp"), "");
     printf("  %-34s %12.2f   %s\n", "roller force FFT peak 2-4.6 Hz",
            metric(mt, nm, "roller_force_peak_2_4.6hz"), "3.7 (coupled, Fig. 14b)");
     printf("  %-34s %12.0f   %s\n", "  its amplitude [N]",

@@ -35,7 +35,8 @@ static void finds_frequencies_and_amplitudes(void **state)
     assert_close(amp, 0.5, 0.02, 0);
     assert_true(a[0] < 1e-6); /* mean and trend removed */
     assert_true(isnan(ts_fft_peak(f, a, nb, 200, 300, NULL)));
-    assert_int_equal(ts_fft_amplitude(x, 1, fs, TS_FFT_MEAN, TS_FFT_RECT, f, a, &err), TS_ERR_PARAM);
+    assert_int_equal(ts_fft_amplitude(x, 1, fs, TS_FFT_MEAN, TS_FFT_RECT, f, a, &err),
+                     TS_ERR_PARAM);
     free(x);
     free(f);
     free(a);

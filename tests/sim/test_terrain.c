@@ -107,12 +107,12 @@ static void errors_name_the_field(void **state)
     int n;
     assert_int_equal(ts_terrain_parse_course("length 10\n1 0.1\n", s, h, l, 4, &n, &len, &err),
                      TS_ERR_PARAM);
-    assert_int_equal(ts_terrain_parse_course("# c\nlength 10\n1 0.1 2\n2 0.1 1\n", s, h, l, 4,
-                                             &n, &len, &err),
-                     TS_ERR_PARAM); /* overlap */
-    assert_int_equal(ts_terrain_parse_course("length 10\n1 0.1 2 # a\n4 0.2 1\n", s, h, l, 4, &n,
-                                             &len, &err),
-                     TS_OK);
+    assert_int_equal(
+        ts_terrain_parse_course("# c\nlength 10\n1 0.1 2\n2 0.1 1\n", s, h, l, 4, &n, &len, &err),
+        TS_ERR_PARAM); /* overlap */
+    assert_int_equal(
+        ts_terrain_parse_course("length 10\n1 0.1 2 # a\n4 0.2 1\n", s, h, l, 4, &n, &len, &err),
+        TS_OK);
     assert_int_equal(n, 2);
     assert_close(len, 10, 0, 0);
 }

@@ -20,10 +20,10 @@ static ts_config config(const char *fidelity)
 {
     ts_config c;
     ts_err err;
-    json_t *doc = json_pack("{s:{s:s,s:f,s:f,s:f,s:f},s:{s:s},s:{s:s,s:f}}", "run", "kind",
-                            "vehicle", "duration", 4.0, "sample_rate", 200.0, "rtol", 1e-4,
-                            "atol", 1e-6, "track", "fidelity", fidelity, "drive", "kind",
-                            "constant", "torque", 0.0);
+    json_t *doc =
+        json_pack("{s:{s:s,s:f,s:f,s:f,s:f},s:{s:s},s:{s:s,s:f}}", "run", "kind", "vehicle",
+                  "duration", 4.0, "sample_rate", 200.0, "rtol", 1e-4, "atol", 1e-6, "track",
+                  "fidelity", fidelity, "drive", "kind", "constant", "torque", 0.0);
     assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
     json_decref(doc);
     return c;
@@ -39,7 +39,8 @@ static int modes(const ts_config *c, double *freq)
     vm_work *w = vm_work_make(v);
     int n = vm_nq(v), ny = vm_ny(v);
     double *y = malloc(sizeof(double) * (size_t)ny);
-    double *K = malloc(sizeof(double) * (size_t)(n * n)), *M = malloc(sizeof(double) * (size_t)(n * n));
+    double *K = malloc(sizeof(double) * (size_t)(n * n)),
+           *M = malloc(sizeof(double) * (size_t)(n * n));
     double *q1 = malloc(sizeof(double) * (size_t)n), *q2 = malloc(sizeof(double) * (size_t)n);
     memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
     for (int j = 0; j < n; j++) {
@@ -49,14 +50,17 @@ static int modes(const ts_config *c, double *freq)
         y[j] = keep - h;
         vm_forces(v, w, 0, y, 0, q2);
         y[j] = keep;
-        for (int i = 0; i < n; i++) K[i * n + j] = -(q1[i] - q2[i]) / (2 * h);
+        for (int i = 0; i < n; i++)
+            K[i * n + j] = -(q1[i] - q2[i]) / (2 * h);
     }
     for (int i = 0; i < n; i++)
-        for (int j = 0; j < i; j++) K[i * n + j] = K[j * n + i] = 0.5 * (K[i * n + j] + K[j * n + i]);
+        for (int j = 0; j < i; j++)
+            K[i * n + j] = K[j * n + i] = 0.5 * (K[i * n + j] + K[j * n + i]);
     vm_mass(v, w, y, M);
     double *wv = malloc(sizeof(double) * (size_t)n);
     assert_int_equal(LAPACKE_dsygv(LAPACK_ROW_MAJOR, 1, 'N', 'U', n, K, n, M, n, wv), 0);
-    for (int i = 0; i < n; i++) freq[i] = wv[i] > 0 ? sqrt(wv[i]) / (2 * PI) : 0;
+    for (int i = 0; i < n; i++)
+        freq[i] = wv[i] > 0 ? sqrt(wv[i]) / (2 * PI) : 0;
     free(wv), free(y), free(K), free(M), free(q1), free(q2);
     vm_work_free(w);
     vm_free(v);

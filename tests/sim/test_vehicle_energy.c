@@ -33,10 +33,10 @@ static ts_config conservative(const char *fidelity)
      * and roller spins between track elements) sit near 130 Hz instead of 410 Hz
      * and a fixed-step RK4 at 0.2 ms resolves them; conservation does not
      * depend on the values. */
-    json_t *doc = json_pack("{s:{s:s},s:{s:s,s:f},s:{s:s,s:f},s:{s:f,s:f}}", "run", "kind",
-                            "vehicle", "track", "fidelity", fidelity, "ea", 3e6, "drive", "kind",
-                            "constant", "torque", 0.0, "vehicle", "damping_scale", 0.0,
-                            "anchor_stiffness", 1e7);
+    json_t *doc =
+        json_pack("{s:{s:s},s:{s:s,s:f},s:{s:s,s:f},s:{s:f,s:f}}", "run", "kind", "vehicle",
+                  "track", "fidelity", fidelity, "ea", 3e6, "drive", "kind", "constant", "torque",
+                  0.0, "vehicle", "damping_scale", 0.0, "anchor_stiffness", 1e7);
     assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
     json_decref(doc);
     return c;
@@ -58,8 +58,9 @@ static void check_energy(const char *fidelity, double tol)
      * down to keep its hub), then let go: it drops onto its torsion bars */
     double arm = c.vehicle.road_arm_length;
     y[1] += 0.03;
-    for (int i = 0; i < 7; i++) y[3 + i] = asin(sin(y[3 + i]) + 0.03 / arm);
-    if (nq > 21) y[nq - 1] += 0.01;  /* last modal coordinate of the last span plucked 1 cm */
+    for (int i = 0; i < 7; i++)
+        y[3 + i] = asin(sin(y[3 + i]) + 0.03 / arm);
+    if (nq > 21) y[nq - 1] += 0.01; /* last modal coordinate of the last span plucked 1 cm */
     double e0 = vm_energy(v, u.w, y);
     double disturbance = e0 - e_eq;
     assert_true(disturbance > 1000.0);
@@ -71,13 +72,17 @@ static void check_energy(const char *fidelity, double tol)
     int nstep = (int)lround(10.0 / dt);
     for (int s = 1; s <= nstep; s++) {
         assert_int_equal(rhs(t, y, k1, &u), 0);
-        for (int i = 0; i < ny; i++) tmp[i] = y[i] + 0.5 * dt * k1[i];
+        for (int i = 0; i < ny; i++)
+            tmp[i] = y[i] + 0.5 * dt * k1[i];
         assert_int_equal(rhs(t + 0.5 * dt, tmp, k2, &u), 0);
-        for (int i = 0; i < ny; i++) tmp[i] = y[i] + 0.5 * dt * k2[i];
+        for (int i = 0; i < ny; i++)
+            tmp[i] = y[i] + 0.5 * dt * k2[i];
         assert_int_equal(rhs(t + 0.5 * dt, tmp, k3, &u), 0);
-        for (int i = 0; i < ny; i++) tmp[i] = y[i] + dt * k3[i];
+        for (int i = 0; i < ny; i++)
+            tmp[i] = y[i] + dt * k3[i];
         assert_int_equal(rhs(t + dt, tmp, k4, &u), 0);
-        for (int i = 0; i < ny; i++) y[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+        for (int i = 0; i < ny; i++)
+            y[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
         t += dt;
         if (s % 500 == 0) worst = fmax(worst, fabs(vm_energy(v, u.w, y) - e0));
     }
@@ -93,7 +98,8 @@ static void check_energy(const char *fidelity, double tol)
 /* EVIDENCE: conservation of mechanical energy (closed form: dE/dt = 0 for a
  * conservative Lagrangian system). Static fidelity (massless chain, 21 DOF),
  * all dampers, foundation/anchor/track damping and the drive off; the hull is
- * dropped 3 cm onto its suspension. Tolerance: 1 % of the disturbance energy over 10 s (fixed-step RK4). Nothing calibrated. */
+ * dropped 3 cm onto its suspension. Tolerance: 1 % of the disturbance energy over 10 s (fixed-step
+ * RK4). Nothing calibrated. */
 static void static_model_conserves_energy(void **state)
 {
     (void)state;

@@ -19,8 +19,8 @@ static ts_config config(const char *fidelity)
     ts_config c;
     ts_err err;
     json_t *doc = json_pack("{s:{s:s,s:f,s:f},s:{s:s},s:{s:s,s:f}}", "run", "kind", "vehicle",
-                            "duration", 2.0, "sample_rate", 100.0, "track", "fidelity",
-                            fidelity, "drive", "kind", "constant", "torque", 0.0);
+                            "duration", 2.0, "sample_rate", 100.0, "track", "fidelity", fidelity,
+                            "drive", "kind", "constant", "torque", 0.0);
     assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
     json_decref(doc);
     return c;
@@ -149,8 +149,8 @@ static void sprocket_torque_accelerates_by_energy_balance(void **state)
     double v3 = channel(m, d, "vehicle.speed");
     const ts_vehicle_config *vc = &c.vehicle;
     double po = vc->track_pitch_offset;
-    double rw = vc->road_wheel_radius + po, ri = vc->idler_radius + po,
-           rr = vc->roller_radius + po, rs = vc->sprocket_radius;
+    double rw = vc->road_wheel_radius + po, ri = vc->idler_radius + po, rr = vc->roller_radius + po,
+           rs = vc->sprocket_radius;
     double track = c.track.mass_per_length * 78 * c.track.pitch;
     double meff = 0.5 * vc->mass - track + 7 * vc->road_wheel_inertia / (rw * rw) +
                   vc->sprocket_inertia / (rs * rs) + vc->idler_inertia / (ri * ri) +
@@ -178,7 +178,8 @@ static void geometry_snapshot_is_complete(void **state)
     assert_int_equal(ts_geometry(m, d, &g, &err), TS_OK);
     assert_int_equal(g.nwheel, 11);
     int roles[TS_NWHEEL_ROLE] = {0};
-    for (int i = 0; i < g.nwheel; i++) roles[g.wheel[i].role]++;
+    for (int i = 0; i < g.nwheel; i++)
+        roles[g.wheel[i].role]++;
     assert_int_equal(roles[TS_WHEEL_ROAD], 7);
     assert_int_equal(roles[TS_WHEEL_SPROCKET], 1);
     assert_int_equal(roles[TS_WHEEL_IDLER], 1);
