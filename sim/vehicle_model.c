@@ -29,11 +29,27 @@
  * end spins; their rigid motion with the hull); longitudinal / transverse /
  * coupled: the five free spans are track_span.h elements (see vehicle_spans).
  *
- * Left out: track translation-speed (gyroscopic) terms, slip anywhere but the
- * anchor, track–hull impact, rebound stops, the anchor's release when road
- * wheel 4 lifts off (the no-slip spring always acts), and the dependence of
- * the mass matrix on q in the span blocks (their chord directions change by
- * milliradians; the rigid bodies' velocity terms are kept).
+ * Span elements: the span's kinetic energy is its own (track_span.h M in the
+ * chord frame) plus the frame's motion interpolated between the two support
+ * centres (rigid mass rho L with the end velocities, cross terms from
+ * rho int N_i and rho int (1 - s/L) phi_k, rho int (s/L) phi_k), all assembled
+ * into the global mass matrix, so the support accelerations of Eqs. 4-5 load
+ * the modes implicitly (no lagged accelerations). Gravity: the frame's weight
+ * on the supports, the sag (built in by track_span), the tension gradient
+ * along the chord on the longitudinal sine modes. Kelvin-Voigt damping
+ * -tau_d K x_d on each span, the same retardation time as the chain elements.
+ *
+ * Left out: track translation-speed (gyroscopic) terms; the chord-rotation
+ * terms of Eqs. 4-5 (Coriolis, centripetal; second order at hull pitch rates)
+ * and the dependence of the span mass blocks on q (chord directions change by
+ * milliradians; the rigid bodies' velocity terms are kept) — together they
+ * cost < 1 % energy drift in 10 s (tests/sim/test_vehicle_energy.c); the
+ * weight of the rigid track feed around the circuit (only the free spans
+ * carry mass, the whole closed loop would balance it); slip anywhere but the
+ * anchor; track–hull impact; rebound stops; the anchor's release when road
+ * wheel 4 lifts off (the no-slip spring always acts); a compliant tensioner
+ * (the grease link is locked while running, so the static model's tension
+ * follows the loop-length change of the suspension travel).
  */
 #include "vehicle_model.h"
 
@@ -733,7 +749,11 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         q[QA0 + i] = v->arm0;
     double wsup = vm_supported_weight(v);
     u[0] = v->x0;
-    u[1] = v->z0 - wsup / VM_NRW / v->kf; /* foundation compression */
+    /* start on the ground under the road wheels, the foundation compressed */
+    double hg = 0;
+    for (int i = 0; i < VM_NRW; i++)
+        hg += ts_terrain_height(v->terrain, v->x0 + v->l_pivot[i][0], NULL) / VM_NRW;
+    u[1] = v->z0 + hg - wsup / VM_NRW / v->kf;
     for (int i = 0; i < VM_NRW; i++)
         u[3 + VM_NB - 1 + i] = wsup / VM_NRW * v->arm_len * cos(v->arm0);
     double scale_f = wsup;
