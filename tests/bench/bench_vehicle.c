@@ -80,6 +80,7 @@ static int run(const char *preset)
     double cpu = cpu_now() - c0, wall = ts_wall_seconds(d);
     ts_metric mt[32];
     int nm = ts_model_metrics(m, s.rows, s.n, mt, 32);
+    if (strstr(preset, "coupled")) printf("\n(goal for the coupled run: >= 500x real time)");
     printf("\n%s: %d DOF, %.0f s simulated in %.2f s wall / %.2f s CPU: "
            "real-time factor %.0fx (wall), %.0fx (CPU)\n",
            preset, ts_model_dof(m), c.run.duration, wall, cpu, c.run.duration / wall,
