@@ -39,11 +39,14 @@
  * along the chord on the longitudinal sine modes. Kelvin-Voigt damping
  * -tau_d K x_d on each span, the same retardation time as the chain elements.
  *
+ * The span blocks of M depend on the hull pitch and the end road arms; their
+ * velocity terms dT/dq - (dM/dt) q_d are taken by central differences
+ * (span_velocity_terms), so the whole model is a consistent Lagrangian system
+ * (tests/sim/test_vehicle_energy.c).
+ *
  * Left out: track translation-speed (gyroscopic) terms; the chord-rotation
- * terms of Eqs. 4-5 (Coriolis, centripetal; second order at hull pitch rates)
- * and the dependence of the span mass blocks on q (chord directions change by
- * milliradians; the rigid bodies' velocity terms are kept) — together they
- * cost < 1 % energy drift in 10 s (tests/sim/test_vehicle_energy.c); the
+ * terms of ts_span_force (Coriolis, centripetal: the frame kinetic energy
+ * above supplies the frame's inertia instead); the
  * weight of the rigid track feed around the circuit (only the free spans
  * carry mass, the whole closed loop would balance it); slip anywhere but the
  * anchor; track–hull impact; rebound stops; the anchor's release when road
@@ -127,7 +130,8 @@ struct vm {
 };
 
 struct vm_work {
-    double *M, *Q, *B, *C; /* nq x nq, nq, span maps */
+    double *M, *Q, *B, *C;
+    double *qs; /* nq: perturbed coordinates (span velocity terms) */ /* nq x nq, nq, span maps */
     double sx[2 + 2 * TS_SPAN_MAX_MODES], sxd[2 + 2 * TS_SPAN_MAX_MODES],
         sf[2 + 2 * TS_SPAN_MAX_MODES];
 };
@@ -351,6 +355,9 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
                          int a, int b, const double *q, const double *qd, double *M, double *Q,
                          int inertia, vm_diag *diag);
 
+static void span_velocity_terms(const vm *v, vm_work *w, const double *q, const double *qd,
+                                double *Q);
+
 /* Generalised forces Q (and M if inertia) at (t, q, qd). */
 static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
                    double *Q, int inertia, int drive_on, vm_diag *diag)
@@ -412,6 +419,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     }
     for (int b = 0; b < VM_NB; b++)
         add_force(Q, &k.j[b], fr[b]);
+    if (inertia && qd && v->dynamic) span_velocity_terms(v, w, q, qd, Q);
     /* foundation and anchor */
     for (int i = 0; i < VM_NRW; i++) {
         int b = VM_RW1 + i;
@@ -475,16 +483,23 @@ static int cset_add(cset *c, int i)
     return c->n++;
 }
 
-static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
-                         int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         int inertia, vm_diag *diag)
-{
-    const ts_span *sp = se->sp;
-    int n = sp->n, nq = v->nq;
-    cset cs = {0, {0}};
+/* The span's velocity map: x_d = B q_d (compact columns cs), and the frame
+ * velocities f_x = rx . q_d (end 0 along the chord), f_y0 = ry0 . q_d,
+ * f_y1 = ry1 . q_d (ends 0, 1 normal to it). */
+typedef struct span_map {
+    cset cs;
     double B[2 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES];
     double rx[8 + 2 * TS_SPAN_MAX_MODES], ry0[8 + 2 * TS_SPAN_MAX_MODES],
         ry1[8 + 2 * TS_SPAN_MAX_MODES];
+} span_map;
+
+static void span_map_build(const vm *v, const kin *k, const span_el *se, const elem *e, int a,
+                           int b, span_map *mp)
+{
+    int n = se->sp->n;
+    cset cs = {0, {0}};
+    double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp->B;
+    double *rx = mp->rx, *ry0 = mp->ry0, *ry1 = mp->ry1;
     int ncap = 8 + se->nm; /* hull 3, two arms, two spins, the modes (+1 spare) */
     for (int r = 0; r < n; r++)
         for (int c = 0; c < ncap; c++)
@@ -517,6 +532,148 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
     B[1][cset_add(&cs, QS0 + b)] += v->rho_b[b];
     for (int m = 0; m < se->nm; m++)
         B[2 + m][cset_add(&cs, se->q0 + m)] = 1.0;
+    mp->cs = cs;
+}
+
+/* Kinetic energy of a span (its own motion in the chord frame, the frame's,
+ * and their cross terms) and its momentum p_c = dT/d(q_d) on the compact
+ * columns (p may be NULL). Consistent with the mass-matrix block assembled in
+ * span_element: p = M_span q_d. */
+static double span_ke(const vm *v, const span_el *se, const span_map *mp, const double *qd,
+                      double *p)
+{
+    (void)v;
+    const ts_span *sp = se->sp;
+    int n = sp->n, nc = mp->cs.n;
+    double xd[2 + 2 * TS_SPAN_MAX_MODES], mx[2 + 2 * TS_SPAN_MAX_MODES];
+    double fx = 0, fy0 = 0, fy1 = 0;
+    for (int c = 0; c < nc; c++) {
+        double u = qd[mp->cs.idx[c]];
+        fx += mp->rx[c] * u, fy0 += mp->ry0[c] * u, fy1 += mp->ry1[c] * u;
+    }
+    for (int r = 0; r < n; r++) {
+        double s = 0;
+        for (int c = 0; c < nc; c++)
+            s += mp->B[r][c] * qd[mp->cs.idx[c]];
+        xd[r] = s;
+    }
+    double m = se->rho * se->len, t = 0, ax = 0, a0 = 0, a1 = 0;
+    for (int r = 0; r < n; r++) {
+        double s = 0;
+        for (int kk = 0; kk < n; kk++)
+            s += sp->M[r * n + kk] * xd[kk];
+        mx[r] = s + se->alpha[r] * fx + se->beta0[r] * fy0 + se->beta1[r] * fy1;
+        t +=
+            0.5 * xd[r] * s + xd[r] * (se->alpha[r] * fx + se->beta0[r] * fy0 + se->beta1[r] * fy1);
+        ax += se->alpha[r] * xd[r], a0 += se->beta0[r] * xd[r], a1 += se->beta1[r] * xd[r];
+    }
+    t += 0.5 * m * fx * fx + m / 6.0 * (fy0 * fy0 + fy0 * fy1 + fy1 * fy1);
+    if (p)
+        for (int c = 0; c < nc; c++) {
+            double s = 0;
+            for (int r = 0; r < n; r++)
+                s += mp->B[r][c] * mx[r];
+            s += mp->rx[c] * (ax + m * fx) + mp->ry0[c] * (a0 + m / 3.0 * fy0 + m / 6.0 * fy1) +
+                 mp->ry1[c] * (a1 + m / 3.0 * fy1 + m / 6.0 * fy0);
+            p[c] = s;
+        }
+    return t;
+}
+
+/* Evaluate every span's map at coordinates qs: kinetic energy t[s] and
+ * momentum p[s][c]. */
+static void spans_at(const vm *v, const double *qs, const double *qd, double t[VM_NSPAN],
+                     double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES], span_map mp[VM_NSPAN])
+{
+    kin k;
+    kinematics(v, qs, NULL, &k);
+    for (int s = 0; s < VM_NSPAN; s++) {
+        const span_el *se = &v->span[s];
+        if (!se->sp) continue;
+        int a = se->elem, b = (se->elem + 1) % VM_NB;
+        elem e;
+        tangent(v, &k, a, b, &e);
+        span_map_build(v, &k, se, &e, a, b, &mp[s]);
+        t[s] = span_ke(v, se, &mp[s], qd, p ? p[s] : NULL);
+    }
+}
+
+/* Velocity terms of the span mass blocks, which depend on the hull pitch and
+ * on the road arms at the spans' ends: Q += dT/dq - (dM/dt) q_d, by central
+ * differences (the direction of q_d for dM/dt; theta and the arms for dT/dq —
+ * no span ends on two road wheels, so one perturbation serves all arms). */
+static void span_velocity_terms(const vm *v, vm_work *w, const double *q, const double *qd,
+                                double *Q)
+{
+    const double eps = 1e-5; /* [rad], differencing step */
+    int nq = v->nq;
+    double *qs = w->qs;
+    /* the track's transport around the circuit (the spins) is left out of these
+     * terms, as the paper drops the transport-speed terms of Eqs. 1-2 (II.B) */
+    double qdv[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
+    memcpy(qdv, qd, (size_t)nq * sizeof *qdv);
+    for (int b = 0; b < VM_NB; b++)
+        qdv[QS0 + b] = 0;
+    qd = qdv;
+    double tp[VM_NSPAN] = {0}, tm[VM_NSPAN] = {0};
+    double pp[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES], pm[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES];
+    span_map mp[VM_NSPAN], mm[VM_NSPAN];
+    double g = qd[QT] * qd[QT];
+    for (int i = 0; i < VM_NRW; i++)
+        g += qd[QA0 + i] * qd[QA0 + i];
+    g = sqrt(g);
+    if (g > 0) {
+        for (int sg = -1; sg <= 1; sg += 2) {
+            memcpy(qs, q, (size_t)nq * sizeof *qs);
+            qs[QT] += sg * eps * qd[QT] / g;
+            for (int i = 0; i < VM_NRW; i++)
+                qs[QA0 + i] += sg * eps * qd[QA0 + i] / g;
+            spans_at(v, qs, qd, sg > 0 ? tp : tm, sg > 0 ? pp : pm, sg > 0 ? mp : mm);
+        }
+        for (int s = 0; s < VM_NSPAN; s++) {
+            if (!v->span[s].sp) continue;
+            for (int c = 0; c < mp[s].cs.n; c++)
+                Q[mp[s].cs.idx[c]] -= g * (pp[s][c] - pm[s][c]) / (2 * eps);
+        }
+    }
+    for (int pass = 0; pass < 2; pass++) { /* 0: theta, 1: the road arms */
+        for (int sg = -1; sg <= 1; sg += 2) {
+            memcpy(qs, q, (size_t)nq * sizeof *qs);
+            if (pass == 0)
+                qs[QT] += sg * eps;
+            else
+                for (int i = 0; i < VM_NRW; i++)
+                    qs[QA0 + i] += sg * eps;
+            spans_at(v, qs, qd, sg > 0 ? tp : tm, NULL, mp);
+        }
+        for (int s = 0; s < VM_NSPAN; s++) {
+            if (!v->span[s].sp) continue;
+            double d = (tp[s] - tm[s]) / (2 * eps);
+            if (pass == 0) {
+                Q[QT] += d;
+                continue;
+            }
+            int a = v->span[s].elem, b = (a + 1) % VM_NB;
+            if (a >= VM_RW1)
+                Q[QA0 + a - VM_RW1] += d;
+            else if (b >= VM_RW1)
+                Q[QA0 + b - VM_RW1] += d;
+        }
+    }
+}
+
+static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
+                         int a, int b, const double *q, const double *qd, double *M, double *Q,
+                         int inertia, vm_diag *diag)
+{
+    const ts_span *sp = se->sp;
+    int n = sp->n, nq = v->nq;
+    span_map mp;
+    span_map_build(v, k, se, e, a, b, &mp);
+    const cset cs = mp.cs;
+    double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp.B;
+    const double *rx = mp.rx, *ry0 = mp.ry0, *ry1 = mp.ry1;
+    double ell = e->ell;
     /* local state */
     double *x = w->sx, *xd = w->sxd, *f = w->sf;
     double u0 = v->rho_b[a] * (q[QS0 + a] + e->dpsi);
@@ -667,7 +824,8 @@ vm_work *vm_work_make(const vm *v)
     size_t nq = (size_t)v->nq;
     w->M = calloc(nq * nq, sizeof(double));
     w->Q = calloc(nq, sizeof(double));
-    if (!w->M || !w->Q) {
+    w->qs = calloc(nq, sizeof(double));
+    if (!w->M || !w->Q || !w->qs) {
         vm_work_free(w);
         return NULL;
     }
@@ -679,6 +837,7 @@ void vm_work_free(vm_work *w)
     if (!w) return;
     free(w->M);
     free(w->Q);
+    free(w->qs);
     free(w->B);
     free(w->C);
     free(w);
@@ -850,14 +1009,14 @@ static ts_rc build_spans(vm *v, ts_err *err)
         se->rho = tc->mass_per_length;
         se->len = v->ell0[el];
         q0 += se->nm;
-        double L = se->len, rho = se->rho;
-        /* rho int N_i ds of U's shape functions; transverse frame interpolation */
-        se->alpha[0] = se->alpha[1] = 0.5 * rho * L;
-        for (int j = 1; j <= nl; j++)
-            se->alpha[1 + j] = rho * L * (1 - cos(j * PI)) / (j * PI);
-        for (int kk = 1; kk <= nt; kk++) {
-            se->beta0[1 + nl + kk] = rho * L / (kk * PI);
-            se->beta1[1 + nl + kk] = -rho * L * cos(kk * PI) / (kk * PI);
+        /* frame-coupling integrals from the span's load vectors: rho int N_i
+         * (longitudinal rows) and, for the transverse frame velocity
+         * interpolated between the ends, rho int (1 - s/L) phi_k = ay - sy/L and
+         * rho int (s/L) phi_k = sy/L */
+        for (int r = 0; r < se->sp->n; r++) {
+            se->alpha[r] = se->sp->ax[r];
+            se->beta1[r] = se->sp->sy[r] / se->len;
+            se->beta0[r] = se->sp->ay[r] - se->beta1[r];
         }
     }
     v->nmodal = q0 - VM_NQ_RIGID;
