@@ -11,6 +11,7 @@ set -u
 BUILD=${1:-build}
 FILTER=${2:-}
 export TANKSIM_BUILD=$(cd "$BUILD" && pwd)
+export LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 OUT=tests/out
 mkdir -p "$OUT"
 total_pass=0
