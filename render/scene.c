@@ -756,7 +756,7 @@ static void mvp_d(const tsr_scene *s, const tsr_view *v, double m[16])
         double dir[3] = {0.62, -0.72, 0.32}, l = sqrt(0.62 * 0.62 + 0.72 * 0.72 + 0.32 * 0.32);
         double fovx = 2 * atan(tan(FOV_Y / 2) * aspect);
         double half = fmin(FOV_Y, fovx) / 2;
-        double dist = 1.05 * s->radius / sin(half);
+        double dist = 0.8 * s->radius / sin(half); /* sphere round hull + gun, a bit cropped */
         double eye[3], up[3] = {0, 0, 1};
         for (int k = 0; k < 3; k++) eye[k] = s->aim[k] + dist * dir[k] / l;
         look_at(eye, s->aim, up, view);
