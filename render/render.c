@@ -4,7 +4,8 @@
  * id images), framebuffer objects (a 4x multisampled one, resolved into the
  * single-sample one, when tsr_view.antialias asks for it), glReadPixels
  * readback in top-down rows (the projection flips y, so the rows arrive in
- * image order without a copy), the text overlay drawn on the CPU with the built-in font, and PNG through png_io.
+ * image order without a copy), the text overlay drawn on the CPU with the
+ * built-in font, and PNG through png_io.
  *
  * Why these choices: OSMesa/llvmpipe needs no display or GPU (Paper II.C.2
  * "animation sequences" for the API, dashboard and CI); rendering into FBOs
