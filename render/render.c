@@ -1,21 +1,24 @@
 /*
  * render.c — the OpenGL side of render.h: an OSMesa core-profile context per
  * tsr_ctx, one shader pair (flat-lit triangles, or flat part colours for the
- * id images), a 4x multisampled framebuffer object resolved into a single-
- * sample one, glReadPixels readback in top-down rows (the projection flips y,
- * so the rows arrive in image order without a copy), the text
- * overlay drawn on the CPU with the built-in font, and PNG through png_io.
+ * id images), framebuffer objects (a 4x multisampled one, resolved into the
+ * single-sample one, when tsr_view.antialias asks for it), glReadPixels
+ * readback in top-down rows (the projection flips y, so the rows arrive in
+ * image order without a copy), the text overlay drawn on the CPU with the
+ * built-in font, and PNG through png_io.
  *
  * Why these choices: OSMesa/llvmpipe needs no display or GPU (Paper II.C.2
  * "animation sequences" for the API, dashboard and CI); rendering into FBOs
  * lets one context serve every image size without re-creating it; the core
  * profile keeps us off fixed-function paths.
  *
- * PNG settings (tsr_png_fast): zlib level 1 with the "sub" filter. Measured by
- * tests/bench/bench_render.c on 1280x720 frames of the M1 (see the report in
- * that file's output): level 1 is the fastest level with a file only slightly
- * larger than level 3, and "sub" compresses these flat-shaded frames better
- * than "none" at no measurable cost, while "paeth" costs more time.
+ * PNG settings (tsr_png_fast): opaque RGB, zlib level 3, filter "none".
+ * Measured by tests/bench/bench_render.c on a 1280x720 M1 frame (fastest of
+ * 15, a quiet moment on the 2-core machine): RGB level 3 none 4.6 ms / 36 KB,
+ * level 2 none 4.5 ms / 39 KB, level 1 none 5.6 ms / 40 KB; "sub" and "up"
+ * cost 1-4 ms more ("up" gives 28-31 KB), "paeth" 3-4 ms more, level 6 three
+ * times the time; RGBA instead of RGB adds ~15-25 % for a quarter more data.
+ * Timings on the shared machine vary by 2x with load; the bench prints them.
  *
  * Leaves out: shadows, textures, anti-aliased id images (ids must be exact).
  */

@@ -169,8 +169,10 @@ typedef struct tsr_image {
     const unsigned char *rgba;
 } tsr_image;
 
-/* Draw scene s with view v (v must be the view the scene was updated with for
- * exaggeration/tension; size, kind, shading and overlay may differ). */
+/* Draw scene s with view v. The scene depends on v's kind, exaggeration,
+ * tension colours (and, for the side view, span and aspect: it leaves out what
+ * that view cannot see); size at the same aspect, shading, overlay, text and
+ * antialias may differ from the view the scene was updated with. */
 ts_rc tsr_render(tsr_ctx *c, const tsr_scene *s, const tsr_view *v, tsr_image *out, ts_err *err);
 
 /* Snapshot -> PNG in one call, using a scene owned by the ctx: update, render,

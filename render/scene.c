@@ -312,9 +312,9 @@ static void ground_segment(mb *b, const ts_geom *g, double xa, double xb, double
     tri(b, a0, bd, b0, inside);
 }
 
-static void build_ground(mb *b, const ts_geom *g, double xc)
+static void build_ground(mb *b, const ts_geom *g, double xc, double reach)
 {
-    double x0 = xc - GROUND_REACH, x1 = xc + GROUND_REACH;
+    double x0 = xc - reach, x1 = xc + reach;
     double zmin = terrain_at(g, x0);
     for (int i = 0; i < g->nterrain; i++) zmin = fmin(zmin, g->terrain_z[i]);
     double zbot = zmin - 4.0;
@@ -694,8 +694,15 @@ ts_rc tsr_scene_update(tsr_scene *s, const ts_geom *g, const tsr_view *v, ts_err
     s->tension_ref = tref;
     mb b = {.s = s};
     build_hull(&b, s, g, isp, iid);
-    build_ground(&b, g, s->aim[0]);
-    for (int side = -1; side <= 1; side += 2) {
+    /* The side view is orthographic along y: it shows the ground only within
+     * its span, and the left (y > 0) running gear and track lie exactly behind
+     * the right ones (same x-z outline, farther away), so they are left out. */
+    int side_view = v->kind == TSR_VIEW_SIDE;
+    double span = v->span > 0 ? v->span : DEFAULT_SPAN;
+    double aspect = (double)v->width / v->height;
+    double reach = side_view ? 0.5 * span * fmax(1.0, 1.0 / aspect) + 2.0 : GROUND_REACH;
+    build_ground(&b, g, s->aim[0], reach);
+    for (int side = -1; side <= (side_view ? -1 : 1); side += 2) {
         build_running_gear(&b, g, side);
         build_track(&b, g, v, g->wheel[isp].angle, g->wheel[isp].radius, tref, side);
     }
@@ -756,7 +763,7 @@ static void mvp_d(const tsr_scene *s, const tsr_view *v, double m[16])
         double dir[3] = {0.62, -0.72, 0.32}, l = sqrt(0.62 * 0.62 + 0.72 * 0.72 + 0.32 * 0.32);
         double fovx = 2 * atan(tan(FOV_Y / 2) * aspect);
         double half = fmin(FOV_Y, fovx) / 2;
-        double dist = 1.05 * s->radius / sin(half);
+        double dist = 0.8 * s->radius / sin(half); /* sphere round hull + gun, a bit cropped */
         double eye[3], up[3] = {0, 0, 1};
         for (int k = 0; k < 3; k++) eye[k] = s->aim[k] + dist * dir[k] / l;
         look_at(eye, s->aim, up, view);

@@ -591,6 +591,48 @@ static void bad_input_is_rejected(void **state)
     tsr_ctx_free(NULL);
 }
 
+/* EVIDENCE: none numeric — writes the M1 on the paper's large obstacle (side
+ * and three-quarter, lit, antialiased, tension colours on the second) to
+ * tests/out/render_m1_bump_*.png for a person to look at (Figs. 9-10's
+ * situation); checks only that the PNGs are written and decode to the size. */
+static void writes_bump_frames_for_review(void **state)
+{
+    (void)state;
+    static m1_state s;
+    bump_state(&s);
+    m1_span_mode(&s, 2, 0.01);
+    for (int i = 0; i < s.g.ntrack; i++) /* a taut upper run for the colour map */
+        if (s.span[i]) s.g.track_tension[i] = 1.6 * s.g.track_static_tension;
+    tsr_ctx *c = ctx_or_fail();
+    const char *names[2] = {"tests/out/render_m1_bump_side.png",
+                            "tests/out/render_m1_bump_three_quarter.png"};
+    for (int k = 0; k < 2; k++) {
+        tsr_view v;
+        tsr_view_default(&v);
+        v.kind = k ? TSR_VIEW_THREE_QUARTER : TSR_VIEW_SIDE;
+        v.antialias = 1;
+        v.exaggeration = 5;
+        v.color_by_tension = k;
+        snprintf(v.text, sizeof v.text, "M1 on the 1 ft x 25 ft bump (hand-built state), "
+                                        "span deflection x5");
+        unsigned char *png, *rgba;
+        size_t len;
+        int w, h;
+        ts_err err;
+        assert_int_equal(tsr_render_png(c, &s.g, &v, NULL, &png, &len, &err), TS_OK);
+        FILE *f = fopen(names[k], "wb");
+        assert_non_null(f);
+        assert_int_equal(fwrite(png, 1, len, f), len);
+        assert_int_equal(fclose(f), 0);
+        assert_int_equal(tsr_png_decode(png, len, &rgba, &w, &h, &err), TS_OK);
+        assert_int_equal(w, v.width);
+        assert_int_equal(h, v.height);
+        free(rgba);
+        free(png);
+    }
+    tsr_ctx_free(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -605,6 +647,7 @@ int main(void)
         cmocka_unit_test(three_quarter_view_shows_the_tank),
         cmocka_unit_test(two_threads_identical_bytes),
         cmocka_unit_test(bad_input_is_rejected),
+        cmocka_unit_test(writes_bump_frames_for_review),
     };
     return cmocka_run_group_tests_name("render/render", tests, NULL, NULL);
 }
