@@ -44,6 +44,12 @@ static const ts_param driveline_rows[] = {
      "efficiency of propshaft, differential and final drive together"},
     {"/driveline/output_inertia", TS_PT_DOUBLE, F(output_inertia), "kg*m^2", 0, 1e4, NULL, 0, 0,
      "transmission output, propshaft, final drives and both sprockets, referred to the sprocket"},
+    {"/driveline/launch_engine_speed", TS_PT_DOUBLE, F(launch_engine_speed), "rad/s", 10, 300,
+     NULL, 0, 0, "engine speed at the start of a powertrain run (vehicle at rest, 1st gear)"},
+    {"/driveline/ambient_pressure", TS_PT_DOUBLE, F(ambient_pressure), "Pa", 5e4, 1.1e5, NULL, 0,
+     0, "ambient pressure at the engine's air intake and exhaust"},
+    {"/driveline/ambient_temperature", TS_PT_DOUBLE, F(ambient_temperature), "K", 220, 330, NULL,
+     0, 0, "ambient air temperature at the engine's air intake"},
 };
 #undef F
 

@@ -35,6 +35,10 @@ typedef struct ts_driveline_config {
     double final_ratio;                       /* transmission output to sprocket [1] */
     double final_efficiency;                  /* propshaft + differential + final drive [1] */
     double output_inertia;                    /* transmission output .. both sprockets, at the sprocket [kg*m^2] */
+    /* start of a powertrain run */
+    double launch_engine_speed;               /* engine speed at t = 0, vehicle at rest in 1st [rad/s] */
+    double ambient_pressure;                  /* air the engine breathes [Pa] */
+    double ambient_temperature;               /* [K] */
 } ts_driveline_config;
 
 #endif

@@ -8,7 +8,8 @@
 
 #include <math.h>
 
-#define EVENT_TIME_TOL 1e-9  /* relative slack when testing an event condition at its root */
+#define EVENT_TIME_TOL 1e-9  /* relative slack when testing a time event at its root */
+#define EVENT_SPEED_TOL 1e-6 /* relative slack when testing a speed event at its root */
 #define SHIFT_CAP_FLOOR 0.05 /* floor of Cs as a fraction of clutch_capacity */
 
 ts_rc ts_transmission_init(ts_transmission *tr, const ts_driveline_config *c, ts_err *err)
@@ -111,10 +112,10 @@ int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double
         return 1;
     }
     int to = 0;
-    if (st->gear < tr->n && w_engine >= tr->shift_speed * (1 - EVENT_TIME_TOL))
+    if (st->gear < tr->n && w_engine >= tr->shift_speed * (1 - EVENT_SPEED_TOL))
         to = st->gear + 1;
     else if (st->gear > 1 && tr->downshift_speed > 0 &&
-             w_engine <= tr->downshift_speed * (1 + EVENT_TIME_TOL))
+             w_engine <= tr->downshift_speed * (1 + EVENT_SPEED_TOL))
         to = st->gear - 1;
     if (!to) return 0;
     double cs = tr->shift_capacity_factor * fabs(input_torque);
