@@ -134,6 +134,10 @@ int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, do
         out->engine_torque = obs.brake_torque;
         out->engine_power = obs.brake_torque * w_e;
         out->boost = obs.boost;
+        out->exhaust_temp = obs.exhaust_temp;
+        out->turbo_speed = obs.turbo_speed;
+        out->piston_temp = obs.piston_temp;
+        out->fuel_flow = obs.fuel_flow;
         out->pump_torque = tc.pump_torque;
         out->turbine_torque = tc.turbine_torque;
         out->turbine_speed = w_t;
@@ -188,6 +192,10 @@ static const ts_powertrain_channel channels[TS_POWERTRAIN_NCHANNEL] = {
     {"transmission.clutch.oncoming", "N*m", "on-coming range-clutch torque during a shift, input side"},
     {"driveshaft.torque", "N*m", "torque in each drive shaft, differential to sprocket"},
     {"driveshaft.speed", "rad/s", "drive-shaft (= sprocket) speed"},
+    {"exhaust.temperature", "K", "exhaust manifold temperature (Fig. 21c)"},
+    {"turbo.speed", "rad/s", "turbocharger rotor speed"},
+    {"piston.surface_temperature", "K", "piston gas-side surface temperature (Fig. 21b; 0 if not modelled)"},
+    {"engine.fuel_flow", "kg/s", "fuel mass flow, whole engine"},
 };
 
 const ts_powertrain_channel *ts_powertrain_channels(void) { return channels; }
@@ -200,7 +208,8 @@ void ts_powertrain_channel_values(const ts_powertrain_out *o, double *v)
         o->turbine_torque,   o->speed_ratio,     o->torque_ratio,    o->tc_efficiency,
         o->engine_speed - o->turbine_speed,      o->gear,            o->out_speed,
         o->out_torque,       o->clutch_offgoing, o->clutch_oncoming, o->sprocket_torque,
-        o->sprocket_speed,
+        o->sprocket_speed,   o->exhaust_temp,    o->turbo_speed,     o->piston_temp,
+        o->fuel_flow,
     };
     memcpy(v, row, sizeof row);
 }

@@ -38,6 +38,10 @@ typedef struct ts_engine_obs {
     double speed;        /* crankshaft speed [rad/s] */
     double brake_torque; /* [N*m] */
     double boost;        /* intake manifold pressure [Pa] */
+    double exhaust_temp; /* exhaust manifold temperature [K] */
+    double turbo_speed;  /* turbocharger rotor speed [rad/s] */
+    double piston_temp;  /* piston gas-side surface temperature [K] (0 if not modelled) */
+    double fuel_flow;    /* whole engine [kg/s] */
 } ts_engine_obs;
 
 typedef struct ts_engine_port {
@@ -70,6 +74,7 @@ typedef struct ts_powertrain_out {
     double engine_torque;     /* brake torque [N*m] */
     double engine_power;      /* brake power [W] */
     double boost;             /* intake manifold pressure [Pa] */
+    double exhaust_temp, turbo_speed, piston_temp, fuel_flow; /* as ts_engine_obs */
     double pump_torque;       /* converter load on the engine [N*m] */
     double turbine_torque;    /* converter output [N*m] */
     double turbine_speed;     /* = transmission input speed [rad/s] */
@@ -119,7 +124,7 @@ int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, doubl
 
 /* Output channels: names, units and descriptions in channel order, and the
  * values of one row from a ts_powertrain_out. */
-#define TS_POWERTRAIN_NCHANNEL 20
+#define TS_POWERTRAIN_NCHANNEL 24
 typedef struct ts_powertrain_channel {
     const char *name, *unit, *description;
 } ts_powertrain_channel;

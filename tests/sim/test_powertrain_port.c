@@ -35,7 +35,7 @@ static int flat_rhs(void *ctx, double t, const double *y, double rack, double lo
     flat_engine *e = ctx;
     double tb = rack * e->torque;
     ydot[0] = (tb - load) / e->j;
-    *obs = (ts_engine_obs){y[0], tb, 2e5};
+    *obs = (ts_engine_obs){.speed = y[0], .brake_torque = tb, .boost = 2e5};
     return 0;
 }
 
