@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "final_drive.h"
+#include "solver.h"
 #include "torque_converter.h"
 
 struct ts_powertrain {
@@ -212,4 +213,138 @@ void ts_powertrain_channel_values(const ts_powertrain_out *o, double *v)
         o->fuel_flow,
     };
     memcpy(v, row, sizeof row);
+}
+
+/* ---- the powertrain on its own integrator ---------------------------------- */
+
+#define SIM_MAX_EVENTS_AT_ONCE 8
+
+struct ts_powertrain_sim {
+    const ts_powertrain *pt;
+    ts_ode *ode;
+    ts_powertrain_state ps;
+    double t, rack;
+    ts_sprocket_speed_fn w;
+    void *w_ud;
+    double *y;   /* nstate: state at t */
+    double *tmp; /* nstate: scratch (derivatives, tolerances) */
+};
+
+static double sim_w(const ts_powertrain_sim *s, double t)
+{
+    return s->w ? s->w(s->w_ud, t) : 0.0;
+}
+
+static int sim_rhs(double t, const double *y, double *ydot, void *ud)
+{
+    const ts_powertrain_sim *s = ud;
+    return ts_powertrain_rhs(s->pt, &s->ps, t, y, sim_w(s, t), s->rack, ydot, NULL);
+}
+
+static int sim_roots(double t, const double *y, double *g, void *ud)
+{
+    const ts_powertrain_sim *s = ud;
+    ts_powertrain_roots(s->pt, &s->ps, t, y, g);
+    return 0;
+}
+
+ts_powertrain_sim *ts_powertrain_sim_make(const ts_powertrain *pt, double rtol, double atol,
+                                          double max_step, ts_err *err)
+{
+    ts_powertrain_sim *s = calloc(1, sizeof *s);
+    int n = pt->nstate;
+    if (s) s->y = calloc(2 * (size_t)n, sizeof *s->y);
+    if (!s || !s->y) {
+        free(s);
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return NULL;
+    }
+    s->pt = pt;
+    s->tmp = s->y + n;
+    ts_powertrain_scale(pt, s->tmp);
+    for (int i = 0; i < n; i++) s->tmp[i] *= atol;
+    ts_ode_opts o = {.rtol = rtol, .atol = atol, .atol_v = s->tmp, .max_step = max_step,
+                     .nroots = ts_powertrain_nroots(pt), .roots = sim_roots};
+    s->ode = ts_ode_make(n, sim_rhs, s, &o, err);
+    if (!s->ode) {
+        ts_powertrain_sim_free(s);
+        return NULL;
+    }
+    return s;
+}
+
+void ts_powertrain_sim_free(ts_powertrain_sim *s)
+{
+    if (!s) return;
+    ts_ode_free(s->ode);
+    free(s->y);
+    free(s);
+}
+
+static ts_rc sim_settle(ts_powertrain_sim *s, ts_err *err)
+{
+    int changed = 0;
+    for (int k = 0; k < SIM_MAX_EVENTS_AT_ONCE; k++) {
+        if (!ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), s->rack)) break;
+        changed = 1;
+    }
+    return changed ? ts_ode_init(s->ode, s->t, s->y, err) : TS_OK;
+}
+
+ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0, ts_err *err)
+{
+    ts_rc rc = ts_powertrain_reset(s->pt, &s->ps, s->y, w0, err);
+    if (rc != TS_OK) return rc;
+    s->t = t0;
+    return ts_ode_init(s->ode, t0, s->y, err);
+}
+
+ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_speed_fn w,
+                                void *ud, double rack, ts_powertrain_out *out, ts_err *err)
+{
+    int n = s->pt->nstate;
+    int inputs_changed = s->w != w || s->w_ud != ud || s->rack != rack;
+    s->w = w;
+    s->w_ud = ud;
+    s->rack = rack;
+    ts_rc rc = TS_OK;
+    /* new input functions are a discontinuity of the right-hand side */
+    if (inputs_changed) rc = ts_ode_init(s->ode, s->t, s->y, err);
+    if (rc == TS_OK) rc = sim_settle(s, err);
+    while (rc == TS_OK && s->t < t_to) {
+        int root = 0;
+        rc = ts_ode_advance(s->ode, t_to, &s->t, &root, err);
+        if (rc != TS_OK) break;
+        memcpy(s->y, ts_ode_y(s->ode), sizeof *s->y * (size_t)n);
+        if (root) rc = sim_settle(s, err);
+    }
+    if (rc == TS_OK && out)
+        ts_powertrain_rhs(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), rack, s->tmp, out);
+    return rc;
+}
+
+double ts_powertrain_sim_time(const ts_powertrain_sim *s) { return s->t; }
+const double *ts_powertrain_sim_y(const ts_powertrain_sim *s) { return s->y; }
+const ts_powertrain_state *ts_powertrain_sim_state(const ts_powertrain_sim *s) { return &s->ps; }
+
+size_t ts_powertrain_sim_state_size(const ts_powertrain_sim *s)
+{
+    return sizeof(double) * (1 + (size_t)s->pt->nstate) + sizeof(ts_powertrain_state);
+}
+
+void ts_powertrain_sim_save(const ts_powertrain_sim *s, void *buf)
+{
+    char *b = buf;
+    memcpy(b, &s->t, sizeof(double));
+    memcpy(b + sizeof(double), s->y, sizeof(double) * (size_t)s->pt->nstate);
+    memcpy(b + sizeof(double) * (1 + (size_t)s->pt->nstate), &s->ps, sizeof s->ps);
+}
+
+ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *err)
+{
+    const char *b = buf;
+    memcpy(&s->t, b, sizeof(double));
+    memcpy(s->y, b + sizeof(double), sizeof(double) * (size_t)s->pt->nstate);
+    memcpy(&s->ps, b + sizeof(double) * (1 + (size_t)s->pt->nstate), sizeof s->ps);
+    return ts_ode_init(s->ode, s->t, s->y, err);
 }

@@ -122,6 +122,32 @@ void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps,
 int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
                          const double *y, double w_sprocket, double rack);
 
+/* ---- the powertrain on its own integrator --------------------------------
+ * For callers that integrate the powertrain separately from the vehicle (the
+ * leading side of the leading-following co-simulation): one CVODE instance
+ * over the powertrain states, shift events handled inside, the sprocket speed
+ * given as a function of time (e.g. the predictor), the rack held per call. */
+typedef double (*ts_sprocket_speed_fn)(void *ud, double t);
+typedef struct ts_powertrain_sim ts_powertrain_sim;
+
+/* pt is borrowed and must outlive the sim. atol is scaled per state. */
+ts_powertrain_sim *ts_powertrain_sim_make(const ts_powertrain *pt, double rtol, double atol,
+                                          double max_step, ts_err *err);
+void ts_powertrain_sim_free(ts_powertrain_sim *s);
+/* Initial state (ts_powertrain_reset) at time t0 for sprocket speed w0. */
+ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0, ts_err *err);
+/* Integrate to t_to with sprocket speed w(ud, t) and the rack; out (may be
+ * NULL) receives the shafts at t_to. */
+ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_speed_fn w,
+                                void *ud, double rack, ts_powertrain_out *out, ts_err *err);
+double ts_powertrain_sim_time(const ts_powertrain_sim *s);
+const double *ts_powertrain_sim_y(const ts_powertrain_sim *s);            /* nstate values */
+const ts_powertrain_state *ts_powertrain_sim_state(const ts_powertrain_sim *s);
+/* Snapshot (states, discrete state, time): ts_powertrain_sim_state_size bytes. */
+size_t ts_powertrain_sim_state_size(const ts_powertrain_sim *s);
+void ts_powertrain_sim_save(const ts_powertrain_sim *s, void *buf);
+ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *err);
+
 /* Output channels: names, units and descriptions in channel order, and the
  * values of one row from a ts_powertrain_out. */
 #define TS_POWERTRAIN_NCHANNEL 24
