@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "engine.h"
 #include "final_drive.h"
 #include "solver.h"
 #include "torque_converter.h"
@@ -31,13 +32,73 @@ struct ts_powertrain {
     int nstate;
 };
 
-/* The engine module's port (engine.h); TS_ERR_UNSUPPORTED until it is built in. */
+/* The engine module (engine.h) seen through the port. The converter pump's
+ * inertia is added by rescaling the engine's speed derivative with its nominal
+ * inertia /engine/inertia (the crank-angle engine's small reciprocating-mass
+ * variation is kept in its own derivative). */
+typedef struct engine_ctx {
+    ts_engine *e;
+    double w0, p_amb, T_amb;
+} engine_ctx;
+
+static ts_rc engine_reset(void *ctx, double *y, ts_err *err)
+{
+    (void)err;
+    const engine_ctx *c = ctx;
+    ts_engine_init_state(c->e, c->w0, c->p_amb, c->T_amb, y);
+    return TS_OK;
+}
+
+static int engine_rhs(void *ctx, double t, const double *y, double rack, double load_torque,
+                      double *ydot, ts_engine_obs *obs)
+{
+    const engine_ctx *c = ctx;
+    ts_engine_inputs in = {.rack = rack, .fuel_per_cycle = -1.0, .load_torque = load_torque,
+                           .p_amb = c->p_amb, .T_amb = c->T_amb, .hold_speed = 0};
+    ts_engine_outputs o;
+    int rc = ts_engine_rhs(c->e, t, y, &in, ydot, &o);
+    if (rc != 0) return rc;
+    *obs = (ts_engine_obs){.speed = o.speed, .brake_torque = o.brake_torque, .boost = o.boost,
+                           .exhaust_temp = o.exhaust_temp, .turbo_speed = o.turbo_speed,
+                           .piston_temp = o.piston_surface_temp, .fuel_flow = o.fuel_flow};
+    return 0;
+}
+
+static void engine_scale(void *ctx, double *scale)
+{
+    const engine_ctx *c = ctx;
+    ts_engine_atol(c->e, 1.0, scale);
+}
+
+static void engine_free(void *ctx)
+{
+    engine_ctx *c = ctx;
+    if (!c) return;
+    ts_engine_free(c->e);
+    free(c);
+}
+
 static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err)
 {
-    (void)cfg;
-    (void)port;
-    return ts_err_set(err, TS_ERR_UNSUPPORTED, "/engine/fidelity",
-                      "/engine/fidelity: no engine model is built into this library yet");
+    engine_ctx *c = calloc(1, sizeof *c);
+    if (!c) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    c->e = ts_engine_make(cfg, err);
+    if (!c->e) {
+        free(c);
+        return err ? err->code : TS_ERR_INTERNAL;
+    }
+    c->w0 = cfg->driveline.launch_engine_speed;
+    c->p_amb = cfg->driveline.ambient_pressure;
+    c->T_amb = cfg->driveline.ambient_temperature;
+    *port = (ts_engine_port){.ctx = c,
+                             .nstate = ts_engine_nstate(c->e),
+                             .speed_index = TS_ENGINE_X_SPEED,
+                             .inertia = cfg->engine.inertia,
+                             .reset = engine_reset,
+                             .rhs = engine_rhs,
+                             .scale = engine_scale,
+                             .free = engine_free};
+    return TS_OK;
 }
 
 ts_powertrain *ts_powertrain_make_port(const ts_config *cfg, const ts_engine_port *port,
