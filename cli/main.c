@@ -12,6 +12,8 @@
 static const tsc_command commands[] = {
     {"run", tsc_cmd_run, "(CONFIG.json | --preset NAME) [--out DIR] [--until T]",
      "run a scenario; write DIR/series.csv and DIR/summary.json"},
+    {"engine-map", tsc_cmd_engine_map, "(CONFIG.json | --preset NAME) --out FILE.csv",
+     "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18)"},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 
