@@ -39,7 +39,10 @@ struct ts_powertrain {
 typedef struct engine_ctx {
     ts_engine *e;
     double w0, p_amb, T_amb;
+    double ca_step; /* crank-angle step of the explicit integration [rad] */
 } engine_ctx;
+
+#define MIN_STEP_SPEED 30.0 /* speed floor of the crank-angle step [rad/s], as in engine.c */
 
 static ts_rc engine_reset(void *ctx, double *y, ts_err *err)
 {
@@ -70,6 +73,13 @@ static void engine_scale(void *ctx, double *scale)
     ts_engine_atol(c->e, 1.0, scale);
 }
 
+static double engine_explicit_step(void *ctx, const double *y)
+{
+    const engine_ctx *c = ctx;
+    if (ts_engine_get_fidelity(c->e) != TS_ENGINE_CRANK_ANGLE) return 0.0;
+    return c->ca_step / fmax(fabs(y[TS_ENGINE_X_SPEED]), MIN_STEP_SPEED);
+}
+
 static void engine_free(void *ctx)
 {
     engine_ctx *c = ctx;
@@ -90,6 +100,7 @@ static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err
     c->w0 = cfg->driveline.launch_engine_speed;
     c->p_amb = cfg->driveline.ambient_pressure;
     c->T_amb = cfg->driveline.ambient_temperature;
+    c->ca_step = cfg->engine.ca_step;
     *port = (ts_engine_port){.ctx = c,
                              .nstate = ts_engine_nstate(c->e),
                              .speed_index = TS_ENGINE_X_SPEED,
@@ -97,6 +108,7 @@ static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err
                              .reset = engine_reset,
                              .rhs = engine_rhs,
                              .scale = engine_scale,
+                             .explicit_step = engine_explicit_step,
                              .free = engine_free};
     return TS_OK;
 }
@@ -150,6 +162,16 @@ int ts_powertrain_nroots(const ts_powertrain *pt) { (void)pt; return TS_TRANSMIS
 int ts_powertrain_engine_speed_index(const ts_powertrain *pt) { return pt->engine.speed_index; }
 double ts_powertrain_output_inertia(const ts_powertrain *pt) { return pt->fd.output_inertia; }
 double ts_powertrain_sprocket_radius(const ts_powertrain *pt) { return pt->fd.sprocket_radius; }
+
+double ts_powertrain_explicit_step(const ts_powertrain *pt, const double *y)
+{
+    double h = pt->engine.explicit_step ? pt->engine.explicit_step(pt->engine.ctx, y) : 0.0;
+    if (!(h > 0)) return 0.0;
+    /* RK4 is stable for h |lambda| < 2.78; the applied clutch's regularised
+     * friction gives lambda = C / (w_s J_t) on the turbine */
+    double h_clutch = 2.0 * pt->tr.slip_speed * pt->turbine_inertia / pt->tr.clutch_capacity;
+    return h < h_clutch ? h : h_clutch;
+}
 
 void ts_powertrain_scale(const ts_powertrain *pt, double *scale)
 {

@@ -57,6 +57,10 @@ typedef struct ts_engine_port {
                double *ydot, ts_engine_obs *obs);
     /* Typical magnitude of each state, for absolute tolerances (may be NULL: 1). */
     void (*scale)(void *ctx, double *scale);
+    /* Fixed explicit step the engine needs at y [s] (crank-angle model: its
+     * crank-angle step over the speed), or 0 when an implicit variable-step
+     * integrator suits it (may be NULL: 0). */
+    double (*explicit_step)(void *ctx, const double *y);
     void (*free)(void *ctx); /* may be NULL */
 } ts_engine_port;
 
@@ -98,6 +102,13 @@ int ts_powertrain_nroots(const ts_powertrain *pt);
 int ts_powertrain_engine_speed_index(const ts_powertrain *pt); /* in the powertrain's states */
 double ts_powertrain_output_inertia(const ts_powertrain *pt);  /* at the sprocket, both sides [kg*m^2] */
 double ts_powertrain_sprocket_radius(const ts_powertrain *pt); /* [m] */
+
+/* Integration method the powertrain asks for: 0 = implicit variable step
+ * (CVODE BDF, shift events as roots); otherwise the largest step [s] of a
+ * classical RK4 at y — the engine's crank-angle step, capped by the explicit
+ * stability limit of the applied clutch (2 w_s J_t / C). With RK4, events are
+ * found by running ts_powertrain_update at every step end. */
+double ts_powertrain_explicit_step(const ts_powertrain *pt, const double *y);
 
 /* Per-state magnitudes for absolute tolerances (nstate values). */
 void ts_powertrain_scale(const ts_powertrain *pt, double *scale);
