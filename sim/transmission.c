@@ -65,7 +65,10 @@ static double clutch(const ts_transmission *tr, int g, double cap, double w_in, 
 {
     double r = tr->ratio[g - 1], eta = tr->efficiency[g - 1];
     double s = w_in - r * w_out;
-    double tq = cap * tanh(s / tr->slip_speed);
+    /* slip speed scaled with the capacity: the same stiffness C_max / w_s near
+     * zero slip whatever the capacity, so a capacity change of a locked clutch
+     * barely moves its creep, and the explicit stability limit is fixed */
+    double tq = cap > 0 ? cap * tanh(s * tr->clutch_capacity / (tr->slip_speed * cap)) : 0.0;
     *to_output = r * (tq >= 0 ? eta * tq : tq / eta);
     if (slip) *slip = s;
     return tq;

@@ -8,9 +8,10 @@
  * Model. Each forward gear i has one range clutch between the input shaft
  * (turbine, speed w_in) and the output shaft (w_out) with ratio r_i; its
  * friction torque, referred to the input, is regularised Coulomb friction
- *     T_i = C_i(t) tanh((w_in - r_i w_out) / w_s),
- * so an applied clutch (C_i = clutch_capacity) is locked up to a slip of
- * w_s atanh(T/C) and a partly applied one slips at its capacity. The input
+ *     T_i = C_i(t) tanh((w_in - r_i w_out) C_max / (w_s C_i(t))),
+ * so a clutch is locked up to a creep of w_s (C_i/C_max) atanh(T/C_i), with
+ * the same stiffness C_max/w_s near zero slip whatever its capacity, and
+ * slips at its capacity beyond. C_max = clutch_capacity (applied). The input
  * shaft loses sum T_i; the output gains sum r_i eta_i^(+-1) T_i (efficiency on
  * the forward power path, its inverse when torque flows back).
  *
