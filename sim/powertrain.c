@@ -311,6 +311,7 @@ struct ts_powertrain_sim {
     void *w_ud;
     double *y;   /* nstate: state at t */
     double *tmp; /* nstate: scratch (derivatives, tolerances) */
+    double *k;   /* 5 nstate: RK4 stages (explicit path) */
 };
 
 static double sim_w(const ts_powertrain_sim *s, double t)
@@ -336,7 +337,7 @@ ts_powertrain_sim *ts_powertrain_sim_make(const ts_powertrain *pt, double rtol, 
 {
     ts_powertrain_sim *s = calloc(1, sizeof *s);
     int n = pt->nstate;
-    if (s) s->y = calloc(2 * (size_t)n, sizeof *s->y);
+    if (s) s->y = calloc(7 * (size_t)n, sizeof *s->y);
     if (!s || !s->y) {
         free(s);
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
@@ -344,6 +345,7 @@ ts_powertrain_sim *ts_powertrain_sim_make(const ts_powertrain *pt, double rtol, 
     }
     s->pt = pt;
     s->tmp = s->y + n;
+    s->k = s->y + 2 * n;
     ts_powertrain_scale(pt, s->tmp);
     for (int i = 0; i < n; i++) s->tmp[i] *= atol;
     ts_ode_opts o = {.rtol = rtol, .atol = atol, .atol_v = s->tmp, .max_step = max_step,
@@ -382,10 +384,50 @@ ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0, ts_err
     return ts_ode_init(s->ode, t0, s->y, err);
 }
 
+/* Explicit path (crank-angle engine): RK4 at ts_powertrain_explicit_step, the
+ * shift state machine at every step end (as scenario_pointmass.c). */
+static ts_rc sim_advance_explicit(ts_powertrain_sim *s, double t_to, ts_err *err)
+{
+    int n = s->pt->nstate;
+    double *k1 = s->k, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n;
+    while (s->t < t_to - 1e-12 * (1.0 + fabs(t_to))) {
+        double h = ts_powertrain_explicit_step(s->pt, s->y), t = s->t;
+        if (t + h > t_to) h = t_to - t;
+        int rc = sim_rhs(t, s->y, k1, s);
+        for (int i = 0; !rc && i < n; i++) yt[i] = s->y[i] + 0.5 * h * k1[i];
+        if (!rc) rc = sim_rhs(t + 0.5 * h, yt, k2, s);
+        for (int i = 0; !rc && i < n; i++) yt[i] = s->y[i] + 0.5 * h * k2[i];
+        if (!rc) rc = sim_rhs(t + 0.5 * h, yt, k3, s);
+        for (int i = 0; !rc && i < n; i++) yt[i] = s->y[i] + h * k3[i];
+        if (!rc) rc = sim_rhs(t + h, yt, k4, s);
+        for (int i = 0; !rc && i < n; i++) {
+            s->y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+            if (!isfinite(s->y[i])) rc = 1;
+        }
+        if (rc)
+            return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                              "powertrain state left its domain at t = %.6f s", t);
+        s->t = t + h;
+        for (int k = 0; k < SIM_MAX_EVENTS_AT_ONCE; k++)
+            if (!ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), s->rack)) break;
+    }
+    s->t = t_to;
+    return TS_OK;
+}
+
 ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_speed_fn w,
                                 void *ud, double rack, ts_powertrain_out *out, ts_err *err)
 {
     int n = s->pt->nstate;
+    if (ts_powertrain_explicit_step(s->pt, s->y) > 0) {
+        s->w = w;
+        s->w_ud = ud;
+        s->rack = rack;
+        ts_rc rc = sim_advance_explicit(s, t_to, err);
+        if (rc == TS_OK && out)
+            ts_powertrain_rhs(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), rack, s->tmp, out);
+        return rc;
+    }
     int inputs_changed = s->w != w || s->w_ud != ud || s->rack != rack;
     s->w = w;
     s->w_ud = ud;

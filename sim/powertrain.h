@@ -136,8 +136,10 @@ int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, doubl
 /* ---- the powertrain on its own integrator --------------------------------
  * For callers that integrate the powertrain separately from the vehicle (the
  * leading side of the leading-following co-simulation): one CVODE instance
- * over the powertrain states, shift events handled inside, the sprocket speed
- * given as a function of time (e.g. the predictor), the rack held per call. */
+ * over the powertrain states (or, when ts_powertrain_explicit_step > 0 — the
+ * crank-angle engine — RK4 at that step), shift events handled inside, the
+ * sprocket speed given as a function of time (e.g. the predictor), the rack
+ * held per call. */
 typedef double (*ts_sprocket_speed_fn)(void *ud, double t);
 typedef struct ts_powertrain_sim ts_powertrain_sim;
 
