@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../sim/terrain.h"
 #include "store.h"
 
 #define PRESET_DIR       "sim/data/presets/"
@@ -292,6 +293,32 @@ static void read_field(const ts_param *p, const json_t *v, char *base, json_t *e
     }
 }
 
+/* A shipped bump course named by /terrain/course is taken from the embedded
+ * store (so a daemon or runner started anywhere finds it) and written into
+ * the inline bump arrays; a course not in the store is left for sim/terrain.c
+ * to read from /terrain/course_dir (user courses on disk). */
+static ts_rc fill_course(ts_config *cfg, json_t *errors, ts_err *err)
+{
+    ts_terrain_config *tc = &cfg->terrain;
+    if (tc->kind != TS_TERRAIN_BUMPS || tc->bump_n > 0 || !tc->course[0]) return TS_OK;
+    char path[TS_NAME_LEN + 64];
+    snprintf(path, sizeof path, "sim/data/terrain/%s.txt", tc->course);
+    const tsa_file *f = tsa_store_find(path);
+    if (!f) return TS_OK;
+    double length;
+    int n = 0;
+    ts_rc rc = ts_terrain_parse_course((const char *)f->data, tc->bump_start, tc->bump_height,
+                                       tc->bump_length, TS_TERRAIN_BUMPS_MAX, &n, &length, err);
+    if (rc != TS_OK) {
+        if (errors && err)
+            json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", "/terrain/course",
+                                                    "message", err->msg));
+        return rc;
+    }
+    tc->bump_n = tc->bump_height_n = tc->bump_length_n = n;
+    return TS_OK;
+}
+
 ts_rc tsa_config_read(const json_t *resolved, ts_config *cfg, json_t *errors, ts_err *err)
 {
     ts_err_clear(err);
@@ -348,7 +375,8 @@ ts_rc tsa_config_read(const json_t *resolved, ts_config *cfg, json_t *errors, ts
             read_field(p, v, base, errors, err, &count);
         }
     }
-    return count ? err && err->code ? err->code : TS_ERR_PARAM : TS_OK;
+    if (count) return err && err->code ? err->code : TS_ERR_PARAM;
+    return fill_course(cfg, errors, err);
 }
 
 ts_rc tsa_config_load(const json_t *doc, ts_config *cfg, json_t **resolved_out, json_t *errors,

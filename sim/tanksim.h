@@ -19,6 +19,13 @@
  *   zn_tuning.h      Ziegler-Nichols reaction-curve tuning (Eqs. 11-12, Fig. 26)
  *   governor.h       two-speed governor of the fuel actuator (Section IV.B.2)
  *   cosim.h          leading-following co-simulation driver (Section IV.A)
+ *   terrain.h        flat, bump-course and user-profile ground (Section II.D, Fig. 8)
+ *   vehicle_model.h  the pitch-plane multibody vehicle with its track (Section II.C-D)
+ *   fft.h            amplitude spectra (Figs. 13-14)
+ *   engine.h         the virtual V-12 diesel, three fidelities (Section III.A-B)
+ *   fuel_actuator.h  constant-phi fuel law (Eqs. 13-14)
+ *   torque_converter.h, transmission.h, final_drive.h  the driveline (Section III.B.2)
+ *   powertrain.h     engine + driveline as one subsystem (Fig. 16-17)
  */
 #ifndef TANKSIM_H
 #define TANKSIM_H
@@ -36,6 +43,15 @@
 #include "governor.h"
 #include "ivs_controller.h"
 #include "zn_tuning.h"
+#include "engine.h"
+#include "fft.h"
+#include "final_drive.h"
+#include "fuel_actuator.h"
+#include "powertrain.h"
+#include "terrain.h"
+#include "torque_converter.h"
+#include "transmission.h"
+#include "vehicle_model.h"
 #include "version.h"
 
 #endif

@@ -134,6 +134,23 @@ static void problem_mapping(void **state)
     json_decref(p);
 }
 
+/* The shipped course comes from the embedded store, not the working directory
+ * (parameters: apg4-synth, 26 bumps, the first 1 ft x 25 ft at 50 ft). */
+static void shipped_course_comes_from_the_store(void **state)
+{
+    (void)state;
+    ts_config c;
+    ts_err err;
+    json_t *doc = json_pack("{s:{s:s,s:s,s:s}}", "terrain", "kind", "bumps", "course",
+                            "apg4-synth", "course_dir", "/nonexistent");
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    assert_int_equal(c.terrain.bump_n, 26);
+    assert_close(c.terrain.bump_start[0], 50 * 0.3048, 1e-3, 0);
+    assert_close(c.terrain.bump_height[0], 0.3048, 1e-2, 0);
+    assert_close(c.terrain.bump_length[0], 25 * 0.3048, 1e-3, 0);
+    json_decref(doc);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -142,6 +159,7 @@ int main(void)
         cmocka_unit_test(bad_input_names_the_field),
         cmocka_unit_test(schema_comes_from_the_table),
         cmocka_unit_test(problem_mapping),
+        cmocka_unit_test(shipped_course_comes_from_the_store),
     };
     return cmocka_run_group_tests_name("api/config_json", tests, NULL, NULL);
 }
