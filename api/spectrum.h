@@ -1,8 +1,7 @@
 /*
  * spectrum.h — single-sided amplitude spectrum of a uniformly sampled channel,
  * the quantity plotted in the paper's Figs. 13-14 (spectral content of the
- * hull's vertical motion). One function so it can be swapped for sim/fft.h
- * once the vehicle branch provides it.
+ * hull's vertical motion), computed by sim/fft.h.
  *
  * Definition: X_k = sum_n x_n exp(-2 pi i k n / N) over the N samples (mean
  * removed when detrend = 1); amplitude A_0 = |X_0| / N, A_k = 2 |X_k| / N for
