@@ -22,10 +22,9 @@ static double cp1(const double *c, double T)
 static double h1(const double *c, double T)
 {
     double t = T / 1000.0, t0 = EN_T0 / 1000.0;
-    double a = 1000.0 * (c[0] * t + c[1] * t * t / 2 + c[2] * t * t * t / 3 + c[3] * t * t * t * t / 4);
-    double b = 1000.0 * (c[0] * t0 + c[1] * t0 * t0 / 2 + c[2] * t0 * t0 * t0 / 3 +
-                         c[3] * t0 * t0 * t0 * t0 / 4);
-    return a - b;
+    double a = t * (c[0] + t * (c[1] / 2 + t * (c[2] / 3 + t * (c[3] / 4))));
+    double b = t0 * (c[0] + t0 * (c[1] / 2 + t0 * (c[2] / 3 + t0 * (c[3] / 4))));
+    return 1000.0 * (a - b);
 }
 
 static double clampF(double F) { return F < 0 ? 0 : F > 1 ? 1 : F; }
@@ -52,6 +51,20 @@ double en_gas_h(const en_gas *g, double T, double F)
 }
 
 double en_gas_u(const en_gas *g, double T, double F) { return en_gas_h(g, T, F) - en_gas_r(g, F) * T; }
+
+void en_gas_eval(const en_gas *g, double T, double F, en_gas_state *s)
+{
+    F = clampF(F);
+    double Tc = clampT(T);
+    double cpa = cp1(g->cp_a, Tc), cpb = cp1(g->cp_b, Tc);
+    double ha = h1(g->cp_a, T), hb = h1(g->cp_b, T);
+    s->R = (1 - F) * g->r_a + F * g->r_b;
+    s->cp = (1 - F) * cpa + F * cpb;
+    s->h = (1 - F) * ha + F * hb;
+    s->u = s->h - s->R * T;
+    s->cv = s->cp - s->R;
+    s->dudF = (hb - g->r_b * T) - (ha - g->r_a * T);
+}
 
 double en_gas_T_from_h(const en_gas *g, double h, double F, double T)
 {

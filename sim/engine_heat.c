@@ -37,8 +37,8 @@ void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, do
 
 double en_htc(double a, double b, double rho, double u, double L, double T, double cp)
 {
-    double mu = 3.3e-7 * pow(fmax(T, 200.0), 0.7);
-    double lambda = mu * cp / PRANDTL;
-    double re = rho * u * L / mu;
-    return a * pow(re, b) * lambda / L;
+    /* h = a Re^b lambda / L with lambda = mu cp / Pr, mu = 3.3e-7 T^0.7:
+     *   h = (a cp / (Pr L)) (rho u L)^b mu^(1 - b), one exp and two logs */
+    double lmu = log(3.3e-7) + 0.7 * log(fmax(T, 200.0));
+    return a * cp / (PRANDTL * L) * exp(b * log(rho * u * L) + (1.0 - b) * lmu);
 }

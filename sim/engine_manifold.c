@@ -17,12 +17,21 @@
 
 #define LIN_RATIO 0.99 /* below 1 % pressure difference the flow is linearised */
 
-/* Flow function Psi(pr) with pr = p_down / p_up <= 1. */
+/* Flow function Psi(pr) with pr = p_down / p_up <= 1:
+ *   Psi^2 = 2 g/(g-1) (pr^(2/g) - pr^((g+1)/g)) = 2 g/(g-1) a (a - pr),  a = pr^(1/g),
+ * clamped at the critical ratio (2/(g+1))^(g/(g-1)). The comparison with the
+ * critical ratio is made on logarithms, so one log per call replaces the
+ * three powers of the textbook form (same value to rounding). */
 static double psi(double pr, double g)
 {
-    double crit = pow(2.0 / (g + 1.0), g / (g - 1.0));
-    if (pr < crit) pr = crit;
-    double v = 2.0 * g / (g - 1.0) * (pow(pr, 2.0 / g) - pow(pr, (g + 1.0) / g));
+    double lc = g / (g - 1.0) * log(2.0 / (g + 1.0)); /* log of the critical ratio */
+    double lp = log(pr);
+    if (lp < lc) {
+        lp = lc;
+        pr = exp(lc);
+    }
+    double a = exp(lp / g);
+    double v = 2.0 * g / (g - 1.0) * a * (a - pr);
     return sqrt(v > 0 ? v : 0);
 }
 
