@@ -98,15 +98,15 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
     double R_im[EN_NBANK], g_im[EN_NBANK], R_em[EN_NBANK], g_em[EN_NBANK];
     double h_im[EN_NBANK], h_em[EN_NBANK], rho_im[EN_NBANK];
     double air = 0;
+    en_comp_out cob[EN_NBANK];
     for (int b = 0; b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
         if (!(xb[BX_IMM] > 0 && xb[BX_EMM] > 0 && xb[BX_ICM] > 0 && xb[BX_IMT] > 100 &&
               xb[BX_EMT] > 100 && xb[BX_ICT] > 100))
             return 1;
         double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
-        en_comp_out co;
-        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &co);
-        air += co.mdot;
+        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &cob[b]);
+        air += cob[b].mdot;
         en_bank_read(e, xb, &bo[b]);
         en_gas_state si, se;
         en_gas_eval(g, bo[b].T_im, bo[b].F_im, &si);
@@ -179,10 +179,12 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
                 double tau = s / c->burn_duration;
                 double tau_id_ms = 1e3 * fmax(a_soi - s, 0.0) / wp;
                 double X, dX, phi = mf_cyc * c->afr_stoich / fmax(m - mb, 1e-9);
-                en_watson_burn(&e->watson, tau, tau_id_ms, n_rpm, phi, &X, &dX);
+                en_watson_tau wt;
+                en_watson_pre(&e->watson, tau, tau_id_ms, n_rpm, &wt);
+                en_watson_phi(&e->watson, &wt, phi, &X, &dX);
                 /* overall phi of the cycle: air trapped before burning began */
                 phi = mf_cyc * c->afr_stoich / fmax(m - mb + mf_cyc * X * c->afr_stoich, 1e-9);
-                en_watson_burn(&e->watson, tau, tau_id_ms, n_rpm, phi, &X, &dX);
+                en_watson_phi(&e->watson, &wt, phi, &X, &dX);
                 mfb = mf_cyc * dX / c->burn_duration * wp;
                 burning = 1;
             }
@@ -267,6 +269,10 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
         }
     }
     if (q_wall) memset(xdot + e->off_wall, 0, sizeof(double) * EN_NCYL * EN_NSURF * EN_WALL_NODES);
+    for (int b = 0; b < EN_NBANK; b++) {
+        bf[b].have_co = 1;
+        bf[b].co = cob[b];
+    }
     for (int b = 0; b < EN_NBANK; b++)
         en_bank_rhs(e, x + e->off_bank + b * EN_BANK_NX, &bf[b], in->p_amb, in->T_amb,
                     xdot + e->off_bank + b * EN_BANK_NX, &bo[b]);

@@ -98,6 +98,15 @@ double en_ignition_delay(double a_ms, double n, double ta, double p, double T);
  * phi overall equivalence ratio. */
 void en_watson_burn(const en_watson *w, double tau, double tau_id_ms, double n_rpm, double phi,
                     double *X, double *dXdtau);
+/* The same in two parts, for evaluating several phi at one (tau, tau_id, N):
+ * the phi-independent premixed part, then the phi-dependent rest. */
+typedef struct en_watson_tau {
+    double tau, ltau, id_c, f1, df1;
+} en_watson_tau;
+void en_watson_pre(const en_watson *w, double tau, double tau_id_ms, double n_rpm,
+                   en_watson_tau *p);
+void en_watson_phi(const en_watson *w, const en_watson_tau *p, double phi, double *X,
+                   double *dXdtau);
 
 /* ---- heat transfer (engine_heat.c) ---------------------------------------- */
 typedef struct en_cascade_in {
@@ -213,6 +222,8 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
 typedef struct en_bank_flows {
     double m_in, h_in, mf_in; /* cylinders <- intake manifold: mass [kg/s], enthalpy [W], burned [kg/s] */
     double m_ex, h_ex, mf_ex; /* cylinders -> exhaust manifold */
+    int have_co;              /* co holds the compressor at this state (else computed) */
+    en_comp_out co;
 } en_bank_flows;
 typedef struct en_bank_out {
     double p_im, T_im, F_im, p_em, T_em, F_em, air_flow, turbo_speed;
