@@ -251,7 +251,8 @@ int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine
 
 size_t ts_engine_work_size(const ts_engine *e)
 {
-    return 5 * (size_t)e->nx + (e->fidelity == TS_ENGINE_CRANK_ANGLE ? 4 * EN_NWALL : 0);
+    return e->fidelity == TS_ENGINE_CRANK_ANGLE ? 8 * (size_t)e->nx + 4 * EN_NWALL
+                                               : 5 * (size_t)e->nx;
 }
 
 /* Step size [s]: a fixed crank-angle step for the crank-angle model. */
@@ -337,11 +338,117 @@ static int step(const ts_engine *e, double *x, double t, double h, stage_load *s
     return rk4(e, x, t, h, sl, work);
 }
 
+/* Error-controlled multirate step of the crank-angle model: Bogacki-Shampine
+ * 3(2) (FSAL) on every state but the walls, walls frozen over the step, then
+ * each wall stack by one Crank-Nicolson step with the step's mean heat flux
+ * (the scheme's own weights). The step adapts in crank angle between
+ * /engine/ca_step / 4 and 8 ca_step (fine through the premixed burn and the
+ * valve events, coarse through compression and expansion). tol: relative
+ * tolerance on the engine's state scales (ts_engine_atol). */
+#define BS_TOL 1e-3  /* relative tolerance (0.5 % band: test_engine_regression.c) */
+#define BS_MIN 0.25  /* smallest step, x /engine/ca_step */
+#define BS_MAX 8.0   /* largest step, x /engine/ca_step */
+static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, stage_load *sl,
+                          double *work, ts_err *err)
+{
+    int n = e->off_wall, nx = e->nx;
+    double *k1 = work, *k2 = work + nx, *k3 = work + 2 * nx, *k4 = work + 3 * nx;
+    double *xt = work + 4 * nx, *y1 = work + 5 * nx, *sc = work + 6 * nx;
+    double *q1 = work + 8 * nx, *q2 = q1 + EN_NWALL, *q3 = q2 + EN_NWALL, *q4 = q3 + EN_NWALL;
+    const double tol = BS_TOL;
+    ts_engine_atol(e, 1.0, sc);
+    for (int i = 0; i < EN_LEDGER_NX; i++) sc[e->off_ledger + i] = INFINITY; /* not controlled */
+    double t_end = t + dt;
+    double dth = e->c.ca_step; /* crank-angle step */
+    memcpy(xt + n, x + n, sizeof(double) * (size_t)(nx - n));
+    memcpy(y1 + n, x + n, sizeof(double) * (size_t)(nx - n));
+    int have_k1 = 0;
+    while (t < t_end - 1e-15) {
+        double w = fmax(fabs(x[TS_ENGINE_X_SPEED]), 30.0);
+        if (!have_k1 && en_crank_eval(e, x, at(sl, t, x), k1, NULL, q1)) goto diverged;
+        have_k1 = 1;
+        double d_ign, d_sw = en_crank_next_switch(e, x, k1, &d_ign);
+        double dstep = dth;
+        int trunc = 0;
+        if (d_sw * 1.002 + 1e-6 < dstep) {
+            dstep = d_sw * 1.002 + 1e-6; /* end just past the switch */
+            trunc = 1;
+        }
+        if (d_ign * 1.002 + 1e-6 < dstep) {
+            dstep = d_ign * 1.002 + 1e-6; /* estimated: checked at the last inner stage */
+            trunc = 2;
+        }
+        double h = dstep / w;
+        int last = 0;
+        if (t + h >= t_end) {
+            h = t_end - t;
+            last = 1;
+        }
+        for (int i = 0; i < n; i++) xt[i] = x[i] + 0.5 * h * k1[i];
+        int bad = en_crank_eval(e, xt, at(sl, t + 0.5 * h, xt), k2, NULL, q2);
+        if (!bad) {
+            for (int i = 0; i < n; i++) xt[i] = x[i] + 0.75 * h * k2[i];
+            bad = en_crank_eval(e, xt, at(sl, t + 0.75 * h, xt), k3, NULL, q3);
+        }
+        if (!bad && trunc == 2) /* no ignition before the step's end (I grows monotonically) */
+            for (int i = 0; i < EN_NCYL; i++) {
+                int o = e->off_cyl + i * EN_CYL_NX + CX_IGN;
+                if (x[o] < 1.0 && xt[o] >= 1.0) trunc = 0; /* estimate missed: error test */
+            }
+        if (!bad) {
+            for (int i = 0; i < n; i++)
+                y1[i] = x[i] + h * (2.0 / 9.0 * k1[i] + 1.0 / 3.0 * k2[i] + 4.0 / 9.0 * k3[i]);
+            bad = en_crank_eval(e, y1, at(sl, t + h, y1), k4, NULL, q4);
+        }
+        double en = 0;
+        if (!bad)
+            for (int i = 0; i < n; i++) {
+                double ei = h * (-5.0 / 72.0 * k1[i] + 1.0 / 12.0 * k2[i] + 1.0 / 9.0 * k3[i] -
+                                 1.0 / 8.0 * k4[i]);
+                double r = fabs(ei) / (tol * (sc[i] + fabs(y1[i]))); /* 0 for the ledger */
+                if (!(r <= en)) en = isnan(r) ? INFINITY : r;
+            }
+        if (trunc && !bad) en = 0; /* the stages that build y1 lie before the switch */
+        if (bad || !(en <= 1.0)) {
+            if (dth <= BS_MIN * e->c.ca_step * 1.0000001) {
+                /* at the smallest step: accept (the fixed-step scheme would) unless broken */
+                if (bad) goto diverged;
+            } else {
+                double f = bad || !isfinite(en) ? 0.25 : fmax(0.25, 0.9 * cbrt(1.0 / en));
+                dth = fmax(dth * f, BS_MIN * e->c.ca_step);
+                continue;
+            }
+        }
+        for (int j = 0; j < EN_NWALL; j++)
+            q1[j] = 2.0 / 9.0 * q1[j] + 1.0 / 3.0 * q2[j] + 4.0 / 9.0 * q3[j];
+        memcpy(x, y1, sizeof(double) * (size_t)n);
+        en_walls_step(e, x, q1, h);
+        for (int i = n; i < nx; i++)
+            if (!isfinite(x[i])) goto diverged;
+        memcpy(k1, k4, sizeof(double) * (size_t)n); /* FSAL (walls lag by this step) */
+        memcpy(q1, q4, sizeof(double) * EN_NWALL);
+        memcpy(xt + n, x + n, sizeof(double) * (size_t)(nx - n));
+        memcpy(y1 + n, x + n, sizeof(double) * (size_t)(nx - n));
+        t += h;
+        if (!last && !trunc) {
+            double f = en > 0 ? 0.9 * cbrt(1.0 / en) : 4.0;
+            dth = fmin(fmax(dth * fmin(f, 4.0), BS_MIN * e->c.ca_step), BS_MAX * e->c.ca_step);
+        }
+        if (last) break;
+    }
+    return TS_OK;
+diverged:
+    return ts_err_set(err, TS_ERR_DIVERGED, "/engine", "engine state left its domain at t = %.6f s",
+                      t);
+}
+
 ts_rc ts_engine_advance_load(const ts_engine *e, double *x, double t, double dt,
                              const ts_engine_inputs *in, ts_engine_load_fn load, void *ud,
                              double *work, ts_err *err)
 {
     stage_load sl = {load, ud, *in};
+    if (e->fidelity == TS_ENGINE_CRANK_ANGLE)
+        return bs23_advance(e, x, t, dt, &sl, work, err);
     double t_end = t + dt;
     while (t < t_end - 1e-15) {
         double h = step_size(e, x);

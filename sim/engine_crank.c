@@ -306,3 +306,30 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
     }
     return 0;
 }
+
+double en_crank_next_switch(const ts_engine *e, const double *x, const double *xdot,
+                            double *ign)
+{
+    const ts_engine_config *c = &e->c;
+    double th = wrap(x[TS_ENGINE_X_ANGLE]), w = fmax(x[TS_ENGINE_X_SPEED], 1.0);
+    /* local angles where the clocks' right-hand sides switch */
+    const double sw[4] = {EN_CYCLE - c->soi, LW_WINDOW - c->soi, RESET_START, RESET_END};
+    double d_known = INFINITY, d_ign = INFINITY;
+    for (int i = 0; i < EN_NCYL; i++) {
+        double thl = th - e->cyl_offset[i];
+        if (thl < 0) thl += EN_CYCLE;
+        for (int k = 0; k < 4; k++) {
+            double d = wrap(sw[k]) - thl;
+            if (d <= 1e-9) d += EN_CYCLE;
+            if (d < d_known) d_known = d;
+        }
+        const double *xc = x + e->off_cyl + i * EN_CYL_NX;
+        double dI = xdot[e->off_cyl + i * EN_CYL_NX + CX_IGN];
+        if (xc[CX_IGN] < 1.0 && dI > 0) {
+            double d = (1.0 - xc[CX_IGN]) / dI * w;
+            if (d < d_ign) d_ign = d;
+        }
+    }
+    *ign = d_ign;
+    return d_known;
+}

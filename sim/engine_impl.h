@@ -207,6 +207,13 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
  * frozen walls' back-side heat. With q_wall NULL this is en_crank_rhs. */
 int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
                   ts_engine_outputs *out, double *q_wall);
+/* Crank angle [rad] from x to the next angle where a cylinder's ignition or
+ * burn clock switches its right-hand side (start and end of the injection
+ * window, start and end of the re-arm window); *ign: estimated angle to the
+ * next ignition (Livengood-Wu integral reaching 1, from xdot). For the
+ * error-controlled stepper, which ends steps on these switches. */
+double en_crank_next_switch(const ts_engine *e, const double *x, const double *xdot,
+                            double *ign);
 /* Advance every wall stack over h [s] with the gas-side flux q (EN_NCYL x
  * EN_NSURF, as from en_crank_eval) held and the sinks at the coolant and oil
  * temperatures in x: Crank-Nicolson (A-stable, second order; the conduction
