@@ -65,10 +65,7 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
     e->fidelity = c->fidelity;
     e->variant = c->variant;
     e->fuel = ts_fuel_law_from_config(c);
-    memcpy(e->gas.cp_a, c->cp_air, sizeof e->gas.cp_a);
-    memcpy(e->gas.cp_b, c->cp_burned, sizeof e->gas.cp_b);
-    e->gas.r_a = c->r_air;
-    e->gas.r_b = c->r_burned;
+    en_gas_init(&e->gas, c->cp_air, c->cp_burned, c->r_air, c->r_burned);
     en_geom *g = &e->geom;
     g->bore = c->bore;
     g->stroke = c->stroke;

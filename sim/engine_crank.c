@@ -139,7 +139,8 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
                          c_th * e->cyl_cos[i] + s_th * e->cyl_sin[i], &kin);
         double m = xc[CX_M], T = xc[CX_T], mb = xc[CX_MB];
         if (!(m > 0 && T > 100 && T < 5000)) return 1;
-        double F = fmin(fmax(mb / m, 0.0), 1.0);
+        double F = mb / m;
+        F = F < 0.0 ? 0.0 : F > 1.0 ? 1.0 : F;
         en_gas_state gs;
         en_gas_eval(g, T, F, &gs);
         double R = gs.R, cp = gs.cp, gam = cp / gs.cv;
@@ -164,7 +165,8 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
         }
         /* ignition delay and burning */
         double I = xc[CX_IGN], s = xc[CX_BURN];
-        double a_soi = wrap(thl + c->soi);
+        double a_soi = thl + c->soi; /* wrap: thl in [0, 4 pi), 0 < soi < 4 pi */
+        if (a_soi >= EN_CYCLE) a_soi -= EN_CYCLE;
         double dI = 0, ds = 0, mfb = 0;
         int burning = 0;
         if (thl >= RESET_START && thl <= RESET_END) {
@@ -196,7 +198,8 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
         double mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
         double v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
         en_cascade_in ci = {m, kin.V, rho, T, p, c->bore, min_, v_in, mout,
-                            dm / m - kin.dVdth * w / kin.V, xc[CX_KMEAN], fmax(xc[CX_KTURB], K_FLOOR)};
+                            dm / m - kin.dVdth * w / kin.V, xc[CX_KMEAN],
+                            xc[CX_KTURB] > K_FLOOR ? xc[CX_KTURB] : K_FLOOR};
         double dK, dk, Lh, up, Um;
         en_cascade(&ci, c->cascade_cbeta, c->cascade_rdt, &dK, &dk, &Lh, &up, &Um);
         double uch = sqrt(Um * Um + up * up + sp_half * sp_half);
@@ -313,13 +316,14 @@ double en_crank_next_switch(const ts_engine *e, const double *x, const double *x
     const ts_engine_config *c = &e->c;
     double th = wrap(x[TS_ENGINE_X_ANGLE]), w = fmax(x[TS_ENGINE_X_SPEED], 1.0);
     /* local angles where the clocks' right-hand sides switch */
-    const double sw[4] = {EN_CYCLE - c->soi, LW_WINDOW - c->soi, RESET_START, RESET_END};
+    const double sw[4] = {wrap(EN_CYCLE - c->soi), wrap(LW_WINDOW - c->soi), RESET_START,
+                          RESET_END};
     double d_known = INFINITY, d_ign = INFINITY;
     for (int i = 0; i < EN_NCYL; i++) {
         double thl = th - e->cyl_offset[i];
         if (thl < 0) thl += EN_CYCLE;
         for (int k = 0; k < 4; k++) {
-            double d = wrap(sw[k]) - thl;
+            double d = sw[k] - thl;
             if (d <= 1e-9) d += EN_CYCLE;
             if (d < d_known) d_known = d;
         }

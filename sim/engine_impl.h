@@ -33,7 +33,13 @@
 typedef struct en_gas {
     double cp_a[4], cp_b[4]; /* cp polynomials in t = T/1000 [J/kg/K] */
     double r_a, r_b;         /* gas constants [J/kg/K] */
+    /* derived by en_gas_init (en_gas_eval only): cp and h - h(EN_T0) as
+     * polynomials in T itself, air and burned gas */
+    double cpT_a[4], cpT_b[4], hT_a[5], hT_b[5];
 } en_gas;
+/* Fill g from the cubic cp fits (in t = T/1000) and the gas constants. */
+void en_gas_init(en_gas *g, const double *cp_air, const double *cp_burned, double r_air,
+                 double r_burned);
 /* F: burned-gas mass fraction in [0, 1]. h is sensible enthalpy from EN_T0;
  * u = h - R T (consistent with h = u + p v). */
 double en_gas_r(const en_gas *g, double F);

@@ -87,12 +87,12 @@ void en_walls_step(const ts_engine *e, double *x, const double *q, double h)
         for (int c = 0; c < EN_NCYL; c++) {
             double *T = x + e->off_wall + (c * EN_NSURF + sf) * N;
             double r[N];
-            for (int i = 0; i < N; i++) {
-                double Tl = i > 0 ? T[i - 1] : 0.0;
-                double Tr = i < N - 1 ? T[i + 1] : T_sink;
-                /* explicit half: C/h T + 1/2 (gl (T_l - T) + gr (T_r - T)) */
-                r[i] = ch[i] * T[i] + 0.5 * (gl[i] * (Tl - T[i]) + w->cond[i] * (Tr - T[i]));
-            }
+            const double *g = w->cond;
+            r[0] = ch[0] * T[0] + 0.5 * g[0] * (T[1] - T[0]);
+            for (int i = 1; i < N - 1; i++) /* C/h T + 1/2 (g_l (T_l - T) + g_r (T_r - T)) */
+                r[i] = ch[i] * T[i] + 0.5 * (gl[i] * (T[i - 1] - T[i]) + g[i] * (T[i + 1] - T[i]));
+            r[N - 1] = ch[N - 1] * T[N - 1] +
+                       0.5 * (gl[N - 1] * (T[N - 2] - T[N - 1]) + g[N - 1] * (T_sink - T[N - 1]));
             r[N - 1] += 0.5 * w->cond[N - 1] * T_sink; /* sink half of the implicit side */
             r[0] += q[c * EN_NSURF + sf];
             for (int i = 1; i < N; i++) r[i] -= f[i] * r[i - 1];
