@@ -1,9 +1,23 @@
 /*
  * engine.c — the virtual V-12 diesel's model object (engine.h): construction
  * from the /engine section, state layout per fidelity, dispatch of the
- * right-hand side, a fixed-step RK4 integrator for callers that do not
- * integrate the engine themselves, per-cycle means and the dynamometer
- * steady-state search used by `tanksim engine-map` (paper Section III.B.3).
+ * right-hand side, the engine's own integrators for callers that do not
+ * integrate it themselves, per-cycle means and the dynamometer steady-state
+ * search used by `tanksim engine-map` (paper Section III.B.3).
+ *
+ * Integrators (performance work of issues 6/10; the equations are untouched):
+ *   rk4      map and mean_value, fixed step.
+ *   mr_step  crank_angle, fixed crank-angle step /engine/ca_step: RK4 on every
+ *            state but the 396 wall nodes, walls frozen in the stages, then
+ *            one Crank-Nicolson step per wall stack with the RK4-mean flux.
+ *            Used for the cycle means (cycle_run: steady search, engine map),
+ *            whose quadrature wants uniform steps; matches the former RK4 of
+ *            all states to < 0.01 % (test_engine_regression.c).
+ *   bs23     crank_angle in ts_engine_advance(_load): the same split with an
+ *            error-controlled Bogacki-Shampine 3(2) (steps of 1/4..8 x
+ *            ca_step, ended on the clocks' switching angles so no stage
+ *            straddles a switch of the ignition/burn clocks); ~10x fewer
+ *            operations than the former RK4 at equal or better accuracy.
  *
  * State layout (offsets in struct ts_engine):
  *   x[0] crank speed, x[1] crank angle (all fidelities)

@@ -122,7 +122,7 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
     double mf_cyc = en_fuel_command(e, in, air, wp);
     en_bank_flows bf[EN_NBANK];
     memset(bf, 0, sizeof bf);
-    double t_ind = 0, J = c->inertia, dJ = 0;
+    double t_ind = 0, J = c->inertia + in->load_inertia, dJ = 0;
     double q_cool = 0, q_oil = 0;
     double led[EN_LEDGER_NX] = {0};
     double T_cool = x[e->off_coolant], T_oil = x[e->off_coolant + 1];

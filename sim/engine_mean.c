@@ -67,7 +67,8 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
     }
     double t_fric = en_fmep(c, w) * e->geom.vd * EN_NCYL / EN_CYCLE * tanh(w / 5.0);
     double t_brake = t_ind - t_fric;
-    xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) / c->inertia;
+    xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) /
+                                                        (c->inertia + in->load_inertia);
     xdot[TS_ENGINE_X_ANGLE] = w;
     xl[LX_FUEL_E] = fuel_rate * c->lhv;
     xl[LX_WORK] = t_ind * wp;
