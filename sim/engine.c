@@ -17,7 +17,8 @@
  *            error-controlled Bogacki-Shampine 3(2) (steps of 1/4..8 x
  *            ca_step, ended on the clocks' switching angles so no stage
  *            straddles a switch of the ignition/burn clocks); ~10x fewer
- *            operations than the former RK4 at equal or better accuracy.
+ *            operations than the former RK4 at equal or better accuracy;
+ *            the walls take one Crank-Nicolson step per two gas steps.
  *
  * State layout (offsets in struct ts_engine):
  *   x[0] crank speed, x[1] crank angle (all fidelities)
@@ -263,7 +264,7 @@ int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine
 size_t ts_engine_work_size(const ts_engine *e)
 {
     /* crank_angle: stages, error scales and wall fluxes */
-    return e->fidelity == TS_ENGINE_CRANK_ANGLE ? 8 * (size_t)e->nx + 4 * EN_NWALL
+    return e->fidelity == TS_ENGINE_CRANK_ANGLE ? 8 * (size_t)e->nx + 5 * EN_NWALL
                                                : 5 * (size_t)e->nx;
 }
 
@@ -351,9 +352,11 @@ static int step(const ts_engine *e, double *x, double t, double h, stage_load *s
 }
 
 /* Error-controlled multirate step of the crank-angle model: Bogacki-Shampine
- * 3(2) (FSAL) on every state but the walls, walls frozen over the step, then
- * each wall stack by one Crank-Nicolson step with the step's mean heat flux
- * (the scheme's own weights). The step adapts in crank angle between
+ * 3(2) (FSAL) on every state but the walls, walls frozen over the step; every
+ * BS_WALL_EVERY accepted steps (and at the end of the call) each wall stack by
+ * one Crank-Nicolson step with the mean heat flux of those steps (each step's
+ * flux with the scheme's own weights: the heat the gas lost is the heat the
+ * walls receive). The step adapts in crank angle between
  * /engine/ca_step / 4 and 8 ca_step (fine through the premixed burn and the
  * valve events, coarse through compression and expansion). tol: relative
  * tolerance on the engine's state scales (ts_engine_atol). */
@@ -361,6 +364,7 @@ static int step(const ts_engine *e, double *x, double t, double h, stage_load *s
 #define BS_MIN 0.25  /* smallest step, x /engine/ca_step */
 #define BS_MAX 8.0   /* largest step, x /engine/ca_step */
 #define BS_START 4.0 /* first step of a call, x /engine/ca_step */
+#define BS_WALL_EVERY 2 /* accepted steps per wall step (the walls' mean flux over them) */
 static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, stage_load *sl,
                           double *work, ts_err *err)
 {
@@ -376,6 +380,9 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
      * corrects it; a function of x only, so results do not depend on how a
      * run is cut into calls' history or on the work buffer's contents) */
     double dth = BS_START * e->c.ca_step;
+    double *qacc = q4 + EN_NWALL, hacc = 0; /* wall heat accumulated since the last wall step */
+    int nacc = 0;
+    memset(qacc, 0, sizeof(double) * EN_NWALL);
     memcpy(xt + n, x + n, sizeof(double) * (size_t)(nx - n));
     memcpy(y1 + n, x + n, sizeof(double) * (size_t)(nx - n));
     int have_k1 = 0;
@@ -436,11 +443,18 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
             }
         }
         for (int j = 0; j < EN_NWALL; j++)
-            q1[j] = 2.0 / 9.0 * q1[j] + 1.0 / 3.0 * q2[j] + 4.0 / 9.0 * q3[j];
+            qacc[j] += h * (2.0 / 9.0 * q1[j] + 1.0 / 3.0 * q2[j] + 4.0 / 9.0 * q3[j]);
+        hacc += h;
         memcpy(x, y1, sizeof(double) * (size_t)n);
-        en_walls_step(e, x, q1, h);
-        for (int i = n; i < nx; i++)
-            if (!isfinite(x[i])) goto diverged;
+        if (++nacc == BS_WALL_EVERY || last) {
+            for (int j = 0; j < EN_NWALL; j++) qacc[j] /= hacc;
+            en_walls_step(e, x, qacc, hacc);
+            for (int i = n; i < nx; i++)
+                if (!isfinite(x[i])) goto diverged;
+            memset(qacc, 0, sizeof(double) * EN_NWALL);
+            hacc = 0;
+            nacc = 0;
+        }
         memcpy(k1, k4, sizeof(double) * (size_t)n); /* FSAL (walls lag by this step) */
         memcpy(q1, q4, sizeof(double) * EN_NWALL);
         memcpy(xt + n, x + n, sizeof(double) * (size_t)(nx - n));

@@ -117,8 +117,9 @@ int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine
  * angle: MULTIRATE and error-controlled (engine.c): every state but the walls
  * by Bogacki-Shampine 3(2) with the walls frozen over a step, steps ended on
  * the ignition/burn clocks' switching angles, crank-angle steps between
- * /engine/ca_step / 4 and 8 x ca_step; then each wall stack by one implicit
- * Crank-Nicolson step with the step's mean heat flux. Agrees with an RK4 of
+ * /engine/ca_step / 4 and 8 x ca_step; every second step each wall stack
+ * by one implicit Crank-Nicolson step with the mean heat flux of those steps.
+ * Agrees with an RK4 of
  * all 510 states at ca_step within 0.3 % in torque, work and heat per cycle
  * (closer to the converged solution than that RK4: tests/sim/
  * test_engine_regression.c, report of issue 6/10). work:
