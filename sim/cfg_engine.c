@@ -132,7 +132,7 @@ static const ts_param engine_rows[] = {
     D(intake_volume, "m^3", 1e-4, 0.5, "intake manifold volume per bank"),
     D(exhaust_volume, "m^3", 1e-4, 0.5, "exhaust manifold volume per bank"),
     D(exhaust_ua, "W/K", 0, 1e4, "exhaust manifold heat loss conductance per bank"),
-    D(ca_step, "rad", 1e-3, 0.1, "crank-angle step of the engine's own fixed-step integrator"),
+    D(ca_step, "rad", 1e-3, 0.1, "base crank-angle step of the engine's own integrators (fixed for cycle means; adaptive runs 1/4 to 8 x)"),
     D(boost_lag, "s", 0.01, 10, "map fidelity: first-order boost time constant"),
     D(boost_floor, "1", 0, 1, "map fidelity: fuel fraction available at zero boost"),
     A(map_speed, TS_ENGINE_MAP_MAX, "rad/s", 0, 400, "speeds of the map tables"),

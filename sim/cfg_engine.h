@@ -112,7 +112,7 @@ typedef struct ts_engine_config {
     double intake_volume, exhaust_volume;           /* [m^3] */
     double exhaust_ua;                              /* exhaust manifold heat loss [W/K] */
     /* numerics of the crank-angle model */
-    double ca_step;          /* fixed step of ts_engine_advance [rad CA] */
+    double ca_step;          /* base step of the engine's integrators [rad CA] */
     /* map and mean-value fidelities */
     double boost_lag;        /* map: first-order boost time constant [s] */
     double boost_floor;      /* map: fuel fraction available without boost [1] */

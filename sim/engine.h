@@ -13,9 +13,13 @@
  *   crank_angle  twelve 0-D cylinders, valves, Watson burning, K-k heat
  *                transfer, layered walls, two turbo banks with intercoolers and
  *                filling-and-emptying manifolds, Millington-Hartles friction,
- *                crank-angle-varying inertia (510 states; ts_engine_advance
- *                integrates it with a fixed 0.5-deg RK4 step at ~0.6x real
- *                time; CVODE also works but is ~100x slower).
+ *                crank-angle-varying inertia (510 states). ts_engine_advance
+ *                integrates it with an error-controlled MULTIRATE scheme at
+ *                ~12-17x real time at rated (2 cores shared; bench_engine);
+ *                a caller's RK4 of all 510 states at the 0.5-deg
+ *                /engine/ca_step costs ~10x more, CVODE ~100x more again. A
+ *                caller that integrates a powertrain around the engine
+ *                should co-simulate it with ts_engine_advance_load.
  *   mean_value   cycle-averaged cylinders (tables from the crank-angle sweep)
  *                with the intercoolers, manifolds and turbos kept (28 states).
  * Each bank's turbine has a boost-sensing wastegate (/engine/wg_*): the
@@ -54,6 +58,8 @@ typedef struct ts_engine_inputs {
     double load_torque;    /* load on the flywheel, opposing rotation [N*m] */
     double p_amb, T_amb;   /* ambient pressure [Pa] and temperature [K] */
     int hold_speed;        /* dynamometer: crank speed held (its derivative = 0) */
+    double load_inertia;   /* inertia turning rigidly with the crankshaft beyond the
+                              engine's own (e.g. the converter pump) [kg*m^2]; 0: none */
 } ts_engine_inputs;
 
 typedef struct ts_engine_outputs {
@@ -105,13 +111,52 @@ void ts_engine_atol(const ts_engine *e, double atol, double *atol_v);
 int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
                   double *xdot, ts_engine_outputs *out);
 
-/* Fixed-step explicit integration of x from t over dt (RK4 at /engine/ca_step
- * crank angle, fewer for map/mean_value) for callers that do not integrate the
- * engine themselves (engine_dyno, engine-map). work: ts_engine_work_size(e)
- * doubles owned by the caller. Returns TS_OK or TS_ERR_DIVERGED. */
+/* Explicit integration of x from t over dt for callers that do not
+ * integrate the engine themselves (engine_dyno, engine-map, vehicle runs
+ * through ts_engine_advance_load). map and mean_value: fixed-step RK4. crank
+ * angle: MULTIRATE and error-controlled (engine.c): every state but the walls
+ * by Bogacki-Shampine 3(2) with the walls frozen over a step, steps ended on
+ * the ignition/burn clocks' switching angles, crank-angle steps between
+ * /engine/ca_step / 4 and 8 x ca_step; every second step each wall stack
+ * by one implicit Crank-Nicolson step with the mean heat flux of those steps.
+ * Agrees with an RK4 of
+ * all 510 states at ca_step within 0.3 % in torque, work and heat per cycle
+ * (closer to the converged solution than that RK4: tests/sim/
+ * test_engine_regression.c, report of issue 6/10). work:
+ * ts_engine_work_size(e) doubles owned by the caller (scratch: the result
+ * depends on x and the inputs only). Returns TS_OK or TS_ERR_DIVERGED. */
 size_t ts_engine_work_size(const ts_engine *e);
 ts_rc ts_engine_advance(const ts_engine *e, double *x, double t, double dt,
                         const ts_engine_inputs *in, double *work, ts_err *err);
+
+/* Load torque on the crankshaft [N*m] at time t [s] and crank speed omega
+ * [rad/s], for ts_engine_advance_load. */
+typedef double (*ts_engine_load_fn)(void *ud, double t, double omega);
+
+/* As ts_engine_advance, with the load torque a function of (t, crank speed)
+ * evaluated at every stage of every internal step (load NULL: in->load_torque
+ * held; this is ts_engine_advance).
+ *
+ * Powertrain co-simulation (the intended use, issue 10): integrating the
+ * crank-angle engine's 510 states inside the powertrain's ODE forces the
+ * powertrain's integrator onto the engine's crank-angle step and evaluates the
+ * walls in every stage; instead, per macro step H of the powertrain (e.g. 1 ms,
+ * ~13 deg at 2100 rpm; the engine sub-steps itself):
+ *   in.load_inertia = pump inertia (turns with the crankshaft);
+ *   load(ud, t, w_e) = converter pump torque at (w_e, w_t) with the turbine
+ *                      speed w_t held (or extrapolated) over H;
+ *   ts_engine_advance_load(e, x_engine, t, H, &in, load, &ctx, work, err);
+ *   then advance the turbine/transmission (and vehicle) states over H with the
+ *   converter evaluated at the engine's new speed (or the mean over H).
+ * The engine's states stay in x_engine (not in the powertrain's ODE); its
+ * outputs at the step end come from ts_engine_rhs(e, t, x_engine, ...). The
+ * coupling through the converter is not stiff (d T_pump / d w_e ~ 2 T / w:
+ * time constant ~ J / 45 N*m*s ~ 0.2 s), so the explicit exchange every H is
+ * stable and first-order accurate in H. work: ts_engine_work_size(e)
+ * doubles. Returns TS_OK or TS_ERR_DIVERGED. */
+ts_rc ts_engine_advance_load(const ts_engine *e, double *x, double t, double dt,
+                             const ts_engine_inputs *in, ts_engine_load_fn load, void *ud,
+                             double *work, ts_err *err);
 
 /* Cumulative integrals carried in x (crank_angle and mean_value; zeros for map):
  * energy and mass book-keeping for balance checks. Differences between two

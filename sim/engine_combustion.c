@@ -21,34 +21,51 @@ double en_ignition_delay(double a_ms, double n, double ta, double p, double T)
     return 1e-3 * a_ms * pow(p_bar, -n) * exp(ta / fmax(T, 200.0));
 }
 
-void en_watson_burn(const en_watson *w, double tau, double tau_id_ms, double n_rpm, double phi,
-                    double *X, double *dX)
+void en_watson_pre(const en_watson *w, double tau, double tau_id_ms, double n_rpm,
+                   en_watson_tau *p)
 {
-    if (tau <= 0) {
+    p->tau = tau;
+    if (tau <= 0 || tau >= 1) return;
+    tau_id_ms = fmax(tau_id_ms, 0.05);
+    p->id_c = pow(tau_id_ms, w->c);
+    p->ltau = log(tau);
+    double c1 = 2.0 + w->c1k * pow(tau_id_ms * n_rpm, w->c1e);
+    double c2 = w->c2;
+    double tc1 = exp(c1 * p->ltau);
+    double g = pow(1.0 - tc1, c2);
+    p->f1 = 1.0 - g;
+    p->df1 = c2 * g / (1.0 - tc1) * c1 * tc1 / tau; /* c2 (1 - tc1)^(c2 - 1) c1 tc1 / tau */
+}
+
+void en_watson_phi(const en_watson *w, const en_watson_tau *p, double phi, double *X, double *dX)
+{
+    if (p->tau <= 0) {
         *X = 0;
         *dX = 0;
         return;
     }
-    if (tau >= 1) {
+    if (p->tau >= 1) {
         *X = 1;
         *dX = 0;
         return;
     }
-    phi = fmax(phi, 0.05);
-    tau_id_ms = fmax(tau_id_ms, 0.05);
-    double beta = 1.0 - w->a * pow(phi, w->b) / pow(tau_id_ms, w->c);
+    double lphi = log(fmax(phi, 0.05));
+    double beta = 1.0 - w->a * exp(w->b * lphi) / p->id_c;
     beta = beta < 0 ? 0 : beta > 1 ? 1 : beta;
-    double c1 = 2.0 + w->c1k * pow(tau_id_ms * n_rpm, w->c1e);
-    double c2 = w->c2;
-    double c3 = w->c3k / pow(phi, w->c3e);
-    double c4 = w->c4k * pow(c3, 0.25);
-    double tc1 = pow(tau, c1);
-    double f1 = 1.0 - pow(1.0 - tc1, c2);
-    double df1 = c2 * pow(1.0 - tc1, c2 - 1.0) * c1 * tc1 / tau;
-    double tc4 = pow(tau, c4);
+    double c3 = w->c3k * exp(-w->c3e * lphi);
+    double c4 = w->c4k * sqrt(sqrt(c3));
+    double tc4 = exp(c4 * p->ltau);
     double ex = exp(-c3 * tc4);
     double f2 = 1.0 - ex;
-    double df2 = c3 * c4 * tc4 / tau * ex;
-    *X = beta * f1 + (1.0 - beta) * f2;
-    *dX = beta * df1 + (1.0 - beta) * df2;
+    double df2 = c3 * c4 * tc4 / p->tau * ex;
+    *X = beta * p->f1 + (1.0 - beta) * f2;
+    *dX = beta * p->df1 + (1.0 - beta) * df2;
+}
+
+void en_watson_burn(const en_watson *w, double tau, double tau_id_ms, double n_rpm, double phi,
+                    double *X, double *dX)
+{
+    en_watson_tau p;
+    en_watson_pre(w, tau, tau_id_ms, n_rpm, &p);
+    en_watson_phi(w, &p, phi, X, dX);
 }

@@ -47,12 +47,6 @@ static double wrap(double a)
     return a < 0 ? a + EN_CYCLE : a;
 }
 
-static double gamma_of(const en_gas *g, double T, double F)
-{
-    double cp = en_gas_cp(g, T, F);
-    return cp / (cp - en_gas_r(g, F));
-}
-
 void en_crank_init(const ts_engine *e, double omega, double p, double T, double *x)
 {
     (void)omega;
@@ -82,6 +76,17 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
                  double *xdot, ts_engine_outputs *out)
 {
     (void)t;
+    return en_crank_eval(e, x, in, xdot, out, NULL);
+}
+
+/* Performance notes (issue 6/10 speed-up; the equations are those above):
+ * one sincos of the crank angle rotated to every cylinder, one evaluation of
+ * the gas polynomials per control volume, the manifold-side properties once
+ * per bank, valve flows only while a valve is open, and (q_wall != NULL) the
+ * walls frozen over a step of the multirate integrator in engine.c. */
+int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
+                  ts_engine_outputs *out, double *q_wall)
+{
     const ts_engine_config *c = &e->c;
     const en_gas *g = &e->gas;
     const en_geom *geo = &e->geom;
@@ -91,40 +96,54 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
     double sp_half = c->stroke * wp / EN_PI / 2.0; /* half the mean piston speed */
     en_bank_out bo[EN_NBANK];
     double R_im[EN_NBANK], g_im[EN_NBANK], R_em[EN_NBANK], g_em[EN_NBANK];
+    double h_im[EN_NBANK], h_em[EN_NBANK], rho_im[EN_NBANK];
     double air = 0;
+    en_comp_out cob[EN_NBANK];
     for (int b = 0; b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
         if (!(xb[BX_IMM] > 0 && xb[BX_EMM] > 0 && xb[BX_ICM] > 0 && xb[BX_IMT] > 100 &&
               xb[BX_EMT] > 100 && xb[BX_ICT] > 100))
             return 1;
         double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
-        en_comp_out co;
-        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &co);
-        air += co.mdot;
+        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &cob[b]);
+        air += cob[b].mdot;
         en_bank_read(e, xb, &bo[b]);
-        R_im[b] = en_gas_r(g, bo[b].F_im);
-        g_im[b] = gamma_of(g, bo[b].T_im, bo[b].F_im);
-        R_em[b] = en_gas_r(g, bo[b].F_em);
-        g_em[b] = gamma_of(g, bo[b].T_em, bo[b].F_em);
+        en_gas_state si, se;
+        en_gas_eval(g, bo[b].T_im, bo[b].F_im, &si);
+        en_gas_eval(g, bo[b].T_em, bo[b].F_em, &se);
+        R_im[b] = si.R;
+        g_im[b] = si.cp / si.cv;
+        h_im[b] = si.h;
+        rho_im[b] = bo[b].p_im / (si.R * bo[b].T_im);
+        R_em[b] = se.R;
+        g_em[b] = se.cp / se.cv;
+        h_em[b] = se.h;
     }
     double mf_cyc = en_fuel_command(e, in, air, wp);
     en_bank_flows bf[EN_NBANK];
     memset(bf, 0, sizeof bf);
-    double t_ind = 0, J = c->inertia, dJ = 0;
+    double t_ind = 0, J = c->inertia + in->load_inertia, dJ = 0;
     double q_cool = 0, q_oil = 0;
     double led[EN_LEDGER_NX] = {0};
     double T_cool = x[e->off_coolant], T_oil = x[e->off_coolant + 1];
+    double s_th = sin(th), c_th = cos(th);
+    double th_w = wrap(th);
     for (int i = 0; i < EN_NCYL; i++) {
         const double *xc = x + e->off_cyl + i * EN_CYL_NX;
         double *dc = xdot + e->off_cyl + i * EN_CYL_NX;
         int b = e->cyl_bank[i];
-        double thl = wrap(th - e->cyl_offset[i]);
-        en_kin kin;
-        en_kinematics(geo, thl, &kin);
+        double thl = th_w - e->cyl_offset[i];
+        if (thl < 0) thl += EN_CYCLE;
+        en_kin kin; /* sin, cos of th - offset by rotation */
+        en_kinematics_sc(geo, s_th * e->cyl_cos[i] - c_th * e->cyl_sin[i],
+                         c_th * e->cyl_cos[i] + s_th * e->cyl_sin[i], &kin);
         double m = xc[CX_M], T = xc[CX_T], mb = xc[CX_MB];
         if (!(m > 0 && T > 100 && T < 5000)) return 1;
-        double F = fmin(fmax(mb / m, 0.0), 1.0);
-        double R = en_gas_r(g, F), cp = en_gas_cp(g, T, F), gam = cp / (cp - R);
+        double F = mb / m;
+        F = F < 0.0 ? 0.0 : F > 1.0 ? 1.0 : F;
+        en_gas_state gs;
+        en_gas_eval(g, T, F, &gs);
+        double R = gs.R, cp = gs.cp, gam = cp / gs.cv;
         double p = m * R * T / kin.V;
         double rho = m / kin.V;
         /* valves */
@@ -133,16 +152,21 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
         double a_ev = en_valve_area(en_valve_lift(thl, c->evo, c->evc, c->exhaust_max_lift),
                                     c->exhaust_valve_diameter, c->n_exhaust_valves, c->valve_cd);
         const en_bank_out *o = &bo[b];
-        double mi = en_orifice(a_iv, o->p_im, o->T_im, R_im[b], g_im[b], p, T, R, gam);
-        double me = en_orifice(a_ev, p, T, R, gam, o->p_em, o->T_em, R_em[b], g_em[b]);
-        double h_cyl = en_gas_h(g, T, F);
-        double hi = mi >= 0 ? mi * en_gas_h(g, o->T_im, o->F_im) : mi * h_cyl;
-        double fi = mi >= 0 ? mi * o->F_im : mi * F;
-        double he = me >= 0 ? me * h_cyl : me * en_gas_h(g, o->T_em, o->F_em);
-        double fe = me >= 0 ? me * F : me * o->F_em;
+        double mi = 0, me = 0, hi = 0, fi = 0, he = 0, fe = 0;
+        if (a_iv > 0) {
+            mi = en_orifice(a_iv, o->p_im, o->T_im, R_im[b], g_im[b], p, T, R, gam);
+            hi = mi >= 0 ? mi * h_im[b] : mi * gs.h;
+            fi = mi >= 0 ? mi * o->F_im : mi * F;
+        }
+        if (a_ev > 0) {
+            me = en_orifice(a_ev, p, T, R, gam, o->p_em, o->T_em, R_em[b], g_em[b]);
+            he = me >= 0 ? me * gs.h : me * h_em[b];
+            fe = me >= 0 ? me * F : me * o->F_em;
+        }
         /* ignition delay and burning */
         double I = xc[CX_IGN], s = xc[CX_BURN];
-        double a_soi = wrap(thl + c->soi);
+        double a_soi = thl + c->soi; /* wrap: thl in [0, 4 pi), 0 < soi < 4 pi */
+        if (a_soi >= EN_CYCLE) a_soi -= EN_CYCLE;
         double dI = 0, ds = 0, mfb = 0;
         int burning = 0;
         if (thl >= RESET_START && thl <= RESET_END) {
@@ -157,10 +181,12 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
                 double tau = s / c->burn_duration;
                 double tau_id_ms = 1e3 * fmax(a_soi - s, 0.0) / wp;
                 double X, dX, phi = mf_cyc * c->afr_stoich / fmax(m - mb, 1e-9);
-                en_watson_burn(&e->watson, tau, tau_id_ms, n_rpm, phi, &X, &dX);
+                en_watson_tau wt;
+                en_watson_pre(&e->watson, tau, tau_id_ms, n_rpm, &wt);
+                en_watson_phi(&e->watson, &wt, phi, &X, &dX);
                 /* overall phi of the cycle: air trapped before burning began */
                 phi = mf_cyc * c->afr_stoich / fmax(m - mb + mf_cyc * X * c->afr_stoich, 1e-9);
-                en_watson_burn(&e->watson, tau, tau_id_ms, n_rpm, phi, &X, &dX);
+                en_watson_phi(&e->watson, &wt, phi, &X, &dX);
                 mfb = mf_cyc * dX / c->burn_duration * wp;
                 burning = 1;
             }
@@ -170,22 +196,23 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
         double dm = mi - me + mfb;
         double min_ = (mi > 0 ? mi : 0) + (me < 0 ? -me : 0);
         double mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
-        double rho_up = o->p_im / (R_im[b] * o->T_im);
-        double v_in = mi > 0 && a_iv > 0 ? mi / (rho_up * a_iv) : 0.0;
+        double v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
         en_cascade_in ci = {m, kin.V, rho, T, p, c->bore, min_, v_in, mout,
-                            dm / m - kin.dVdth * w / kin.V, xc[CX_KMEAN], fmax(xc[CX_KTURB], K_FLOOR)};
+                            dm / m - kin.dVdth * w / kin.V, xc[CX_KMEAN],
+                            xc[CX_KTURB] > K_FLOOR ? xc[CX_KTURB] : K_FLOOR};
         double dK, dk, Lh, up, Um;
         en_cascade(&ci, c->cascade_cbeta, c->cascade_rdt, &dK, &dk, &Lh, &up, &Um);
         double uch = sqrt(Um * Um + up * up + sp_half * sp_half);
         double h = en_htc(c->nu_coeff, c->nu_exp, rho, uch, Lh, T, cp);
         /* walls */
         double q_w = 0;
+        double T4 = burning ? T * T * T * T : 0.0;
         for (int sf = 0; sf < EN_NSURF; sf++) {
-            const double *xw = x + e->off_wall + (i * EN_NSURF + sf) * EN_WALL_NODES;
-            double *dw = xdot + e->off_wall + (i * EN_NSURF + sf) * EN_WALL_NODES;
+            int ow = (i * EN_NSURF + sf) * EN_WALL_NODES;
+            const double *xw = x + e->off_wall + ow;
             double Ts = xw[0];
             double flux = h * (T - Ts);
-            if (burning) flux += c->emissivity * EN_SIGMA * (T * T * T * T - Ts * Ts * Ts * Ts);
+            if (burning) flux += c->emissivity * EN_SIGMA * (T4 - Ts * Ts * Ts * Ts);
             double area = e->surf_area[sf], share = 1.0;
             if (sf == EN_LINER) {
                 double exposed = EN_PI * c->bore * (kin.xp + geo->vc / geo->area);
@@ -193,9 +220,14 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
                 area = exposed;
             }
             q_w += flux * area;
-            double qb;
             const en_wall *wl = &e->wall[sf];
-            en_wall_rates(wl, xw, flux * share, sf == EN_PISTON ? T_oil : T_cool, dw, &qb);
+            double T_sink = sf == EN_PISTON ? T_oil : T_cool, qb;
+            if (q_wall) { /* frozen wall: its back side only */
+                q_wall[i * EN_NSURF + sf] = flux * share;
+                qb = wl->cond[EN_WALL_NODES - 1] * (xw[EN_WALL_NODES - 1] - T_sink);
+            } else {
+                en_wall_rates(wl, xw, flux * share, T_sink, xdot + e->off_wall + ow, &qb);
+            }
             if (sf == EN_PISTON)
                 q_oil += qb * e->surf_area[sf];
             else
@@ -208,7 +240,7 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
         double dF = (dmb - F * dm) / m;
         dc[CX_M] = dm;
         dc[CX_MB] = dmb;
-        dc[CX_T] = en_gas_dTdt(g, m, T, F, dE, dm, dF);
+        dc[CX_T] = en_gas_dTdt_s(&gs, m, dE, dm, dF);
         dc[CX_IGN] = dI;
         dc[CX_BURN] = ds;
         dc[CX_KMEAN] = dK;
@@ -238,6 +270,11 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
             out->heat_release = q_comb;
             out->piston_surface_temp = x[e->off_wall + EN_PISTON * EN_WALL_NODES];
         }
+    }
+    if (q_wall) memset(xdot + e->off_wall, 0, sizeof(double) * EN_NCYL * EN_NSURF * EN_WALL_NODES);
+    for (int b = 0; b < EN_NBANK; b++) {
+        bf[b].have_co = 1;
+        bf[b].co = cob[b];
     }
     for (int b = 0; b < EN_NBANK; b++)
         en_bank_rhs(e, x + e->off_bank + b * EN_BANK_NX, &bf[b], in->p_amb, in->T_amb,
@@ -271,4 +308,32 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
         out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
     }
     return 0;
+}
+
+double en_crank_next_switch(const ts_engine *e, const double *x, const double *xdot,
+                            double *ign)
+{
+    const ts_engine_config *c = &e->c;
+    double th = wrap(x[TS_ENGINE_X_ANGLE]), w = fmax(x[TS_ENGINE_X_SPEED], 1.0);
+    /* local angles where the clocks' right-hand sides switch */
+    const double sw[4] = {wrap(EN_CYCLE - c->soi), wrap(LW_WINDOW - c->soi), RESET_START,
+                          RESET_END};
+    double d_known = INFINITY, d_ign = INFINITY;
+    for (int i = 0; i < EN_NCYL; i++) {
+        double thl = th - e->cyl_offset[i];
+        if (thl < 0) thl += EN_CYCLE;
+        for (int k = 0; k < 4; k++) {
+            double d = sw[k] - thl;
+            if (d <= 1e-9) d += EN_CYCLE;
+            if (d < d_known) d_known = d;
+        }
+        const double *xc = x + e->off_cyl + i * EN_CYL_NX;
+        double dI = xdot[e->off_cyl + i * EN_CYL_NX + CX_IGN];
+        if (xc[CX_IGN] < 1.0 && dI > 0) {
+            double d = (1.0 - xc[CX_IGN]) / dI * w;
+            if (d < d_ign) d_ign = d;
+        }
+    }
+    *ign = d_ign;
+    return d_known;
 }

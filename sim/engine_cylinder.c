@@ -10,8 +10,12 @@
 
 void en_kinematics(const en_geom *g, double th, en_kin *k)
 {
+    en_kinematics_sc(g, sin(th), cos(th), k);
+}
+
+void en_kinematics_sc(const en_geom *g, double s, double c, en_kin *k)
+{
     double a = g->crank, l = g->rod;
-    double s = sin(th), c = cos(th);
     double r = sqrt(l * l - a * a * s * s);
     k->xp = a + l - (a * c + r);
     k->dxdth = a * s + a * a * s * c / r;

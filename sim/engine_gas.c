@@ -22,10 +22,9 @@ static double cp1(const double *c, double T)
 static double h1(const double *c, double T)
 {
     double t = T / 1000.0, t0 = EN_T0 / 1000.0;
-    double a = 1000.0 * (c[0] * t + c[1] * t * t / 2 + c[2] * t * t * t / 3 + c[3] * t * t * t * t / 4);
-    double b = 1000.0 * (c[0] * t0 + c[1] * t0 * t0 / 2 + c[2] * t0 * t0 * t0 / 3 +
-                         c[3] * t0 * t0 * t0 * t0 / 4);
-    return a - b;
+    double a = t * (c[0] + t * (c[1] / 2 + t * (c[2] / 3 + t * (c[3] / 4))));
+    double b = t0 * (c[0] + t0 * (c[1] / 2 + t0 * (c[2] / 3 + t0 * (c[3] / 4))));
+    return 1000.0 * (a - b);
 }
 
 static double clampF(double F) { return F < 0 ? 0 : F > 1 ? 1 : F; }
@@ -52,6 +51,46 @@ double en_gas_h(const en_gas *g, double T, double F)
 }
 
 double en_gas_u(const en_gas *g, double T, double F) { return en_gas_h(g, T, F) - en_gas_r(g, F) * T; }
+
+static void derive(const double *c, double *cpT, double *hT)
+{
+    double sc = 1.0;
+    for (int j = 0; j < 4; j++, sc *= 1e-3) cpT[j] = c[j] * sc; /* t^j = T^j 1e-3^j */
+    hT[0] = 0.0;
+    for (int j = 0; j < 4; j++) hT[j + 1] = cpT[j] / (j + 1); /* integral in T */
+    double T0 = EN_T0;
+    hT[0] = -T0 * (hT[1] + T0 * (hT[2] + T0 * (hT[3] + T0 * hT[4]))); /* h(EN_T0) = 0 */
+}
+
+void en_gas_init(en_gas *g, const double *cp_air, const double *cp_burned, double r_air,
+                 double r_burned)
+{
+    for (int j = 0; j < 4; j++) {
+        g->cp_a[j] = cp_air[j];
+        g->cp_b[j] = cp_burned[j];
+    }
+    g->r_a = r_air;
+    g->r_b = r_burned;
+    derive(g->cp_a, g->cpT_a, g->hT_a);
+    derive(g->cp_b, g->cpT_b, g->hT_b);
+}
+
+void en_gas_eval(const en_gas *g, double T, double F, en_gas_state *s)
+{
+    F = F < 0 ? 0 : F > 1 ? 1 : F;
+    double Tc = T < 150 ? 150 : T > 3500 ? 3500 : T; /* clampT */
+    const double *a = g->cpT_a, *b = g->cpT_b, *ha_ = g->hT_a, *hb_ = g->hT_b;
+    double cpa = a[0] + Tc * (a[1] + Tc * (a[2] + Tc * a[3]));
+    double cpb = b[0] + Tc * (b[1] + Tc * (b[2] + Tc * b[3]));
+    double ha = ha_[0] + T * (ha_[1] + T * (ha_[2] + T * (ha_[3] + T * ha_[4])));
+    double hb = hb_[0] + T * (hb_[1] + T * (hb_[2] + T * (hb_[3] + T * hb_[4])));
+    s->R = (1 - F) * g->r_a + F * g->r_b;
+    s->cp = (1 - F) * cpa + F * cpb;
+    s->h = (1 - F) * ha + F * hb;
+    s->u = s->h - s->R * T;
+    s->cv = s->cp - s->R;
+    s->dudF = (hb - g->r_b * T) - (ha - g->r_a * T);
+}
 
 double en_gas_T_from_h(const en_gas *g, double h, double F, double T)
 {

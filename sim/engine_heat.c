@@ -24,7 +24,7 @@ void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, do
     double m = c->m;
     double Lh = c->V / (EN_PI / 4.0 * c->bore * c->bore);
     if (Lh > c->bore / 2) Lh = c->bore / 2;
-    double K = fmax(c->K, 0.0), k = fmax(c->k, 1e-9);
+    double K = c->K > 0.0 ? c->K : 0.0, k = c->k > 1e-9 ? c->k : 1e-9;
     double up = sqrt(2.0 * k / (3.0 * m));
     double P = 0.3307 * cbeta * (K / Lh) * sqrt(k / m);
     double eps = up * up * up / Lh;
@@ -37,8 +37,8 @@ void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, do
 
 double en_htc(double a, double b, double rho, double u, double L, double T, double cp)
 {
-    double mu = 3.3e-7 * pow(fmax(T, 200.0), 0.7);
-    double lambda = mu * cp / PRANDTL;
-    double re = rho * u * L / mu;
-    return a * pow(re, b) * lambda / L;
+    /* h = a Re^b lambda / L with lambda = mu cp / Pr, mu = 3.3e-7 T^0.7:
+     *   h = (a cp / (Pr L)) (rho u L)^b mu^(1 - b), one exp and two logs */
+    double lmu = log(3.3e-7) + 0.7 * log(T > 200.0 ? T : 200.0);
+    return a * cp / (PRANDTL * L) * exp(b * log(rho * u * L) + (1.0 - b) * lmu);
 }

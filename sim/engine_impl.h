@@ -33,13 +33,33 @@
 typedef struct en_gas {
     double cp_a[4], cp_b[4]; /* cp polynomials in t = T/1000 [J/kg/K] */
     double r_a, r_b;         /* gas constants [J/kg/K] */
+    /* derived by en_gas_init (en_gas_eval only): cp and h - h(EN_T0) as
+     * polynomials in T itself, air and burned gas */
+    double cpT_a[4], cpT_b[4], hT_a[5], hT_b[5];
 } en_gas;
+/* Fill g from the cubic cp fits (in t = T/1000) and the gas constants. */
+void en_gas_init(en_gas *g, const double *cp_air, const double *cp_burned, double r_air,
+                 double r_burned);
 /* F: burned-gas mass fraction in [0, 1]. h is sensible enthalpy from EN_T0;
  * u = h - R T (consistent with h = u + p v). */
 double en_gas_r(const en_gas *g, double F);
 double en_gas_cp(const en_gas *g, double T, double F);
 double en_gas_h(const en_gas *g, double T, double F);
 double en_gas_u(const en_gas *g, double T, double F);
+/* Every property of one mixture at (T, F) from a single evaluation of the
+ * species polynomials (the right-hand side's hot path; same values as the
+ * separate functions). */
+typedef struct en_gas_state {
+    double R, cp, h, u, cv; /* [J/kg/K], [J/kg] */
+    double dudF;            /* u_burned - u_air at T [J/kg] */
+} en_gas_state;
+void en_gas_eval(const en_gas *g, double T, double F, en_gas_state *s);
+/* en_gas_dTdt from a state evaluated at the same (T, F). */
+static inline double en_gas_dTdt_s(const en_gas_state *s, double m, double dEdt, double dmdt,
+                                   double dFdt)
+{
+    return (dEdt - s->u * dmdt - m * s->dudF * dFdt) / (m * s->cv);
+}
 /* Temperature with enthalpy h at composition F (Newton). */
 double en_gas_T_from_h(const en_gas *g, double h, double F, double T_guess);
 /* dT/dt of a control volume (m, T, F) from its energy rate dE/dt = d(m u)/dt,
@@ -65,6 +85,8 @@ typedef struct en_kin {
     double xp, dxdth, d2xdth2; /* piston distance from TDC [m] and derivatives */
 } en_kin;
 void en_kinematics(const en_geom *g, double th, en_kin *k);
+/* The same from sin(th), cos(th) (the caller rotates one sincos to every cylinder). */
+void en_kinematics_sc(const en_geom *g, double s, double c, en_kin *k);
 /* Lift [m] of a valve open on [open, close] (rad CA, close may exceed 4 pi),
  * smooth sine-squared-like profile (1 - cos) / 2. th in [0, 4 pi). */
 double en_valve_lift(double th, double open, double close, double lmax);
@@ -82,6 +104,15 @@ double en_ignition_delay(double a_ms, double n, double ta, double p, double T);
  * phi overall equivalence ratio. */
 void en_watson_burn(const en_watson *w, double tau, double tau_id_ms, double n_rpm, double phi,
                     double *X, double *dXdtau);
+/* The same in two parts, for evaluating several phi at one (tau, tau_id, N):
+ * the phi-independent premixed part, then the phi-dependent rest. */
+typedef struct en_watson_tau {
+    double tau, ltau, id_c, f1, df1;
+} en_watson_tau;
+void en_watson_pre(const en_watson *w, double tau, double tau_id_ms, double n_rpm,
+                   en_watson_tau *p);
+void en_watson_phi(const en_watson *w, const en_watson_tau *p, double phi, double *X,
+                   double *dXdtau);
 
 /* ---- heat transfer (engine_heat.c) ---------------------------------------- */
 typedef struct en_cascade_in {
@@ -156,6 +187,7 @@ struct ts_engine {
     en_wall wall[EN_NSURF];
     double surf_area[EN_NSURF];  /* piston and head areas; liner area at full stroke [m^2] */
     double cyl_offset[EN_NCYL];  /* firing offset of each cylinder [rad] */
+    double cyl_sin[EN_NCYL], cyl_cos[EN_NCYL]; /* sin, cos of the offsets */
     int cyl_bank[EN_NCYL];
     double speed_step;           /* map/mean_value fixed step [s] */
     double turbo_inertia_scale;  /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
@@ -174,6 +206,25 @@ double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double ai
 
 int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
                  double *xdot, ts_engine_outputs *out);
+/* The crank-angle right-hand side with the walls FROZEN (multirate stepping,
+ * engine.c): the wall nodes' derivatives are set to 0 and q_wall receives the
+ * gas-side heat flux into each wall [W/m^2 of the wall's full area]
+ * (EN_NCYL x EN_NSURF, layout of the wall states); the coolant and oil see the
+ * frozen walls' back-side heat. With q_wall NULL this is en_crank_rhs. */
+int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
+                  ts_engine_outputs *out, double *q_wall);
+/* Crank angle [rad] from x to the next angle where a cylinder's ignition or
+ * burn clock switches its right-hand side (start and end of the injection
+ * window, start and end of the re-arm window); *ign: estimated angle to the
+ * next ignition (Livengood-Wu integral reaching 1, from xdot). For the
+ * error-controlled stepper, which ends steps on these switches. */
+double en_crank_next_switch(const ts_engine *e, const double *x, const double *xdot,
+                            double *ign);
+/* Advance every wall stack over h [s] with the gas-side flux q (EN_NCYL x
+ * EN_NSURF, as from en_crank_eval) held and the sinks at the coolant and oil
+ * temperatures in x: Crank-Nicolson (A-stable, second order; the conduction
+ * equations are linear). */
+void en_walls_step(const ts_engine *e, double *x, const double *q, double h);
 void en_crank_init(const ts_engine *e, double omega, double p, double T, double *x);
 int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
                 double *xdot, ts_engine_outputs *out);
@@ -184,6 +235,8 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
 typedef struct en_bank_flows {
     double m_in, h_in, mf_in; /* cylinders <- intake manifold: mass [kg/s], enthalpy [W], burned [kg/s] */
     double m_ex, h_ex, mf_ex; /* cylinders -> exhaust manifold */
+    int have_co;              /* co holds the compressor at this state (else computed) */
+    en_comp_out co;
 } en_bank_flows;
 typedef struct en_bank_out {
     double p_im, T_im, F_im, p_em, T_em, F_em, air_flow, turbo_speed;

@@ -17,12 +17,21 @@
 
 #define LIN_RATIO 0.99 /* below 1 % pressure difference the flow is linearised */
 
-/* Flow function Psi(pr) with pr = p_down / p_up <= 1. */
+/* Flow function Psi(pr) with pr = p_down / p_up <= 1:
+ *   Psi^2 = 2 g/(g-1) (pr^(2/g) - pr^((g+1)/g)) = 2 g/(g-1) a (a - pr),  a = pr^(1/g),
+ * clamped at the critical ratio (2/(g+1))^(g/(g-1)). The comparison with the
+ * critical ratio is made on logarithms, so one log per call replaces the
+ * three powers of the textbook form (same value to rounding). */
 static double psi(double pr, double g)
 {
-    double crit = pow(2.0 / (g + 1.0), g / (g - 1.0));
-    if (pr < crit) pr = crit;
-    double v = 2.0 * g / (g - 1.0) * (pow(pr, 2.0 / g) - pow(pr, (g + 1.0) / g));
+    double lc = g / (g - 1.0) * log(2.0 / (g + 1.0)); /* log of the critical ratio */
+    double lp = log(pr);
+    if (lp < lc) {
+        lp = lc;
+        pr = exp(lc);
+    }
+    double a = exp(lp / g);
+    double v = 2.0 * g / (g - 1.0) * a * (a - pr);
     return sqrt(v > 0 ? v : 0);
 }
 
@@ -41,12 +50,6 @@ double en_orifice(double cda, double p1, double T1, double R1, double g1, double
     if (cda <= 0) return 0.0;
     if (p1 >= p2) return flow1(cda, p1, T1, R1, g1, p2);
     return -flow1(cda, p2, T2, R2, g2, p1);
-}
-
-static double gamma_of(const en_gas *g, double T, double F)
-{
-    double cp = en_gas_cp(g, T, F);
-    return cp / (cp - en_gas_r(g, F));
 }
 
 void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o)
@@ -72,20 +75,26 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     double p_ic = m_ic * g->r_a * T_ic / c->ic_volume;
     /* compressor: ambient -> intercooler volume */
     en_comp_out co;
-    en_compressor(&e->turbo, xb[BX_TC], p_amb, T_amb, p_ic, &co);
+    if (f->have_co)
+        co = f->co;
+    else
+        en_compressor(&e->turbo, xb[BX_TC], p_amb, T_amb, p_ic, &co);
+    en_gas_state s_ic, s_im, s_em, s_c;
+    en_gas_eval(g, T_ic, 0, &s_ic);
+    en_gas_eval(g, o->T_im, o->F_im, &s_im);
+    en_gas_eval(g, o->T_em, o->F_em, &s_em);
+    en_gas_eval(g, co.T_out, 0, &s_c);
     /* intercooler outlet orifice -> intake manifold (reverse flow carries F_im) */
-    double g_ic = gamma_of(g, T_ic, 0), g_im = gamma_of(g, o->T_im, o->F_im);
-    double m_ici = en_orifice(c->ic_cda, p_ic, T_ic, g->r_a, g_ic, o->p_im, o->T_im,
-                              en_gas_r(g, o->F_im), g_im);
-    double h_ici = m_ici >= 0 ? m_ici * en_gas_h(g, T_ic, 0) : m_ici * en_gas_h(g, o->T_im, o->F_im);
+    double g_ic = s_ic.cp / s_ic.cv, g_im = s_im.cp / s_im.cv;
+    double m_ici = en_orifice(c->ic_cda, p_ic, T_ic, g->r_a, g_ic, o->p_im, o->T_im, s_im.R, g_im);
+    double h_ici = m_ici >= 0 ? m_ici * s_ic.h : m_ici * s_im.h;
     double F_ici = m_ici >= 0 ? 0.0 : m_ici * o->F_im;
     /* intercooler volume: heat to the wall from the compressed stream */
-    double cp_c = en_gas_cp(g, co.T_out, 0);
-    double q_ic = en_intercooler_heat(c->ic_ua, co.mdot, cp_c, co.T_out, c->ic_wall_temp);
-    double h_c = co.mdot >= 0 ? co.mdot * en_gas_h(g, co.T_out, 0) : co.mdot * en_gas_h(g, T_ic, 0);
+    double q_ic = en_intercooler_heat(c->ic_ua, co.mdot, s_c.cp, co.T_out, c->ic_wall_temp);
+    double h_c = co.mdot >= 0 ? co.mdot * s_c.h : co.mdot * s_ic.h;
     double dm_ic = co.mdot - m_ici;
     xd[BX_ICM] = dm_ic;
-    xd[BX_ICT] = en_gas_dTdt(g, m_ic, T_ic, 0, h_c - h_ici - q_ic, dm_ic, 0);
+    xd[BX_ICT] = en_gas_dTdt_s(&s_ic, m_ic, h_c - h_ici - q_ic, dm_ic, 0);
     /* intake manifold */
     double m_im = xb[BX_IMM];
     double dm_im = m_ici - f->m_in;
@@ -93,9 +102,9 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     double dF_im = (dmF_im - o->F_im * dm_im) / m_im;
     xd[BX_IMM] = dm_im;
     xd[BX_IMF] = dF_im;
-    xd[BX_IMT] = en_gas_dTdt(g, m_im, o->T_im, o->F_im, h_ici - f->h_in, dm_im, dF_im);
+    xd[BX_IMT] = en_gas_dTdt_s(&s_im, m_im, h_ici - f->h_in, dm_im, dF_im);
     /* exhaust manifold -> turbine -> ambient */
-    double R_em = en_gas_r(g, o->F_em), cp_em = en_gas_cp(g, o->T_em, o->F_em);
+    double R_em = s_em.R, cp_em = s_em.cp;
     en_turb_out to;
     en_turbine(&e->turbo, xb[BX_TC], o->p_em, o->T_em, R_em, cp_em, p_amb, &to);
     /* wastegate: boost-sensing bypass around the turbine, opening linearly
@@ -111,10 +120,10 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     double dmF_em = f->mf_ex - m_out * o->F_em;
     double dF_em = (dmF_em - o->F_em * dm_em) / m_em;
     double q_em = c->exhaust_ua * (o->T_em - T_amb);
-    double h_t = m_out * en_gas_h(g, o->T_em, o->F_em);
+    double h_t = m_out * s_em.h;
     xd[BX_EMM] = dm_em;
     xd[BX_EMF] = dF_em;
-    xd[BX_EMT] = en_gas_dTdt(g, m_em, o->T_em, o->F_em, f->h_ex - h_t - q_em, dm_em, dF_em);
+    xd[BX_EMT] = en_gas_dTdt_s(&s_em, m_em, f->h_ex - h_t - q_em, dm_em, dF_em);
     /* rotor: J dw/dt = (eta_m P_t - P_c) / w (Section III.B.1) */
     double w = xb[BX_TC];
     double J = e->turbo.inertia * e->turbo_inertia_scale;

@@ -54,7 +54,8 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         double h_out = h_in + q_fuel * (1.0 - eta_i - q_w);
         double m_out = m_cyl + m_f;
         double F_out = m_out > 0 ? fmin((m_cyl * o->F_im + m_f * (1 + c->afr_stoich)) / m_out, 1.0) : o->F_em;
-        en_bank_flows f = {m_cyl, h_in, m_cyl * o->F_im, m_out, h_out, m_out * F_out};
+        en_bank_flows f = {.m_in = m_cyl, .h_in = h_in, .mf_in = m_cyl * o->F_im,
+                           .m_ex = m_out, .h_ex = h_out, .mf_ex = m_out * F_out};
         en_bank_rhs(e, xb, &f, in->p_amb, in->T_amb, xdot + e->off_bank + b * EN_BANK_NX, o);
         t_ind += wp > 1 ? eta_i * q_fuel / wp : 0.0;
         fuel_rate += m_f;
@@ -66,7 +67,8 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
     }
     double t_fric = en_fmep(c, w) * e->geom.vd * EN_NCYL / EN_CYCLE * tanh(w / 5.0);
     double t_brake = t_ind - t_fric;
-    xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) / c->inertia;
+    xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) /
+                                                        (c->inertia + in->load_inertia);
     xdot[TS_ENGINE_X_ANGLE] = w;
     xl[LX_FUEL_E] = fuel_rate * c->lhv;
     xl[LX_WORK] = t_ind * wp;

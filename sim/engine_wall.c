@@ -58,3 +58,46 @@ void en_wall_rates(const en_wall *w, const double *T, double q, double T_sink, d
     }
     *q_back = in;
 }
+
+/* Crank-Nicolson over h for every stack: (C/h + K/2) T' = (C/h - K/2) T + q e_0 +
+ * g_n T_sink e_n, K the (tridiagonal) conduction matrix. The matrix depends on
+ * the surface and h only, so it is factored once per surface (Thomas
+ * algorithm) and the twelve cylinders' stacks are solved with it. */
+void en_walls_step(const ts_engine *e, double *x, const double *q, double h)
+{
+    enum { N = EN_WALL_NODES };
+    double T_cool = x[e->off_coolant], T_oil = x[e->off_coolant + 1];
+    for (int sf = 0; sf < EN_NSURF; sf++) {
+        const en_wall *w = &e->wall[sf];
+        double ch[N], gl[N], up[N], f[N], inv[N];
+        for (int i = 0; i < N; i++) {
+            gl[i] = i > 0 ? w->cond[i - 1] : 0.0;
+            ch[i] = w->cap[i] / h;
+            up[i] = -0.5 * w->cond[i];
+        }
+        double d = ch[0] + 0.5 * (gl[0] + w->cond[0]);
+        inv[0] = 1.0 / d;
+        f[0] = 0.0;
+        for (int i = 1; i < N; i++) {
+            f[i] = -0.5 * gl[i] * inv[i - 1];
+            d = ch[i] + 0.5 * (gl[i] + w->cond[i]) - f[i] * up[i - 1];
+            inv[i] = 1.0 / d;
+        }
+        double T_sink = sf == EN_PISTON ? T_oil : T_cool;
+        for (int c = 0; c < EN_NCYL; c++) {
+            double *T = x + e->off_wall + (c * EN_NSURF + sf) * N;
+            double r[N];
+            const double *g = w->cond;
+            r[0] = ch[0] * T[0] + 0.5 * g[0] * (T[1] - T[0]);
+            for (int i = 1; i < N - 1; i++) /* C/h T + 1/2 (g_l (T_l - T) + g_r (T_r - T)) */
+                r[i] = ch[i] * T[i] + 0.5 * (gl[i] * (T[i - 1] - T[i]) + g[i] * (T[i + 1] - T[i]));
+            r[N - 1] = ch[N - 1] * T[N - 1] +
+                       0.5 * (gl[N - 1] * (T[N - 2] - T[N - 1]) + g[N - 1] * (T_sink - T[N - 1]));
+            r[N - 1] += 0.5 * w->cond[N - 1] * T_sink; /* sink half of the implicit side */
+            r[0] += q[c * EN_NSURF + sf];
+            for (int i = 1; i < N; i++) r[i] -= f[i] * r[i - 1];
+            T[N - 1] = r[N - 1] * inv[N - 1];
+            for (int i = N - 2; i >= 0; i--) T[i] = (r[i] - up[i] * T[i + 1]) * inv[i];
+        }
+    }
+}

@@ -90,10 +90,7 @@ static void gas_properties(void **state)
     (void)state;
     ts_config c = et_defaults();
     en_gas g;
-    memcpy(g.cp_a, c.engine.cp_air, sizeof g.cp_a);
-    memcpy(g.cp_b, c.engine.cp_burned, sizeof g.cp_b);
-    g.r_a = c.engine.r_air;
-    g.r_b = c.engine.r_burned;
+    en_gas_init(&g, c.engine.cp_air, c.engine.cp_burned, c.engine.r_air, c.engine.r_burned);
     assert_close(en_gas_h(&g, EN_T0, 0.3), 0.0, 0, 1e-9);
     assert_close(en_gas_cp(&g, 300, 0), 1005, 0.01, 0);
     assert_close(en_gas_cp(&g, 1000, 0), 1142, 0.01, 0);
@@ -109,6 +106,19 @@ static void gas_properties(void **state)
     double E0 = m * en_gas_u(&g, T, F);
     double E1 = (m + dm * h) * en_gas_u(&g, T + dT * h, F + dF * h);
     assert_close((E1 - E0) / h, dE, 1e-4, 0);
+    /* the right-hand side's one-pass evaluation (polynomials in T, en_gas_eval)
+     * equals the separate functions (polynomials in T/1000) to rounding */
+    for (double Tk = 200; Tk < 3000; Tk += 137)
+        for (double Fk = -0.1; Fk < 1.2; Fk += 0.25) {
+            en_gas_state st;
+            en_gas_eval(&g, Tk, Fk, &st);
+            assert_close(st.cp, en_gas_cp(&g, Tk, Fk), 1e-12, 0);
+            assert_close(st.R, en_gas_r(&g, Fk), 1e-12, 0);
+            assert_close(st.h, en_gas_h(&g, Tk, Fk), 1e-11, 1e-6);
+            assert_close(st.u, en_gas_u(&g, Tk, Fk), 1e-11, 1e-6);
+            assert_close(en_gas_dTdt_s(&st, m, dE, dm, dF), en_gas_dTdt(&g, m, Tk, Fk, dE, dm, dF),
+                         1e-10, 1e-9);
+        }
 }
 
 /* EVIDENCE: compressible orifice (Heywood App. C): choked flow for
