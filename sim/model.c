@@ -19,6 +19,7 @@
 /* One row per run kind; NULL where the kind is not built into this library. */
 static const ts_scenario_ops *const scenarios[TS_NRUN_KIND] = {
     [TS_RUN_POINTMASS] = &ts_scenario_pointmass,
+    [TS_RUN_VEHICLE] = &ts_scenario_vehicle,
 };
 
 #define CHANNEL_STRINGS_CAP 65536

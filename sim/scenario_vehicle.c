@@ -1,0 +1,338 @@
+/*
+ * scenario_vehicle.c — the "vehicle" run kind: the pitch-plane M1 of paper
+ * Section II (vehicle_model.h) on a terrain (terrain.h), driven by a prescribed
+ * sprocket torque (drive.h), integrated by CVODE (solver.h) from its static
+ * equilibrium. Section II.D's runs are the presets bump-prescribed-*.json.
+ *
+ * Channels: the fixed names of model.md (vehicle.x, vehicle.speed, hull.z,
+ * hull.pitch, hull.accel_x, track.tension.rear_roller, roller.rear.normal_force,
+ * sprocket.torque, sprocket.speed) plus per-span mid-span tension and dynamic
+ * transverse deflection, every road-arm angle and road-wheel load, the anchor
+ * force. Values are per side (one track) except the torque, which is at EACH
+ * sprocket. Metrics: top speed, static and peak rear-roller tension, spectra
+ * peaks (fft.h).
+ * Leaves out: the powertrain drive (kind "powertrain" is refused here).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "drive.h"
+#include "fft.h"
+#include "scenario.h"
+#include "solver.h"
+#include "vehicle_model.h"
+
+#define MPH 0.44704  /* m/s per mph */
+#define LBF 4.44822  /* N per lbf */
+
+enum {
+    CH_X = 1, CH_SPEED, CH_Z, CH_PITCH, CH_AX, CH_AZ, CH_T_RR, CH_N_RR, CH_TORQUE, CH_SPR_SPEED,
+    CH_ANCHOR, CH_ARM0, CH_LOAD0 = CH_ARM0 + VM_NRW, CH_SPAN_T0 = CH_LOAD0 + VM_NRW,
+    CH_SPAN_V0 = CH_SPAN_T0 + VM_NSPAN, NCH = CH_SPAN_V0 + VM_NSPAN
+};
+
+typedef struct veh_model {
+    vm *v;
+} veh_model;
+
+typedef struct veh_data {
+    ts_ode *ode;
+    vm_work *w;
+    double *y, *ydot;
+} veh_data;
+
+static int rhs(double t, const double *y, double *ydot, void *ud)
+{
+    const ts_data *d = ud;
+    const veh_model *vm_ = d->m->impl;
+    veh_data *p = d->impl;
+    return vm_rhs(vm_->v, p->w, t, y, ydot, NULL);
+}
+
+static ts_rc model_init(ts_model *m, ts_err *err)
+{
+    ts_rc rc = ts_drive_check(&m->cfg.drive, err);
+    if (rc != TS_OK) return rc;
+    if (m->cfg.drive.kind == TS_DRIVE_POWERTRAIN)
+        return ts_err_set(err, TS_ERR_UNSUPPORTED, "/drive/kind",
+                          "/drive/kind: the vehicle scenario takes a prescribed torque; the "
+                          "powertrain drive belongs to the coupled run");
+    veh_model *vmm = calloc(1, sizeof *vmm);
+    if (!vmm) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    m->impl = vmm;
+    vmm->v = vm_make(&m->cfg, err);
+    if (!vmm->v) return err ? err->code : TS_ERR_INTERNAL;
+    m->dof = vm_dof(vmm->v);
+    m->nstate = vm_ny(vmm->v);
+    static const struct {
+        const char *name, *unit, *desc;
+    } ch[] = {
+        {"vehicle.x", "m", "distance travelled by the hull CG"},
+        {"vehicle.speed", "m/s", "hull CG forward speed"},
+        {"hull.z", "m", "hull CG height above the course datum"},
+        {"hull.pitch", "rad", "hull pitch, positive nose-down"},
+        {"hull.accel_x", "m/s^2", "hull CG longitudinal acceleration (Fig. 11)"},
+        {"hull.accel_z", "m/s^2", "hull CG vertical acceleration"},
+        {"track.tension.rear_roller", "N", "track tension at the rear support roller (Fig. 12)"},
+        {"roller.rear.normal_force", "N", "track load on the rear support roller (Fig. 14)"},
+        {"sprocket.torque", "N*m", "prescribed torque at each sprocket"},
+        {"sprocket.speed", "rad/s", "sprocket speed relative to the hull"},
+        {"track.anchor_force", "N", "tangential ground force at the no-slip anchor (thrust)"},
+    };
+    for (size_t i = 0; i < sizeof ch / sizeof ch[0]; i++)
+        if (ts_model_add_channel(m, ch[i].name, ch[i].unit, ch[i].desc, err) < 0)
+            return err ? err->code : TS_ERR_INTERNAL;
+    char name[96], desc[160];
+    for (int i = 0; i < VM_NRW; i++) {
+        snprintf(name, sizeof name, "road_arm.%d.angle", i + 1);
+        snprintf(desc, sizeof desc, "road arm %d angle below hull x (1 = front)", i + 1);
+        if (ts_model_add_channel(m, name, "rad", desc, err) < 0) return err ? err->code : TS_ERR_INTERNAL;
+    }
+    for (int i = 0; i < VM_NRW; i++) {
+        snprintf(name, sizeof name, "road_wheel.%d.load", i + 1);
+        snprintf(desc, sizeof desc, "ground load under road wheel %d, one side", i + 1);
+        if (ts_model_add_channel(m, name, "N", desc, err) < 0) return err ? err->code : TS_ERR_INTERNAL;
+    }
+    for (int s = 0; s < VM_NSPAN; s++) {
+        snprintf(name, sizeof name, "span.%s.tension", vm_span_names[s]);
+        snprintf(desc, sizeof desc, "track tension at mid-span, span %s", vm_span_names[s]);
+        if (ts_model_add_channel(m, name, "N", desc, err) < 0) return err ? err->code : TS_ERR_INTERNAL;
+    }
+    for (int s = 0; s < VM_NSPAN; s++) {
+        snprintf(name, sizeof name, "span.%s.deflection", vm_span_names[s]);
+        snprintf(desc, sizeof desc,
+                 "dynamic transverse mid-span deflection (outward), span %s (0 without modes)",
+                 vm_span_names[s]);
+        if (ts_model_add_channel(m, name, "m", desc, err) < 0) return err ? err->code : TS_ERR_INTERNAL;
+    }
+    return TS_OK;
+}
+
+static void model_fini(ts_model *m)
+{
+    veh_model *vmm = m->impl;
+    if (!vmm) return;
+    vm_free(vmm->v);
+    free(vmm);
+    m->impl = NULL;
+}
+
+static void data_fini(const ts_model *m, ts_data *d);
+
+static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
+{
+    const veh_model *vmm = m->impl;
+    veh_data *p = calloc(1, sizeof *p);
+    if (!p) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    d->impl = p;
+    int ny = vm_ny(vmm->v);
+    p->y = calloc((size_t)ny, sizeof(double));
+    p->ydot = calloc((size_t)ny, sizeof(double));
+    p->w = vm_work_make(vmm->v);
+    if (!p->y || !p->ydot || !p->w) {
+        data_fini(m, d);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    }
+    ts_ode_opts o = {.rtol = m->cfg.run.rtol,
+                     .atol = m->cfg.run.atol,
+                     .max_step = m->cfg.run.max_step,
+                     .max_steps = 500000};
+    p->ode = ts_ode_make(ny, rhs, d, &o, err);
+    if (!p->ode) {
+        data_fini(m, d);
+        return err ? err->code : TS_ERR_SOLVER;
+    }
+    return TS_OK;
+}
+
+static void data_fini(const ts_model *m, ts_data *d)
+{
+    (void)m;
+    veh_data *p = d->impl;
+    if (!p) return;
+    ts_ode_free(p->ode);
+    vm_work_free(p->w);
+    free(p->y);
+    free(p->ydot);
+    free(p);
+    d->impl = NULL;
+}
+
+static ts_rc reset(const ts_model *m, ts_data *d, ts_err *err)
+{
+    const veh_model *vmm = m->impl;
+    veh_data *p = d->impl;
+    memcpy(p->y, vm_equilibrium(vmm->v), (size_t)vm_ny(vmm->v) * sizeof(double));
+    return ts_ode_init(p->ode, 0.0, p->y, err);
+}
+
+static ts_rc step_to(const ts_model *m, ts_data *d, double t, ts_err *err)
+{
+    const veh_model *vmm = m->impl;
+    veh_data *p = d->impl;
+    ts_rc rc = ts_ode_advance(p->ode, t, NULL, NULL, err);
+    if (rc == TS_OK) memcpy(p->y, ts_ode_y(p->ode), (size_t)vm_ny(vmm->v) * sizeof(double));
+    return rc;
+}
+
+static void sample(const ts_model *m, const ts_data *d, double *out)
+{
+    const veh_model *vmm = m->impl;
+    veh_data *p = d->impl;
+    const vm *v = vmm->v;
+    int nq = vm_nq(v);
+    vm_diag dg;
+    memset(&dg, 0, sizeof dg);
+    vm_rhs(v, p->w, d->t, p->y, p->ydot, &dg);
+    const double *q = p->y, *qd = p->y + nq, *qdd = p->ydot + nq;
+    out[CH_X] = q[0] - vm_x0(v);
+    out[CH_SPEED] = qd[0];
+    out[CH_Z] = q[1];
+    out[CH_PITCH] = q[2];
+    out[CH_AX] = qdd[0];
+    out[CH_AZ] = qdd[1];
+    out[CH_T_RR] = dg.tension_end1[0];
+    out[CH_N_RR] = dg.rear_roller_normal;
+    out[CH_TORQUE] = dg.drive_torque;
+    out[CH_SPR_SPEED] = qd[10 + VM_SPROCKET] - qd[2];
+    out[CH_ANCHOR] = dg.anchor_force;
+    for (int i = 0; i < VM_NRW; i++) {
+        out[CH_ARM0 + i] = dg.arm_angle[i];
+        out[CH_LOAD0 + i] = dg.wheel_load[i];
+    }
+    for (int s = 0; s < VM_NSPAN; s++) {
+        int el = vm_span_element[s];
+        out[CH_SPAN_T0 + s] = dg.span_mid_tension[s] != 0 ? dg.span_mid_tension[s] : dg.tension[el];
+        out[CH_SPAN_V0 + s] = dg.span_mid_deflection[s];
+    }
+}
+
+static size_t state_size(const ts_model *m)
+{
+    const veh_model *vmm = m->impl;
+    return sizeof(double) * (size_t)vm_ny(vmm->v);
+}
+
+static ts_rc state_save(const ts_model *m, const ts_data *d, void *buf, ts_err *err)
+{
+    (void)err;
+    const veh_data *p = d->impl;
+    memcpy(buf, p->y, state_size(m));
+    return TS_OK;
+}
+
+static ts_rc state_restore(const ts_model *m, ts_data *d, const void *buf, ts_err *err)
+{
+    veh_data *p = d->impl;
+    memcpy(p->y, buf, state_size(m));
+    return ts_ode_init(p->ode, d->t, p->y, err);
+}
+
+static int add_metric(ts_metric *out, int n, int max, const char *name, const char *unit,
+                      double value, const char *desc)
+{
+    if (n >= max) return n;
+    ts_metric *mt = &out[n];
+    snprintf(mt->name, sizeof mt->name, "%s", name);
+    snprintf(mt->unit, sizeof mt->unit, "%s", unit);
+    mt->value = value;
+    snprintf(mt->description, sizeof mt->description, "%s", desc);
+    return n + 1;
+}
+
+/* Spectrum peak of channel ch over rows, in [f0, f1]. */
+static double spectrum_peak(const ts_model *m, const double *rows, long nrows, int ch, double f0,
+                            double f1, double *amp)
+{
+    int nc = m->nchannel;
+    *amp = NAN;
+    if (nrows < 64) return NAN;
+    double *x = malloc(sizeof(double) * (size_t)nrows);
+    int nb = ts_fft_nbins((int)nrows);
+    double *fr = malloc(sizeof(double) * (size_t)nb), *am = malloc(sizeof(double) * (size_t)nb);
+    double f = NAN;
+    if (x && fr && am) {
+        for (long i = 0; i < nrows; i++) x[i] = rows[i * nc + ch];
+        if (ts_fft_amplitude(x, (int)nrows, m->cfg.run.sample_rate, TS_FFT_LINEAR, TS_FFT_HANN,
+                             fr, am, NULL) == TS_OK)
+            f = ts_fft_peak(fr, am, nb, f0, f1, amp);
+    }
+    free(x);
+    free(fr);
+    free(am);
+    return f;
+}
+
+static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
+{
+    const veh_model *vmm = m->impl;
+    int nc = m->nchannel, n = 0;
+    double vmax = 0, tmax = 0, amax = 0, nmax = 0;
+    for (long i = 0; i < nrows; i++) {
+        const double *r = rows + i * nc;
+        vmax = fmax(vmax, r[CH_SPEED]);
+        tmax = fmax(tmax, r[CH_T_RR]);
+        amax = fmax(amax, fabs(r[CH_AX]));
+        nmax = fmax(nmax, fabs(r[CH_N_RR]));
+    }
+    double t0 = vm_static_tension(vmm->v);
+    n = add_metric(out, n, max, "dof", "1", m->dof, "mechanical degrees of freedom (paper: 21/26/31)");
+    n = add_metric(out, n, max, "top_speed_mph", "mph", vmax / MPH,
+                   "predicted top speed (paper II.D: ~25 mph; torque calibrated to it)");
+    n = add_metric(out, n, max, "static_tension", "N", t0,
+                   "static track tension at the rear roller (tensioner setting P0)");
+    n = add_metric(out, n, max, "peak_tension", "N", tmax,
+                   "predicted peak rear-roller tension (paper Fig. 12: ~30,000 lb = 133 kN)");
+    n = add_metric(out, n, max, "peak_tension_lb", "lbf", tmax / LBF, "the same in lbf");
+    n = add_metric(out, n, max, "tension_amplification", "1", t0 > 0 ? tmax / t0 : NAN,
+                   "predicted peak over static tension (paper: nearly 2)");
+    n = add_metric(out, n, max, "peak_abs_accel_x", "m/s^2", amax,
+                   "predicted largest |hull.accel_x| (Fig. 11)");
+    n = add_metric(out, n, max, "peak_abs_roller_force", "N", nmax,
+                   "largest |roller.rear.normal_force|");
+    double a;
+    double f = spectrum_peak(m, rows, nrows, CH_T_RR, 2.0, 6.0, &a);
+    n = add_metric(out, n, max, "tension_peak_2_6hz", "Hz", f,
+                   "predicted tension spectrum peak in 2-6 Hz (paper Fig. 13c: 3.7 Hz)");
+    n = add_metric(out, n, max, "tension_peak_2_6hz_amp", "N", a, "its amplitude");
+    f = spectrum_peak(m, rows, nrows, CH_T_RR, 10.0, 20.0, &a);
+    n = add_metric(out, n, max, "tension_peak_10_20hz", "Hz", f,
+                   "predicted tension spectrum peak in 10-20 Hz (paper Fig. 13b-c: 14.0 Hz)");
+    n = add_metric(out, n, max, "tension_peak_10_20hz_amp", "N", a, "its amplitude");
+    f = spectrum_peak(m, rows, nrows, CH_N_RR, 2.0, 4.6, &a);
+    n = add_metric(out, n, max, "roller_force_peak_2_4.6hz", "Hz", f,
+                   "predicted roller-force spectrum peak in 2-4.6 Hz (paper Fig. 14b: 3.7 Hz)");
+    n = add_metric(out, n, max, "roller_force_peak_2_4.6hz_amp", "N", a, "its amplitude");
+    f = spectrum_peak(m, rows, nrows, CH_N_RR, 4.6, 7.0, &a);
+    n = add_metric(out, n, max, "roller_force_peak_4.6_7hz", "Hz", f,
+                   "predicted roller-force spectrum peak in 4.6-7 Hz (paper Fig. 14b: 5.5 Hz)");
+    n = add_metric(out, n, max, "roller_force_peak_4.6_7hz_amp", "N", a, "its amplitude");
+    return n;
+}
+
+static ts_rc geometry(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err)
+{
+    (void)err;
+    const veh_model *vmm = m->impl;
+    veh_data *p = d->impl;
+    vm_geometry(vmm->v, p->w, d->t, p->y, out);
+    return TS_OK;
+}
+
+const ts_scenario_ops ts_scenario_vehicle = {
+    .kind = "vehicle",
+    .model_init = model_init,
+    .model_fini = model_fini,
+    .data_init = data_init,
+    .data_fini = data_fini,
+    .reset = reset,
+    .step_to = step_to,
+    .sample = sample,
+    .state_size = state_size,
+    .state_save = state_save,
+    .state_restore = state_restore,
+    .metrics = metrics,
+    .geometry = geometry,
+};

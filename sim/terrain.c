@@ -1,0 +1,256 @@
+/*
+ * terrain.c — ground profiles for the vehicle scenario (terrain.h): flat, a
+ * list of 1-cos bumps (the shipped synthetic Aberdeen course "apg4-synth",
+ * parameters in sim/data/terrain/apg4-synth.txt) or a user CSV profile.
+ * Leaves out: soft soil, lateral profile (the model is planar).
+ */
+#include "terrain.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+struct ts_terrain {
+    int kind;
+    int n;            /* bumps or profile points */
+    double *a, *b, *c; /* bumps: start, height, length; profile: x, z, (unused) */
+    double length;
+};
+
+void ts_terrain_free(ts_terrain *t)
+{
+    if (!t) return;
+    free(t->a);
+    free(t->b);
+    free(t->c);
+    free(t);
+}
+
+static int alloc_arrays(ts_terrain *t, int n)
+{
+    size_t k = (size_t)(n > 0 ? n : 1);
+    t->a = calloc(k, sizeof(double));
+    t->b = calloc(k, sizeof(double));
+    t->c = calloc(k, sizeof(double));
+    return t->a && t->b && t->c;
+}
+
+/* Read a whole file into a NUL-terminated buffer (caller frees). */
+static char *slurp(const char *path, const char *pointer, ts_err *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        ts_err_set(err, TS_ERR_NOTFOUND, pointer, "%s: cannot open '%s': %s", pointer, path,
+                   strerror(errno));
+        return NULL;
+    }
+    size_t cap = 4096, n = 0;
+    char *buf = malloc(cap);
+    while (buf) {
+        size_t r = fread(buf + n, 1, cap - n - 1, f);
+        n += r;
+        if (r == 0) break;
+        if (n + 1 >= cap) {
+            char *nb = realloc(buf, cap * 2);
+            if (!nb) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = nb;
+            cap *= 2;
+        }
+    }
+    fclose(f);
+    if (!buf) {
+        ts_err_set(err, TS_ERR_NOMEM, pointer, "out of memory reading '%s'", path);
+        return NULL;
+    }
+    buf[n] = '\0';
+    return buf;
+}
+
+ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, double *len,
+                              int cap, int *n, double *length, ts_err *err)
+{
+    *n = 0;
+    *length = 0;
+    int line = 0;
+    const char *p = text;
+    while (*p) {
+        line++;
+        const char *end = strchr(p, '\n');
+        size_t ln = end ? (size_t)(end - p) : strlen(p);
+        char buf[256];
+        if (ln >= sizeof buf) ln = sizeof buf - 1;
+        memcpy(buf, p, ln);
+        buf[ln] = '\0';
+        p = end ? end + 1 : p + strlen(p);
+        char *hash = strchr(buf, '#');
+        if (hash) *hash = '\0';
+        char *s = buf;
+        while (*s == ' ' || *s == '\t' || *s == '\r') s++;
+        if (!*s) continue;
+        double v[3];
+        if (strncmp(s, "length", 6) == 0) {
+            if (sscanf(s + 6, "%lf", &v[0]) != 1 || !(v[0] > 0))
+                return ts_err_set(err, TS_ERR_PARAM, "/terrain/course",
+                                  "/terrain/course: line %d: bad 'length' line", line);
+            *length = v[0];
+            continue;
+        }
+        if (sscanf(s, "%lf %lf %lf", &v[0], &v[1], &v[2]) != 3 || !(v[2] > 0))
+            return ts_err_set(err, TS_ERR_PARAM, "/terrain/course",
+                              "/terrain/course: line %d: want 'start_m height_m length_m'", line);
+        if (*n >= cap)
+            return ts_err_set(err, TS_ERR_LIMIT, "/terrain/course",
+                              "/terrain/course: more than %d bumps", cap);
+        if (*n > 0 && v[0] < start[*n - 1] + len[*n - 1])
+            return ts_err_set(err, TS_ERR_PARAM, "/terrain/course",
+                              "/terrain/course: line %d: bumps must be in order, not overlapping",
+                              line);
+        start[*n] = v[0];
+        height[*n] = v[1];
+        len[*n] = v[2];
+        (*n)++;
+    }
+    return TS_OK;
+}
+
+static ts_rc load_profile(ts_terrain *t, const char *path, ts_err *err)
+{
+    const char *ptr = "/terrain/profile_csv";
+    char *text = slurp(path, ptr, err);
+    if (!text) return err ? err->code : TS_ERR_NOTFOUND;
+    int cap = 1;
+    for (const char *q = text; *q; q++) cap += *q == '\n';
+    ts_rc rc = TS_OK;
+    if (!alloc_arrays(t, cap)) {
+        rc = ts_err_set(err, TS_ERR_NOMEM, ptr, "out of memory");
+        goto done;
+    }
+    int line = 0;
+    char *save = NULL;
+    for (char *s = strtok_r(text, "\n", &save); s; s = strtok_r(NULL, "\n", &save)) {
+        line++;
+        while (*s == ' ' || *s == '\t') s++;
+        if (!*s || *s == '#' || *s == '\r') continue;
+        double x, z;
+        if (sscanf(s, "%lf , %lf", &x, &z) != 2 && sscanf(s, "%lf %lf", &x, &z) != 2) {
+            if (t->n == 0 && line == 1) continue; /* header */
+            rc = ts_err_set(err, TS_ERR_PARAM, ptr, "%s: line %d: want 'distance_m,height_m'",
+                            ptr, line);
+            goto done;
+        }
+        if (t->n > 0 && !(x > t->a[t->n - 1])) {
+            rc = ts_err_set(err, TS_ERR_PARAM, ptr, "%s: line %d: distances must increase", ptr,
+                            line);
+            goto done;
+        }
+        t->a[t->n] = x;
+        t->b[t->n] = z;
+        t->n++;
+    }
+    if (t->n < 1) rc = ts_err_set(err, TS_ERR_PARAM, ptr, "%s: no rows in '%s'", ptr, path);
+    else t->length = t->a[t->n - 1];
+done:
+    free(text);
+    return rc;
+}
+
+ts_terrain *ts_terrain_make(const ts_terrain_config *c, ts_err *err)
+{
+    ts_terrain *t = calloc(1, sizeof *t);
+    if (!t) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return NULL;
+    }
+    t->kind = c->kind;
+    ts_rc rc = TS_OK;
+    if (c->kind == TS_TERRAIN_BUMPS && c->bump_n > 0) {
+        if (c->bump_height_n != c->bump_n || c->bump_length_n != c->bump_n) {
+            rc = ts_err_set(err, TS_ERR_PARAM, "/terrain/bump_height",
+                            "/terrain/bump_height: bump_start, bump_height and bump_length "
+                            "must have the same length");
+        } else if (!alloc_arrays(t, c->bump_n)) {
+            rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        } else {
+            t->n = c->bump_n;
+            for (int i = 0; i < t->n; i++) {
+                t->a[i] = c->bump_start[i];
+                t->b[i] = c->bump_height[i];
+                t->c[i] = c->bump_length[i];
+                if (i > 0 && t->a[i] < t->a[i - 1] + t->c[i - 1])
+                    rc = ts_err_set(err, TS_ERR_PARAM, "/terrain/bump_start",
+                                    "/terrain/bump_start: bumps must be in order, not overlapping");
+                if (t->a[i] + t->c[i] > t->length) t->length = t->a[i] + t->c[i];
+            }
+        }
+    } else if (c->kind == TS_TERRAIN_BUMPS) {
+        char path[2 * TS_PATH_LEN];
+        snprintf(path, sizeof path, "%s/%s.txt", c->course_dir, c->course);
+        char *text = slurp(path, "/terrain/course", err);
+        if (!text) rc = err ? err->code : TS_ERR_NOTFOUND;
+        else {
+            if (!alloc_arrays(t, TS_TERRAIN_BUMPS_MAX)) rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+            else
+                rc = ts_terrain_parse_course(text, t->a, t->b, t->c, TS_TERRAIN_BUMPS_MAX, &t->n,
+                                             &t->length, err);
+            free(text);
+        }
+        if (rc == TS_OK && t->n > 0 && t->length < t->a[t->n - 1] + t->c[t->n - 1])
+            t->length = t->a[t->n - 1] + t->c[t->n - 1];
+    } else if (c->kind == TS_TERRAIN_PROFILE) {
+        if (!c->profile_csv[0])
+            rc = ts_err_set(err, TS_ERR_PARAM, "/terrain/profile_csv",
+                            "/terrain/profile_csv: a profile terrain needs a CSV path");
+        else rc = load_profile(t, c->profile_csv, err);
+    }
+    if (rc != TS_OK) {
+        ts_terrain_free(t);
+        return NULL;
+    }
+    return t;
+}
+
+double ts_terrain_length(const ts_terrain *t) { return t->length; }
+
+/* Index of the last entry with key <= x, or -1. */
+static int find_le(const double *key, int n, double x)
+{
+    if (n <= 0 || x < key[0]) return -1;
+    int lo = 0, hi = n; /* key[lo] <= x < key[hi] */
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (key[mid] <= x) lo = mid;
+        else hi = mid;
+    }
+    return lo;
+}
+
+double ts_terrain_height(const ts_terrain *t, double x, double *slope)
+{
+    double z = 0, dz = 0;
+    if (t->kind == TS_TERRAIN_BUMPS) {
+        int i = find_le(t->a, t->n, x);
+        if (i >= 0 && x <= t->a[i] + t->c[i]) {
+            double w = 2.0 * PI / t->c[i], u = x - t->a[i];
+            z = 0.5 * t->b[i] * (1.0 - cos(w * u));
+            dz = 0.5 * t->b[i] * w * sin(w * u);
+        }
+    } else if (t->kind == TS_TERRAIN_PROFILE && t->n > 0) {
+        int i = find_le(t->a, t->n, x);
+        if (i < 0) z = t->b[0];
+        else if (i >= t->n - 1) z = t->b[t->n - 1];
+        else {
+            dz = (t->b[i + 1] - t->b[i]) / (t->a[i + 1] - t->a[i]);
+            z = t->b[i] + dz * (x - t->a[i]);
+        }
+    }
+    if (slope) *slope = dz;
+    return z;
+}

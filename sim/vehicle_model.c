@@ -1,0 +1,1112 @@
+/*
+ * vehicle_model.c — the pitch-plane M1 multibody model (vehicle_model.h),
+ * paper Section II.C (Fig. 7) with the fidelities of Section II.C.2.
+ *
+ * Equations: Lagrange's equations M(q) q_dd = Q(q, q_d, t) - (velocity-product
+ * terms of the rigid bodies), M assembled from the bodies' Jacobians each
+ * evaluation and solved by Cholesky. Forces:
+ *   - torsion bars  M0_i - k (alpha_i - alpha_0), M0_i solved so the static
+ *     arm angle is the design angle; rotary dampers and bump stops at the
+ *     stations listed in /vehicle (1, 2, 7);
+ *   - track elements (stretch in vehicle_model.h), acting along the tangent
+ *     line on both wheels (dl/dc_b = u, the belt-length identity) and as
+ *     torques rho T on the spins;
+ *   - track–terrain foundation under each road wheel, compression only:
+ *     N = k d + k3 d^3 + c d_dot (N >= 0, lift-off allowed), normal to the terrain;
+ *   - no slip under road wheel 4 [P II.C.1]: a stiff tangential spring between
+ *     the track under that wheel and the ground; thrust is the tension the
+ *     sprocket builds between itself and this anchor;
+ *   - prescribed sprocket torque on the sprocket spin, its reaction on the hull;
+ *   - gravity.
+ * The idler sits on the track-adjusting link, locked while running (a grease
+ * cylinder); its setting is solved with the equilibrium so the static tension
+ * at the rear roller is P0 (the tensioner's setting).
+ *
+ * Fidelities: static (massless chain); lumped (each upper span's mass on the
+ * support rollers, as a point mass on the hull and spin inertia m r^2);
+ * quasi_static (Guyan: the upper spans' longitudinal field interpolated
+ * linearly between the end feeds -> consistent mass rho L/6 [2 1; 1 2] on the
+ * end spins; their rigid motion with the hull); longitudinal / transverse /
+ * coupled: the five free spans are track_span.h elements (see vehicle_spans).
+ *
+ * Left out: track translation-speed (gyroscopic) terms, slip anywhere but the
+ * anchor, track–hull impact, rebound stops, the anchor's release when road
+ * wheel 4 lifts off (the no-slip spring always acts), and the dependence of
+ * the mass matrix on q in the span blocks (their chord directions change by
+ * milliradians; the rigid bodies' velocity terms are kept).
+ */
+#include "vehicle_model.h"
+
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "drive.h"
+#include "terrain.h"
+#include "track_span.h"
+
+#define GRAVITY 9.80665 /* standard gravity [m/s^2] */
+#define PI 3.14159265358979323846
+
+enum { QX, QZ, QT, QA0, QS0 = QA0 + VM_NRW };
+
+const int vm_span_element[VM_NSPAN] = {0, 1, 2, 3, 10};
+const char *const vm_span_names[VM_NSPAN] = {"sprocket_rear_roller", "rear_roller_front_roller",
+                                             "front_roller_idler", "idler_rw1", "rw7_sprocket"};
+const char *const vm_body_names[VM_NB] = {"sprocket", "rear_roller", "front_roller", "idler",
+                                          "rw1",      "rw2",         "rw3",          "rw4",
+                                          "rw5",      "rw6",         "rw7"};
+
+/* Jacobian of a body centre: up to 4 columns (x, z, theta, alpha_i). */
+typedef struct jcol {
+    int n;
+    int idx[4];
+    double v[4][2];
+} jcol;
+
+typedef struct span_el {
+    ts_span *sp;      /* NULL when the element is a massless spring */
+    int elem;         /* element index */
+    int q0;           /* first modal coordinate in q */
+    int nm;           /* modal coordinates */
+    double rho, len;  /* mass per length, reference chord length */
+    double alpha[2 + 2 * TS_SPAN_MAX_MODES]; /* rho int N_i (longitudinal rows) */
+    double beta0[2 + 2 * TS_SPAN_MAX_MODES]; /* rho int (1 - s/L) phi_k (transverse rows) */
+    double beta1[2 + 2 * TS_SPAN_MAX_MODES]; /* rho int (s/L) phi_k */
+} span_el;
+
+struct vm {
+    ts_config cfg;
+    ts_terrain *terrain;
+    int fidelity;
+    int nq, ny, nmodal;
+    /* per-side masses */
+    double m_hull, i_hull;
+    double m_w, m_arm, i_arm_cg, arm_len, arm0;
+    double k_bar, c_damp[VM_NRW], bump[VM_NRW], bs_angle, k_bs;
+    double m0[VM_NRW];                /* torsion-bar preloads (equilibrium) */
+    double l_body[VM_NB][2];          /* hull-mounted bodies: offset from CG, hull frame */
+    double l_pivot[VM_NRW][2];        /* road-arm pivots, hull frame */
+    double link_dir[2], d_link;       /* idler link direction and setting */
+    double rho_b[VM_NB], j_b[VM_NB];  /* pitch-line radii, spin inertias */
+    double wheel_ground;              /* hub to ground-contact surface: r + thickness */
+    double ell0[VM_NB], psi0[VM_NB], len_el[VM_NB];
+    double ea, p0, tau_d;
+    double kf, kf3, cf, ka, ca;
+    int anchor;                       /* road-wheel index 0..6 */
+    double x_anchor0;
+    double x0, z0;                    /* design CG world position */
+    double dscale;
+    /* fidelity extras */
+    int npm;
+    double pm_m[8], pm_l[8][2];       /* point masses on the hull (hull frame offsets) */
+    double i_extra;                   /* extra hull pitch inertia */
+    double mqs[4][4];                 /* quasi-static spin coupling among bodies 0..3 */
+    span_el span[VM_NSPAN];
+    int dynamic;
+    /* equilibrium */
+    double *y_eq;
+    double t_static;
+};
+
+struct vm_work {
+    double *M, *Q, *B, *C;            /* nq x nq, nq, span maps */
+    double sx[2 + 2 * TS_SPAN_MAX_MODES], sxd[2 + 2 * TS_SPAN_MAX_MODES],
+        sf[2 + 2 * TS_SPAN_MAX_MODES];
+};
+
+typedef struct kin {
+    double th, cth, sth, thd;
+    double c[VM_NB][2], v[VM_NB][2];  /* body centres and velocities */
+    double w[VM_NB][2];               /* centre - hull CG (world) */
+    double wp[VM_NRW][2], e[VM_NRW][2]; /* pivot offset, arm vector (world) */
+    jcol j[VM_NB];
+} kin;
+
+typedef struct elem {
+    double u[2], n[2], ell, psi, dpsi, s, sd, t;
+} elem;
+
+/* ---- small helpers -------------------------------------------------------- */
+
+static void rot(const kin *k, const double l[2], double w[2])
+{ /* hull frame -> world for clockwise pitch theta */
+    w[0] = l[0] * k->cth + l[1] * k->sth;
+    w[1] = -l[0] * k->sth + l[1] * k->cth;
+}
+
+static double wrap_pi(double a)
+{
+    while (a > PI) a -= 2 * PI;
+    while (a <= -PI) a += 2 * PI;
+    return a;
+}
+
+static int is_station(const double *list, int n, int station)
+{
+    for (int i = 0; i < n; i++)
+        if ((int)lround(list[i]) == station) return 1;
+    return 0;
+}
+
+/* ---- kinematics ---------------------------------------------------------- */
+
+static void kinematics(const vm *v, const double *q, const double *qd, kin *k)
+{
+    k->th = q[QT];
+    k->cth = cos(k->th);
+    k->sth = sin(k->th);
+    k->thd = qd ? qd[QT] : 0;
+    double xd = qd ? qd[QX] : 0, zd = qd ? qd[QZ] : 0;
+    for (int b = 0; b < VM_NB; b++) {
+        jcol *j = &k->j[b];
+        j->n = 3;
+        j->idx[0] = QX;
+        j->idx[1] = QZ;
+        j->idx[2] = QT;
+        j->v[0][0] = 1, j->v[0][1] = 0;
+        j->v[1][0] = 0, j->v[1][1] = 1;
+        if (b < VM_RW1) {
+            double l[2] = {v->l_body[b][0], v->l_body[b][1]};
+            if (b == VM_IDLER) {
+                l[0] += v->d_link * v->link_dir[0];
+                l[1] += v->d_link * v->link_dir[1];
+            }
+            rot(k, l, k->w[b]);
+        } else {
+            int i = b - VM_RW1;
+            rot(k, v->l_pivot[i], k->wp[i]);
+            double zeta = q[QA0 + i] - k->th;
+            k->e[i][0] = -v->arm_len * cos(zeta);
+            k->e[i][1] = -v->arm_len * sin(zeta);
+            k->w[b][0] = k->wp[i][0] + k->e[i][0];
+            k->w[b][1] = k->wp[i][1] + k->e[i][1];
+            j->n = 4;
+            j->idx[3] = QA0 + i;
+            j->v[3][0] = -k->e[i][1];
+            j->v[3][1] = k->e[i][0];
+        }
+        j->v[2][0] = k->w[b][1];
+        j->v[2][1] = -k->w[b][0];
+        k->c[b][0] = q[QX] + k->w[b][0];
+        k->c[b][1] = q[QZ] + k->w[b][1];
+        k->v[b][0] = xd + k->thd * j->v[2][0];
+        k->v[b][1] = zd + k->thd * j->v[2][1];
+        if (j->n == 4) {
+            double ad = qd ? qd[j->idx[3]] : 0;
+            k->v[b][0] += ad * j->v[3][0];
+            k->v[b][1] += ad * j->v[3][1];
+        }
+    }
+}
+
+/* Tangent line from body a to body b (clockwise circuit, outward = left). */
+static void tangent(const vm *v, const kin *k, int a, int b, elem *e)
+{
+    double dx = k->c[b][0] - k->c[a][0], dz = k->c[b][1] - k->c[a][1];
+    double D = hypot(dx, dz), cr = v->rho_b[a] - v->rho_b[b];
+    double ratio = cr / D;
+    if (ratio > 0.999) ratio = 0.999;
+    if (ratio < -0.999) ratio = -0.999;
+    e->psi = atan2(dz, dx) - asin(ratio);
+    e->u[0] = cos(e->psi);
+    e->u[1] = sin(e->psi);
+    e->n[0] = -e->u[1];
+    e->n[1] = e->u[0];
+    e->ell = sqrt(D * D - cr * cr);
+}
+
+/* ---- mass matrix pieces ---------------------------------------------------- */
+
+static void add_point_mass(const vm *v, double *M, double *Q, double m, const jcol *j,
+                           const double bias[2], double g_on)
+{
+    int nq = v->nq;
+    for (int r = 0; r < j->n; r++) {
+        for (int c = 0; c < j->n; c++)
+            M[j->idx[r] * nq + j->idx[c]] +=
+                m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
+        /* -m J^T (bias) + gravity */
+        Q[j->idx[r]] -= m * (j->v[r][0] * bias[0] + j->v[r][1] * bias[1]);
+        Q[j->idx[r]] -= g_on * m * GRAVITY * j->v[r][1];
+    }
+}
+
+static void add_force(double *Q, const jcol *j, const double f[2])
+{
+    for (int r = 0; r < j->n; r++) Q[j->idx[r]] += j->v[r][0] * f[0] + j->v[r][1] * f[1];
+}
+
+/* Jacobian of a hull-fixed point at world offset w from the CG. */
+static void hull_point_jac(const double w[2], jcol *j)
+{
+    j->n = 3;
+    j->idx[0] = QX, j->idx[1] = QZ, j->idx[2] = QT;
+    j->v[0][0] = 1, j->v[0][1] = 0;
+    j->v[1][0] = 0, j->v[1][1] = 1;
+    j->v[2][0] = w[1], j->v[2][1] = -w[0];
+}
+
+/* Rigid-body mass matrix, velocity terms and gravity into M and Q. */
+static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M, double *Q)
+{
+    int nq = v->nq;
+    double thd2 = k->thd * k->thd;
+    M[QX * nq + QX] += v->m_hull;
+    M[QZ * nq + QZ] += v->m_hull;
+    M[QT * nq + QT] += v->i_hull + v->i_extra;
+    Q[QZ] -= v->m_hull * GRAVITY;
+    for (int p = 0; p < v->npm; p++) {
+        double w[2], bias[2];
+        jcol j;
+        rot(k, v->pm_l[p], w);
+        hull_point_jac(w, &j);
+        bias[0] = -thd2 * w[0];
+        bias[1] = -thd2 * w[1];
+        add_point_mass(v, M, Q, v->pm_m[p], &j, bias, 1.0);
+    }
+    for (int i = 0; i < VM_NRW; i++) {
+        int b = VM_RW1 + i, ia = QA0 + i;
+        double zd = qd ? qd[ia] - k->thd : 0;
+        double bias[2] = {-thd2 * k->wp[i][0] - zd * zd * k->e[i][0],
+                          -thd2 * k->wp[i][1] - zd * zd * k->e[i][1]};
+        add_point_mass(v, M, Q, v->m_w, &k->j[b], bias, 1.0);
+        /* arm: point mass at mid-arm + inertia about its CG at rate alpha_d - theta_d */
+        jcol ja = k->j[b];
+        double wm[2] = {k->wp[i][0] + 0.5 * k->e[i][0], k->wp[i][1] + 0.5 * k->e[i][1]};
+        ja.v[2][0] = wm[1], ja.v[2][1] = -wm[0];
+        ja.v[3][0] *= 0.5, ja.v[3][1] *= 0.5;
+        double biasm[2] = {-thd2 * k->wp[i][0] - 0.5 * zd * zd * k->e[i][0],
+                           -thd2 * k->wp[i][1] - 0.5 * zd * zd * k->e[i][1]};
+        add_point_mass(v, M, Q, v->m_arm, &ja, biasm, 1.0);
+        M[ia * nq + ia] += v->i_arm_cg;
+        M[QT * nq + QT] += v->i_arm_cg;
+        M[ia * nq + QT] -= v->i_arm_cg;
+        M[QT * nq + ia] -= v->i_arm_cg;
+    }
+    for (int b = 0; b < VM_NB; b++) M[(QS0 + b) * nq + QS0 + b] += v->j_b[b];
+    if (v->fidelity == TS_TRACK_QUASI_STATIC)
+        for (int a = 0; a < 4; a++)
+            for (int b = 0; b < 4; b++) M[(QS0 + a) * nq + QS0 + b] += v->mqs[a][b];
+}
+
+/* Cholesky solve of the symmetric positive-definite M x = b (in place). */
+static int chol_solve(double *M, double *b, int n)
+{
+    for (int j = 0; j < n; j++) {
+        double d = M[j * n + j];
+        for (int k = 0; k < j; k++) d -= M[j * n + k] * M[j * n + k];
+        if (!(d > 0)) return 1;
+        d = sqrt(d);
+        M[j * n + j] = d;
+        for (int i = j + 1; i < n; i++) {
+            double s = M[i * n + j];
+            for (int k = 0; k < j; k++) s -= M[i * n + k] * M[j * n + k];
+            M[i * n + j] = s / d;
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        double s = b[i];
+        for (int k = 0; k < i; k++) s -= M[i * n + k] * b[k];
+        b[i] = s / M[i * n + i];
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        double s = b[i];
+        for (int k = i + 1; k < n; k++) s -= M[k * n + i] * b[k];
+        b[i] = s / M[i * n + i];
+    }
+    return 0;
+}
+
+/* ---- forces ----------------------------------------------------------------- */
+
+/* Span part of one element: maps, forces and inertia. Defined with the spans. */
+static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
+                         int a, int b, const double *q, const double *qd, double *M, double *Q,
+                         int inertia, vm_diag *diag);
+
+/* Generalised forces Q (and M if inertia) at (t, q, qd). */
+static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd,
+                   double *M, double *Q, int inertia, int drive_on, vm_diag *diag)
+{
+    const ts_vehicle_config *vc = &v->cfg.vehicle;
+    int nq = v->nq;
+    kin k;
+    kinematics(v, q, qd, &k);
+    memset(Q, 0, (size_t)nq * sizeof *Q);
+    if (inertia) {
+        memset(M, 0, (size_t)nq * nq * sizeof *M);
+        rigid_inertia(v, &k, qd, M, Q);
+    } else {
+        /* gravity only (static residual): M goes to scratch */
+        memset(w->M, 0, (size_t)nq * nq * sizeof *w->M);
+        rigid_inertia(v, &k, qd, w->M, Q);
+        M = w->M;
+    }
+    /* track elements */
+    double fr[VM_NB][2];
+    memset(fr, 0, sizeof fr);
+    double rr_force[2] = {0, 0};
+    for (int el = 0; el < VM_NB; el++) {
+        int a = el, b = (el + 1) % VM_NB;
+        elem e;
+        tangent(v, &k, a, b, &e);
+        e.dpsi = wrap_pi(e.psi - v->psi0[el]);
+        const span_el *se = NULL;
+        for (int s = 0; s < VM_NSPAN; s++)
+            if (v->span[s].sp && v->span[s].elem == el) se = &v->span[s];
+        if (se) {
+            span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, inertia, diag);
+            if (diag && (a == VM_REAR_ROLLER || b == VM_REAR_ROLLER)) {
+                /* end force of the span on the rear roller (chord axes -> world) */
+                ts_span_end_forces ef;
+                ts_span_end_forces_eval(se->sp, w->sx, &ef);
+                double fx = b == VM_REAR_ROLLER ? ef.f1x : ef.f0x;
+                double fy = b == VM_REAR_ROLLER ? ef.f1y : ef.f0y;
+                rr_force[0] += fx * e.u[0] + fy * e.n[0];
+                rr_force[1] += fx * e.u[1] + fy * e.n[1];
+            }
+            continue;
+        }
+        double vrel = (k.v[b][0] - k.v[a][0]) * e.u[0] + (k.v[b][1] - k.v[a][1]) * e.u[1];
+        e.s = (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi +
+              v->rho_b[b] * q[QS0 + b] - v->rho_b[a] * q[QS0 + a];
+        e.sd = vrel + (qd ? v->rho_b[b] * qd[QS0 + b] - v->rho_b[a] * qd[QS0 + a] : 0);
+        double kel = v->ea / v->len_el[el];
+        e.t = v->p0 + kel * e.s + v->dscale * kel * v->tau_d * e.sd;
+        if (e.t < 0) e.t = 0;
+        double f[2] = {e.t * e.u[0], e.t * e.u[1]};
+        fr[a][0] += f[0], fr[a][1] += f[1];
+        fr[b][0] -= f[0], fr[b][1] -= f[1];
+        Q[QS0 + a] += e.t * v->rho_b[a];
+        Q[QS0 + b] -= e.t * v->rho_b[b];
+        if (b == VM_REAR_ROLLER) rr_force[0] -= f[0], rr_force[1] -= f[1];
+        if (a == VM_REAR_ROLLER) rr_force[0] += f[0], rr_force[1] += f[1];
+        if (diag) diag->tension[el] = diag->tension_end0[el] = diag->tension_end1[el] = e.t;
+    }
+    for (int b = 0; b < VM_NB; b++) add_force(Q, &k.j[b], fr[b]);
+    /* foundation and anchor */
+    for (int i = 0; i < VM_NRW; i++) {
+        int b = VM_RW1 + i;
+        double slope, h = ts_terrain_height(v->terrain, k.c[b][0], &slope);
+        double d = h + v->wheel_ground - k.c[b][1];
+        double nload = 0;
+        if (d > 0) {
+            double dd = slope * k.v[b][0] - k.v[b][1];
+            nload = v->kf * d + v->kf3 * d * d * d + v->dscale * v->cf * dd;
+            if (nload < 0) nload = 0;
+            double s = 1.0 / sqrt(1.0 + slope * slope);
+            double f[2] = {-slope * nload * s, nload * s};
+            add_force(Q, &k.j[b], f);
+        }
+        if (diag) {
+            diag->wheel_load[i] = nload;
+            diag->arm_angle[i] = q[QA0 + i];
+        }
+        /* torsion bar, damper, bump stop */
+        double al = q[QA0 + i], ald = qd ? qd[QA0 + i] : 0;
+        double tq = v->m0[i] - v->k_bar * (al - v->arm0) - v->dscale * v->c_damp[i] * ald;
+        if (v->bump[i] && al < v->bs_angle) tq += v->k_bs * (v->bs_angle - al);
+        Q[QA0 + i] += tq;
+    }
+    {
+        int b = VM_RW1 + v->anchor;
+        double xi = k.c[b][0] - v->rho_b[b] * q[QS0 + b] - v->x_anchor0;
+        double xid = k.v[b][0] - (qd ? v->rho_b[b] * qd[QS0 + b] : 0);
+        double fa = -v->ka * xi - v->dscale * v->ca * xid;
+        double f[2] = {fa, 0};
+        add_force(Q, &k.j[b], f);
+        Q[QS0 + b] -= v->rho_b[b] * fa;
+        if (diag) diag->anchor_force = fa;
+    }
+    /* drive */
+    double tau = drive_on ? ts_drive_torque(&v->cfg.drive, t) : 0.0;
+    Q[QS0 + VM_SPROCKET] += tau;
+    Q[QT] -= tau;
+    if (diag) {
+        diag->drive_torque = tau;
+        double up[2] = {k.sth, k.cth};
+        diag->rear_roller_normal = -(rr_force[0] * up[0] + rr_force[1] * up[1]);
+    }
+    (void)vc;
+}
+
+/* ---- dynamic spans (track_span.h elements) ---------------------------------- */
+
+/* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
+ * spins of a and b, the modal coordinates. */
+typedef struct cset {
+    int n;
+    int idx[8 + 2 * TS_SPAN_MAX_MODES];
+} cset;
+
+static int cset_add(cset *c, int i)
+{
+    for (int k = 0; k < c->n; k++)
+        if (c->idx[k] == i) return k;
+    c->idx[c->n] = i;
+    return c->n++;
+}
+
+static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
+                         int a, int b, const double *q, const double *qd, double *M, double *Q,
+                         int inertia, vm_diag *diag)
+{
+    const ts_span *sp = se->sp;
+    int n = sp->n, nq = v->nq;
+    cset cs = {0, {0}};
+    double B[2 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES];
+    double rx[8 + 2 * TS_SPAN_MAX_MODES], ry0[8 + 2 * TS_SPAN_MAX_MODES],
+        ry1[8 + 2 * TS_SPAN_MAX_MODES];
+    memset(B, 0, sizeof B);
+    memset(rx, 0, sizeof rx);
+    memset(ry0, 0, sizeof ry0);
+    memset(ry1, 0, sizeof ry1);
+    double ell = e->ell;
+    /* rows 0, 1: u0 = rho_a (Phi_a + dpsi), u1 = rho_b (Phi_b + dpsi) + l - l0 */
+    for (int side = 0; side < 2; side++) {
+        const jcol *j = side ? &k->j[b] : &k->j[a];
+        double sg = side ? 1.0 : -1.0;
+        for (int c = 0; c < j->n; c++) {
+            int ci = cset_add(&cs, j->idx[c]);
+            double dpsi = sg * (e->n[0] * j->v[c][0] + e->n[1] * j->v[c][1]) / ell;
+            double dl = sg * (e->u[0] * j->v[c][0] + e->u[1] * j->v[c][1]);
+            B[0][ci] += v->rho_b[a] * dpsi;
+            B[1][ci] += v->rho_b[b] * dpsi + dl;
+            if (side == 0) {
+                rx[ci] += e->u[0] * j->v[c][0] + e->u[1] * j->v[c][1];
+                ry0[ci] += e->n[0] * j->v[c][0] + e->n[1] * j->v[c][1];
+            } else {
+                ry1[ci] += e->n[0] * j->v[c][0] + e->n[1] * j->v[c][1];
+            }
+        }
+    }
+    B[0][cset_add(&cs, QS0 + a)] += v->rho_b[a];
+    B[1][cset_add(&cs, QS0 + b)] += v->rho_b[b];
+    for (int m = 0; m < se->nm; m++) B[2 + m][cset_add(&cs, se->q0 + m)] = 1.0;
+    /* local state */
+    double *x = w->sx, *xd = w->sxd, *f = w->sf;
+    double u0 = v->rho_b[a] * (q[QS0 + a] + e->dpsi);
+    double u1 = v->rho_b[b] * (q[QS0 + b] + e->dpsi) + ell - v->ell0[se->elem];
+    x[0] = 0;
+    x[1] = u1 - u0;
+    for (int m = 0; m < se->nm; m++) x[2 + m] = q[se->q0 + m];
+    for (int r = 0; r < n; r++) {
+        double s = 0;
+        if (qd)
+            for (int c = 0; c < cs.n; c++) s += B[r][c] * qd[cs.idx[c]];
+        xd[r] = s;
+    }
+    double psid = 0;
+    if (qd) {
+        psid = ((k->v[b][0] - k->v[a][0]) * e->n[0] + (k->v[b][1] - k->v[a][1]) * e->n[1]) / ell;
+    }
+    double gx = -GRAVITY * e->u[1], gy = -GRAVITY * e->n[1];
+    ts_span_motion mo = {0, 0, psid, 0, gy};
+    ts_span_force(sp, &mo, x, xd, f);
+    /* gravity along the chord on the longitudinal sine modes (the tension
+     * gradient); not on the rigid feed u0, u1: over the whole closed loop the
+     * track's weight along the circuit sums to zero, and only the free spans
+     * carry mass here, so keeping it would make the track creep round. */
+    for (int r = 2; r < n; r++) f[r] += gx * se->alpha[r];
+    /* generalised forces: B^T f + frame gravity */
+    double m = se->rho * se->len;
+    for (int c = 0; c < cs.n; c++) {
+        double s = 0;
+        for (int r = 0; r < n; r++) s += B[r][c] * f[r];
+        s += m * gx * rx[c] + 0.5 * m * gy * (ry0[c] + ry1[c]);
+        Q[cs.idx[c]] += s;
+    }
+    if (inertia) {
+        /* C = alpha rx + beta0 ry0 + beta1 ry1 (n x nc) */
+        double Cm[2 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES];
+        for (int r = 0; r < n; r++)
+            for (int c = 0; c < cs.n; c++)
+                Cm[r][c] = se->alpha[r] * rx[c] + se->beta0[r] * ry0[c] + se->beta1[r] * ry1[c];
+        double MB[2 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES]; /* Ms B */
+        for (int r = 0; r < n; r++)
+            for (int c = 0; c < cs.n; c++) {
+                double s = 0;
+                for (int kk = 0; kk < n; kk++) s += sp->M[r * n + kk] * B[kk][c];
+                MB[r][c] = s;
+            }
+        for (int c1 = 0; c1 < cs.n; c1++)
+            for (int c2 = 0; c2 < cs.n; c2++) {
+                double s = 0;
+                for (int r = 0; r < n; r++)
+                    s += B[r][c1] * MB[r][c2] + B[r][c1] * Cm[r][c2] + Cm[r][c1] * B[r][c2];
+                s += m * rx[c1] * rx[c2] + m / 3.0 * (ry0[c1] * ry0[c2] + ry1[c1] * ry1[c2]) +
+                     m / 6.0 * (ry0[c1] * ry1[c2] + ry1[c1] * ry0[c2]);
+                M[cs.idx[c1] * nq + cs.idx[c2]] += s;
+            }
+    }
+    if (diag) {
+        ts_span_end_forces ef;
+        ts_span_end_forces_eval(sp, x, &ef);
+        diag->tension_end0[se->elem] = ef.tension0;
+        diag->tension_end1[se->elem] = ef.tension1;
+        diag->tension[se->elem] = 0.5 * (ef.tension0 + ef.tension1);
+        int s = (int)(se - v->span);
+        double U, V, tau;
+        ts_span_eval(sp, x, 0.5 * sp->p.length, &U, &V, &tau);
+        diag->span_mid_deflection[s] = V;
+        diag->span_mid_tension[s] = v->p0 + tau;
+    }
+}
+
+/* ---- construction and static equilibrium ---------------------------------- */
+
+void vm_free(vm *v)
+{
+    if (!v) return;
+    ts_terrain_free(v->terrain);
+    for (int s = 0; s < VM_NSPAN; s++) ts_span_free(v->span[s].sp);
+    free(v->y_eq);
+    free(v);
+}
+
+int vm_nq(const vm *v) { return v->nq; }
+int vm_ny(const vm *v) { return v->ny; }
+int vm_dof(const vm *v) { return v->nq; }
+const double *vm_equilibrium(const vm *v) { return v->y_eq; }
+double vm_static_tension(const vm *v) { return v->t_static; }
+double vm_preload(const vm *v, int arm) { return v->m0[arm]; }
+double vm_x0(const vm *v) { return v->y_eq[QX]; }
+
+double vm_supported_weight(const vm *v)
+{
+    double m = v->m_hull + VM_NRW * (v->m_w + v->m_arm);
+    for (int p = 0; p < v->npm; p++) m += v->pm_m[p];
+    for (int s = 0; s < VM_NSPAN; s++)
+        if (v->span[s].sp) m += v->span[s].rho * v->span[s].len;
+    return m * GRAVITY;
+}
+
+vm_work *vm_work_make(const vm *v)
+{
+    vm_work *w = calloc(1, sizeof *w);
+    if (!w) return NULL;
+    size_t nq = (size_t)v->nq;
+    w->M = calloc(nq * nq, sizeof(double));
+    w->Q = calloc(nq, sizeof(double));
+    if (!w->M || !w->Q) {
+        vm_work_free(w);
+        return NULL;
+    }
+    return w;
+}
+
+void vm_work_free(vm_work *w)
+{
+    if (!w) return;
+    free(w->M);
+    free(w->Q);
+    free(w->B);
+    free(w->C);
+    free(w);
+}
+
+/* Static unknowns: x, z, theta, every spin but the anchor wheel's (gauge: the
+ * vehicle rolling with its track is a null mode of the potential), the
+ * preloads (arms held at the design angle), the link setting and the span
+ * modes. Equations: every generalised force but the anchor wheel's spin (it
+ * follows from the others: Q_x + sum Q_Phi_b / rho_b = 0 identically) and the
+ * tensioner condition T_rear_roller = P0. The anchor reference stays at its
+ * design value, so the anchor carries whatever the massive spans' weight along
+ * the circuit needs. */
+typedef struct eq_map {
+    int nu;
+} eq_map;
+
+static void eq_apply(vm *v, const eq_map *mp, const double *u, double *q)
+{
+    (void)mp;
+    int p = 0;
+    q[QX] = u[p++];
+    q[QZ] = u[p++];
+    q[QT] = u[p++];
+    for (int b = 0; b < VM_NB; b++)
+        if (b != VM_RW1 + v->anchor) q[QS0 + b] = u[p++];
+    for (int i = 0; i < VM_NRW; i++) v->m0[i] = u[p++];
+    v->d_link = u[p++];
+    for (int m = 0; m < v->nmodal; m++) q[VM_NQ_RIGID + m] = u[p++];
+}
+
+static void eq_residual(vm *v, vm_work *w, const eq_map *mp, const double *u, double *q,
+                        double *r)
+{
+    eq_apply(v, mp, u, q);
+    vm_diag dg;
+    forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, 0, &dg);
+    int p = 0;
+    r[p++] = w->Q[QX];
+    r[p++] = w->Q[QZ];
+    r[p++] = w->Q[QT];
+    for (int i = 0; i < VM_NRW; i++) r[p++] = w->Q[QA0 + i];
+    for (int b = 0; b < VM_NB; b++)
+        if (b != VM_RW1 + v->anchor) r[p++] = w->Q[QS0 + b];
+    r[p++] = dg.tension_end1[0] - v->p0;
+    for (int m = 0; m < v->nmodal; m++) r[p++] = w->Q[VM_NQ_RIGID + m];
+}
+
+static ts_rc equilibrium(vm *v, ts_err *err)
+{
+    eq_map mp = {3 + VM_NB - 1 + VM_NRW + 1 + v->nmodal};
+    int nu = mp.nu, nq = v->nq;
+    vm_work *w = vm_work_make(v);
+    double *u = calloc((size_t)nu, sizeof(double)), *r = calloc((size_t)nu, sizeof(double)),
+           *r2 = calloc((size_t)nu, sizeof(double)),
+           *J = calloc((size_t)nu * (size_t)nu, sizeof(double)),
+           *q = calloc((size_t)nq, sizeof(double));
+    lapack_int *piv = calloc((size_t)nu, sizeof(lapack_int));
+    ts_rc rc = TS_OK;
+    if (!w || !u || !r || !r2 || !J || !q || !piv) {
+        rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        goto done;
+    }
+    for (int i = 0; i < VM_NRW; i++) q[QA0 + i] = v->arm0;
+    double wsup = vm_supported_weight(v);
+    u[0] = v->x0;
+    u[1] = v->z0 - wsup / VM_NRW / v->kf; /* foundation compression */
+    for (int i = 0; i < VM_NRW; i++)
+        u[3 + VM_NB - 1 + i] = wsup / VM_NRW * v->arm_len * cos(v->arm0);
+    double scale_f = wsup;
+    int it;
+    for (it = 0; it < 40; it++) {
+        eq_residual(v, w, &mp, u, q, r);
+        double rn = 0;
+        for (int i = 0; i < nu; i++) rn = fmax(rn, fabs(r[i]));
+        if (rn < 1e-7 * scale_f) break;
+        for (int j = 0; j < nu; j++) {
+            double h = 1e-7 * fmax(1.0, fabs(u[j]));
+            double keep = u[j];
+            u[j] = keep + h;
+            eq_residual(v, w, &mp, u, q, r2);
+            u[j] = keep;
+            for (int i = 0; i < nu; i++) J[i * nu + j] = (r2[i] - r[i]) / h;
+        }
+        for (int i = 0; i < nu; i++) r[i] = -r[i];
+        if (LAPACKE_dgesv(LAPACK_ROW_MAJOR, nu, 1, J, nu, piv, r, 1) != 0) {
+            rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
+                            "static equilibrium: singular Jacobian (check the layout)");
+            goto done;
+        }
+        for (int i = 0; i < nu; i++) u[i] += r[i];
+    }
+    if (it == 40) {
+        rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
+                        "static equilibrium did not converge in 40 Newton steps");
+        goto done;
+    }
+    eq_apply(v, &mp, u, q);
+    {
+        vm_diag dg;
+        forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, 0, &dg);
+        v->t_static = dg.tension_end1[0];
+    }
+    memcpy(v->y_eq, q, (size_t)nq * sizeof(double));
+done:
+    vm_work_free(w);
+    free(u);
+    free(r);
+    free(r2);
+    free(J);
+    free(q);
+    free(piv);
+    return rc;
+}
+
+static ts_rc build_spans(vm *v, ts_err *err)
+{
+    const ts_track_config *tc = &v->cfg.track;
+    int nl = 0, nt = 0, qs = 0;
+    switch (v->fidelity) {
+    case TS_TRACK_LONGITUDINAL: nl = tc->n_long; break;
+    case TS_TRACK_TRANSVERSE: nt = tc->n_trans, qs = 1; break;
+    case TS_TRACK_COUPLED: nl = tc->n_long, nt = tc->n_trans; break;
+    default: return TS_OK;
+    }
+    if (nl + nt == 0)
+        return ts_err_set(err, TS_ERR_PARAM, "/track/n_long",
+                          "/track/n_long: a dynamic track fidelity needs span modes");
+    int q0 = VM_NQ_RIGID;
+    for (int s = 0; s < VM_NSPAN; s++) {
+        span_el *se = &v->span[s];
+        int el = vm_span_element[s];
+        double ang = v->psi0[el];
+        ts_span_params p = {.length = v->ell0[el],
+                            .g_y = -GRAVITY * cos(ang), /* g . n, n = (-sin, cos) */
+                            .rho = tc->mass_per_length,
+                            .ea = tc->ea,
+                            .tension = tc->tension,
+                            .speed = 0,
+                            .translation_terms = 0,
+                            .quasi_static_stretch = qs,
+                            .n_long = nl,
+                            .n_trans = nt,
+                            .damping_ratio = tc->damping_ratio * v->dscale};
+        se->sp = ts_span_make(&p, err);
+        if (!se->sp) return err ? err->code : TS_ERR_PARAM;
+        se->elem = el;
+        se->q0 = q0;
+        se->nm = nl + nt;
+        se->rho = tc->mass_per_length;
+        se->len = v->ell0[el];
+        q0 += se->nm;
+        double L = se->len, rho = se->rho;
+        /* rho int N_i ds of U's shape functions; transverse frame interpolation */
+        se->alpha[0] = se->alpha[1] = 0.5 * rho * L;
+        for (int j = 1; j <= nl; j++) se->alpha[1 + j] = rho * L * (1 - cos(j * PI)) / (j * PI);
+        for (int kk = 1; kk <= nt; kk++) {
+            se->beta0[1 + nl + kk] = rho * L / (kk * PI);
+            se->beta1[1 + nl + kk] = -rho * L * cos(kk * PI) / (kk * PI);
+        }
+    }
+    v->nmodal = q0 - VM_NQ_RIGID;
+    v->dynamic = 1;
+    return TS_OK;
+}
+
+vm *vm_make(const ts_config *cfg, ts_err *err)
+{
+    const ts_vehicle_config *vc = &cfg->vehicle;
+    const ts_track_config *tc = &cfg->track;
+    if (vc->road_wheel_n != VM_NRW) {
+        ts_err_set(err, TS_ERR_PARAM, "/vehicle/road_wheel_x",
+                   "/vehicle/road_wheel_x: the pitch-plane model needs %d road wheels, got %d",
+                   VM_NRW, vc->road_wheel_n);
+        return NULL;
+    }
+    if (vc->anchor_station > VM_NRW) {
+        ts_err_set(err, TS_ERR_RANGE, "/vehicle/anchor_station",
+                   "/vehicle/anchor_station: must be 1..%d", VM_NRW);
+        return NULL;
+    }
+    vm *v = calloc(1, sizeof *v);
+    if (!v) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return NULL;
+    }
+    v->cfg = *cfg;
+    v->fidelity = tc->fidelity;
+    v->terrain = ts_terrain_make(&cfg->terrain, err);
+    if (!v->terrain) goto fail;
+    v->dscale = vc->damping_scale;
+    /* masses per side: sprocket, idler and rollers ride in the hull body */
+    v->m_w = vc->road_wheel_mass;
+    v->m_arm = vc->road_arm_mass;
+    v->arm_len = vc->road_arm_length;
+    v->arm0 = vc->road_arm_angle;
+    v->i_arm_cg = vc->road_arm_inertia - v->m_arm * 0.25 * v->arm_len * v->arm_len;
+    if (v->i_arm_cg <= 0) v->i_arm_cg = 1e-3 * vc->road_arm_inertia;
+    v->k_bar = vc->torsion_bar_rate;
+    for (int i = 0; i < VM_NRW; i++) {
+        v->c_damp[i] = is_station(vc->damper_station, vc->damper_station_n, i + 1) ? vc->damper_rate : 0;
+        v->bump[i] = is_station(vc->bump_stop_station, vc->bump_stop_station_n, i + 1);
+    }
+    v->bs_angle = vc->bump_stop_angle;
+    v->k_bs = vc->bump_stop_rate;
+    v->ea = tc->ea;
+    v->p0 = tc->tension;
+    v->tau_d = vc->track_damping_time;
+    v->kf = vc->foundation_stiffness;
+    v->kf3 = vc->foundation_cubic;
+    v->cf = vc->foundation_damping;
+    v->ka = vc->anchor_stiffness;
+    v->ca = vc->anchor_damping;
+    v->anchor = vc->anchor_station - 1;
+    v->link_dir[0] = cos(vc->idler_link_angle);
+    v->link_dir[1] = sin(vc->idler_link_angle);
+    v->wheel_ground = vc->road_wheel_radius + vc->track_thickness;
+    /* layout (hull frame, relative to the CG) */
+    double bx[VM_NB], bz[VM_NB];
+    bx[VM_SPROCKET] = vc->sprocket_x, bz[VM_SPROCKET] = vc->sprocket_z;
+    bx[VM_REAR_ROLLER] = vc->rear_roller_x, bz[VM_REAR_ROLLER] = vc->rear_roller_z;
+    bx[VM_FRONT_ROLLER] = vc->front_roller_x, bz[VM_FRONT_ROLLER] = vc->front_roller_z;
+    bx[VM_IDLER] = vc->idler_x, bz[VM_IDLER] = vc->idler_z;
+    for (int i = 0; i < VM_NRW; i++) bx[VM_RW1 + i] = vc->road_wheel_x[i], bz[VM_RW1 + i] = vc->road_wheel_z;
+    for (int b = 0; b < VM_RW1; b++) {
+        v->l_body[b][0] = bx[b] - vc->cg_x;
+        v->l_body[b][1] = bz[b] - vc->cg_z;
+    }
+    for (int i = 0; i < VM_NRW; i++) {
+        v->l_pivot[i][0] = bx[VM_RW1 + i] + v->arm_len * cos(v->arm0) - vc->cg_x;
+        v->l_pivot[i][1] = bz[VM_RW1 + i] + v->arm_len * sin(v->arm0) - vc->cg_z;
+    }
+    v->rho_b[VM_SPROCKET] = vc->sprocket_radius;
+    v->rho_b[VM_REAR_ROLLER] = v->rho_b[VM_FRONT_ROLLER] = vc->roller_radius + vc->track_pitch_offset;
+    v->rho_b[VM_IDLER] = vc->idler_radius + vc->track_pitch_offset;
+    for (int i = 0; i < VM_NRW; i++) v->rho_b[VM_RW1 + i] = vc->road_wheel_radius + vc->track_pitch_offset;
+    v->j_b[VM_SPROCKET] = vc->sprocket_inertia;
+    v->j_b[VM_REAR_ROLLER] = v->j_b[VM_FRONT_ROLLER] = vc->roller_inertia;
+    v->j_b[VM_IDLER] = vc->idler_inertia;
+    for (int i = 0; i < VM_NRW; i++) v->j_b[VM_RW1 + i] = vc->road_wheel_inertia;
+    v->x0 = cfg->terrain.start_x + vc->cg_x;
+    v->z0 = vc->cg_z;
+    /* design configuration: element reference lengths and angles */
+    v->nq = VM_NQ_RIGID;
+    double q[VM_NQ_RIGID] = {0};
+    q[QX] = v->x0;
+    q[QZ] = v->z0;
+    for (int i = 0; i < VM_NRW; i++) q[QA0 + i] = v->arm0;
+    kin k;
+    kinematics(v, q, NULL, &k);
+    v->x_anchor0 = k.c[VM_RW1 + v->anchor][0];
+    double loop = 0;
+    for (int el = 0; el < VM_NB; el++) {
+        elem e;
+        tangent(v, &k, el, (el + 1) % VM_NB, &e);
+        v->ell0[el] = e.ell;
+        v->psi0[el] = e.psi;
+    }
+    for (int el = 0; el < VM_NB; el++) {
+        int a = el, b = (el + 1) % VM_NB, prev = (el + VM_NB - 1) % VM_NB, next = (el + 1) % VM_NB;
+        /* wrap on a: from the entry of element prev to the exit of el (clockwise) */
+        double wa = fmod(v->psi0[prev] - v->psi0[el] + 4 * PI, 2 * PI);
+        double wb = fmod(v->psi0[el] - v->psi0[next] + 4 * PI, 2 * PI);
+        if (wa > 1.9 * PI) wa = 0;
+        if (wb > 1.9 * PI) wb = 0;
+        v->len_el[el] = v->ell0[el] + 0.5 * (wa * v->rho_b[a] + wb * v->rho_b[b]);
+        loop += v->ell0[el] + wa * v->rho_b[a];
+    }
+    (void)loop;
+    double m_track = tc->mass_per_length * loop; /* one side */
+    double m_body = 0.5 * vc->mass - m_track - VM_NRW * (v->m_w + v->m_arm);
+    if (m_body <= 0) {
+        ts_err_set(err, TS_ERR_PARAM, "/vehicle/mass",
+                   "/vehicle/mass: %.0f kg leaves no hull mass after track and running gear",
+                   vc->mass);
+        goto fail;
+    }
+    v->m_hull = m_body;
+    v->i_hull = 0.5 * vc->hull_pitch_inertia;
+    /* fidelity extras on the upper spans (elements 0, 1, 2) */
+    double rho = tc->mass_per_length;
+    if (v->fidelity == TS_TRACK_LUMPED) {
+        double m0 = rho * v->ell0[0], m1 = rho * v->ell0[1], m2 = rho * v->ell0[2];
+        double mr = m0 + 0.5 * m1, mf = 0.5 * m1 + m2;
+        v->pm_m[0] = mr;
+        memcpy(v->pm_l[0], v->l_body[VM_REAR_ROLLER], sizeof v->pm_l[0]);
+        v->pm_m[1] = mf;
+        memcpy(v->pm_l[1], v->l_body[VM_FRONT_ROLLER], sizeof v->pm_l[1]);
+        v->npm = 2;
+        v->j_b[VM_REAR_ROLLER] += mr * v->rho_b[VM_REAR_ROLLER] * v->rho_b[VM_REAR_ROLLER];
+        v->j_b[VM_FRONT_ROLLER] += mf * v->rho_b[VM_FRONT_ROLLER] * v->rho_b[VM_FRONT_ROLLER];
+    } else if (v->fidelity == TS_TRACK_QUASI_STATIC) {
+        for (int el = 0; el < 3; el++) {
+            int a = el, b = el + 1;
+            double m = rho * v->ell0[el], L = v->ell0[el];
+            v->mqs[a][a] += m / 3 * v->rho_b[a] * v->rho_b[a];
+            v->mqs[b][b] += m / 3 * v->rho_b[b] * v->rho_b[b];
+            v->mqs[a][b] += m / 6 * v->rho_b[a] * v->rho_b[b];
+            v->mqs[b][a] += m / 6 * v->rho_b[a] * v->rho_b[b];
+            /* rigid motion with the hull: mass at the chord middle, rho L^3/12 about it */
+            double mid[2] = {0.5 * (k.c[a][0] + k.c[b][0]) - q[QX],
+                             0.5 * (k.c[a][1] + k.c[b][1]) - q[QZ]};
+            v->pm_m[v->npm] = m;
+            memcpy(v->pm_l[v->npm], mid, sizeof mid);
+            v->npm++;
+            v->i_extra += m * L * L / 12;
+        }
+    }
+    if (build_spans(v, err) != TS_OK) goto fail;
+    v->nq = VM_NQ_RIGID + v->nmodal;
+    v->ny = 2 * v->nq;
+    v->y_eq = calloc((size_t)v->ny, sizeof(double));
+    if (!v->y_eq) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        goto fail;
+    }
+    if (equilibrium(v, err) != TS_OK) goto fail;
+    return v;
+fail:
+    vm_free(v);
+    return NULL;
+}
+
+/* ---- evaluation ------------------------------------------------------------ */
+
+int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_diag *diag)
+{
+    int nq = v->nq;
+    const double *q = y, *qd = y + nq;
+    forces(v, w, t, q, qd, w->M, w->Q, 1, 1, diag);
+    memcpy(ydot, qd, (size_t)nq * sizeof(double));
+    memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
+    if (chol_solve(w->M, ydot + nq, nq)) return 1;
+    return 0;
+}
+
+double vm_energy(const vm *v, vm_work *w, const double *y)
+{
+    int nq = v->nq;
+    const double *q = y, *qd = y + nq;
+    forces(v, w, 0.0, q, qd, w->M, w->Q, 1, 0, NULL);
+    double ke = 0;
+    for (int i = 0; i < nq; i++)
+        for (int j = 0; j < nq; j++) ke += 0.5 * qd[i] * w->M[i * nq + j] * qd[j];
+    kin k;
+    kinematics(v, q, qd, &k);
+    double pe = v->m_hull * GRAVITY * q[QZ];
+    for (int p = 0; p < v->npm; p++) {
+        double wv[2];
+        rot(&k, v->pm_l[p], wv);
+        pe += v->pm_m[p] * GRAVITY * (q[QZ] + wv[1]);
+    }
+    for (int i = 0; i < VM_NRW; i++) {
+        int b = VM_RW1 + i;
+        pe += v->m_w * GRAVITY * k.c[b][1];
+        pe += v->m_arm * GRAVITY * (q[QZ] + k.wp[i][1] + 0.5 * k.e[i][1]);
+        double da = q[QA0 + i] - v->arm0;
+        pe += -v->m0[i] * da + 0.5 * v->k_bar * da * da;
+        if (v->bump[i] && q[QA0 + i] < v->bs_angle) {
+            double pen = v->bs_angle - q[QA0 + i];
+            pe += 0.5 * v->k_bs * pen * pen;
+        }
+        double d = ts_terrain_height(v->terrain, k.c[b][0], NULL) + v->wheel_ground - k.c[b][1];
+        if (d > 0) pe += 0.5 * v->kf * d * d + 0.25 * v->kf3 * d * d * d * d;
+    }
+    {
+        int b = VM_RW1 + v->anchor;
+        double xi = k.c[b][0] - v->rho_b[b] * q[QS0 + b] - v->x_anchor0;
+        pe += 0.5 * v->ka * xi * xi;
+    }
+    for (int el = 0; el < VM_NB; el++) {
+        int a = el, b = (el + 1) % VM_NB;
+        elem e;
+        tangent(v, &k, a, b, &e);
+        e.dpsi = wrap_pi(e.psi - v->psi0[el]);
+        const span_el *se = NULL;
+        for (int s = 0; s < VM_NSPAN; s++)
+            if (v->span[s].sp && v->span[s].elem == el) se = &v->span[s];
+        double u0 = v->rho_b[a] * (q[QS0 + a] + e.dpsi);
+        double u1 = v->rho_b[b] * (q[QS0 + b] + e.dpsi) + e.ell - v->ell0[el];
+        if (!se) {
+            double s = u1 - u0, kel = v->ea / v->len_el[el];
+            pe += v->p0 * s + 0.5 * kel * s * s;
+            continue;
+        }
+        const ts_span *sp = se->sp;
+        int n = sp->n;
+        double x[2 + 2 * TS_SPAN_MAX_MODES];
+        x[0] = 0;
+        x[1] = u1 - u0;
+        for (int m = 0; m < se->nm; m++) x[2 + m] = q[se->q0 + m];
+        double xk = 0;
+        for (int r = 0; r < n; r++)
+            for (int c = 0; c < n; c++) xk += 0.5 * x[r] * sp->K[r * n + c] * x[c];
+        double gx = -GRAVITY * e.u[1], gy = -GRAVITY * e.n[1];
+        double ax = 0, ay = 0;
+        for (int m = 0; m < se->nm; m++) {
+            ax += se->alpha[2 + m] * x[2 + m];
+            ay += sp->ay[2 + m] * x[2 + m];
+        }
+        double m = se->rho * se->len;
+        pe += v->p0 * x[1] + xk - (gy - sp->p.g_y) * ay;
+        pe += m * GRAVITY * k.c[a][1] - 0.5 * m * se->len * gx - gx * ax;
+        (void)gy;
+    }
+    return ke + pe;
+}
+
+/* ---- geometry snapshot ------------------------------------------------------ */
+
+static void geom_point(ts_geom *g, double x, double z, double dx, double dz, double t)
+{
+    if (g->ntrack >= TS_GEOM_MAX_TRACK) return;
+    int i = g->ntrack++;
+    g->track_x[i] = x, g->track_z[i] = z;
+    g->track_dx[i] = dx, g->track_dz[i] = dz;
+    g->track_tension[i] = t;
+}
+
+void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
+{
+    const ts_vehicle_config *vc = &v->cfg.vehicle;
+    int nq = v->nq;
+    const double *q = y, *qd = y + nq;
+    memset(g, 0, sizeof *g);
+    vm_diag dg;
+    memset(&dg, 0, sizeof dg);
+    forces(v, w, t, q, qd, w->M, w->Q, 0, 1, &dg);
+    kin k;
+    kinematics(v, q, qd, &k);
+    g->t = t;
+    g->hull_x = q[QX];
+    g->hull_z = q[QZ];
+    g->hull_pitch = q[QT];
+    g->hull_length = (vc->idler_x + vc->idler_radius) - (vc->sprocket_x - vc->sprocket_radius);
+    g->hull_height = 2.0 * vc->cg_z; /* framing only: CG taken at mid-height */
+    g->speed = qd[QX];
+    g->gear = 0;
+    static const int role[VM_NB] = {TS_WHEEL_SPROCKET, TS_WHEEL_ROLLER, TS_WHEEL_ROLLER,
+                                    TS_WHEEL_IDLER,    TS_WHEEL_ROAD,   TS_WHEEL_ROAD,
+                                    TS_WHEEL_ROAD,     TS_WHEEL_ROAD,   TS_WHEEL_ROAD,
+                                    TS_WHEEL_ROAD,     TS_WHEEL_ROAD};
+    for (int b = 0; b < VM_NB && g->nwheel < TS_GEOM_MAX_WHEELS; b++) {
+        ts_geom_wheel *gw = &g->wheel[g->nwheel++];
+        gw->role = role[b];
+        gw->x = k.c[b][0], gw->z = k.c[b][1];
+        gw->radius = b == VM_SPROCKET ? v->rho_b[b] : v->rho_b[b] - vc->track_pitch_offset;
+        gw->angle = q[QS0 + b];
+        gw->pivot_x = gw->x, gw->pivot_z = gw->z;
+        if (b >= VM_RW1) {
+            int i = b - VM_RW1;
+            gw->pivot_x = q[QX] + k.wp[i][0];
+            gw->pivot_z = q[QZ] + k.wp[i][1];
+        }
+    }
+    g->track_static_tension = v->t_static;
+    elem e[VM_NB];
+    for (int el = 0; el < VM_NB; el++) tangent(v, &k, el, (el + 1) % VM_NB, &e[el]);
+    for (int el = 0; el < VM_NB; el++) {
+        int a = el, b = (el + 1) % VM_NB, next = (el + 1) % VM_NB;
+        const span_el *se = NULL;
+        for (int s = 0; s < VM_NSPAN; s++)
+            if (v->span[s].sp && v->span[s].elem == el) se = &v->span[s];
+        double pa[2] = {k.c[a][0] + v->rho_b[a] * e[el].n[0], k.c[a][1] + v->rho_b[a] * e[el].n[1]};
+        int free_span = el <= 3 || el == 10;
+        int npt = free_span ? 12 : 2;
+        double kappa = v->cfg.track.mass_per_length * (-GRAVITY * e[el].n[1]) / v->p0;
+        double x[2 + 2 * TS_SPAN_MAX_MODES] = {0};
+        if (se) {
+            double dpsi = wrap_pi(e[el].psi - v->psi0[el]);
+            x[1] = v->rho_b[b] * (q[QS0 + b] + dpsi) + e[el].ell - v->ell0[el] -
+                   v->rho_b[a] * (q[QS0 + a] + dpsi);
+            for (int m = 0; m < se->nm; m++) x[2 + m] = q[se->q0 + m];
+        }
+        for (int i = 0; i < npt; i++) {
+            double s = e[el].ell * i / npt;
+            double sag = free_span ? 0.5 * kappa * s * (e[el].ell - s) : 0;
+            double U = 0, V = 0, tau = 0, tt = dg.tension[el];
+            if (se) {
+                double sl = s * se->len / e[el].ell;
+                sag = ts_span_sag(se->sp, sl);
+                ts_span_eval(se->sp, x, sl, &U, &V, &tau);
+                tt = v->p0 + tau;
+            }
+            geom_point(g, pa[0] + s * e[el].u[0] + sag * e[el].n[0],
+                       pa[1] + s * e[el].u[1] + sag * e[el].n[1], V * e[el].n[0],
+                       V * e[el].n[1], tt);
+        }
+        /* wrap on b, clockwise from this element's normal to the next one's */
+        double a0 = atan2(e[el].n[1], e[el].n[0]), a1 = atan2(e[next].n[1], e[next].n[0]);
+        double sweep = fmod(a0 - a1 + 4 * PI, 2 * PI);
+        if (sweep > 1.9 * PI) sweep = 0;
+        int na = (int)(sweep / (PI / 12)) + 1;
+        for (int i = 0; i < na; i++) {
+            double ang = a0 - sweep * i / na;
+            geom_point(g, k.c[b][0] + v->rho_b[b] * cos(ang), k.c[b][1] + v->rho_b[b] * sin(ang),
+                       0, 0, dg.tension[el]);
+        }
+    }
+    int nt = 200;
+    double x0 = q[QX] - 10.0, x1 = q[QX] + 10.0;
+    for (int i = 0; i < nt && i < TS_GEOM_MAX_TERRAIN; i++) {
+        double x = x0 + (x1 - x0) * i / (nt - 1);
+        g->terrain_x[i] = x;
+        g->terrain_z[i] = ts_terrain_height(v->terrain, x, NULL);
+        g->nterrain = i + 1;
+    }
+}
