@@ -1,6 +1,7 @@
 /*
  * cfg_engine.c — parameter-table rows of the "engine" section (columns in
- * param.h). Defaults and sources: sim/data/defaults/engine.json.
+ * param.h). Defaults and sources: sim/data/defaults/engine.json, where every
+ * constant is tagged literature ([P], [S], [R]) or calibrated ([C ...]).
  */
 #include <stddef.h>
 
@@ -10,15 +11,135 @@ const char *const ts_engine_variant_names[] = {"conventional", "lhr05", "lhr10",
 const char *const ts_engine_fidelity_names[] = {"crank_angle", "mean_value", "map", NULL};
 
 #define F(field) offsetof(ts_config, engine.field)
+#define D(name, unit, lo, hi, desc) \
+    {"/engine/" #name, TS_PT_DOUBLE, F(name), unit, lo, hi, NULL, 0, 0, desc}
+#define I(name, lo, hi, desc) {"/engine/" #name, TS_PT_INT, F(name), "1", lo, hi, NULL, 0, 0, desc}
+#define A(name, cap, unit, lo, hi, desc) \
+    {"/engine/" #name, TS_PT_DARRAY, F(name), unit, lo, hi, NULL, cap, F(name##_n), desc}
+#define MAPROWS(v, idx)                                                                            \
+    {"/engine/map_torque_" v, TS_PT_DARRAY, F(map[idx].torque), "N*m", 0, 2e4, NULL,             \
+     TS_ENGINE_MAP_MAX, F(map[idx].torque_n), "full-load brake torque at map_speed (" v ")"},     \
+    {"/engine/map_boost_" v, TS_PT_DARRAY, F(map[idx].boost), "Pa", 5e4, 1e6, NULL,                \
+     TS_ENGINE_MAP_MAX, F(map[idx].boost_n), "full-load intake manifold pressure (" v ")"},        \
+    {"/engine/map_fuel_" v, TS_PT_DARRAY, F(map[idx].fuel), "kg/s", 0, 1, NULL,                    \
+     TS_ENGINE_MAP_MAX, F(map[idx].fuel_n), "full-load fuel flow, whole engine (" v ")"},          \
+    {"/engine/map_eta_v_" v, TS_PT_DARRAY, F(map[idx].eta_v), "1", 0.2, 1.5, NULL,                 \
+     TS_ENGINE_MAP_MAX, F(map[idx].eta_v_n), "volumetric efficiency vs intake manifold (" v ")"},  \
+    {"/engine/map_eta_i_" v, TS_PT_DARRAY, F(map[idx].eta_i), "1", 0.1, 0.7, NULL,                 \
+     TS_ENGINE_MAP_MAX, F(map[idx].eta_i_n), "gross indicated efficiency (" v ")"},                \
+    {"/engine/map_q_wall_" v, TS_PT_DARRAY, F(map[idx].q_wall), "1", 0, 0.6, NULL,                 \
+     TS_ENGINE_MAP_MAX, F(map[idx].q_wall_n), "in-cylinder heat loss / fuel energy (" v ")"}
+
 static const ts_param engine_rows[] = {
     {"/engine/variant", TS_PT_ENUM, F(variant), "", 0, 0, ts_engine_variant_names, 0, 0,
      "combustion chamber: conventional (all metal), lhr05 or lhr10 (zirconia coating)"},
     {"/engine/fidelity", TS_PT_ENUM, F(fidelity), "", 0, 0, ts_engine_fidelity_names, 0, 0,
      "engine model: crank_angle, mean_value or map"},
-    {"/engine/dyno_speed", TS_PT_DOUBLE, F(dyno_speed), "rad/s", 20, 300, NULL, 0, 0,
-     "speed held by the dynamometer in engine_dyno runs"},
+    D(dyno_speed, "rad/s", 20, 300, "speed held by the dynamometer in engine_dyno runs"),
+    D(bore, "m", 0.05, 0.3, "cylinder bore"),
+    D(stroke, "m", 0.05, 0.3, "piston stroke"),
+    D(rod_length, "m", 0.1, 0.8, "connecting-rod length"),
+    D(compression_ratio, "1", 8, 25, "geometric compression ratio"),
+    D(head_area_factor, "1", 1, 2, "head + fire-deck heat-transfer area / bore area"),
+    D(piston_area_factor, "1", 1, 2.5, "piston crown (with bowl) area / bore area"),
+    I(n_intake_valves, 1, 4, "intake valves per cylinder"),
+    I(n_exhaust_valves, 1, 4, "exhaust valves per cylinder"),
+    D(intake_valve_diameter, "m", 0.01, 0.1, "intake valve inner seat diameter"),
+    D(exhaust_valve_diameter, "m", 0.01, 0.1, "exhaust valve inner seat diameter"),
+    D(intake_max_lift, "m", 0.002, 0.03, "intake valve peak lift"),
+    D(exhaust_max_lift, "m", 0.002, 0.03, "exhaust valve peak lift"),
+    D(ivo, "rad", 0, 12.57, "intake valve opening, crank angle after firing TDC"),
+    D(ivc, "rad", 0, 12.57, "intake valve closing, crank angle after firing TDC (>720 deg wraps)"),
+    D(evo, "rad", 0, 12.57, "exhaust valve opening, crank angle after firing TDC"),
+    D(evc, "rad", 0, 12.57, "exhaust valve closing, crank angle after firing TDC"),
+    D(valve_cd, "1", 0.3, 1, "valve discharge coefficient on the curtain area"),
+    D(soi, "rad", 0, 1, "start of injection before firing TDC"),
+    D(inj_duration, "rad", 0.01, 1.5, "injection interval (fuel delivery) in crank angle"),
+    D(lhv, "J/kg", 3e7, 5e7, "fuel lower heating value"),
+    D(afr_stoich, "1", 10, 20, "stoichiometric air/fuel ratio"),
+    D(phi_rated, "1", 0.1, 1, "Eq. 13: target equivalence ratio at phi_speed"),
+    D(phi_curvature, "1/rpm^2", 0, 1e-6, "Eq. 13: growth of the target with (N - N_rated)^2"),
+    D(phi_speed, "rad/s", 50, 400, "Eq. 13: reference (rated) speed"),
+    D(phi_max, "1", 0.3, 1.2, "upper limit on the equivalence ratio delivered by Eq. 14"),
+    D(id_a, "ms", 0.1, 20, "ignition delay pre-factor: tau = a p^-n exp(ta/T), p in bar"),
+    D(id_n, "1", 0.5, 2, "ignition delay pressure exponent"),
+    D(id_ta, "K", 500, 10000, "ignition delay activation temperature"),
+    D(burn_duration, "rad", 0.5, 4, "Watson burn duration"),
+    D(watson_a, "1", 0, 2, "Watson premixed fraction: beta = 1 - a phi^b / tau_id^c"),
+    D(watson_b, "1", 0, 2, "Watson premixed fraction exponent b"),
+    D(watson_c, "1", 0, 2, "Watson premixed fraction exponent c"),
+    D(watson_c1k, "1", 0, 1e-5, "Watson C1 = 2 + k (tau_id N)^e: k"),
+    D(watson_c1e, "1", 0, 5, "Watson C1 exponent e"),
+    D(watson_c2, "1", 1, 1e5, "Watson premixed C2"),
+    D(watson_c3k, "1", 1, 100, "Watson diffusion C3 = k / phi^e: k"),
+    D(watson_c3e, "1", 0, 2, "Watson diffusion C3 exponent e"),
+    D(watson_c4k, "1", 0.1, 3, "Watson diffusion C4 = k C3^0.25: k"),
+    A(cp_air, 4, "J/kg/K", -1e4, 1e4, "cp of air: c0 + c1 t + c2 t^2 + c3 t^3, t = T/1000 K"),
+    A(cp_burned, 4, "J/kg/K", -1e4, 1e4, "cp of stoichiometric burned gas, same form"),
+    D(r_air, "J/kg/K", 250, 320, "gas constant of air"),
+    D(r_burned, "J/kg/K", 250, 320, "gas constant of stoichiometric burned gas"),
+    D(nu_coeff, "1", 0.001, 1, "Nusselt correlation Nu = a Re^b: a"),
+    D(nu_exp, "1", 0.5, 1, "Nusselt correlation exponent b"),
+    D(cascade_cbeta, "1", 0.01, 2, "energy cascade: mean-flow to turbulence production constant"),
+    D(cascade_rdt, "1", 0, 1, "energy cascade: rapid-distortion amplification of k in compression"),
+    D(emissivity, "1", 0, 1, "effective gas emissivity during combustion"),
+    D(metal_k, "W/m/K", 5, 200, "metal wall conductivity"),
+    D(metal_rho_c, "J/m^3/K", 1e6, 1e7, "metal wall volumetric heat capacity"),
+    D(piston_thickness, "m", 0.002, 0.05, "piston crown metal thickness"),
+    D(head_thickness, "m", 0.002, 0.05, "fire-deck metal thickness"),
+    D(liner_thickness, "m", 0.002, 0.05, "liner metal thickness"),
+    D(zirconia_k, "W/m/K", 0.3, 5, "plasma-sprayed zirconia conductivity"),
+    D(zirconia_rho_c, "J/m^3/K", 1e6, 5e6, "plasma-sprayed zirconia volumetric heat capacity"),
+    D(coating_lhr05, "m", 0, 0.003, "zirconia thickness of variant lhr05"),
+    D(coating_lhr10, "m", 0, 0.003, "zirconia thickness of variant lhr10"),
+    D(h_coolant, "W/m^2/K", 100, 1e5, "head and liner back side to coolant"),
+    D(h_oil, "W/m^2/K", 100, 1e5, "piston underside to oil"),
+    D(coolant_temp, "K", 300, 420, "coolant thermostat set point"),
+    D(oil_temp, "K", 300, 450, "oil cooler set point"),
+    D(coolant_capacity, "J/K", 1e3, 1e7, "coolant + block lumped heat capacity"),
+    D(oil_capacity, "J/K", 1e3, 1e7, "oil lumped heat capacity"),
+    D(coolant_ua, "W/K", 10, 1e6, "radiator conductance at full thermostat opening"),
+    D(oil_ua, "W/K", 10, 1e6, "oil cooler conductance at full opening"),
+    D(fmep_a, "Pa", 0, 1e5, "Millington-Hartles: fmep = a (r_c - 4) + b N + c S_p^2: a"),
+    D(fmep_b, "Pa/rpm", 0, 1000, "Millington-Hartles b"),
+    D(fmep_c, "Pa*s^2/m^2", 0, 1e4, "Millington-Hartles c"),
+    D(inertia, "kg*m^2", 0.1, 100, "engine + flywheel rotating inertia"),
+    D(recip_mass, "kg", 0, 50, "reciprocating mass per cylinder (piston, pin, rod share)"),
+    D(turbo_flow_scale, "1", 0.2, 5, "turbocharger flow scale over the reference truck unit"),
+    D(comp_diameter_ref, "m", 0.02, 0.3, "reference compressor impeller tip diameter"),
+    D(turb_diameter_ref, "m", 0.02, 0.3, "reference turbine wheel diameter"),
+    D(comp_psi0, "1", 0.2, 2, "compressor isentropic head coefficient at zero flow"),
+    D(comp_phi_choke, "1", 0.01, 0.5, "compressor choke flow coefficient"),
+    D(comp_eta_max, "1", 0.4, 0.9, "compressor peak isentropic efficiency"),
+    D(comp_phi_opt, "1", 0.01, 0.5, "flow coefficient of peak compressor efficiency"),
+    D(comp_phi_width, "1", 0.01, 0.5, "half-width of the compressor efficiency island"),
+    D(comp_eta_min, "1", 0.1, 0.8, "lower bound on compressor efficiency"),
+    D(turb_area_ref, "m^2", 1e-5, 1e-2, "reference turbine effective nozzle area"),
+    D(turb_eta_max, "1", 0.4, 0.9, "turbine peak total-to-static efficiency"),
+    D(turb_bsr_opt, "1", 0.4, 1, "blade-speed ratio of peak turbine efficiency"),
+    D(turbo_inertia_ref, "kg*m^2", 1e-5, 1e-2, "reference rotor polar inertia"),
+    D(turbo_mech_eff, "1", 0.5, 1, "turbocharger mechanical efficiency"),
+    D(turbo_idle_speed, "rad/s", 0, 2e4, "rotor speed at ts_engine_init_state"),
+    D(ic_ua, "W/K", 10, 1e5, "intercooler overall conductance per bank"),
+    D(ic_wall_temp, "K", 250, 400, "intercooler wall (coolant-side) temperature"),
+    D(ic_cda, "m^2", 1e-4, 0.1, "intercooler outlet orifice effective area per bank"),
+    D(ic_volume, "m^3", 1e-4, 0.5, "compressor outlet + intercooler volume per bank"),
+    D(intake_volume, "m^3", 1e-4, 0.5, "intake manifold volume per bank"),
+    D(exhaust_volume, "m^3", 1e-4, 0.5, "exhaust manifold volume per bank"),
+    D(exhaust_ua, "W/K", 0, 1e4, "exhaust manifold heat loss conductance per bank"),
+    D(ca_step, "rad", 1e-3, 0.1, "crank-angle step of the engine's own fixed-step integrator"),
+    D(boost_lag, "s", 0.01, 10, "map fidelity: first-order boost time constant"),
+    D(boost_floor, "1", 0, 1, "map fidelity: fuel fraction available at zero boost"),
+    A(map_speed, TS_ENGINE_MAP_MAX, "rad/s", 0, 400, "speeds of the map tables"),
+    MAPROWS("conventional", 0),
+    MAPROWS("lhr05", 1),
+    MAPROWS("lhr10", 2),
 };
 #undef F
+#undef D
+#undef I
+#undef A
+#undef MAPROWS
 
 #define N(a) ((int)(sizeof a / sizeof a[0]))
 const ts_param_section ts_section_engine = {"engine", "virtual V-12 diesel", engine_rows,

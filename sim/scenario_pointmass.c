@@ -1,53 +1,102 @@
 /*
  * scenario_pointmass.c — the point-mass vehicle (paper Section III.C: "vehicle
- * mass is lumped at the center of gravity"), driven here by a prescribed
- * sprocket torque (drive.h). The powertrain drive is added by the driveline
- * module.
+ * mass is lumped at the center of gravity"), driven either by a prescribed
+ * sprocket torque (drive.h) or, with /drive/kind = "powertrain", by the engine
+ * + torque converter + transmission + final drive (powertrain.h) — the paper's
+ * full-throttle mobility study (Figs. 19-21, Table 2).
  *
  * Equations (x forward, v = dx/dt):
- *   m_eff dv/dt = 2 T_s / r_s - m g (f_r(v) cos(grade) s(v) + sin(grade)) - 1/2 rho CdA v |v|
+ *   M dv/dt = 2 T_s / r_s - m g (f_r(v) cos(grade) s(v) + sin(grade)) - 1/2 rho CdA v |v|
  *   f_r(v) = f0 + f1 |v|,   s(v) = tanh(v / v_eps)
- * Two sprockets (one per track) each carry T_s; m_eff = rotating_mass_factor m.
- * s(v) smooths the sign of rolling resistance through standstill so that a
- * vehicle at rest with too little torque stays (nearly) at rest instead of
- * being pushed backwards; v_eps = 0.01 m/s.
+ *   M = rotating_mass_factor m (+ J_out / r_s^2 with the powertrain)
+ * Two sprockets (one per track) each carry T_s. Sprocket speed and vehicle
+ * speed are tied by the pitch radius, w_s = v / r_s (no track slip). s(v)
+ * smooths the sign of rolling resistance through standstill so that a vehicle
+ * at rest with too little torque stays (nearly) at rest instead of being
+ * pushed backwards; v_eps = 0.01 m/s.
+ *
+ * With the powertrain the ODE is monolithic: [x, v, powertrain states]; gear
+ * shifts are root functions of this ODE, handled by re-initialising CVODE
+ * (powertrain.h). The rack is /control/rack (held constant; the IVS controller
+ * is the control module's).
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "drive.h"
+#include "powertrain.h"
 #include "scenario.h"
 #include "solver.h"
 
 #define GRAVITY 9.80665 /* standard gravity [m/s^2] */
 #define V_EPS 0.01      /* standstill smoothing speed [m/s] */
+#define MAX_EVENTS_AT_ONCE 8
+#define KMH (1.0 / 3.6)
 
-enum { X, V, NSTATE };
+enum { X, V, NVEH };
 enum { CH_X = 1, CH_SPEED, CH_ACCEL, CH_SPROCKET_TORQUE, CH_SPROCKET_SPEED, CH_TRACTION, NCH };
 
+typedef struct pm_model {
+    ts_powertrain *pt; /* NULL for a prescribed drive */
+    int npt;           /* powertrain states */
+    double mass_eff;   /* M [kg] */
+} pm_model;
+
 typedef struct pm_data {
+    const ts_model *m;         /* for the ODE callbacks */
     ts_ode *ode;
-    double y[NSTATE];
+    int n;
+    double *y, *ydot;          /* n */
+    ts_powertrain_state ps;
+    ts_powertrain_out out;     /* scratch for sample */
 } pm_data;
 
-static double accel(const ts_config *c, double t, double v, double *thrust_out)
+static double resistance(const ts_vehicle_config *vc, double v)
 {
-    const ts_vehicle_config *vc = &c->vehicle;
-    double thrust = 2.0 * ts_drive_torque(&c->drive, t) / vc->sprocket_radius;
     double fr = vc->rolling_resistance + vc->rolling_resistance_speed * fabs(v);
-    double resist = vc->mass * GRAVITY *
-                        (fr * cos(vc->grade) * tanh(v / V_EPS) + sin(vc->grade)) +
-                    0.5 * vc->air_density * vc->cda * v * fabs(v);
+    return vc->mass * GRAVITY * (fr * cos(vc->grade) * tanh(v / V_EPS) + sin(vc->grade)) +
+           0.5 * vc->air_density * vc->cda * v * fabs(v);
+}
+
+/* Vehicle derivatives; with the powertrain also its derivatives into ydot + NVEH
+ * and its shaft quantities into out (may be NULL). */
+static int derivs(const ts_model *m, const ts_powertrain_state *ps, double t, const double *y,
+                  double *ydot, ts_powertrain_out *out, double *thrust_out, double *ts_out)
+{
+    const pm_model *pm = m->impl;
+    const ts_vehicle_config *vc = &m->cfg.vehicle;
+    double t_s;
+    if (pm->pt) {
+        ts_powertrain_out o;
+        int rc = ts_powertrain_rhs(pm->pt, ps, t, y + NVEH, y[V] / vc->sprocket_radius,
+                                   m->cfg.control.rack, ydot + NVEH, &o);
+        if (rc != 0) return rc;
+        t_s = o.sprocket_torque;
+        if (out) *out = o;
+    } else {
+        t_s = ts_drive_torque(&m->cfg.drive, t);
+    }
+    double thrust = 2.0 * t_s / vc->sprocket_radius;
+    ydot[X] = y[V];
+    ydot[V] = (thrust - resistance(vc, y[V])) / pm->mass_eff;
     if (thrust_out) *thrust_out = thrust;
-    return (thrust - resist) / (vc->rotating_mass_factor * vc->mass);
+    if (ts_out) *ts_out = t_s;
+    return 0;
 }
 
 static int rhs(double t, const double *y, double *ydot, void *ud)
 {
-    const ts_model *m = ud;
-    ydot[X] = y[V];
-    ydot[V] = accel(&m->cfg, t, y[V], NULL);
+    const pm_data *p = ud;
+    return derivs(p->m, &p->ps, t, y, ydot, NULL, NULL, NULL);
+}
+
+static int roots(double t, const double *y, double *g, void *ud)
+{
+    const pm_data *p = ud;
+    const pm_model *pm = p->m->impl;
+    ts_powertrain_roots(pm->pt, &p->ps, t, y + NVEH, g);
     return 0;
 }
 
@@ -55,12 +104,22 @@ static ts_rc model_init(ts_model *m, ts_err *err)
 {
     ts_rc rc = ts_drive_check(&m->cfg.drive, err);
     if (rc != TS_OK) return rc;
-    if (m->cfg.drive.kind == TS_DRIVE_POWERTRAIN)
-        return ts_err_set(err, TS_ERR_UNSUPPORTED, "/drive/kind",
-                          "/drive/kind: the powertrain drive is not available for point-mass "
-                          "runs in this build");
+    pm_model *pm = calloc(1, sizeof *pm);
+    if (!pm) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    m->impl = pm;
+    const ts_vehicle_config *vc = &m->cfg.vehicle;
+    pm->mass_eff = vc->rotating_mass_factor * vc->mass;
     m->dof = 1;
-    m->nstate = NSTATE;
+    m->nstate = NVEH;
+    if (m->cfg.drive.kind == TS_DRIVE_POWERTRAIN) {
+        pm->pt = ts_powertrain_make(&m->cfg, err);
+        if (!pm->pt) return err ? err->code : TS_ERR_INTERNAL;
+        pm->npt = ts_powertrain_nstate(pm->pt);
+        double r = vc->sprocket_radius;
+        pm->mass_eff += ts_powertrain_output_inertia(pm->pt) / (r * r);
+        m->dof = 3; /* vehicle, crankshaft + pump, turbine + transmission input */
+        m->nstate = NVEH + pm->npt;
+    }
     static const struct {
         const char *name, *unit, *desc;
     } ch[] = {
@@ -74,25 +133,56 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     for (size_t i = 0; i < sizeof ch / sizeof ch[0]; i++)
         if (ts_model_add_channel(m, ch[i].name, ch[i].unit, ch[i].desc, err) < 0)
             return err ? err->code : TS_ERR_INTERNAL;
-    m->impl = m; /* no derived constants beyond the config */
+    if (pm->pt) {
+        const ts_powertrain_channel *pc = ts_powertrain_channels();
+        for (int i = 0; i < TS_POWERTRAIN_NCHANNEL; i++)
+            if (ts_model_add_channel(m, pc[i].name, pc[i].unit, pc[i].description, err) < 0)
+                return err ? err->code : TS_ERR_INTERNAL;
+    }
     return TS_OK;
 }
 
-static void model_fini(ts_model *m) { m->impl = NULL; }
+static void model_fini(ts_model *m)
+{
+    pm_model *pm = m->impl;
+    if (pm) ts_powertrain_free(pm->pt);
+    free(pm);
+    m->impl = NULL;
+}
+
+static void data_fini(const ts_model *m, ts_data *d);
 
 static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
 {
+    const pm_model *pm = m->impl;
     pm_data *p = calloc(1, sizeof *p);
     if (!p) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    d->impl = p;
+    p->n = m->nstate;
+    p->m = m;
+    p->y = calloc((size_t)p->n * 3, sizeof *p->y);
+    if (!p->y) {
+        data_fini(m, d);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    }
+    p->ydot = p->y + p->n;
+    double *atol = p->y + 2 * p->n;
+    atol[X] = atol[V] = m->cfg.run.atol;
+    if (pm->pt) {
+        ts_powertrain_scale(pm->pt, atol + NVEH);
+        for (int i = NVEH; i < p->n; i++) atol[i] *= m->cfg.run.atol;
+    }
     ts_ode_opts o = {.rtol = m->cfg.run.rtol,
                      .atol = m->cfg.run.atol,
-                     .max_step = m->cfg.run.max_step};
-    p->ode = ts_ode_make(NSTATE, rhs, (void *)m, &o, err);
+                     .atol_v = atol,
+                     .max_step = m->cfg.run.max_step,
+                     .nroots = pm->pt ? ts_powertrain_nroots(pm->pt) : 0,
+                     .roots = pm->pt ? roots : NULL};
+    p->ode = ts_ode_make(p->n, rhs, p, &o, err);
     if (!p->ode) {
-        free(p);
+        data_fini(m, d);
         return err ? err->code : TS_ERR_SOLVER;
     }
-    d->impl = p;
     return TS_OK;
 }
 
@@ -102,61 +192,152 @@ static void data_fini(const ts_model *m, ts_data *d)
     pm_data *p = d->impl;
     if (!p) return;
     ts_ode_free(p->ode);
+    free(p->y);
     free(p);
     d->impl = NULL;
 }
 
+/* Run the discrete updates at (t, y) until nothing changes; re-init when it did. */
+static ts_rc settle_events(const ts_model *m, pm_data *p, double t, ts_err *err)
+{
+    const pm_model *pm = m->impl;
+    if (!pm->pt) return TS_OK;
+    int changed = 0;
+    for (int k = 0; k < MAX_EVENTS_AT_ONCE; k++) {
+        if (!ts_powertrain_update(pm->pt, &p->ps, t, p->y + NVEH,
+                                  p->y[V] / m->cfg.vehicle.sprocket_radius, m->cfg.control.rack))
+            break;
+        changed = 1;
+    }
+    return changed ? ts_ode_init(p->ode, t, p->y, err) : TS_OK;
+}
+
 static ts_rc reset(const ts_model *m, ts_data *d, ts_err *err)
 {
-    (void)m;
+    const pm_model *pm = m->impl;
     pm_data *p = d->impl;
-    p->y[X] = 0.0;
-    p->y[V] = 0.0;
-    return ts_ode_init(p->ode, 0.0, p->y, err);
+    memset(p->y, 0, sizeof *p->y * (size_t)p->n);
+    if (pm->pt) {
+        ts_rc rc = ts_powertrain_reset(pm->pt, &p->ps, p->y + NVEH, 0.0, err);
+        if (rc != TS_OK) return rc;
+    }
+    ts_rc rc = ts_ode_init(p->ode, 0.0, p->y, err);
+    if (rc != TS_OK) return rc;
+    return settle_events(m, p, 0.0, err);
 }
 
 static ts_rc step_to(const ts_model *m, ts_data *d, double t, ts_err *err)
 {
-    (void)m;
+    const pm_model *pm = m->impl;
     pm_data *p = d->impl;
-    ts_rc rc = ts_ode_advance(p->ode, t, NULL, NULL, err);
-    if (rc == TS_OK) memcpy(p->y, ts_ode_y(p->ode), sizeof p->y);
-    return rc;
+    for (;;) {
+        double tr;
+        int root = 0;
+        ts_rc rc = ts_ode_advance(p->ode, t, &tr, pm->pt ? &root : NULL, err);
+        if (rc != TS_OK) return rc;
+        memcpy(p->y, ts_ode_y(p->ode), sizeof *p->y * (size_t)p->n);
+        if (!root) return TS_OK;
+        rc = settle_events(m, p, tr, err);
+        if (rc != TS_OK) return rc;
+        if (tr >= t) return TS_OK;
+    }
 }
 
 static void sample(const ts_model *m, const ts_data *d, double *out)
 {
-    const pm_data *p = d->impl;
-    double thrust;
+    const pm_model *pm = m->impl;
+    pm_data *p = d->impl;
+    double thrust, t_s;
+    derivs(m, &p->ps, d->t, p->y, p->ydot, &p->out, &thrust, &t_s);
     out[CH_X] = p->y[X];
     out[CH_SPEED] = p->y[V];
-    out[CH_ACCEL] = accel(&m->cfg, d->t, p->y[V], &thrust);
-    out[CH_SPROCKET_TORQUE] = ts_drive_torque(&m->cfg.drive, d->t);
+    out[CH_ACCEL] = p->ydot[V];
+    out[CH_SPROCKET_TORQUE] = t_s;
     out[CH_SPROCKET_SPEED] = p->y[V] / m->cfg.vehicle.sprocket_radius;
     out[CH_TRACTION] = thrust;
+    if (pm->pt) ts_powertrain_channel_values(&p->out, out + NCH);
 }
 
 static size_t state_size(const ts_model *m)
 {
-    (void)m;
-    return sizeof(double) * NSTATE;
+    return sizeof(double) * (size_t)m->nstate + sizeof(ts_powertrain_state);
 }
 
 static ts_rc state_save(const ts_model *m, const ts_data *d, void *buf, ts_err *err)
 {
-    (void)m;
     (void)err;
     const pm_data *p = d->impl;
-    memcpy(buf, p->y, sizeof p->y);
+    memcpy(buf, p->y, sizeof(double) * (size_t)m->nstate);
+    memcpy((char *)buf + sizeof(double) * (size_t)m->nstate, &p->ps, sizeof p->ps);
     return TS_OK;
 }
 
 static ts_rc state_restore(const ts_model *m, ts_data *d, const void *buf, ts_err *err)
 {
-    (void)m;
     pm_data *p = d->impl;
-    memcpy(p->y, buf, sizeof p->y);
+    memcpy(p->y, buf, sizeof(double) * (size_t)m->nstate);
+    memcpy(&p->ps, (const char *)buf + sizeof(double) * (size_t)m->nstate, sizeof p->ps);
     return ts_ode_init(p->ode, d->t, p->y, err);
+}
+
+/* First time the series col crosses level upwards (linear interpolation), NAN if never. */
+static double first_crossing(const double *rows, long nrows, int ncol, int col, double level)
+{
+    for (long i = 1; i < nrows; i++) {
+        double a = rows[(i - 1) * ncol + col], b = rows[i * ncol + col];
+        if (a < level && b >= level) {
+            double ta = rows[(i - 1) * ncol], tb = rows[i * ncol];
+            return ta + (tb - ta) * (level - a) / (b - a);
+        }
+    }
+    return NAN;
+}
+
+/* Value of col at time t (linear interpolation), NAN outside the run. */
+static double value_at(const double *rows, long nrows, int ncol, int col, double t)
+{
+    for (long i = 1; i < nrows; i++) {
+        double ta = rows[(i - 1) * ncol], tb = rows[i * ncol];
+        if (ta <= t && t <= tb) {
+            double a = rows[(i - 1) * ncol + col], b = rows[i * ncol + col];
+            return tb > ta ? a + (b - a) * (t - ta) / (tb - ta) : b;
+        }
+    }
+    return NAN;
+}
+
+static void put(ts_metric *o, const char *name, const char *unit, double v, const char *desc)
+{
+    snprintf(o->name, sizeof o->name, "%s", name);
+    snprintf(o->unit, sizeof o->unit, "%s", unit);
+    o->value = v;
+    snprintf(o->description, sizeof o->description, "%s", desc);
+}
+
+/* Table 2 figures from the series (predicted; see driveline.json for which
+ * inputs are calibrated). */
+static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
+{
+    int nc = m->nchannel, n = 0;
+    if (max < 4) return 0;
+    double t20 = first_crossing(rows, nrows, nc, CH_SPEED, 20 * KMH);
+    double t60 = first_crossing(rows, nrows, nc, CH_SPEED, 60 * KMH);
+    put(&out[n++], "speed_at_20s_kmh", "km/h", value_at(rows, nrows, nc, CH_SPEED, 20.0) * 3.6,
+        "vehicle speed 20 s after the start (Table 2 column 1)");
+    put(&out[n++], "t_0_60_kmh_s", "s", t60, "time from standstill to 60 km/h (Table 2 column 2)");
+    put(&out[n++], "t_20_60_kmh_s", "s", t60 - t20,
+        "time from 20 to 60 km/h (Table 2 column 3)");
+    put(&out[n++], "speed_at_end_kmh", "km/h", rows[(nrows - 1) * nc + CH_SPEED] * 3.6,
+        "vehicle speed at the end of the run");
+    int ig = ts_model_channel_index(m, "transmission.gear");
+    if (ig > 0) { /* start times of the first three shifts, from the fractional gear */
+        static const char *const names[] = {"shift_1_2_s", "shift_2_3_s", "shift_3_4_s"};
+        for (int k = 0; k < 3 && n < max; k++) {
+            double ts = first_crossing(rows, nrows, nc, ig, (k + 1) + 1e-6);
+            put(&out[n++], names[k], "s", ts, "time the upshift began (gear leaves its integer value)");
+        }
+    }
+    return n;
 }
 
 const ts_scenario_ops ts_scenario_pointmass = {
@@ -171,5 +352,6 @@ const ts_scenario_ops ts_scenario_pointmass = {
     .state_size = state_size,
     .state_save = state_save,
     .state_restore = state_restore,
+    .metrics = metrics,
     .geometry = NULL,
 };

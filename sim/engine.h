@@ -1,0 +1,149 @@
+/*
+ * engine.h — the virtual V-12 diesel (paper Section III.A-B.1, B.3; Figs. 15, 18)
+ * as a set of ODEs the CALLER integrates.
+ *
+ * Model/state split (as MuJoCo's mjModel/mjData): a ts_engine is built once
+ * from a ts_config (/engine section) and is then read-only and shareable; the
+ * engine's dynamic state is a plain double vector x[ts_engine_nstate(e)] owned
+ * by the caller, so the powertrain (and the coupled vehicle run) can put the
+ * engine's states into one ODE with the driveline and integrate them with its
+ * own integrator (CVODE or anything else). ts_engine_rhs has no side effects.
+ *
+ * Fidelities (/engine/fidelity), same interface and same x[0], x[1]:
+ *   crank_angle  twelve 0-D cylinders, valves, Watson burning, K-k heat
+ *                transfer, layered walls, two turbo banks with intercoolers and
+ *                filling-and-emptying manifolds, Millington-Hartles friction,
+ *                crank-angle-varying inertia (hundreds of states; stiff-ish:
+ *                ts_engine_advance integrates it with a fixed crank-angle step).
+ *   mean_value   cycle-averaged cylinders (tables from the crank-angle sweep)
+ *                with the intercoolers, manifolds and turbos kept (a dozen states).
+ *   map          full-load torque map from the crank-angle sweep + first-order
+ *                boost lag (3 states).
+ *
+ * Fuel actuator hook: inputs.fuel_per_cycle >= 0 is injected as given (the
+ * control layer owns the law); inputs.fuel_per_cycle < 0 means "use the default
+ * fuel law": the constant-phi actuator of Eqs. 13-14 (fuel_actuator.h) driven by
+ * inputs.rack and the engine's own intake air flow.
+ *
+ * Units: SI throughout (rad/s, N*m, Pa, K, kg/s); rpm only in Eq. 13/friction
+ * correlations inside. Ownership: ts_engine_make / ts_engine_free (NULL no-op).
+ */
+#ifndef TS_ENGINE_H
+#define TS_ENGINE_H
+
+#include <stddef.h>
+
+#include "config.h"
+#include "errors.h"
+
+typedef struct ts_engine ts_engine;
+
+/* Indices into x fixed for every fidelity. */
+#define TS_ENGINE_X_SPEED 0 /* crankshaft speed [rad/s] */
+#define TS_ENGINE_X_ANGLE 1 /* crank angle, cylinder 1 firing TDC = 0, grows [rad] */
+
+typedef struct ts_engine_inputs {
+    double rack;           /* driver/IVS signal in [0, 1] (default fuel law) */
+    double fuel_per_cycle; /* kg per cylinder per cycle; < 0: default law from rack */
+    double load_torque;    /* load on the flywheel, opposing rotation [N*m] */
+    double p_amb, T_amb;   /* ambient pressure [Pa] and temperature [K] */
+    int hold_speed;        /* dynamometer: crank speed held (its derivative = 0) */
+} ts_engine_inputs;
+
+typedef struct ts_engine_outputs {
+    double speed;          /* crankshaft speed [rad/s] */
+    double brake_torque;   /* indicated - friction: torque delivered to the load [N*m]
+                              (instantaneous for crank_angle; load in steady state) */
+    double indicated_torque; /* gas-pressure torque [N*m] */
+    double friction_torque;  /* Millington-Hartles friction torque [N*m] */
+    double boost;          /* intake manifold pressure, mean of the banks [Pa] */
+    double intake_temp;    /* intake manifold temperature, mean of the banks [K] */
+    double exhaust_temp;   /* exhaust manifold temperature, mean of the banks [K] */
+    double air_flow;       /* compressor air mass flow, both banks [kg/s] */
+    double fuel_flow;      /* fuel mass flow being injected, whole engine [kg/s] */
+    double fuel_per_cycle; /* fuel per cylinder per cycle actually commanded [kg] */
+    double phi;            /* fuel/air equivalence ratio delivered [1] */
+    double turbo_speed;    /* turbocharger rotor speed, mean of the banks [rad/s] */
+    /* crank-angle fidelity only (0 otherwise): cylinder 1 */
+    double cyl_pressure;   /* [Pa] */
+    double cyl_temp;       /* [K] */
+    double heat_release;   /* rate of fuel energy release, dQ/dt [W] */
+    double piston_surface_temp; /* gas-side piston surface temperature [K] */
+} ts_engine_outputs;
+
+/* Build from cfg->engine. NULL on failure (err names the offending field). */
+ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err);
+void ts_engine_free(ts_engine *e);
+
+int ts_engine_get_fidelity(const ts_engine *e); /* ts_engine_fidelity enum value */
+int ts_engine_nstate(const ts_engine *e);       /* length of x */
+
+/* Initial state at crank speed omega [rad/s] and ambient p, T: manifolds at
+ * ambient, turbos at /engine/turbo_idle_speed, walls at coolant temperature,
+ * cylinders filled from the intake at their valve phase. */
+void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double T_amb,
+                          double *x);
+
+/* Absolute tolerance scale of each state for a caller's integrator (n values). */
+void ts_engine_atol(const ts_engine *e, double atol, double *atol_v);
+
+/* xdot = f(t, x, inputs); out (may be NULL) receives the outputs at (t, x).
+ * Returns 0, or > 0 when x is outside the model's domain (e.g. a negative
+ * mass: a CVODE-style recoverable failure; retry with a smaller step). */
+int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
+                  double *xdot, ts_engine_outputs *out);
+
+/* Fixed-step explicit integration of x from t over dt (RK4 at /engine/ca_step
+ * crank angle, fewer for map/mean_value) for callers that do not integrate the
+ * engine themselves (engine_dyno, engine-map). work: ts_engine_work_size(e)
+ * doubles owned by the caller. Returns TS_OK or TS_ERR_DIVERGED. */
+size_t ts_engine_work_size(const ts_engine *e);
+ts_rc ts_engine_advance(const ts_engine *e, double *x, double t, double dt,
+                        const ts_engine_inputs *in, double *work, ts_err *err);
+
+/* Cumulative integrals carried in x (crank_angle and mean_value; zeros for map):
+ * energy and mass book-keeping for balance checks. Differences between two
+ * states give per-interval totals. */
+typedef struct ts_engine_ledger {
+    double fuel_energy;  /* fuel burned x LHV [J] */
+    double work;         /* indicated (p dV) work [J] */
+    double wall_heat;    /* heat to the walls [J] */
+    double enthalpy_in;  /* enthalpy into the cylinders through valves [J] */
+    double enthalpy_out; /* enthalpy out of the cylinders through valves [J] */
+    double mass_in;      /* mass into the cylinders [kg] */
+    double mass_out;     /* mass out of the cylinders [kg] */
+    double fuel_mass;    /* fuel burned [kg] */
+    double cyl_energy;   /* sum of cylinder internal energies now [J] */
+    double cyl_mass;     /* sum of cylinder masses now [kg] */
+} ts_engine_ledger;
+void ts_engine_ledger_get(const ts_engine *e, const double *x, ts_engine_ledger *l);
+
+/* Cycle-mean results of ts_engine_steady (one engine cycle, 4 pi of crank). */
+typedef struct ts_engine_cycle {
+    ts_engine_outputs mean; /* cycle-mean outputs (cylinder fields: cylinder 1 means) */
+    double peak_pressure;   /* cylinder 1 peak pressure [Pa] */
+    double bsfc;            /* fuel flow / brake power [kg/J] */
+    double eta_v;           /* trapped-air volumetric efficiency vs intake manifold [1] */
+    double eta_i;           /* gross indicated work / fuel energy [1] */
+    double q_wall;          /* wall heat / fuel energy [1] */
+    double energy_residual; /* (fuel - work - wall heat - net enthalpy out - dE)/fuel [1] */
+    double mass_residual;   /* (in + fuel - out - dm)/in over the cycle [1] */
+    int cycles;             /* cycles simulated to reach it */
+} ts_engine_cycle;
+
+/* Run one engine cycle (4 pi of crank) from x with the given inputs and return
+ * its means in cyc (may be NULL). speed_held: dynamometer. */
+ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in,
+                          double *work, ts_engine_cycle *cyc, ts_err *err);
+
+/* Steady state on the dynamometer: integrate with speed held at omega and the
+ * given inputs until the cycle-mean brake torque changes by less than tol
+ * (relative) between cycles, at most max_cycles cycles. While searching, the
+ * thermal capacities of deep metal, coolant and oil and the turbo inertia are
+ * shrunk (the steady state does not depend on them); the final cycle is run
+ * with the real model. x holds the start (e.g. a previous steady state) and
+ * receives the final state; cyc (may be NULL) the last cycle's means. */
+ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega, const ts_engine_inputs *in,
+                       int max_cycles, double tol, ts_engine_cycle *cyc, ts_err *err);
+
+#endif

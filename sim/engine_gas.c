@@ -1,0 +1,75 @@
+/*
+ * engine_gas.c — ideal-gas properties of the cylinder and manifold contents
+ * (Section III.B.1: "ideal-gas properties varying with temperature and
+ * composition"). Two species: air and stoichiometric burned gas (diesel
+ * products); a mixture is fixed by F, the burned-gas mass fraction.
+ * cp of each is a cubic in t = T/1000 K (engine.json: fitted to JANAF species
+ * data, 300-2500 K, within 1 %). Enthalpies are sensible, zero at 298.15 K;
+ * the chemical energy enters the cylinder as the fuel's LHV when it burns.
+ * Leaves out dissociation (small below ~2500 K at the lean mixtures here).
+ */
+#include <math.h>
+
+#include "engine_impl.h"
+
+static double cp1(const double *c, double T)
+{
+    double t = T / 1000.0;
+    return c[0] + t * (c[1] + t * (c[2] + t * c[3]));
+}
+
+/* integral of cp from EN_T0 to T [J/kg] */
+static double h1(const double *c, double T)
+{
+    double t = T / 1000.0, t0 = EN_T0 / 1000.0;
+    double a = 1000.0 * (c[0] * t + c[1] * t * t / 2 + c[2] * t * t * t / 3 + c[3] * t * t * t * t / 4);
+    double b = 1000.0 * (c[0] * t0 + c[1] * t0 * t0 / 2 + c[2] * t0 * t0 * t0 / 3 +
+                         c[3] * t0 * t0 * t0 * t0 / 4);
+    return a - b;
+}
+
+static double clampF(double F) { return F < 0 ? 0 : F > 1 ? 1 : F; }
+/* Polynomials are fitted to 300-2500 K; clamp the argument to a safe range. */
+static double clampT(double T) { return T < 150 ? 150 : T > 3500 ? 3500 : T; }
+
+double en_gas_r(const en_gas *g, double F)
+{
+    F = clampF(F);
+    return (1 - F) * g->r_a + F * g->r_b;
+}
+
+double en_gas_cp(const en_gas *g, double T, double F)
+{
+    F = clampF(F);
+    T = clampT(T);
+    return (1 - F) * cp1(g->cp_a, T) + F * cp1(g->cp_b, T);
+}
+
+double en_gas_h(const en_gas *g, double T, double F)
+{
+    F = clampF(F);
+    return (1 - F) * h1(g->cp_a, T) + F * h1(g->cp_b, T);
+}
+
+double en_gas_u(const en_gas *g, double T, double F) { return en_gas_h(g, T, F) - en_gas_r(g, F) * T; }
+
+double en_gas_T_from_h(const en_gas *g, double h, double F, double T)
+{
+    for (int i = 0; i < 8; i++) {
+        double dT = (h - en_gas_h(g, T, F)) / en_gas_cp(g, T, F);
+        T += dT;
+        if (fabs(dT) < 1e-6) break;
+    }
+    return T;
+}
+
+double en_gas_dTdt(const en_gas *g, double m, double T, double F, double dEdt, double dmdt,
+                   double dFdt)
+{
+    /* E = m u(T, F): dE = m cv dT + u dm + m (u_b - u_a) dF */
+    double Fc = clampF(F);
+    double cv = en_gas_cp(g, T, Fc) - en_gas_r(g, Fc);
+    double u = en_gas_u(g, T, Fc);
+    double dudF = (h1(g->cp_b, T) - g->r_b * T) - (h1(g->cp_a, T) - g->r_a * T);
+    return (dEdt - u * dmdt - m * dudF * dFdt) / (m * cv);
+}

@@ -1,0 +1,196 @@
+/*
+ * engine_impl.h — internals shared by the engine's source files (engine*.c).
+ * NOT public API: callers use engine.h. One concept per file:
+ *   engine.c            model construction, state layout, dispatch, fixed-step
+ *                       integration, cycle means and the steady-state search
+ *   engine_gas.c        ideal-gas properties vs temperature and composition
+ *   engine_cylinder.c   slider-crank kinematics, valve lift and areas
+ *   engine_manifold.c   quasi-steady compressible orifice flow, control volumes
+ *   engine_combustion.c ignition delay (Livengood-Wu) and Watson burning
+ *   engine_heat.c       K-k energy cascade, Nusselt convection, radiation
+ *   engine_wall.c       layered wall conduction (metal / zirconia)
+ *   engine_turbo.c      compressor and turbine maps, rotor, intercooler
+ *   engine_friction.c   Millington-Hartles friction, crank-angle-varying inertia
+ *   engine_crank.c      the crank-angle fidelity's right-hand side
+ *   engine_mean.c       the mean-value fidelity's right-hand side
+ *   engine_map.c        the map fidelity's right-hand side
+ */
+#ifndef TS_ENGINE_IMPL_H
+#define TS_ENGINE_IMPL_H
+
+#include "engine.h"
+#include "fuel_actuator.h"
+
+#define EN_PI 3.14159265358979323846
+#define EN_NCYL 12
+#define EN_NBANK 2
+#define EN_CYCLE (4.0 * EN_PI) /* crank angle of one four-stroke cycle [rad] */
+#define EN_RPM (30.0 / EN_PI)  /* rpm per rad/s */
+#define EN_T0 298.15           /* reference temperature of sensible enthalpy [K] */
+#define EN_SIGMA 5.670374e-8   /* Stefan-Boltzmann [W/m^2/K^4] */
+
+/* ---- gas (engine_gas.c) --------------------------------------------------- */
+typedef struct en_gas {
+    double cp_a[4], cp_b[4]; /* cp polynomials in t = T/1000 [J/kg/K] */
+    double r_a, r_b;         /* gas constants [J/kg/K] */
+} en_gas;
+/* F: burned-gas mass fraction in [0, 1]. h is sensible enthalpy from EN_T0;
+ * u = h - R T (consistent with h = u + p v). */
+double en_gas_r(const en_gas *g, double F);
+double en_gas_cp(const en_gas *g, double T, double F);
+double en_gas_h(const en_gas *g, double T, double F);
+double en_gas_u(const en_gas *g, double T, double F);
+/* Temperature with enthalpy h at composition F (Newton). */
+double en_gas_T_from_h(const en_gas *g, double h, double F, double T_guess);
+/* dT/dt of a control volume (m, T, F) from its energy rate dE/dt = d(m u)/dt,
+ * mass rate and composition rate. */
+double en_gas_dTdt(const en_gas *g, double m, double T, double F, double dEdt, double dmdt,
+                   double dFdt);
+
+/* ---- orifice flow (engine_manifold.c) ------------------------------------- */
+/* Mass flow [kg/s] from side 1 to side 2 (negative: reverse) through effective
+ * area cda, quasi-steady compressible (choked above the critical ratio),
+ * linearised within 1 % of equal pressures. gamma from the upstream side. */
+double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2, double T2,
+                  double R2, double g2);
+
+/* ---- cylinder kinematics and valves (engine_cylinder.c) ------------------- */
+typedef struct en_geom {
+    double bore, stroke, crank, rod; /* [m]; crank = stroke / 2 */
+    double area;                     /* piston (bore) area [m^2] */
+    double vd, vc;                   /* displaced and clearance volume per cylinder [m^3] */
+} en_geom;
+typedef struct en_kin {
+    double V, dVdth;   /* volume [m^3] and dV/dtheta [m^3/rad] */
+    double xp, dxdth, d2xdth2; /* piston distance from TDC [m] and derivatives */
+} en_kin;
+void en_kinematics(const en_geom *g, double th, en_kin *k);
+/* Lift [m] of a valve open on [open, close] (rad CA, close may exceed 4 pi),
+ * smooth sine-squared-like profile (1 - cos) / 2. th in [0, 4 pi). */
+double en_valve_lift(double th, double open, double close, double lmax);
+/* Effective flow area = cd x min(curtain, 0.9 x seat area) x n valves. */
+double en_valve_area(double lift, double diameter, int n, double cd);
+
+/* ---- combustion (engine_combustion.c) ------------------------------------- */
+typedef struct en_watson {
+    double a, b, c, c1k, c1e, c2, c3k, c3e, c4k;
+    double duration; /* [rad] */
+} en_watson;
+/* Ignition delay [s] at p [Pa], T [K] (Arrhenius). */
+double en_ignition_delay(double a_ms, double n, double ta, double p, double T);
+/* Watson burned fraction X and dX/dtau at tau in [0, 1]; tau_id [ms], N [rpm],
+ * phi overall equivalence ratio. */
+void en_watson_burn(const en_watson *w, double tau, double tau_id_ms, double n_rpm, double phi,
+                    double *X, double *dXdtau);
+
+/* ---- heat transfer (engine_heat.c) ---------------------------------------- */
+typedef struct en_cascade_in {
+    double m, V, rho, T, p, bore;
+    double mdot_in, v_in;  /* inflow [kg/s] and its jet velocity [m/s] */
+    double mdot_out;       /* outflow [kg/s] */
+    double drho_rho;       /* (1/rho) drho/dt [1/s] */
+    double K, k;           /* mean-flow and turbulent kinetic energy [J] */
+} en_cascade_in;
+/* Energy cascade: dK/dt, dk/dt; returns the length scale L_I and u' through
+ * pointers. */
+void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, double *dk,
+                double *L, double *u_turb, double *U_mean);
+/* Convective coefficient [W/m^2/K]: Nu = a Re^b on length L with velocity u. */
+double en_htc(double a, double b, double rho, double u, double L, double T, double cp);
+
+/* ---- walls (engine_wall.c) ------------------------------------------------ */
+#define EN_WALL_NODES 11 /* vertex-centred nodes through one wall, node 0 on the gas side */
+enum { EN_PISTON, EN_HEAD, EN_LINER, EN_NSURF };
+typedef struct en_wall {
+    double cap[EN_WALL_NODES];  /* heat capacity per area [J/m^2/K] */
+    double cond[EN_WALL_NODES]; /* conductance node i -> i+1 per area [W/m^2/K]; last: to sink */
+    double depth[EN_WALL_NODES];/* node depth below the gas-side surface [m] */
+    int coated_nodes;           /* nodes within the coating (0 for all-metal) */
+} en_wall;
+void en_wall_build(en_wall *w, double coating, double k_coat, double rc_coat, double metal,
+                   double k_metal, double rc_metal, double h_back);
+/* dT/dt of the nodes given gas-side heat flux q [W/m^2] and sink temperature. */
+void en_wall_rates(const en_wall *w, const double *T, double q, double T_sink, double *dT,
+                   double *q_back);
+
+/* ---- turbocharger and intercooler (engine_turbo.c) ------------------------ */
+typedef struct en_turbo {
+    double d_c, d_t;            /* scaled wheel diameters [m] */
+    double psi0, phi_ch, eta_max, phi_opt, phi_w, eta_min;
+    double a_t, eta_t, bsr_opt; /* turbine effective area [m^2], efficiency, u/c_s */
+    double inertia, mech_eff;
+} en_turbo;
+typedef struct en_comp_out { double mdot, T_out, power, eta; } en_comp_out;
+typedef struct en_turb_out { double mdot, power, eta; } en_turb_out;
+/* Compressor from p01, T01 to p02 at rotor speed w [rad/s]. */
+void en_compressor(const en_turbo *t, double w, double p01, double T01, double p02,
+                   en_comp_out *o);
+/* Turbine from p03, T03 (gas R, cp) to p4 at rotor speed w. */
+void en_turbine(const en_turbo *t, double w, double p03, double T03, double R, double cp,
+                double p4, en_turb_out *o);
+/* Intercooler heat removal [W]: effectiveness form, eps = 1 - exp(-UA/(m cp)). */
+double en_intercooler_heat(double ua, double mdot, double cp, double T_in, double T_wall);
+
+/* ---- friction and inertia (engine_friction.c) ----------------------------- */
+/* Millington-Hartles friction mean effective pressure [Pa] at omega [rad/s]. */
+double en_fmep(const ts_engine_config *c, double omega);
+
+/* ---- the model ------------------------------------------------------------ */
+/* Offsets of the state vector. Per cylinder (EN_CYL_NX): */
+enum { CX_M, CX_T, CX_MB, CX_IGN, CX_BURN, CX_KMEAN, CX_KTURB, EN_CYL_NX };
+/* Per bank (EN_BANK_NX): intercooler (m, T), intake (m, T, F), exhaust (m, T, F), rotor. */
+enum { BX_ICM, BX_ICT, BX_IMM, BX_IMT, BX_IMF, BX_EMM, BX_EMT, BX_EMF, BX_TC, EN_BANK_NX };
+/* Ledger (cumulative integrals), order of ts_engine_ledger's first fields. */
+enum { LX_FUEL_E, LX_WORK, LX_WALL, LX_HIN, LX_HOUT, LX_MIN, LX_MOUT, LX_MFUEL, EN_LEDGER_NX };
+
+struct ts_engine {
+    ts_engine_config c;   /* copy of the section */
+    int fidelity, variant;
+    int nx;               /* length of the state vector */
+    int off_bank, off_ledger, off_cyl, off_wall, off_coolant, off_lag; /* -1 when absent */
+    en_gas gas;
+    en_geom geom;
+    en_watson watson;
+    en_turbo turbo;
+    ts_fuel_law fuel;
+    en_wall wall[EN_NSURF];
+    double surf_area[EN_NSURF];  /* piston and head areas; liner area at full stroke [m^2] */
+    double cyl_offset[EN_NCYL];  /* firing offset of each cylinder [rad] */
+    int cyl_bank[EN_NCYL];
+    double speed_step;           /* map/mean_value fixed step [s] */
+    double turbo_inertia_scale;  /* 1, shrunk by ts_engine_steady */
+    double thermal_scale;        /* 1, shrunk by ts_engine_steady (deep metal, coolant, oil) */
+    double map_tq[TS_ENGINE_MAP_MAX], map_boost[TS_ENGINE_MAP_MAX], map_fuel[TS_ENGINE_MAP_MAX];
+    double map_eta_v[TS_ENGINE_MAP_MAX], map_eta_i[TS_ENGINE_MAP_MAX];
+    double map_q_wall[TS_ENGINE_MAP_MAX];
+    int map_n;
+};
+
+/* Piecewise-linear interpolation in the map tables, clamped at the ends. */
+double en_map_interp(const ts_engine *e, const double *y, double omega);
+/* Common outputs of the turbo banks (compressor flows, p, T) used by crank and mean. */
+double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double air_flow,
+                       double omega);
+
+int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
+                 double *xdot, ts_engine_outputs *out);
+void en_crank_init(const ts_engine *e, double omega, double p, double T, double *x);
+int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
+                double *xdot, ts_engine_outputs *out);
+int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
+               double *xdot, ts_engine_outputs *out);
+/* Bank states shared by crank and mean: derivative of the manifolds and rotor
+ * given the cylinders' flows into/out of the bank. */
+typedef struct en_bank_flows {
+    double m_in, h_in, mf_in; /* cylinders <- intake manifold: mass [kg/s], enthalpy [W], burned [kg/s] */
+    double m_ex, h_ex, mf_ex; /* cylinders -> exhaust manifold */
+} en_bank_flows;
+typedef struct en_bank_out {
+    double p_im, T_im, F_im, p_em, T_em, F_em, air_flow, turbo_speed;
+} en_bank_out;
+/* Read the bank's manifold states (p, T, F) without derivatives. */
+void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o);
+void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, double p_amb,
+                 double T_amb, double *xbdot, en_bank_out *o);
+
+#endif

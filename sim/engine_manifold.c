@@ -1,0 +1,116 @@
+/*
+ * engine_manifold.c — filling-and-emptying control volumes (paper Section
+ * III.B.1, Fig. 15): per bank, the compressor outlet + intercooler volume, the
+ * intake manifold and the exhaust manifold, each a well-mixed ideal-gas volume
+ * with states (m, T, F); and the quasi-steady compressible orifice equation
+ * used for every restriction (valves, intercooler outlet).
+ *
+ * Per bank: ambient -> compressor -> [intercooler volume, heat to its wall]
+ * -> orifice -> [intake manifold] -> intake valves -> cylinders -> exhaust
+ * valves -> [exhaust manifold, small heat loss] -> turbine -> ambient.
+ * Leaves out pipe wave dynamics (0-D volumes) and the air filter / exhaust
+ * back pressure (turbine exhausts to ambient).
+ */
+#include <math.h>
+
+#include "engine_impl.h"
+
+#define LIN_RATIO 0.99 /* below 1 % pressure difference the flow is linearised */
+
+/* Flow function Psi(pr) with pr = p_down / p_up <= 1. */
+static double psi(double pr, double g)
+{
+    double crit = pow(2.0 / (g + 1.0), g / (g - 1.0));
+    if (pr < crit) pr = crit;
+    double v = 2.0 * g / (g - 1.0) * (pow(pr, 2.0 / g) - pow(pr, (g + 1.0) / g));
+    return sqrt(v > 0 ? v : 0);
+}
+
+static double flow1(double cda, double pu, double Tu, double Ru, double gu, double pd)
+{
+    double pr = pd / pu;
+    double base = cda * pu / sqrt(Ru * Tu);
+    if (pr > LIN_RATIO) /* linear through zero: no infinite slope at equal pressures */
+        return base * psi(LIN_RATIO, gu) * (1.0 - pr) / (1.0 - LIN_RATIO);
+    return base * psi(pr, gu);
+}
+
+double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2, double T2,
+                  double R2, double g2)
+{
+    if (cda <= 0) return 0.0;
+    if (p1 >= p2) return flow1(cda, p1, T1, R1, g1, p2);
+    return -flow1(cda, p2, T2, R2, g2, p1);
+}
+
+static double gamma_of(const en_gas *g, double T, double F)
+{
+    double cp = en_gas_cp(g, T, F);
+    return cp / (cp - en_gas_r(g, F));
+}
+
+void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o)
+{
+    const en_gas *g = &e->gas;
+    o->T_im = xb[BX_IMT];
+    o->F_im = fmin(fmax(xb[BX_IMF], 0), 1);
+    o->p_im = xb[BX_IMM] * en_gas_r(g, o->F_im) * o->T_im / e->c.intake_volume;
+    o->T_em = xb[BX_EMT];
+    o->F_em = fmin(fmax(xb[BX_EMF], 0), 1);
+    o->p_em = xb[BX_EMM] * en_gas_r(g, o->F_em) * o->T_em / e->c.exhaust_volume;
+    o->turbo_speed = xb[BX_TC];
+    o->air_flow = 0;
+}
+
+void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, double p_amb,
+                 double T_amb, double *xd, en_bank_out *o)
+{
+    const en_gas *g = &e->gas;
+    const ts_engine_config *c = &e->c;
+    en_bank_read(e, xb, o);
+    double m_ic = xb[BX_ICM], T_ic = xb[BX_ICT];
+    double p_ic = m_ic * g->r_a * T_ic / c->ic_volume;
+    /* compressor: ambient -> intercooler volume */
+    en_comp_out co;
+    en_compressor(&e->turbo, xb[BX_TC], p_amb, T_amb, p_ic, &co);
+    /* intercooler outlet orifice -> intake manifold (reverse flow carries F_im) */
+    double g_ic = gamma_of(g, T_ic, 0), g_im = gamma_of(g, o->T_im, o->F_im);
+    double m_ici = en_orifice(c->ic_cda, p_ic, T_ic, g->r_a, g_ic, o->p_im, o->T_im,
+                              en_gas_r(g, o->F_im), g_im);
+    double h_ici = m_ici >= 0 ? m_ici * en_gas_h(g, T_ic, 0) : m_ici * en_gas_h(g, o->T_im, o->F_im);
+    double F_ici = m_ici >= 0 ? 0.0 : m_ici * o->F_im;
+    /* intercooler volume: heat to the wall from the compressed stream */
+    double cp_c = en_gas_cp(g, co.T_out, 0);
+    double q_ic = en_intercooler_heat(c->ic_ua, co.mdot, cp_c, co.T_out, c->ic_wall_temp);
+    double h_c = co.mdot >= 0 ? co.mdot * en_gas_h(g, co.T_out, 0) : co.mdot * en_gas_h(g, T_ic, 0);
+    double dm_ic = co.mdot - m_ici;
+    xd[BX_ICM] = dm_ic;
+    xd[BX_ICT] = en_gas_dTdt(g, m_ic, T_ic, 0, h_c - h_ici - q_ic, dm_ic, 0);
+    /* intake manifold */
+    double m_im = xb[BX_IMM];
+    double dm_im = m_ici - f->m_in;
+    double dmF_im = F_ici - f->mf_in;
+    double dF_im = (dmF_im - o->F_im * dm_im) / m_im;
+    xd[BX_IMM] = dm_im;
+    xd[BX_IMF] = dF_im;
+    xd[BX_IMT] = en_gas_dTdt(g, m_im, o->T_im, o->F_im, h_ici - f->h_in, dm_im, dF_im);
+    /* exhaust manifold -> turbine -> ambient */
+    double R_em = en_gas_r(g, o->F_em), cp_em = en_gas_cp(g, o->T_em, o->F_em);
+    en_turb_out to;
+    en_turbine(&e->turbo, xb[BX_TC], o->p_em, o->T_em, R_em, cp_em, p_amb, &to);
+    double m_em = xb[BX_EMM];
+    double dm_em = f->m_ex - to.mdot;
+    double dmF_em = f->mf_ex - to.mdot * o->F_em;
+    double dF_em = (dmF_em - o->F_em * dm_em) / m_em;
+    double q_em = c->exhaust_ua * (o->T_em - T_amb);
+    double h_t = to.mdot * en_gas_h(g, o->T_em, o->F_em);
+    xd[BX_EMM] = dm_em;
+    xd[BX_EMF] = dF_em;
+    xd[BX_EMT] = en_gas_dTdt(g, m_em, o->T_em, o->F_em, f->h_ex - h_t - q_em, dm_em, dF_em);
+    /* rotor: J dw/dt = (eta_m P_t - P_c) / w (Section III.B.1) */
+    double w = xb[BX_TC];
+    double J = e->turbo.inertia * e->turbo_inertia_scale;
+    xd[BX_TC] = (e->turbo.mech_eff * to.power - co.power) / (J * fmax(w, 200.0));
+    if (w <= 0 && xd[BX_TC] < 0) xd[BX_TC] = 0;
+    o->air_flow = co.mdot;
+}

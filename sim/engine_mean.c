@@ -1,0 +1,94 @@
+/*
+ * engine_mean.c — the mean-value fidelity (model.md "mean-value engine"):
+ * cycle-averaged cylinders between the SAME intercoolers, manifolds and
+ * turbochargers as the crank-angle model (engine_manifold.c, engine_turbo.c).
+ *
+ * Per bank, from the crank-angle model's own full-load sweep (tables
+ * /engine/map_eta_v, map_eta_i, map_q_wall of the variant, vs speed):
+ *   air into the cylinders   mdot = eta_v rho_im V_d,bank w / (4 pi)
+ *   fuel                      Eq. 14 on the compressor air flow (or commanded)
+ *   indicated torque          eta_i mdot_f LHV / w
+ *   exhaust enthalpy          mdot h_im + mdot_f LHV (1 - eta_i - q_wall)
+ * exhaust temperature from that enthalpy at the products' composition. Part
+ * load uses the full-load efficiencies (a known limitation: eta_i and q_wall
+ * depend weakly on load at fixed speed). No walls, no crank-angle variation:
+ * crank speed follows J dw/dt = T_brake - T_load with the mean inertia.
+ */
+#include <math.h>
+
+#include "engine_impl.h"
+
+int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
+                double *xdot, ts_engine_outputs *out)
+{
+    (void)t;
+    const ts_engine_config *c = &e->c;
+    const en_gas *g = &e->gas;
+    double w = x[TS_ENGINE_X_SPEED];
+    double wp = fmax(w, 0.0);
+    en_bank_out bo[EN_NBANK];
+    double air = 0;
+    for (int b = 0; b < EN_NBANK; b++) {
+        const double *xb = x + e->off_bank + b * EN_BANK_NX;
+        /* compressor flow is needed for Eq. 14 before the bank derivatives */
+        double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
+        en_comp_out co;
+        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &co);
+        air += co.mdot;
+        en_bank_read(e, xb, &bo[b]);
+    }
+    double mf_cyc = en_fuel_command(e, in, air, wp);
+    double eta_v = en_map_interp(e, e->map_eta_v, wp);
+    double eta_i = en_map_interp(e, e->map_eta_i, wp);
+    double q_w = en_map_interp(e, e->map_q_wall, wp);
+    double t_ind = 0, fuel_rate = 0, wall = 0, hin = 0, hout = 0, min = 0, mout = 0;
+    double *xl = xdot + e->off_ledger;
+    for (int b = 0; b < EN_NBANK; b++) {
+        const double *xb = x + e->off_bank + b * EN_BANK_NX;
+        en_bank_out *o = &bo[b];
+        double rho = o->p_im / (en_gas_r(g, o->F_im) * o->T_im);
+        double m_cyl = eta_v * rho * e->geom.vd * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
+        double m_f = mf_cyc * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
+        double q_fuel = m_f * c->lhv;
+        double h_in = m_cyl * en_gas_h(g, o->T_im, o->F_im);
+        double h_out = h_in + q_fuel * (1.0 - eta_i - q_w);
+        double m_out = m_cyl + m_f;
+        double F_out = m_out > 0 ? fmin((m_cyl * o->F_im + m_f * (1 + c->afr_stoich)) / m_out, 1.0) : o->F_em;
+        en_bank_flows f = {m_cyl, h_in, m_cyl * o->F_im, m_out, h_out, m_out * F_out};
+        en_bank_rhs(e, xb, &f, in->p_amb, in->T_amb, xdot + e->off_bank + b * EN_BANK_NX, o);
+        t_ind += wp > 1 ? eta_i * q_fuel / wp : 0.0;
+        fuel_rate += m_f;
+        wall += q_fuel * q_w;
+        hin += h_in;
+        hout += h_out;
+        min += m_cyl;
+        mout += m_out;
+    }
+    double t_fric = en_fmep(c, w) * e->geom.vd * EN_NCYL / EN_CYCLE * tanh(w / 5.0);
+    double t_brake = t_ind - t_fric;
+    xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) / c->inertia;
+    xdot[TS_ENGINE_X_ANGLE] = w;
+    xl[LX_FUEL_E] = fuel_rate * c->lhv;
+    xl[LX_WORK] = t_ind * wp;
+    xl[LX_WALL] = wall;
+    xl[LX_HIN] = hin;
+    xl[LX_HOUT] = hout;
+    xl[LX_MIN] = min;
+    xl[LX_MOUT] = mout;
+    xl[LX_MFUEL] = fuel_rate;
+    if (out) {
+        out->speed = w;
+        out->brake_torque = t_brake;
+        out->indicated_torque = t_ind;
+        out->friction_torque = t_fric;
+        out->boost = 0.5 * (bo[0].p_im + bo[1].p_im);
+        out->intake_temp = 0.5 * (bo[0].T_im + bo[1].T_im);
+        out->exhaust_temp = 0.5 * (bo[0].T_em + bo[1].T_em);
+        out->air_flow = bo[0].air_flow + bo[1].air_flow;
+        out->fuel_flow = fuel_rate;
+        out->fuel_per_cycle = mf_cyc;
+        out->phi = min > 0 ? fuel_rate * c->afr_stoich / min : 0.0;
+        out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
+    }
+    return 0;
+}

@@ -1,0 +1,84 @@
+/*
+ * engine_turbo.c — turbocharger of one bank (paper Section III.B.1): compressor
+ * and turbine from maps, and the intercooler heat removal.
+ *
+ * The paper scales DDC Series 60 truck maps to +60 % mass flow; no public DDC
+ * map exists, so the reference map is SYNTHESISED from standard
+ * non-dimensional shapes (parameters.md 3.6, Watson & Janota 1982):
+ *
+ *  Compressor, tip speed U = w D/2, flow coefficient phi = mdot/(rho01 U D^2),
+ *  isentropic head coefficient psi = dh_is / U^2, dh_is = cp T01 (PR^k - 1):
+ *     speed lines   psi = psi0 (1 - (phi/phi_choke)^2)
+ *     efficiency    eta = eta_max (1 - ((phi - phi_opt)/phi_width)^2) >= eta_min
+ *  Inverted for the flow at given PR and speed:
+ *     mdot = rho01 D^2 phi_choke sqrt(U^2 - dh_is/psi0)   (0 past the surge/zero-flow
+ *  line); this stays finite as U -> 0 (a stopped wheel passes flow when PR < 1).
+ *  Power P_c = mdot dh_is / eta (PR > 1); T02 = T01 + dh_is/(eta cp).
+ *
+ *  Turbine: nozzle equation mdot = A_eff p03 Psi(p4/p03) / sqrt(R T03) and
+ *     eta_t = eta_max [2 (bsr/bsr_opt) - (bsr/bsr_opt)^2], bsr = U_t / c_s,
+ *     c_s = sqrt(2 dh_is,t);  P_t = mdot eta_t dh_is,t.
+ *
+ *  Scaling (engine.c): D x sqrt(s), A_eff x s, J x s^2.5 for s = 1.6, so flow
+ *  x 1.6 at equal PR and efficiency and speed x 0.79 (paper: "lower shaft
+ *  speeds and higher polar moment of inertia").
+ * Leaves out: surge dynamics (no Greitzer model), variable geometry, wastegate.
+ */
+#include <math.h>
+
+#include "engine_impl.h"
+
+#define CP_AIR_TURBO 1005.0 /* cp of air in the compressor [J/kg/K] */
+#define GAMMA_AIR 1.4
+
+void en_compressor(const en_turbo *t, double w, double p01, double T01, double p02,
+                   en_comp_out *o)
+{
+    double k = (GAMMA_AIR - 1.0) / GAMMA_AIR;
+    double pr = p02 / p01;
+    double dh = CP_AIR_TURBO * T01 * (pow(pr, k) - 1.0);
+    double U = fmax(w, 0.0) * t->d_c / 2.0;
+    double rho = p01 / (287.0 * T01);
+    double arg = U * U - dh / t->psi0;
+    double mdot = arg > 0 ? rho * t->d_c * t->d_c * t->phi_ch * sqrt(arg) : 0.0;
+    double phi = U > 1.0 ? mdot / (rho * U * t->d_c * t->d_c) : t->phi_opt;
+    double x = (phi - t->phi_opt) / t->phi_w;
+    double eta = t->eta_max * (1.0 - x * x);
+    if (eta < t->eta_min) eta = t->eta_min;
+    o->mdot = mdot;
+    o->eta = eta;
+    if (dh > 0) {
+        o->T_out = T01 + dh / (eta * CP_AIR_TURBO);
+        o->power = mdot * dh / eta;
+    } else { /* throttling through the wheel: no work, isenthalpic */
+        o->T_out = T01;
+        o->power = 0.0;
+    }
+}
+
+void en_turbine(const en_turbo *t, double w, double p03, double T03, double R, double cp,
+                double p4, en_turb_out *o)
+{
+    double g = cp / (cp - R);
+    double pr = p4 / p03; /* <= 1 for forward flow */
+    o->mdot = en_orifice(t->a_t, p03, T03, R, g, p4, T03, R, g);
+    if (pr >= 1.0 || o->mdot <= 0) {
+        o->power = 0.0;
+        o->eta = 0.0;
+        return;
+    }
+    double dh = cp * T03 * (1.0 - pow(pr, (g - 1.0) / g));
+    double cs = sqrt(2.0 * dh);
+    double bsr = fmax(w, 0.0) * t->d_t / 2.0 / fmax(cs, 1e-6) / t->bsr_opt;
+    double eta = t->eta_t * (2.0 * bsr - bsr * bsr);
+    if (eta < 0) eta = 0;
+    o->eta = eta;
+    o->power = o->mdot * eta * dh;
+}
+
+double en_intercooler_heat(double ua, double mdot, double cp, double T_in, double T_wall)
+{
+    if (mdot <= 1e-9) return 0.0;
+    double eps = 1.0 - exp(-ua / (mdot * cp));
+    return eps * mdot * cp * (T_in - T_wall);
+}

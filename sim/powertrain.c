@@ -1,0 +1,350 @@
+/*
+ * powertrain.c — engine + torque converter + transmission + final drive
+ * (powertrain.h), paper Section III.B.2 and Fig. 17:
+ *   crankshaft + pump:   (J_e + J_p) dw_e/dt = T_brake(w_e, rack, ...) - T_pump(w_e, w_t)
+ *   turbine + input:     J_t dw_t/dt = T_turbine(w_e, w_t) - T_clutches(t, w_t, w_out)
+ *   output:              w_out = i_f w_sprocket;  T_sprocket = 1/2 i_f eta_f^(+-1) T_out
+ * "Pump speed is obtained as the solution of the engine dynamics equation,
+ * while the transmission speed depends directly on the solution of vehicle
+ * dynamics" [P III.B.2]: here the transmission output speed follows the
+ * sprocket (an input), and the turbine is its own state coupled through the
+ * range clutches (transmission.h), so the torque handover of a shift is
+ * resolved in time.
+ * Leaves out: shaft compliance and lash, converter lock-up, reverse gears.
+ */
+#include "powertrain.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "final_drive.h"
+#include "solver.h"
+#include "torque_converter.h"
+
+struct ts_powertrain {
+    ts_engine_port engine;
+    ts_torque_converter tc;
+    ts_transmission tr;
+    ts_final_drive fd;
+    double pump_inertia, turbine_inertia;
+    int nstate;
+};
+
+/* The engine module's port (engine.h); TS_ERR_UNSUPPORTED until it is built in. */
+static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err)
+{
+    (void)cfg;
+    (void)port;
+    return ts_err_set(err, TS_ERR_UNSUPPORTED, "/engine/fidelity",
+                      "/engine/fidelity: no engine model is built into this library yet");
+}
+
+ts_powertrain *ts_powertrain_make_port(const ts_config *cfg, const ts_engine_port *port,
+                                       ts_err *err)
+{
+    ts_powertrain *pt = calloc(1, sizeof *pt);
+    if (!pt) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        if (port->free) port->free(port->ctx);
+        return NULL;
+    }
+    pt->engine = *port;
+    const ts_driveline_config *dc = &cfg->driveline;
+    if (ts_torque_converter_init(&pt->tc, dc, err) != TS_OK ||
+        ts_transmission_init(&pt->tr, dc, err) != TS_OK ||
+        ts_final_drive_init(&pt->fd, dc, &cfg->vehicle, err) != TS_OK) {
+        ts_powertrain_free(pt);
+        return NULL;
+    }
+    if (port->nstate < 1 || port->speed_index < 0 || port->speed_index >= port->nstate ||
+        !(port->inertia > 0) || !port->reset || !port->rhs) {
+        ts_err_set(err, TS_ERR_INTERNAL, NULL, "engine port incomplete");
+        ts_powertrain_free(pt);
+        return NULL;
+    }
+    pt->pump_inertia = dc->pump_inertia;
+    pt->turbine_inertia = dc->turbine_inertia;
+    pt->nstate = port->nstate + 1;
+    return pt;
+}
+
+ts_powertrain *ts_powertrain_make(const ts_config *cfg, ts_err *err)
+{
+    ts_engine_port port;
+    memset(&port, 0, sizeof port);
+    if (bind_engine(cfg, &port, err) != TS_OK) return NULL;
+    return ts_powertrain_make_port(cfg, &port, err);
+}
+
+void ts_powertrain_free(ts_powertrain *pt)
+{
+    if (!pt) return;
+    if (pt->engine.free) pt->engine.free(pt->engine.ctx);
+    free(pt);
+}
+
+int ts_powertrain_nstate(const ts_powertrain *pt) { return pt->nstate; }
+int ts_powertrain_nroots(const ts_powertrain *pt) { (void)pt; return TS_TRANSMISSION_NROOTS; }
+int ts_powertrain_engine_speed_index(const ts_powertrain *pt) { return pt->engine.speed_index; }
+double ts_powertrain_output_inertia(const ts_powertrain *pt) { return pt->fd.output_inertia; }
+double ts_powertrain_sprocket_radius(const ts_powertrain *pt) { return pt->fd.sprocket_radius; }
+
+void ts_powertrain_scale(const ts_powertrain *pt, double *scale)
+{
+    int ne = pt->engine.nstate;
+    if (pt->engine.scale) pt->engine.scale(pt->engine.ctx, scale);
+    else
+        for (int i = 0; i < ne; i++) scale[i] = 1.0;
+    scale[ne] = 100.0; /* turbine speed, rad/s */
+}
+
+ts_rc ts_powertrain_reset(const ts_powertrain *pt, ts_powertrain_state *ps, double *y,
+                          double w_sprocket, ts_err *err)
+{
+    ts_rc rc = pt->engine.reset(pt->engine.ctx, y, err);
+    if (rc != TS_OK) return rc;
+    ts_transmission_reset(&pt->tr, &ps->shift, 1);
+    y[pt->engine.nstate] = pt->tr.ratio[0] * ts_final_drive_output_speed(&pt->fd, w_sprocket);
+    return TS_OK;
+}
+
+int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
+                      const double *y, double w_sprocket, double rack, double *ydot,
+                      ts_powertrain_out *out)
+{
+    const ts_engine_port *e = &pt->engine;
+    int ne = e->nstate;
+    double w_e = y[e->speed_index], w_t = y[ne];
+    double w_out = ts_final_drive_output_speed(&pt->fd, w_sprocket);
+    ts_tc_point tc;
+    ts_torque_converter_eval(&pt->tc, w_e, w_t, &tc);
+    ts_engine_obs obs;
+    int rc = e->rhs(e->ctx, t, y, rack, tc.pump_torque, ydot, &obs);
+    if (rc != 0) return rc;
+    /* the pump turns with the crankshaft: same torque imbalance, larger inertia */
+    ydot[e->speed_index] *= e->inertia / (e->inertia + pt->pump_inertia);
+    ts_tr_point tp;
+    ts_transmission_eval(&pt->tr, &ps->shift, t, w_t, w_out, &tp);
+    ydot[ne] = (tc.turbine_torque - tp.input_torque) / pt->turbine_inertia;
+    if (out) {
+        out->sprocket_torque = ts_final_drive_sprocket_torque(&pt->fd, tp.output_torque);
+        out->sprocket_speed = w_sprocket;
+        out->rack = rack;
+        out->engine_speed = w_e;
+        out->engine_torque = obs.brake_torque;
+        out->engine_power = obs.brake_torque * w_e;
+        out->boost = obs.boost;
+        out->exhaust_temp = obs.exhaust_temp;
+        out->turbo_speed = obs.turbo_speed;
+        out->piston_temp = obs.piston_temp;
+        out->fuel_flow = obs.fuel_flow;
+        out->pump_torque = tc.pump_torque;
+        out->turbine_torque = tc.turbine_torque;
+        out->turbine_speed = w_t;
+        out->speed_ratio = w_e > 0 ? w_t / w_e : 0.0;
+        out->torque_ratio = tc.torque_ratio;
+        out->tc_efficiency = tc.efficiency;
+        out->gear = tp.gear;
+        out->clutch_offgoing = tp.offgoing_torque;
+        out->clutch_oncoming = tp.oncoming_torque;
+        out->out_speed = w_out;
+        out->out_torque = tp.output_torque;
+    }
+    return 0;
+}
+
+void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
+                         const double *y, double *g)
+{
+    ts_transmission_roots(&pt->tr, &ps->shift, t, y[pt->engine.speed_index], g);
+}
+
+int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
+                         const double *y, double w_sprocket, double rack)
+{
+    (void)rack;
+    double w_e = y[pt->engine.speed_index], w_t = y[pt->engine.nstate];
+    /* input torque now, for the shift-clutch capacity */
+    ts_tr_point tp;
+    ts_transmission_eval(&pt->tr, &ps->shift, t, w_t,
+                         ts_final_drive_output_speed(&pt->fd, w_sprocket), &tp);
+    return ts_transmission_update(&pt->tr, &ps->shift, t, w_e, tp.input_torque);
+}
+
+static const ts_powertrain_channel channels[TS_POWERTRAIN_NCHANNEL] = {
+    {"engine.speed", "rad/s", "crankshaft speed (= converter pump speed)"},
+    {"engine.torque", "N*m", "engine brake torque"},
+    {"engine.power", "W", "engine brake power"},
+    {"intake.pressure", "Pa", "intake manifold pressure (boost)"},
+    {"rack", "1", "fuel rack (driver demand) seen by the engine"},
+    {"tc.pump.speed", "rad/s", "torque-converter pump speed"},
+    {"tc.turbine.speed", "rad/s", "torque-converter turbine speed (= transmission input)"},
+    {"tc.pump.torque", "N*m", "torque-converter pump torque (load on the engine)"},
+    {"tc.turbine.torque", "N*m", "torque-converter turbine (output) torque"},
+    {"tc.speed_ratio", "1", "converter speed ratio turbine/pump"},
+    {"tc.torque_ratio", "1", "converter torque ratio turbine/pump"},
+    {"tc.efficiency", "1", "converter efficiency TR*SR"},
+    {"tc.slip", "rad/s", "converter slip, pump minus turbine speed"},
+    {"transmission.gear", "1", "engaged gear (fractional while a shift is in progress)"},
+    {"transmission.out.speed", "rad/s", "transmission output speed"},
+    {"transmission.out.torque", "N*m", "transmission output (propshaft) torque"},
+    {"transmission.clutch.offgoing", "N*m", "engaged/off-going range-clutch torque, input side"},
+    {"transmission.clutch.oncoming", "N*m", "on-coming range-clutch torque during a shift, input side"},
+    {"driveshaft.torque", "N*m", "torque in each drive shaft, differential to sprocket"},
+    {"driveshaft.speed", "rad/s", "drive-shaft (= sprocket) speed"},
+    {"exhaust.temperature", "K", "exhaust manifold temperature (Fig. 21c)"},
+    {"turbo.speed", "rad/s", "turbocharger rotor speed"},
+    {"piston.surface_temperature", "K", "piston gas-side surface temperature (Fig. 21b; 0 if not modelled)"},
+    {"engine.fuel_flow", "kg/s", "fuel mass flow, whole engine"},
+};
+
+const ts_powertrain_channel *ts_powertrain_channels(void) { return channels; }
+
+void ts_powertrain_channel_values(const ts_powertrain_out *o, double *v)
+{
+    double row[TS_POWERTRAIN_NCHANNEL] = {
+        o->engine_speed,     o->engine_torque,   o->engine_power,    o->boost,
+        o->rack,             o->engine_speed,    o->turbine_speed,   o->pump_torque,
+        o->turbine_torque,   o->speed_ratio,     o->torque_ratio,    o->tc_efficiency,
+        o->engine_speed - o->turbine_speed,      o->gear,            o->out_speed,
+        o->out_torque,       o->clutch_offgoing, o->clutch_oncoming, o->sprocket_torque,
+        o->sprocket_speed,   o->exhaust_temp,    o->turbo_speed,     o->piston_temp,
+        o->fuel_flow,
+    };
+    memcpy(v, row, sizeof row);
+}
+
+/* ---- the powertrain on its own integrator ---------------------------------- */
+
+#define SIM_MAX_EVENTS_AT_ONCE 8
+
+struct ts_powertrain_sim {
+    const ts_powertrain *pt;
+    ts_ode *ode;
+    ts_powertrain_state ps;
+    double t, rack;
+    ts_sprocket_speed_fn w;
+    void *w_ud;
+    double *y;   /* nstate: state at t */
+    double *tmp; /* nstate: scratch (derivatives, tolerances) */
+};
+
+static double sim_w(const ts_powertrain_sim *s, double t)
+{
+    return s->w ? s->w(s->w_ud, t) : 0.0;
+}
+
+static int sim_rhs(double t, const double *y, double *ydot, void *ud)
+{
+    const ts_powertrain_sim *s = ud;
+    return ts_powertrain_rhs(s->pt, &s->ps, t, y, sim_w(s, t), s->rack, ydot, NULL);
+}
+
+static int sim_roots(double t, const double *y, double *g, void *ud)
+{
+    const ts_powertrain_sim *s = ud;
+    ts_powertrain_roots(s->pt, &s->ps, t, y, g);
+    return 0;
+}
+
+ts_powertrain_sim *ts_powertrain_sim_make(const ts_powertrain *pt, double rtol, double atol,
+                                          double max_step, ts_err *err)
+{
+    ts_powertrain_sim *s = calloc(1, sizeof *s);
+    int n = pt->nstate;
+    if (s) s->y = calloc(2 * (size_t)n, sizeof *s->y);
+    if (!s || !s->y) {
+        free(s);
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return NULL;
+    }
+    s->pt = pt;
+    s->tmp = s->y + n;
+    ts_powertrain_scale(pt, s->tmp);
+    for (int i = 0; i < n; i++) s->tmp[i] *= atol;
+    ts_ode_opts o = {.rtol = rtol, .atol = atol, .atol_v = s->tmp, .max_step = max_step,
+                     .nroots = ts_powertrain_nroots(pt), .roots = sim_roots};
+    s->ode = ts_ode_make(n, sim_rhs, s, &o, err);
+    if (!s->ode) {
+        ts_powertrain_sim_free(s);
+        return NULL;
+    }
+    return s;
+}
+
+void ts_powertrain_sim_free(ts_powertrain_sim *s)
+{
+    if (!s) return;
+    ts_ode_free(s->ode);
+    free(s->y);
+    free(s);
+}
+
+static ts_rc sim_settle(ts_powertrain_sim *s, ts_err *err)
+{
+    int changed = 0;
+    for (int k = 0; k < SIM_MAX_EVENTS_AT_ONCE; k++) {
+        if (!ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), s->rack)) break;
+        changed = 1;
+    }
+    return changed ? ts_ode_init(s->ode, s->t, s->y, err) : TS_OK;
+}
+
+ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0, ts_err *err)
+{
+    ts_rc rc = ts_powertrain_reset(s->pt, &s->ps, s->y, w0, err);
+    if (rc != TS_OK) return rc;
+    s->t = t0;
+    return ts_ode_init(s->ode, t0, s->y, err);
+}
+
+ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_speed_fn w,
+                                void *ud, double rack, ts_powertrain_out *out, ts_err *err)
+{
+    int n = s->pt->nstate;
+    int inputs_changed = s->w != w || s->w_ud != ud || s->rack != rack;
+    s->w = w;
+    s->w_ud = ud;
+    s->rack = rack;
+    ts_rc rc = TS_OK;
+    /* new input functions are a discontinuity of the right-hand side */
+    if (inputs_changed) rc = ts_ode_init(s->ode, s->t, s->y, err);
+    if (rc == TS_OK) rc = sim_settle(s, err);
+    while (rc == TS_OK && s->t < t_to) {
+        int root = 0;
+        rc = ts_ode_advance(s->ode, t_to, &s->t, &root, err);
+        if (rc != TS_OK) break;
+        memcpy(s->y, ts_ode_y(s->ode), sizeof *s->y * (size_t)n);
+        if (root) rc = sim_settle(s, err);
+    }
+    if (rc == TS_OK && out)
+        ts_powertrain_rhs(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), rack, s->tmp, out);
+    return rc;
+}
+
+double ts_powertrain_sim_time(const ts_powertrain_sim *s) { return s->t; }
+const double *ts_powertrain_sim_y(const ts_powertrain_sim *s) { return s->y; }
+const ts_powertrain_state *ts_powertrain_sim_state(const ts_powertrain_sim *s) { return &s->ps; }
+
+size_t ts_powertrain_sim_state_size(const ts_powertrain_sim *s)
+{
+    return sizeof(double) * (1 + (size_t)s->pt->nstate) + sizeof(ts_powertrain_state);
+}
+
+void ts_powertrain_sim_save(const ts_powertrain_sim *s, void *buf)
+{
+    char *b = buf;
+    memcpy(b, &s->t, sizeof(double));
+    memcpy(b + sizeof(double), s->y, sizeof(double) * (size_t)s->pt->nstate);
+    memcpy(b + sizeof(double) * (1 + (size_t)s->pt->nstate), &s->ps, sizeof s->ps);
+}
+
+ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *err)
+{
+    const char *b = buf;
+    memcpy(&s->t, b, sizeof(double));
+    memcpy(s->y, b + sizeof(double), sizeof(double) * (size_t)s->pt->nstate);
+    memcpy(&s->ps, b + sizeof(double) * (1 + (size_t)s->pt->nstate), sizeof s->ps);
+    return ts_ode_init(s->ode, s->t, s->y, err);
+}

@@ -1,0 +1,160 @@
+/*
+ * powertrain.h — engine + torque converter + transmission + final drive as ONE
+ * subsystem with a narrow interface (paper Section III.B, Figs. 16-17): input
+ * the sprocket speed (and the rack), output the torque at each sprocket. The
+ * same object drives the point-mass vehicle (scenario_pointmass.c, monolithic:
+ * its states appended to the vehicle's) and the multibody vehicle (leading-
+ * following co-simulation or a monolithic reference).
+ *
+ * States (first-order, integrated by the CALLER's ODE): the engine's own states
+ * (crankshaft speed among them; the converter pump turns with the crankshaft,
+ * its inertia is added there), then the turbine / transmission-input speed.
+ * Discrete state: ts_powertrain_state (gear, shift in progress).
+ *
+ * Events: gear-shift start and end are root functions of the caller's ODE
+ * (ts_powertrain_roots, ts_powertrain_nroots of them); at a root the caller
+ * calls ts_powertrain_update and, when it returns 1, re-initialises its
+ * integrator at the same (t, y) — then calls ts_powertrain_update again
+ * (a completed shift can start the next one) until it returns 0.
+ *
+ * The transmission output, propshaft, final drives and sprockets turn with
+ * the sprocket: their inertia (ts_powertrain_output_inertia) belongs to the
+ * caller's sprocket equation.
+ *
+ * Ownership: ts_powertrain_make / ts_powertrain_free (NULL is a no-op). A
+ * ts_powertrain is read-only after make (the engine port's context is the
+ * engine's immutable model); ts_powertrain_rhs is reentrant.
+ */
+#ifndef TS_POWERTRAIN_H
+#define TS_POWERTRAIN_H
+
+#include "config.h"
+#include "errors.h"
+#include "transmission.h"
+
+/* What the powertrain needs from an engine (engine.h's model seen through a
+ * port, so the powertrain does not depend on one engine fidelity). */
+typedef struct ts_engine_obs {
+    double speed;        /* crankshaft speed [rad/s] */
+    double brake_torque; /* [N*m] */
+    double boost;        /* intake manifold pressure [Pa] */
+    double exhaust_temp; /* exhaust manifold temperature [K] */
+    double turbo_speed;  /* turbocharger rotor speed [rad/s] */
+    double piston_temp;  /* piston gas-side surface temperature [K] (0 if not modelled) */
+    double fuel_flow;    /* whole engine [kg/s] */
+} ts_engine_obs;
+
+typedef struct ts_engine_port {
+    void *ctx;          /* engine instance, borrowed by the port functions */
+    int nstate;         /* engine states */
+    int speed_index;    /* index of the crankshaft speed among them */
+    double inertia;     /* crankshaft + flywheel inertia the engine integrates with [kg*m^2] */
+    /* Initial engine state (idle, t = 0). */
+    ts_rc (*reset)(void *ctx, double *y, ts_err *err);
+    /* Derivatives at (t, y) with the rack in [0, 1] and the load torque on the
+     * crankshaft [N*m]; fills obs. Returns 0, > 0 recoverable, < 0 fatal. */
+    int (*rhs)(void *ctx, double t, const double *y, double rack, double load_torque,
+               double *ydot, ts_engine_obs *obs);
+    /* Typical magnitude of each state, for absolute tolerances (may be NULL: 1). */
+    void (*scale)(void *ctx, double *scale);
+    void (*free)(void *ctx); /* may be NULL */
+} ts_engine_port;
+
+typedef struct ts_powertrain ts_powertrain;
+
+typedef struct ts_powertrain_state {
+    ts_shift_state shift;
+} ts_powertrain_state;
+
+typedef struct ts_powertrain_out {
+    double sprocket_torque;   /* at EACH of the two sprockets [N*m] */
+    double sprocket_speed;    /* input echoed [rad/s] */
+    double rack;              /* [1] */
+    double engine_speed;      /* = pump speed [rad/s] */
+    double engine_torque;     /* brake torque [N*m] */
+    double engine_power;      /* brake power [W] */
+    double boost;             /* intake manifold pressure [Pa] */
+    double exhaust_temp, turbo_speed, piston_temp, fuel_flow; /* as ts_engine_obs */
+    double pump_torque;       /* converter load on the engine [N*m] */
+    double turbine_torque;    /* converter output [N*m] */
+    double turbine_speed;     /* = transmission input speed [rad/s] */
+    double speed_ratio, torque_ratio, tc_efficiency; /* converter [1] */
+    double gear;              /* engaged gear; fractional during a shift [1] */
+    double clutch_offgoing, clutch_oncoming; /* range-clutch torques, input side [N*m] */
+    double out_speed;         /* transmission output speed [rad/s] */
+    double out_torque;        /* transmission output (propshaft) torque [N*m] */
+} ts_powertrain_out;
+
+/* Build with the engine selected by cfg->engine (variant, fidelity). */
+ts_powertrain *ts_powertrain_make(const ts_config *cfg, ts_err *err);
+/* Build with a caller-supplied engine port (tests, other engines). The port is
+ * copied; its ctx is freed with port->free at ts_powertrain_free. */
+ts_powertrain *ts_powertrain_make_port(const ts_config *cfg, const ts_engine_port *port,
+                                       ts_err *err);
+void ts_powertrain_free(ts_powertrain *pt);
+
+int ts_powertrain_nstate(const ts_powertrain *pt);
+int ts_powertrain_nroots(const ts_powertrain *pt);
+int ts_powertrain_engine_speed_index(const ts_powertrain *pt); /* in the powertrain's states */
+double ts_powertrain_output_inertia(const ts_powertrain *pt);  /* at the sprocket, both sides [kg*m^2] */
+double ts_powertrain_sprocket_radius(const ts_powertrain *pt); /* [m] */
+
+/* Per-state magnitudes for absolute tolerances (nstate values). */
+void ts_powertrain_scale(const ts_powertrain *pt, double *scale);
+
+/* Initial state: engine from its reset (idle), 1st gear applied, turbine
+ * turning with the output at sprocket speed w_sprocket. */
+ts_rc ts_powertrain_reset(const ts_powertrain *pt, ts_powertrain_state *ps, double *y,
+                          double w_sprocket, ts_err *err);
+
+/* Derivatives of the powertrain states for sprocket speed w_sprocket and rack;
+ * out (may be NULL) receives every shaft's speed and torque. Same return
+ * convention as ts_rhs_fn. */
+int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
+                      const double *y, double w_sprocket, double rack, double *ydot,
+                      ts_powertrain_out *out);
+
+/* Root functions (ts_powertrain_nroots values). */
+void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
+                         const double *y, double *g);
+
+/* Discrete update at an event; 1 when the state changed (re-init needed). */
+int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
+                         const double *y, double w_sprocket, double rack);
+
+/* ---- the powertrain on its own integrator --------------------------------
+ * For callers that integrate the powertrain separately from the vehicle (the
+ * leading side of the leading-following co-simulation): one CVODE instance
+ * over the powertrain states, shift events handled inside, the sprocket speed
+ * given as a function of time (e.g. the predictor), the rack held per call. */
+typedef double (*ts_sprocket_speed_fn)(void *ud, double t);
+typedef struct ts_powertrain_sim ts_powertrain_sim;
+
+/* pt is borrowed and must outlive the sim. atol is scaled per state. */
+ts_powertrain_sim *ts_powertrain_sim_make(const ts_powertrain *pt, double rtol, double atol,
+                                          double max_step, ts_err *err);
+void ts_powertrain_sim_free(ts_powertrain_sim *s);
+/* Initial state (ts_powertrain_reset) at time t0 for sprocket speed w0. */
+ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0, ts_err *err);
+/* Integrate to t_to with sprocket speed w(ud, t) and the rack; out (may be
+ * NULL) receives the shafts at t_to. */
+ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_speed_fn w,
+                                void *ud, double rack, ts_powertrain_out *out, ts_err *err);
+double ts_powertrain_sim_time(const ts_powertrain_sim *s);
+const double *ts_powertrain_sim_y(const ts_powertrain_sim *s);            /* nstate values */
+const ts_powertrain_state *ts_powertrain_sim_state(const ts_powertrain_sim *s);
+/* Snapshot (states, discrete state, time): ts_powertrain_sim_state_size bytes. */
+size_t ts_powertrain_sim_state_size(const ts_powertrain_sim *s);
+void ts_powertrain_sim_save(const ts_powertrain_sim *s, void *buf);
+ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *err);
+
+/* Output channels: names, units and descriptions in channel order, and the
+ * values of one row from a ts_powertrain_out. */
+#define TS_POWERTRAIN_NCHANNEL 24
+typedef struct ts_powertrain_channel {
+    const char *name, *unit, *description;
+} ts_powertrain_channel;
+const ts_powertrain_channel *ts_powertrain_channels(void); /* TS_POWERTRAIN_NCHANNEL rows */
+void ts_powertrain_channel_values(const ts_powertrain_out *o, double *values);
+
+#endif

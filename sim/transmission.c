@@ -1,0 +1,127 @@
+/*
+ * transmission.c — clutch-to-clutch four-speed automatic (transmission.h),
+ * paper Section III.B.2. Leaves out: reverse gears, shift-pressure feedback
+ * control, clutch thermal effects, gear lash; the planetary gear sets appear
+ * only through their ratios (one clutch per range).
+ */
+#include "transmission.h"
+
+#include <math.h>
+
+#define EVENT_TIME_TOL 1e-9  /* relative slack when testing a time event at its root */
+#define EVENT_SPEED_TOL 1e-6 /* relative slack when testing a speed event at its root */
+#define SHIFT_CAP_FLOOR 0.05 /* floor of Cs as a fraction of clutch_capacity */
+
+ts_rc ts_transmission_init(ts_transmission *tr, const ts_driveline_config *c, ts_err *err)
+{
+    if (c->gear_ratio_n < 1)
+        return ts_err_set(err, TS_ERR_PARAM, "/driveline/gear_ratio",
+                          "/driveline/gear_ratio: need at least one gear");
+    if (c->gear_efficiency_n != c->gear_ratio_n)
+        return ts_err_set(err, TS_ERR_PARAM, "/driveline/gear_efficiency",
+                          "/driveline/gear_efficiency: %d values for %d gears",
+                          c->gear_efficiency_n, c->gear_ratio_n);
+    for (int i = 1; i < c->gear_ratio_n; i++)
+        if (!(c->gear_ratio[i] < c->gear_ratio[i - 1]))
+            return ts_err_set(err, TS_ERR_PARAM, "/driveline/gear_ratio",
+                              "/driveline/gear_ratio: ratios must decrease (gear %d)", i + 1);
+    if (c->downshift_speed > 0 && !(c->downshift_speed < c->shift_speed))
+        return ts_err_set(err, TS_ERR_PARAM, "/driveline/downshift_speed",
+                          "/driveline/downshift_speed: must be below shift_speed");
+    tr->n = c->gear_ratio_n;
+    for (int i = 0; i < tr->n; i++) {
+        tr->ratio[i] = c->gear_ratio[i];
+        tr->efficiency[i] = c->gear_efficiency[i];
+    }
+    tr->shift_speed = c->shift_speed;
+    tr->downshift_speed = c->downshift_speed;
+    tr->shift_time = c->shift_time;
+    tr->clutch_capacity = c->clutch_capacity;
+    tr->shift_capacity_factor = c->shift_capacity_factor;
+    tr->slip_speed = c->clutch_slip_speed;
+    return TS_OK;
+}
+
+void ts_transmission_reset(const ts_transmission *tr, ts_shift_state *st, int gear)
+{
+    if (gear < 1) gear = 1;
+    if (gear > tr->n) gear = tr->n;
+    *st = (ts_shift_state){.gear = gear, .target = 0, .t_start = 0, .capacity = 0, .shifts = 0};
+}
+
+static double shift_fraction(const ts_transmission *tr, const ts_shift_state *st, double t)
+{
+    double tau = (t - st->t_start) / tr->shift_time;
+    return tau < 0 ? 0 : tau > 1 ? 1 : tau;
+}
+
+/* Clutch of gear g (1-based) with capacity cap: its input-side torque, and its
+ * contribution to the output torque. */
+static double clutch(const ts_transmission *tr, int g, double cap, double w_in, double w_out,
+                     double *to_output, double *slip)
+{
+    double r = tr->ratio[g - 1], eta = tr->efficiency[g - 1];
+    double s = w_in - r * w_out;
+    double tq = cap * tanh(s / tr->slip_speed);
+    *to_output = r * (tq >= 0 ? eta * tq : tq / eta);
+    if (slip) *slip = s;
+    return tq;
+}
+
+void ts_transmission_eval(const ts_transmission *tr, const ts_shift_state *st, double t,
+                          double w_in, double w_out, ts_tr_point *out)
+{
+    double o1, o2 = 0;
+    if (!st->target) {
+        out->offgoing_torque =
+            clutch(tr, st->gear, tr->clutch_capacity, w_in, w_out, &o1, &out->slip);
+        out->oncoming_torque = 0;
+        out->gear = st->gear;
+    } else {
+        double tau = shift_fraction(tr, st, t);
+        out->offgoing_torque =
+            clutch(tr, st->gear, (1 - tau) * st->capacity, w_in, w_out, &o1, &out->slip);
+        out->oncoming_torque = clutch(tr, st->target, tau * st->capacity, w_in, w_out, &o2, NULL);
+        out->gear = st->gear + tau * (st->target - st->gear);
+    }
+    out->input_torque = out->offgoing_torque + out->oncoming_torque;
+    out->output_torque = o1 + o2;
+}
+
+void ts_transmission_roots(const ts_transmission *tr, const ts_shift_state *st, double t,
+                           double w_engine, double *g)
+{
+    if (st->target) {
+        g[0] = st->t_start + tr->shift_time - t;
+        g[1] = 1.0;
+        return;
+    }
+    g[0] = st->gear < tr->n ? w_engine - tr->shift_speed : 1.0;
+    g[1] = (st->gear > 1 && tr->downshift_speed > 0) ? w_engine - tr->downshift_speed : 1.0;
+}
+
+int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double t,
+                           double w_engine, double input_torque)
+{
+    if (st->target) {
+        double t_end = st->t_start + tr->shift_time;
+        if (t < t_end - EVENT_TIME_TOL * (1.0 + fabs(t_end))) return 0;
+        st->gear = st->target;
+        st->target = 0;
+        st->shifts++;
+        return 1;
+    }
+    int to = 0;
+    if (st->gear < tr->n && w_engine >= tr->shift_speed * (1 - EVENT_SPEED_TOL))
+        to = st->gear + 1;
+    else if (st->gear > 1 && tr->downshift_speed > 0 &&
+             w_engine <= tr->downshift_speed * (1 + EVENT_SPEED_TOL))
+        to = st->gear - 1;
+    if (!to) return 0;
+    double cs = tr->shift_capacity_factor * fabs(input_torque);
+    double floor = SHIFT_CAP_FLOOR * tr->clutch_capacity;
+    st->capacity = cs > floor ? cs : floor;
+    st->target = to;
+    st->t_start = t;
+    return 1;
+}

@@ -1,0 +1,90 @@
+/*
+ * transmission.h — four-speed planetary automatic with clutch-to-clutch shifts
+ * (paper Section III.B.2): "Operating modes are defined by combinations of
+ * locked and unlocked clutches. Shifting is accomplished through simultaneous
+ * disengagement and engagement of appropriate clutches during a user-specified
+ * interval of time", with the upshift "based on engine speed" (1850 rpm).
+ *
+ * Model. Each forward gear i has one range clutch between the input shaft
+ * (turbine, speed w_in) and the output shaft (w_out) with ratio r_i; its
+ * friction torque, referred to the input, is regularised Coulomb friction
+ *     T_i = C_i(t) tanh((w_in - r_i w_out) / w_s),
+ * so an applied clutch (C_i = clutch_capacity) is locked up to a slip of
+ * w_s atanh(T/C) and a partly applied one slips at its capacity. The input
+ * shaft loses sum T_i; the output gains sum r_i eta_i^(+-1) T_i (efficiency on
+ * the forward power path, its inverse when torque flows back).
+ *
+ * A shift from gear a to gear b over the interval [t0, t0 + dt]: with
+ * tau = (t - t0)/dt the off-going clutch capacity falls as (1 - tau) Cs and the
+ * on-coming one rises as tau Cs, Cs = shift_capacity_factor x |input torque at
+ * t0| (floored at 5 % of clutch_capacity). The torque is handed over between
+ * the clutches during the interval (torque phase, then inertia phase once the
+ * off-going clutch breaks away), not by an instant ratio jump. At t0 + dt the
+ * on-coming clutch is fully applied.
+ *
+ * Events: shift start (engine speed crossing shift_speed upwards or
+ * downshift_speed downwards) and shift end (time) are ROOT FUNCTIONS of the
+ * caller's ODE (ts_transmission_roots); at a root the caller runs
+ * ts_transmission_update (a discrete state machine) and re-initialises its
+ * integrator when it returns 1.
+ */
+#ifndef TS_TRANSMISSION_H
+#define TS_TRANSMISSION_H
+
+#include "config.h"
+#include "errors.h"
+
+#define TS_TRANSMISSION_NROOTS 2
+
+typedef struct ts_transmission {
+    int n;                            /* forward gears */
+    double ratio[TS_NGEAR_MAX];       /* input / output speed per gear */
+    double efficiency[TS_NGEAR_MAX];  /* per gear */
+    double shift_speed;               /* upshift engine speed [rad/s] */
+    double downshift_speed;           /* downshift engine speed, 0 = never [rad/s] */
+    double shift_time;                /* [s] */
+    double clutch_capacity;           /* applied clutch [N*m] */
+    double shift_capacity_factor;     /* [1] */
+    double slip_speed;                /* regularisation [rad/s] */
+} ts_transmission;
+
+/* Discrete state (part of a saved state). */
+typedef struct ts_shift_state {
+    int gear;          /* engaged gear 1..n; during a shift the off-going gear */
+    int target;        /* on-coming gear during a shift, 0 otherwise */
+    double t_start;    /* start of the current shift [s] */
+    double capacity;   /* peak shift-clutch capacity Cs of the current shift [N*m] */
+    int shifts;        /* completed shifts since reset */
+} ts_shift_state;
+
+typedef struct ts_tr_point {
+    double input_torque;   /* torque the clutches take from the input shaft [N*m] */
+    double output_torque;  /* torque delivered to the output shaft [N*m] */
+    double offgoing_torque, oncoming_torque; /* clutch torques, input side [N*m] (on-coming 0 outside shifts) */
+    double slip;           /* slip of the engaged (off-going) clutch [rad/s] */
+    double gear;           /* gear as a number; between a and b during a shift (by tau) [1] */
+} ts_tr_point;
+
+ts_rc ts_transmission_init(ts_transmission *tr, const ts_driveline_config *c, ts_err *err);
+
+/* Start in gear (1..n), not shifting. */
+void ts_transmission_reset(const ts_transmission *tr, ts_shift_state *st, int gear);
+
+/* Torques at time t for input speed w_in and output speed w_out [rad/s]. */
+void ts_transmission_eval(const ts_transmission *tr, const ts_shift_state *st, double t,
+                          double w_in, double w_out, ts_tr_point *out);
+
+/* TS_TRANSMISSION_NROOTS root functions of (t, engine speed) for the current
+ * discrete state; a sign change marks an event. */
+void ts_transmission_roots(const ts_transmission *tr, const ts_shift_state *st, double t,
+                           double w_engine, double *g);
+
+/* Discrete state machine, run at an event (and once after each re-init): ends a
+ * shift whose interval has elapsed, starts an upshift when w_engine >=
+ * shift_speed (gear < n) or a downshift when w_engine <= downshift_speed
+ * (gear > 1). input_torque = current input-shaft torque (sets Cs). Returns 1
+ * when the state changed (the caller must re-initialise its integrator). */
+int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double t,
+                           double w_engine, double input_torque);
+
+#endif
