@@ -939,7 +939,7 @@ int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_
 }
 
 int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double sprocket_torque,
-                  double *ydot, vm_diag *diag)
+                  double sprocket_inertia, double *ydot, vm_diag *diag)
 {
     int nq = v->nq;
     const double *q = y, *qd = y + nq;
@@ -947,6 +947,12 @@ int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double spr
     /* the caller's torque on the sprocket spin, its reaction on the hull (as the drive in forces) */
     w->Q[QS0 + VM_SPROCKET] += sprocket_torque;
     w->Q[QT] -= sprocket_torque;
+    /* hull-mounted inertia turning with the sprocket: kinetic energy J/2 (Phi_s' - theta')^2 */
+    int is = QS0 + VM_SPROCKET;
+    w->M[is * nq + is] += sprocket_inertia;
+    w->M[QT * nq + QT] += sprocket_inertia;
+    w->M[is * nq + QT] -= sprocket_inertia;
+    w->M[QT * nq + is] -= sprocket_inertia;
     if (diag) diag->drive_torque = sprocket_torque;
     memcpy(ydot, qd, (size_t)nq * sizeof(double));
     memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
