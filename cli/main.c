@@ -14,6 +14,8 @@ static const tsc_command commands[] = {
      "run a scenario; write DIR/series.csv and DIR/summary.json"},
     {"modes", tsc_cmd_modes, "(CONFIG.json | --preset NAME)",
      "track span and upper-circuit eigenanalysis (Table 1, Fig. 5) as JSON"},
+    {"engine-map", tsc_cmd_engine_map, "(CONFIG.json | --preset NAME) --out FILE.csv",
+     "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18)"},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

@@ -28,6 +28,8 @@ typedef struct ts_driveline_config {
     double shift_speed;                       /* engine speed that triggers an upshift [rad/s] */
     double downshift_speed;                   /* engine speed below which it downshifts [rad/s] */
     double shift_time;                        /* clutch-to-clutch shift interval [s] */
+    double shift_dwell;                       /* re-arm time of the upshift after a shift [s] */
+    double shift_hysteresis;                  /* re-arm the upshift this far below shift_speed [rad/s] */
     double clutch_capacity;                   /* applied clutch torque capacity, input side [N*m] */
     double shift_capacity_factor;             /* shift clutch capacity / torque at shift start [1] */
     double clutch_slip_speed;                 /* friction regularisation slip speed [rad/s] */

@@ -86,6 +86,7 @@ typedef struct ts_engine_config {
     double piston_thickness, head_thickness, liner_thickness; /* metal [m] */
     double zirconia_k, zirconia_rho_c;     /* [W/m/K], [J/m^3/K] */
     double coating_lhr05, coating_lhr10;   /* coating thickness per variant [m] */
+    int coat_liner;                        /* LHR coating also on the liner (bool) */
     double h_coolant, h_oil;               /* back-side film coefficients [W/m^2/K] */
     double coolant_temp, oil_temp;         /* thermostat set points [K] */
     double coolant_capacity, oil_capacity; /* lumped heat capacities [J/K] */
@@ -104,6 +105,8 @@ typedef struct ts_engine_config {
     double turbo_inertia_ref;                     /* [kg*m^2] */
     double turbo_mech_eff;                        /* [1] */
     double turbo_idle_speed;                      /* initial rotor speed [rad/s] */
+    double wg_area;                               /* wastegate full-open effective area [m^2] */
+    double wg_crack, wg_full;                     /* boost at which it cracks / is fully open [Pa] */
     /* intercooler and manifolds (per bank) */
     double ic_ua, ic_wall_temp, ic_cda, ic_volume; /* [W/K], [K], [m^2], [m^3] */
     double intake_volume, exhaust_volume;           /* [m^3] */

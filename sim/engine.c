@@ -97,15 +97,15 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
                           .bsr_opt = c->turb_bsr_opt,
                           .inertia = c->turbo_inertia_ref * pow(s, 2.5),
                           .mech_eff = c->turbo_mech_eff};
-    /* Walls: coating per variant on piston and head (combustion-chamber
-     * surfaces, Section III.B.3); liner all-metal (coating it would scuff). */
+    /* Walls: coating per variant on the combustion-chamber surfaces (Section
+     * III.B.3): piston and head, and the liner unless /engine/coat_liner is off. */
     double coat = c->variant == TS_ENGINE_LHR05 ? c->coating_lhr05
                 : c->variant == TS_ENGINE_LHR10 ? c->coating_lhr10 : 0.0;
     en_wall_build(&e->wall[EN_PISTON], coat, c->zirconia_k, c->zirconia_rho_c, c->piston_thickness,
                   c->metal_k, c->metal_rho_c, c->h_oil);
     en_wall_build(&e->wall[EN_HEAD], coat, c->zirconia_k, c->zirconia_rho_c, c->head_thickness,
                   c->metal_k, c->metal_rho_c, c->h_coolant);
-    en_wall_build(&e->wall[EN_LINER], 0.0, c->zirconia_k, c->zirconia_rho_c, c->liner_thickness,
+    en_wall_build(&e->wall[EN_LINER], c->coat_liner ? coat : 0.0, c->zirconia_k, c->zirconia_rho_c, c->liner_thickness,
                   c->metal_k, c->metal_rho_c, c->h_coolant);
     e->surf_area[EN_PISTON] = g->area * c->piston_area_factor;
     e->surf_area[EN_HEAD] = g->area * c->head_area_factor;
@@ -202,6 +202,12 @@ void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double
     if (e->fidelity == TS_ENGINE_CRANK_ANGLE) en_crank_init(e, omega, p_amb, T_amb, x);
 }
 
+void ts_engine_set_turbo_speed(const ts_engine *e, double *x, double w)
+{
+    if (e->off_bank < 0) return;
+    for (int b = 0; b < EN_NBANK; b++) x[e->off_bank + b * EN_BANK_NX + BX_TC] = w;
+}
+
 void ts_engine_atol(const ts_engine *e, double atol, double *v)
 {
     for (int i = 0; i < e->nx; i++) v[i] = atol;
@@ -223,9 +229,9 @@ void ts_engine_atol(const ts_engine *e, double atol, double *v)
             vc[CX_T] = atol * 1e4;
             vc[CX_BURN] = atol * 1e2;
         }
+    if (e->off_coolant >= 0) v[e->off_coolant] = v[e->off_coolant + 1] = atol * 1e4;
     if (e->off_wall >= 0)
-        for (int i = 0; i < EN_NCYL * EN_NSURF * EN_WALL_NODES + 2; i++)
-            v[e->off_coolant + i] = atol * 1e4;
+        for (int i = 0; i < EN_NCYL * EN_NSURF * EN_WALL_NODES; i++) v[e->off_wall + i] = atol * 1e4;
 }
 
 int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
@@ -308,9 +314,14 @@ void ts_engine_ledger_get(const ts_engine *e, const double *x, ts_engine_ledger 
 
 #define OUT_NFIELDS (sizeof(ts_engine_outputs) / sizeof(double))
 
-ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in,
-                          double *work, ts_engine_cycle *cyc, ts_err *err)
+/* One cycle; wmean (may be NULL, crank_angle only) receives the cycle-mean
+ * temperature of every wall node (EN_NCYL x EN_NSURF x EN_WALL_NODES). */
+static ts_rc cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in, double *work,
+                       ts_engine_cycle *cyc, double *wmean, double *span_out, ts_err *err)
 {
+    int nw = e->off_wall >= 0 ? EN_NCYL * EN_NSURF * EN_WALL_NODES : 0;
+    if (wmean)
+        for (int i = 0; i < nw; i++) wmean[i] = 0;
     ts_engine_ledger l0, l1;
     ts_engine_ledger_get(e, x, &l0);
     double th0 = x[TS_ENGINE_X_ANGLE], t = 0.0, span = 0.0;
@@ -327,12 +338,17 @@ ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs 
         const double *ov = (const double *)&o;
         for (size_t k = 0; k < OUT_NFIELDS; k++) sum[k] += ov[k] * h;
         if (o.cyl_pressure > peak) peak = o.cyl_pressure;
+        if (wmean)
+            for (int i = 0; i < nw; i++) wmean[i] += x[e->off_wall + i] * h;
         if (rk4(e, x, t, h, in, work))
             return ts_err_set(err, TS_ERR_DIVERGED, "/engine",
                               "engine state left its domain at t = %.6f s", t);
         t += h;
         span += h;
     }
+    if (wmean)
+        for (int i = 0; i < nw; i++) wmean[i] /= span;
+    if (span_out) *span_out = span;
     if (!cyc) return TS_OK;
     memset(cyc, 0, sizeof *cyc);
     double *mv = (double *)&cyc->mean;
@@ -360,11 +376,47 @@ ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs 
     return TS_OK;
 }
 
+ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in,
+                          double *work, ts_engine_cycle *cyc, ts_err *err)
+{
+    return cycle_run(e, x, in, work, cyc, NULL, NULL, err);
+}
+
+/* Wall acceleration for the steady-state search: shift every wall stack's
+ * temperature profile (keeping its periodic part) part of the way towards the
+ * steady conduction profile that carries the cycle's mean gas-side flux to the
+ * coolant or oil. The mean flux is the stack's energy gain over the cycle plus
+ * its mean back-side loss. Relaxation 0.5 converges for h R up to ~3 (h: the
+ * cycle-mean gas-side coefficient, R: wall + film resistance). */
+static void wall_jump(const ts_engine *e, double *x, const double *x0, const double *wmean,
+                      double span)
+{
+    const double relax = 0.5;
+    for (int i = 0; i < EN_NCYL; i++)
+        for (int sf = 0; sf < EN_NSURF; sf++) {
+            const en_wall *w = &e->wall[sf];
+            int o = (i * EN_NSURF + sf) * EN_WALL_NODES;
+            double *xw = x + e->off_wall + o;
+            const double *xw0 = x0 + e->off_wall + o;
+            const double *tm = wmean + o;
+            double T_sink = x[e->off_coolant + (sf == EN_PISTON ? 1 : 0)];
+            double gain = 0;
+            for (int n = 0; n < EN_WALL_NODES; n++) gain += w->cap[n] * (xw[n] - xw0[n]);
+            double q = gain / span + w->cond[EN_WALL_NODES - 1] * (tm[EN_WALL_NODES - 1] - T_sink);
+            double r = 1.0 / w->cond[EN_WALL_NODES - 1];
+            for (int n = EN_WALL_NODES - 1; n >= 0; n--) {
+                if (n < EN_WALL_NODES - 1) r += 1.0 / w->cond[n];
+                double t_ss = T_sink + q * r;
+                xw[n] += relax * (t_ss - tm[n]);
+            }
+        }
+}
+
 ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega, const ts_engine_inputs *in,
                        int max_cycles, double tol, ts_engine_cycle *cyc, ts_err *err)
 {
     ts_engine fast = *e; /* private copy with shrunk slow capacities */
-    fast.turbo_inertia_scale = 0.05;
+    fast.turbo_inertia_scale = 0.01;
     fast.thermal_scale = 0.01;
     ts_engine_inputs held = *in;
     held.hold_speed = 1;
@@ -375,9 +427,21 @@ ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega, const ts_eng
     double prev = NAN;
     int calm = 0, k;
     ts_rc rc = TS_OK;
+    int nw = e->off_wall >= 0 ? EN_NCYL * EN_NSURF * EN_WALL_NODES : 0;
+    double *x0 = nw ? malloc(sizeof(double) * (size_t)e->nx) : NULL;
+    double *wmean = nw ? malloc(sizeof(double) * (size_t)nw) : NULL;
+    if (nw && (!x0 || !wmean)) {
+        free(x0);
+        free(wmean);
+        free(work);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    }
     for (k = 0; k < max_cycles; k++) {
-        rc = ts_engine_cycle_run(&fast, x, &held, work, &c, err);
+        double span = 0;
+        if (nw) memcpy(x0, x, sizeof(double) * (size_t)e->nx);
+        rc = cycle_run(&fast, x, &held, work, &c, wmean, &span, err);
         if (rc != TS_OK) break;
+        if (nw) wall_jump(e, x, x0, wmean, span);
         double tq = c.mean.brake_torque;
         if (isfinite(prev) && fabs(tq - prev) <= tol * fmax(fabs(tq), 100.0)) {
             if (++calm >= 2) break;
@@ -386,6 +450,8 @@ ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega, const ts_eng
         }
         prev = tq;
     }
+    free(x0);
+    free(wmean);
     if (rc == TS_OK) rc = ts_engine_cycle_run(e, x, &held, work, &c, err);
     free(work);
     if (rc != TS_OK) return rc;

@@ -13,10 +13,16 @@
  *   crank_angle  twelve 0-D cylinders, valves, Watson burning, K-k heat
  *                transfer, layered walls, two turbo banks with intercoolers and
  *                filling-and-emptying manifolds, Millington-Hartles friction,
- *                crank-angle-varying inertia (hundreds of states; stiff-ish:
- *                ts_engine_advance integrates it with a fixed crank-angle step).
+ *                crank-angle-varying inertia (510 states; ts_engine_advance
+ *                integrates it with a fixed 0.5-deg RK4 step at ~0.6x real
+ *                time; CVODE also works but is ~100x slower).
  *   mean_value   cycle-averaged cylinders (tables from the crank-angle sweep)
- *                with the intercoolers, manifolds and turbos kept (a dozen states).
+ *                with the intercoolers, manifolds and turbos kept (28 states).
+ * Each bank's turbine has a boost-sensing wastegate (/engine/wg_*): the
+ * turbine is sized for low-speed boost and the wastegate, calibrated at the
+ * rated point, bypasses exhaust at high speed (not in the paper; see
+ * engine.json). No governor: a free-running engine at full rack with too
+ * little load overspeeds; speed limiting belongs to the control layer.
  *   map          full-load torque map from the crank-angle sweep + first-order
  *                boost lag (3 states).
  *
@@ -84,6 +90,12 @@ int ts_engine_nstate(const ts_engine *e);       /* length of x */
 void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double T_amb,
                           double *x);
 
+/* Set both turbocharger rotor speeds in x [rad/s] (no-op for the map
+ * fidelity). With the constant-phi fuel law the turbo match can settle on a
+ * low-boost branch; a steady-state search started from spun-up rotors finds
+ * the full-load (high-boost) one, as a dynamometer lug-down from rated does. */
+void ts_engine_set_turbo_speed(const ts_engine *e, double *x, double w);
+
 /* Absolute tolerance scale of each state for a caller's integrator (n values). */
 void ts_engine_atol(const ts_engine *e, double atol, double *atol_v);
 
@@ -139,9 +151,11 @@ ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs 
 /* Steady state on the dynamometer: integrate with speed held at omega and the
  * given inputs until the cycle-mean brake torque changes by less than tol
  * (relative) between cycles, at most max_cycles cycles. While searching, the
- * thermal capacities of deep metal, coolant and oil and the turbo inertia are
- * shrunk (the steady state does not depend on them); the final cycle is run
- * with the real model. x holds the start (e.g. a previous steady state) and
+ * coolant and oil capacities, the turbo inertia and the map boost lag are
+ * shrunk, and after every cycle each wall's temperature profile is moved half
+ * way to the steady conduction profile of that cycle's mean heat flux (the
+ * steady state depends on none of these); the final cycle is run with the
+ * real model. x holds the start (e.g. a previous steady state) and
  * receives the final state; cyc (may be NULL) the last cycle's means. */
 ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega, const ts_engine_inputs *in,
                        int max_cycles, double tol, ts_engine_cycle *cyc, ts_err *err);

@@ -40,7 +40,6 @@
 #define RESET_RATE (1.0 / (4.0 * DEG)) /* e-folding per 4 deg CA [1/rad] */
 #define LW_WINDOW (180.0 * DEG)        /* ignition must occur within this after SOI */
 #define K_FLOOR 1e-6                   /* turbulence floor [J] */
-#define THERMAL_DEPTH 1e-3             /* nodes deeper than this are "slow" [m] */
 
 static double wrap(double a)
 {
@@ -197,8 +196,6 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
             double qb;
             const en_wall *wl = &e->wall[sf];
             en_wall_rates(wl, xw, flux * share, sf == EN_PISTON ? T_oil : T_cool, dw, &qb);
-            for (int n = 0; n < EN_WALL_NODES; n++)
-                if (wl->depth[n] > THERMAL_DEPTH) dw[n] /= e->thermal_scale;
             if (sf == EN_PISTON)
                 q_oil += qb * e->surf_area[sf];
             else

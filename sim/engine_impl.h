@@ -158,8 +158,8 @@ struct ts_engine {
     double cyl_offset[EN_NCYL];  /* firing offset of each cylinder [rad] */
     int cyl_bank[EN_NCYL];
     double speed_step;           /* map/mean_value fixed step [s] */
-    double turbo_inertia_scale;  /* 1, shrunk by ts_engine_steady */
-    double thermal_scale;        /* 1, shrunk by ts_engine_steady (deep metal, coolant, oil) */
+    double turbo_inertia_scale;  /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
+    double thermal_scale;        /* 1, shrunk by ts_engine_steady (coolant, oil capacities) */
     double map_tq[TS_ENGINE_MAP_MAX], map_boost[TS_ENGINE_MAP_MAX], map_fuel[TS_ENGINE_MAP_MAX];
     double map_eta_v[TS_ENGINE_MAP_MAX], map_eta_i[TS_ENGINE_MAP_MAX];
     double map_q_wall[TS_ENGINE_MAP_MAX];

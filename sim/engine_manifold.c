@@ -7,7 +7,7 @@
  *
  * Per bank: ambient -> compressor -> [intercooler volume, heat to its wall]
  * -> orifice -> [intake manifold] -> intake valves -> cylinders -> exhaust
- * valves -> [exhaust manifold, small heat loss] -> turbine -> ambient.
+ * valves -> [exhaust manifold, small heat loss] -> turbine (|| wastegate) -> ambient.
  * Leaves out pipe wave dynamics (0-D volumes) and the air filter / exhaust
  * back pressure (turbine exhausts to ambient).
  */
@@ -98,12 +98,20 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     double R_em = en_gas_r(g, o->F_em), cp_em = en_gas_cp(g, o->T_em, o->F_em);
     en_turb_out to;
     en_turbine(&e->turbo, xb[BX_TC], o->p_em, o->T_em, R_em, cp_em, p_amb, &to);
+    /* wastegate: boost-sensing bypass around the turbine, opening linearly
+     * between wg_crack and wg_full (smoothed at both ends) */
+    double open = (o->p_im - c->wg_crack) / fmax(c->wg_full - c->wg_crack, 1.0);
+    open = open <= 0 ? 0 : open >= 1 ? 1 : open * open * (3.0 - 2.0 * open);
+    double g_em = cp_em / (cp_em - R_em);
+    double m_wg = en_orifice(open * c->wg_area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R_em, g_em);
+    if (m_wg < 0) m_wg = 0; /* check valve: no reverse flow into the manifold */
+    double m_out = to.mdot + m_wg;
     double m_em = xb[BX_EMM];
-    double dm_em = f->m_ex - to.mdot;
-    double dmF_em = f->mf_ex - to.mdot * o->F_em;
+    double dm_em = f->m_ex - m_out;
+    double dmF_em = f->mf_ex - m_out * o->F_em;
     double dF_em = (dmF_em - o->F_em * dm_em) / m_em;
     double q_em = c->exhaust_ua * (o->T_em - T_amb);
-    double h_t = to.mdot * en_gas_h(g, o->T_em, o->F_em);
+    double h_t = m_out * en_gas_h(g, o->T_em, o->F_em);
     xd[BX_EMM] = dm_em;
     xd[BX_EMF] = dF_em;
     xd[BX_EMT] = en_gas_dTdt(g, m_em, o->T_em, o->F_em, f->h_ex - h_t - q_em, dm_em, dF_em);

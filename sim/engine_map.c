@@ -47,7 +47,7 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
     if (f < 0) f = 0;
     double t_ind = f * (tq_fl + t_fric);
     double t_brake = t_ind - t_fric;
-    double lag = c->boost_lag;
+    double lag = c->boost_lag * e->turbo_inertia_scale; /* shrunk in ts_engine_steady */
     xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) / c->inertia;
     xdot[TS_ENGINE_X_ANGLE] = w;
     xdot[e->off_lag] = (target - x[e->off_lag]) / lag;

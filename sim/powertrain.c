@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "engine.h"
 #include "final_drive.h"
 #include "solver.h"
 #include "torque_converter.h"
@@ -31,13 +32,85 @@ struct ts_powertrain {
     int nstate;
 };
 
-/* The engine module's port (engine.h); TS_ERR_UNSUPPORTED until it is built in. */
+/* The engine module (engine.h) seen through the port. The converter pump's
+ * inertia is added by rescaling the engine's speed derivative with its nominal
+ * inertia /engine/inertia (the crank-angle engine's small reciprocating-mass
+ * variation is kept in its own derivative). */
+typedef struct engine_ctx {
+    ts_engine *e;
+    double w0, p_amb, T_amb;
+    double ca_step; /* crank-angle step of the explicit integration [rad] */
+} engine_ctx;
+
+#define MIN_STEP_SPEED 30.0 /* speed floor of the crank-angle step [rad/s], as in engine.c */
+
+static ts_rc engine_reset(void *ctx, double *y, ts_err *err)
+{
+    (void)err;
+    const engine_ctx *c = ctx;
+    ts_engine_init_state(c->e, c->w0, c->p_amb, c->T_amb, y);
+    return TS_OK;
+}
+
+static int engine_rhs(void *ctx, double t, const double *y, double rack, double load_torque,
+                      double *ydot, ts_engine_obs *obs)
+{
+    const engine_ctx *c = ctx;
+    ts_engine_inputs in = {.rack = rack, .fuel_per_cycle = -1.0, .load_torque = load_torque,
+                           .p_amb = c->p_amb, .T_amb = c->T_amb, .hold_speed = 0};
+    ts_engine_outputs o;
+    int rc = ts_engine_rhs(c->e, t, y, &in, ydot, &o);
+    if (rc != 0) return rc;
+    *obs = (ts_engine_obs){.speed = o.speed, .brake_torque = o.brake_torque, .boost = o.boost,
+                           .exhaust_temp = o.exhaust_temp, .turbo_speed = o.turbo_speed,
+                           .piston_temp = o.piston_surface_temp, .fuel_flow = o.fuel_flow};
+    return 0;
+}
+
+static void engine_scale(void *ctx, double *scale)
+{
+    const engine_ctx *c = ctx;
+    ts_engine_atol(c->e, 1.0, scale);
+}
+
+static double engine_explicit_step(void *ctx, const double *y)
+{
+    const engine_ctx *c = ctx;
+    if (ts_engine_get_fidelity(c->e) != TS_ENGINE_CRANK_ANGLE) return 0.0;
+    return c->ca_step / fmax(fabs(y[TS_ENGINE_X_SPEED]), MIN_STEP_SPEED);
+}
+
+static void engine_free(void *ctx)
+{
+    engine_ctx *c = ctx;
+    if (!c) return;
+    ts_engine_free(c->e);
+    free(c);
+}
+
 static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err)
 {
-    (void)cfg;
-    (void)port;
-    return ts_err_set(err, TS_ERR_UNSUPPORTED, "/engine/fidelity",
-                      "/engine/fidelity: no engine model is built into this library yet");
+    engine_ctx *c = calloc(1, sizeof *c);
+    if (!c) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    c->e = ts_engine_make(cfg, err);
+    if (!c->e) {
+        free(c);
+        return err ? err->code : TS_ERR_INTERNAL;
+    }
+    c->w0 = cfg->driveline.launch_engine_speed;
+    c->p_amb = cfg->driveline.ambient_pressure;
+    c->T_amb = cfg->driveline.ambient_temperature;
+    c->ca_step = cfg->engine.ca_step;
+    *port = (ts_engine_port){.ctx = c,
+                             .nstate = ts_engine_nstate(c->e),
+                             .speed_index = TS_ENGINE_X_SPEED,
+                             .inertia = cfg->engine.inertia,
+                             .reset = engine_reset,
+                             .rhs = engine_rhs,
+                             .scale = engine_scale,
+                             .explicit_step = engine_explicit_step,
+                             .free = engine_free};
+    return TS_OK;
 }
 
 ts_powertrain *ts_powertrain_make_port(const ts_config *cfg, const ts_engine_port *port,
@@ -89,6 +162,16 @@ int ts_powertrain_nroots(const ts_powertrain *pt) { (void)pt; return TS_TRANSMIS
 int ts_powertrain_engine_speed_index(const ts_powertrain *pt) { return pt->engine.speed_index; }
 double ts_powertrain_output_inertia(const ts_powertrain *pt) { return pt->fd.output_inertia; }
 double ts_powertrain_sprocket_radius(const ts_powertrain *pt) { return pt->fd.sprocket_radius; }
+
+double ts_powertrain_explicit_step(const ts_powertrain *pt, const double *y)
+{
+    double h = pt->engine.explicit_step ? pt->engine.explicit_step(pt->engine.ctx, y) : 0.0;
+    if (!(h > 0)) return 0.0;
+    /* RK4 is stable for h |lambda| < 2.78; the applied clutch's regularised
+     * friction gives lambda = C / (w_s J_t) on the turbine */
+    double h_clutch = 2.0 * pt->tr.slip_speed * pt->turbine_inertia / pt->tr.clutch_capacity;
+    return h < h_clutch ? h : h_clutch;
+}
 
 void ts_powertrain_scale(const ts_powertrain *pt, double *scale)
 {
@@ -228,6 +311,7 @@ struct ts_powertrain_sim {
     void *w_ud;
     double *y;   /* nstate: state at t */
     double *tmp; /* nstate: scratch (derivatives, tolerances) */
+    double *k;   /* 5 nstate: RK4 stages (explicit path) */
 };
 
 static double sim_w(const ts_powertrain_sim *s, double t)
@@ -253,7 +337,7 @@ ts_powertrain_sim *ts_powertrain_sim_make(const ts_powertrain *pt, double rtol, 
 {
     ts_powertrain_sim *s = calloc(1, sizeof *s);
     int n = pt->nstate;
-    if (s) s->y = calloc(2 * (size_t)n, sizeof *s->y);
+    if (s) s->y = calloc(7 * (size_t)n, sizeof *s->y);
     if (!s || !s->y) {
         free(s);
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
@@ -261,6 +345,7 @@ ts_powertrain_sim *ts_powertrain_sim_make(const ts_powertrain *pt, double rtol, 
     }
     s->pt = pt;
     s->tmp = s->y + n;
+    s->k = s->y + 2 * n;
     ts_powertrain_scale(pt, s->tmp);
     for (int i = 0; i < n; i++) s->tmp[i] *= atol;
     ts_ode_opts o = {.rtol = rtol, .atol = atol, .atol_v = s->tmp, .max_step = max_step,
@@ -299,10 +384,50 @@ ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0, ts_err
     return ts_ode_init(s->ode, t0, s->y, err);
 }
 
+/* Explicit path (crank-angle engine): RK4 at ts_powertrain_explicit_step, the
+ * shift state machine at every step end (as scenario_pointmass.c). */
+static ts_rc sim_advance_explicit(ts_powertrain_sim *s, double t_to, ts_err *err)
+{
+    int n = s->pt->nstate;
+    double *k1 = s->k, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n;
+    while (s->t < t_to - 1e-12 * (1.0 + fabs(t_to))) {
+        double h = ts_powertrain_explicit_step(s->pt, s->y), t = s->t;
+        if (t + h > t_to) h = t_to - t;
+        int rc = sim_rhs(t, s->y, k1, s);
+        for (int i = 0; !rc && i < n; i++) yt[i] = s->y[i] + 0.5 * h * k1[i];
+        if (!rc) rc = sim_rhs(t + 0.5 * h, yt, k2, s);
+        for (int i = 0; !rc && i < n; i++) yt[i] = s->y[i] + 0.5 * h * k2[i];
+        if (!rc) rc = sim_rhs(t + 0.5 * h, yt, k3, s);
+        for (int i = 0; !rc && i < n; i++) yt[i] = s->y[i] + h * k3[i];
+        if (!rc) rc = sim_rhs(t + h, yt, k4, s);
+        for (int i = 0; !rc && i < n; i++) {
+            s->y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+            if (!isfinite(s->y[i])) rc = 1;
+        }
+        if (rc)
+            return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                              "powertrain state left its domain at t = %.6f s", t);
+        s->t = t + h;
+        for (int k = 0; k < SIM_MAX_EVENTS_AT_ONCE; k++)
+            if (!ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), s->rack)) break;
+    }
+    s->t = t_to;
+    return TS_OK;
+}
+
 ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_speed_fn w,
                                 void *ud, double rack, ts_powertrain_out *out, ts_err *err)
 {
     int n = s->pt->nstate;
+    if (ts_powertrain_explicit_step(s->pt, s->y) > 0) {
+        s->w = w;
+        s->w_ud = ud;
+        s->rack = rack;
+        ts_rc rc = sim_advance_explicit(s, t_to, err);
+        if (rc == TS_OK && out)
+            ts_powertrain_rhs(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), rack, s->tmp, out);
+        return rc;
+    }
     int inputs_changed = s->w != w || s->w_ud != ud || s->rack != rack;
     s->w = w;
     s->w_ud = ud;

@@ -57,6 +57,10 @@ typedef struct ts_engine_port {
                double *ydot, ts_engine_obs *obs);
     /* Typical magnitude of each state, for absolute tolerances (may be NULL: 1). */
     void (*scale)(void *ctx, double *scale);
+    /* Fixed explicit step the engine needs at y [s] (crank-angle model: its
+     * crank-angle step over the speed), or 0 when an implicit variable-step
+     * integrator suits it (may be NULL: 0). */
+    double (*explicit_step)(void *ctx, const double *y);
     void (*free)(void *ctx); /* may be NULL */
 } ts_engine_port;
 
@@ -99,6 +103,13 @@ int ts_powertrain_engine_speed_index(const ts_powertrain *pt); /* in the powertr
 double ts_powertrain_output_inertia(const ts_powertrain *pt);  /* at the sprocket, both sides [kg*m^2] */
 double ts_powertrain_sprocket_radius(const ts_powertrain *pt); /* [m] */
 
+/* Integration method the powertrain asks for: 0 = implicit variable step
+ * (CVODE BDF, shift events as roots); otherwise the largest step [s] of a
+ * classical RK4 at y — the engine's crank-angle step, capped by the explicit
+ * stability limit of the applied clutch (2 w_s J_t / C). With RK4, events are
+ * found by running ts_powertrain_update at every step end. */
+double ts_powertrain_explicit_step(const ts_powertrain *pt, const double *y);
+
 /* Per-state magnitudes for absolute tolerances (nstate values). */
 void ts_powertrain_scale(const ts_powertrain *pt, double *scale);
 
@@ -125,8 +136,10 @@ int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, doubl
 /* ---- the powertrain on its own integrator --------------------------------
  * For callers that integrate the powertrain separately from the vehicle (the
  * leading side of the leading-following co-simulation): one CVODE instance
- * over the powertrain states, shift events handled inside, the sprocket speed
- * given as a function of time (e.g. the predictor), the rack held per call. */
+ * over the powertrain states (or, when ts_powertrain_explicit_step > 0 — the
+ * crank-angle engine — RK4 at that step), shift events handled inside, the
+ * sprocket speed given as a function of time (e.g. the predictor), the rack
+ * held per call. */
 typedef double (*ts_sprocket_speed_fn)(void *ud, double t);
 typedef struct ts_powertrain_sim ts_powertrain_sim;
 

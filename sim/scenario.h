@@ -71,6 +71,7 @@ int ts_model_add_channel(ts_model *m, const char *name, const char *unit,
 /* Scenario tables, one per kind (scenario_*.c). */
 extern const ts_scenario_ops ts_scenario_pointmass;
 extern const ts_scenario_ops ts_scenario_vehicle;
+extern const ts_scenario_ops ts_scenario_engine_dyno;
 extern const ts_scenario_ops ts_scenario_coupled;
 
 #endif

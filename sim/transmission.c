@@ -36,6 +36,8 @@ ts_rc ts_transmission_init(ts_transmission *tr, const ts_driveline_config *c, ts
     tr->shift_speed = c->shift_speed;
     tr->downshift_speed = c->downshift_speed;
     tr->shift_time = c->shift_time;
+    tr->shift_dwell = c->shift_dwell;
+    tr->shift_hysteresis = c->shift_hysteresis;
     tr->clutch_capacity = c->clutch_capacity;
     tr->shift_capacity_factor = c->shift_capacity_factor;
     tr->slip_speed = c->clutch_slip_speed;
@@ -46,7 +48,8 @@ void ts_transmission_reset(const ts_transmission *tr, ts_shift_state *st, int ge
 {
     if (gear < 1) gear = 1;
     if (gear > tr->n) gear = tr->n;
-    *st = (ts_shift_state){.gear = gear, .target = 0, .t_start = 0, .capacity = 0, .shifts = 0};
+    *st = (ts_shift_state){.gear = gear, .target = 0, .t_start = 0, .capacity = 0, .shifts = 0,
+                           .armed = 1, .t_end = 0};
 }
 
 static double shift_fraction(const ts_transmission *tr, const ts_shift_state *st, double t)
@@ -62,7 +65,10 @@ static double clutch(const ts_transmission *tr, int g, double cap, double w_in, 
 {
     double r = tr->ratio[g - 1], eta = tr->efficiency[g - 1];
     double s = w_in - r * w_out;
-    double tq = cap * tanh(s / tr->slip_speed);
+    /* slip speed scaled with the capacity: the same stiffness C_max / w_s near
+     * zero slip whatever the capacity, so a capacity change of a locked clutch
+     * barely moves its creep, and the explicit stability limit is fixed */
+    double tq = cap > 0 ? cap * tanh(s * tr->clutch_capacity / (tr->slip_speed * cap)) : 0.0;
     *to_output = r * (tq >= 0 ? eta * tq : tq / eta);
     if (slip) *slip = s;
     return tq;
@@ -93,11 +99,15 @@ void ts_transmission_roots(const ts_transmission *tr, const ts_shift_state *st, 
 {
     if (st->target) {
         g[0] = st->t_start + tr->shift_time - t;
-        g[1] = 1.0;
+        g[1] = g[2] = 1.0;
         return;
     }
-    g[0] = st->gear < tr->n ? w_engine - tr->shift_speed : 1.0;
+    /* armed: the upward crossing of shift_speed; disarmed: the fall to the
+     * re-arm speed, or the end of the dwell */
+    double rearm = tr->shift_speed - tr->shift_hysteresis;
+    g[0] = st->gear < tr->n ? w_engine - (st->armed ? tr->shift_speed : rearm) : 1.0;
     g[1] = (st->gear > 1 && tr->downshift_speed > 0) ? w_engine - tr->downshift_speed : 1.0;
+    g[2] = (!st->armed && st->gear < tr->n) ? st->t_end + tr->shift_dwell - t : 1.0;
 }
 
 int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double t,
@@ -109,10 +119,20 @@ int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double
         st->gear = st->target;
         st->target = 0;
         st->shifts++;
+        st->t_end = t;
+        st->armed = w_engine <= tr->shift_speed - tr->shift_hysteresis;
         return 1;
     }
+    /* re-arm: the engine has come down to shift_speed - hysteresis, or the
+     * dwell is over; a change of the root functions, so report it */
+    if (!st->armed &&
+        (w_engine <= (tr->shift_speed - tr->shift_hysteresis) * (1 + EVENT_SPEED_TOL) ||
+         t >= st->t_end + tr->shift_dwell - EVENT_TIME_TOL * (1.0 + fabs(t)))) {
+        st->armed = 1;
+        if (w_engine < tr->shift_speed * (1 - EVENT_SPEED_TOL)) return 1;
+    }
     int to = 0;
-    if (st->gear < tr->n && w_engine >= tr->shift_speed * (1 - EVENT_SPEED_TOL))
+    if (st->armed && st->gear < tr->n && w_engine >= tr->shift_speed * (1 - EVENT_SPEED_TOL))
         to = st->gear + 1;
     else if (st->gear > 1 && tr->downshift_speed > 0 &&
              w_engine <= tr->downshift_speed * (1 + EVENT_SPEED_TOL))
@@ -122,6 +142,7 @@ int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double
     double floor = SHIFT_CAP_FLOOR * tr->clutch_capacity;
     st->capacity = cs > floor ? cs : floor;
     st->target = to;
+    st->armed = 0;
     st->t_start = t;
     return 1;
 }

@@ -8,9 +8,10 @@
  * Model. Each forward gear i has one range clutch between the input shaft
  * (turbine, speed w_in) and the output shaft (w_out) with ratio r_i; its
  * friction torque, referred to the input, is regularised Coulomb friction
- *     T_i = C_i(t) tanh((w_in - r_i w_out) / w_s),
- * so an applied clutch (C_i = clutch_capacity) is locked up to a slip of
- * w_s atanh(T/C) and a partly applied one slips at its capacity. The input
+ *     T_i = C_i(t) tanh((w_in - r_i w_out) C_max / (w_s C_i(t))),
+ * so a clutch is locked up to a creep of w_s (C_i/C_max) atanh(T/C_i), with
+ * the same stiffness C_max/w_s near zero slip whatever its capacity, and
+ * slips at its capacity beyond. C_max = clutch_capacity (applied). The input
  * shaft loses sum T_i; the output gains sum r_i eta_i^(+-1) T_i (efficiency on
  * the forward power path, its inverse when torque flows back).
  *
@@ -22,11 +23,17 @@
  * off-going clutch breaks away), not by an instant ratio jump. At t0 + dt the
  * on-coming clutch is fully applied.
  *
- * Events: shift start (engine speed crossing shift_speed upwards or
- * downshift_speed downwards) and shift end (time) are ROOT FUNCTIONS of the
- * caller's ODE (ts_transmission_roots); at a root the caller runs
- * ts_transmission_update (a discrete state machine) and re-initialises its
- * integrator when it returns 1.
+ * Shift logic: an upshift starts when the engine speed crosses shift_speed
+ * upwards [P III.B.2]. The upshift is then disarmed until the engine speed has
+ * fallen to shift_speed - shift_hysteresis or shift_dwell has passed since the
+ * shift ended (so a shift that ends with the engine still above shift_speed does
+ * not chain straight into the next one). A downshift starts when the engine
+ * speed falls to downshift_speed (gear > 1).
+ *
+ * Events: shift start (engine speed crossings), shift end and dwell end (time)
+ * are ROOT FUNCTIONS of the caller's ODE (ts_transmission_roots); at a root
+ * the caller runs ts_transmission_update (a discrete state machine) and
+ * re-initialises its integrator when it returns 1.
  */
 #ifndef TS_TRANSMISSION_H
 #define TS_TRANSMISSION_H
@@ -34,7 +41,7 @@
 #include "config.h"
 #include "errors.h"
 
-#define TS_TRANSMISSION_NROOTS 2
+#define TS_TRANSMISSION_NROOTS 3
 
 typedef struct ts_transmission {
     int n;                            /* forward gears */
@@ -43,6 +50,8 @@ typedef struct ts_transmission {
     double shift_speed;               /* upshift engine speed [rad/s] */
     double downshift_speed;           /* downshift engine speed, 0 = never [rad/s] */
     double shift_time;                /* [s] */
+    double shift_dwell;               /* re-arm time after a shift [s] */
+    double shift_hysteresis;          /* re-arm below shift_speed by this [rad/s] */
     double clutch_capacity;           /* applied clutch [N*m] */
     double shift_capacity_factor;     /* [1] */
     double slip_speed;                /* regularisation [rad/s] */
@@ -55,6 +64,8 @@ typedef struct ts_shift_state {
     double t_start;    /* start of the current shift [s] */
     double capacity;   /* peak shift-clutch capacity Cs of the current shift [N*m] */
     int shifts;        /* completed shifts since reset */
+    int armed;         /* an upshift may start */
+    double t_end;      /* end of the last completed shift [s] */
 } ts_shift_state;
 
 typedef struct ts_tr_point {
@@ -80,10 +91,12 @@ void ts_transmission_roots(const ts_transmission *tr, const ts_shift_state *st, 
                            double w_engine, double *g);
 
 /* Discrete state machine, run at an event (and once after each re-init): ends a
- * shift whose interval has elapsed, starts an upshift when w_engine >=
- * shift_speed (gear < n) or a downshift when w_engine <= downshift_speed
- * (gear > 1). input_torque = current input-shaft torque (sets Cs). Returns 1
- * when the state changed (the caller must re-initialise its integrator). */
+ * shift whose interval has elapsed, re-arms the upshift (engine below
+ * shift_speed - hysteresis, or dwell over), starts an upshift when armed and
+ * w_engine >= shift_speed (gear < n) or a downshift when w_engine <=
+ * downshift_speed (gear > 1). input_torque = current input-shaft torque (sets
+ * Cs). Returns 1 when the discrete state changed (the caller must
+ * re-initialise its integrator: the root functions changed). */
 int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double t,
                            double w_engine, double input_torque);
 

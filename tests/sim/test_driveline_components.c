@@ -226,9 +226,12 @@ static void shift_hands_torque_over_continuously(void **state)
     assert_int_equal(ts_transmission_update(&tr, &st, dt, 0.0, 0.0), 1);
     assert_int_equal(st.gear, 2);
     assert_int_equal(st.target, 0);
-    /* locked on the on-coming clutch: creep w_s atanh(T_in / Cs) of the regularised law */
+    /* locked on the on-coming clutch: creep w_s (Cs/C_max) atanh(T_in/Cs) of the
+     * regularised law */
     assert_close(ts_ode_y(ode)[0],
-                 r2 * s.w_out + tr.slip_speed * atanh(s.t_in / st.capacity), 1e-3, 0);
+                 r2 * s.w_out + tr.slip_speed * st.capacity / tr.clutch_capacity *
+                                    atanh(s.t_in / st.capacity),
+                 1e-3, 0);
     ts_ode_free(ode);
 }
 
