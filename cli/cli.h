@@ -36,5 +36,6 @@ void tsc_print_err(const char *what, const ts_err *err);
 int tsc_cmd_run(int argc, char **argv);
 int tsc_cmd_modes(int argc, char **argv);
 int tsc_cmd_engine_map(int argc, char **argv);
+int tsc_cmd_tune(int argc, char **argv);
 
 #endif

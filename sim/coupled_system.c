@@ -190,6 +190,7 @@ struct ts_coupled_run {
     const ts_cosim_torque *src; /* follower's torque source during its advance */
     ts_cosim_report rep;      /* follower's last report */
     double *ylead_scratch;
+    double *rk;               /* 5 np: RK4 stages of the explicit leader */
 };
 
 static double now_seconds(void)
@@ -302,6 +303,38 @@ static ts_cosim_sample publish(ts_coupled_run *r, double t, const ts_powertrain_
     return s;
 }
 
+/* Explicit leader path (crank-angle engine, powertrain.h): classical RK4 at
+ * ts_powertrain_explicit_step, the shift state machine at every step end. */
+static ts_rc lead_explicit(ts_coupled_run *r, double t_to, ts_err *err)
+{
+    const ts_coupled *c = r->c;
+    int n = c->np;
+    double *k1 = r->rk, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n, *y = r->yp;
+    while (r->lead_t < t_to - 1e-12 * (1.0 + fabs(t_to))) {
+        double h = ts_powertrain_explicit_step(c->pt, y), t = r->lead_t;
+        if (t + h > t_to) h = t_to - t;
+        int rc = lead_rhs(t, y, k1, r);
+        for (int i = 0; !rc && i < n; i++) yt[i] = y[i] + 0.5 * h * k1[i];
+        if (!rc) rc = lead_rhs(t + 0.5 * h, yt, k2, r);
+        for (int i = 0; !rc && i < n; i++) yt[i] = y[i] + 0.5 * h * k2[i];
+        if (!rc) rc = lead_rhs(t + 0.5 * h, yt, k3, r);
+        for (int i = 0; !rc && i < n; i++) yt[i] = y[i] + h * k3[i];
+        if (!rc) rc = lead_rhs(t + h, yt, k4, r);
+        for (int i = 0; !rc && i < n; i++) {
+            y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+            if (!isfinite(y[i])) rc = 1;
+        }
+        if (rc)
+            return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                              "powertrain state left its domain at t = %.6f s", t);
+        r->lead_t = t + h;
+        settle(r, r->lead_t, y, lead_w(r, r->lead_t));
+    }
+    r->lead_t = t_to;
+    r->lead_dirty = 1; /* the implicit path (if the engine ever leaves RK4) restarts */
+    return TS_OK;
+}
+
 static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, int order,
                           ts_cosim_sample *out, ts_err *err)
 {
@@ -315,7 +348,9 @@ static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, in
     }
     ts_rc rc = TS_OK;
     if (settle(r, r->lead_t, r->yp, lead_w(r, r->lead_t))) r->lead_dirty = 1;
-    if (r->lead_dirty) {
+    if (ts_powertrain_explicit_step(c->pt, r->yp) > 0) {
+        rc = lead_explicit(r, t_to, err);
+    } else if (r->lead_dirty) {
         rc = ts_ode_init(r->lead_ode, r->lead_t, r->yp, err);
         r->lead_dirty = 0;
     }
@@ -388,7 +423,7 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
     r->rack_fixed = c->cfg.control.rack;
     int n = c->nv + c->np;
     /* yv, yp, ydv, ydp, ym (n), atol (n), lead scratch (np) */
-    r->yv = calloc((size_t)(4 * n + c->np), sizeof(double));
+    r->yv = calloc((size_t)(4 * n + 6 * c->np), sizeof(double));
     r->w = vm_work_make(c->v);
     if (!r->yv || !r->w) goto nomem;
     r->yp = r->yv + c->nv;
@@ -397,6 +432,7 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
     r->ym = r->yv + 2 * n;
     double *atol = r->yv + 3 * n;
     r->ylead_scratch = r->yv + 4 * n;
+    r->rk = r->ylead_scratch + c->np;
     const ts_run_config *rc = &c->cfg.run;
     for (int i = 0; i < c->nv; i++) atol[i] = rc->atol;
     ts_powertrain_scale(c->pt, atol + c->nv);

@@ -29,12 +29,16 @@
  * max(/vehicle/sprocket_inertia, output_inertia / 2) — the driveline figure
  * already includes the sprocket.
  * Leading-following exchanges the torque explicitly, and the leader's torque
- * carries the turbine's inertia torque through the PREDICTED acceleration: an
+ * carries the turbine's inertia torque through the PREDICTED acceleration
+ * (with an applied range clutch the turbine turns with the sprocket): an
  * added-mass coupling that diverges when that inertia (J_t (g f)^2 / 2 per
- * side, 64 kg m^2 in 1st gear) exceeds the vehicle sprocket's. So an interface
- * inertia J_a (/coupling/interface_inertia x the 1st-gear figure) rides on the
- * follower's sprocket and the leader publishes torque + J_a alpha_k — the same
- * equations as the step goes to 0 (the monolithic run has no J_a).
+ * side, 64 kg m^2 in 1st gear) exceeds the vehicle sprocket's (20 kg m^2).
+ * So the leader publishes torque + J_a alpha_k together with J_a, and the
+ * follower carries J_a on its sprocket (vm_rhs_torque's extra inertia):
+ *   J_a = /coupling/interface_inertia x J_t f^2 / 2 x sum_i g_i^2 lock_i,
+ * lock_i = 1 - (T_i / C_i)^2 of each range clutch (1 applied, 0 slipping), so
+ * J_a follows the gear and the shifts. J_a cancels as the step goes to 0 (the
+ * monolithic run has none); it only removes the explicit added mass.
  *
  * Leaves out: track slip anywhere but the vehicle's anchor; the injection
  * system's dynamics (ideal, Section IV.C); a gain schedule that varies during

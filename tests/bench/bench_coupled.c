@@ -9,7 +9,8 @@
  * Usage:
  *   bench_coupled                         both studies, default lengths
  *   bench_coupled rtf [T] [ENGINE TRACK METHOD]...   real-time factors, T s
- *   bench_coupled error [T] [PRESET]      coupling-error table over T s
+ *   bench_coupled error [T] [PRESET [TRACK [0]]]   coupling-error table over T s (0: the
+ *                                         hold predictor too)
  */
 #include <math.h>
 #include <stdio.h>
@@ -43,7 +44,7 @@ static int load(const char *preset, const char *engine, const char *track, ts_co
 /* One run of t_end seconds sampled every dt: sprocket speed and rear-roller
  * tension into w[], T[] (n = t_end/dt + 1 values each, may be NULL). */
 typedef struct result {
-    double wall, t_end;
+    double wall, cpu, t_end;
     ts_coupled_stats st;
     int ok;
 } result;
@@ -59,6 +60,7 @@ static result run(const ts_coupled *cm, int method, double t_end, double dt, dou
         return r;
     }
     double t0 = now();
+    clock_t c0 = clock();
     ts_rc rc = ts_coupled_run_reset(run, &err);
     long n = (long)floor(t_end / dt + 0.5);
     ts_coupled_obs o;
@@ -74,6 +76,7 @@ static result run(const ts_coupled *cm, int method, double t_end, double dt, dou
         r.t_end = k * dt;
     }
     r.wall = now() - t0;
+    r.cpu = (double)(clock() - c0) / CLOCKS_PER_SEC;
     ts_coupled_run_stats(run, &r.st);
     r.ok = rc == TS_OK;
     if (!r.ok) printf("  run failed at t = %.4f: %s\n", r.t_end, err.msg);
@@ -97,9 +100,11 @@ static void rtf(const char *preset, const char *engine, const char *track, const
     double v;
     result r = run(cm, mth, t_end, 0.01, NULL, NULL, NULL);
     (void)v;
-    printf("%-22s %-12s %-10s %-18s %5.2f s simulated, wall %8.2f s, real-time x %8.3f "
-           "(vehicle rhs %ld, wall %.2f s; powertrain rhs %ld, wall %.2f s; messages %ld)\n",
-           preset, engine, track, method, r.t_end, r.wall, r.t_end / r.wall, r.st.vehicle_rhs,
+    printf("%-22s %-12s %-10s %-18s %5.2f s simulated, wall %8.2f s, cpu %8.2f s, real-time x "
+           "%8.3f (wall) %8.3f (cpu) (vehicle rhs %ld, wall %.2f s; powertrain rhs %ld, wall "
+           "%.2f s; messages %ld)\n",
+           preset, engine, track, method, r.t_end, r.wall, r.cpu, r.t_end / r.wall,
+           r.t_end / r.cpu, r.st.vehicle_rhs,
            r.st.vehicle_wall, r.st.powertrain_rhs, r.st.powertrain_wall, r.st.exchanges);
     fflush(stdout);
     ts_coupled_free(cm);
@@ -128,10 +133,10 @@ static double rms_rel_dev(const double *a, const double *b, long n)
     return s > 0 ? sqrt(e / s) : NAN;
 }
 
-static void coupling_error(const char *preset, double t_end)
+static void coupling_error(const char *preset, const char *track, double t_end, int with_hold)
 {
     ts_config c;
-    if (load(preset, NULL, NULL, &c)) return;
+    if (load(preset, NULL, track, &c)) return;
     c.run.rtol = 1e-9;
     c.run.atol = 1e-11;
     const double dt = 0.005;
@@ -158,7 +163,7 @@ static void coupling_error(const char *preset, double t_end)
     double prev_w = NAN, prev_t = NAN;
     printf("  %-8s %-6s %12s %8s %12s %8s %12s %9s %9s %9s\n", "h [ms]", "order", "speed err",
            "p", "tension err", "p", "v err", "wall [s]", "veh wall", "pt wall");
-    for (int order = 1; order >= 0; order--) {
+    for (int order = 1; order >= (with_hold ? 0 : 1); order--) {
         prev_w = prev_t = NAN;
         for (size_t k = 0; k < sizeof hs / sizeof hs[0]; k++) {
             c.coupling.leader_step = c.coupling.follower_step = hs[k];
@@ -200,7 +205,8 @@ int main(int argc, char **argv)
     if (strcmp(what, "error") == 0 || strcmp(what, "all") == 0) {
         double t = argc > 2 && strcmp(what, "error") == 0 ? atof(argv[2]) : 3.0;
         const char *preset = argc > 3 && strcmp(what, "error") == 0 ? argv[3] : "flat-coupled-rack90";
-        coupling_error(preset, t);
+        const char *track = argc > 4 && strcmp(what, "error") == 0 ? argv[4] : NULL;
+        coupling_error(preset, track, t, argc > 5 && strcmp(what, "error") == 0 && atoi(argv[5]) == 0);
     }
     return 0;
 }
