@@ -8,8 +8,8 @@
 
 #define TS_DRIVE_TABLE_MAX 512
 #define TS_MAX_ROAD_WHEELS 10
-#define TS_NAME_LEN 64
-#define TS_PATH_LEN 256
+#define TS_NAME_LEN        64
+#define TS_PATH_LEN        256
 
 typedef struct ts_vehicle_config {
     double mass;                     /* combat mass, whole vehicle [kg] */
@@ -22,11 +22,11 @@ typedef struct ts_vehicle_config {
     double rotating_mass_factor;     /* effective/actual mass for point-mass runs [1] */
     /* Running-gear layout, hull-fixed, at static equilibrium on flat ground:
      * origin on the ground below the sprocket axle, x forward, z up [m]. */
-    double sprocket_x, sprocket_z;           /* drive sprocket centre (rear) */
-    double rear_roller_x, rear_roller_z;     /* rear ("second") support roller centre */
-    double front_roller_x, front_roller_z;   /* front support roller centre */
-    double roller_radius;                    /* support roller radius */
-    double idler_x, idler_z;                 /* idler centre (front, on the adjusting link) */
+    double sprocket_x, sprocket_z;         /* drive sprocket centre (rear) */
+    double rear_roller_x, rear_roller_z;   /* rear ("second") support roller centre */
+    double front_roller_x, front_roller_z; /* front support roller centre */
+    double roller_radius;                  /* support roller radius */
+    double idler_x, idler_z;               /* idler centre (front, on the adjusting link) */
     double idler_radius;
     int road_wheel_n;                        /* road wheels per side (7) */
     double road_wheel_x[TS_MAX_ROAD_WHEELS]; /* hub x, road wheel 1 (front) to 7 (rear) */
@@ -35,37 +35,43 @@ typedef struct ts_vehicle_config {
     /* Multibody data of the pitch-plane model (vehicle_model.h). Whole-vehicle
      * quantities unless marked "per station/side": the model is one side (one
      * track) carrying half the hull. */
-    double hull_pitch_inertia;               /* I_yy of the hull about its CG, whole vehicle [kg*m^2] */
-    double cg_x, cg_z;                       /* hull CG in the layout frame [m] */
-    double road_wheel_mass;                  /* dual road wheel, per station per side [kg] */
-    double road_wheel_inertia;               /* its spin inertia [kg*m^2] */
-    double road_arm_mass;                    /* road arm, per station per side [kg] */
-    double road_arm_inertia;                 /* road arm about its pivot [kg*m^2] */
-    double road_arm_length;                  /* pivot to hub [m] */
-    double road_arm_angle;                   /* design static arm angle below horizontal [rad] */
-    double torsion_bar_rate;                 /* per arm [N*m/rad] */
+    double hull_pitch_inertia; /* I_yy of the hull about its CG, whole vehicle [kg*m^2] */
+    double cg_x, cg_z;         /* hull CG in the layout frame [m] */
+    double road_wheel_mass;    /* dual road wheel, per station per side [kg] */
+    double road_wheel_inertia; /* its spin inertia [kg*m^2] */
+    double road_arm_mass;      /* road arm, per station per side [kg] */
+    double road_arm_inertia;   /* road arm about its pivot [kg*m^2] */
+    double road_arm_length;    /* pivot to hub [m] */
+    double road_arm_angle;     /* design static arm angle below horizontal [rad] */
+    double torsion_bar_rate;   /* per arm [N*m/rad] */
     int damper_station_n;
     double damper_station[TS_MAX_ROAD_WHEELS]; /* stations (1 = front) with rotary dampers */
-    double damper_rate;                      /* rotary damper [N*m*s/rad] */
+    double damper_rate;                        /* rotary damper [N*m*s/rad] */
     int bump_stop_station_n;
     double bump_stop_station[TS_MAX_ROAD_WHEELS]; /* stations with bump stops */
-    double bump_stop_angle;                  /* arm angle where the stop engages [rad] */
-    double bump_stop_rate;                   /* [N*m/rad] */
+    double bump_stop_angle;                       /* arm angle where the stop engages [rad] */
+    double bump_stop_rate;                        /* [N*m/rad] */
     double sprocket_inertia, idler_inertia, roller_inertia; /* spin inertias [kg*m^2] */
-    double track_pitch_offset;               /* pitch line outside wheel rims [m] */
-    double track_thickness;                  /* rim to ground under a road wheel [m] */
-    double track_damping_time;               /* Kelvin-Voigt time of the track elements [s] */
-    double idler_link_angle;                 /* track-adjusting link direction above hull x [rad] */
-    double foundation_stiffness;             /* track-terrain, per road wheel [N/m] */
-    double foundation_cubic;                 /* cubic stiffening [N/m^3] */
-    double foundation_damping;               /* [N*s/m] */
-    double anchor_stiffness;                 /* no-slip under the anchor wheel, tangential [N/m] */
-    double anchor_damping;                   /* [N*s/m] */
-    int anchor_station;                      /* road wheel that anchors the ground run (4) */
-    double damping_scale;                    /* multiplies every damper, foundation and track damping (1; 0 for energy checks) */
+    double track_pitch_offset;                              /* pitch line outside wheel rims [m] */
+    double track_thickness;      /* rim to ground under a road wheel [m] */
+    double track_damping_time;   /* Kelvin-Voigt time of the track elements [s] */
+    double idler_link_angle;     /* track-adjusting link direction above hull x [rad] */
+    double foundation_stiffness; /* track-terrain, per road wheel [N/m] */
+    double foundation_cubic;     /* cubic stiffening [N/m^3] */
+    double foundation_damping;   /* [N*s/m] */
+    double anchor_stiffness;     /* no-slip under the anchor wheel, tangential [N/m] */
+    double anchor_damping;       /* [N*s/m] */
+    int anchor_station;          /* road wheel that anchors the ground run (4) */
+    double damping_scale; /* multiplies every damper, foundation and track damping (1; 0 for energy
+                             checks) */
 } ts_vehicle_config;
 
-typedef enum ts_terrain_kind { TS_TERRAIN_FLAT, TS_TERRAIN_BUMPS, TS_TERRAIN_PROFILE, TS_NTERRAIN } ts_terrain_kind;
+typedef enum ts_terrain_kind {
+    TS_TERRAIN_FLAT,
+    TS_TERRAIN_BUMPS,
+    TS_TERRAIN_PROFILE,
+    TS_NTERRAIN
+} ts_terrain_kind;
 extern const char *const ts_terrain_kind_names[];
 
 #define TS_TERRAIN_BUMPS_MAX 128
@@ -76,12 +82,12 @@ typedef struct ts_terrain_config {
     char course_dir[TS_PATH_LEN];  /* directory of shipped courses (NAME.txt) */
     char profile_csv[TS_PATH_LEN]; /* user CSV (distance m, height m) for kind "profile" */
     int bump_n;                    /* inline bump list (overrides the course file when set) */
-    double bump_start[TS_TERRAIN_BUMPS_MAX];  /* [m] */
+    double bump_start[TS_TERRAIN_BUMPS_MAX]; /* [m] */
     int bump_height_n;
     double bump_height[TS_TERRAIN_BUMPS_MAX]; /* [m] */
     int bump_length_n;
     double bump_length[TS_TERRAIN_BUMPS_MAX]; /* [m] */
-    double start_x;                /* world x of the layout origin (below the sprocket) at t = 0 [m] */
+    double start_x; /* world x of the layout origin (below the sprocket) at t = 0 [m] */
 } ts_terrain_config;
 
 typedef enum ts_drive_kind {

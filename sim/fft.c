@@ -10,7 +10,10 @@
 
 #define PI 3.14159265358979323846
 
-int ts_fft_nbins(int n) { return n / 2 + 1; }
+int ts_fft_nbins(int n)
+{
+    return n / 2 + 1;
+}
 
 ts_rc ts_fft_amplitude(const double *x, int n, double fs, ts_fft_detrend detrend,
                        ts_fft_window window, double *freq, double *amp, ts_err *err)

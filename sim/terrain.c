@@ -16,7 +16,7 @@
 
 struct ts_terrain {
     int kind;
-    int n;            /* bumps or profile points */
+    int n;             /* bumps or profile points */
     double *a, *b, *c; /* bumps: start, height, length; profile: x, z, (unused) */
     double length;
 };
@@ -74,8 +74,8 @@ static char *slurp(const char *path, const char *pointer, ts_err *err)
     return buf;
 }
 
-ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, double *len,
-                              int cap, int *n, double *length, ts_err *err)
+ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, double *len, int cap,
+                              int *n, double *length, ts_err *err)
 {
     *n = 0;
     *length = 0;
@@ -93,7 +93,8 @@ ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, d
         char *hash = strchr(buf, '#');
         if (hash) *hash = '\0';
         char *s = buf;
-        while (*s == ' ' || *s == '\t' || *s == '\r') s++;
+        while (*s == ' ' || *s == '\t' || *s == '\r')
+            s++;
         if (!*s) continue;
         double v[3];
         if (strncmp(s, "length", 6) == 0) {
@@ -127,7 +128,8 @@ static ts_rc load_profile(ts_terrain *t, const char *path, ts_err *err)
     char *text = slurp(path, ptr, err);
     if (!text) return err ? err->code : TS_ERR_NOTFOUND;
     int cap = 1;
-    for (const char *q = text; *q; q++) cap += *q == '\n';
+    for (const char *q = text; *q; q++)
+        cap += *q == '\n';
     ts_rc rc = TS_OK;
     if (!alloc_arrays(t, cap)) {
         rc = ts_err_set(err, TS_ERR_NOMEM, ptr, "out of memory");
@@ -137,13 +139,14 @@ static ts_rc load_profile(ts_terrain *t, const char *path, ts_err *err)
     char *save = NULL;
     for (char *s = strtok_r(text, "\n", &save); s; s = strtok_r(NULL, "\n", &save)) {
         line++;
-        while (*s == ' ' || *s == '\t') s++;
+        while (*s == ' ' || *s == '\t')
+            s++;
         if (!*s || *s == '#' || *s == '\r') continue;
         double x, z;
         if (sscanf(s, "%lf , %lf", &x, &z) != 2 && sscanf(s, "%lf %lf", &x, &z) != 2) {
             if (t->n == 0 && line == 1) continue; /* header */
-            rc = ts_err_set(err, TS_ERR_PARAM, ptr, "%s: line %d: want 'distance_m,height_m'",
-                            ptr, line);
+            rc = ts_err_set(err, TS_ERR_PARAM, ptr, "%s: line %d: want 'distance_m,height_m'", ptr,
+                            line);
             goto done;
         }
         if (t->n > 0 && !(x > t->a[t->n - 1])) {
@@ -155,8 +158,10 @@ static ts_rc load_profile(ts_terrain *t, const char *path, ts_err *err)
         t->b[t->n] = z;
         t->n++;
     }
-    if (t->n < 1) rc = ts_err_set(err, TS_ERR_PARAM, ptr, "%s: no rows in '%s'", ptr, path);
-    else t->length = t->a[t->n - 1];
+    if (t->n < 1)
+        rc = ts_err_set(err, TS_ERR_PARAM, ptr, "%s: no rows in '%s'", ptr, path);
+    else
+        t->length = t->a[t->n - 1];
 done:
     free(text);
     return rc;
@@ -194,9 +199,11 @@ ts_terrain *ts_terrain_make(const ts_terrain_config *c, ts_err *err)
         char path[2 * TS_PATH_LEN];
         snprintf(path, sizeof path, "%s/%s.txt", c->course_dir, c->course);
         char *text = slurp(path, "/terrain/course", err);
-        if (!text) rc = err ? err->code : TS_ERR_NOTFOUND;
+        if (!text)
+            rc = err ? err->code : TS_ERR_NOTFOUND;
         else {
-            if (!alloc_arrays(t, TS_TERRAIN_BUMPS_MAX)) rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+            if (!alloc_arrays(t, TS_TERRAIN_BUMPS_MAX))
+                rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
             else
                 rc = ts_terrain_parse_course(text, t->a, t->b, t->c, TS_TERRAIN_BUMPS_MAX, &t->n,
                                              &t->length, err);
@@ -208,7 +215,8 @@ ts_terrain *ts_terrain_make(const ts_terrain_config *c, ts_err *err)
         if (!c->profile_csv[0])
             rc = ts_err_set(err, TS_ERR_PARAM, "/terrain/profile_csv",
                             "/terrain/profile_csv: a profile terrain needs a CSV path");
-        else rc = load_profile(t, c->profile_csv, err);
+        else
+            rc = load_profile(t, c->profile_csv, err);
     }
     if (rc != TS_OK) {
         ts_terrain_free(t);
@@ -217,7 +225,10 @@ ts_terrain *ts_terrain_make(const ts_terrain_config *c, ts_err *err)
     return t;
 }
 
-double ts_terrain_length(const ts_terrain *t) { return t->length; }
+double ts_terrain_length(const ts_terrain *t)
+{
+    return t->length;
+}
 
 /* Index of the last entry with key <= x, or -1. */
 static int find_le(const double *key, int n, double x)
@@ -226,8 +237,10 @@ static int find_le(const double *key, int n, double x)
     int lo = 0, hi = n; /* key[lo] <= x < key[hi] */
     while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
-        if (key[mid] <= x) lo = mid;
-        else hi = mid;
+        if (key[mid] <= x)
+            lo = mid;
+        else
+            hi = mid;
     }
     return lo;
 }
@@ -244,8 +257,10 @@ double ts_terrain_height(const ts_terrain *t, double x, double *slope)
         }
     } else if (t->kind == TS_TERRAIN_PROFILE && t->n > 0) {
         int i = find_le(t->a, t->n, x);
-        if (i < 0) z = t->b[0];
-        else if (i >= t->n - 1) z = t->b[t->n - 1];
+        if (i < 0)
+            z = t->b[0];
+        else if (i >= t->n - 1)
+            z = t->b[t->n - 1];
         else {
             dz = (t->b[i + 1] - t->b[i]) / (t->a[i + 1] - t->a[i]);
             z = t->b[i] + dz * (x - t->a[i]);

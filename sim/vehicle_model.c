@@ -29,11 +29,30 @@
  * end spins; their rigid motion with the hull); longitudinal / transverse /
  * coupled: the five free spans are track_span.h elements (see vehicle_spans).
  *
- * Left out: track translation-speed (gyroscopic) terms, slip anywhere but the
- * anchor, track–hull impact, rebound stops, the anchor's release when road
- * wheel 4 lifts off (the no-slip spring always acts), and the dependence of
- * the mass matrix on q in the span blocks (their chord directions change by
- * milliradians; the rigid bodies' velocity terms are kept).
+ * Span elements: the span's kinetic energy is its own (track_span.h M in the
+ * chord frame) plus the frame's motion interpolated between the two support
+ * centres (rigid mass rho L with the end velocities, cross terms from
+ * rho int N_i and rho int (1 - s/L) phi_k, rho int (s/L) phi_k), all assembled
+ * into the global mass matrix, so the support accelerations of Eqs. 4-5 load
+ * the modes implicitly (no lagged accelerations). Gravity: the frame's weight
+ * on the supports, the sag (built in by track_span), the tension gradient
+ * along the chord on the longitudinal sine modes. Kelvin-Voigt damping
+ * -tau_d K x_d on each span, the same retardation time as the chain elements.
+ *
+ * The span blocks of M depend on the hull pitch and the end road arms; their
+ * velocity terms dT/dq - (dM/dt) q_d are taken by central differences
+ * (span_velocity_terms), so the whole model is a consistent Lagrangian system
+ * (tests/sim/test_vehicle_energy.c).
+ *
+ * Left out: track translation-speed (gyroscopic) terms; the chord-rotation
+ * terms of ts_span_force (Coriolis, centripetal: the frame kinetic energy
+ * above supplies the frame's inertia instead); the
+ * weight of the rigid track feed around the circuit (only the free spans
+ * carry mass, the whole closed loop would balance it); slip anywhere but the
+ * anchor; track–hull impact; rebound stops; the anchor's release when road
+ * wheel 4 lifts off (the no-slip spring always acts); a compliant tensioner
+ * (the grease link is locked while running, so the static model's tension
+ * follows the loop-length change of the suspension travel).
  */
 #include "vehicle_model.h"
 
@@ -47,7 +66,7 @@
 #include "track_span.h"
 
 #define GRAVITY 9.80665 /* standard gravity [m/s^2] */
-#define PI 3.14159265358979323846
+#define PI      3.14159265358979323846
 
 enum { QX, QZ, QT, QA0, QS0 = QA0 + VM_NRW };
 
@@ -66,11 +85,11 @@ typedef struct jcol {
 } jcol;
 
 typedef struct span_el {
-    ts_span *sp;      /* NULL when the element is a massless spring */
-    int elem;         /* element index */
-    int q0;           /* first modal coordinate in q */
-    int nm;           /* modal coordinates */
-    double rho, len;  /* mass per length, reference chord length */
+    ts_span *sp;                             /* NULL when the element is a massless spring */
+    int elem;                                /* element index */
+    int q0;                                  /* first modal coordinate in q */
+    int nm;                                  /* modal coordinates */
+    double rho, len;                         /* mass per length, reference chord length */
     double alpha[2 + 2 * TS_SPAN_MAX_MODES]; /* rho int N_i (longitudinal rows) */
     double beta0[2 + 2 * TS_SPAN_MAX_MODES]; /* rho int (1 - s/L) phi_k (transverse rows) */
     double beta1[2 + 2 * TS_SPAN_MAX_MODES]; /* rho int (s/L) phi_k */
@@ -85,24 +104,24 @@ struct vm {
     double m_hull, i_hull;
     double m_w, m_arm, i_arm_cg, arm_len, arm0;
     double k_bar, c_damp[VM_NRW], bump[VM_NRW], bs_angle, k_bs;
-    double m0[VM_NRW];                /* torsion-bar preloads (equilibrium) */
-    double l_body[VM_NB][2];          /* hull-mounted bodies: offset from CG, hull frame */
-    double l_pivot[VM_NRW][2];        /* road-arm pivots, hull frame */
-    double link_dir[2], d_link;       /* idler link direction and setting */
-    double rho_b[VM_NB], j_b[VM_NB];  /* pitch-line radii, spin inertias */
-    double wheel_ground;              /* hub to ground-contact surface: r + thickness */
+    double m0[VM_NRW];               /* torsion-bar preloads (equilibrium) */
+    double l_body[VM_NB][2];         /* hull-mounted bodies: offset from CG, hull frame */
+    double l_pivot[VM_NRW][2];       /* road-arm pivots, hull frame */
+    double link_dir[2], d_link;      /* idler link direction and setting */
+    double rho_b[VM_NB], j_b[VM_NB]; /* pitch-line radii, spin inertias */
+    double wheel_ground;             /* hub to ground-contact surface: r + thickness */
     double ell0[VM_NB], psi0[VM_NB], len_el[VM_NB];
     double ea, p0, tau_d;
     double kf, kf3, cf, ka, ca;
-    int anchor;                       /* road-wheel index 0..6 */
+    int anchor; /* road-wheel index 0..6 */
     double x_anchor0;
-    double x0, z0;                    /* design CG world position */
+    double x0, z0; /* design CG world position */
     double dscale;
     /* fidelity extras */
     int npm;
-    double pm_m[8], pm_l[8][2];       /* point masses on the hull (hull frame offsets) */
-    double i_extra;                   /* extra hull pitch inertia */
-    double mqs[4][4];                 /* quasi-static spin coupling among bodies 0..3 */
+    double pm_m[8], pm_l[8][2]; /* point masses on the hull (hull frame offsets) */
+    double i_extra;             /* extra hull pitch inertia */
+    double mqs[4][4];           /* quasi-static spin coupling among bodies 0..3 */
     span_el span[VM_NSPAN];
     int dynamic;
     /* equilibrium */
@@ -111,15 +130,16 @@ struct vm {
 };
 
 struct vm_work {
-    double *M, *Q, *B, *C;            /* nq x nq, nq, span maps */
+    double *M, *Q, *B, *C;
+    double *qs; /* nq: perturbed coordinates (span velocity terms) */ /* nq x nq, nq, span maps */
     double sx[2 + 2 * TS_SPAN_MAX_MODES], sxd[2 + 2 * TS_SPAN_MAX_MODES],
         sf[2 + 2 * TS_SPAN_MAX_MODES];
 };
 
 typedef struct kin {
     double th, cth, sth, thd;
-    double c[VM_NB][2], v[VM_NB][2];  /* body centres and velocities */
-    double w[VM_NB][2];               /* centre - hull CG (world) */
+    double c[VM_NB][2], v[VM_NB][2];    /* body centres and velocities */
+    double w[VM_NB][2];                 /* centre - hull CG (world) */
     double wp[VM_NRW][2], e[VM_NRW][2]; /* pivot offset, arm vector (world) */
     jcol j[VM_NB];
 } kin;
@@ -138,8 +158,10 @@ static void rot(const kin *k, const double l[2], double w[2])
 
 static double wrap_pi(double a)
 {
-    while (a > PI) a -= 2 * PI;
-    while (a <= -PI) a += 2 * PI;
+    while (a > PI)
+        a -= 2 * PI;
+    while (a <= -PI)
+        a += 2 * PI;
     return a;
 }
 
@@ -235,7 +257,8 @@ static void add_point_mass(const vm *v, double *M, double *Q, double m, const jc
 
 static void add_force(double *Q, const jcol *j, const double f[2])
 {
-    for (int r = 0; r < j->n; r++) Q[j->idx[r]] += j->v[r][0] * f[0] + j->v[r][1] * f[1];
+    for (int r = 0; r < j->n; r++)
+        Q[j->idx[r]] += j->v[r][0] * f[0] + j->v[r][1] * f[1];
 }
 
 /* Jacobian of a hull-fixed point at world offset w from the CG. */
@@ -285,10 +308,12 @@ static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M
         M[ia * nq + QT] -= v->i_arm_cg;
         M[QT * nq + ia] -= v->i_arm_cg;
     }
-    for (int b = 0; b < VM_NB; b++) M[(QS0 + b) * nq + QS0 + b] += v->j_b[b];
+    for (int b = 0; b < VM_NB; b++)
+        M[(QS0 + b) * nq + QS0 + b] += v->j_b[b];
     if (v->fidelity == TS_TRACK_QUASI_STATIC)
         for (int a = 0; a < 4; a++)
-            for (int b = 0; b < 4; b++) M[(QS0 + a) * nq + QS0 + b] += v->mqs[a][b];
+            for (int b = 0; b < 4; b++)
+                M[(QS0 + a) * nq + QS0 + b] += v->mqs[a][b];
 }
 
 /* Cholesky solve of the symmetric positive-definite M x = b (in place). */
@@ -296,24 +321,28 @@ static int chol_solve(double *M, double *b, int n)
 {
     for (int j = 0; j < n; j++) {
         double d = M[j * n + j];
-        for (int k = 0; k < j; k++) d -= M[j * n + k] * M[j * n + k];
+        for (int k = 0; k < j; k++)
+            d -= M[j * n + k] * M[j * n + k];
         if (!(d > 0)) return 1;
         d = sqrt(d);
         M[j * n + j] = d;
         for (int i = j + 1; i < n; i++) {
             double s = M[i * n + j];
-            for (int k = 0; k < j; k++) s -= M[i * n + k] * M[j * n + k];
+            for (int k = 0; k < j; k++)
+                s -= M[i * n + k] * M[j * n + k];
             M[i * n + j] = s / d;
         }
     }
     for (int i = 0; i < n; i++) {
         double s = b[i];
-        for (int k = 0; k < i; k++) s -= M[i * n + k] * b[k];
+        for (int k = 0; k < i; k++)
+            s -= M[i * n + k] * b[k];
         b[i] = s / M[i * n + i];
     }
     for (int i = n - 1; i >= 0; i--) {
         double s = b[i];
-        for (int k = i + 1; k < n; k++) s -= M[k * n + i] * b[k];
+        for (int k = i + 1; k < n; k++)
+            s -= M[k * n + i] * b[k];
         b[i] = s / M[i * n + i];
     }
     return 0;
@@ -326,9 +355,12 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
                          int a, int b, const double *q, const double *qd, double *M, double *Q,
                          int inertia, vm_diag *diag);
 
+static void span_velocity_terms(const vm *v, vm_work *w, const double *q, const double *qd,
+                                double *Q);
+
 /* Generalised forces Q (and M if inertia) at (t, q, qd). */
-static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd,
-                   double *M, double *Q, int inertia, int drive_on, vm_diag *diag)
+static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
+                   double *Q, int inertia, int drive_on, vm_diag *diag)
 {
     const ts_vehicle_config *vc = &v->cfg.vehicle;
     int nq = v->nq;
@@ -385,7 +417,9 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         if (a == VM_REAR_ROLLER) rr_force[0] += f[0], rr_force[1] += f[1];
         if (diag) diag->tension[el] = diag->tension_end0[el] = diag->tension_end1[el] = e.t;
     }
-    for (int b = 0; b < VM_NB; b++) add_force(Q, &k.j[b], fr[b]);
+    for (int b = 0; b < VM_NB; b++)
+        add_force(Q, &k.j[b], fr[b]);
+    if (inertia && qd && v->dynamic) span_velocity_terms(v, w, q, qd, Q);
     /* foundation and anchor */
     for (int i = 0; i < VM_NRW; i++) {
         int b = VM_RW1 + i;
@@ -449,20 +483,29 @@ static int cset_add(cset *c, int i)
     return c->n++;
 }
 
-static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
-                         int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         int inertia, vm_diag *diag)
-{
-    const ts_span *sp = se->sp;
-    int n = sp->n, nq = v->nq;
-    cset cs = {0, {0}};
+/* The span's velocity map: x_d = B q_d (compact columns cs), and the frame
+ * velocities f_x = rx . q_d (end 0 along the chord), f_y0 = ry0 . q_d,
+ * f_y1 = ry1 . q_d (ends 0, 1 normal to it). */
+typedef struct span_map {
+    cset cs;
     double B[2 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES];
     double rx[8 + 2 * TS_SPAN_MAX_MODES], ry0[8 + 2 * TS_SPAN_MAX_MODES],
         ry1[8 + 2 * TS_SPAN_MAX_MODES];
-    memset(B, 0, sizeof B);
-    memset(rx, 0, sizeof rx);
-    memset(ry0, 0, sizeof ry0);
-    memset(ry1, 0, sizeof ry1);
+} span_map;
+
+static void span_map_build(const vm *v, const kin *k, const span_el *se, const elem *e, int a,
+                           int b, span_map *mp)
+{
+    int n = se->sp->n;
+    cset cs = {0, {0}};
+    double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp->B;
+    double *rx = mp->rx, *ry0 = mp->ry0, *ry1 = mp->ry1;
+    int ncap = 8 + se->nm; /* hull 3, two arms, two spins, the modes (+1 spare) */
+    for (int r = 0; r < n; r++)
+        for (int c = 0; c < ncap; c++)
+            B[r][c] = 0;
+    for (int c = 0; c < ncap; c++)
+        rx[c] = ry0[c] = ry1[c] = 0;
     double ell = e->ell;
     /* rows 0, 1: u0 = rho_a (Phi_a + dpsi), u1 = rho_b (Phi_b + dpsi) + l - l0 */
     for (int side = 0; side < 2; side++) {
@@ -471,7 +514,10 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
         for (int c = 0; c < j->n; c++) {
             int ci = cset_add(&cs, j->idx[c]);
             double dpsi = sg * (e->n[0] * j->v[c][0] + e->n[1] * j->v[c][1]) / ell;
-            double dl = sg * (e->u[0] * j->v[c][0] + e->u[1] * j->v[c][1]);
+            /* dl/dc_b = u + (rho_a - rho_b)/l n (d = l u + (rho_a - rho_b) n) */
+            double cr = (v->rho_b[a] - v->rho_b[b]) / ell;
+            double dl = sg * ((e->u[0] + cr * e->n[0]) * j->v[c][0] +
+                              (e->u[1] + cr * e->n[1]) * j->v[c][1]);
             B[0][ci] += v->rho_b[a] * dpsi;
             B[1][ci] += v->rho_b[b] * dpsi + dl;
             if (side == 0) {
@@ -484,18 +530,163 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
     }
     B[0][cset_add(&cs, QS0 + a)] += v->rho_b[a];
     B[1][cset_add(&cs, QS0 + b)] += v->rho_b[b];
-    for (int m = 0; m < se->nm; m++) B[2 + m][cset_add(&cs, se->q0 + m)] = 1.0;
+    for (int m = 0; m < se->nm; m++)
+        B[2 + m][cset_add(&cs, se->q0 + m)] = 1.0;
+    mp->cs = cs;
+}
+
+/* Kinetic energy of a span (its own motion in the chord frame, the frame's,
+ * and their cross terms) and its momentum p_c = dT/d(q_d) on the compact
+ * columns (p may be NULL). Consistent with the mass-matrix block assembled in
+ * span_element: p = M_span q_d. */
+static double span_ke(const vm *v, const span_el *se, const span_map *mp, const double *qd,
+                      double *p)
+{
+    (void)v;
+    const ts_span *sp = se->sp;
+    int n = sp->n, nc = mp->cs.n;
+    double xd[2 + 2 * TS_SPAN_MAX_MODES], mx[2 + 2 * TS_SPAN_MAX_MODES];
+    double fx = 0, fy0 = 0, fy1 = 0;
+    for (int c = 0; c < nc; c++) {
+        double u = qd[mp->cs.idx[c]];
+        fx += mp->rx[c] * u, fy0 += mp->ry0[c] * u, fy1 += mp->ry1[c] * u;
+    }
+    for (int r = 0; r < n; r++) {
+        double s = 0;
+        for (int c = 0; c < nc; c++)
+            s += mp->B[r][c] * qd[mp->cs.idx[c]];
+        xd[r] = s;
+    }
+    double m = se->rho * se->len, t = 0, ax = 0, a0 = 0, a1 = 0;
+    for (int r = 0; r < n; r++) {
+        double s = 0;
+        for (int kk = 0; kk < n; kk++)
+            s += sp->M[r * n + kk] * xd[kk];
+        mx[r] = s + se->alpha[r] * fx + se->beta0[r] * fy0 + se->beta1[r] * fy1;
+        t +=
+            0.5 * xd[r] * s + xd[r] * (se->alpha[r] * fx + se->beta0[r] * fy0 + se->beta1[r] * fy1);
+        ax += se->alpha[r] * xd[r], a0 += se->beta0[r] * xd[r], a1 += se->beta1[r] * xd[r];
+    }
+    t += 0.5 * m * fx * fx + m / 6.0 * (fy0 * fy0 + fy0 * fy1 + fy1 * fy1);
+    if (p)
+        for (int c = 0; c < nc; c++) {
+            double s = 0;
+            for (int r = 0; r < n; r++)
+                s += mp->B[r][c] * mx[r];
+            s += mp->rx[c] * (ax + m * fx) + mp->ry0[c] * (a0 + m / 3.0 * fy0 + m / 6.0 * fy1) +
+                 mp->ry1[c] * (a1 + m / 3.0 * fy1 + m / 6.0 * fy0);
+            p[c] = s;
+        }
+    return t;
+}
+
+/* Evaluate every span's map at coordinates qs: kinetic energy t[s] and
+ * momentum p[s][c]. */
+static void spans_at(const vm *v, const double *qs, const double *qd, double t[VM_NSPAN],
+                     double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES], span_map mp[VM_NSPAN])
+{
+    kin k;
+    kinematics(v, qs, NULL, &k);
+    for (int s = 0; s < VM_NSPAN; s++) {
+        const span_el *se = &v->span[s];
+        if (!se->sp) continue;
+        int a = se->elem, b = (se->elem + 1) % VM_NB;
+        elem e;
+        tangent(v, &k, a, b, &e);
+        span_map_build(v, &k, se, &e, a, b, &mp[s]);
+        t[s] = span_ke(v, se, &mp[s], qd, p ? p[s] : NULL);
+    }
+}
+
+/* Velocity terms of the span mass blocks, which depend on the hull pitch and
+ * on the road arms at the spans' ends: Q += dT/dq - (dM/dt) q_d, by central
+ * differences (the direction of q_d for dM/dt; theta and the arms for dT/dq —
+ * no span ends on two road wheels, so one perturbation serves all arms). */
+static void span_velocity_terms(const vm *v, vm_work *w, const double *q, const double *qd,
+                                double *Q)
+{
+    const double eps = 1e-5; /* [rad], differencing step */
+    int nq = v->nq;
+    double *qs = w->qs;
+    /* the track's transport around the circuit (the spins) is left out of these
+     * terms, as the paper drops the transport-speed terms of Eqs. 1-2 (II.B) */
+    double qdv[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
+    memcpy(qdv, qd, (size_t)nq * sizeof *qdv);
+    for (int b = 0; b < VM_NB; b++)
+        qdv[QS0 + b] = 0;
+    qd = qdv;
+    double tp[VM_NSPAN] = {0}, tm[VM_NSPAN] = {0};
+    double pp[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES], pm[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES];
+    span_map mp[VM_NSPAN], mm[VM_NSPAN];
+    double g = qd[QT] * qd[QT];
+    for (int i = 0; i < VM_NRW; i++)
+        g += qd[QA0 + i] * qd[QA0 + i];
+    g = sqrt(g);
+    if (g > 0) {
+        for (int sg = -1; sg <= 1; sg += 2) {
+            memcpy(qs, q, (size_t)nq * sizeof *qs);
+            qs[QT] += sg * eps * qd[QT] / g;
+            for (int i = 0; i < VM_NRW; i++)
+                qs[QA0 + i] += sg * eps * qd[QA0 + i] / g;
+            spans_at(v, qs, qd, sg > 0 ? tp : tm, sg > 0 ? pp : pm, sg > 0 ? mp : mm);
+        }
+        for (int s = 0; s < VM_NSPAN; s++) {
+            if (!v->span[s].sp) continue;
+            for (int c = 0; c < mp[s].cs.n; c++)
+                Q[mp[s].cs.idx[c]] -= g * (pp[s][c] - pm[s][c]) / (2 * eps);
+        }
+    }
+    for (int pass = 0; pass < 2; pass++) { /* 0: theta, 1: the road arms */
+        for (int sg = -1; sg <= 1; sg += 2) {
+            memcpy(qs, q, (size_t)nq * sizeof *qs);
+            if (pass == 0)
+                qs[QT] += sg * eps;
+            else
+                for (int i = 0; i < VM_NRW; i++)
+                    qs[QA0 + i] += sg * eps;
+            spans_at(v, qs, qd, sg > 0 ? tp : tm, NULL, mp);
+        }
+        for (int s = 0; s < VM_NSPAN; s++) {
+            if (!v->span[s].sp) continue;
+            double d = (tp[s] - tm[s]) / (2 * eps);
+            if (pass == 0) {
+                Q[QT] += d;
+                continue;
+            }
+            int a = v->span[s].elem, b = (a + 1) % VM_NB;
+            if (a >= VM_RW1)
+                Q[QA0 + a - VM_RW1] += d;
+            else if (b >= VM_RW1)
+                Q[QA0 + b - VM_RW1] += d;
+        }
+    }
+}
+
+static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
+                         int a, int b, const double *q, const double *qd, double *M, double *Q,
+                         int inertia, vm_diag *diag)
+{
+    const ts_span *sp = se->sp;
+    int n = sp->n, nq = v->nq;
+    span_map mp;
+    span_map_build(v, k, se, e, a, b, &mp);
+    const cset cs = mp.cs;
+    double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp.B;
+    const double *rx = mp.rx, *ry0 = mp.ry0, *ry1 = mp.ry1;
+    double ell = e->ell;
     /* local state */
     double *x = w->sx, *xd = w->sxd, *f = w->sf;
     double u0 = v->rho_b[a] * (q[QS0 + a] + e->dpsi);
     double u1 = v->rho_b[b] * (q[QS0 + b] + e->dpsi) + ell - v->ell0[se->elem];
     x[0] = 0;
     x[1] = u1 - u0;
-    for (int m = 0; m < se->nm; m++) x[2 + m] = q[se->q0 + m];
+    for (int m = 0; m < se->nm; m++)
+        x[2 + m] = q[se->q0 + m];
     for (int r = 0; r < n; r++) {
         double s = 0;
         if (qd)
-            for (int c = 0; c < cs.n; c++) s += B[r][c] * qd[cs.idx[c]];
+            for (int c = 0; c < cs.n; c++)
+                s += B[r][c] * qd[cs.idx[c]];
         xd[r] = s;
     }
     double psid = 0;
@@ -503,18 +694,37 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
         psid = ((k->v[b][0] - k->v[a][0]) * e->n[0] + (k->v[b][1] - k->v[a][1]) * e->n[1]) / ell;
     }
     double gx = -GRAVITY * e->u[1], gy = -GRAVITY * e->n[1];
-    ts_span_motion mo = {0, 0, psid, 0, gy};
+    /* The frame's translation and rotation enter through the mass matrix (the
+     * frame-velocity coupling below), so no support accelerations are passed;
+     * the chord's rotation rate is not passed either: its centripetal term
+     * would do work the lumped frame kinetic energy does not account for, and
+     * its Coriolis term (no work) is second order at hull pitch rates. */
+    (void)psid;
+    ts_span_motion mo = {0, 0, 0, 0, gy};
     ts_span_force(sp, &mo, x, xd, f);
+    /* Kelvin-Voigt track damping, the same retardation time as the chain
+     * elements: -tau_d K x_d (stiffness-proportional, damps the span's
+     * high longitudinal modes hard and its transverse string modes lightly) */
+    double kv = v->dscale * v->tau_d;
+    if (kv > 0)
+        for (int r = 0; r < n; r++) {
+            double s = 0;
+            for (int c = 0; c < n; c++)
+                s += sp->K[r * n + c] * xd[c];
+            f[r] -= kv * s;
+        }
     /* gravity along the chord on the longitudinal sine modes (the tension
      * gradient); not on the rigid feed u0, u1: over the whole closed loop the
      * track's weight along the circuit sums to zero, and only the free spans
      * carry mass here, so keeping it would make the track creep round. */
-    for (int r = 2; r < n; r++) f[r] += gx * se->alpha[r];
+    for (int r = 2; r < n; r++)
+        f[r] += gx * se->alpha[r];
     /* generalised forces: B^T f + frame gravity */
     double m = se->rho * se->len;
     for (int c = 0; c < cs.n; c++) {
         double s = 0;
-        for (int r = 0; r < n; r++) s += B[r][c] * f[r];
+        for (int r = 0; r < n; r++)
+            s += B[r][c] * f[r];
         s += m * gx * rx[c] + 0.5 * m * gy * (ry0[c] + ry1[c]);
         Q[cs.idx[c]] += s;
     }
@@ -528,7 +738,8 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
         for (int r = 0; r < n; r++)
             for (int c = 0; c < cs.n; c++) {
                 double s = 0;
-                for (int kk = 0; kk < n; kk++) s += sp->M[r * n + kk] * B[kk][c];
+                for (int kk = 0; kk < n; kk++)
+                    s += sp->M[r * n + kk] * B[kk][c];
                 MB[r][c] = s;
             }
         for (int c1 = 0; c1 < cs.n; c1++)
@@ -561,23 +772,46 @@ void vm_free(vm *v)
 {
     if (!v) return;
     ts_terrain_free(v->terrain);
-    for (int s = 0; s < VM_NSPAN; s++) ts_span_free(v->span[s].sp);
+    for (int s = 0; s < VM_NSPAN; s++)
+        ts_span_free(v->span[s].sp);
     free(v->y_eq);
     free(v);
 }
 
-int vm_nq(const vm *v) { return v->nq; }
-int vm_ny(const vm *v) { return v->ny; }
-int vm_dof(const vm *v) { return v->nq; }
-const double *vm_equilibrium(const vm *v) { return v->y_eq; }
-double vm_static_tension(const vm *v) { return v->t_static; }
-double vm_preload(const vm *v, int arm) { return v->m0[arm]; }
-double vm_x0(const vm *v) { return v->y_eq[QX]; }
+int vm_nq(const vm *v)
+{
+    return v->nq;
+}
+int vm_ny(const vm *v)
+{
+    return v->ny;
+}
+int vm_dof(const vm *v)
+{
+    return v->nq;
+}
+const double *vm_equilibrium(const vm *v)
+{
+    return v->y_eq;
+}
+double vm_static_tension(const vm *v)
+{
+    return v->t_static;
+}
+double vm_preload(const vm *v, int arm)
+{
+    return v->m0[arm];
+}
+double vm_x0(const vm *v)
+{
+    return v->y_eq[QX];
+}
 
 double vm_supported_weight(const vm *v)
 {
     double m = v->m_hull + VM_NRW * (v->m_w + v->m_arm);
-    for (int p = 0; p < v->npm; p++) m += v->pm_m[p];
+    for (int p = 0; p < v->npm; p++)
+        m += v->pm_m[p];
     for (int s = 0; s < VM_NSPAN; s++)
         if (v->span[s].sp) m += v->span[s].rho * v->span[s].len;
     return m * GRAVITY;
@@ -590,7 +824,8 @@ vm_work *vm_work_make(const vm *v)
     size_t nq = (size_t)v->nq;
     w->M = calloc(nq * nq, sizeof(double));
     w->Q = calloc(nq, sizeof(double));
-    if (!w->M || !w->Q) {
+    w->qs = calloc(nq, sizeof(double));
+    if (!w->M || !w->Q || !w->qs) {
         vm_work_free(w);
         return NULL;
     }
@@ -602,6 +837,7 @@ void vm_work_free(vm_work *w)
     if (!w) return;
     free(w->M);
     free(w->Q);
+    free(w->qs);
     free(w->B);
     free(w->C);
     free(w);
@@ -628,13 +864,14 @@ static void eq_apply(vm *v, const eq_map *mp, const double *u, double *q)
     q[QT] = u[p++];
     for (int b = 0; b < VM_NB; b++)
         if (b != VM_RW1 + v->anchor) q[QS0 + b] = u[p++];
-    for (int i = 0; i < VM_NRW; i++) v->m0[i] = u[p++];
+    for (int i = 0; i < VM_NRW; i++)
+        v->m0[i] = u[p++];
     v->d_link = u[p++];
-    for (int m = 0; m < v->nmodal; m++) q[VM_NQ_RIGID + m] = u[p++];
+    for (int m = 0; m < v->nmodal; m++)
+        q[VM_NQ_RIGID + m] = u[p++];
 }
 
-static void eq_residual(vm *v, vm_work *w, const eq_map *mp, const double *u, double *q,
-                        double *r)
+static void eq_residual(vm *v, vm_work *w, const eq_map *mp, const double *u, double *q, double *r)
 {
     eq_apply(v, mp, u, q);
     vm_diag dg;
@@ -643,11 +880,13 @@ static void eq_residual(vm *v, vm_work *w, const eq_map *mp, const double *u, do
     r[p++] = w->Q[QX];
     r[p++] = w->Q[QZ];
     r[p++] = w->Q[QT];
-    for (int i = 0; i < VM_NRW; i++) r[p++] = w->Q[QA0 + i];
+    for (int i = 0; i < VM_NRW; i++)
+        r[p++] = w->Q[QA0 + i];
     for (int b = 0; b < VM_NB; b++)
         if (b != VM_RW1 + v->anchor) r[p++] = w->Q[QS0 + b];
     r[p++] = dg.tension_end1[0] - v->p0;
-    for (int m = 0; m < v->nmodal; m++) r[p++] = w->Q[VM_NQ_RIGID + m];
+    for (int m = 0; m < v->nmodal; m++)
+        r[p++] = w->Q[VM_NQ_RIGID + m];
 }
 
 static ts_rc equilibrium(vm *v, ts_err *err)
@@ -665,10 +904,15 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         goto done;
     }
-    for (int i = 0; i < VM_NRW; i++) q[QA0 + i] = v->arm0;
+    for (int i = 0; i < VM_NRW; i++)
+        q[QA0 + i] = v->arm0;
     double wsup = vm_supported_weight(v);
     u[0] = v->x0;
-    u[1] = v->z0 - wsup / VM_NRW / v->kf; /* foundation compression */
+    /* start on the ground under the road wheels, the foundation compressed */
+    double hg = 0;
+    for (int i = 0; i < VM_NRW; i++)
+        hg += ts_terrain_height(v->terrain, v->x0 + v->l_pivot[i][0], NULL) / VM_NRW;
+    u[1] = v->z0 + hg - wsup / VM_NRW / v->kf;
     for (int i = 0; i < VM_NRW; i++)
         u[3 + VM_NB - 1 + i] = wsup / VM_NRW * v->arm_len * cos(v->arm0);
     double scale_f = wsup;
@@ -676,7 +920,8 @@ static ts_rc equilibrium(vm *v, ts_err *err)
     for (it = 0; it < 40; it++) {
         eq_residual(v, w, &mp, u, q, r);
         double rn = 0;
-        for (int i = 0; i < nu; i++) rn = fmax(rn, fabs(r[i]));
+        for (int i = 0; i < nu; i++)
+            rn = fmax(rn, fabs(r[i]));
         if (rn < 1e-7 * scale_f) break;
         for (int j = 0; j < nu; j++) {
             double h = 1e-7 * fmax(1.0, fabs(u[j]));
@@ -684,15 +929,18 @@ static ts_rc equilibrium(vm *v, ts_err *err)
             u[j] = keep + h;
             eq_residual(v, w, &mp, u, q, r2);
             u[j] = keep;
-            for (int i = 0; i < nu; i++) J[i * nu + j] = (r2[i] - r[i]) / h;
+            for (int i = 0; i < nu; i++)
+                J[i * nu + j] = (r2[i] - r[i]) / h;
         }
-        for (int i = 0; i < nu; i++) r[i] = -r[i];
+        for (int i = 0; i < nu; i++)
+            r[i] = -r[i];
         if (LAPACKE_dgesv(LAPACK_ROW_MAJOR, nu, 1, J, nu, piv, r, 1) != 0) {
             rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
                             "static equilibrium: singular Jacobian (check the layout)");
             goto done;
         }
-        for (int i = 0; i < nu; i++) u[i] += r[i];
+        for (int i = 0; i < nu; i++)
+            u[i] += r[i];
     }
     if (it == 40) {
         rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
@@ -722,10 +970,17 @@ static ts_rc build_spans(vm *v, ts_err *err)
     const ts_track_config *tc = &v->cfg.track;
     int nl = 0, nt = 0, qs = 0;
     switch (v->fidelity) {
-    case TS_TRACK_LONGITUDINAL: nl = tc->n_long; break;
-    case TS_TRACK_TRANSVERSE: nt = tc->n_trans, qs = 1; break;
-    case TS_TRACK_COUPLED: nl = tc->n_long, nt = tc->n_trans; break;
-    default: return TS_OK;
+    case TS_TRACK_LONGITUDINAL:
+        nl = tc->n_long;
+        break;
+    case TS_TRACK_TRANSVERSE:
+        nt = tc->n_trans, qs = 1;
+        break;
+    case TS_TRACK_COUPLED:
+        nl = tc->n_long, nt = tc->n_trans;
+        break;
+    default:
+        return TS_OK;
     }
     if (nl + nt == 0)
         return ts_err_set(err, TS_ERR_PARAM, "/track/n_long",
@@ -754,13 +1009,14 @@ static ts_rc build_spans(vm *v, ts_err *err)
         se->rho = tc->mass_per_length;
         se->len = v->ell0[el];
         q0 += se->nm;
-        double L = se->len, rho = se->rho;
-        /* rho int N_i ds of U's shape functions; transverse frame interpolation */
-        se->alpha[0] = se->alpha[1] = 0.5 * rho * L;
-        for (int j = 1; j <= nl; j++) se->alpha[1 + j] = rho * L * (1 - cos(j * PI)) / (j * PI);
-        for (int kk = 1; kk <= nt; kk++) {
-            se->beta0[1 + nl + kk] = rho * L / (kk * PI);
-            se->beta1[1 + nl + kk] = -rho * L * cos(kk * PI) / (kk * PI);
+        /* frame-coupling integrals from the span's load vectors: rho int N_i
+         * (longitudinal rows) and, for the transverse frame velocity
+         * interpolated between the ends, rho int (1 - s/L) phi_k = ay - sy/L and
+         * rho int (s/L) phi_k = sy/L */
+        for (int r = 0; r < se->sp->n; r++) {
+            se->alpha[r] = se->sp->ax[r];
+            se->beta1[r] = se->sp->sy[r] / se->len;
+            se->beta0[r] = se->sp->ay[r] - se->beta1[r];
         }
     }
     v->nmodal = q0 - VM_NQ_RIGID;
@@ -802,7 +1058,8 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     if (v->i_arm_cg <= 0) v->i_arm_cg = 1e-3 * vc->road_arm_inertia;
     v->k_bar = vc->torsion_bar_rate;
     for (int i = 0; i < VM_NRW; i++) {
-        v->c_damp[i] = is_station(vc->damper_station, vc->damper_station_n, i + 1) ? vc->damper_rate : 0;
+        v->c_damp[i] =
+            is_station(vc->damper_station, vc->damper_station_n, i + 1) ? vc->damper_rate : 0;
         v->bump[i] = is_station(vc->bump_stop_station, vc->bump_stop_station_n, i + 1);
     }
     v->bs_angle = vc->bump_stop_angle;
@@ -825,7 +1082,8 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     bx[VM_REAR_ROLLER] = vc->rear_roller_x, bz[VM_REAR_ROLLER] = vc->rear_roller_z;
     bx[VM_FRONT_ROLLER] = vc->front_roller_x, bz[VM_FRONT_ROLLER] = vc->front_roller_z;
     bx[VM_IDLER] = vc->idler_x, bz[VM_IDLER] = vc->idler_z;
-    for (int i = 0; i < VM_NRW; i++) bx[VM_RW1 + i] = vc->road_wheel_x[i], bz[VM_RW1 + i] = vc->road_wheel_z;
+    for (int i = 0; i < VM_NRW; i++)
+        bx[VM_RW1 + i] = vc->road_wheel_x[i], bz[VM_RW1 + i] = vc->road_wheel_z;
     for (int b = 0; b < VM_RW1; b++) {
         v->l_body[b][0] = bx[b] - vc->cg_x;
         v->l_body[b][1] = bz[b] - vc->cg_z;
@@ -835,13 +1093,16 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
         v->l_pivot[i][1] = bz[VM_RW1 + i] + v->arm_len * sin(v->arm0) - vc->cg_z;
     }
     v->rho_b[VM_SPROCKET] = vc->sprocket_radius;
-    v->rho_b[VM_REAR_ROLLER] = v->rho_b[VM_FRONT_ROLLER] = vc->roller_radius + vc->track_pitch_offset;
+    v->rho_b[VM_REAR_ROLLER] = v->rho_b[VM_FRONT_ROLLER] =
+        vc->roller_radius + vc->track_pitch_offset;
     v->rho_b[VM_IDLER] = vc->idler_radius + vc->track_pitch_offset;
-    for (int i = 0; i < VM_NRW; i++) v->rho_b[VM_RW1 + i] = vc->road_wheel_radius + vc->track_pitch_offset;
+    for (int i = 0; i < VM_NRW; i++)
+        v->rho_b[VM_RW1 + i] = vc->road_wheel_radius + vc->track_pitch_offset;
     v->j_b[VM_SPROCKET] = vc->sprocket_inertia;
     v->j_b[VM_REAR_ROLLER] = v->j_b[VM_FRONT_ROLLER] = vc->roller_inertia;
     v->j_b[VM_IDLER] = vc->idler_inertia;
-    for (int i = 0; i < VM_NRW; i++) v->j_b[VM_RW1 + i] = vc->road_wheel_inertia;
+    for (int i = 0; i < VM_NRW; i++)
+        v->j_b[VM_RW1 + i] = vc->road_wheel_inertia;
     v->x0 = cfg->terrain.start_x + vc->cg_x;
     v->z0 = vc->cg_z;
     /* design configuration: element reference lengths and angles */
@@ -849,7 +1110,8 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     double q[VM_NQ_RIGID] = {0};
     q[QX] = v->x0;
     q[QZ] = v->z0;
-    for (int i = 0; i < VM_NRW; i++) q[QA0 + i] = v->arm0;
+    for (int i = 0; i < VM_NRW; i++)
+        q[QA0 + i] = v->arm0;
     kin k;
     kinematics(v, q, NULL, &k);
     v->x_anchor0 = k.c[VM_RW1 + v->anchor][0];
@@ -967,7 +1229,8 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
     forces(v, w, 0.0, q, qd, w->M, w->Q, 1, 0, NULL);
     double ke = 0;
     for (int i = 0; i < nq; i++)
-        for (int j = 0; j < nq; j++) ke += 0.5 * qd[i] * w->M[i * nq + j] * qd[j];
+        for (int j = 0; j < nq; j++)
+            ke += 0.5 * qd[i] * w->M[i * nq + j] * qd[j];
     kin k;
     kinematics(v, q, qd, &k);
     double pe = v->m_hull * GRAVITY * q[QZ];
@@ -1006,6 +1269,7 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
         double u1 = v->rho_b[b] * (q[QS0 + b] + e.dpsi) + e.ell - v->ell0[el];
         if (!se) {
             double s = u1 - u0, kel = v->ea / v->len_el[el];
+            if (s < -v->p0 / kel) s = -v->p0 / kel; /* slack: T = 0, energy flat */
             pe += v->p0 * s + 0.5 * kel * s * s;
             continue;
         }
@@ -1014,10 +1278,12 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
         double x[2 + 2 * TS_SPAN_MAX_MODES];
         x[0] = 0;
         x[1] = u1 - u0;
-        for (int m = 0; m < se->nm; m++) x[2 + m] = q[se->q0 + m];
+        for (int m = 0; m < se->nm; m++)
+            x[2 + m] = q[se->q0 + m];
         double xk = 0;
         for (int r = 0; r < n; r++)
-            for (int c = 0; c < n; c++) xk += 0.5 * x[r] * sp->K[r * n + c] * x[c];
+            for (int c = 0; c < n; c++)
+                xk += 0.5 * x[r] * sp->K[r * n + c] * x[c];
         double gx = -GRAVITY * e.u[1], gy = -GRAVITY * e.n[1];
         double ax = 0, ay = 0;
         for (int m = 0; m < se->nm; m++) {
@@ -1081,7 +1347,8 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
     }
     g->track_static_tension = v->t_static;
     elem e[VM_NB];
-    for (int el = 0; el < VM_NB; el++) tangent(v, &k, el, (el + 1) % VM_NB, &e[el]);
+    for (int el = 0; el < VM_NB; el++)
+        tangent(v, &k, el, (el + 1) % VM_NB, &e[el]);
     for (int el = 0; el < VM_NB; el++) {
         int a = el, b = (el + 1) % VM_NB, next = (el + 1) % VM_NB;
         const span_el *se = NULL;
@@ -1096,7 +1363,8 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
             double dpsi = wrap_pi(e[el].psi - v->psi0[el]);
             x[1] = v->rho_b[b] * (q[QS0 + b] + dpsi) + e[el].ell - v->ell0[el] -
                    v->rho_b[a] * (q[QS0 + a] + dpsi);
-            for (int m = 0; m < se->nm; m++) x[2 + m] = q[se->q0 + m];
+            for (int m = 0; m < se->nm; m++)
+                x[2 + m] = q[se->q0 + m];
         }
         for (int i = 0; i < npt; i++) {
             double s = e[el].ell * i / npt;
@@ -1109,8 +1377,8 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
                 tt = v->p0 + tau;
             }
             geom_point(g, pa[0] + s * e[el].u[0] + sag * e[el].n[0],
-                       pa[1] + s * e[el].u[1] + sag * e[el].n[1], V * e[el].n[0],
-                       V * e[el].n[1], tt);
+                       pa[1] + s * e[el].u[1] + sag * e[el].n[1], V * e[el].n[0], V * e[el].n[1],
+                       tt);
         }
         /* wrap on b, clockwise from this element's normal to the next one's */
         double a0 = atan2(e[el].n[1], e[el].n[0]), a1 = atan2(e[next].n[1], e[next].n[0]);
@@ -1119,8 +1387,8 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
         int na = (int)(sweep / (PI / 12)) + 1;
         for (int i = 0; i < na; i++) {
             double ang = a0 - sweep * i / na;
-            geom_point(g, k.c[b][0] + v->rho_b[b] * cos(ang), k.c[b][1] + v->rho_b[b] * sin(ang),
-                       0, 0, dg.tension[el]);
+            geom_point(g, k.c[b][0] + v->rho_b[b] * cos(ang), k.c[b][1] + v->rho_b[b] * sin(ang), 0,
+                       0, dg.tension[el]);
         }
     }
     int nt = 200;
@@ -1131,4 +1399,16 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
         g->terrain_z[i] = ts_terrain_height(v->terrain, x, NULL);
         g->nterrain = i + 1;
     }
+}
+
+void vm_forces(const vm *v, vm_work *w, double t, const double *y, int drive_on, double *Q)
+{
+    forces(v, w, t, y, y + v->nq, w->M, w->Q, 1, drive_on, NULL);
+    memcpy(Q, w->Q, (size_t)v->nq * sizeof(double));
+}
+
+void vm_mass(const vm *v, vm_work *w, const double *y, double *M)
+{
+    forces(v, w, 0.0, y, y + v->nq, w->M, w->Q, 1, 0, NULL);
+    memcpy(M, w->M, (size_t)v->nq * (size_t)v->nq * sizeof(double));
 }

@@ -42,13 +42,17 @@
 #include "errors.h"
 #include "geometry.h"
 
-#define VM_NRW 7         /* road wheels per side (the layout must give 7) */
-#define VM_NB 11         /* bodies the track wraps */
-#define VM_NSPAN 5       /* free spans */
-#define VM_NQ_RIGID 21   /* rigid-body DOF */
+#define VM_NRW      7  /* road wheels per side (the layout must give 7) */
+#define VM_NB       11 /* bodies the track wraps */
+#define VM_NSPAN    5  /* free spans */
+#define VM_NQ_RIGID 21 /* rigid-body DOF */
 
 enum vm_body {
-    VM_SPROCKET, VM_REAR_ROLLER, VM_FRONT_ROLLER, VM_IDLER, VM_RW1 /* .. VM_RW1 + 6 */
+    VM_SPROCKET,
+    VM_REAR_ROLLER,
+    VM_FRONT_ROLLER,
+    VM_IDLER,
+    VM_RW1 /* .. VM_RW1 + 6 */
 };
 /* Track elements: element k runs from body k to body (k + 1) % VM_NB. Free spans
  * are elements 0 (sprocket -> rear roller), 1 (rear -> front roller), 2 (front
@@ -62,23 +66,23 @@ typedef struct vm_work vm_work;
 
 /* Diagnostics of one right-hand-side evaluation. */
 typedef struct vm_diag {
-    double tension[VM_NB];          /* element tension (spans: mean of the two ends) [N] */
+    double tension[VM_NB]; /* element tension (spans: mean of the two ends) [N] */
     double tension_end0[VM_NB], tension_end1[VM_NB]; /* at the a and b ends [N] */
-    double wheel_load[VM_NRW];      /* foundation normal force per road wheel [N] */
-    double arm_angle[VM_NRW];       /* [rad] */
-    double rear_roller_normal;      /* track on the rear roller, along hull -z [N] */
-    double anchor_force;            /* tangential ground force at the anchor [N] */
+    double wheel_load[VM_NRW];            /* foundation normal force per road wheel [N] */
+    double arm_angle[VM_NRW];             /* [rad] */
+    double rear_roller_normal;            /* track on the rear roller, along hull -z [N] */
+    double anchor_force;                  /* tangential ground force at the anchor [N] */
     double span_mid_deflection[VM_NSPAN]; /* dynamic transverse V at mid-span [m] */
     double span_mid_tension[VM_NSPAN];    /* total tension at mid-span [N] */
-    double drive_torque;            /* [N*m] */
+    double drive_torque;                  /* [N*m] */
 } vm_diag;
 
 vm *vm_make(const ts_config *cfg, ts_err *err);
 void vm_free(vm *v);
 
-int vm_nq(const vm *v);      /* generalised coordinates */
-int vm_ny(const vm *v);      /* first-order states, 2 nq */
-int vm_dof(const vm *v);     /* = nq */
+int vm_nq(const vm *v);  /* generalised coordinates */
+int vm_ny(const vm *v);  /* first-order states, 2 nq */
+int vm_dof(const vm *v); /* = nq */
 
 /* Static-equilibrium state (velocities zero), ny values. */
 const double *vm_equilibrium(const vm *v);
@@ -97,6 +101,13 @@ int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_
 /* Total mechanical energy (kinetic + elastic + gravity) of state y [J], with
  * the same consistent approximations as vm_rhs (see vehicle_model.c). */
 double vm_energy(const vm *v, vm_work *w, const double *y);
+
+/* Generalised forces Q(q, dq/dt, t) of state y (nq values): everything but the
+ * inertia M q_dd (rigid-body velocity terms and gravity included). */
+void vm_forces(const vm *v, vm_work *w, double t, const double *y, int drive_on, double *Q);
+
+/* Mass matrix M(q) of state y (nq x nq, row-major, symmetric). */
+void vm_mass(const vm *v, vm_work *w, const double *y, double *M);
 
 /* Geometry snapshot (geometry.h) of state y at time t. */
 void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g);

@@ -1,0 +1,128 @@
+/*
+ * test_terrain.c — terrain profiles (terrain.h): the shipped apg4-synth course
+ * file, inline bump lists, user CSV profiles, and their errors.
+ */
+#include "test_util.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim/tanksim.h"
+#include "sim/terrain.h"
+
+static ts_terrain_config base(int kind)
+{
+    ts_terrain_config c;
+    memset(&c, 0, sizeof c);
+    c.kind = kind;
+    snprintf(c.course, sizeof c.course, "apg4-synth");
+    snprintf(c.course_dir, sizeof c.course_dir, "sim/data/terrain");
+    return c;
+}
+
+/* EVIDENCE: parameters.md 6.2 / sim/data/terrain/apg4-synth.txt: 26 bumps,
+ * the first 1 ft x 25 ft at 50 ft [P II.D: the large obstacle], the last
+ * 0.25 ft x 2 ft [P II.D: the small obstacle] at 464.5 ft, course 500 ft.
+ * 1-cos shape: full height at the bump middle, zero and flat at its ends.
+ * Exact to the file's 4 decimals. */
+static void apg4_synth_course_has_the_papers_obstacles(void **state)
+{
+    (void)state;
+    ts_terrain_config c = base(TS_TERRAIN_BUMPS);
+    ts_err err;
+    ts_terrain *t = ts_terrain_make(&c, &err);
+    assert_non_null(t);
+    assert_close(ts_terrain_length(t), 152.4, 1e-9, 0);
+    double ft = 0.3048, slope;
+    assert_close(ts_terrain_height(t, (50 + 12.5) * ft, &slope), 1.0 * ft, 1e-4, 0);
+    assert_close(slope, 0, 0, 1e-9);
+    assert_close(ts_terrain_height(t, 50 * ft, NULL), 0, 0, 1e-12);
+    assert_close(ts_terrain_height(t, 40 * ft, NULL), 0, 0, 0);
+    assert_close(ts_terrain_height(t, (464.5 + 1) * ft, NULL), 0.25 * ft, 1e-3, 0);
+    assert_close(ts_terrain_height(t, 480 * ft, NULL), 0, 0, 0);
+    /* quarter point of the large bump: h/2, slope pi h / l */
+    assert_close(ts_terrain_height(t, (50 + 6.25) * ft, &slope), 0.5 * ft, 1e-4, 0);
+    assert_close(slope, 3.14159265 * 1.0 / 25.0, 1e-4, 0);
+    /* count the bumps: 26 local maxima */
+    int n = 0;
+    double prev = 0, prev2 = 0;
+    for (double x = 0; x < 152.4; x += 0.005) {
+        double z = ts_terrain_height(t, x, NULL);
+        if (prev > prev2 && prev >= z && prev > 0.01) n++;
+        prev2 = prev;
+        prev = z;
+    }
+    assert_int_equal(n, 26);
+    ts_terrain_free(t);
+}
+
+/* EVIDENCE: the inline list replaces the file; a CSV profile is joined by
+ * straight lines and continued flat. Exact. */
+static void inline_bumps_and_csv_profile(void **state)
+{
+    (void)state;
+    ts_terrain_config c = base(TS_TERRAIN_BUMPS);
+    c.bump_n = c.bump_height_n = c.bump_length_n = 1;
+    c.bump_start[0] = 2.0;
+    c.bump_height[0] = 0.2;
+    c.bump_length[0] = 1.0;
+    ts_err err;
+    ts_terrain *t = ts_terrain_make(&c, &err);
+    assert_non_null(t);
+    assert_close(ts_terrain_height(t, 2.5, NULL), 0.2, 1e-12, 0);
+    assert_close(ts_terrain_height(t, 15.24 + 3.81, NULL), 0, 0, 0);
+    ts_terrain_free(t);
+
+    const char *path = "tests/out/terrain_profile.csv";
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "distance_m,height_m\n0,0\n10,1\n20,0.5\n");
+    fclose(f);
+    ts_terrain_config p = base(TS_TERRAIN_PROFILE);
+    snprintf(p.profile_csv, sizeof p.profile_csv, "%s", path);
+    t = ts_terrain_make(&p, &err);
+    assert_non_null(t);
+    double slope;
+    assert_close(ts_terrain_height(t, 5, &slope), 0.5, 1e-12, 0);
+    assert_close(slope, 0.1, 1e-12, 0);
+    assert_close(ts_terrain_height(t, 15, NULL), 0.75, 1e-12, 0);
+    assert_close(ts_terrain_height(t, 30, NULL), 0.5, 1e-12, 0);
+    assert_close(ts_terrain_height(t, -3, NULL), 0, 0, 0);
+    ts_terrain_free(t);
+}
+
+static void errors_name_the_field(void **state)
+{
+    (void)state;
+    ts_terrain_config c = base(TS_TERRAIN_BUMPS);
+    snprintf(c.course, sizeof c.course, "no-such-course");
+    ts_err err;
+    assert_null(ts_terrain_make(&c, &err));
+    assert_int_equal(err.code, TS_ERR_NOTFOUND);
+    assert_string_equal(err.pointer, "/terrain/course");
+    ts_terrain_config p = base(TS_TERRAIN_PROFILE);
+    assert_null(ts_terrain_make(&p, &err));
+    assert_string_equal(err.pointer, "/terrain/profile_csv");
+    double s[4], h[4], l[4], len;
+    int n;
+    assert_int_equal(ts_terrain_parse_course("length 10\n1 0.1\n", s, h, l, 4, &n, &len, &err),
+                     TS_ERR_PARAM);
+    assert_int_equal(
+        ts_terrain_parse_course("# c\nlength 10\n1 0.1 2\n2 0.1 1\n", s, h, l, 4, &n, &len, &err),
+        TS_ERR_PARAM); /* overlap */
+    assert_int_equal(
+        ts_terrain_parse_course("length 10\n1 0.1 2 # a\n4 0.2 1\n", s, h, l, 4, &n, &len, &err),
+        TS_OK);
+    assert_int_equal(n, 2);
+    assert_close(len, 10, 0, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(apg4_synth_course_has_the_papers_obstacles),
+        cmocka_unit_test(inline_bumps_and_csv_profile),
+        cmocka_unit_test(errors_name_the_field),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
