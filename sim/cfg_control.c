@@ -69,9 +69,9 @@ static const ts_param coupling_rows[] = {
     {"/coupling/follower_step", TS_PT_DOUBLE, F(follower_step), "s", 1e-6, 0.1, NULL, 0, 0,
      "vehicle (follower) macro step: one (omega, alpha) report per step"},
     {"/coupling/interface_inertia", TS_PT_DOUBLE, F(interface_inertia), "1", 0, 10, NULL, 0, 0,
-     "leading_following: inertia J_a moved from the powertrain's torque to the vehicle's "
-     "sprocket (torque + J_a alpha_pred), in units of the 1st-gear turbine inertia at the "
-     "sprocket; 0 = plain exchange (unstable when that inertia exceeds the sprocket's)"},
+     "leading_following: factor on the turbine inertia reflected through the applied range "
+     "clutch that moves from the published torque (+ J_a alpha_k) onto the vehicle's sprocket; "
+     "0 = plain torque exchange (unstable: explicit added mass)"},
 };
 #undef F
 

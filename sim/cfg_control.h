@@ -53,8 +53,8 @@ typedef struct ts_coupling_config {
     int predictor_order;    /* 0: hold, 1: linear in (omega, alpha) */
     double leader_step;     /* powertrain macro step [s] */
     double follower_step;   /* vehicle macro step [s] */
-    double interface_inertia; /* added interface inertia, in units of the turbine inertia
-                                 reflected to each sprocket in 1st gear [1] */
+    double interface_inertia; /* factor on the turbine inertia reflected through the applied
+                                 clutch, carried by the follower (coupled_system.h) [1] */
 } ts_coupling_config;
 
 #endif

@@ -199,7 +199,9 @@ int main(int argc, char **argv)
             rtf("bump-coupled-ivs5mph", "mean_value", "coupled", "leading_following", t);
             rtf("bump-coupled-ivs5mph", "mean_value", "coupled", "monolithic", t);
             rtf("bump-coupled-ivs5mph", "crank_angle", "coupled", "leading_following",
-                fmin(t, 0.05));
+                fmin(t, 0.5));
+            rtf("bump-coupled-ivs5mph", "crank_angle", "static", "leading_following",
+                fmin(t, 0.5));
         }
     }
     if (strcmp(what, "error") == 0 || strcmp(what, "all") == 0) {
