@@ -67,7 +67,8 @@ typedef struct tune_out {
 static double tail_slope(const series *s, double t_from)
 {
     long i0 = s->n - 1;
-    while (i0 > 0 && s->t[i0] > s->t[s->n - 1] - 1.0 && s->t[i0] > t_from) i0--;
+    while (i0 > 0 && s->t[i0] > s->t[s->n - 1] - 1.0 && s->t[i0] > t_from)
+        i0--;
     double dt = s->t[s->n - 1] - s->t[i0];
     return dt > 0 ? (s->v[s->n - 1] - s->v[i0]) / dt : NAN;
 }
@@ -112,10 +113,12 @@ static ts_rc tune_one(const ts_config *base, tune_out *out, ts_err *err)
     if (!(out->vb - out->v0 > 0)) {
         rc = ts_err_set(err, TS_ERR_PARAM, "/control/tune_rack_low",
                         "/control/tune_rack_low: full rack is not faster than the low rack "
-                        "(v0 = %g, vb = %g m/s)", out->v0, out->vb);
+                        "(v0 = %g, vb = %g m/s)",
+                        out->v0, out->vb);
         goto done;
     }
-    for (long i = 0; i < s.n; i++) s.v[i] = (s.v[i] - out->v0) / (out->vb - out->v0); /* Eq. 11 */
+    for (long i = 0; i < s.n; i++)
+        s.v[i] = (s.v[i] - out->v0) / (out->vb - out->v0); /* Eq. 11 */
     rc = ts_zn_reaction_curve(s.t, s.v, (int)s.n, cc->tune_settle, cc->tune_window, cc->ti_factor,
                               &out->zn, err);
     if (rc == TS_OK)
@@ -141,8 +144,10 @@ static int parse_list(const char *text, double *x, int max)
         if (end == p) return -1;
         x[n++] = v;
         p = end;
-        if (*p == ',') p++;
-        else if (*p) return -1;
+        if (*p == ',')
+            p++;
+        else if (*p)
+            return -1;
     }
     return n;
 }
@@ -188,8 +193,10 @@ int tsc_cmd_tune(int argc, char **argv)
         json_t *jx = json_array(), *jk = json_array(), *jt = json_array();
         for (int i = 0; i < nx; i++) {
             ts_config c = cfg;
-            if (smass) c.vehicle.mass = xs[i];
-            else c.vehicle.grade = xs[i];
+            if (smass)
+                c.vehicle.mass = xs[i];
+            else
+                c.vehicle.grade = xs[i];
             tune_out oi;
             if (tune_one(&c, &oi, &err) != TS_OK) {
                 tsc_print_err("tune", &err);
@@ -203,8 +210,9 @@ int tsc_cmd_tune(int argc, char **argv)
             json_array_append_new(jk, json_real(oi.kp));
             json_array_append_new(jt, json_real(oi.zn.ti));
         }
-        json_object_set_new(doc, "schedule",
-                            json_pack("{s:s, s:o, s:o, s:o}", "var", var, "x", jx, "kp", jk, "ti", jt));
+        json_object_set_new(
+            doc, "schedule",
+            json_pack("{s:s, s:o, s:o, s:o}", "var", var, "x", jx, "kp", jk, "ti", jt));
     }
     json_dumpf(doc, stdout, JSON_INDENT(2) | JSON_REAL_PRECISION(6));
     printf("\n");

@@ -35,14 +35,14 @@ static const ts_param control_rows[] = {
      TS_CONTROL_SCHEDULE_MAX, F(schedule_ti_n), "T_I per gain-schedule row"},
     {"/control/governor", TS_PT_BOOL, F(governor), "", 0, 1, NULL, 0, 0,
      "two-speed governor of the fuel actuator on/off"},
-    {"/control/governor_low_idle", TS_PT_DOUBLE, F(governor_low_idle), "rad/s", 0, 500, NULL, 0,
-     0, "governor: engine speed below which fuel is added"},
-    {"/control/governor_low_band", TS_PT_DOUBLE, F(governor_low_band), "rad/s", 1e-3, 500, NULL,
-     0, 0, "governor: speed deficit below low idle that calls for full rack"},
-    {"/control/governor_high_idle", TS_PT_DOUBLE, F(governor_high_idle), "rad/s", 0, 1000, NULL,
-     0, 0, "governor: engine speed above which fuel is cut"},
-    {"/control/governor_high_band", TS_PT_DOUBLE, F(governor_high_band), "rad/s", 1e-3, 500,
-     NULL, 0, 0, "governor: speed excess above high idle that cuts fuel to zero"},
+    {"/control/governor_low_idle", TS_PT_DOUBLE, F(governor_low_idle), "rad/s", 0, 500, NULL, 0, 0,
+     "governor: engine speed below which fuel is added"},
+    {"/control/governor_low_band", TS_PT_DOUBLE, F(governor_low_band), "rad/s", 1e-3, 500, NULL, 0,
+     0, "governor: speed deficit below low idle that calls for full rack"},
+    {"/control/governor_high_idle", TS_PT_DOUBLE, F(governor_high_idle), "rad/s", 0, 1000, NULL, 0,
+     0, "governor: engine speed above which fuel is cut"},
+    {"/control/governor_high_band", TS_PT_DOUBLE, F(governor_high_band), "rad/s", 1e-3, 500, NULL,
+     0, 0, "governor: speed excess above high idle that cuts fuel to zero"},
     {"/control/tune_rack_low", TS_PT_DOUBLE, F(tune_rack_low), "1", 0, 1, NULL, 0, 0,
      "tune: rack of the steady state before the step to full rack (Eq. 11 R_0)"},
     {"/control/tune_settle", TS_PT_DOUBLE, F(tune_settle), "s", 0, 1e4, NULL, 0, 0,
@@ -78,6 +78,6 @@ static const ts_param coupling_rows[] = {
 #define N(a) ((int)(sizeof a / sizeof a[0]))
 const ts_param_section ts_section_control = {"control", "driver: fixed rack or IVS controller",
                                              control_rows, N(control_rows)};
-const ts_param_section ts_section_coupling = {
-    "coupling", "powertrain-vehicle coupling", coupling_rows, N(coupling_rows)};
+const ts_param_section ts_section_coupling = {"coupling", "powertrain-vehicle coupling",
+                                              coupling_rows, N(coupling_rows)};
 #undef N

@@ -8,7 +8,6 @@
 #include "cosim.h"
 
 #include <math.h>
-#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -33,15 +32,17 @@ double ts_cosim_predict(const ts_cosim_report *last, int order, double t)
     return order >= 1 ? last->omega + last->alpha * (t - last->t) : last->omega;
 }
 
-/* Linear interpolation of one sample field (offset into ts_cosim_sample). */
-static double interp(const ts_cosim_torque *src, double t, size_t off)
+/* One sample field: 0 torque, 1 inertia. */
+static double field(const ts_cosim_sample *s, int which) { return which ? s->inertia : s->torque; }
+
+/* Linear interpolation of one sample field in time. */
+static double interp(const ts_cosim_torque *src, double t, int which)
 {
     const ts_cosim_sample *s = src->s;
     int n = src->n;
-#define FIELD(k) (*(const double *)((const char *)&s[k] + off))
     if (n <= 0) return 0.0;
-    if (t <= s[0].t) return FIELD(0);
-    if (t >= s[n - 1].t) return FIELD(n - 1);
+    if (t <= s[0].t) return field(&s[0], which);
+    if (t >= s[n - 1].t) return field(&s[n - 1], which);
     int lo = 0, hi = n - 1;
     while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
@@ -49,18 +50,17 @@ static double interp(const ts_cosim_torque *src, double t, size_t off)
         else hi = mid;
     }
     double w = (t - s[lo].t) / (s[hi].t - s[lo].t);
-    return FIELD(lo) + w * (FIELD(hi) - FIELD(lo));
-#undef FIELD
+    return field(&s[lo], which) + w * (field(&s[hi], which) - field(&s[lo], which));
 }
 
 double ts_cosim_torque_at(const ts_cosim_torque *src, double t)
 {
-    return interp(src, t, offsetof(ts_cosim_sample, torque));
+    return interp(src, t, 0);
 }
 
 double ts_cosim_inertia_at(const ts_cosim_torque *src, double t)
 {
-    return interp(src, t, offsetof(ts_cosim_sample, inertia));
+    return interp(src, t, 1);
 }
 
 ts_cosim *ts_cosim_make(const ts_cosim_opts *o, ts_cosim_leader leader, ts_cosim_follower follower,

@@ -30,9 +30,10 @@
 #include "ivs_controller.h"
 #include "solver.h"
 
-#define MAX_EVENTS_AT_ONCE 8 /* discrete updates at one event time (a completed shift may start the next) */
+#define MAX_EVENTS_AT_ONCE                                                                         \
+    8 /* discrete updates at one event time (a completed shift may start the next) */
 #define SPIN_SPROCKET (10 + VM_SPROCKET) /* q index of the sprocket spin (vehicle_model.h) */
-#define Q_THETA 2                        /* q index of the hull pitch */
+#define Q_THETA       2                  /* q index of the hull pitch */
 
 struct ts_coupled {
     ts_config cfg;
@@ -109,7 +110,10 @@ fail:
     return NULL;
 }
 
-ts_coupled *ts_coupled_make(const ts_config *cfg, ts_err *err) { return make(cfg, NULL, err); }
+ts_coupled *ts_coupled_make(const ts_config *cfg, ts_err *err)
+{
+    return make(cfg, NULL, err);
+}
 
 ts_coupled *ts_coupled_make_port(const ts_config *cfg, const ts_engine_port *port, ts_err *err)
 {
@@ -124,10 +128,22 @@ void ts_coupled_free(ts_coupled *c)
     free(c);
 }
 
-const vm *ts_coupled_vehicle(const ts_coupled *c) { return c->v; }
-const ts_powertrain *ts_coupled_powertrain(const ts_coupled *c) { return c->pt; }
-double ts_coupled_kp(const ts_coupled *c) { return c->gains.kp; }
-double ts_coupled_ti(const ts_coupled *c) { return c->gains.ti; }
+const vm *ts_coupled_vehicle(const ts_coupled *c)
+{
+    return c->v;
+}
+const ts_powertrain *ts_coupled_powertrain(const ts_coupled *c)
+{
+    return c->pt;
+}
+double ts_coupled_kp(const ts_coupled *c)
+{
+    return c->gains.kp;
+}
+double ts_coupled_ti(const ts_coupled *c)
+{
+    return c->gains.ti;
+}
 
 /* Driver / controller and fuel actuator at powertrain-side state yp for the
  * sprocket speed w: rack demand, governed rack, speed error. */
@@ -159,7 +175,8 @@ static int pt_side(const ts_coupled *c, const ts_powertrain_state *ps, double ra
     return rc;
 }
 
-static double sprocket_rel(const ts_coupled *c, const double *yv) /* qd of the sprocket - qd of theta */
+static double sprocket_rel(const ts_coupled *c,
+                           const double *yv) /* qd of the sprocket - qd of theta */
 {
     return yv[c->nq + SPIN_SPROCKET] - yv[c->nq + Q_THETA];
 }
@@ -171,26 +188,26 @@ struct ts_coupled_run {
     int method;
     ts_coupling_config co;
     double t, rack_fixed;
-    double *yv, *yp;          /* vehicle state, powertrain-side state at t */
-    double *ydv, *ydp;        /* scratch derivatives (observation) */
+    double *yv, *yp;   /* vehicle state, powertrain-side state at t */
+    double *ydv, *ydp; /* scratch derivatives (observation) */
     vm_work *w;
     ts_powertrain_state ps;
     ts_coupled_stats st;
     /* monolithic */
     ts_ode *mono;
-    double *ym;               /* [yv, yp] */
+    double *ym; /* [yv, yp] */
     /* leading-following */
     ts_ode *lead_ode, *follow_ode;
     ts_cosim *cosim;
-    ts_cosim_report last;     /* report the leader integrates with */
+    ts_cosim_report last; /* report the leader integrates with */
     int last_order;
-    int lead_dirty;           /* leader input changed: re-init before integrating */
-    double lead_t;            /* leader time */
-    ts_cosim_sample pub;      /* sample last published by the leader */
+    int lead_dirty;             /* leader input changed: re-init before integrating */
+    double lead_t;              /* leader time */
+    ts_cosim_sample pub;        /* sample last published by the leader */
     const ts_cosim_torque *src; /* follower's torque source during its advance */
-    ts_cosim_report rep;      /* follower's last report */
+    ts_cosim_report rep;        /* follower's last report */
     double *ylead_scratch;
-    double *rk;               /* 5 np: RK4 stages of the explicit leader */
+    double *rk; /* 5 np: RK4 stages of the explicit leader */
 };
 
 static double now_seconds(void)
@@ -286,7 +303,8 @@ static double interface_inertia(const ts_coupled *c, const ts_powertrain_state *
         c_on = tau * s->capacity;
     }
     double r_off = s->gear >= 1 && s->gear <= dc->gear_ratio_n ? dc->gear_ratio[s->gear - 1] : 0;
-    double r_on = s->target >= 1 && s->target <= dc->gear_ratio_n ? dc->gear_ratio[s->target - 1] : 0;
+    double r_on =
+        s->target >= 1 && s->target <= dc->gear_ratio_n ? dc->gear_ratio[s->target - 1] : 0;
     double j = r_off * r_off * lock(o->clutch_offgoing, c_off) +
                r_on * r_on * lock(o->clutch_oncoming, c_on);
     return c->cfg.coupling.interface_inertia * 0.5 * dc->turbine_inertia * dc->final_ratio *
@@ -314,11 +332,14 @@ static ts_rc lead_explicit(ts_coupled_run *r, double t_to, ts_err *err)
         double h = ts_powertrain_explicit_step(c->pt, y), t = r->lead_t;
         if (t + h > t_to) h = t_to - t;
         int rc = lead_rhs(t, y, k1, r);
-        for (int i = 0; !rc && i < n; i++) yt[i] = y[i] + 0.5 * h * k1[i];
+        for (int i = 0; !rc && i < n; i++)
+            yt[i] = y[i] + 0.5 * h * k1[i];
         if (!rc) rc = lead_rhs(t + 0.5 * h, yt, k2, r);
-        for (int i = 0; !rc && i < n; i++) yt[i] = y[i] + 0.5 * h * k2[i];
+        for (int i = 0; !rc && i < n; i++)
+            yt[i] = y[i] + 0.5 * h * k2[i];
         if (!rc) rc = lead_rhs(t + 0.5 * h, yt, k3, r);
-        for (int i = 0; !rc && i < n; i++) yt[i] = y[i] + h * k3[i];
+        for (int i = 0; !rc && i < n; i++)
+            yt[i] = y[i] + h * k3[i];
         if (!rc) rc = lead_rhs(t + h, yt, k4, r);
         for (int i = 0; !rc && i < n; i++) {
             y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
@@ -364,8 +385,8 @@ static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, in
     }
     if (rc == TS_OK) {
         ts_powertrain_out o;
-        pt_side(c, &r->ps, r->rack_fixed, r->lead_t, r->yp, lead_w(r, r->lead_t),
-                r->ylead_scratch, &o, NULL);
+        pt_side(c, &r->ps, r->rack_fixed, r->lead_t, r->yp, lead_w(r, r->lead_t), r->ylead_scratch,
+                &o, NULL);
         *out = publish(r, r->lead_t, &o);
     }
     r->st.powertrain_wall += now_seconds() - w0;
@@ -381,8 +402,8 @@ static void vehicle_report(ts_coupled_run *r, double t, ts_cosim_sample s, ts_co
     rep->alpha = r->ydv[c->nq + SPIN_SPROCKET] - r->ydv[c->nq + Q_THETA];
 }
 
-static ts_rc follow_advance(void *ud, double t_to, const ts_cosim_torque *src,
-                            ts_cosim_report *out, ts_err *err)
+static ts_rc follow_advance(void *ud, double t_to, const ts_cosim_torque *src, ts_cosim_report *out,
+                            ts_err *err)
 {
     ts_coupled_run *r = ud;
     double w0 = now_seconds();
@@ -434,24 +455,37 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
     r->ylead_scratch = r->yv + 4 * n;
     r->rk = r->ylead_scratch + c->np;
     const ts_run_config *rc = &c->cfg.run;
-    for (int i = 0; i < c->nv; i++) atol[i] = rc->atol;
+    for (int i = 0; i < c->nv; i++)
+        atol[i] = rc->atol;
     ts_powertrain_scale(c->pt, atol + c->nv);
-    for (int i = 0; i < c->npt; i++) atol[c->nv + i] *= rc->atol;
+    for (int i = 0; i < c->npt; i++)
+        atol[c->nv + i] *= rc->atol;
     atol[c->nv + c->npt] = rc->atol;
     if (method == TS_COUPLING_MONOLITHIC) {
-        ts_ode_opts o = {.rtol = rc->rtol, .atol = rc->atol, .atol_v = atol,
-                         .max_step = rc->max_step, .max_steps = 1000000,
-                         .nroots = ts_powertrain_nroots(c->pt), .roots = mono_roots};
+        ts_ode_opts o = {.rtol = rc->rtol,
+                         .atol = rc->atol,
+                         .atol_v = atol,
+                         .max_step = rc->max_step,
+                         .max_steps = 1000000,
+                         .nroots = ts_powertrain_nroots(c->pt),
+                         .roots = mono_roots};
         r->mono = ts_ode_make(n, mono_rhs, r, &o, err);
         if (!r->mono) goto fail;
     } else if (method == TS_COUPLING_LEADING_FOLLOWING) {
-        ts_ode_opts lo = {.rtol = rc->rtol, .atol = rc->atol, .atol_v = atol + c->nv,
-                          .max_step = rc->max_step, .max_steps = 1000000,
-                          .nroots = ts_powertrain_nroots(c->pt), .roots = lead_roots};
+        ts_ode_opts lo = {.rtol = rc->rtol,
+                          .atol = rc->atol,
+                          .atol_v = atol + c->nv,
+                          .max_step = rc->max_step,
+                          .max_steps = 1000000,
+                          .nroots = ts_powertrain_nroots(c->pt),
+                          .roots = lead_roots};
         r->lead_ode = ts_ode_make(c->np, lead_rhs, r, &lo, err);
         if (!r->lead_ode) goto fail;
-        ts_ode_opts fo = {.rtol = rc->rtol, .atol = rc->atol, .atol_v = atol,
-                          .max_step = rc->max_step, .max_steps = 1000000};
+        ts_ode_opts fo = {.rtol = rc->rtol,
+                          .atol = rc->atol,
+                          .atol_v = atol,
+                          .max_step = rc->max_step,
+                          .max_steps = 1000000};
         r->follow_ode = ts_ode_make(c->nv, follow_rhs, r, &fo, err);
         if (!r->follow_ode) goto fail;
         ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead,
@@ -495,7 +529,7 @@ static ts_rc restart(ts_coupled_run *r, ts_cosim_report rep, ts_cosim_sample pub
     ts_cosim_free(r->cosim);
     ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead, r->co.predictor_order};
     r->cosim = ts_cosim_make_sample(&co, (ts_cosim_leader){r, lead_advance},
-                             (ts_cosim_follower){r, follow_advance}, r->t, rep, pub, err);
+                                    (ts_cosim_follower){r, follow_advance}, r->t, rep, pub, err);
     return r->cosim ? TS_OK : (err ? err->code : TS_ERR_INTERNAL);
 }
 
@@ -544,7 +578,10 @@ ts_rc ts_coupled_run_advance(ts_coupled_run *r, double t_to, ts_err *err)
     return rc;
 }
 
-double ts_coupled_run_time(const ts_coupled_run *r) { return r->t; }
+double ts_coupled_run_time(const ts_coupled_run *r)
+{
+    return r->t;
+}
 
 ts_rc ts_coupled_run_set_rack(ts_coupled_run *r, double rack, ts_err *err)
 {
@@ -552,8 +589,7 @@ ts_rc ts_coupled_run_set_rack(ts_coupled_run *r, double rack, ts_err *err)
         return ts_err_set(err, TS_ERR_RANGE, "/control/rack", "/control/rack: %g not in [0, 1]",
                           rack);
     r->rack_fixed = rack;
-    if (r->method == TS_COUPLING_MONOLITHIC)
-        return ts_ode_init(r->mono, r->t, r->ym, err);
+    if (r->method == TS_COUPLING_MONOLITHIC) return ts_ode_init(r->mono, r->t, r->ym, err);
     r->lead_dirty = 1;
     return TS_OK;
 }
@@ -588,7 +624,10 @@ void ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o)
     o->ps = r->ps;
 }
 
-void ts_coupled_run_stats(const ts_coupled_run *r, ts_coupled_stats *s) { *s = r->st; }
+void ts_coupled_run_stats(const ts_coupled_run *r, ts_coupled_stats *s)
+{
+    *s = r->st;
+}
 
 /* Saved state: t, rack_fixed, report (t, omega, alpha), published torque,
  * then yv, yp, then the discrete powertrain state. */
@@ -601,8 +640,8 @@ size_t ts_coupled_state_size(const ts_coupled *c)
 
 void ts_coupled_run_save(const ts_coupled_run *r, void *buf)
 {
-    double head[SAVE_HEAD] = {r->t,           r->rack_fixed, r->rep.t,         r->rep.omega,
-                              r->rep.alpha,   r->pub.torque, r->pub.inertia};
+    double head[SAVE_HEAD] = {r->t,         r->rack_fixed, r->rep.t,      r->rep.omega,
+                              r->rep.alpha, r->pub.torque, r->pub.inertia};
     char *b = buf;
     size_t n = (size_t)(r->c->nv + r->c->np);
     memcpy(b, head, sizeof head);

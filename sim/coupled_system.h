@@ -70,26 +70,26 @@ double ts_coupled_ti(const ts_coupled *c);
 
 /* Everything observable at the current time of a run. */
 typedef struct ts_coupled_obs {
-    double t;                  /* [s] */
-    const double *y_vehicle;   /* vehicle state (vm_ny values), borrowed until the next call */
+    double t;                /* [s] */
+    const double *y_vehicle; /* vehicle state (vm_ny values), borrowed until the next call */
     const double *ydot_vehicle;
-    double sprocket_speed;     /* relative to the hull [rad/s] */
-    double sprocket_accel;     /* [rad/s^2] */
-    double sprocket_torque;    /* powertrain output at each sprocket [N*m] (leading-following:
-                                  the leader's, without the interface-inertia term) */
-    double speed_measured;     /* omega x sprocket radius, what the controller sees [m/s] */
-    double speed_error;        /* target - measured (IVS), 0 in rack mode [m/s] */
-    double integral;           /* IVS integral state [m] */
-    double rack_demand;        /* driver or controller rack, before the governor [1] */
-    double rack;               /* governed rack seen by the engine [1] */
-    vm_diag diag;              /* vehicle element forces */
-    ts_powertrain_out pt;      /* every shaft */
-    ts_powertrain_state ps;    /* gear, shift */
+    double sprocket_speed;  /* relative to the hull [rad/s] */
+    double sprocket_accel;  /* [rad/s^2] */
+    double sprocket_torque; /* powertrain output at each sprocket [N*m] (leading-following:
+                               the leader's, without the interface-inertia term) */
+    double speed_measured;  /* omega x sprocket radius, what the controller sees [m/s] */
+    double speed_error;     /* target - measured (IVS), 0 in rack mode [m/s] */
+    double integral;        /* IVS integral state [m] */
+    double rack_demand;     /* driver or controller rack, before the governor [1] */
+    double rack;            /* governed rack seen by the engine [1] */
+    vm_diag diag;           /* vehicle element forces */
+    ts_powertrain_out pt;   /* every shaft */
+    ts_powertrain_state ps; /* gear, shift */
 } ts_coupled_obs;
 
 typedef struct ts_coupled_stats {
-    long vehicle_rhs, powertrain_rhs; /* right-hand-side evaluations */
-    long exchanges;                   /* co-simulation messages */
+    long vehicle_rhs, powertrain_rhs;     /* right-hand-side evaluations */
+    long exchanges;                       /* co-simulation messages */
     double vehicle_wall, powertrain_wall; /* wall seconds inside each side's integrator */
 } ts_coupled_stats;
 

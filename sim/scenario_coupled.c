@@ -28,10 +28,28 @@
 #define LBF 4.44822 /* N per lbf */
 
 enum {
-    CH_X = 1, CH_SPEED, CH_Z, CH_PITCH, CH_AX, CH_AZ, CH_T_RR, CH_N_RR, CH_TORQUE, CH_SPR_SPEED,
-    CH_SPR_ACCEL, CH_ANCHOR, CH_RACK_DEMAND, CH_V_MEAS, CH_ERR, CH_INTEGRAL, CH_ARM0,
-    CH_LOAD0 = CH_ARM0 + VM_NRW, CH_SPAN_T0 = CH_LOAD0 + VM_NRW, CH_SPAN_V0 = CH_SPAN_T0 + VM_NSPAN,
-    CH_PT0 = CH_SPAN_V0 + VM_NSPAN, NCH = CH_PT0 + TS_POWERTRAIN_NCHANNEL
+    CH_X = 1,
+    CH_SPEED,
+    CH_Z,
+    CH_PITCH,
+    CH_AX,
+    CH_AZ,
+    CH_T_RR,
+    CH_N_RR,
+    CH_TORQUE,
+    CH_SPR_SPEED,
+    CH_SPR_ACCEL,
+    CH_ANCHOR,
+    CH_RACK_DEMAND,
+    CH_V_MEAS,
+    CH_ERR,
+    CH_INTEGRAL,
+    CH_ARM0,
+    CH_LOAD0 = CH_ARM0 + VM_NRW,
+    CH_SPAN_T0 = CH_LOAD0 + VM_NRW,
+    CH_SPAN_V0 = CH_SPAN_T0 + VM_NSPAN,
+    CH_PT0 = CH_SPAN_V0 + VM_NSPAN,
+    NCH = CH_PT0 + TS_POWERTRAIN_NCHANNEL
 };
 /* indices into the powertrain block (ts_powertrain_channel_values order) */
 enum { PT_ENGINE_SPEED = 0, PT_RACK = 4, PT_TURBINE_SPEED = 6, PT_GEAR = 13 };
@@ -63,14 +81,17 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         {"hull.pitch", "rad", "hull pitch, positive nose-down"},
         {"hull.accel_x", "m/s^2", "hull CG longitudinal acceleration"},
         {"hull.accel_z", "m/s^2", "hull CG vertical acceleration"},
-        {"track.tension.rear_roller", "N", "track tension at the rear support roller (Figs. 29, 35)"},
+        {"track.tension.rear_roller", "N",
+         "track tension at the rear support roller (Figs. 29, 35)"},
         {"roller.rear.normal_force", "N", "track load on the rear support roller"},
         {"sprocket.torque", "N*m", "powertrain torque applied at each sprocket (Figs. 28, 31)"},
         {"sprocket.speed", "rad/s", "sprocket speed relative to the hull (Fig. 34)"},
-        {"sprocket.accel", "rad/s^2", "sprocket acceleration relative to the hull (reported to the powertrain)"},
+        {"sprocket.accel", "rad/s^2",
+         "sprocket acceleration relative to the hull (reported to the powertrain)"},
         {"track.anchor_force", "N", "tangential ground force at the no-slip anchor (thrust)"},
         {"rack.demand", "1", "driver or IVS rack before the governor (Fig. 33)"},
-        {"control.speed_measured", "m/s", "vehicle speed the controller sees: sprocket speed x pitch radius"},
+        {"control.speed_measured", "m/s",
+         "vehicle speed the controller sees: sprocket speed x pitch radius"},
         {"control.error", "m/s", "IVS speed error, target minus measured (0 in rack mode)"},
         {"control.integral", "m", "IVS integral of the speed error (Eq. 10)"},
     };
@@ -95,9 +116,10 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     }
     for (int s = 0; s < VM_NSPAN && rc == TS_OK; s++) {
         snprintf(name, sizeof name, "span.%s.deflection", vm_span_names[s]);
-        snprintf(desc, sizeof desc,
-                 "dynamic transverse mid-span deflection (outward), span %s (Fig. 30; 0 without modes)",
-                 vm_span_names[s]);
+        snprintf(
+            desc, sizeof desc,
+            "dynamic transverse mid-span deflection (outward), span %s (Fig. 30; 0 without modes)",
+            vm_span_names[s]);
         rc = add(m, name, "m", desc, err);
     }
     const ts_powertrain_channel *pc = ts_powertrain_channels();
@@ -279,8 +301,10 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
             k++;
         }
         double rl = 0;
-        for (long i = 0; i < nrows && rows[i * nc] <= 1.0; i++) rl = fmax(rl, rows[i * nc + CH_RACK_DEMAND]);
-        n = add_metric(out, n, max, "rack_at_launch", "1", rl, "largest rack demand in the first second (Fig. 33: 1.0)");
+        for (long i = 0; i < nrows && rows[i * nc] <= 1.0; i++)
+            rl = fmax(rl, rows[i * nc + CH_RACK_DEMAND]);
+        n = add_metric(out, n, max, "rack_at_launch", "1", rl,
+                       "largest rack demand in the first second (Fig. 33: 1.0)");
         n = add_metric(out, n, max, "mean_speed_error_mph", "mph", k ? se / k / MPH : NAN,
                        "mean (speed - target) after first reaching the target");
         n = add_metric(out, n, max, "mean_abs_speed_error_mph", "mph", k ? sa / k / MPH : NAN,

@@ -89,8 +89,8 @@ static void rtf(const char *preset, const char *engine, const char *track, const
 {
     ts_config c;
     if (load(preset, engine, track, &c)) return;
-    int mth = strcmp(method, "monolithic") == 0 ? TS_COUPLING_MONOLITHIC
-                                                : TS_COUPLING_LEADING_FOLLOWING;
+    int mth =
+        strcmp(method, "monolithic") == 0 ? TS_COUPLING_MONOLITHIC : TS_COUPLING_LEADING_FOLLOWING;
     ts_err err;
     ts_coupled *cm = ts_coupled_make(&c, &err);
     if (!cm) {
@@ -103,9 +103,9 @@ static void rtf(const char *preset, const char *engine, const char *track, const
     printf("%-22s %-12s %-10s %-18s %5.2f s simulated, wall %8.2f s, cpu %8.2f s, real-time x "
            "%8.3f (wall) %8.3f (cpu) (vehicle rhs %ld, wall %.2f s; powertrain rhs %ld, wall "
            "%.2f s; messages %ld)\n",
-           preset, engine, track, method, r.t_end, r.wall, r.cpu, r.t_end / r.wall,
-           r.t_end / r.cpu, r.st.vehicle_rhs,
-           r.st.vehicle_wall, r.st.powertrain_rhs, r.st.powertrain_wall, r.st.exchanges);
+           preset, engine, track, method, r.t_end, r.wall, r.cpu, r.t_end / r.wall, r.t_end / r.cpu,
+           r.st.vehicle_rhs, r.st.vehicle_wall, r.st.powertrain_rhs, r.st.powertrain_wall,
+           r.st.exchanges);
     fflush(stdout);
     ts_coupled_free(cm);
 }
@@ -123,7 +123,8 @@ static double rms_rel(const double *a, const double *b, long n)
 static double rms_rel_dev(const double *a, const double *b, long n)
 {
     double mean = 0;
-    for (long i = 0; i < n; i++) mean += b[i];
+    for (long i = 0; i < n; i++)
+        mean += b[i];
     mean /= n;
     double e = 0, s = 0;
     for (long i = 0; i < n; i++) {
@@ -161,8 +162,8 @@ static void coupling_error(const char *preset, const char *track, double t_end, 
     ts_coupled_free(cm);
     const double hs[] = {0.004, 0.002, 0.001, 0.0005};
     double prev_w = NAN, prev_t = NAN;
-    printf("  %-8s %-6s %12s %8s %12s %8s %12s %9s %9s %9s\n", "h [ms]", "order", "speed err",
-           "p", "tension err", "p", "v err", "wall [s]", "veh wall", "pt wall");
+    printf("  %-8s %-6s %12s %8s %12s %8s %12s %9s %9s %9s\n", "h [ms]", "order", "speed err", "p",
+           "tension err", "p", "v err", "wall [s]", "veh wall", "pt wall");
     for (int order = 1; order >= (with_hold ? 0 : 1); order--) {
         prev_w = prev_t = NAN;
         for (size_t k = 0; k < sizeof hs / sizeof hs[0]; k++) {
@@ -192,7 +193,8 @@ int main(int argc, char **argv)
     if (strcmp(what, "rtf") == 0 || strcmp(what, "all") == 0) {
         double t = argc > 2 ? atof(argv[2]) : 2.0;
         if (argc > 5) {
-            for (int i = 3; i + 2 < argc; i += 3) rtf("bump-coupled-ivs5mph", argv[i], argv[i + 1], argv[i + 2], t);
+            for (int i = 3; i + 2 < argc; i += 3)
+                rtf("bump-coupled-ivs5mph", argv[i], argv[i + 1], argv[i + 2], t);
         } else {
             rtf("bump-coupled-ivs5mph", "map", "static", "leading_following", t);
             rtf("bump-coupled-ivs5mph", "map", "static", "monolithic", t);
@@ -200,15 +202,16 @@ int main(int argc, char **argv)
             rtf("bump-coupled-ivs5mph", "mean_value", "coupled", "monolithic", t);
             rtf("bump-coupled-ivs5mph", "crank_angle", "coupled", "leading_following",
                 fmin(t, 0.5));
-            rtf("bump-coupled-ivs5mph", "crank_angle", "static", "leading_following",
-                fmin(t, 0.5));
+            rtf("bump-coupled-ivs5mph", "crank_angle", "static", "leading_following", fmin(t, 0.5));
         }
     }
     if (strcmp(what, "error") == 0 || strcmp(what, "all") == 0) {
         double t = argc > 2 && strcmp(what, "error") == 0 ? atof(argv[2]) : 3.0;
-        const char *preset = argc > 3 && strcmp(what, "error") == 0 ? argv[3] : "flat-coupled-rack90";
+        const char *preset =
+            argc > 3 && strcmp(what, "error") == 0 ? argv[3] : "flat-coupled-rack90";
         const char *track = argc > 4 && strcmp(what, "error") == 0 ? argv[4] : NULL;
-        coupling_error(preset, track, t, argc > 5 && strcmp(what, "error") == 0 && atoi(argv[5]) == 0);
+        coupling_error(preset, track, t,
+                       argc > 5 && strcmp(what, "error") == 0 && atoi(argv[5]) == 0);
     }
     return 0;
 }

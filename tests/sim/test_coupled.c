@@ -179,8 +179,9 @@ static void shift_spikes_tension_and_excites_span(void **state)
     before /= nb;
     for (int i = 0; i < h_a.n; i++)
         if (h_a.t[i] >= te && h_a.t[i] < te + 0.3) dev = fmax(dev, fabs(h_a.tension[i] - before));
-    print_message("tension before %.0f N, largest departure %.0f N; deflection p-p %.2f -> %.2f mm\n",
-                  before, dev, 1e3 * (dmax0 - dmin0), 1e3 * (dmax1 - dmin1));
+    print_message(
+        "tension before %.0f N, largest departure %.0f N; deflection p-p %.2f -> %.2f mm\n", before,
+        dev, 1e3 * (dmax0 - dmin0), 1e3 * (dmax1 - dmin1));
     assert_true(dev > 0.2 * c.track.tension);
     assert_true(dmax1 - dmin1 > 2.0 * (dmax0 - dmin0));
 }
@@ -207,7 +208,8 @@ static void ivs_full_rack_at_launch_then_holds_5mph(void **state)
         if (h_a.t[i] >= 6.0) err_abs += fabs(h_a.v[i] - vt), ne++;
     }
     print_message("rack at launch %.2f, 5 mph at %.2f s, lowest rack after %.2f, mean |err| %.3f "
-                  "mph\n", rack_launch, t_hit, rack_after, err_abs / ne / MPH);
+                  "mph\n",
+                  rack_launch, t_hit, rack_after, err_abs / ne / MPH);
     assert_close(rack_launch, 1.0, 0, 1e-9);
     assert_true(t_hit < 8.0);
     assert_true(rack_after < 0.9);
