@@ -20,6 +20,8 @@ static const tsc_command commands[] = {
      "run to time T and draw the tank and its deformed track into a PNG"},
     {"engine-map", tsc_cmd_engine_map, "(CONFIG.json | --preset NAME) --out FILE.csv",
      "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18)"},
+    {"tune", tsc_cmd_tune, "(CONFIG.json | --preset NAME) [--schedule-mass M,.. | --schedule-grade G,..]",
+     "Ziegler-Nichols IVS gains from a simulated rack step (Eqs. 11-12, Figs. 26-27) as JSON"},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

@@ -32,13 +32,17 @@ double ts_cosim_predict(const ts_cosim_report *last, int order, double t)
     return order >= 1 ? last->omega + last->alpha * (t - last->t) : last->omega;
 }
 
-double ts_cosim_torque_at(const ts_cosim_torque *src, double t)
+/* One sample field: 0 torque, 1 inertia. */
+static double field(const ts_cosim_sample *s, int which) { return which ? s->inertia : s->torque; }
+
+/* Linear interpolation of one sample field in time. */
+static double interp(const ts_cosim_torque *src, double t, int which)
 {
     const ts_cosim_sample *s = src->s;
     int n = src->n;
     if (n <= 0) return 0.0;
-    if (t <= s[0].t) return s[0].torque;
-    if (t >= s[n - 1].t) return s[n - 1].torque;
+    if (t <= s[0].t) return field(&s[0], which);
+    if (t >= s[n - 1].t) return field(&s[n - 1], which);
     int lo = 0, hi = n - 1;
     while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
@@ -46,11 +50,29 @@ double ts_cosim_torque_at(const ts_cosim_torque *src, double t)
         else hi = mid;
     }
     double w = (t - s[lo].t) / (s[hi].t - s[lo].t);
-    return s[lo].torque + w * (s[hi].torque - s[lo].torque);
+    return field(&s[lo], which) + w * (field(&s[hi], which) - field(&s[lo], which));
+}
+
+double ts_cosim_torque_at(const ts_cosim_torque *src, double t)
+{
+    return interp(src, t, 0);
+}
+
+double ts_cosim_inertia_at(const ts_cosim_torque *src, double t)
+{
+    return interp(src, t, 1);
 }
 
 ts_cosim *ts_cosim_make(const ts_cosim_opts *o, ts_cosim_leader leader, ts_cosim_follower follower,
                         double t0, ts_cosim_report initial, double torque0, ts_err *err)
+{
+    ts_cosim_sample s0 = {t0, torque0, 0.0};
+    return ts_cosim_make_sample(o, leader, follower, t0, initial, s0, err);
+}
+
+ts_cosim *ts_cosim_make_sample(const ts_cosim_opts *o, ts_cosim_leader leader,
+                               ts_cosim_follower follower, double t0, ts_cosim_report initial,
+                               ts_cosim_sample sample0, ts_err *err)
 {
     if (!(o->leader_step > 0) || !(o->follower_step > 0) || !(o->lead >= o->leader_step) ||
         o->predictor_order < 0 || o->predictor_order > 1) {
@@ -69,8 +91,8 @@ ts_cosim *ts_cosim_make(const ts_cosim_opts *o, ts_cosim_leader leader, ts_cosim
     c->cap = (int)ceil(o->lead / o->leader_step) + 2 + (int)ceil(o->follower_step / o->leader_step);
     c->buf = calloc((size_t)c->cap, sizeof *c->buf);
     if (!c->buf) goto nomem;
+    c->buf[0] = sample0;
     c->buf[0].t = t0;
-    c->buf[0].torque = torque0;
     c->n = 1;
     return c;
 nomem:
@@ -109,7 +131,7 @@ ts_rc ts_cosim_advance(ts_cosim *c, double t_end, ts_err *err)
             if (c->n >= c->cap) trim(c);
             if (c->n >= c->cap)
                 return ts_err_set(err, TS_ERR_INTERNAL, NULL, "co-simulation buffer full");
-            ts_cosim_sample s;
+            ts_cosim_sample s = {0, 0, 0};
             ts_rc rc = c->leader.advance(c->leader.ud, t_to, &c->last, c->o.predictor_order, &s, err);
             if (rc != TS_OK) return rc;
             c->buf[c->n++] = s;

@@ -32,8 +32,10 @@ typedef struct ts_cosim_report { /* follower -> leader */
 } ts_cosim_report;
 
 typedef struct ts_cosim_sample { /* leader -> follower */
-    double t;      /* [s] */
-    double torque; /* sprocket torque [N*m] */
+    double t;       /* [s] */
+    double torque;  /* sprocket torque [N*m] */
+    double inertia; /* interface inertia the follower carries at t [kg*m^2] (0: plain
+                       torque exchange); see coupled_system.h */
 } ts_cosim_sample;
 
 /* Torque seen by the follower at time t: linear interpolation of the
@@ -41,6 +43,8 @@ typedef struct ts_cosim_sample { /* leader -> follower */
  * right-hand side through the pointer it gets in advance(). */
 typedef struct ts_cosim_torque ts_cosim_torque;
 double ts_cosim_torque_at(const ts_cosim_torque *src, double t);
+/* The same for the samples' interface inertia. */
+double ts_cosim_inertia_at(const ts_cosim_torque *src, double t);
 
 /* Sprocket speed predicted for the leader at time t from a report. */
 double ts_cosim_predict(const ts_cosim_report *last, int order, double t);
@@ -73,6 +77,10 @@ typedef struct ts_cosim ts_cosim;
 /* initial: the follower's state at t0 (ω, α) and the leader's torque at t0. */
 ts_cosim *ts_cosim_make(const ts_cosim_opts *o, ts_cosim_leader leader, ts_cosim_follower follower,
                         double t0, ts_cosim_report initial, double torque0, ts_err *err);
+/* The same with the full initial sample (its t is replaced by t0). */
+ts_cosim *ts_cosim_make_sample(const ts_cosim_opts *o, ts_cosim_leader leader,
+                               ts_cosim_follower follower, double t0, ts_cosim_report initial,
+                               ts_cosim_sample sample0, ts_err *err);
 void ts_cosim_free(ts_cosim *c);
 
 /* Run both sides until the follower reaches t_end. */

@@ -21,6 +21,7 @@ static const ts_scenario_ops *const scenarios[TS_NRUN_KIND] = {
     [TS_RUN_POINTMASS] = &ts_scenario_pointmass,
     [TS_RUN_ENGINE_DYNO] = &ts_scenario_engine_dyno,
     [TS_RUN_VEHICLE] = &ts_scenario_vehicle,
+    [TS_RUN_COUPLED] = &ts_scenario_coupled,
 };
 
 #define CHANNEL_STRINGS_CAP 65536

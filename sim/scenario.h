@@ -72,5 +72,6 @@ int ts_model_add_channel(ts_model *m, const char *name, const char *unit,
 extern const ts_scenario_ops ts_scenario_pointmass;
 extern const ts_scenario_ops ts_scenario_engine_dyno;
 extern const ts_scenario_ops ts_scenario_vehicle;
+extern const ts_scenario_ops ts_scenario_coupled;
 
 #endif

@@ -1200,6 +1200,28 @@ int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_
     return 0;
 }
 
+int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double sprocket_torque,
+                  double sprocket_inertia, double *ydot, vm_diag *diag)
+{
+    int nq = v->nq;
+    const double *q = y, *qd = y + nq;
+    forces(v, w, t, q, qd, w->M, w->Q, 1, 0, diag);
+    /* the caller's torque on the sprocket spin, its reaction on the hull (as the drive in forces) */
+    w->Q[QS0 + VM_SPROCKET] += sprocket_torque;
+    w->Q[QT] -= sprocket_torque;
+    /* hull-mounted inertia turning with the sprocket: kinetic energy J/2 (Phi_s' - theta')^2 */
+    int is = QS0 + VM_SPROCKET;
+    w->M[is * nq + is] += sprocket_inertia;
+    w->M[QT * nq + QT] += sprocket_inertia;
+    w->M[is * nq + QT] -= sprocket_inertia;
+    w->M[QT * nq + is] -= sprocket_inertia;
+    if (diag) diag->drive_torque = sprocket_torque;
+    memcpy(ydot, qd, (size_t)nq * sizeof(double));
+    memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
+    if (chol_solve(w->M, ydot + nq, nq)) return 1;
+    return 0;
+}
+
 double vm_energy(const vm *v, vm_work *w, const double *y)
 {
     int nq = v->nq;

@@ -115,4 +115,12 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
 /* Hull CG world x at t = 0 [m]. */
 double vm_x0(const vm *v);
 
+/* vm_rhs with the torque at EACH sprocket given by the caller [N*m] instead of
+ * the prescribed /drive (which is then not applied), and an extra hull-mounted
+ * inertia turning with the sprocket relative to the hull [kg*m^2] (0: none):
+ * the powertrain coupling (coupled_system.h). Added by the coupled branch
+ * (issue 10). */
+int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double sprocket_torque,
+                  double sprocket_inertia, double *ydot, vm_diag *diag);
+
 #endif

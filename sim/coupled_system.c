@@ -1,0 +1,664 @@
+/*
+ * coupled_system.c — the integrated engine–vehicle system (coupled_system.h),
+ * paper Section IV: powertrain + multibody vehicle, coupled at the sprocket
+ * either leading–following (cosim.h, Section IV.A) or monolithically.
+ *
+ * The powertrain side's equations are one function (pt_side) used by both
+ * methods: given its states [powertrain, IVS integral], the sprocket speed and
+ * the rack mode it returns the derivatives and the sprocket torque; the
+ * vehicle side is vm_rhs_torque. The monolithic right-hand side chains them at
+ * the vehicle's own sprocket speed; leading–following gives the leader the
+ * predicted speed and the follower the interpolated torque. So the two methods
+ * differ only by the coupling — what the coupling-error test measures.
+ *
+ * Events: gear-shift start/end are roots of whichever integrator carries the
+ * powertrain; at a root the discrete state is updated and that integrator
+ * re-initialised (powertrain.h protocol). The leader is also re-initialised
+ * whenever a new vehicle report changes its input (the predictor restarts: a
+ * discontinuity in time). The follower is not: the published torque is a
+ * continuous piecewise-linear function of time, final once published.
+ */
+#include "coupled_system.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "cosim.h"
+#include "governor.h"
+#include "ivs_controller.h"
+#include "solver.h"
+
+#define MAX_EVENTS_AT_ONCE                                                                         \
+    8 /* discrete updates at one event time (a completed shift may start the next) */
+#define SPIN_SPROCKET (10 + VM_SPROCKET) /* q index of the sprocket spin (vehicle_model.h) */
+#define Q_THETA       2                  /* q index of the hull pitch */
+
+struct ts_coupled {
+    ts_config cfg;
+    vm *v;
+    ts_powertrain *pt;
+    int nv, nq, npt, np; /* vehicle states, vehicle coordinates, powertrain states, np = npt + 1 */
+    int ivs_on;
+    ts_ivs ivs;
+    ts_ivs_gains gains;
+    int governor_on;
+    ts_governor gov;
+    double r_s;    /* sprocket pitch radius for the speed measurement [m] */
+    double target; /* [m/s] */
+};
+
+/* ---- the model ------------------------------------------------------------- */
+
+static ts_rc build_controller(ts_coupled *c, ts_err *err)
+{
+    const ts_control_config *cc = &c->cfg.control;
+    c->ivs_on = cc->mode == TS_CONTROL_IVS;
+    c->target = cc->target_speed;
+    c->ivs.anti_windup = cc->anti_windup;
+    c->ivs.fixed = (ts_ivs_gains){cc->kp, cc->ti};
+    if (cc->schedule_kp_n != cc->schedule_n || cc->schedule_ti_n != cc->schedule_n)
+        return ts_err_set(err, TS_ERR_PARAM, "/control/schedule_kp",
+                          "/control/schedule_kp, schedule_ti: one value per schedule_x row (%d)",
+                          cc->schedule_n);
+    c->ivs.nschedule = cc->schedule_n;
+    for (int i = 0; i < cc->schedule_n; i++) {
+        c->ivs.sched_x[i] = cc->schedule_x[i];
+        c->ivs.sched[i] = (ts_ivs_gains){cc->schedule_kp[i], cc->schedule_ti[i]};
+    }
+    ts_rc rc = ts_ivs_check(&c->ivs, err);
+    if (rc != TS_OK) return rc;
+    double x = cc->schedule_var == TS_SCHEDULE_GRADE ? c->cfg.vehicle.grade : c->cfg.vehicle.mass;
+    c->gains = ts_ivs_gains_at(&c->ivs, x);
+    c->governor_on = cc->governor;
+    c->gov = (ts_governor){cc->governor_low_idle, cc->governor_low_band, cc->governor_high_idle,
+                           cc->governor_high_band};
+    if (c->governor_on && !(cc->governor_high_idle > cc->governor_low_idle))
+        return ts_err_set(err, TS_ERR_PARAM, "/control/governor_high_idle",
+                          "/control/governor_high_idle: must exceed governor_low_idle");
+    return TS_OK;
+}
+
+static ts_coupled *make(const ts_config *cfg, const ts_engine_port *port, ts_err *err)
+{
+    ts_coupled *c = calloc(1, sizeof *c);
+    if (!c) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return NULL;
+    }
+    c->cfg = *cfg;
+    c->pt = port ? ts_powertrain_make_port(cfg, port, err) : ts_powertrain_make(cfg, err);
+    if (!c->pt) goto fail;
+    /* the driveline's output inertia (both sides, sprockets included) rides on
+     * the vehicle's sprocket spin, per side */
+    ts_config vcfg = *cfg;
+    double j_out = 0.5 * ts_powertrain_output_inertia(c->pt);
+    if (j_out > vcfg.vehicle.sprocket_inertia) vcfg.vehicle.sprocket_inertia = j_out;
+    vcfg.drive.kind = TS_DRIVE_POWERTRAIN; /* vm_rhs_torque ignores /drive anyway */
+    c->v = vm_make(&vcfg, err);
+    if (!c->v) goto fail;
+    c->nv = vm_ny(c->v);
+    c->nq = vm_nq(c->v);
+    c->npt = ts_powertrain_nstate(c->pt);
+    c->np = c->npt + 1;
+    c->r_s = cfg->vehicle.sprocket_radius;
+    if (build_controller(c, err) != TS_OK) goto fail;
+    return c;
+fail:
+    ts_coupled_free(c);
+    return NULL;
+}
+
+ts_coupled *ts_coupled_make(const ts_config *cfg, ts_err *err)
+{
+    return make(cfg, NULL, err);
+}
+
+ts_coupled *ts_coupled_make_port(const ts_config *cfg, const ts_engine_port *port, ts_err *err)
+{
+    return make(cfg, port, err);
+}
+
+void ts_coupled_free(ts_coupled *c)
+{
+    if (!c) return;
+    vm_free(c->v);
+    ts_powertrain_free(c->pt);
+    free(c);
+}
+
+const vm *ts_coupled_vehicle(const ts_coupled *c)
+{
+    return c->v;
+}
+const ts_powertrain *ts_coupled_powertrain(const ts_coupled *c)
+{
+    return c->pt;
+}
+double ts_coupled_kp(const ts_coupled *c)
+{
+    return c->gains.kp;
+}
+double ts_coupled_ti(const ts_coupled *c)
+{
+    return c->gains.ti;
+}
+
+/* Driver / controller and fuel actuator at powertrain-side state yp for the
+ * sprocket speed w: rack demand, governed rack, speed error. */
+typedef struct drive_cmd {
+    double e, demand, rack;
+} drive_cmd;
+
+static drive_cmd command(const ts_coupled *c, double rack_fixed, const double *yp, double w)
+{
+    drive_cmd d = {0, rack_fixed, rack_fixed};
+    if (c->ivs_on) {
+        d.e = c->target - w * c->r_s; /* Eq. 10: e = V_r - V_a */
+        d.demand = ts_ivs_rack(c->gains, d.e, yp[c->npt]);
+    }
+    double w_e = yp[ts_powertrain_engine_speed_index(c->pt)];
+    d.rack = c->governor_on ? ts_governor_rack(&c->gov, d.demand, w_e) : d.demand;
+    return d;
+}
+
+/* Powertrain-side derivatives (powertrain states, then the IVS integral). */
+static int pt_side(const ts_coupled *c, const ts_powertrain_state *ps, double rack_fixed, double t,
+                   const double *yp, double w, double *ypdot, ts_powertrain_out *out,
+                   drive_cmd *cmd_out)
+{
+    drive_cmd d = command(c, rack_fixed, yp, w);
+    int rc = ts_powertrain_rhs(c->pt, ps, t, yp, w, d.rack, ypdot, out);
+    ypdot[c->npt] = c->ivs_on ? ts_ivs_integral_rate(&c->ivs, c->gains, d.e, yp[c->npt]) : 0.0;
+    if (cmd_out) *cmd_out = d;
+    return rc;
+}
+
+static double sprocket_rel(const ts_coupled *c,
+                           const double *yv) /* qd of the sprocket - qd of theta */
+{
+    return yv[c->nq + SPIN_SPROCKET] - yv[c->nq + Q_THETA];
+}
+
+/* ---- a run ------------------------------------------------------------------- */
+
+struct ts_coupled_run {
+    const ts_coupled *c;
+    int method;
+    ts_coupling_config co;
+    double t, rack_fixed;
+    double *yv, *yp;   /* vehicle state, powertrain-side state at t */
+    double *ydv, *ydp; /* scratch derivatives (observation) */
+    vm_work *w;
+    ts_powertrain_state ps;
+    ts_coupled_stats st;
+    /* monolithic */
+    ts_ode *mono;
+    double *ym; /* [yv, yp] */
+    /* leading-following */
+    ts_ode *lead_ode, *follow_ode;
+    ts_cosim *cosim;
+    ts_cosim_report last; /* report the leader integrates with */
+    int last_order;
+    int lead_dirty;             /* leader input changed: re-init before integrating */
+    double lead_t;              /* leader time */
+    ts_cosim_sample pub;        /* sample last published by the leader */
+    const ts_cosim_torque *src; /* follower's torque source during its advance */
+    ts_cosim_report rep;        /* follower's last report */
+    double *ylead_scratch;
+    double *rk; /* 5 np: RK4 stages of the explicit leader */
+};
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* monolithic right-hand side and roots */
+static int mono_rhs(double t, const double *y, double *ydot, void *ud)
+{
+    ts_coupled_run *r = ud;
+    const ts_coupled *c = r->c;
+    ts_powertrain_out o;
+    double w = sprocket_rel(c, y);
+    int rc = pt_side(c, &r->ps, r->rack_fixed, t, y + c->nv, w, ydot + c->nv, &o, NULL);
+    r->st.powertrain_rhs++;
+    if (rc != 0) return rc;
+    r->st.vehicle_rhs++;
+    return vm_rhs_torque(c->v, r->w, t, y, o.sprocket_torque, 0.0, ydot, NULL);
+}
+
+static int mono_roots(double t, const double *y, double *g, void *ud)
+{
+    const ts_coupled_run *r = ud;
+    ts_powertrain_roots(r->c->pt, &r->ps, t, y + r->c->nv, g);
+    return 0;
+}
+
+/* leader: powertrain side with the predicted sprocket speed */
+static double lead_w(const ts_coupled_run *r, double t)
+{
+    return ts_cosim_predict(&r->last, r->last_order, t);
+}
+
+static int lead_rhs(double t, const double *y, double *ydot, void *ud)
+{
+    ts_coupled_run *r = ud;
+    r->st.powertrain_rhs++;
+    return pt_side(r->c, &r->ps, r->rack_fixed, t, y, lead_w(r, t), ydot, NULL, NULL);
+}
+
+static int lead_roots(double t, const double *y, double *g, void *ud)
+{
+    const ts_coupled_run *r = ud;
+    ts_powertrain_roots(r->c->pt, &r->ps, t, y, g);
+    return 0;
+}
+
+/* follower: vehicle with the interpolated torque */
+static int follow_rhs(double t, const double *y, double *ydot, void *ud)
+{
+    ts_coupled_run *r = ud;
+    r->st.vehicle_rhs++;
+    double tau = r->src ? ts_cosim_torque_at(r->src, t) : r->pub.torque;
+    double j = r->src ? ts_cosim_inertia_at(r->src, t) : r->pub.inertia;
+    return vm_rhs_torque(r->c->v, r->w, t, y, tau, j, ydot, NULL);
+}
+
+/* Discrete powertrain updates at (t, yp) with sprocket speed w; 1 if changed. */
+static int settle(ts_coupled_run *r, double t, const double *yp, double w)
+{
+    int changed = 0;
+    for (int k = 0; k < MAX_EVENTS_AT_ONCE; k++) {
+        drive_cmd d = command(r->c, r->rack_fixed, yp, w);
+        if (!ts_powertrain_update(r->c->pt, &r->ps, t, yp, w, d.rack)) break;
+        changed = 1;
+    }
+    return changed;
+}
+
+/* Interface inertia J_a at the leader's state: the turbine inertia reflected to
+ * each sprocket through whichever range clutch holds (coupled_system.h). A
+ * clutch's lock is d(tanh)/d(slip) = 1 - (T/C)^2: 1 locked, 0 slipping. */
+static double lock(double torque, double capacity)
+{
+    if (!(capacity > 0)) return 0.0;
+    double x = torque / capacity;
+    return x * x >= 1 ? 0.0 : 1.0 - x * x;
+}
+
+static double interface_inertia(const ts_coupled *c, const ts_powertrain_state *ps, double t,
+                                const ts_powertrain_out *o)
+{
+    const ts_driveline_config *dc = &c->cfg.driveline;
+    const ts_shift_state *s = &ps->shift;
+    double c_off = dc->clutch_capacity, c_on = 0.0;
+    if (s->target > 0) {
+        double tau = dc->shift_time > 0 ? (t - s->t_start) / dc->shift_time : 1.0;
+        tau = tau < 0 ? 0 : tau > 1 ? 1 : tau;
+        c_off = (1.0 - tau) * s->capacity;
+        c_on = tau * s->capacity;
+    }
+    double r_off = s->gear >= 1 && s->gear <= dc->gear_ratio_n ? dc->gear_ratio[s->gear - 1] : 0;
+    double r_on =
+        s->target >= 1 && s->target <= dc->gear_ratio_n ? dc->gear_ratio[s->target - 1] : 0;
+    double j = r_off * r_off * lock(o->clutch_offgoing, c_off) +
+               r_on * r_on * lock(o->clutch_oncoming, c_on);
+    return c->cfg.coupling.interface_inertia * 0.5 * dc->turbine_inertia * dc->final_ratio *
+           dc->final_ratio * j;
+}
+
+/* The leader's sample at t: torque + J_a alpha_k (J_a rides on the follower's
+ * sprocket; the two cancel as the step goes to 0). */
+static ts_cosim_sample publish(ts_coupled_run *r, double t, const ts_powertrain_out *o)
+{
+    double j = interface_inertia(r->c, &r->ps, t, o);
+    ts_cosim_sample s = {t, o->sprocket_torque + j * r->last.alpha, j};
+    r->pub = s;
+    return s;
+}
+
+/* Explicit leader path (crank-angle engine, powertrain.h): classical RK4 at
+ * ts_powertrain_explicit_step, the shift state machine at every step end. */
+static ts_rc lead_explicit(ts_coupled_run *r, double t_to, ts_err *err)
+{
+    const ts_coupled *c = r->c;
+    int n = c->np;
+    double *k1 = r->rk, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n, *y = r->yp;
+    while (r->lead_t < t_to - 1e-12 * (1.0 + fabs(t_to))) {
+        double h = ts_powertrain_explicit_step(c->pt, y), t = r->lead_t;
+        if (t + h > t_to) h = t_to - t;
+        int rc = lead_rhs(t, y, k1, r);
+        for (int i = 0; !rc && i < n; i++)
+            yt[i] = y[i] + 0.5 * h * k1[i];
+        if (!rc) rc = lead_rhs(t + 0.5 * h, yt, k2, r);
+        for (int i = 0; !rc && i < n; i++)
+            yt[i] = y[i] + 0.5 * h * k2[i];
+        if (!rc) rc = lead_rhs(t + 0.5 * h, yt, k3, r);
+        for (int i = 0; !rc && i < n; i++)
+            yt[i] = y[i] + h * k3[i];
+        if (!rc) rc = lead_rhs(t + h, yt, k4, r);
+        for (int i = 0; !rc && i < n; i++) {
+            y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+            if (!isfinite(y[i])) rc = 1;
+        }
+        if (rc)
+            return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                              "powertrain state left its domain at t = %.6f s", t);
+        r->lead_t = t + h;
+        settle(r, r->lead_t, y, lead_w(r, r->lead_t));
+    }
+    r->lead_t = t_to;
+    r->lead_dirty = 1; /* the implicit path (if the engine ever leaves RK4) restarts */
+    return TS_OK;
+}
+
+static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, int order,
+                          ts_cosim_sample *out, ts_err *err)
+{
+    ts_coupled_run *r = ud;
+    const ts_coupled *c = r->c;
+    double w0 = now_seconds();
+    if (memcmp(last, &r->last, sizeof *last) != 0 || order != r->last_order) {
+        r->last = *last;
+        r->last_order = order;
+        r->lead_dirty = 1;
+    }
+    ts_rc rc = TS_OK;
+    if (settle(r, r->lead_t, r->yp, lead_w(r, r->lead_t))) r->lead_dirty = 1;
+    if (ts_powertrain_explicit_step(c->pt, r->yp) > 0) {
+        rc = lead_explicit(r, t_to, err);
+    } else if (r->lead_dirty) {
+        rc = ts_ode_init(r->lead_ode, r->lead_t, r->yp, err);
+        r->lead_dirty = 0;
+    }
+    while (rc == TS_OK && r->lead_t < t_to) {
+        int root = 0;
+        rc = ts_ode_advance(r->lead_ode, t_to, &r->lead_t, &root, err);
+        if (rc != TS_OK) break;
+        memcpy(r->yp, ts_ode_y(r->lead_ode), sizeof(double) * (size_t)c->np);
+        if (root && settle(r, r->lead_t, r->yp, lead_w(r, r->lead_t)))
+            rc = ts_ode_init(r->lead_ode, r->lead_t, r->yp, err);
+    }
+    if (rc == TS_OK) {
+        ts_powertrain_out o;
+        pt_side(c, &r->ps, r->rack_fixed, r->lead_t, r->yp, lead_w(r, r->lead_t), r->ylead_scratch,
+                &o, NULL);
+        *out = publish(r, r->lead_t, &o);
+    }
+    r->st.powertrain_wall += now_seconds() - w0;
+    return rc;
+}
+
+static void vehicle_report(ts_coupled_run *r, double t, ts_cosim_sample s, ts_cosim_report *rep)
+{
+    const ts_coupled *c = r->c;
+    vm_rhs_torque(c->v, r->w, t, r->yv, s.torque, s.inertia, r->ydv, NULL);
+    rep->t = t;
+    rep->omega = sprocket_rel(c, r->yv);
+    rep->alpha = r->ydv[c->nq + SPIN_SPROCKET] - r->ydv[c->nq + Q_THETA];
+}
+
+static ts_rc follow_advance(void *ud, double t_to, const ts_cosim_torque *src, ts_cosim_report *out,
+                            ts_err *err)
+{
+    ts_coupled_run *r = ud;
+    double w0 = now_seconds();
+    r->src = src;
+    double t;
+    ts_rc rc = ts_ode_advance(r->follow_ode, t_to, &t, NULL, err);
+    if (rc == TS_OK) {
+        memcpy(r->yv, ts_ode_y(r->follow_ode), sizeof(double) * (size_t)r->c->nv);
+        r->t = t_to;
+        ts_cosim_sample s = {t_to, ts_cosim_torque_at(src, t_to), ts_cosim_inertia_at(src, t_to)};
+        vehicle_report(r, t_to, s, out);
+        r->rep = *out;
+    }
+    r->src = NULL;
+    r->st.vehicle_wall += now_seconds() - w0;
+    return rc;
+}
+
+void ts_coupled_run_free(ts_coupled_run *r)
+{
+    if (!r) return;
+    ts_ode_free(r->mono);
+    ts_ode_free(r->lead_ode);
+    ts_ode_free(r->follow_ode);
+    ts_cosim_free(r->cosim);
+    vm_work_free(r->w);
+    free(r->yv);
+    free(r);
+}
+
+ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err)
+{
+    ts_coupled_run *r = calloc(1, sizeof *r);
+    if (!r) goto nomem;
+    r->c = c;
+    r->method = method;
+    r->co = c->cfg.coupling;
+    r->rack_fixed = c->cfg.control.rack;
+    int n = c->nv + c->np;
+    /* yv, yp, ydv, ydp, ym (n), atol (n), lead scratch (np) */
+    r->yv = calloc((size_t)(4 * n + 6 * c->np), sizeof(double));
+    r->w = vm_work_make(c->v);
+    if (!r->yv || !r->w) goto nomem;
+    r->yp = r->yv + c->nv;
+    r->ydv = r->yv + n;
+    r->ydp = r->ydv + c->nv;
+    r->ym = r->yv + 2 * n;
+    double *atol = r->yv + 3 * n;
+    r->ylead_scratch = r->yv + 4 * n;
+    r->rk = r->ylead_scratch + c->np;
+    const ts_run_config *rc = &c->cfg.run;
+    for (int i = 0; i < c->nv; i++)
+        atol[i] = rc->atol;
+    ts_powertrain_scale(c->pt, atol + c->nv);
+    for (int i = 0; i < c->npt; i++)
+        atol[c->nv + i] *= rc->atol;
+    atol[c->nv + c->npt] = rc->atol;
+    if (method == TS_COUPLING_MONOLITHIC) {
+        ts_ode_opts o = {.rtol = rc->rtol,
+                         .atol = rc->atol,
+                         .atol_v = atol,
+                         .max_step = rc->max_step,
+                         .max_steps = 1000000,
+                         .nroots = ts_powertrain_nroots(c->pt),
+                         .roots = mono_roots};
+        r->mono = ts_ode_make(n, mono_rhs, r, &o, err);
+        if (!r->mono) goto fail;
+    } else if (method == TS_COUPLING_LEADING_FOLLOWING) {
+        ts_ode_opts lo = {.rtol = rc->rtol,
+                          .atol = rc->atol,
+                          .atol_v = atol + c->nv,
+                          .max_step = rc->max_step,
+                          .max_steps = 1000000,
+                          .nroots = ts_powertrain_nroots(c->pt),
+                          .roots = lead_roots};
+        r->lead_ode = ts_ode_make(c->np, lead_rhs, r, &lo, err);
+        if (!r->lead_ode) goto fail;
+        ts_ode_opts fo = {.rtol = rc->rtol,
+                          .atol = rc->atol,
+                          .atol_v = atol,
+                          .max_step = rc->max_step,
+                          .max_steps = 1000000};
+        r->follow_ode = ts_ode_make(c->nv, follow_rhs, r, &fo, err);
+        if (!r->follow_ode) goto fail;
+        ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead,
+                            r->co.predictor_order};
+        if (!(co.lead >= co.leader_step)) {
+            ts_err_set(err, TS_ERR_PARAM, "/coupling/lead",
+                       "/coupling/lead: must be at least /coupling/leader_step");
+            goto fail;
+        }
+    } else {
+        ts_err_set(err, TS_ERR_PARAM, "/coupling/method", "/coupling/method: unknown method %d",
+                   method);
+        goto fail;
+    }
+    return r;
+nomem:
+    ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+fail:
+    ts_coupled_run_free(r);
+    return NULL;
+}
+
+/* (Re)start the integrators at r->t from yv, yp, with the leader's last
+ * report and published torque given (leading-following). */
+static ts_rc restart(ts_coupled_run *r, ts_cosim_report rep, ts_cosim_sample pub, ts_err *err)
+{
+    const ts_coupled *c = r->c;
+    if (r->method == TS_COUPLING_MONOLITHIC) {
+        memcpy(r->ym, r->yv, sizeof(double) * (size_t)(c->nv + c->np));
+        settle(r, r->t, r->yp, sprocket_rel(c, r->yv));
+        return ts_ode_init(r->mono, r->t, r->ym, err);
+    }
+    r->lead_t = r->t;
+    r->last = rep;
+    r->last_order = r->co.predictor_order;
+    r->rep = rep;
+    r->pub = pub;
+    r->lead_dirty = 1;
+    ts_rc rc = ts_ode_init(r->follow_ode, r->t, r->yv, err);
+    if (rc != TS_OK) return rc;
+    ts_cosim_free(r->cosim);
+    ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead, r->co.predictor_order};
+    r->cosim = ts_cosim_make_sample(&co, (ts_cosim_leader){r, lead_advance},
+                                    (ts_cosim_follower){r, follow_advance}, r->t, rep, pub, err);
+    return r->cosim ? TS_OK : (err ? err->code : TS_ERR_INTERNAL);
+}
+
+ts_rc ts_coupled_run_reset(ts_coupled_run *r, ts_err *err)
+{
+    const ts_coupled *c = r->c;
+    r->t = 0.0;
+    r->rack_fixed = c->cfg.control.rack;
+    memcpy(r->yv, vm_equilibrium(c->v), sizeof(double) * (size_t)c->nv);
+    double w0 = sprocket_rel(c, r->yv);
+    ts_rc rc = ts_powertrain_reset(c->pt, &r->ps, r->yp, w0, err);
+    if (rc != TS_OK) return rc;
+    r->yp[c->npt] = 0.0;
+    settle(r, 0.0, r->yp, w0);
+    ts_powertrain_out o;
+    pt_side(c, &r->ps, r->rack_fixed, 0.0, r->yp, w0, r->ydp, &o, NULL);
+    ts_cosim_report rep;
+    vehicle_report(r, 0.0, (ts_cosim_sample){0.0, o.sprocket_torque, 0.0}, &rep);
+    r->last = rep;
+    ts_cosim_sample pub = {0.0, o.sprocket_torque, 0.0};
+    if (r->method == TS_COUPLING_LEADING_FOLLOWING) pub = publish(r, 0.0, &o);
+    return restart(r, rep, pub, err);
+}
+
+ts_rc ts_coupled_run_advance(ts_coupled_run *r, double t_to, ts_err *err)
+{
+    const ts_coupled *c = r->c;
+    if (r->method == TS_COUPLING_LEADING_FOLLOWING) {
+        ts_rc rc = ts_cosim_advance(r->cosim, t_to, err);
+        r->st.exchanges = ts_cosim_exchanges(r->cosim);
+        return rc;
+    }
+    double w0 = now_seconds();
+    ts_rc rc = TS_OK;
+    while (rc == TS_OK && r->t < t_to) {
+        int root = 0;
+        rc = ts_ode_advance(r->mono, t_to, &r->t, &root, err);
+        if (rc != TS_OK) break;
+        memcpy(r->ym, ts_ode_y(r->mono), sizeof(double) * (size_t)(c->nv + c->np));
+        memcpy(r->yv, r->ym, sizeof(double) * (size_t)(c->nv + c->np));
+        if (root && settle(r, r->t, r->yp, sprocket_rel(c, r->yv)))
+            rc = ts_ode_init(r->mono, r->t, r->ym, err);
+    }
+    /* one integrator: its wall time is shared; book it on the vehicle side */
+    r->st.vehicle_wall += now_seconds() - w0;
+    return rc;
+}
+
+double ts_coupled_run_time(const ts_coupled_run *r)
+{
+    return r->t;
+}
+
+ts_rc ts_coupled_run_set_rack(ts_coupled_run *r, double rack, ts_err *err)
+{
+    if (!(rack >= 0 && rack <= 1))
+        return ts_err_set(err, TS_ERR_RANGE, "/control/rack", "/control/rack: %g not in [0, 1]",
+                          rack);
+    r->rack_fixed = rack;
+    if (r->method == TS_COUPLING_MONOLITHIC) return ts_ode_init(r->mono, r->t, r->ym, err);
+    r->lead_dirty = 1;
+    return TS_OK;
+}
+
+void ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o)
+{
+    const ts_coupled *c = r->c;
+    memset(o, 0, sizeof *o);
+    o->t = r->t;
+    double w_pt;
+    if (r->method == TS_COUPLING_MONOLITHIC) {
+        w_pt = sprocket_rel(c, r->yv);
+    } else {
+        w_pt = lead_w(r, r->lead_t); /* the leader's view of the sprocket */
+    }
+    drive_cmd d;
+    pt_side(c, &r->ps, r->rack_fixed, r->t, r->yp, w_pt, r->ydp, &o->pt, &d);
+    ts_cosim_sample s = {r->t, o->pt.sprocket_torque, 0.0};
+    if (r->method == TS_COUPLING_LEADING_FOLLOWING) s = r->pub;
+    vm_rhs_torque(c->v, r->w, r->t, r->yv, s.torque, s.inertia, r->ydv, &o->diag);
+    o->diag.drive_torque = o->pt.sprocket_torque;
+    o->y_vehicle = r->yv;
+    o->ydot_vehicle = r->ydv;
+    o->sprocket_speed = sprocket_rel(c, r->yv);
+    o->sprocket_accel = r->ydv[c->nq + SPIN_SPROCKET] - r->ydv[c->nq + Q_THETA];
+    o->sprocket_torque = o->pt.sprocket_torque;
+    o->speed_measured = w_pt * c->r_s;
+    o->speed_error = d.e;
+    o->integral = r->yp[c->npt];
+    o->rack_demand = d.demand;
+    o->rack = d.rack;
+    o->ps = r->ps;
+}
+
+void ts_coupled_run_stats(const ts_coupled_run *r, ts_coupled_stats *s)
+{
+    *s = r->st;
+}
+
+/* Saved state: t, rack_fixed, report (t, omega, alpha), published torque,
+ * then yv, yp, then the discrete powertrain state. */
+#define SAVE_HEAD 7
+
+size_t ts_coupled_state_size(const ts_coupled *c)
+{
+    return sizeof(double) * (size_t)(SAVE_HEAD + c->nv + c->np) + sizeof(ts_powertrain_state);
+}
+
+void ts_coupled_run_save(const ts_coupled_run *r, void *buf)
+{
+    double head[SAVE_HEAD] = {r->t,         r->rack_fixed, r->rep.t,      r->rep.omega,
+                              r->rep.alpha, r->pub.torque, r->pub.inertia};
+    char *b = buf;
+    size_t n = (size_t)(r->c->nv + r->c->np);
+    memcpy(b, head, sizeof head);
+    memcpy(b + sizeof head, r->yv, sizeof(double) * n);
+    memcpy(b + sizeof head + sizeof(double) * n, &r->ps, sizeof r->ps);
+}
+
+ts_rc ts_coupled_run_restore(ts_coupled_run *r, const void *buf, ts_err *err)
+{
+    double head[SAVE_HEAD];
+    const char *b = buf;
+    size_t n = (size_t)(r->c->nv + r->c->np);
+    memcpy(head, b, sizeof head);
+    memcpy(r->yv, b + sizeof head, sizeof(double) * n);
+    memcpy(&r->ps, b + sizeof head + sizeof(double) * n, sizeof r->ps);
+    r->t = head[0];
+    r->rack_fixed = head[1];
+    ts_cosim_report rep = {head[2], head[3], head[4]};
+    return restart(r, rep, (ts_cosim_sample){head[0], head[5], head[6]}, err);
+}

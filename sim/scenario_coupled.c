@@ -1,0 +1,352 @@
+/*
+ * scenario_coupled.c — the "coupled" run kind: the integrated M1 of paper
+ * Section IV (coupled_system.h): powertrain + pitch-plane multibody vehicle
+ * with its track on the terrain, a fixed rack or the IVS controller through
+ * the fuel actuator, coupled leading–following or monolithically
+ * (/coupling/method). The paper's runs (Figs. 28-35) are the presets
+ * {flat,bump}-coupled-*.json.
+ *
+ * Channels: the vehicle scenario's (vehicle.x, vehicle.speed, hull.*, track
+ * tension at the rear roller, roller force, sprocket torque/speed, anchor
+ * force, span mid-span tension and transverse deflection, road-arm angles,
+ * road-wheel loads), the powertrain's (engine, converter, transmission, drive
+ * shaft; powertrain.h), and the driver's (rack demand before the governor,
+ * measured speed, speed error, integral). Per side except torques at EACH
+ * sprocket. Metrics: see metrics() — shift times, time to target speed,
+ * speed error and rack range after reaching it, tension peaks, engine-speed
+ * range.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "coupled_system.h"
+#include "scenario.h"
+
+#define MPH 0.44704 /* m/s per mph */
+#define LBF 4.44822 /* N per lbf */
+
+enum {
+    CH_X = 1,
+    CH_SPEED,
+    CH_Z,
+    CH_PITCH,
+    CH_AX,
+    CH_AZ,
+    CH_T_RR,
+    CH_N_RR,
+    CH_TORQUE,
+    CH_SPR_SPEED,
+    CH_SPR_ACCEL,
+    CH_ANCHOR,
+    CH_RACK_DEMAND,
+    CH_V_MEAS,
+    CH_ERR,
+    CH_INTEGRAL,
+    CH_ARM0,
+    CH_LOAD0 = CH_ARM0 + VM_NRW,
+    CH_SPAN_T0 = CH_LOAD0 + VM_NRW,
+    CH_SPAN_V0 = CH_SPAN_T0 + VM_NSPAN,
+    CH_PT0 = CH_SPAN_V0 + VM_NSPAN,
+    NCH = CH_PT0 + TS_POWERTRAIN_NCHANNEL
+};
+/* indices into the powertrain block (ts_powertrain_channel_values order) */
+enum { PT_ENGINE_SPEED = 0, PT_RACK = 4, PT_TURBINE_SPEED = 6, PT_GEAR = 13 };
+
+typedef struct cpl_data {
+    ts_coupled_run *r;
+    ts_coupled_obs obs;
+} cpl_data;
+
+static ts_rc add(ts_model *m, const char *name, const char *unit, const char *desc, ts_err *err)
+{
+    return ts_model_add_channel(m, name, unit, desc, err) < 0 ? (err ? err->code : TS_ERR_INTERNAL)
+                                                              : TS_OK;
+}
+
+static ts_rc model_init(ts_model *m, ts_err *err)
+{
+    ts_coupled *c = ts_coupled_make(&m->cfg, err);
+    if (!c) return err ? err->code : TS_ERR_INTERNAL;
+    m->impl = c;
+    m->dof = vm_dof(ts_coupled_vehicle(c));
+    m->nstate = vm_ny(ts_coupled_vehicle(c)) + ts_powertrain_nstate(ts_coupled_powertrain(c)) + 1;
+    static const struct {
+        const char *name, *unit, *desc;
+    } ch[] = {
+        {"vehicle.x", "m", "distance travelled by the hull CG"},
+        {"vehicle.speed", "m/s", "hull CG forward speed"},
+        {"hull.z", "m", "hull CG height above the course datum"},
+        {"hull.pitch", "rad", "hull pitch, positive nose-down"},
+        {"hull.accel_x", "m/s^2", "hull CG longitudinal acceleration"},
+        {"hull.accel_z", "m/s^2", "hull CG vertical acceleration"},
+        {"track.tension.rear_roller", "N",
+         "track tension at the rear support roller (Figs. 29, 35)"},
+        {"roller.rear.normal_force", "N", "track load on the rear support roller"},
+        {"sprocket.torque", "N*m", "powertrain torque applied at each sprocket (Figs. 28, 31)"},
+        {"sprocket.speed", "rad/s", "sprocket speed relative to the hull (Fig. 34)"},
+        {"sprocket.accel", "rad/s^2",
+         "sprocket acceleration relative to the hull (reported to the powertrain)"},
+        {"track.anchor_force", "N", "tangential ground force at the no-slip anchor (thrust)"},
+        {"rack.demand", "1", "driver or IVS rack before the governor (Fig. 33)"},
+        {"control.speed_measured", "m/s",
+         "vehicle speed the controller sees: sprocket speed x pitch radius"},
+        {"control.error", "m/s", "IVS speed error, target minus measured (0 in rack mode)"},
+        {"control.integral", "m", "IVS integral of the speed error (Eq. 10)"},
+    };
+    ts_rc rc = TS_OK;
+    for (size_t i = 0; i < sizeof ch / sizeof ch[0] && rc == TS_OK; i++)
+        rc = add(m, ch[i].name, ch[i].unit, ch[i].desc, err);
+    char name[96], desc[160];
+    for (int i = 0; i < VM_NRW && rc == TS_OK; i++) {
+        snprintf(name, sizeof name, "road_arm.%d.angle", i + 1);
+        snprintf(desc, sizeof desc, "road arm %d angle below hull x (1 = front)", i + 1);
+        rc = add(m, name, "rad", desc, err);
+    }
+    for (int i = 0; i < VM_NRW && rc == TS_OK; i++) {
+        snprintf(name, sizeof name, "road_wheel.%d.load", i + 1);
+        snprintf(desc, sizeof desc, "ground load under road wheel %d, one side", i + 1);
+        rc = add(m, name, "N", desc, err);
+    }
+    for (int s = 0; s < VM_NSPAN && rc == TS_OK; s++) {
+        snprintf(name, sizeof name, "span.%s.tension", vm_span_names[s]);
+        snprintf(desc, sizeof desc, "track tension at mid-span, span %s", vm_span_names[s]);
+        rc = add(m, name, "N", desc, err);
+    }
+    for (int s = 0; s < VM_NSPAN && rc == TS_OK; s++) {
+        snprintf(name, sizeof name, "span.%s.deflection", vm_span_names[s]);
+        snprintf(
+            desc, sizeof desc,
+            "dynamic transverse mid-span deflection (outward), span %s (Fig. 30; 0 without modes)",
+            vm_span_names[s]);
+        rc = add(m, name, "m", desc, err);
+    }
+    const ts_powertrain_channel *pc = ts_powertrain_channels();
+    for (int i = 0; i < TS_POWERTRAIN_NCHANNEL && rc == TS_OK; i++)
+        rc = add(m, pc[i].name, pc[i].unit, pc[i].description, err);
+    return rc;
+}
+
+static void model_fini(ts_model *m)
+{
+    ts_coupled_free(m->impl);
+    m->impl = NULL;
+}
+
+static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
+{
+    cpl_data *p = calloc(1, sizeof *p);
+    if (!p) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    d->impl = p;
+    p->r = ts_coupled_run_make(m->impl, m->cfg.coupling.method, err);
+    return p->r ? TS_OK : (err ? err->code : TS_ERR_INTERNAL);
+}
+
+static void data_fini(const ts_model *m, ts_data *d)
+{
+    (void)m;
+    cpl_data *p = d->impl;
+    if (!p) return;
+    ts_coupled_run_free(p->r);
+    free(p);
+    d->impl = NULL;
+}
+
+static ts_rc reset(const ts_model *m, ts_data *d, ts_err *err)
+{
+    (void)m;
+    cpl_data *p = d->impl;
+    return ts_coupled_run_reset(p->r, err);
+}
+
+static ts_rc step_to(const ts_model *m, ts_data *d, double t, ts_err *err)
+{
+    (void)m;
+    cpl_data *p = d->impl;
+    return ts_coupled_run_advance(p->r, t, err);
+}
+
+static void sample(const ts_model *m, const ts_data *d, double *out)
+{
+    const ts_coupled *c = m->impl;
+    cpl_data *p = d->impl;
+    const vm *v = ts_coupled_vehicle(c);
+    ts_coupled_obs *o = &p->obs;
+    ts_coupled_run_observe(p->r, o);
+    int nq = vm_nq(v);
+    const double *q = o->y_vehicle, *qd = q + nq, *qdd = o->ydot_vehicle + nq;
+    out[CH_X] = q[0] - vm_x0(v);
+    out[CH_SPEED] = qd[0];
+    out[CH_Z] = q[1];
+    out[CH_PITCH] = q[2];
+    out[CH_AX] = qdd[0];
+    out[CH_AZ] = qdd[1];
+    out[CH_T_RR] = o->diag.tension_end1[0];
+    out[CH_N_RR] = o->diag.rear_roller_normal;
+    out[CH_TORQUE] = o->sprocket_torque;
+    out[CH_SPR_SPEED] = o->sprocket_speed;
+    out[CH_SPR_ACCEL] = o->sprocket_accel;
+    out[CH_ANCHOR] = o->diag.anchor_force;
+    out[CH_RACK_DEMAND] = o->rack_demand;
+    out[CH_V_MEAS] = o->speed_measured;
+    out[CH_ERR] = o->speed_error;
+    out[CH_INTEGRAL] = o->integral;
+    for (int i = 0; i < VM_NRW; i++) {
+        out[CH_ARM0 + i] = o->diag.arm_angle[i];
+        out[CH_LOAD0 + i] = o->diag.wheel_load[i];
+    }
+    for (int s = 0; s < VM_NSPAN; s++) {
+        int el = vm_span_element[s];
+        out[CH_SPAN_T0 + s] =
+            o->diag.span_mid_tension[s] != 0 ? o->diag.span_mid_tension[s] : o->diag.tension[el];
+        out[CH_SPAN_V0 + s] = o->diag.span_mid_deflection[s];
+    }
+    ts_powertrain_channel_values(&o->pt, out + CH_PT0);
+}
+
+static size_t state_size(const ts_model *m)
+{
+    return ts_coupled_state_size(m->impl);
+}
+
+static ts_rc state_save(const ts_model *m, const ts_data *d, void *buf, ts_err *err)
+{
+    (void)m;
+    (void)err;
+    const cpl_data *p = d->impl;
+    ts_coupled_run_save(p->r, buf);
+    return TS_OK;
+}
+
+static ts_rc state_restore(const ts_model *m, ts_data *d, const void *buf, ts_err *err)
+{
+    (void)m;
+    cpl_data *p = d->impl;
+    return ts_coupled_run_restore(p->r, buf, err);
+}
+
+static int add_metric(ts_metric *out, int n, int max, const char *name, const char *unit,
+                      double value, const char *desc)
+{
+    if (n >= max) return n;
+    ts_metric *mt = &out[n];
+    snprintf(mt->name, sizeof mt->name, "%s", name);
+    snprintf(mt->unit, sizeof mt->unit, "%s", unit);
+    mt->value = value;
+    snprintf(mt->description, sizeof mt->description, "%s", desc);
+    return n + 1;
+}
+
+/* First time col crosses level upwards (linear interpolation), NAN if never. */
+static double first_crossing(const double *rows, long nrows, int nc, int col, double level)
+{
+    for (long i = 1; i < nrows; i++) {
+        double a = rows[(i - 1) * nc + col], b = rows[i * nc + col];
+        if (a < level && b >= level) {
+            double ta = rows[(i - 1) * nc], tb = rows[i * nc];
+            return ta + (tb - ta) * (level - a) / (b - a);
+        }
+    }
+    return NAN;
+}
+
+static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
+{
+    const ts_coupled *c = m->impl;
+    int nc = m->nchannel, n = 0;
+    if (nrows < 2) return 0;
+    double vmax = 0, tmax = 0, tq_max = 0;
+    for (long i = 0; i < nrows; i++) {
+        const double *r = rows + i * nc;
+        vmax = fmax(vmax, r[CH_SPEED]);
+        tmax = fmax(tmax, r[CH_T_RR]);
+        tq_max = fmax(tq_max, r[CH_TORQUE]);
+    }
+    const double *last = rows + (nrows - 1) * nc;
+    n = add_metric(out, n, max, "dof", "1", m->dof, "vehicle mechanical degrees of freedom");
+    n = add_metric(out, n, max, "top_speed_mph", "mph", vmax / MPH, "predicted top speed");
+    n = add_metric(out, n, max, "final_speed_mph", "mph", last[CH_SPEED] / MPH,
+                   "predicted speed at the end of the run");
+    n = add_metric(out, n, max, "static_tension", "N", vm_static_tension(ts_coupled_vehicle(c)),
+                   "static rear-roller tension (tensioner setting)");
+    n = add_metric(out, n, max, "peak_tension", "N", tmax, "predicted peak rear-roller tension");
+    n = add_metric(out, n, max, "peak_tension_lb", "lbf", tmax / LBF, "the same in lbf");
+    n = add_metric(out, n, max, "peak_sprocket_torque", "N*m", tq_max,
+                   "predicted peak torque at each sprocket (Fig. 28 converter multiplication)");
+    char name[64], desc[160];
+    for (int g = 1; g <= 3; g++) {
+        snprintf(name, sizeof name, "shift_%d_%d_time", g, g + 1);
+        snprintf(desc, sizeof desc, "time the %d-%d upshift is half done (gear passes %d.5)", g,
+                 g + 1, g);
+        n = add_metric(out, n, max, name, "s",
+                       first_crossing(rows, nrows, nc, CH_PT0 + PT_GEAR, g + 0.5), desc);
+    }
+    if (m->cfg.control.mode == TS_CONTROL_IVS) {
+        double vt = m->cfg.control.target_speed;
+        double t_hit = first_crossing(rows, nrows, nc, CH_SPEED, vt);
+        n = add_metric(out, n, max, "time_to_target", "s", t_hit,
+                       "first time the vehicle reaches the IVS set speed (paper Fig. 33: < 8 s)");
+        double se = 0, sa = 0, rmin = INFINITY, rmax = -INFINITY, wmin = INFINITY, wmax = -INFINITY;
+        long k = 0;
+        for (long i = 0; i < nrows; i++) {
+            const double *r = rows + i * nc;
+            if (!(r[0] >= t_hit)) continue;
+            se += r[CH_SPEED] - vt;
+            sa += fabs(r[CH_SPEED] - vt);
+            rmin = fmin(rmin, r[CH_RACK_DEMAND]);
+            rmax = fmax(rmax, r[CH_RACK_DEMAND]);
+            wmin = fmin(wmin, r[CH_PT0 + PT_ENGINE_SPEED]);
+            wmax = fmax(wmax, r[CH_PT0 + PT_ENGINE_SPEED]);
+            k++;
+        }
+        double rl = 0;
+        for (long i = 0; i < nrows && rows[i * nc] <= 1.0; i++)
+            rl = fmax(rl, rows[i * nc + CH_RACK_DEMAND]);
+        n = add_metric(out, n, max, "rack_at_launch", "1", rl,
+                       "largest rack demand in the first second (Fig. 33: 1.0)");
+        n = add_metric(out, n, max, "mean_speed_error_mph", "mph", k ? se / k / MPH : NAN,
+                       "mean (speed - target) after first reaching the target");
+        n = add_metric(out, n, max, "mean_abs_speed_error_mph", "mph", k ? sa / k / MPH : NAN,
+                       "mean |speed - target| after first reaching the target");
+        n = add_metric(out, n, max, "rack_min", "1", k ? rmin : NAN,
+                       "smallest rack demand after reaching the target (Fig. 33: ~0.1)");
+        n = add_metric(out, n, max, "rack_max", "1", k ? rmax : NAN,
+                       "largest rack demand after reaching the target (Fig. 33: 1.0)");
+        n = add_metric(out, n, max, "engine_speed_min", "rad/s", k ? wmin : NAN,
+                       "lowest engine speed after reaching the target (Fig. 34)");
+        n = add_metric(out, n, max, "engine_speed_max", "rad/s", k ? wmax : NAN,
+                       "highest engine speed after reaching the target (Fig. 34)");
+    }
+    return n;
+}
+
+static ts_rc geometry(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err)
+{
+    (void)err;
+    const ts_coupled *c = m->impl;
+    cpl_data *p = d->impl;
+    ts_coupled_obs *o = &p->obs;
+    ts_coupled_run_observe(p->r, o);
+    vm_work *w = vm_work_make(ts_coupled_vehicle(c));
+    if (!w) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    vm_geometry(ts_coupled_vehicle(c), w, d->t, o->y_vehicle, out);
+    vm_work_free(w);
+    return TS_OK;
+}
+
+const ts_scenario_ops ts_scenario_coupled = {
+    .kind = "coupled",
+    .model_init = model_init,
+    .model_fini = model_fini,
+    .data_init = data_init,
+    .data_fini = data_fini,
+    .reset = reset,
+    .step_to = step_to,
+    .sample = sample,
+    .state_size = state_size,
+    .state_save = state_save,
+    .state_restore = state_restore,
+    .metrics = metrics,
+    .geometry = geometry,
+};

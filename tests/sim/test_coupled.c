@@ -1,0 +1,291 @@
+/*
+ * test_coupled.c — the integrated engine–vehicle system (coupled_system.h,
+ * scenario "coupled"; paper Section IV): leading–following coupling against
+ * the monolithic reference, the interface inertia, shift transients on the
+ * track, the IVS controller at launch, save/restore, config checks. Short
+ * runs only; the 30-s paper runs are in the issue-10 report (presets
+ * flat-coupled-rack90, bump-coupled-*) and tests/bench/bench_coupled.c.
+ */
+#include "test_util.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "api/config_json.h"
+#include "sim/coupled_system.h"
+#include "sim/tanksim.h"
+
+#define MPH 0.44704
+
+static ts_config load(const char *preset, const char *track)
+{
+    ts_config c;
+    ts_err err;
+    json_t *doc = json_pack("{s:s}", "preset", preset);
+    if (track) json_object_set_new(doc, "track", json_pack("{s:s}", "fidelity", track));
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    json_decref(doc);
+    return c;
+}
+
+/* Sampled histories of one run. */
+#define NMAX 2000
+typedef struct hist {
+    int n;
+    double t[NMAX], w[NMAX], v[NMAX], tension[NMAX], gear[NMAX], defl[NMAX], rack[NMAX],
+        engine[NMAX];
+} hist;
+
+static ts_rc run(const ts_config *c, int method, double t_end, double dt, hist *h, ts_err *err)
+{
+    ts_coupled *cm = ts_coupled_make(c, err);
+    assert_non_null(cm);
+    ts_coupled_run *r = ts_coupled_run_make(cm, method, err);
+    assert_non_null(r);
+    ts_rc rc = ts_coupled_run_reset(r, err);
+    int nq = vm_nq(ts_coupled_vehicle(cm));
+    h->n = 0;
+    ts_coupled_obs o;
+    for (int k = 0; rc == TS_OK && k * dt <= t_end + 1e-9 && k < NMAX; k++) {
+        if (k > 0) rc = ts_coupled_run_advance(r, k * dt, err);
+        if (rc != TS_OK) break;
+        ts_coupled_run_observe(r, &o);
+        h->t[k] = o.t;
+        h->w[k] = o.sprocket_speed;
+        h->v[k] = o.y_vehicle[nq];
+        h->tension[k] = o.diag.tension_end1[0];
+        h->gear[k] = o.pt.gear;
+        h->defl[k] = o.diag.span_mid_deflection[1];
+        h->rack[k] = o.rack_demand;
+        h->engine[k] = o.pt.engine_speed;
+        h->n = k + 1;
+    }
+    ts_coupled_run_free(r);
+    ts_coupled_free(cm);
+    return rc;
+}
+
+static double rms_rel(const double *a, const double *b, int n)
+{
+    double e = 0, s = 0;
+    for (int i = 0; i < n; i++) {
+        e += (a[i] - b[i]) * (a[i] - b[i]);
+        s += b[i] * b[i];
+    }
+    return sqrt(e / s);
+}
+
+static hist h_ref, h_a;
+
+/* EVIDENCE: convergence of the explicit leading-following scheme (paper
+ * Section IV.A) to the monolithic solution of the SAME equations (one
+ * integrator over powertrain + vehicle), 90 % rack launch on flat ground,
+ * static track, mean-value engine, 1 s, rtol 1e-9 so that the coupling error
+ * dominates. Predicted: RMS sprocket-speed error falls with the macro step
+ * (measured ~ order 0.8: 6.5e-3, 3.7e-3, 2.2e-3 for 4, 2, 1 ms over 1.5 s);
+ * the test asserts monotone decrease, e(1 ms) < 0.6 e(4 ms) and e(1 ms) <
+ * 5e-3. Nothing calibrated. */
+static void leading_following_converges_to_monolithic(void **state)
+{
+    (void)state;
+    ts_config c = load("flat-coupled-rack90", "static");
+    c.run.rtol = 1e-9;
+    c.run.atol = 1e-11;
+    ts_err err;
+    assert_int_equal(run(&c, TS_COUPLING_MONOLITHIC, 1.0, 0.01, &h_ref, &err), TS_OK);
+    const double hs[3] = {0.004, 0.002, 0.001};
+    double e[3];
+    for (int k = 0; k < 3; k++) {
+        c.coupling.leader_step = c.coupling.follower_step = hs[k];
+        c.coupling.lead = 2 * hs[k];
+        c.coupling.predictor_order = 1;
+        assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 1.0, 0.01, &h_a, &err), TS_OK);
+        assert_int_equal(h_a.n, h_ref.n);
+        e[k] = rms_rel(h_a.w, h_ref.w, h_ref.n);
+    }
+    print_message("sprocket-speed RMS rel. error: 4 ms %.3e, 2 ms %.3e, 1 ms %.3e\n", e[0], e[1],
+                  e[2]);
+    assert_true(e[1] < e[0]);
+    assert_true(e[2] < e[1]);
+    assert_true(e[2] < 0.6 * e[0]);
+    assert_true(e[2] < 5e-3);
+    /* and the vehicle really moved: 90 % rack from rest, ~2 m/s after 1 s */
+    assert_true(h_ref.v[h_ref.n - 1] > 1.0);
+}
+
+/* EVIDENCE: added-mass instability of explicit acceleration coupling
+ * (coupled_system.h): in 1st gear the turbine inertia at each sprocket,
+ * J_t (g_1 f)^2 / 2 = 64 kg m^2 [D from /driveline], exceeds the vehicle
+ * sprocket's (20 kg m^2), so the plain exchange (/coupling/interface_inertia
+ * 0) must either fail or stray far from the monolithic run, while the
+ * stabilised one stays within 1 %. Predicted from the inertia ratio; nothing
+ * calibrated. */
+static void plain_exchange_is_unstable_interface_inertia_fixes_it(void **state)
+{
+    (void)state;
+    ts_config c = load("flat-coupled-rack90", "static");
+    ts_err err;
+    assert_int_equal(run(&c, TS_COUPLING_MONOLITHIC, 0.5, 0.01, &h_ref, &err), TS_OK);
+    assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 0.5, 0.01, &h_a, &err), TS_OK);
+    double e_stab = rms_rel(h_a.w, h_ref.w, h_ref.n);
+    c.coupling.interface_inertia = 0.0;
+    ts_rc rc = run(&c, TS_COUPLING_LEADING_FOLLOWING, 0.5, 0.01, &h_a, &err);
+    double e_plain = h_a.n == h_ref.n ? rms_rel(h_a.w, h_ref.w, h_ref.n) : INFINITY;
+    print_message("stabilised error %.3e, plain exchange: rc %d, error %.3e\n", e_stab, rc,
+                  e_plain);
+    assert_true(e_stab < 1e-2);
+    assert_true(rc != TS_OK || e_plain > 10 * e_stab);
+}
+
+/* EVIDENCE: paper Figs. 29-30 (Section IV.C): a gear shift shows as a spike in
+ * the track tension and excites the transverse span vibration. Flat ground,
+ * 90 % rack, coupled track (1 + 1 modes per span), leading-following; the
+ * 1-2 shift ends at ~2.75 s. Predicted (not calibrated): within 0.3 s after
+ * the end of the shift the rear-roller tension departs from its level just
+ * before by more than 20 % of the static tension, and the peak-to-peak
+ * transverse mid-span deflection of the upper span (rear roller -> front
+ * roller) over 0.4 s is more than twice that over the 0.4 s before. */
+static void shift_spikes_tension_and_excites_span(void **state)
+{
+    (void)state;
+    ts_config c = load("flat-coupled-rack90", NULL);
+    ts_err err;
+    assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 3.4, 0.005, &h_a, &err), TS_OK);
+    int ie = -1;
+    for (int i = 1; i < h_a.n; i++)
+        if (h_a.gear[i - 1] < 2.0 && h_a.gear[i] >= 2.0) {
+            ie = i;
+            break;
+        }
+    assert_true(ie > 0);
+    double te = h_a.t[ie];
+    print_message("1-2 shift ends at %.3f s\n", te);
+    double before = 0, dmin0 = INFINITY, dmax0 = -INFINITY, dmin1 = INFINITY, dmax1 = -INFINITY,
+           dev = 0;
+    int nb = 0;
+    for (int i = 0; i < h_a.n; i++) {
+        double t = h_a.t[i];
+        if (t >= te - 0.2 && t < te - 0.02) before += h_a.tension[i], nb++;
+        if (t >= te - 0.42 && t < te - 0.02) {
+            dmin0 = fmin(dmin0, h_a.defl[i]);
+            dmax0 = fmax(dmax0, h_a.defl[i]);
+        }
+        if (t >= te && t < te + 0.4) {
+            dmin1 = fmin(dmin1, h_a.defl[i]);
+            dmax1 = fmax(dmax1, h_a.defl[i]);
+        }
+    }
+    assert_true(nb > 0);
+    before /= nb;
+    for (int i = 0; i < h_a.n; i++)
+        if (h_a.t[i] >= te && h_a.t[i] < te + 0.3) dev = fmax(dev, fabs(h_a.tension[i] - before));
+    print_message(
+        "tension before %.0f N, largest departure %.0f N; deflection p-p %.2f -> %.2f mm\n", before,
+        dev, 1e3 * (dmax0 - dmin0), 1e3 * (dmax1 - dmin1));
+    assert_true(dev > 0.2 * c.track.tension);
+    assert_true(dmax1 - dmin1 > 2.0 * (dmax0 - dmin0));
+}
+
+/* EVIDENCE: paper Fig. 33 (Section IV.C): with the IVS controller at 5 mph the
+ * rack goes to 100 % at launch and 5 mph is reached before the 8th second,
+ * after which the rack comes back below full. Flat ground (the bump course is
+ * the report's 30-s run), static track, gains of /control (kp 0.5, ti 4 s,
+ * estimates [E], not tuned to this test). Also the speed is then held within
+ * 1 mph on average over the last 3 s. Predicted. */
+static void ivs_full_rack_at_launch_then_holds_5mph(void **state)
+{
+    (void)state;
+    ts_config c = load("bump-coupled-ivs5mph", "static");
+    c.terrain.kind = TS_TERRAIN_FLAT;
+    ts_err err;
+    assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 9.0, 0.02, &h_a, &err), TS_OK);
+    double vt = c.control.target_speed, t_hit = NAN, rack_launch = 0, rack_after = 1, err_abs = 0;
+    int ne = 0;
+    for (int i = 0; i < h_a.n; i++) {
+        if (h_a.t[i] <= 0.2) rack_launch = fmax(rack_launch, h_a.rack[i]);
+        if (isnan(t_hit) && h_a.v[i] >= vt) t_hit = h_a.t[i];
+        if (!isnan(t_hit)) rack_after = fmin(rack_after, h_a.rack[i]);
+        if (h_a.t[i] >= 6.0) err_abs += fabs(h_a.v[i] - vt), ne++;
+    }
+    print_message("rack at launch %.2f, 5 mph at %.2f s, lowest rack after %.2f, mean |err| %.3f "
+                  "mph\n",
+                  rack_launch, t_hit, rack_after, err_abs / ne / MPH);
+    assert_close(rack_launch, 1.0, 0, 1e-9);
+    assert_true(t_hit < 8.0);
+    assert_true(rack_after < 0.9);
+    assert_true(err_abs / ne < 1.0 * MPH);
+}
+
+/* EVIDENCE: determinism of the state snapshot: saving at 0.5 s and
+ * restoring reproduces the continued run (both methods; the restart of the
+ * integrators is the only difference, so agreement to integrator tolerance:
+ * rtol 1e-9, asserted 1e-6 relative on sprocket and engine speed; measured
+ * 2e-9 monolithic, 5e-8 leading-following). Closed-form expectation. */
+static void save_restore_reproduces(void **state)
+{
+    (void)state;
+    ts_config c = load("flat-coupled-rack90", "static");
+    c.run.rtol = 1e-9;
+    c.run.atol = 1e-11;
+    ts_err err;
+    for (int method = 0; method < 2; method++) {
+        ts_coupled *cm = ts_coupled_make(&c, &err);
+        assert_non_null(cm);
+        ts_coupled_run *r = ts_coupled_run_make(cm, method, &err);
+        assert_non_null(r);
+        assert_int_equal(ts_coupled_run_reset(r, &err), TS_OK);
+        assert_int_equal(ts_coupled_run_advance(r, 0.5, &err), TS_OK);
+        size_t n = ts_coupled_state_size(cm);
+        void *buf = malloc(n);
+        ts_coupled_run_save(r, buf);
+        assert_int_equal(ts_coupled_run_advance(r, 0.8, &err), TS_OK);
+        ts_coupled_obs o1, o2;
+        ts_coupled_run_observe(r, &o1);
+        double w1 = o1.sprocket_speed, we1 = o1.pt.engine_speed;
+        assert_int_equal(ts_coupled_run_restore(r, buf, &err), TS_OK);
+        assert_close(ts_coupled_run_time(r), 0.5, 0, 1e-12);
+        assert_int_equal(ts_coupled_run_advance(r, 0.8, &err), TS_OK);
+        ts_coupled_run_observe(r, &o2);
+        assert_close(o2.sprocket_speed, w1, 1e-6, 1e-9);
+        assert_close(o2.pt.engine_speed, we1, 1e-6, 1e-9);
+        free(buf);
+        ts_coupled_run_free(r);
+        ts_coupled_free(cm);
+    }
+}
+
+/* EVIDENCE: Fig. 27 gain schedule by linear interpolation in vehicle mass
+ * (closed form), and the config check naming the field. */
+static void gain_schedule_and_config_errors(void **state)
+{
+    (void)state;
+    ts_config c = load("flat-coupled-rack90", "static");
+    c.control.schedule_n = c.control.schedule_kp_n = c.control.schedule_ti_n = 2;
+    c.control.schedule_x[0] = 50000, c.control.schedule_x[1] = 70000;
+    c.control.schedule_kp[0] = 0.2, c.control.schedule_kp[1] = 0.4;
+    c.control.schedule_ti[0] = 2.0, c.control.schedule_ti[1] = 6.0;
+    c.vehicle.mass = 55000;
+    ts_err err;
+    ts_coupled *cm = ts_coupled_make(&c, &err);
+    assert_non_null(cm);
+    assert_close(ts_coupled_kp(cm), 0.25, 1e-12, 0);
+    assert_close(ts_coupled_ti(cm), 3.0, 1e-12, 0);
+    ts_coupled_free(cm);
+    c.control.schedule_ti_n = 1;
+    assert_null(ts_coupled_make(&c, &err));
+    assert_int_equal(err.code, TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/control/schedule_kp");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(leading_following_converges_to_monolithic),
+        cmocka_unit_test(plain_exchange_is_unstable_interface_inertia_fixes_it),
+        cmocka_unit_test(shift_spikes_tension_and_excites_span),
+        cmocka_unit_test(ivs_full_rack_at_launch_then_holds_5mph),
+        cmocka_unit_test(save_restore_reproduces),
+        cmocka_unit_test(gain_schedule_and_config_errors),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
