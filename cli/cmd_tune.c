@@ -189,6 +189,12 @@ int tsc_cmd_tune(int argc, char **argv)
         o.settle_slope, "final_slope", o.final_slope, "t_inflection",
         o.zn.t_inflection - cfg.control.tune_settle, "slope", o.zn.slope, "x", o.zn.x, "y", o.zn.y,
         "kp_norm", o.zn.kp_norm, "kp", o.kp, "ti", o.zn.ti, "ti_factor", cfg.control.ti_factor);
+    json_object_set_new(doc, "units",
+                        json_pack("{s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s}",
+                                  "rack_low", "1", "rack_rated", "1", "v0", "m/s", "vb", "m/s",
+                                  "settle_slope", "m/s^2", "final_slope", "m/s^2", "t_inflection",
+                                  "s", "slope", "1/s", "x", "s", "y", "1", "kp_norm", "1", "kp",
+                                  "1/(m/s)", "ti", "s"));
     if (nx > 0) {
         json_t *jx = json_array(), *jk = json_array(), *jt = json_array();
         for (int i = 0; i < nx; i++) {
