@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "../api/session_json.h"
+#include "../render/apng.h"
 #include "db.h"
 #include "pool.h"
 
@@ -70,6 +71,8 @@ typedef struct frames_ctx {
     double k0, dk; /* sample index of frame i: round(k0 + i dk) */
     long n, i;     /* frames in all, next to draw */
     int single;
+    int apng;    /* draw every frame in one job and answer one APNG */
+    double fps;  /* frame rate of the APNG */
     int pending; /* a draw job is queued or running */
     ts_data *d;  /* scratch state (draw jobs only) */
     int have_state;
@@ -123,10 +126,9 @@ static ts_rc state_at(frames_ctx *f, long k)
     return rc;
 }
 
-/* Worker: draw frame f->i into f->png, then resume the connection. */
-static void draw_job(void *arg)
+/* Draw frame f->i into f->png (f->png_k gets its sample index). */
+static ts_rc draw_one(frames_ctx *f)
 {
-    frames_ctx *f = arg;
     pthread_mutex_lock(&f->s->mu);
     long last = f->s->persisted - 1;
     pthread_mutex_unlock(&f->s->mu);
@@ -146,11 +148,45 @@ static void draw_job(void *arg)
             renderer_give(f->srv, c);
         }
     }
-    if (rc == TS_OK)
-        f->png_k = k;
-    else if (f->rc == TS_OK)
-        f->rc = rc;
+    if (rc == TS_OK) f->png_k = k;
     f->i++;
+    return rc;
+}
+
+/* Every frame, then one APNG in f->png (apng.h says why APNG). */
+static ts_rc draw_apng(frames_ctx *f)
+{
+    unsigned char **pngs = calloc((size_t)f->n, sizeof *pngs);
+    size_t *lens = calloc((size_t)f->n, sizeof *lens);
+    ts_rc rc = pngs && lens ? TS_OK : ts_err_set(&f->err, TS_ERR_NOMEM, NULL, "out of memory");
+    long done = 0;
+    while (rc == TS_OK && f->i < f->n) {
+        rc = draw_one(f);
+        if (rc == TS_OK) {
+            pngs[done] = f->png;
+            lens[done++] = f->png_len;
+            f->png = NULL;
+        }
+    }
+    if (rc == TS_OK) {
+        /* delay = 1/fps s as a 16-bit fraction: 1000/(1000 fps) keeps 3 decimals of fps */
+        unsigned den = (unsigned)lround(fmin(65535.0, f->fps * 1000.0));
+        rc = tsr_apng_assemble((const unsigned char *const *)pngs, lens, (int)done, 1000,
+                               den ? den : 1, &f->png, &f->png_len, &f->err);
+    }
+    for (long j = 0; j < done; j++) free(pngs[j]);
+    free(pngs);
+    free(lens);
+    return rc;
+}
+
+/* Worker: draw the next frame (or, for an APNG, all of them) into f->png,
+ * then resume the connection. */
+static void draw_job(void *arg)
+{
+    frames_ctx *f = arg;
+    ts_rc rc = f->apng ? draw_apng(f) : draw_one(f);
+    if (rc != TS_OK && f->rc == TS_OK) f->rc = rc;
     f->pending = 0;
     MHD_resume_connection(f->conn);
 }
@@ -221,12 +257,13 @@ static enum MHD_Result first_frame_ready(tsd_request *r)
         frames_free(f);
         return ret;
     }
-    if (f->single) {
+    if (f->single || f->apng) {
         unsigned char *png = f->png;
         size_t len = f->png_len;
+        const char *type = f->apng ? "image/apng" : "image/png";
         f->png = NULL;
         frames_free(f);
-        return tsd_reply_owned(r, MHD_HTTP_OK, "image/png", (char *)png, len);
+        return tsd_reply_owned(r, MHD_HTTP_OK, type, (char *)png, len);
     }
     struct MHD_Response *resp =
         MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 1 << 16, reader, f, frames_free);
@@ -244,7 +281,7 @@ static enum MHD_Result first_frame_ready(tsd_request *r)
 }
 
 enum MHD_Result tsd_frames_reply(tsd_request *r, tsd_session *s, const tsr_view *v, double k0,
-                                 double dk, long n, int single)
+                                 double dk, long n, int single, double apng_fps)
 {
     frames_ctx *f = calloc(1, sizeof *f);
     if (!f) return MHD_NO;
@@ -259,6 +296,8 @@ enum MHD_Result tsd_frames_reply(tsd_request *r, tsd_session *s, const tsr_view 
     f->dk = dk;
     f->n = n;
     f->single = single;
+    f->apng = !single && apng_fps > 0;
+    f->fps = apng_fps;
     r->async_ctx = f;
     r->async_free = frames_free;
     r->on_resume = first_frame_ready;

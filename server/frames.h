@@ -15,7 +15,10 @@
  * (creating it on first use), draws, and gives it back — at most one per
  * worker thread ever exists.
  *
- * Animation: multipart/x-mixed-replace; boundary=frame, one image/png part
+ * Animation: by default one APNG (render/apng.h: self-contained, lossless,
+ * animated by every current browser, shown as its first frame by any PNG
+ * reader; at most TSD_MAX_APNG_FRAMES frames); with format=multipart the frames
+ * stream as multipart/x-mixed-replace; boundary=frame, one image/png part
  * per frame at t_i = from + i / fps (i = 0, 1, ... while t_i <= to), each part
  * with X-Frame-Time and X-Frame-Index headers. Browsers show it as a moving
  * image in an <img>; clients split it on the boundary. The first frame is
@@ -29,16 +32,18 @@
 #include "server.h"
 #include "session.h"
 
-#define TSD_MAX_FRAMES 3000 /* frames per animation request */
+#define TSD_MAX_FRAMES 3000      /* frames per multipart animation request */
+#define TSD_MAX_APNG_FRAMES 600  /* frames per APNG (held in memory until sent) */
 
 int tsd_renderers_init(tsd_server *srv);
 void tsd_renderers_free(tsd_server *srv); /* after the pool has stopped */
 
 /* Start drawing frames of session s for sample indexes k0, k0 + dk, ... (n
  * frames, n = 1 for frame.png) with view v; the request is suspended and
- * answered when the first frame is ready (image/png when single, else the
- * multipart stream). */
+ * answered when the first frame is ready (image/png when single), or, with
+ * apng_fps > 0, when all n frames are drawn (one image/apng shown at that
+ * rate), else as the multipart stream. */
 enum MHD_Result tsd_frames_reply(tsd_request *r, tsd_session *s, const tsr_view *v, double k0,
-                                 double dk, long n, int single);
+                                 double dk, long n, int single, double apng_fps);
 
 #endif

@@ -634,7 +634,7 @@ static enum MHD_Result get_frame(tsd_request *r)
         snprintf(msg, sizeof msg, "%g s (the last stored sample)", (double)q.to / rate);
         return bad_param(r, "t", "time at most", msg);
     }
-    return tsd_frames_reply(r, s, &v, t * rate, 0, 1, 1);
+    return tsd_frames_reply(r, s, &v, t * rate, 0, 1, 1, 0);
 }
 
 static enum MHD_Result get_frames(tsd_request *r)
@@ -654,16 +654,21 @@ static enum MHD_Result get_frames(tsd_request *r)
         ts_err_set(&e, TS_ERR_PARAM, "/from", "query parameter from: after the last stored sample");
         return tsd_reply_err(r, &e, NULL);
     }
-    if (n > TSD_MAX_FRAMES) {
+    const char *format = tsd_arg(r, "format");
+    int apng = !format || !*format || strcmp(format, "apng") == 0;
+    if (!apng && strcmp(format, "multipart") != 0)
+        return bad_param(r, "format", "apng or multipart expected", format);
+    int limit = apng ? TSD_MAX_APNG_FRAMES : TSD_MAX_FRAMES;
+    if (n > limit) {
         ts_err_set(&e, TS_ERR_LIMIT, "/fps",
-                   "/fps: %ld frames requested, at most %d per request; lower fps or narrow "
+                   "/fps: %ld frames requested, at most %d per %s request; lower fps or narrow "
                    "from/to",
-                   n, TSD_MAX_FRAMES);
+                   n, limit, apng ? "APNG (format=multipart streams up to 3000)" : "multipart");
         json_t *p = tsa_problem_from_err(&e, NULL);
         json_object_set_new(p, "status", json_integer(422));
         return tsd_reply_problem_json(r, 422, p);
     }
-    return tsd_frames_reply(r, s, &v, (double)q.from, rate / fps, n, 0);
+    return tsd_frames_reply(r, s, &v, (double)q.from, rate / fps, n, 0, apng ? fps : 0);
 }
 
 /* ---- track eigenanalysis (tanksim modes over HTTP) -------------------------------- */

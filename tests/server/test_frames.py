@@ -1,5 +1,5 @@
 """Rendered frames over HTTP (issue 7): GET /v1/sessions/{id}/frame.png and the
-/frames animation (multipart/x-mixed-replace of PNGs). For every preset whose
+/frames animation (an APNG by default, or multipart/x-mixed-replace of PNGs). For every preset whose
 scenario draws (has running gear in its geometry snapshot) a frame is a valid
 PNG of the asked size, a past time gives the same bytes whether asked before
 or after the run went on (the state is rebuilt from the stored trajectory),
@@ -47,6 +47,8 @@ def test_pointmass_has_no_frames(daemon):
     p = is_problem(requests.get(daemon.url + f"/v1/sessions/{s['id']}/frames",
                                 params={"fps": 1000}), 422, "/fps")
     assert "4001 frames" in p["detail"]
+    is_problem(requests.get(daemon.url + f"/v1/sessions/{s['id']}/frames",
+                            params={"format": "gif"}), 400, "/format")
 
 
 def drawable_sessions(d):
@@ -82,8 +84,16 @@ def test_frames_of_every_drawable_preset(daemon):
         again = requests.get(base + "/frame.png", params={"t": 0.1, "width": 320, "height": 200,
                                                          "color": "tension"}).content
         assert again == first, name   # rebuilt from the stored trajectory: same picture
+        apng = requests.get(base + "/frames", params={"from": 0, "to": 0.4, "fps": 10,
+                                                      "width": 160, "height": 100})
+        assert apng.status_code == 200 and apng.headers["Content-Type"] == "image/apng"
+        assert png_size(apng.content) == (160, 100)
+        actl = apng.content.index(b"acTL")
+        assert int.from_bytes(apng.content[actl + 4:actl + 8], "big") == 5   # num_frames
+        assert apng.content.count(b"fcTL") == 5 and apng.content.count(b"fdAT") >= 4
         a = requests.get(base + "/frames", params={"from": 0, "to": 0.4, "fps": 10,
-                                                   "width": 160, "height": 100})
+                                                   "width": 160, "height": 100,
+                                                   "format": "multipart"})
         assert a.headers["Content-Type"].startswith("multipart/x-mixed-replace")
         ps = parts(a.content)
         assert len(ps) == 5

@@ -1,0 +1,122 @@
+/*
+ * test_apng.c — APNG assembly (apng.h) against the APNG specification (W3C
+ * PNG 3rd edition, acTL/fcTL/fdAT): chunk order and sequence numbers, CRCs,
+ * the frame count and delays, and the default image being frame 0 for readers
+ * that do not know APNG.
+ */
+#include "test_util.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <zlib.h>
+
+#include "render/apng.h"
+#include "render/png_io.h"
+
+static uint32_t rd32(const unsigned char *p)
+{
+    return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
+}
+
+static unsigned char *frame(int w, int h, unsigned char r, size_t *len)
+{
+    unsigned char *px = malloc((size_t)w * h * 4);
+    for (int i = 0; i < w * h; i++) {
+        px[4 * i] = r;
+        px[4 * i + 1] = (unsigned char)i;
+        px[4 * i + 2] = 7;
+        px[4 * i + 3] = 255;
+    }
+    unsigned char *png;
+    ts_err err;
+    assert_int_equal(tsr_png_encode(px, w, h, (size_t)w * 4, NULL, &png, len, &err), TS_OK);
+    free(px);
+    return png;
+}
+
+static void three_frames_make_a_valid_apng(void **state)
+{
+    (void)state;
+    size_t lens[3];
+    unsigned char *f[3] = {frame(16, 8, 10, &lens[0]), frame(16, 8, 120, &lens[1]),
+                           frame(16, 8, 250, &lens[2])};
+    unsigned char *apng;
+    size_t n;
+    ts_err err;
+    assert_int_equal(tsr_apng_assemble((const unsigned char *const *)f, lens, 3, 1, 25, &apng, &n,
+                                       &err),
+                     TS_OK);
+    /* walk the chunks: order, sequence numbers, CRCs */
+    char order[128] = "";
+    uint32_t expect_seq = 0;
+    int frames = 0;
+    size_t pos = 8;
+    while (pos < n) {
+        uint32_t len = rd32(apng + pos);
+        const unsigned char *type = apng + pos + 4, *data = apng + pos + 8;
+        uLong crc = crc32(crc32(0L, type, 4), data, len);
+        assert_int_equal((uint32_t)crc, rd32(data + len));
+        char t[5] = {0};
+        memcpy(t, type, 4);
+        if (!strcmp(t, "acTL")) {
+            assert_int_equal(rd32(data), 3); /* num_frames */
+            assert_int_equal(rd32(data + 4), 0); /* loop forever */
+        }
+        if (!strcmp(t, "fcTL") || !strcmp(t, "fdAT")) assert_int_equal(rd32(data), expect_seq++);
+        if (!strcmp(t, "fcTL")) {
+            frames++;
+            assert_int_equal(rd32(data + 4), 16);
+            assert_int_equal(rd32(data + 8), 8);
+            assert_int_equal(data[20] << 8 | data[21], 1);  /* delay 1/25 s */
+            assert_int_equal(data[22] << 8 | data[23], 25);
+        }
+        if (strlen(order) + 6 < sizeof order) {
+            strcat(order, order[0] ? " " : "");
+            strcat(order, t);
+        }
+        pos += 12 + len;
+    }
+    assert_int_equal(pos, n);
+    assert_int_equal(frames, 3);
+    assert_string_equal(order, "IHDR acTL fcTL IDAT fcTL fdAT fcTL fdAT IEND");
+    /* a reader without APNG support sees frame 0 */
+    unsigned char *a, *b;
+    int w, h;
+    assert_int_equal(tsr_png_decode(apng, n, &a, &w, &h, &err), TS_OK);
+    assert_int_equal(tsr_png_decode(f[0], lens[0], &b, &w, &h, &err), TS_OK);
+    assert_memory_equal(a, b, 16 * 8 * 4);
+    free(a);
+    free(b);
+    free(apng);
+    for (int i = 0; i < 3; i++) free(f[i]);
+}
+
+static void frames_of_different_size_are_rejected(void **state)
+{
+    (void)state;
+    size_t lens[2];
+    unsigned char *f[2] = {frame(16, 8, 1, &lens[0]), frame(8, 8, 1, &lens[1])};
+    unsigned char *apng = NULL;
+    size_t n;
+    ts_err err;
+    assert_int_equal(tsr_apng_assemble((const unsigned char *const *)f, lens, 2, 1, 25, &apng, &n,
+                                       &err),
+                     TS_ERR_PARAM);
+    assert_null(apng);
+    unsigned char junk[20] = "not a png at all...";
+    const unsigned char *pj = junk;
+    size_t lj = sizeof junk;
+    assert_int_equal(tsr_apng_assemble(&pj, &lj, 1, 1, 25, &apng, &n, &err), TS_ERR_PARAM);
+    free(f[0]);
+    free(f[1]);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(three_frames_make_a_valid_apng),
+        cmocka_unit_test(frames_of_different_size_are_rejected),
+    };
+    return cmocka_run_group_tests_name("render/apng", tests, NULL, NULL);
+}
