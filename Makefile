@@ -19,7 +19,7 @@ LDFLAGS := $(SAN)
 # Debian packages the build, the tests and `make run` need.
 DEB_PACKAGES := build-essential pkg-config libmicrohttpd-dev libjansson-dev libosmesa6-dev \
   libsundials-dev libpng-dev zlib1g-dev liblapacke-dev liblapack-dev libblas-dev libfftw3-dev \
-  libsqlite3-dev libcmocka-dev python3 python3-pytest python3-requests curl nodejs chromium
+  libsqlite3-dev libcmocka-dev cppcheck python3 python3-pytest python3-requests curl nodejs chromium
 
 LIBS_SIM := -lsundials_cvode -lsundials_kinsol -lsundials_nvecserial \
   -lsundials_sunlinsoldense -lsundials_sunmatrixdense -llapacke -llapack -lblas -lfftw3 -lm

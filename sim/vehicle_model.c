@@ -498,6 +498,8 @@ static void span_map_build(const vm *v, const kin *k, const span_el *se, const e
 {
     int n = se->sp->n;
     cset cs = {0, {0}};
+    /* mp is this function's output: nothing in it is read before it is written */
+    /* cppcheck-suppress ctuuninitvar */
     double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp->B;
     double *rx = mp->rx, *ry0 = mp->ry0, *ry1 = mp->ry1;
     int ncap = 8 + se->nm; /* hull 3, two arms, two spins, the modes (+1 spare) */
@@ -628,6 +630,8 @@ static void span_velocity_terms(const vm *v, vm_work *w, const double *q, const 
             qs[QT] += sg * eps * qd[QT] / g;
             for (int i = 0; i < VM_NRW; i++)
                 qs[QA0 + i] += sg * eps * qd[QA0 + i] / g;
+            /* output arrays, filled by spans_at (not read before) */
+            /* cppcheck-suppress legacyUninitvar */
             spans_at(v, qs, qd, sg > 0 ? tp : tm, sg > 0 ? pp : pm, sg > 0 ? mp : mm);
         }
         for (int s = 0; s < VM_NSPAN; s++) {

@@ -1,7 +1,7 @@
 #!/bin/bash
 # run_all.sh BUILD [FILTER] — run every test suite and print one summary line.
 #
-# Suites: the layer check; every cmocka program BUILD/tests/MODULE/test_*;
+# Suites: the layer check; cppcheck (make lint); every cmocka program BUILD/tests/MODULE/test_*;
 # every pytest file tests/MODULE/test_*.py (run by Debian's /usr/bin/python3);
 # every script tests/MODULE/suite_*.sh, whose last line is "N passed, N failed".
 # FILTER (make test T=...) keeps suites whose path contains it.
@@ -34,6 +34,13 @@ if want check_layers; then
   log=$OUT/check_layers.log
   if ./tests/check_layers.sh >"$log" 2>&1; then report check_layers 1 0 "$log"
   else report check_layers 0 1 "$log"; fi
+fi
+
+# 1b. static analysis (cppcheck, `make lint`)
+if want lint; then
+  log=$OUT/lint.log
+  if make --no-print-directory lint >"$log" 2>&1; then report lint 1 0 "$log"
+  else report lint 0 1 "$log"; fi
 fi
 
 # 2. C unit tests (cmocka)
