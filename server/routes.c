@@ -22,6 +22,7 @@
 #define _GNU_SOURCE
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -634,6 +635,25 @@ static enum MHD_Result get_frame(tsd_request *r)
         snprintf(msg, sizeof msg, "%g s (the last stored sample)", (double)q.to / rate);
         return bad_param(r, "t", "time at most", msg);
     }
+    /* A stored sample's frame never changes: a strong ETag over the session,
+     * the sample index, the drawing options and the version answers repeat
+     * requests with 304 without drawing (issue 8: caching of past frames). */
+    static const char *const opts[] = {"width", "height", "view",    "exaggeration", "color",
+                                        "text",  "overlay", "antialias", "span",       "shading"};
+    uint64_t h = 1469598103934665603ULL; /* FNV-1a 64 */
+    for (size_t i = 0; i < sizeof opts / sizeof opts[0]; i++) {
+        const char *val = tsd_arg(r, opts[i]);
+        for (const char *c = val ? val : ""; ; c++) {
+            h = (h ^ (unsigned char)*c) * 1099511628211ULL;
+            if (!*c) break;
+        }
+    }
+    snprintf(r->etag, sizeof r->etag, "\"%s-%ld-%016llx-%s\"", s->id, lround(t * rate),
+             (unsigned long long)h, TS_VERSION);
+    const char *inm = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND,
+                                                  MHD_HTTP_HEADER_IF_NONE_MATCH);
+    if (inm && strcmp(inm, r->etag) == 0)
+        return tsd_reply_owned(r, MHD_HTTP_NOT_MODIFIED, "image/png", NULL, 0);
     return tsd_frames_reply(r, s, &v, t * rate, 0, 1, 1, 0);
 }
 

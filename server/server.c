@@ -29,7 +29,12 @@ static enum MHD_Result queue(tsd_request *r, unsigned status, struct MHD_Respons
 {
     if (!resp) return MHD_NO;
     MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
-    MHD_add_response_header(resp, "Cache-Control", "no-store");
+    if (r->etag[0] && (status == 200 || status == 304)) { /* a stored sample's frame never changes */
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_ETAG, r->etag);
+        MHD_add_response_header(resp, "Cache-Control", "private, max-age=31536000, immutable");
+    } else {
+        MHD_add_response_header(resp, "Cache-Control", "no-store");
+    }
     if (r->location[0]) MHD_add_response_header(resp, MHD_HTTP_HEADER_LOCATION, r->location);
     if (r->next_token[0]) MHD_add_response_header(resp, "X-Next-Page-Token", r->next_token);
     if (r->www_authenticate)

@@ -81,6 +81,7 @@ typedef struct tsd_request {
     struct tsd_session *session;   /* RF_SESSION routes: looked-up session (reference) */
     char location[96];             /* Location header of the reply ("" = none) */
     char next_token[32];           /* X-Next-Page-Token header of the reply ("" = none) */
+    char etag[96];   /* ETag of a cacheable response (frames of stored times) */
     int www_authenticate;          /* add WWW-Authenticate: Bearer (401) */
 } tsd_request;
 

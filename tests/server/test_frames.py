@@ -84,6 +84,16 @@ def test_frames_of_every_drawable_preset(daemon):
         again = requests.get(base + "/frame.png", params={"t": 0.1, "width": 320, "height": 200,
                                                          "color": "tension"}).content
         assert again == first, name   # rebuilt from the stored trajectory: same picture
+        # a stored time's frame is immutable: strong ETag, cacheable, 304 on revalidation
+        etag = r.headers["ETag"]
+        assert etag.startswith('"') and "immutable" in r.headers["Cache-Control"]
+        nm = requests.get(base + "/frame.png", params={"t": 0.1, "width": 320, "height": 200,
+                                                      "color": "tension"},
+                          headers={"If-None-Match": etag})
+        assert nm.status_code == 304 and nm.content == b"" and nm.headers["ETag"] == etag
+        other = requests.get(base + "/frame.png", params={"t": 0.1, "width": 320, "height": 200},
+                             headers={"If-None-Match": etag})
+        assert other.status_code == 200 and other.headers["ETag"] != etag   # other options
         apng = requests.get(base + "/frames", params={"from": 0, "to": 0.4, "fps": 10,
                                                       "width": 160, "height": 100})
         assert apng.status_code == 200 and apng.headers["Content-Type"] == "image/apng"
