@@ -54,6 +54,10 @@ static const ts_param driveline_rows[] = {
      0, "ambient pressure at the engine's air intake and exhaust"},
     {"/driveline/ambient_temperature", TS_PT_DOUBLE, F(ambient_temperature), "K", 220, 330, NULL,
      0, 0, "ambient air temperature at the engine's air intake"},
+    {"/driveline/engine_macro_step", TS_PT_DOUBLE, F(engine_macro_step), "s", 0, 0.01, NULL, 0,
+     0,
+     "crank-angle engine: macro step of its co-simulation with the driveline "
+     "(ts_engine_advance_load); 0 integrates its states in the driveline's RK4"},
 };
 #undef F
 

@@ -41,6 +41,7 @@ typedef struct ts_driveline_config {
     double launch_engine_speed;               /* engine speed at t = 0, vehicle at rest in 1st [rad/s] */
     double ambient_pressure;                  /* air the engine breathes [Pa] */
     double ambient_temperature;               /* [K] */
+    double engine_macro_step;                 /* [s] crank-angle engine co-simulation step; 0: in the RK4 */
 } ts_driveline_config;
 
 #endif

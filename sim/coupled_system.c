@@ -208,6 +208,7 @@ struct ts_coupled_run {
     ts_cosim_report rep;        /* follower's last report */
     double *ylead_scratch;
     double *rk; /* 5 np: RK4 stages of the explicit leader */
+    double *ework; /* engine co-simulation scratch (ts_powertrain_work_size) */
 };
 
 static double now_seconds(void)
@@ -321,7 +322,8 @@ static ts_cosim_sample publish(ts_coupled_run *r, double t, const ts_powertrain_
     return s;
 }
 
-/* Explicit leader path (crank-angle engine, powertrain.h): classical RK4 at
+/* Explicit leader path (crank-angle engine with /driveline/engine_macro_step
+ * = 0, powertrain.h): classical RK4 at
  * ts_powertrain_explicit_step, the shift state machine at every step end. */
 static ts_rc lead_explicit(ts_coupled_run *r, double t_to, ts_err *err)
 {
@@ -356,6 +358,60 @@ static ts_rc lead_explicit(ts_coupled_run *r, double t_to, ts_err *err)
     return TS_OK;
 }
 
+/* Leader's turbine + IVS-integral derivatives with the engine held (engine
+ * co-simulation, powertrain.h). */
+static void lead_rhs_driveline(ts_coupled_run *r, double t, const double *y, double *ydot)
+{
+    const ts_coupled *c = r->c;
+    double w = lead_w(r, t);
+    drive_cmd d = command(c, r->rack_fixed, y, w);
+    ts_powertrain_rhs_driveline(c->pt, &r->ps, t, y, w, d.rack, ydot, NULL);
+    ydot[c->npt] = c->ivs_on ? ts_ivs_integral_rate(&c->ivs, c->gains, d.e, y[c->npt]) : 0.0;
+    r->st.powertrain_rhs++;
+}
+
+/* Co-simulated engine (crank-angle, ts_powertrain_macro_step > 0): per macro
+ * step the engine advances itself with the rack of the step start, then RK4
+ * sub-steps of the turbine and the IVS integral with the engine held; the
+ * shift state machine at every sub-step end. */
+static ts_rc lead_cosim(ts_coupled_run *r, double t_to, ts_err *err)
+{
+    const ts_coupled *c = r->c;
+    double *y = r->yp, *yd = r->rk, y0[2], k[4][2];
+    const int idx[2] = {c->npt - 1, c->npt}; /* turbine, IVS integral */
+    static const double cs[4] = {0.0, 0.5, 0.5, 1.0}; /* RK4 stage times */
+    while (r->lead_t < t_to - 1e-12 * (1.0 + fabs(t_to))) {
+        double t_end = r->lead_t + ts_powertrain_macro_step(c->pt);
+        if (t_end > t_to - 1e-12 * (1.0 + fabs(t_to))) t_end = t_to;
+        drive_cmd d = command(c, r->rack_fixed, y, lead_w(r, r->lead_t));
+        ts_rc rc = ts_powertrain_engine_advance(c->pt, r->lead_t, t_end - r->lead_t, y, d.rack,
+                                                r->ework, err);
+        if (rc != TS_OK) return rc;
+        while (r->lead_t < t_end - 1e-12 * (1.0 + fabs(t_end))) {
+            double h = ts_powertrain_explicit_step(c->pt, y), t0 = r->lead_t;
+            if (t0 + h > t_end) h = t_end - t0;
+            for (int j = 0; j < 2; j++) y0[j] = y[idx[j]];
+            for (int s = 0; s < 4; s++) {
+                for (int j = 0; s > 0 && j < 2; j++) y[idx[j]] = y0[j] + cs[s] * h * k[s - 1][j];
+                lead_rhs_driveline(r, t0 + cs[s] * h, y, yd);
+                for (int j = 0; j < 2; j++) k[s][j] = yd[idx[j]];
+            }
+            for (int j = 0; j < 2; j++) {
+                y[idx[j]] = y0[j] + h / 6.0 * (k[0][j] + 2 * k[1][j] + 2 * k[2][j] + k[3][j]);
+                if (!isfinite(y[idx[j]]))
+                    return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                                      "powertrain state left its domain at t = %.6f s", t0);
+            }
+            r->lead_t = t0 + h;
+            settle(r, r->lead_t, y, lead_w(r, r->lead_t));
+        }
+        r->lead_t = t_end;
+    }
+    r->lead_t = t_to;
+    r->lead_dirty = 1;
+    return TS_OK;
+}
+
 static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, int order,
                           ts_cosim_sample *out, ts_err *err)
 {
@@ -369,7 +425,9 @@ static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, in
     }
     ts_rc rc = TS_OK;
     if (settle(r, r->lead_t, r->yp, lead_w(r, r->lead_t))) r->lead_dirty = 1;
-    if (ts_powertrain_explicit_step(c->pt, r->yp) > 0) {
+    if (ts_powertrain_macro_step(c->pt) > 0) {
+        rc = lead_cosim(r, t_to, err);
+    } else if (ts_powertrain_explicit_step(c->pt, r->yp) > 0) {
         rc = lead_explicit(r, t_to, err);
     } else if (r->lead_dirty) {
         rc = ts_ode_init(r->lead_ode, r->lead_t, r->yp, err);
@@ -430,6 +488,7 @@ void ts_coupled_run_free(ts_coupled_run *r)
     ts_ode_free(r->follow_ode);
     ts_cosim_free(r->cosim);
     vm_work_free(r->w);
+    free(r->ework);
     free(r->yv);
     free(r);
 }
@@ -447,6 +506,8 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
     r->yv = calloc((size_t)(4 * n + 6 * c->np), sizeof(double));
     r->w = vm_work_make(c->v);
     if (!r->yv || !r->w) goto nomem;
+    size_t nw = ts_powertrain_work_size(c->pt);
+    if (nw && !(r->ework = malloc(nw * sizeof *r->ework))) goto nomem;
     r->yp = r->yv + c->nv;
     r->ydv = r->yv + n;
     r->ydp = r->ydv + c->nv;

@@ -29,6 +29,7 @@ struct ts_powertrain {
     ts_transmission tr;
     ts_final_drive fd;
     double pump_inertia, turbine_inertia;
+    double macro_step; /* engine co-simulation step [s]; 0: engine in the RK4 */
     int nstate;
 };
 
@@ -80,6 +81,17 @@ static double engine_explicit_step(void *ctx, const double *y)
     return c->ca_step / fmax(fabs(y[TS_ENGINE_X_SPEED]), MIN_STEP_SPEED);
 }
 
+static ts_rc engine_advance(void *ctx, double *y, double t, double dt, double rack,
+                            double load_inertia, double (*load)(void *lud, double t, double speed),
+                            void *lud, double *work, ts_err *err)
+{
+    const engine_ctx *c = ctx;
+    ts_engine_inputs in = {.rack = rack, .fuel_per_cycle = -1.0, .load_torque = 0.0,
+                           .p_amb = c->p_amb, .T_amb = c->T_amb, .hold_speed = 0,
+                           .load_inertia = load_inertia};
+    return ts_engine_advance_load(c->e, y, t, dt, &in, load, lud, work, err);
+}
+
 static void engine_free(void *ctx)
 {
     engine_ctx *c = ctx;
@@ -109,7 +121,9 @@ static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err
                              .rhs = engine_rhs,
                              .scale = engine_scale,
                              .explicit_step = engine_explicit_step,
-                             .free = engine_free};
+                             .free = engine_free,
+                             .advance = engine_advance,
+                             .work_size = ts_engine_work_size(c->e)};
     return TS_OK;
 }
 
@@ -139,6 +153,24 @@ ts_powertrain *ts_powertrain_make_port(const ts_config *cfg, const ts_engine_por
     pt->pump_inertia = dc->pump_inertia;
     pt->turbine_inertia = dc->turbine_inertia;
     pt->nstate = port->nstate + 1;
+    /* co-simulate the engine when it asks for an explicit crank-angle step and
+     * can advance itself */
+    if (port->advance && port->explicit_step && dc->engine_macro_step > 0) {
+        double *y0 = calloc((size_t)port->nstate, sizeof *y0);
+        if (!y0) {
+            ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+            ts_powertrain_free(pt);
+            return NULL;
+        }
+        ts_rc rc = port->reset(port->ctx, y0, err);
+        if (rc == TS_OK && port->explicit_step(port->ctx, y0) > 0)
+            pt->macro_step = dc->engine_macro_step;
+        free(y0);
+        if (rc != TS_OK) {
+            ts_powertrain_free(pt);
+            return NULL;
+        }
+    }
     return pt;
 }
 
@@ -165,12 +197,50 @@ double ts_powertrain_sprocket_radius(const ts_powertrain *pt) { return pt->fd.sp
 
 double ts_powertrain_explicit_step(const ts_powertrain *pt, const double *y)
 {
-    double h = pt->engine.explicit_step ? pt->engine.explicit_step(pt->engine.ctx, y) : 0.0;
+    double h = pt->macro_step > 0 ? pt->macro_step
+               : pt->engine.explicit_step ? pt->engine.explicit_step(pt->engine.ctx, y)
+                                          : 0.0;
     if (!(h > 0)) return 0.0;
     /* RK4 is stable for h |lambda| < 2.78; the applied clutch's regularised
      * friction gives lambda = C / (w_s J_t) on the turbine */
     double h_clutch = 2.0 * pt->tr.slip_speed * pt->turbine_inertia / pt->tr.clutch_capacity;
     return h < h_clutch ? h : h_clutch;
+}
+
+double ts_powertrain_macro_step(const ts_powertrain *pt) { return pt->macro_step; }
+
+size_t ts_powertrain_work_size(const ts_powertrain *pt)
+{
+    return pt->macro_step > 0 ? pt->engine.work_size : 0;
+}
+
+/* The engine's load during a macro step: converter pump torque at the
+ * engine's speed with the turbine speed held. */
+typedef struct pump_load {
+    const ts_powertrain *pt;
+    double w_t;
+} pump_load;
+
+static double pump_torque(void *ud, double t, double w_e)
+{
+    (void)t;
+    const pump_load *l = ud;
+    ts_tc_point tc;
+    ts_torque_converter_eval(&l->pt->tc, w_e, l->w_t, &tc);
+    return tc.pump_torque;
+}
+
+ts_rc ts_powertrain_engine_advance(const ts_powertrain *pt, double t, double H, double *y,
+                                   double rack, double *work, ts_err *err)
+{
+    if (!(pt->macro_step > 0))
+        return ts_err_set(err, TS_ERR_INTERNAL, NULL, "engine is not co-simulated");
+    pump_load l = {pt, y[pt->engine.nstate]};
+    ts_rc rc = pt->engine.advance(pt->engine.ctx, y, t, H, rack, pt->pump_inertia, pump_torque, &l,
+                                  work, err);
+    if (rc == TS_OK && !isfinite(y[pt->engine.speed_index]))
+        rc = ts_err_set(err, TS_ERR_DIVERGED, NULL, "engine speed not finite at t = %.6f s", t);
+    return rc;
 }
 
 void ts_powertrain_scale(const ts_powertrain *pt, double *scale)
@@ -192,6 +262,10 @@ ts_rc ts_powertrain_reset(const ts_powertrain *pt, ts_powertrain_state *ps, doub
     return TS_OK;
 }
 
+static void fill_out(const ts_powertrain *pt, double w_sprocket, double rack, double w_e,
+                     double w_t, double w_out, const ts_tc_point *tcp, const ts_tr_point *tpp,
+                     const ts_engine_obs *obsp, ts_powertrain_out *out);
+
 int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
                       const double *y, double w_sprocket, double rack, double *ydot,
                       ts_powertrain_out *out)
@@ -210,7 +284,37 @@ int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, do
     ts_tr_point tp;
     ts_transmission_eval(&pt->tr, &ps->shift, t, w_t, w_out, &tp);
     ydot[ne] = (tc.turbine_torque - tp.input_torque) / pt->turbine_inertia;
+    if (out) fill_out(pt, w_sprocket, rack, w_e, w_t, w_out, &tc, &tp, &obs, out);
+    return 0;
+}
+
+int ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
+                                const double *y, double w_sprocket, double rack, double *ydot,
+                                ts_powertrain_out *out)
+{
+    int ne = pt->engine.nstate;
+    double w_e = y[pt->engine.speed_index], w_t = y[ne];
+    double w_out = ts_final_drive_output_speed(&pt->fd, w_sprocket);
+    ts_tc_point tc;
+    ts_torque_converter_eval(&pt->tc, w_e, w_t, &tc);
+    ts_tr_point tp;
+    ts_transmission_eval(&pt->tr, &ps->shift, t, w_t, w_out, &tp);
+    ydot[ne] = (tc.turbine_torque - tp.input_torque) / pt->turbine_inertia;
     if (out) {
+        ts_engine_obs obs = {.speed = w_e};
+        fill_out(pt, w_sprocket, rack, w_e, w_t, w_out, &tc, &tp, &obs, out);
+    }
+    return 0;
+}
+
+static void fill_out(const ts_powertrain *pt, double w_sprocket, double rack, double w_e,
+                     double w_t, double w_out, const ts_tc_point *tcp, const ts_tr_point *tpp,
+                     const ts_engine_obs *obsp, ts_powertrain_out *out)
+{
+    const ts_tc_point tc = *tcp;
+    const ts_tr_point tp = *tpp;
+    const ts_engine_obs obs = *obsp;
+    {
         out->sprocket_torque = ts_final_drive_sprocket_torque(&pt->fd, tp.output_torque);
         out->sprocket_speed = w_sprocket;
         out->rack = rack;
@@ -234,7 +338,6 @@ int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, do
         out->out_speed = w_out;
         out->out_torque = tp.output_torque;
     }
-    return 0;
 }
 
 void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
@@ -312,6 +415,7 @@ struct ts_powertrain_sim {
     double *y;   /* nstate: state at t */
     double *tmp; /* nstate: scratch (derivatives, tolerances) */
     double *k;   /* 5 nstate: RK4 stages (explicit path) */
+    double *work; /* engine co-simulation scratch (ts_powertrain_work_size) */
 };
 
 static double sim_w(const ts_powertrain_sim *s, double t)
@@ -344,6 +448,12 @@ ts_powertrain_sim *ts_powertrain_sim_make(const ts_powertrain *pt, double rtol, 
         return NULL;
     }
     s->pt = pt;
+    size_t nw = ts_powertrain_work_size(pt);
+    if (nw && !(s->work = malloc(nw * sizeof *s->work))) {
+        ts_powertrain_sim_free(s);
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return NULL;
+    }
     s->tmp = s->y + n;
     s->k = s->y + 2 * n;
     ts_powertrain_scale(pt, s->tmp);
@@ -362,6 +472,7 @@ void ts_powertrain_sim_free(ts_powertrain_sim *s)
 {
     if (!s) return;
     ts_ode_free(s->ode);
+    free(s->work);
     free(s->y);
     free(s);
 }
@@ -415,6 +526,48 @@ static ts_rc sim_advance_explicit(ts_powertrain_sim *s, double t_to, ts_err *err
     return TS_OK;
 }
 
+/* Co-simulation path (powertrain.h): per macro step the engine advances
+ * itself, then RK4 sub-steps of the turbine with the engine speed held. */
+static ts_rc sim_advance_cosim(ts_powertrain_sim *s, double t_to, ts_err *err)
+{
+    const ts_powertrain *pt = s->pt;
+    int it = pt->nstate - 1; /* turbine */
+    double *y = s->y, *yd = s->tmp, k[4];
+    while (s->t < t_to - 1e-12 * (1.0 + fabs(t_to))) {
+        double t_end = s->t + pt->macro_step;
+        if (t_end > t_to - 1e-12 * (1.0 + fabs(t_to))) t_end = t_to;
+        ts_rc rc = ts_powertrain_engine_advance(pt, s->t, t_end - s->t, y, s->rack, s->work, err);
+        if (rc != TS_OK) return rc;
+        while (s->t < t_end - 1e-12 * (1.0 + fabs(t_end))) {
+            double h = ts_powertrain_explicit_step(pt, y), t = s->t, w0 = y[it];
+            if (t + h > t_end) h = t_end - t;
+            ts_powertrain_rhs_driveline(pt, &s->ps, t, y, sim_w(s, t), s->rack, yd, NULL);
+            k[0] = yd[it];
+            y[it] = w0 + 0.5 * h * k[0];
+            ts_powertrain_rhs_driveline(pt, &s->ps, t + 0.5 * h, y, sim_w(s, t + 0.5 * h), s->rack,
+                                        yd, NULL);
+            k[1] = yd[it];
+            y[it] = w0 + 0.5 * h * k[1];
+            ts_powertrain_rhs_driveline(pt, &s->ps, t + 0.5 * h, y, sim_w(s, t + 0.5 * h), s->rack,
+                                        yd, NULL);
+            k[2] = yd[it];
+            y[it] = w0 + h * k[2];
+            ts_powertrain_rhs_driveline(pt, &s->ps, t + h, y, sim_w(s, t + h), s->rack, yd, NULL);
+            k[3] = yd[it];
+            y[it] = w0 + h / 6.0 * (k[0] + 2 * k[1] + 2 * k[2] + k[3]);
+            if (!isfinite(y[it]))
+                return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                                  "turbine speed not finite at t = %.6f s", t);
+            s->t = t + h;
+            for (int e = 0; e < SIM_MAX_EVENTS_AT_ONCE; e++)
+                if (!ts_powertrain_update(pt, &s->ps, s->t, y, sim_w(s, s->t), s->rack)) break;
+        }
+        s->t = t_end;
+    }
+    s->t = t_to;
+    return TS_OK;
+}
+
 ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_speed_fn w,
                                 void *ud, double rack, ts_powertrain_out *out, ts_err *err)
 {
@@ -423,7 +576,8 @@ ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_s
         s->w = w;
         s->w_ud = ud;
         s->rack = rack;
-        ts_rc rc = sim_advance_explicit(s, t_to, err);
+        ts_rc rc = s->pt->macro_step > 0 ? sim_advance_cosim(s, t_to, err)
+                                         : sim_advance_explicit(s, t_to, err);
         if (rc == TS_OK && out)
             ts_powertrain_rhs(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), rack, s->tmp, out);
         return rc;

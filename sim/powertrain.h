@@ -62,6 +62,15 @@ typedef struct ts_engine_port {
      * integrator suits it (may be NULL: 0). */
     double (*explicit_step)(void *ctx, const double *y);
     void (*free)(void *ctx); /* may be NULL */
+    /* Optional (may be NULL): the engine integrating ITSELF from t over dt with
+     * the rack held, extra inertia load_inertia turning with the crankshaft and
+     * the load torque load(lud, t, speed) [N*m] evaluated at its every internal
+     * stage (engine.h ts_engine_advance_load); work: work_size doubles of
+     * caller-owned scratch. Enables the co-simulation path (below). */
+    ts_rc (*advance)(void *ctx, double *y, double t, double dt, double rack, double load_inertia,
+                     double (*load)(void *lud, double t, double speed), void *lud, double *work,
+                     ts_err *err);
+    size_t work_size;
 } ts_engine_port;
 
 typedef struct ts_powertrain ts_powertrain;
@@ -105,10 +114,42 @@ double ts_powertrain_sprocket_radius(const ts_powertrain *pt); /* [m] */
 
 /* Integration method the powertrain asks for: 0 = implicit variable step
  * (CVODE BDF, shift events as roots); otherwise the largest step [s] of a
- * classical RK4 at y — the engine's crank-angle step, capped by the explicit
- * stability limit of the applied clutch (2 w_s J_t / C). With RK4, events are
- * found by running ts_powertrain_update at every step end. */
+ * classical RK4 at y — the engine's crank-angle step (or, with the engine
+ * co-simulated, ts_powertrain_macro_step > 0, no engine limit), capped by the
+ * explicit stability limit of the applied clutch (2 w_s J_t / C). With RK4,
+ * events are found by running ts_powertrain_update at every step end. */
 double ts_powertrain_explicit_step(const ts_powertrain *pt, const double *y);
+
+/* ---- engine co-simulation (crank-angle engine) ----------------------------
+ * When ts_powertrain_macro_step > 0 (crank-angle engine whose port can advance
+ * itself, /driveline/engine_macro_step > 0) the engine's states are NOT
+ * integrated by the caller's RK4. Per macro step H from t:
+ *   1. ts_powertrain_engine_advance: the engine block of y over [t, t + H]
+ *      with the converter's pump torque at (engine speed, turbine speed of y
+ *      held) as its load at every internal stage and the pump inertia on the
+ *      crankshaft;
+ *   2. the caller's RK4 over [t, t + H] of the other states (turbine, vehicle)
+ *      at ts_powertrain_explicit_step with ts_powertrain_rhs_driveline (engine
+ *      speed held at its new value), the shift state machine at every
+ *      sub-step end as before.
+ * Explicit exchange every H: first-order in H; the converter coupling is not
+ * stiff (engine.h), the clutches stay inside the sub-stepped RK4.
+ * ts_powertrain_explicit_step then returns the driveline's step (the clutch
+ * limit), not the engine's crank-angle step. */
+double ts_powertrain_macro_step(const ts_powertrain *pt); /* H [s]; 0: no co-simulation */
+size_t ts_powertrain_work_size(const ts_powertrain *pt);  /* doubles for work */
+/* Step 1 above. y: the powertrain's states (the engine block is advanced, the
+ * rest read). Returns TS_OK or TS_ERR_DIVERGED / the engine's error. */
+ts_rc ts_powertrain_engine_advance(const ts_powertrain *pt, double t, double H, double *y,
+                                   double rack, double *work, ts_err *err);
+/* Derivative of the driveline states only (engine states held): writes
+ * ydot[ts_powertrain_nstate - 1] (turbine) and NOT the engine entries; out
+ * (may be NULL) as ts_powertrain_rhs but with the engine's own observations
+ * (torque, boost, temperatures, fuel) zero — take those from ts_powertrain_rhs
+ * when sampling. Returns 0. */
+int ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
+                                const double *y, double w_sprocket, double rack, double *ydot,
+                                ts_powertrain_out *out);
 
 /* Per-state magnitudes for absolute tolerances (nstate values). */
 void ts_powertrain_scale(const ts_powertrain *pt, double *scale);

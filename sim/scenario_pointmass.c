@@ -19,10 +19,14 @@
  * integration paths, chosen by ts_powertrain_explicit_step:
  *  - map and mean_value engines: CVODE (BDF); gear shifts are ROOT FUNCTIONS
  *    of this ODE, handled by re-initialising CVODE (powertrain.h);
- *  - crank_angle engine: classical RK4 at the engine's fixed crank-angle step
- *    (the engine's own choice, engine.h), capped by the clutch's explicit
- *    stability limit; the shift state machine is checked at every step end
- *    (event time resolved to one step, ~45 us at 1850 rpm).
+ *  - crank_angle engine: co-simulated (powertrain.h, ts_powertrain_macro_step
+ *    > 0): per macro step H the engine advances itself with the converter's
+ *    pump torque as its load (ts_powertrain_engine_advance), then [x, v,
+ *    turbine] by classical RK4 at the clutch's explicit stability limit with
+ *    the engine speed held; the shift state machine is checked at every
+ *    sub-step end (event time resolved to one sub-step, 100 us). With
+ *    /driveline/engine_macro_step = 0: every state by RK4 at the engine's
+ *    crank-angle step (~45 us at 1850 rpm), capped by the clutch limit.
  * The rack is /control/rack (held constant; the IVS controller is the control
  * module's).
  */
@@ -59,6 +63,7 @@ typedef struct pm_data {
     double t_int;              /* time the state y is at [s] */
     ts_powertrain_state ps;
     ts_powertrain_out out;     /* scratch for sample */
+    double *work;              /* engine co-simulation scratch */
 } pm_data;
 
 static double resistance(const ts_vehicle_config *vc, double v)
@@ -173,6 +178,11 @@ static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
         data_fini(m, d);
         return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     }
+    size_t nw = pm->pt ? ts_powertrain_work_size(pm->pt) : 0;
+    if (nw && !(p->work = malloc(nw * sizeof *p->work))) {
+        data_fini(m, d);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    }
     p->ydot = p->y + p->n;
     double *atol = p->y + 2 * p->n;
     p->k = p->y + 3 * p->n;
@@ -201,6 +211,7 @@ static void data_fini(const ts_model *m, ts_data *d)
     pm_data *p = d->impl;
     if (!p) return;
     ts_ode_free(p->ode);
+    free(p->work);
     free(p->y);
     free(p);
     d->impl = NULL;
@@ -266,6 +277,60 @@ static ts_rc step_to_explicit(const ts_model *m, pm_data *p, double t, ts_err *e
     return TS_OK;
 }
 
+/* Vehicle + turbine derivatives with the engine states held (co-simulation). */
+static void derivs_driveline(const ts_model *m, const pm_data *p, double t, const double *y,
+                             double *ydot)
+{
+    const pm_model *pm = m->impl;
+    const ts_vehicle_config *vc = &m->cfg.vehicle;
+    ts_powertrain_out o;
+    ts_powertrain_rhs_driveline(pm->pt, &p->ps, t, y + NVEH, y[V] / vc->sprocket_radius,
+                                m->cfg.control.rack, ydot + NVEH, &o);
+    ydot[X] = y[V];
+    ydot[V] = (2.0 * o.sprocket_torque / vc->sprocket_radius - resistance(vc, y[V])) / pm->mass_eff;
+}
+
+/* Co-simulation path: macro steps of the engine, RK4 sub-steps of x, v and
+ * the turbine (the last state) with the engine held; shifts at sub-step ends. */
+static ts_rc step_to_cosim(const ts_model *m, pm_data *p, double t, ts_err *err)
+{
+    const pm_model *pm = m->impl;
+    const double r_s = m->cfg.vehicle.sprocket_radius, rack = m->cfg.control.rack;
+    const int idx[3] = {X, V, p->n - 1}; /* the states the RK4 integrates */
+    double *y = p->y, *yd = p->ydot, y0[3], k[4][3];
+    while (p->t_int < t - 1e-12 * (1.0 + t)) {
+        double t_end = p->t_int + ts_powertrain_macro_step(pm->pt);
+        if (t_end > t - 1e-12 * (1.0 + t)) t_end = t;
+        ts_rc rc = ts_powertrain_engine_advance(pm->pt, p->t_int, t_end - p->t_int, y + NVEH, rack,
+                                                p->work, err);
+        if (rc != TS_OK) return rc;
+        while (p->t_int < t_end - 1e-12 * (1.0 + t_end)) {
+            double h = ts_powertrain_explicit_step(pm->pt, y + NVEH), t0 = p->t_int;
+            if (t0 + h > t_end) h = t_end - t0;
+            static const double c[4] = {0.0, 0.5, 0.5, 1.0}; /* RK4 stage times */
+            for (int j = 0; j < 3; j++) y0[j] = y[idx[j]];
+            for (int s = 0; s < 4; s++) {
+                for (int j = 0; s > 0 && j < 3; j++) y[idx[j]] = y0[j] + c[s] * h * k[s - 1][j];
+                derivs_driveline(m, p, t0 + c[s] * h, y, yd);
+                for (int j = 0; j < 3; j++) k[s][j] = yd[idx[j]];
+            }
+            for (int j = 0; j < 3; j++) {
+                y[idx[j]] = y0[j] + h / 6.0 * (k[0][j] + 2 * k[1][j] + 2 * k[2][j] + k[3][j]);
+                if (!isfinite(y[idx[j]]))
+                    return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                                      "driveline state left its domain at t = %.6f s", t0);
+            }
+            p->t_int = t0 + h;
+            for (int e = 0; e < MAX_EVENTS_AT_ONCE; e++)
+                if (!ts_powertrain_update(pm->pt, &p->ps, p->t_int, y + NVEH, y[V] / r_s, rack))
+                    break;
+        }
+        p->t_int = t_end;
+    }
+    p->t_int = t;
+    return TS_OK;
+}
+
 static ts_rc reset(const ts_model *m, ts_data *d, ts_err *err)
 {
     const pm_model *pm = m->impl;
@@ -285,6 +350,7 @@ static ts_rc step_to(const ts_model *m, ts_data *d, double t, ts_err *err)
 {
     const pm_model *pm = m->impl;
     pm_data *p = d->impl;
+    if (pm->pt && ts_powertrain_macro_step(pm->pt) > 0) return step_to_cosim(m, p, t, err);
     if (pm->pt && ts_powertrain_explicit_step(pm->pt, p->y + NVEH) > 0)
         return step_to_explicit(m, p, t, err);
     for (;;) {
@@ -305,7 +371,7 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
 {
     const pm_model *pm = m->impl;
     pm_data *p = d->impl;
-    double thrust, t_s;
+    double thrust = 0.0, t_s = 0.0;
     derivs(m, &p->ps, d->t, p->y, p->ydot, &p->out, &thrust, &t_s);
     out[CH_X] = p->y[X];
     out[CH_SPEED] = p->y[V];

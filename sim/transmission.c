@@ -74,13 +74,40 @@ static double clutch(const ts_transmission *tr, int g, double cap, double w_in, 
     return tq;
 }
 
+/* End of the post-shift capacity ramp [s] (st->capacity > 0). */
+static double ramp_end(const ts_transmission *tr, const ts_shift_state *st)
+{
+    return st->t_start + 2.0 * tr->shift_time;
+}
+
+/* Capacity of the engaged clutch outside a shift. After a shift the clutch
+ * that came on rises linearly from Cs to clutch_capacity over one more
+ * shift_time (transmission.h), so a clutch still slipping when the shift
+ * interval ends closes its slip under a rising torque instead of being
+ * slammed shut at full capacity. Before the first shift (capacity 0):
+ * clutch_capacity. */
+static double applied_capacity(const ts_transmission *tr, const ts_shift_state *st, double t)
+{
+    if (!(st->capacity > 0)) return tr->clutch_capacity;
+    double c = st->capacity + (tr->clutch_capacity - st->capacity) *
+                                  ((t - st->t_start) / tr->shift_time - 1.0);
+    if (c < st->capacity) c = st->capacity;
+    return c < tr->clutch_capacity ? c : tr->clutch_capacity;
+}
+
+double ts_transmission_applied_capacity(const ts_transmission *tr, const ts_shift_state *st,
+                                        double t)
+{
+    return st->target ? 0.0 : applied_capacity(tr, st, t);
+}
+
 void ts_transmission_eval(const ts_transmission *tr, const ts_shift_state *st, double t,
                           double w_in, double w_out, ts_tr_point *out)
 {
     double o1, o2 = 0;
     if (!st->target) {
         out->offgoing_torque =
-            clutch(tr, st->gear, tr->clutch_capacity, w_in, w_out, &o1, &out->slip);
+            clutch(tr, st->gear, applied_capacity(tr, st, t), w_in, w_out, &o1, &out->slip);
         out->oncoming_torque = 0;
         out->gear = st->gear;
     } else {
@@ -97,37 +124,51 @@ void ts_transmission_eval(const ts_transmission *tr, const ts_shift_state *st, d
 void ts_transmission_roots(const ts_transmission *tr, const ts_shift_state *st, double t,
                            double w_engine, double *g)
 {
+    double rearm = tr->shift_speed - tr->shift_hysteresis;
     if (st->target) {
+        /* shift end; the engine's fall to the re-arm speed during the shift */
         g[0] = st->t_start + tr->shift_time - t;
-        g[1] = g[2] = 1.0;
+        g[1] = !st->armed ? w_engine - rearm : 1.0;
+        g[2] = g[3] = 1.0;
         return;
     }
     /* armed: the upward crossing of shift_speed; disarmed: the fall to the
      * re-arm speed, or the end of the dwell */
-    double rearm = tr->shift_speed - tr->shift_hysteresis;
     g[0] = st->gear < tr->n ? w_engine - (st->armed ? tr->shift_speed : rearm) : 1.0;
     g[1] = (st->gear > 1 && tr->downshift_speed > 0) ? w_engine - tr->downshift_speed : 1.0;
     g[2] = (!st->armed && st->gear < tr->n) ? st->t_end + tr->shift_dwell - t : 1.0;
+    g[3] = st->capacity > 0 ? ramp_end(tr, st) - t : 1.0;
 }
 
 int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double t,
                            double w_engine, double input_torque)
 {
+    int fell = w_engine <= (tr->shift_speed - tr->shift_hysteresis) * (1 + EVENT_SPEED_TOL);
     if (st->target) {
+        /* the engine's dip during the shift re-arms the next upshift (it can
+         * start once this shift is over); a change of the root functions */
+        int changed = 0;
+        if (!st->armed && fell) st->armed = changed = 1;
         double t_end = st->t_start + tr->shift_time;
-        if (t < t_end - EVENT_TIME_TOL * (1.0 + fabs(t_end))) return 0;
+        if (t < t_end - EVENT_TIME_TOL * (1.0 + fabs(t_end))) return changed;
         st->gear = st->target;
         st->target = 0;
         st->shifts++;
         st->t_end = t;
-        st->armed = w_engine <= tr->shift_speed - tr->shift_hysteresis;
         return 1;
+    }
+    /* the engaged clutch's capacity ramp is over: fully applied */
+    int ramp_done = 0;
+    if (st->capacity > 0) {
+        double te = ramp_end(tr, st);
+        if (t >= te - EVENT_TIME_TOL * (1.0 + fabs(te))) {
+            st->capacity = 0;
+            ramp_done = 1;
+        }
     }
     /* re-arm: the engine has come down to shift_speed - hysteresis, or the
      * dwell is over; a change of the root functions, so report it */
-    if (!st->armed &&
-        (w_engine <= (tr->shift_speed - tr->shift_hysteresis) * (1 + EVENT_SPEED_TOL) ||
-         t >= st->t_end + tr->shift_dwell - EVENT_TIME_TOL * (1.0 + fabs(t)))) {
+    if (!st->armed && (fell || t >= st->t_end + tr->shift_dwell - EVENT_TIME_TOL * (1.0 + fabs(t)))) {
         st->armed = 1;
         if (w_engine < tr->shift_speed * (1 - EVENT_SPEED_TOL)) return 1;
     }
@@ -137,7 +178,7 @@ int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double
     else if (st->gear > 1 && tr->downshift_speed > 0 &&
              w_engine <= tr->downshift_speed * (1 + EVENT_SPEED_TOL))
         to = st->gear - 1;
-    if (!to) return 0;
+    if (!to) return ramp_done;
     double cs = tr->shift_capacity_factor * fabs(input_torque);
     double floor = SHIFT_CAP_FLOOR * tr->clutch_capacity;
     st->capacity = cs > floor ? cs : floor;

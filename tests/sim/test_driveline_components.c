@@ -236,8 +236,10 @@ static void shift_hands_torque_over_continuously(void **state)
 }
 
 /* EVIDENCE: shift logic [P III.B.2]: upshift root at engine speed 1850 rpm
- * (sign change of g0), shift-end root at t0 + shift_time, no upshift from the
- * top gear, downshift below downshift_speed. Logic check, nothing calibrated. */
+ * (sign change of g0), shift-end root at t0 + shift_time, the engine's dip to
+ * shift_speed - hysteresis during a shift re-arms the next upshift (a root;
+ * no dwell wait), no upshift from the top gear, downshift below
+ * downshift_speed. Logic check, nothing calibrated. */
 static void shift_events_as_roots(void **state)
 {
     (void)state;
@@ -256,10 +258,26 @@ static void shift_events_as_roots(void **state)
     ts_transmission_roots(&tr, &st, 1.1 + 0.5 * tr.shift_time, 0, g);
     ts_transmission_roots(&tr, &st, 1.1 + 1.01 * tr.shift_time, 0, h);
     assert_true(g[0] > 0 && h[0] < 0);
-    assert_int_equal(ts_transmission_update(&tr, &st, 1.1 + 0.5 * tr.shift_time, 0, 0), 0);
-    assert_int_equal(ts_transmission_update(&tr, &st, 1.1 + tr.shift_time, 0, 0), 1);
+    double w_hi = tr.shift_speed; /* above the re-arm speed: no re-arm event */
+    assert_int_equal(ts_transmission_update(&tr, &st, 1.1 + 0.5 * tr.shift_time, w_hi, 0), 0);
+    assert_int_equal(st.armed, 0);
+    /* the engine's dip to the re-arm speed during the shift is a root and
+     * re-arms the next upshift (no dwell wait after the shift) */
+    double rearm = tr.shift_speed - tr.shift_hysteresis;
+    ts_transmission_roots(&tr, &st, 1.1 + 0.6 * tr.shift_time, rearm + 1, g);
+    ts_transmission_roots(&tr, &st, 1.1 + 0.7 * tr.shift_time, rearm - 1, h);
+    assert_true(g[1] > 0 && h[1] < 0);
+    assert_int_equal(ts_transmission_update(&tr, &st, 1.1 + 0.7 * tr.shift_time, rearm - 1, 0),
+                     1);
+    assert_int_equal(st.armed, 1);
+    assert_int_equal(st.target, 2); /* the shift itself goes on */
+    assert_int_equal(ts_transmission_update(&tr, &st, 1.1 + tr.shift_time, w_hi - 1, 0), 1);
     assert_int_equal(st.gear, 2);
     assert_int_equal(st.shifts, 1);
+    /* armed: the engine climbing back to shift_speed starts 2-3 at once */
+    assert_int_equal(ts_transmission_update(&tr, &st, 1.2 + tr.shift_time, w_hi + 1, 3000), 1);
+    assert_int_equal(st.target, 3);
+    ts_transmission_reset(&tr, &st, 2);
     /* downshift when the engine lugs below downshift_speed */
     assert_int_equal(ts_transmission_update(&tr, &st, 3.0, 0.9 * tr.downshift_speed, 1000), 1);
     assert_int_equal(st.target, 1);
@@ -268,6 +286,51 @@ static void shift_events_as_roots(void **state)
     ts_transmission_roots(&tr, &st, 0, 3000 * RPM, g);
     assert_true(g[0] > 0);
     assert_int_equal(ts_transmission_update(&tr, &st, 0, 3000 * RPM, 1000), 0);
+}
+
+/* EVIDENCE: shift-end handover (issue: on-coming clutch slammed shut at full
+ * capacity while slipping): the engaged clutch's capacity is continuous at the
+ * end of the shift interval (Cs just before and just after, tol 1e-9) and
+ * rises linearly from Cs to clutch_capacity over one more shift_time, reached
+ * at the ramp-end root, where the discrete update marks it fully applied; a
+ * clutch still slipping at the shift end transmits about Cs, not
+ * clutch_capacity. Closed form of the law, nothing calibrated. */
+static void shift_end_capacity_ramps(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    ts_transmission tr;
+    assert_int_equal(ts_transmission_init(&tr, &c.driveline, NULL), TS_OK);
+    ts_shift_state st;
+    ts_transmission_reset(&tr, &st, 1);
+    assert_close(ts_transmission_applied_capacity(&tr, &st, 0.0), tr.clutch_capacity, 0, 0);
+    double t0 = 2.0, dt = tr.shift_time, t_in = 4000;
+    assert_int_equal(ts_transmission_update(&tr, &st, t0, tr.shift_speed + 1, t_in), 1);
+    double cs = st.capacity, w_out = 40.0;
+    assert_close(cs, tr.shift_capacity_factor * t_in, 1e-12, 0);
+    double r2 = tr.ratio[1], w_slip = r2 * w_out + 30.0; /* on-coming still slipping */
+    ts_tr_point p;
+    ts_transmission_eval(&tr, &st, t0 + dt * (1 - 1e-9), w_slip, w_out, &p);
+    double before = p.input_torque;
+    assert_int_equal(ts_transmission_update(&tr, &st, t0 + dt, tr.shift_speed, 0), 1);
+    assert_int_equal(st.gear, 2);
+    ts_transmission_eval(&tr, &st, t0 + dt, w_slip, w_out, &p);
+    assert_close(p.input_torque, before, 1e-6, 0);
+    assert_close(p.input_torque, cs, 1e-6, 0);
+    assert_close(ts_transmission_applied_capacity(&tr, &st, t0 + 1.5 * dt),
+                 0.5 * (cs + tr.clutch_capacity), 1e-12, 0);
+    double te = t0 + 2 * dt;
+    double g[TS_TRANSMISSION_NROOTS], h[TS_TRANSMISSION_NROOTS];
+    ts_transmission_roots(&tr, &st, te - 1e-3, tr.shift_speed, g);
+    ts_transmission_roots(&tr, &st, te + 1e-3, tr.shift_speed, h);
+    assert_true(g[3] > 0 && h[3] < 0);
+    assert_close(ts_transmission_applied_capacity(&tr, &st, te - 1e-3),
+                 tr.clutch_capacity - (tr.clutch_capacity - cs) * 1e-3 / dt, 1e-9, 0);
+    assert_int_equal(ts_transmission_update(&tr, &st, te, tr.shift_speed - 1, 0), 1);
+    assert_close(st.capacity, 0, 0, 0);
+    assert_close(ts_transmission_applied_capacity(&tr, &st, te + 1.0), tr.clutch_capacity, 0, 0);
+    ts_transmission_roots(&tr, &st, te + 1.0, tr.shift_speed, h);
+    assert_true(h[3] > 0);
 }
 
 /* Table validation names the field. */
@@ -304,6 +367,7 @@ int main(void)
         cmocka_unit_test(gears_conserve_power_with_efficiency),
         cmocka_unit_test(shift_hands_torque_over_continuously),
         cmocka_unit_test(shift_events_as_roots),
+        cmocka_unit_test(shift_end_capacity_ramps),
         cmocka_unit_test(tables_are_validated),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
