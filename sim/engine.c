@@ -667,3 +667,33 @@ ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega, const ts_eng
     if (cyc) *cyc = c;
     return TS_OK;
 }
+
+ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque, double p_amb,
+                           double T_amb, double *x, double *rack, ts_err *err)
+{
+    ts_engine_init_state(e, omega, p_amb, T_amb, x);
+    if (rack) *rack = 0.0;
+    if (e->fidelity == TS_ENGINE_MAP) return TS_OK;
+    ts_engine_inputs in = {.rack = 0.15, .fuel_per_cycle = -1.0, .p_amb = p_amb, .T_amb = T_amb};
+    ts_engine_cycle cyc;
+    /* secant on the rack: brake torque is nearly linear in it at fixed speed
+     * (40 cycles and 0.2 % per cycle: the numerical settings of the search) */
+    double r_prev = NAN, tq_prev = NAN, r = in.rack;
+    for (int it = 0; it < 6; it++) {
+        ts_rc rc = ts_engine_steady(e, x, omega, &in, 40, 2e-3, &cyc, err);
+        if (rc != TS_OK) return rc;
+        double tq = cyc.mean.brake_torque;
+        r = in.rack;
+        if (fabs(tq - load_torque) <= fmax(0.02 * fabs(load_torque), 5.0)) break;
+        double slope = isfinite(r_prev) && fabs(r - r_prev) > 1e-6 ? (tq - tq_prev) / (r - r_prev)
+                                                                   : 0.0;
+        double r_new = slope > 0 ? r + (load_torque - tq) / slope
+                                 : r * (tq < load_torque ? 1.5 : 0.6);
+        r_prev = r;
+        tq_prev = tq;
+        in.rack = fmin(fmax(r_new, 0.01), 1.0);
+    }
+    x[TS_ENGINE_X_SPEED] = omega;
+    if (rack) *rack = r;
+    return TS_OK;
+}

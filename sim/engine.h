@@ -96,6 +96,20 @@ int ts_engine_nstate(const ts_engine *e);       /* length of x */
 void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double T_amb,
                           double *x);
 
+/* Idle steady state, the initial condition of a launch from standstill
+ * ("a step increase of driver demand to 100 %" [P III.C.2] starts from an
+ * idling engine): ts_engine_init_state, then ts_engine_steady at crank speed
+ * omega [rad/s] with the rack found (secant, at most 6 steady searches) so
+ * that the cycle-mean brake torque equals load_torque [N*m] (e.g. the
+ * converter pump torque at stall) within 2 % or 5 N*m. Walls, coolant, oil,
+ * manifolds and turbo rotors end at their idle steady values (the LHR's
+ * insulated walls at their idle temperatures, not the coolant's; the turbo at
+ * its idle speed, not spun up). The map fidelity has no such states: x is
+ * ts_engine_init_state's. *rack (may be NULL) receives the idle rack [1].
+ * Returns TS_OK, TS_ERR_DIVERGED, or TS_ERR_NOMEM. */
+ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque, double p_amb,
+                           double T_amb, double *x, double *rack, ts_err *err);
+
 /* Set both turbocharger rotor speeds in x [rad/s] (no-op for the map
  * fidelity). With the constant-phi fuel law the turbo match can settle on a
  * low-boost branch; a steady-state search started from spun-up rotors finds

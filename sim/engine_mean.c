@@ -9,9 +9,12 @@
  *   fuel                      Eq. 14 on the compressor air flow (or commanded)
  *   indicated torque          eta_i mdot_f LHV / w
  *   exhaust enthalpy          mdot h_im + mdot_f LHV (1 - eta_i - q_wall)
- * exhaust temperature from that enthalpy at the products' composition. Part
- * load uses the full-load efficiencies (a known limitation: eta_i and q_wall
- * depend weakly on load at fixed speed). No walls, no crank-angle variation:
+ * exhaust temperature from that enthalpy at the products' composition. At
+ * part boost q_wall is scaled by (p_im / p_full_load)^(nu_exp - 1), the charge-
+ * density dependence of the crank-angle model's heat-transfer coefficient
+ * (see the loop below); eta_v and eta_i keep their full-load values (a known
+ * limitation), and the walls' thermal inertia (cold walls early in a launch
+ * take more heat in the crank-angle model) is not represented. No walls, no crank-angle variation:
  * crank speed follows J dw/dt = T_brake - T_load with the mean inertia.
  */
 #include <math.h>
@@ -50,8 +53,22 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         double m_cyl = eta_v * rho * e->geom.vd * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
         double m_f = mf_cyc * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
         double q_fuel = m_f * c->lhv;
+        /* In-cylinder heat loss at part boost: the crank-angle model's
+         * coefficient is h = a Re^b lambda / L (engine_heat.c, b = /engine/
+         * nu_exp), so at fixed speed and gas temperatures the wall heat scales
+         * with the charge density to the power b, the fuel energy (constant
+         * equivalence ratio, Eq. 14) with its first power: the loss FRACTION
+         * scales as (rho / rho_full_load)^(b - 1). The density ratio is taken
+         * as the intake-manifold pressure ratio to the sweep's full-load boost
+         * at this speed (both intercooled to similar temperatures), clamped to
+         * [1/4, 3/2]. Without it the table's full-load fraction is used in the
+         * low-boost launch, giving ~60 K too hot exhaust and a quicker turbo
+         * than the crank-angle engine at the same boost. */
+        double p_fl = en_map_interp(e, e->map_boost, wp);
+        double dens = p_fl > 0 ? fmin(fmax(o->p_im / p_fl, 0.25), 1.5) : 1.0;
+        double q_wb = q_w * pow(dens, c->nu_exp - 1.0);
         double h_in = m_cyl * en_gas_h(g, o->T_im, o->F_im);
-        double h_out = h_in + q_fuel * (1.0 - eta_i - q_w);
+        double h_out = h_in + q_fuel * (1.0 - eta_i - q_wb);
         double m_out = m_cyl + m_f;
         double F_out = m_out > 0 ? fmin((m_cyl * o->F_im + m_f * (1 + c->afr_stoich)) / m_out, 1.0) : o->F_em;
         en_bank_flows f = {.m_in = m_cyl, .h_in = h_in, .mf_in = m_cyl * o->F_im,
@@ -59,7 +76,7 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         en_bank_rhs(e, xb, &f, in->p_amb, in->T_amb, xdot + e->off_bank + b * EN_BANK_NX, o);
         t_ind += wp > 1 ? eta_i * q_fuel / wp : 0.0;
         fuel_rate += m_f;
-        wall += q_fuel * q_w;
+        wall += q_fuel * q_wb;
         hin += h_in;
         hout += h_out;
         min += m_cyl;
