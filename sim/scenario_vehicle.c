@@ -167,7 +167,8 @@ static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
     ts_ode_opts o = {.rtol = m->cfg.run.rtol,
                      .atol_v = p->atol,
                      .max_step = m->cfg.run.max_step,
-                     .max_steps = 500000};
+                     .max_steps = 500000,
+                     .second_order = 1};
     p->ode = ts_ode_make(ny, rhs, d, &o, err);
     if (!p->ode) {
         data_fini(m, d);

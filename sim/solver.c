@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include <cvode/cvode.h>
+#include <lapacke.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -29,6 +30,155 @@ struct ts_ode {
     double t;
     char last_msg[256]; /* SUNDIALS' last error message */
 };
+
+/* ---- half-size Schur complement linear solver ------------------------------
+ * For a second-order system y = [q, v] with dq/dt = v (h = n/2 each), the
+ * Newton matrix I - gamma J has the block form [I  D; Mbl  Mbr] with D
+ * diagonal (-gamma times the difference quotient of v by v). Eliminating the
+ * first half, (Mbr - Mbl D) x2 = b2 - Mbl b1 and x1 = b1 - D x2: one h x h LU
+ * instead of an n x n one (8x fewer flops), the same solution up to round-off.
+ * setup() checks the structure exactly on each matrix and falls back to the
+ * full n x n LU when it does not hold, so the solver is correct for any f. */
+typedef struct schur_ls {
+    int n, h, full;
+    double *S, *F, *d, *r;
+    lapack_int *piv;
+    long last_flag;
+} schur_ls;
+
+static SUNLinearSolver_Type schur_gettype(SUNLinearSolver ls)
+{
+    (void)ls;
+    return SUNLINEARSOLVER_DIRECT;
+}
+
+static SUNLinearSolver_ID schur_getid(SUNLinearSolver ls)
+{
+    (void)ls;
+    return SUNLINEARSOLVER_CUSTOM;
+}
+
+static int schur_initialize(SUNLinearSolver ls)
+{
+    ((schur_ls *)ls->content)->last_flag = 0;
+    return SUNLS_SUCCESS;
+}
+
+static int schur_setup(SUNLinearSolver ls, SUNMatrix A)
+{
+    schur_ls *c = ls->content;
+    const double *a = SUNDenseMatrix_Data(A); /* column-major, leading dimension n */
+    int n = c->n, h = c->h;
+    c->full = 0;
+    for (int j = 0; j < h && !c->full; j++) /* top-left block == I */
+        for (int i = 0; i < h; i++)
+            if (a[(size_t)j * n + i] != (i == j ? 1.0 : 0.0)) {
+                c->full = 1;
+                break;
+            }
+    for (int j = 0; j < h && !c->full; j++) /* top-right block diagonal */
+        for (int i = 0; i < h; i++) {
+            double e = a[(size_t)(h + j) * n + i];
+            if (i == j)
+                c->d[j] = e;
+            else if (e != 0.0) {
+                c->full = 1;
+                break;
+            }
+        }
+    lapack_int info;
+    if (c->full) {
+        memcpy(c->F, a, sizeof(double) * (size_t)n * (size_t)n);
+        info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, n, n, c->F, n, c->piv);
+    } else {
+        for (int j = 0; j < h; j++)
+            for (int i = 0; i < h; i++)
+                c->S[(size_t)j * h + i] =
+                    a[(size_t)(h + j) * n + h + i] - a[(size_t)j * n + h + i] * c->d[j];
+        info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, h, h, c->S, h, c->piv);
+    }
+    c->last_flag = info;
+    if (info < 0) return SUNLS_PACKAGE_FAIL_UNREC;
+    return info > 0 ? SUNLS_LUFACT_FAIL : SUNLS_SUCCESS;
+}
+
+static int schur_solve(SUNLinearSolver ls, SUNMatrix A, N_Vector xv, N_Vector bv, sunrealtype tol)
+{
+    (void)tol;
+    schur_ls *c = ls->content;
+    const double *a = SUNDenseMatrix_Data(A);
+    int n = c->n, h = c->h;
+    N_VScale(1.0, bv, xv);
+    double *x = N_VGetArrayPointer(xv);
+    lapack_int info;
+    if (c->full) {
+        info = LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', n, 1, c->F, n, c->piv, x, n);
+    } else {
+        for (int i = 0; i < h; i++)
+            c->r[i] = x[h + i];
+        for (int j = 0; j < h; j++) {
+            double b1 = x[j];
+            const double *col = a + (size_t)j * n + h;
+            for (int i = 0; i < h; i++)
+                c->r[i] -= col[i] * b1;
+        }
+        info = LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', h, 1, c->S, h, c->piv, c->r, h);
+        for (int i = 0; i < h; i++) {
+            x[i] -= c->d[i] * c->r[i];
+            x[h + i] = c->r[i];
+        }
+    }
+    c->last_flag = info;
+    return info == 0 ? SUNLS_SUCCESS : SUNLS_PACKAGE_FAIL_UNREC;
+}
+
+static sunindextype schur_lastflag(SUNLinearSolver ls)
+{
+    return (sunindextype)((schur_ls *)ls->content)->last_flag;
+}
+
+static int schur_free(SUNLinearSolver ls)
+{
+    if (!ls) return SUNLS_SUCCESS;
+    schur_ls *c = ls->content;
+    if (c) {
+        free(c->S), free(c->F), free(c->d), free(c->r), free(c->piv);
+        free(c);
+        ls->content = NULL;
+    }
+    SUNLinSolFreeEmpty(ls);
+    return SUNLS_SUCCESS;
+}
+
+static SUNLinearSolver schur_make(int n, SUNContext ctx)
+{
+    SUNLinearSolver ls = SUNLinSolNewEmpty(ctx);
+    if (!ls) return NULL;
+    ls->ops->gettype = schur_gettype;
+    ls->ops->getid = schur_getid;
+    ls->ops->initialize = schur_initialize;
+    ls->ops->setup = schur_setup;
+    ls->ops->solve = schur_solve;
+    ls->ops->lastflag = schur_lastflag;
+    ls->ops->free = schur_free;
+    schur_ls *c = calloc(1, sizeof *c);
+    ls->content = c;
+    if (!c) {
+        schur_free(ls);
+        return NULL;
+    }
+    c->n = n, c->h = n / 2;
+    c->S = malloc(sizeof(double) * (size_t)c->h * (size_t)c->h);
+    c->F = malloc(sizeof(double) * (size_t)n * (size_t)n);
+    c->d = malloc(sizeof(double) * (size_t)c->h);
+    c->r = malloc(sizeof(double) * (size_t)c->h);
+    c->piv = malloc(sizeof(lapack_int) * (size_t)n);
+    if (!c->S || !c->F || !c->d || !c->r || !c->piv) {
+        schur_free(ls);
+        return NULL;
+    }
+    return ls;
+}
 
 static int rhs_tramp(sunrealtype t, N_Vector y, N_Vector ydot, void *ud)
 {
@@ -102,7 +252,8 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
         goto fail;
     o->A = SUNDenseMatrix(n, n, o->ctx);
     if (!o->A) goto nomem;
-    o->LS = SUNLinSol_Dense(o->y, o->A, o->ctx);
+    o->LS = opts->second_order && n % 2 == 0 ? schur_make(n, o->ctx)
+                                              : SUNLinSol_Dense(o->y, o->A, o->ctx);
     if (!o->LS) goto nomem;
     if (check(o, CVodeSetLinearSolver(o->mem, o->LS, o->A), "CVodeSetLinearSolver", err))
         goto fail;

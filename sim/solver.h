@@ -32,6 +32,9 @@ typedef struct ts_ode_opts {
     long max_steps;       /* internal steps per call, 0 = 100000 */
     int nroots;           /* number of root functions (0: none) */
     ts_root_fn roots;     /* may be NULL when nroots == 0 */
+    int second_order;     /* non-zero: y = [q, q_d] (n/2 each) with dq/dt = q_d; the Newton
+                           * systems are solved by their half-size Schur complement
+                           * (falls back to the full LU when a matrix lacks that form) */
 } ts_ode_opts;
 
 typedef struct ts_ode_stats {

@@ -316,36 +316,14 @@ static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M
                 M[(QS0 + a) * nq + QS0 + b] += v->mqs[a][b];
 }
 
-/* Cholesky solve of the symmetric positive-definite M x = b (in place). */
+/* Cholesky solve of the symmetric positive-definite M x = b (in place; M,
+ * row-major, is overwritten by its factor). LAPACK dpotrf/dpotrs (vectorised
+ * BLAS kernels; the hand loop they replace cost a fifth of a run): M's
+ * row-major lower triangle is the column-major upper one. */
 static int chol_solve(double *M, double *b, int n)
 {
-    for (int j = 0; j < n; j++) {
-        double d = M[j * n + j];
-        for (int k = 0; k < j; k++)
-            d -= M[j * n + k] * M[j * n + k];
-        if (!(d > 0)) return 1;
-        d = sqrt(d);
-        M[j * n + j] = d;
-        for (int i = j + 1; i < n; i++) {
-            double s = M[i * n + j];
-            for (int k = 0; k < j; k++)
-                s -= M[i * n + k] * M[j * n + k];
-            M[i * n + j] = s / d;
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        double s = b[i];
-        for (int k = 0; k < i; k++)
-            s -= M[i * n + k] * b[k];
-        b[i] = s / M[i * n + i];
-    }
-    for (int i = n - 1; i >= 0; i--) {
-        double s = b[i];
-        for (int k = i + 1; k < n; k++)
-            s -= M[k * n + i] * b[k];
-        b[i] = s / M[i * n + i];
-    }
-    return 0;
+    if (LAPACKE_dpotrf_work(LAPACK_COL_MAJOR, 'U', n, M, n) != 0) return 1;
+    return LAPACKE_dpotrs_work(LAPACK_COL_MAJOR, 'U', n, 1, M, n, b, n) != 0;
 }
 
 /* ---- forces ----------------------------------------------------------------- */
@@ -553,12 +531,16 @@ static double span_ke(const vm *v, const span_el *se, const span_map *mp, const 
         double u = qd[mp->cs.idx[c]];
         fx += mp->rx[c] * u, fy0 += mp->ry0[c] * u, fy1 += mp->ry1[c] * u;
     }
-    for (int r = 0; r < n; r++) {
+    /* rows 0, 1 are dense; row 2 + k is the unit vector on the modal
+     * coordinate q0 + k (span_map_build), so its product is that rate */
+    for (int r = 0; r < 2 && r < n; r++) {
         double s = 0;
         for (int c = 0; c < nc; c++)
             s += mp->B[r][c] * qd[mp->cs.idx[c]];
         xd[r] = s;
     }
+    for (int r = 2; r < n; r++)
+        xd[r] = qd[se->q0 + r - 2];
     double m = se->rho * se->len, t = 0, ax = 0, a0 = 0, a1 = 0;
     for (int r = 0; r < n; r++) {
         double s = 0;
@@ -573,8 +555,10 @@ static double span_ke(const vm *v, const span_el *se, const span_map *mp, const 
     if (p)
         for (int c = 0; c < nc; c++) {
             double s = 0;
-            for (int r = 0; r < n; r++)
+            for (int r = 0; r < 2 && r < n; r++)
                 s += mp->B[r][c] * mx[r];
+            int mc = mp->cs.idx[c] - se->q0; /* modal column: unit row 2 + mc */
+            if (mc >= 0 && mc < se->nm) s += mx[2 + mc];
             s += mp->rx[c] * (ax + m * fx) + mp->ry0[c] * (a0 + m / 3.0 * fy0 + m / 6.0 * fy1) +
                  mp->ry1[c] * (a1 + m / 3.0 * fy1 + m / 6.0 * fy0);
             p[c] = s;
@@ -585,7 +569,8 @@ static double span_ke(const vm *v, const span_el *se, const span_map *mp, const 
 /* Evaluate every span's map at coordinates qs: kinetic energy t[s] and
  * momentum p[s][c]. */
 static void spans_at(const vm *v, const double *qs, const double *qd, double t[VM_NSPAN],
-                     double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES], span_map mp[VM_NSPAN])
+                     double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES], span_map mp[VM_NSPAN],
+                     int arm_spans_only)
 {
     kin k;
     kinematics(v, qs, NULL, &k);
@@ -593,6 +578,7 @@ static void spans_at(const vm *v, const double *qs, const double *qd, double t[V
         const span_el *se = &v->span[s];
         if (!se->sp) continue;
         int a = se->elem, b = (se->elem + 1) % VM_NB;
+        if (arm_spans_only && a < VM_RW1 && b < VM_RW1) continue; /* t[s] not needed */
         elem e;
         tangent(v, &k, a, b, &e);
         span_map_build(v, &k, se, &e, a, b, &mp[s]);
@@ -632,7 +618,7 @@ static void span_velocity_terms(const vm *v, vm_work *w, const double *q, const 
                 qs[QA0 + i] += sg * eps * qd[QA0 + i] / g;
             /* output arrays, filled by spans_at (not read before) */
             /* cppcheck-suppress legacyUninitvar */
-            spans_at(v, qs, qd, sg > 0 ? tp : tm, sg > 0 ? pp : pm, sg > 0 ? mp : mm);
+            spans_at(v, qs, qd, sg > 0 ? tp : tm, sg > 0 ? pp : pm, sg > 0 ? mp : mm, 0);
         }
         for (int s = 0; s < VM_NSPAN; s++) {
             if (!v->span[s].sp) continue;
@@ -648,7 +634,8 @@ static void span_velocity_terms(const vm *v, vm_work *w, const double *q, const 
             else
                 for (int i = 0; i < VM_NRW; i++)
                     qs[QA0 + i] += sg * eps;
-            spans_at(v, qs, qd, sg > 0 ? tp : tm, NULL, mp);
+            /* the arms move only the spans ending on a road wheel */
+            spans_at(v, qs, qd, sg > 0 ? tp : tm, NULL, mp, pass == 1);
         }
         for (int s = 0; s < VM_NSPAN; s++) {
             if (!v->span[s].sp) continue;

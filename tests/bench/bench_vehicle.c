@@ -50,6 +50,63 @@ static double metric(const ts_metric *m, int n, const char *name)
     return NAN;
 }
 
+/* Pinned figures: the values of each preset's 30 s run recorded at commit
+ * c342166 (before the vehicle performance work). A speed-up must reproduce
+ * them within 0.5 % (values) and 0.05 Hz (FFT peak frequencies); the bench
+ * exits non-zero otherwise. These are regression pins, not paper figures. */
+typedef struct pin {
+    const char *preset;
+    int dof;
+    double top_speed_mph, peak_tension_lb, t26, t1320, r246, r4670;
+} pin;
+
+static const pin pins[] = {
+    {"bump-prescribed-static", 21, 29.762774, 28923.657364, 2.190904, 15.705981, 2.190904, 6.094315},
+    {"bump-prescribed-longitudinal", 26, 25.388269, 33095.938955, 2.015762, 14.793819, 2.015637,
+     5.691946},
+    {"bump-prescribed-coupled", 31, 25.330256, 35104.657248, 3.978580, 14.791545, 3.951156,
+     5.695369},
+};
+
+static int check_value(const char *name, double got, double want)
+{
+    int ok = fabs(got - want) <= 0.005 * fabs(want);
+    printf("  pin %-28s got %14.6f want %14.6f  %s\n", name, got, want, ok ? "ok" : "FAIL");
+    return ok ? 0 : 1;
+}
+
+static int check_freq(const char *name, double got, double want)
+{
+    int ok = fabs(got - want) <= 0.05;
+    printf("  pin %-28s got %14.6f want %14.6f  %s\n", name, got, want, ok ? "ok" : "FAIL");
+    return ok ? 0 : 1;
+}
+
+static int check_pins(const char *preset, int dof, const ts_metric *mt, int nm)
+{
+    for (size_t i = 0; i < sizeof pins / sizeof pins[0]; i++) {
+        const pin *p = &pins[i];
+        if (strcmp(p->preset, preset) != 0) continue;
+        int bad = 0;
+        printf("  pin %-28s got %14d want %14d  %s\n", "dof", dof, p->dof,
+               dof == p->dof ? "ok" : "FAIL");
+        bad += dof != p->dof;
+        bad += check_value("top_speed_mph", metric(mt, nm, "top_speed_mph"), p->top_speed_mph);
+        bad += check_value("peak_tension_lb", metric(mt, nm, "peak_tension_lb"),
+                           p->peak_tension_lb);
+        bad += check_freq("tension_peak_2_6hz", metric(mt, nm, "tension_peak_2_6hz"), p->t26);
+        bad += check_freq("tension_peak_13_20hz", metric(mt, nm, "tension_peak_13_20hz"),
+                          p->t1320);
+        bad += check_freq("roller_force_peak_2_4.6hz", metric(mt, nm, "roller_force_peak_2_4.6hz"),
+                          p->r246);
+        bad += check_freq("roller_force_peak_4.6_7hz", metric(mt, nm, "roller_force_peak_4.6_7hz"),
+                          p->r4670);
+        printf("  pinned figures: %s\n", bad ? "REGRESSION" : "all within tolerance");
+        return bad ? 1 : 0;
+    }
+    return 0;
+}
+
 static int run(const char *preset)
 {
     ts_config c;
@@ -112,15 +169,20 @@ static int run(const char *preset)
            metric(mt, nm, "roller_force_peak_4.6_7hz"), "5.5 (coupled, Fig. 14b)");
     printf("  %-34s %12.0f   %s\n", "  its amplitude [N]",
            metric(mt, nm, "roller_force_peak_4.6_7hz_amp"), "static: null");
+    int bad = check_pins(preset, ts_model_dof(m), mt, nm);
     free(s.rows);
     ts_data_free(d);
     ts_model_free(m);
-    return 0;
+    return bad;
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     int rc = 0;
+    if (argc > 1) { /* bench_vehicle PRESET...: only these (profiling) */
+        for (int i = 1; i < argc; i++) rc |= run(argv[i]);
+        return rc;
+    }
     rc |= run("bump-prescribed-static");
     rc |= run("bump-prescribed-longitudinal");
     rc |= run("bump-prescribed-coupled");
