@@ -2,6 +2,7 @@
 request log lines, clean shutdown on SIGTERM and SIGINT."""
 import signal
 import subprocess
+import time
 
 import requests
 
@@ -35,6 +36,15 @@ def test_wrong_method_is_405(daemon):
 def test_one_log_line_per_request(daemon):
     requests.get(daemon.url + "/v1/health?probe=log")
     requests.get(daemon.url + "/nope-logged")
+    # The line is written when libmicrohttpd reports the request complete, which
+    # can come a moment after the client has read the response: wait for it.
+    deadline = time.time() + 5
+    while True:
+        lines = [l for l in daemon.stderr().splitlines() if "/nope-logged" in l]
+        if lines or time.time() > deadline:
+            break
+        time.sleep(0.02)
+    time.sleep(0.2)  # and make sure no second line follows
     lines = [l for l in daemon.stderr().splitlines() if "/nope-logged" in l]
     assert len(lines) == 1 and " 404 " in lines[0]
 
