@@ -65,6 +65,14 @@ int ts_model_add_channel(ts_model *m, const char *name, const char *unit,
     return m->nchannel++;
 }
 
+ts_rc ts_model_add_channels(ts_model *m, const ts_channel *rows, int n, ts_err *err)
+{
+    for (int i = 0; i < n; i++)
+        if (ts_model_add_channel(m, rows[i].name, rows[i].unit, rows[i].description, err) < 0)
+            return err && err->code != TS_OK ? err->code : TS_ERR_INTERNAL;
+    return TS_OK;
+}
+
 ts_model *ts_model_make(const ts_config *cfg, ts_err *err)
 {
     ts_err_clear(err);

@@ -68,6 +68,10 @@ struct ts_data {
 int ts_model_add_channel(ts_model *m, const char *name, const char *unit,
                          const char *description, ts_err *err);
 
+/* Declare n channels from a table (name, unit, description) in order; the
+ * first failure's code, with err filled. */
+ts_rc ts_model_add_channels(ts_model *m, const ts_channel *rows, int n, ts_err *err);
+
 /* Scenario tables, one per kind (scenario_*.c). */
 extern const ts_scenario_ops ts_scenario_pointmass;
 extern const ts_scenario_ops ts_scenario_engine_dyno;

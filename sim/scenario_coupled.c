@@ -23,32 +23,25 @@
 
 #include "coupled_system.h"
 #include "scenario.h"
+#include "vehicle_channels.h"
 
 #define MPH 0.44704 /* m/s per mph */
 #define LBF 4.44822 /* N per lbf */
 
 enum {
-    CH_X = 1,
-    CH_SPEED,
-    CH_Z,
-    CH_PITCH,
-    CH_AX,
-    CH_AZ,
-    CH_T_RR,
-    CH_N_RR,
-    CH_TORQUE,
+    CH_V0 = 1, /* the vehicle channel block (vehicle_channels.h), after "t" */
+    CH_SPEED = CH_V0 + VM_CH_SPEED,
+    CH_AX = CH_V0 + VM_CH_AX,
+    CH_T_RR = CH_V0 + VM_CH_T_RR,
+    CH_N_RR = CH_V0 + VM_CH_N_RR,
+    CH_TORQUE = CH_V0 + VM_NCH,
     CH_SPR_SPEED,
     CH_SPR_ACCEL,
-    CH_ANCHOR,
     CH_RACK_DEMAND,
     CH_V_MEAS,
     CH_ERR,
     CH_INTEGRAL,
-    CH_ARM0,
-    CH_LOAD0 = CH_ARM0 + VM_NRW,
-    CH_SPAN_T0 = CH_LOAD0 + VM_NRW,
-    CH_SPAN_V0 = CH_SPAN_T0 + VM_NSPAN,
-    CH_PT0 = CH_SPAN_V0 + VM_NSPAN,
+    CH_PT0,
     NCH = CH_PT0 + TS_POWERTRAIN_NCHANNEL
 };
 /* indices into the powertrain block (ts_powertrain_channel_values order) */
@@ -72,56 +65,19 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     m->impl = c;
     m->dof = vm_dof(ts_coupled_vehicle(c));
     m->nstate = vm_ny(ts_coupled_vehicle(c)) + ts_powertrain_nstate(ts_coupled_powertrain(c)) + 1;
-    static const struct {
-        const char *name, *unit, *desc;
-    } ch[] = {
-        {"vehicle.x", "m", "distance travelled by the hull CG"},
-        {"vehicle.speed", "m/s", "hull CG forward speed"},
-        {"hull.z", "m", "hull CG height above the course datum"},
-        {"hull.pitch", "rad", "hull pitch, positive nose-down"},
-        {"hull.accel_x", "m/s^2", "hull CG longitudinal acceleration"},
-        {"hull.accel_z", "m/s^2", "hull CG vertical acceleration"},
-        {"track.tension.rear_roller", "N",
-         "track tension at the rear support roller (Figs. 29, 35)"},
-        {"roller.rear.normal_force", "N", "track load on the rear support roller"},
+    static const ts_channel ch[] = {
         {"sprocket.torque", "N*m", "powertrain torque applied at each sprocket (Figs. 28, 31)"},
         {"sprocket.speed", "rad/s", "sprocket speed relative to the hull (Fig. 34)"},
         {"sprocket.accel", "rad/s^2",
          "sprocket acceleration relative to the hull (reported to the powertrain)"},
-        {"track.anchor_force", "N", "tangential ground force at the no-slip anchor (thrust)"},
         {"rack.demand", "1", "driver or IVS rack before the governor (Fig. 33)"},
         {"control.speed_measured", "m/s",
          "vehicle speed the controller sees: sprocket speed x pitch radius"},
         {"control.error", "m/s", "IVS speed error, target minus measured (0 in rack mode)"},
         {"control.integral", "m", "IVS integral of the speed error (Eq. 10)"},
     };
-    ts_rc rc = TS_OK;
-    for (size_t i = 0; i < sizeof ch / sizeof ch[0] && rc == TS_OK; i++)
-        rc = add(m, ch[i].name, ch[i].unit, ch[i].desc, err);
-    char name[96], desc[160];
-    for (int i = 0; i < VM_NRW && rc == TS_OK; i++) {
-        snprintf(name, sizeof name, "road_arm.%d.angle", i + 1);
-        snprintf(desc, sizeof desc, "road arm %d angle below hull x (1 = front)", i + 1);
-        rc = add(m, name, "rad", desc, err);
-    }
-    for (int i = 0; i < VM_NRW && rc == TS_OK; i++) {
-        snprintf(name, sizeof name, "road_wheel.%d.load", i + 1);
-        snprintf(desc, sizeof desc, "ground load under road wheel %d, one side", i + 1);
-        rc = add(m, name, "N", desc, err);
-    }
-    for (int s = 0; s < VM_NSPAN && rc == TS_OK; s++) {
-        snprintf(name, sizeof name, "span.%s.tension", vm_span_names[s]);
-        snprintf(desc, sizeof desc, "track tension at mid-span, span %s", vm_span_names[s]);
-        rc = add(m, name, "N", desc, err);
-    }
-    for (int s = 0; s < VM_NSPAN && rc == TS_OK; s++) {
-        snprintf(name, sizeof name, "span.%s.deflection", vm_span_names[s]);
-        snprintf(
-            desc, sizeof desc,
-            "dynamic transverse mid-span deflection (outward), span %s (Fig. 30; 0 without modes)",
-            vm_span_names[s]);
-        rc = add(m, name, "m", desc, err);
-    }
+    ts_rc rc = vm_channels_declare(m, err);
+    if (rc == TS_OK) rc = ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
     const ts_powertrain_channel *pc = ts_powertrain_channels();
     for (int i = 0; i < TS_POWERTRAIN_NCHANNEL && rc == TS_OK; i++)
         rc = add(m, pc[i].name, pc[i].unit, pc[i].description, err);
@@ -174,34 +130,14 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     const vm *v = ts_coupled_vehicle(c);
     ts_coupled_obs *o = &p->obs;
     ts_coupled_run_observe(p->r, o);
-    int nq = vm_nq(v);
-    const double *q = o->y_vehicle, *qd = q + nq, *qdd = o->ydot_vehicle + nq;
-    out[CH_X] = q[0] - vm_x0(v);
-    out[CH_SPEED] = qd[0];
-    out[CH_Z] = q[1];
-    out[CH_PITCH] = q[2];
-    out[CH_AX] = qdd[0];
-    out[CH_AZ] = qdd[1];
-    out[CH_T_RR] = o->diag.tension_end1[0];
-    out[CH_N_RR] = o->diag.rear_roller_normal;
+    vm_channels_fill(v, o->y_vehicle, o->ydot_vehicle, &o->diag, out + CH_V0);
     out[CH_TORQUE] = o->sprocket_torque;
     out[CH_SPR_SPEED] = o->sprocket_speed;
     out[CH_SPR_ACCEL] = o->sprocket_accel;
-    out[CH_ANCHOR] = o->diag.anchor_force;
     out[CH_RACK_DEMAND] = o->rack_demand;
     out[CH_V_MEAS] = o->speed_measured;
     out[CH_ERR] = o->speed_error;
     out[CH_INTEGRAL] = o->integral;
-    for (int i = 0; i < VM_NRW; i++) {
-        out[CH_ARM0 + i] = o->diag.arm_angle[i];
-        out[CH_LOAD0 + i] = o->diag.wheel_load[i];
-    }
-    for (int s = 0; s < VM_NSPAN; s++) {
-        int el = vm_span_element[s];
-        out[CH_SPAN_T0 + s] =
-            o->diag.span_mid_tension[s] != 0 ? o->diag.span_mid_tension[s] : o->diag.tension[el];
-        out[CH_SPAN_V0 + s] = o->diag.span_mid_deflection[s];
-    }
     ts_powertrain_channel_values(&o->pt, out + CH_PT0);
 }
 

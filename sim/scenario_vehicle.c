@@ -21,6 +21,7 @@
 #include "drive.h"
 #include "fft.h"
 #include "scenario.h"
+#include "vehicle_channels.h"
 #include "solver.h"
 #include "vehicle_model.h"
 
@@ -29,22 +30,14 @@
 #define VELOCITY_TIME 0.01    /* s: velocity tolerance = atol / this (numerical choice) */
 
 enum {
-    CH_X = 1,
-    CH_SPEED,
-    CH_Z,
-    CH_PITCH,
-    CH_AX,
-    CH_AZ,
-    CH_T_RR,
-    CH_N_RR,
-    CH_TORQUE,
+    CH_V0 = 1, /* the vehicle channel block (vehicle_channels.h), after "t" */
+    CH_SPEED = CH_V0 + VM_CH_SPEED,
+    CH_AX = CH_V0 + VM_CH_AX,
+    CH_T_RR = CH_V0 + VM_CH_T_RR,
+    CH_N_RR = CH_V0 + VM_CH_N_RR,
+    CH_TORQUE = CH_V0 + VM_NCH,
     CH_SPR_SPEED,
-    CH_ANCHOR,
-    CH_ARM0,
-    CH_LOAD0 = CH_ARM0 + VM_NRW,
-    CH_SPAN_T0 = CH_LOAD0 + VM_NRW,
-    CH_SPAN_V0 = CH_SPAN_T0 + VM_NSPAN,
-    NCH = CH_SPAN_V0 + VM_NSPAN
+    NCH
 };
 
 typedef struct veh_model {
@@ -80,53 +73,12 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     if (!vmm->v) return err ? err->code : TS_ERR_INTERNAL;
     m->dof = vm_dof(vmm->v);
     m->nstate = vm_ny(vmm->v);
-    static const struct {
-        const char *name, *unit, *desc;
-    } ch[] = {
-        {"vehicle.x", "m", "distance travelled by the hull CG"},
-        {"vehicle.speed", "m/s", "hull CG forward speed"},
-        {"hull.z", "m", "hull CG height above the course datum"},
-        {"hull.pitch", "rad", "hull pitch, positive nose-down"},
-        {"hull.accel_x", "m/s^2",
-         "hull CG longitudinal acceleration, positive forward (Fig. 11 plots -x)"},
-        {"hull.accel_z", "m/s^2", "hull CG vertical acceleration"},
-        {"track.tension.rear_roller", "N", "track tension at the rear support roller (Fig. 12)"},
-        {"roller.rear.normal_force", "N", "track load on the rear support roller (Fig. 14)"},
+    static const ts_channel drive[] = {
         {"sprocket.torque", "N*m", "prescribed torque at each sprocket"},
         {"sprocket.speed", "rad/s", "sprocket speed relative to the hull"},
-        {"track.anchor_force", "N", "tangential ground force at the no-slip anchor (thrust)"},
     };
-    for (size_t i = 0; i < sizeof ch / sizeof ch[0]; i++)
-        if (ts_model_add_channel(m, ch[i].name, ch[i].unit, ch[i].desc, err) < 0)
-            return err ? err->code : TS_ERR_INTERNAL;
-    char name[96], desc[160];
-    for (int i = 0; i < VM_NRW; i++) {
-        snprintf(name, sizeof name, "road_arm.%d.angle", i + 1);
-        snprintf(desc, sizeof desc, "road arm %d angle below hull x (1 = front)", i + 1);
-        if (ts_model_add_channel(m, name, "rad", desc, err) < 0)
-            return err ? err->code : TS_ERR_INTERNAL;
-    }
-    for (int i = 0; i < VM_NRW; i++) {
-        snprintf(name, sizeof name, "road_wheel.%d.load", i + 1);
-        snprintf(desc, sizeof desc, "ground load under road wheel %d, one side", i + 1);
-        if (ts_model_add_channel(m, name, "N", desc, err) < 0)
-            return err ? err->code : TS_ERR_INTERNAL;
-    }
-    for (int s = 0; s < VM_NSPAN; s++) {
-        snprintf(name, sizeof name, "span.%s.tension", vm_span_names[s]);
-        snprintf(desc, sizeof desc, "track tension at mid-span, span %s", vm_span_names[s]);
-        if (ts_model_add_channel(m, name, "N", desc, err) < 0)
-            return err ? err->code : TS_ERR_INTERNAL;
-    }
-    for (int s = 0; s < VM_NSPAN; s++) {
-        snprintf(name, sizeof name, "span.%s.deflection", vm_span_names[s]);
-        snprintf(desc, sizeof desc,
-                 "dynamic transverse mid-span deflection (outward), span %s (0 without modes)",
-                 vm_span_names[s]);
-        if (ts_model_add_channel(m, name, "m", desc, err) < 0)
-            return err ? err->code : TS_ERR_INTERNAL;
-    }
-    return TS_OK;
+    rc = vm_channels_declare(m, err);
+    return rc == TS_OK ? ts_model_add_channels(m, drive, 2, err) : rc;
 }
 
 static void model_fini(ts_model *m)
@@ -213,31 +165,12 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     const veh_model *vmm = m->impl;
     veh_data *p = d->impl;
     const vm *v = vmm->v;
-    int nq = vm_nq(v);
     vm_diag dg;
     memset(&dg, 0, sizeof dg);
     vm_rhs(v, p->w, d->t, p->y, p->ydot, &dg);
-    const double *q = p->y, *qd = p->y + nq, *qdd = p->ydot + nq;
-    out[CH_X] = q[0] - vm_x0(v);
-    out[CH_SPEED] = qd[0];
-    out[CH_Z] = q[1];
-    out[CH_PITCH] = q[2];
-    out[CH_AX] = qdd[0];
-    out[CH_AZ] = qdd[1];
-    out[CH_T_RR] = dg.tension_end1[0];
-    out[CH_N_RR] = dg.rear_roller_normal;
+    vm_channels_fill(v, p->y, p->ydot, &dg, out + CH_V0);
     out[CH_TORQUE] = dg.drive_torque;
-    out[CH_SPR_SPEED] = qd[10 + VM_SPROCKET] - qd[2];
-    out[CH_ANCHOR] = dg.anchor_force;
-    for (int i = 0; i < VM_NRW; i++) {
-        out[CH_ARM0 + i] = dg.arm_angle[i];
-        out[CH_LOAD0 + i] = dg.wheel_load[i];
-    }
-    for (int s = 0; s < VM_NSPAN; s++) {
-        int el = vm_span_element[s];
-        out[CH_SPAN_T0 + s] = dg.span_mid_tension[s] != 0 ? dg.span_mid_tension[s] : dg.tension[el];
-        out[CH_SPAN_V0 + s] = dg.span_mid_deflection[s];
-    }
+    out[CH_SPR_SPEED] = p->y[vm_nq(v) + 10 + VM_SPROCKET] - p->y[vm_nq(v) + 2];
 }
 
 static size_t state_size(const ts_model *m)

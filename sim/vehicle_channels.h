@@ -1,0 +1,45 @@
+/*
+ * vehicle_channels.h — the output channels of the multibody vehicle, one
+ * definition shared by the scenarios that run it (vehicle: prescribed torque;
+ * coupled: the powertrain drives it), so names, units and descriptions are
+ * written once. Names are stable API (model.md's table and the per-span,
+ * per-arm and per-wheel channels of issue 4).
+ *
+ * Block layout (indices relative to the block's first channel):
+ *   vehicle.x, vehicle.speed, hull.z, hull.pitch, hull.accel_x, hull.accel_z,
+ *   track.tension.rear_roller, roller.rear.normal_force, track.anchor_force,
+ *   road_arm.1..7.angle, road_wheel.1..7.load, span.<name>.tension (x5),
+ *   span.<name>.deflection (x5).
+ */
+#ifndef TS_VEHICLE_CHANNELS_H
+#define TS_VEHICLE_CHANNELS_H
+
+#include "scenario.h"
+#include "vehicle_model.h"
+
+enum {
+    VM_CH_X,       /* hull CG distance travelled [m] */
+    VM_CH_SPEED,   /* hull CG forward speed [m/s] */
+    VM_CH_Z,       /* hull CG height [m] */
+    VM_CH_PITCH,   /* hull pitch, positive nose-down [rad] */
+    VM_CH_AX,      /* hull CG longitudinal acceleration [m/s^2] */
+    VM_CH_AZ,      /* hull CG vertical acceleration [m/s^2] */
+    VM_CH_T_RR,    /* track tension at the rear support roller [N] */
+    VM_CH_N_RR,    /* track load on the rear support roller [N] */
+    VM_CH_ANCHOR,  /* tangential ground force at the no-slip anchor [N] */
+    VM_CH_ARM0,    /* road-arm angles, road wheel 1 (front) first [rad] */
+    VM_CH_LOAD0 = VM_CH_ARM0 + VM_NRW,      /* ground load per road wheel [N] */
+    VM_CH_SPAN_T0 = VM_CH_LOAD0 + VM_NRW,   /* mid-span tension per free span [N] */
+    VM_CH_SPAN_V0 = VM_CH_SPAN_T0 + VM_NSPAN, /* mid-span transverse deflection [m] */
+    VM_NCH = VM_CH_SPAN_V0 + VM_NSPAN
+};
+
+/* Declare the VM_NCH channels, in block order, at the model's next indices. */
+ts_rc vm_channels_declare(ts_model *m, ts_err *err);
+
+/* Write the block's VM_NCH values for state y (positions then velocities),
+ * its derivative ydot and the diagnostics of the vm_rhs call that made ydot. */
+void vm_channels_fill(const vm *v, const double *y, const double *ydot, const vm_diag *dg,
+                      double *out);
+
+#endif
