@@ -34,11 +34,26 @@
  * added-mass coupling that diverges when that inertia (J_t (g f)^2 / 2 per
  * side, 64 kg m^2 in 1st gear) exceeds the vehicle sprocket's (20 kg m^2).
  * So the leader publishes torque + J_a alpha_k together with J_a, and the
- * follower carries J_a on its sprocket (vm_rhs_torque's extra inertia):
- *   J_a = /coupling/interface_inertia x J_t f^2 / 2 x sum_i g_i^2 lock_i,
- * lock_i = 1 - (T_i / C_i)^2 of each range clutch (1 applied, 0 slipping), so
- * J_a follows the gear and the shifts. J_a cancels as the step goes to 0 (the
- * monolithic run has none); it only removes the explicit added mass.
+ * follower carries J_a on its sprocket (vm_rhs_torque's extra inertia), J_a =
+ * /coupling/interface_inertia x the inertia the leader's torque really carries:
+ *   J_a = T_wt f_w / f_wt^2   (f = dw_t/dt of the turbine, T the sprocket
+ *                              torque; partial derivatives at the leader's state)
+ * — the slaved turbine's -dT/d(alpha), with gear and final-drive efficiencies,
+ * the clutch stiffness (0 when slipping, so J_a follows the gear and the
+ * shifts) and the converter's damping. It must be EXACT for second order: the
+ * part of the inertia left in the explicit exchange sees the held alpha_k,
+ * an O(h) error (an earlier J_t f^2/2 sum g_i^2 (1 - (T_i/C_i)^2) was 12 %
+ * off: no efficiencies, lock < 1 under load). J_a cancels as the step goes to
+ * 0 (the monolithic run has none); it only removes the explicit added mass.
+ * Two more terms keep the scheme second order (docs/coupled.md):
+ *   - the turbine's lag tau = -1/f_wt (~50 us): the sample adds
+ *     J_a dalpha/dt (tau - H q/(1-q)), q = exp(-H/tau), H the leader step,
+ *     dalpha/dt from the last two reports (the leader's predicted alpha is
+ *     constant within a step, so its torque lacks J_a tau dalpha/dt);
+ *   - a consistent start: at reset the turbine sits on its clutch's
+ *     quasi-static creep, accelerating with the sprocket, instead of taking up
+ *     the converter torque in a 50-us boundary layer that the first torque
+ *     sample cannot represent (both methods start from that state).
  *
  * Leaves out: track slip anywhere but the vehicle's anchor; the injection
  * system's dynamics (ideal, Section IV.C); a gain schedule that varies during
