@@ -63,6 +63,11 @@ double ts_cosim_inertia_at(const ts_cosim_torque *src, double t)
     return interp(src, t, 1);
 }
 
+double ts_cosim_torque_end(const ts_cosim_torque *src)
+{
+    return src->n > 0 ? src->s[src->n - 1].t : -HUGE_VAL;
+}
+
 ts_cosim *ts_cosim_make(const ts_cosim_opts *o, ts_cosim_leader leader, ts_cosim_follower follower,
                         double t0, ts_cosim_report initial, double torque0, ts_err *err)
 {

@@ -45,6 +45,11 @@ typedef struct ts_cosim_torque ts_cosim_torque;
 double ts_cosim_torque_at(const ts_cosim_torque *src, double t);
 /* The same for the samples' interface inertia. */
 double ts_cosim_inertia_at(const ts_cosim_torque *src, double t);
+/* Time of the last published sample: the torque beyond it is not known yet,
+ * so the follower's integrator must not step past it (one that steps beyond
+ * its output time and interpolates back would carry the held torque into its
+ * history). */
+double ts_cosim_torque_end(const ts_cosim_torque *src);
 
 /* Sprocket speed predicted for the leader at time t from a report. */
 double ts_cosim_predict(const ts_cosim_report *last, int order, double t);

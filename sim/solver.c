@@ -316,6 +316,11 @@ ts_rc ts_ode_advance(ts_ode *o, double tout, double *t, int *root_found, ts_err 
     return TS_OK;
 }
 
+ts_rc ts_ode_set_stop(ts_ode *o, double tstop, ts_err *err)
+{
+    return check(o, CVodeSetStopTime(o->mem, tstop), "CVodeSetStopTime", err);
+}
+
 ts_rc ts_ode_root_info(ts_ode *o, int *dirs, ts_err *err)
 {
     return check(o, CVodeGetRootInfo(o->mem, dirs), "CVodeGetRootInfo", err);

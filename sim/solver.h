@@ -52,6 +52,12 @@ ts_rc ts_ode_init(ts_ode *o, double t0, const double *y0, ts_err *err);
  * integration continues through them). */
 ts_rc ts_ode_advance(ts_ode *o, double tout, double *t, int *root_found, ts_err *err);
 
+/* Never step past tstop (> the current time) in the following advances: the
+ * integrator lands exactly on it instead of stepping beyond tout and
+ * interpolating back (for a right-hand side known only up to tstop, e.g. a
+ * co-simulation follower's input). Cleared once reached. */
+ts_rc ts_ode_set_stop(ts_ode *o, double tstop, ts_err *err);
+
 /* Which roots fired at the last root return (nroots ints, -1/0/+1 direction). */
 ts_rc ts_ode_root_info(ts_ode *o, int *dirs, ts_err *err);
 
