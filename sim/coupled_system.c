@@ -16,7 +16,11 @@
  * re-initialised (powertrain.h protocol). The leader is also re-initialised
  * whenever a new vehicle report changes its input (the predictor restarts: a
  * discontinuity in time). The follower is not: the published torque is a
- * continuous piecewise-linear function of time, final once published.
+ * continuous piecewise-linear function of time, final once published; the
+ * follower's integrator never steps past the last sample (stop time).
+ * Second order in the macro step needs the interface terms of publish() and
+ * the consistent start of ts_coupled_run_reset (coupled_system.h,
+ * docs/coupled.md).
  */
 #include "coupled_system.h"
 
