@@ -100,6 +100,7 @@ typedef struct ts_engine_config {
     double comp_diameter_ref, turb_diameter_ref;  /* [m] */
     double comp_psi0, comp_phi_choke;             /* isentropic head / flow coefficients [1] */
     double comp_eta_max, comp_phi_opt, comp_phi_width, comp_eta_min;
+    double comp_mach_opt, comp_mach_width; /* efficiency fall-off with tip Mach number [1] */
     double turb_area_ref;                         /* effective nozzle area [m^2] */
     double turb_eta_max, turb_bsr_opt;            /* peak efficiency, blade-speed ratio */
     double turbo_inertia_ref;                     /* [kg*m^2] */

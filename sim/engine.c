@@ -104,6 +104,8 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
                           .phi_opt = c->comp_phi_opt,
                           .phi_w = c->comp_phi_width,
                           .eta_min = c->comp_eta_min,
+                          .mach_opt = c->comp_mach_opt,
+                          .mach_w = c->comp_mach_width,
                           .a_t = c->turb_area_ref * s,
                           .eta_t = c->turb_eta_max,
                           .bsr_opt = c->turb_bsr_opt,

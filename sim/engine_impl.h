@@ -148,6 +148,7 @@ void en_wall_rates(const en_wall *w, const double *T, double q, double T_sink, d
 typedef struct en_turbo {
     double d_c, d_t;            /* scaled wheel diameters [m] */
     double psi0, phi_ch, eta_max, phi_opt, phi_w, eta_min;
+    double mach_opt, mach_w;    /* tip-Mach efficiency fall-off */
     double a_t, eta_t, bsr_opt; /* turbine effective area [m^2], efficiency, u/c_s */
     double inertia, mech_eff;
 } en_turbo;

@@ -7,7 +7,8 @@
  *
  * Per bank: ambient -> compressor -> [intercooler volume, heat to its wall]
  * -> orifice -> [intake manifold] -> intake valves -> cylinders -> exhaust
- * valves -> [exhaust manifold, small heat loss] -> turbine (|| wastegate) -> ambient.
+ * valves -> [exhaust manifold, small heat loss] -> turbine (|| wastegate,
+ * /engine/wg_area; 0 = none) -> ambient.
  * Leaves out pipe wave dynamics (0-D volumes) and the air filter / exhaust
  * back pressure (turbine exhausts to ambient).
  */

@@ -9,7 +9,15 @@
  *  Compressor, tip speed U = w D/2, flow coefficient phi = mdot/(rho01 U D^2),
  *  isentropic head coefficient psi = dh_is / U^2, dh_is = cp T01 (PR^k - 1):
  *     speed lines   psi = psi0 (1 - (phi/phi_choke)^2)
- *     efficiency    eta = eta_max (1 - ((phi - phi_opt)/phi_width)^2) >= eta_min
+ *     efficiency    eta = eta_max (1 - ((phi - phi_opt)/phi_width)^2)
+ *                       x (1 - ((M - M_opt)/M_width)^2) for tip Mach M = U/a01 > M_opt,
+ *                   >= eta_min. The tip-Mach factor (losses on the high speed
+ *                   lines) bounds the full-load turbo match: with the
+ *                   constant-phi fuel law (Eq. 14) exhaust energy grows with
+ *                   the air flow, and with a fixed turbine and a map whose
+ *                   efficiency depends on phi alone boost ran away (15 bar).
+ *                   It also sets how strongly boost follows exhaust energy
+ *                   (the LHR engines' gain, Fig. 18b).
  *  Inverted for the flow at given PR and speed:
  *     mdot = rho01 D^2 phi_choke sqrt(U^2 - dh_is/psi0)   (0 past the surge/zero-flow
  *  line); this stays finite as U -> 0 (a stopped wheel passes flow when PR < 1).
@@ -22,7 +30,8 @@
  *  Scaling (engine.c): D x sqrt(s), A_eff x s, J x s^2.5 for s = 1.6, so flow
  *  x 1.6 at equal PR and efficiency and speed x 0.79 (paper: "lower shaft
  *  speeds and higher polar moment of inertia").
- * Leaves out: surge dynamics (no Greitzer model), variable geometry, wastegate.
+ * Leaves out: surge dynamics (no Greitzer model), variable geometry. The
+ * boost-sensing wastegate is in engine_manifold.c.
  */
 #include <math.h>
 
@@ -44,6 +53,13 @@ void en_compressor(const en_turbo *t, double w, double p01, double T01, double p
     double phi = U > 1.0 ? mdot / (rho * U * t->d_c * t->d_c) : t->phi_opt;
     double x = (phi - t->phi_opt) / t->phi_w;
     double eta = t->eta_max * (1.0 - x * x);
+    /* high tip speed: efficiency falls with the tip Mach number U/a01 above
+     * mach_opt (shock and tip-clearance losses on the high speed lines) */
+    double mach = U / sqrt(GAMMA_AIR * 287.0 * T01);
+    if (mach > t->mach_opt) {
+        double y = (mach - t->mach_opt) / t->mach_w;
+        eta *= 1.0 - y * y;
+    }
     if (eta < t->eta_min) eta = t->eta_min;
     o->mdot = mdot;
     o->eta = eta;

@@ -2,10 +2,12 @@
  * test_engine_lhr.c — the low-heat-rejection variants (0.5 and 1.0 mm zirconia,
  * paper Section III.B.3, Fig. 18) against the all-metal engine, crank-angle
  * fidelity on the dynamometer. Only the conventional rated point was
- * calibrated (wastegate area); everything about the LHR engines is PREDICTED.
- * The paper's +15.7 % / +19.8 % over 1350 hp are NOT reproduced within 2
- * points by this model (it predicts ~+12.4 % for both, see the report and
- * print-outs); the tests check the paper's trends.
+ * calibrated (wastegate area, +10.0 % over 1350 hp); everything about the LHR
+ * engines is PREDICTED. This model predicts +13.8 % (0.5 mm) and +14.3 %
+ * (1.0 mm) over 1350 hp against the paper's +15.7 / +19.8 %: the 0.5 mm
+ * engine within 2 points, the 1.0 mm one NOT (its extra insulation mostly
+ * heats the charge, lower eta_v, rather than the exhaust). The tests check
+ * the paper's trends and the 0.5 mm gain.
  */
 #include "test_util.h"
 
@@ -53,8 +55,9 @@ static point steady(int variant, double rpm)
  * speed) and more power than the all-metal engine (+15.7 % and +19.8 % over
  * 1350 hp vs +9.9 %). Predicted (not calibrated). Checked: ordering of heat
  * loss, surface temperature, boost and power; each LHR gain exceeds the
- * all-metal gain by >= 1 point; the 1.0 mm engine is not below the 0.5 mm
- * one (within 0.5 %). Fig. 21b: the coated piston's surface temperature
+ * all-metal gain by >= 1 point; the 1.0 mm engine above the 0.5 mm one; the
+ * 0.5 mm gain within 2 points of the paper's +15.7 % (the 1.0 mm gain is
+ * printed, not asserted: +14.3 % vs +19.8 %). Fig. 21b: the coated piston's surface temperature
  * swings more over a cycle (thin low-diffusivity layer). The numbers are
  * printed for the report. */
 static void lhr_rated_point_trends(void **state)
@@ -77,7 +80,8 @@ static void lhr_rated_point_trends(void **state)
     assert_true(l5.boost > c.boost && l10.boost > c.boost);
     assert_true(l5.power > c.power && l10.power > c.power);
     assert_true(l5.power / ref - c.power / ref > 0.01);
-    assert_true(l10.power > 0.995 * l5.power);
+    assert_true(l10.power > l5.power);
+    assert_close(100 * (l5.power / ref - 1), 15.7, 0, 2.0); /* paper III.B.3, 2 points */
 }
 
 /* EVIDENCE: paper Section III.B.3 / Fig. 18a: "the power output of the baseline

@@ -160,20 +160,32 @@ static void wall_steady_conduction(void **state)
 
 /* EVIDENCE: the synthetic turbomachinery maps (engine_turbo.c): compressor
  * flow = rho D^2 phi_ch sqrt(U^2 - dh/psi0), zero at the zero-flow line;
- * efficiency peaks at phi_opt; a stopped wheel passes flow when PR < 1 with no
- * work; turbine efficiency peaks (eta_max) at the optimum blade-speed ratio.
- * Similarity scaling: flow x1.6 at equal tip speed. Closed form. */
+ * efficiency peaks at phi_opt and, above the tip Mach number M_opt, falls by
+ * the factor 1 - ((M - M_opt)/M_width)^2 (M = U / sqrt(1.4 R T01)); a stopped
+ * wheel passes flow when PR < 1 with no work; turbine efficiency peaks
+ * (eta_max) at the optimum blade-speed ratio. Similarity scaling: flow x1.6
+ * and equal efficiency at equal tip speed. Closed form. */
 static void turbo_maps(void **state)
 {
     (void)state;
     en_turbo t = {.d_c = 0.1, .d_t = 0.1, .psi0 = 0.9, .phi_ch = 0.22, .eta_max = 0.8,
-                  .phi_opt = 0.13, .phi_w = 0.15, .eta_min = 0.45, .a_t = 1e-3, .eta_t = 0.8,
-                  .bsr_opt = 0.7, .inertia = 1e-3, .mech_eff = 0.98};
+                  .phi_opt = 0.13, .phi_w = 0.15, .eta_min = 0.45, .mach_opt = 1.0,
+                  .mach_w = 1.5, .a_t = 1e-3, .eta_t = 0.8, .bsr_opt = 0.7, .inertia = 1e-3,
+                  .mech_eff = 0.98};
     en_comp_out o;
     double w = 9000, U = w * 0.05, T1 = 298, p1 = 1e5, pr = 3.0;
     double dh = 1005 * T1 * (pow(pr, 0.4 / 1.4) - 1), rho = p1 / (287 * T1);
     en_compressor(&t, w, p1, T1, pr * p1, &o);
     assert_close(o.mdot, rho * 0.01 * 0.22 * sqrt(U * U - dh / 0.9), 1e-9, 0);
+    /* efficiency: island in phi times the tip-Mach fall-off (M = 1.30 here) */
+    double phi = o.mdot / (rho * U * 0.01), mach = U / sqrt(1.4 * 287 * T1);
+    double xphi = (phi - 0.13) / 0.15, xm = (mach - 1.0) / 1.5;
+    assert_true(mach > 1.25 && mach < 1.35);
+    assert_close(o.eta, 0.8 * (1 - xphi * xphi) * (1 - xm * xm), 1e-9, 0);
+    en_compressor(&t, 5000, p1, T1, 1.5 * p1, &o); /* M = 0.72: island alone */
+    phi = o.mdot / (rho * 250 * 0.01);
+    xphi = (phi - 0.13) / 0.15;
+    assert_close(o.eta, 0.8 * (1 - xphi * xphi), 1e-9, 0);
     double w0 = sqrt(dh / 0.9) / 0.05;
     en_compressor(&t, w0 * 0.999, p1, T1, pr * p1, &o);
     assert_true(o.mdot == 0);

@@ -216,8 +216,10 @@ static void pointmass_kinematics_and_channels(void **state)
 
 /* EVIDENCE: a saved state (continuous states + gear/shift state) restores
  * the run: map engine, saved at 5 s (between the 2nd and 3rd shift),
- * continued to 12 s twice; speed and gear agree (tol 1e-6: restore
- * re-initialises CVODE). Consistency check. */
+ * continued to 12 s twice; speed and gear agree (tol 1e-5, 10 x the run's
+ * rtol: restore re-initialises CVODE, whose error control then takes
+ * different steps; 2.6e-6 seen with the issue-5 engine maps, 1e-6 was
+ * passed before by a margin smaller than rtol). Consistency check. */
 static void save_restore_mid_run(void **state)
 {
     (void)state;
@@ -240,7 +242,7 @@ static void save_restore_mid_run(void **state)
     assert_int_equal(ts_state_restore(m, d, buf, n, &err), TS_OK);
     assert_close(ts_time(d), 5.0, 1e-12, 0);
     assert_int_equal(ts_advance(m, d, 12.0, NULL, NULL, &err), TS_OK);
-    assert_close(ts_latest(d)[iv], v1, 1e-6, 0);
+    assert_close(ts_latest(d)[iv], v1, 1e-5, 0);
     assert_close(ts_latest(d)[ig], g1, 0, 0);
     assert_close(g1, 4, 0, 0);
     free(buf);
