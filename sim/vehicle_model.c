@@ -354,12 +354,31 @@ static int chol_solve(vm_work *w, const double *M, double *b, int n)
 
 /* ---- forces ----------------------------------------------------------------- */
 
-/* Span part of one element: maps, forces and inertia. Defined with the spans. */
+/* The spans' kinetic energy t and momentum p (compact columns cols) at the
+ * current q, with the spin rates qdv (= q_d with the spins zeroed): the base
+ * point of the span velocity terms' differences, taken from the maps that
+ * span_element builds anyway. */
+/* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
+ * spins of a and b, the modal coordinates. */
+typedef struct cset {
+    int n;
+    int idx[8 + 2 * TS_SPAN_MAX_MODES];
+} cset;
+typedef struct span_base {
+    double qdv[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
+    double t[VM_NSPAN];
+    double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES];
+    cset cols[VM_NSPAN];
+} span_base;
+
+/* Span part of one element: maps, forces and inertia (and the base point of
+ * the velocity terms when sb is non-NULL). Defined with the spans. */
 static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
                          int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         int inertia, vm_diag *diag);
+                         int inertia, vm_diag *diag, span_base *sb);
 
-static void span_velocity_terms(const vm *v, const double *q, const double *qd, double *Q);
+static span_base *span_base_init(const vm *v, const double *qd, span_base *sb);
+static void span_velocity_terms(const vm *v, const double *q, const span_base *sb, double *Q);
 
 /* Generalised forces Q (and M if inertia) at (t, q, qd). */
 static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
@@ -380,6 +399,8 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         M = w->M;
     }
     /* track elements */
+    span_base sb_store;
+    span_base *sb = inertia && qd && v->dynamic ? span_base_init(v, qd, &sb_store) : NULL;
     double fr[VM_NB][2];
     memset(fr, 0, sizeof fr);
     double rr_force[2] = {0, 0};
@@ -392,7 +413,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         for (int s = 0; s < VM_NSPAN; s++)
             if (v->span[s].sp && v->span[s].elem == el) se = &v->span[s];
         if (se) {
-            span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, inertia, diag);
+            span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, inertia, diag, sb);
             if (diag && (a == VM_REAR_ROLLER || b == VM_REAR_ROLLER)) {
                 /* end force of the span on the rear roller (chord axes -> world) */
                 ts_span_end_forces ef;
@@ -422,7 +443,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     }
     for (int b = 0; b < VM_NB; b++)
         add_force(Q, &k.j[b], fr[b]);
-    if (inertia && qd && v->dynamic) span_velocity_terms(v, q, qd, Q);
+    if (sb) span_velocity_terms(v, q, sb, Q);
     /* foundation and anchor */
     for (int i = 0; i < VM_NRW; i++) {
         int b = VM_RW1 + i;
@@ -471,12 +492,6 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
 
 /* ---- dynamic spans (track_span.h elements) ---------------------------------- */
 
-/* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
- * spins of a and b, the modal coordinates. */
-typedef struct cset {
-    int n;
-    int idx[8 + 2 * TS_SPAN_MAX_MODES];
-} cset;
 
 static int cset_add(cset *c, int i)
 {
@@ -614,36 +629,38 @@ static void spans_at(const vm *v, const double *qs, const double *qd, double t[V
     }
 }
 
+/* Base point of the velocity terms: q_d with the spin rates zeroed. */
+static span_base *span_base_init(const vm *v, const double *qd, span_base *sb)
+{
+    /* the track's transport around the circuit (the spins) is left out of these
+     * terms, as the paper drops the transport-speed terms of Eqs. 1-2 (II.B) */
+    memcpy(sb->qdv, qd, (size_t)v->nq * sizeof *sb->qdv);
+    for (int b = 0; b < VM_NB; b++)
+        sb->qdv[QS0 + b] = 0;
+    memset(sb->t, 0, sizeof sb->t);
+    return sb;
+}
+
 /* Velocity terms of the span mass blocks, which depend on the hull pitch and
  * on the road arms at the spans' ends: Q += dT/dq - (dM/dt) q_d, by forward
- * differences from q (the direction of q_d for dM/dt; theta and the arms for
- * dT/dq — no span ends on two road wheels, so one perturbation serves all
- * arms). Truncation error ~eps/2 relative (1e-5 rad against geometry that
+ * differences from q (base point from span_element; the direction of q_d for
+ * dM/dt; theta and the arms for dT/dq — no span ends on two road wheels, so
+ * one perturbation serves all arms). Truncation error ~eps/2 relative (1e-5 rad against geometry that
  * changes over ~1 rad), far below the integration tolerances; the central
  * differences used before cost two more map evaluations per term. */
-static void span_velocity_terms(const vm *v, const double *q, const double *qd, double *Q)
+static void span_velocity_terms(const vm *v, const double *q, const span_base *sb, double *Q)
 {
     const double eps = 1e-5; /* [rad], differencing step */
     int nq = v->nq;
-    /* the track's transport around the circuit (the spins) is left out of these
-     * terms, as the paper drops the transport-speed terms of Eqs. 1-2 (II.B) */
-    double qdv[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
+    const double *qd = sb->qdv;
     double qs[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
-    memcpy(qdv, qd, (size_t)nq * sizeof *qdv);
-    for (int b = 0; b < VM_NB; b++)
-        qdv[QS0 + b] = 0;
-    qd = qdv;
-    double t0[VM_NSPAN] = {0}, tp[VM_NSPAN] = {0};
-    double p0[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES], pp[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES];
-    /* output arrays, filled by spans_at (not read before) */
-    /* cppcheck-suppress legacyUninitvar */
-    cset cols[VM_NSPAN];
-    spans_at(v, q, qd, t0, p0, cols, 0);
+    double tp[VM_NSPAN] = {0};
+    double pp[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES];
     double g = qd[QT] * qd[QT];
     for (int i = 0; i < VM_NRW; i++)
         g += qd[QA0 + i] * qd[QA0 + i];
     g = sqrt(g);
-    if (g > 0) {
+    if (g > 0) { /* (dM/dt) q_d: the momenta at q + eps q_d / |q_d| */
         memcpy(qs, q, (size_t)nq * sizeof *qs);
         qs[QT] += eps * qd[QT] / g;
         for (int i = 0; i < VM_NRW; i++)
@@ -651,16 +668,15 @@ static void span_velocity_terms(const vm *v, const double *q, const double *qd, 
         /* cppcheck-suppress legacyUninitvar */
         spans_at(v, qs, qd, tp, pp, NULL, 0);
         for (int s = 0; s < VM_NSPAN; s++) {
-            const span_el *se = &v->span[s];
-            if (!se->sp) continue;
+            if (!v->span[s].sp) continue;
             /* the compact column sets at q and q + eps d are the same
              * (span_map_build adds the columns in a fixed order) */
-            const int *idx = cols[s].idx;
-            for (int c = 0; c < cols[s].n; c++)
-                Q[idx[c]] -= g * (pp[s][c] - p0[s][c]) / eps;
+            const int *idx = sb->cols[s].idx;
+            for (int c = 0; c < sb->cols[s].n; c++)
+                Q[idx[c]] -= g * (pp[s][c] - sb->p[s][c]) / eps;
         }
     }
-    for (int pass = 0; pass < 2; pass++) { /* 0: theta, 1: the road arms */
+    for (int pass = 0; pass < 2; pass++) { /* dT/dq: 0 theta, 1 the road arms */
         memcpy(qs, q, (size_t)nq * sizeof *qs);
         if (pass == 0)
             qs[QT] += eps;
@@ -673,7 +689,7 @@ static void span_velocity_terms(const vm *v, const double *q, const double *qd, 
             if (!v->span[s].sp) continue;
             int a = v->span[s].elem, b = (a + 1) % VM_NB;
             if (pass == 1 && a < VM_RW1 && b < VM_RW1) continue;
-            double d = (tp[s] - t0[s]) / eps;
+            double d = (tp[s] - sb->t[s]) / eps;
             if (pass == 0)
                 Q[QT] += d;
             else
@@ -684,12 +700,17 @@ static void span_velocity_terms(const vm *v, const double *q, const double *qd, 
 
 static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
                          int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         int inertia, vm_diag *diag)
+                         int inertia, vm_diag *diag, span_base *sb)
 {
     const ts_span *sp = se->sp;
     int n = sp->n, nq = v->nq;
     span_map mp;
     span_map_build(v, k, se, e, a, b, &mp);
+    if (sb) {
+        int s = (int)(se - v->span);
+        sb->t[s] = span_ke(v, se, &mp, sb->qdv, sb->p[s]);
+        sb->cols[s] = mp.cs;
+    }
     const cset cs = mp.cs;
     double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp.B;
     const double *rx = mp.rx, *ry0 = mp.ry0, *ry1 = mp.ry1;
