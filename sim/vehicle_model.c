@@ -129,6 +129,8 @@ struct vm {
     /* equilibrium */
     double *y_eq;
     double t_static;
+    double g_eq;           /* loop geometric stretch at the equilibrium [m] */
+    double c_loop, c_tail; /* compliance of the loop and of anchor wheel -> sprocket [m/N] */
 };
 
 struct vm_work {
@@ -380,6 +382,19 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
 static span_base *span_base_init(const vm *v, const double *qd, span_base *sb);
 static void span_velocity_terms(const vm *v, const double *q, const span_base *sb, double *Q);
 
+/* Quasi-static rear-roller tension of the massless track (vm_diag) for the
+ * loop's geometric stretch g and the sprocket torque tau. Free wheels carry
+ * one tension T_A from the sprocket round the top to the anchor wheel and
+ * T_B = T_A + tau/r_s from there to the sprocket (sprocket torque balance);
+ * the loop's stretch sum (T - P0) L_e/EA equals g (the spins telescope out):
+ * T_A = P0 + (g - tau/r_s C_B)/C_loop, referred to the equilibrium; 0 when
+ * that is negative (a chain cannot push: the elements' T >= 0 clip). */
+static double quasi_static_tension(const vm *v, double g, double tau)
+{
+    double t = v->t_static + (g - v->g_eq - tau / v->rho_b[VM_SPROCKET] * v->c_tail) / v->c_loop;
+    return t > 0 ? t : 0;
+}
+
 /* Generalised forces Q (and M if inertia) at (t, q, qd). */
 static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
                    double *Q, int inertia, int drive_on, vm_diag *diag)
@@ -404,11 +419,13 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     double fr[VM_NB][2];
     memset(fr, 0, sizeof fr);
     double rr_force[2] = {0, 0};
+    double loop_stretch = 0;
     for (int el = 0; el < VM_NB; el++) {
         int a = el, b = (el + 1) % VM_NB;
         elem e;
         tangent(v, &k, a, b, &e);
         e.dpsi = wrap_pi(e.psi - v->psi0[el]);
+        loop_stretch += (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi;
         const span_el *se = NULL;
         for (int s = 0; s < VM_NSPAN; s++)
             if (v->span[s].sp && v->span[s].elem == el) se = &v->span[s];
@@ -484,6 +501,8 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     Q[QT] -= tau;
     if (diag) {
         diag->drive_torque = tau;
+        diag->loop_stretch = loop_stretch;
+        diag->tension_quasi_static = quasi_static_tension(v, loop_stretch, tau);
         double up[2] = {k.sth, k.cth};
         diag->rear_roller_normal = -(rr_force[0] * up[0] + rr_force[1] * up[1]);
     }
@@ -1001,6 +1020,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         vm_diag dg;
         forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, 0, &dg);
         v->t_static = dg.tension_end1[0];
+        v->g_eq = dg.loop_stretch;
     }
     memcpy(v->y_eq, q, (size_t)nq * sizeof(double));
 done:
@@ -1188,6 +1208,10 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
         loop += v->ell0[el] + wa * v->rho_b[a];
     }
     (void)loop;
+    for (int el = 0; el < VM_NB; el++) {
+        v->c_loop += v->len_el[el] / v->ea;
+        if (el >= VM_RW1 + v->anchor) v->c_tail += v->len_el[el] / v->ea;
+    }
     double m_track = tc->mass_per_length * loop; /* one side */
     double m_body = 0.5 * vc->mass - m_track - VM_NRW * (v->m_w + v->m_arm);
     if (m_body <= 0) {
@@ -1270,7 +1294,10 @@ int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double spr
     w->M[QT * nq + QT] += sprocket_inertia;
     w->M[is * nq + QT] -= sprocket_inertia;
     w->M[QT * nq + is] -= sprocket_inertia;
-    if (diag) diag->drive_torque = sprocket_torque;
+    if (diag) {
+        diag->drive_torque = sprocket_torque;
+        diag->tension_quasi_static = quasi_static_tension(v, diag->loop_stretch, sprocket_torque);
+    }
     memcpy(ydot, qd, (size_t)nq * sizeof(double));
     memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
     if (chol_solve(w, w->M, ydot + nq, nq)) return 1;
