@@ -40,9 +40,10 @@
  * -tau_d K x_d on each span, the same retardation time as the chain elements.
  *
  * The span blocks of M depend on the hull pitch and the end road arms; their
- * velocity terms dT/dq - (dM/dt) q_d are taken by central differences
- * (span_velocity_terms), so the whole model is a consistent Lagrangian system
- * (tests/sim/test_vehicle_energy.c).
+ * velocity terms dT/dq - (dM/dt) q_d are taken in closed form for the pitch
+ * (span_pitch_terms: a pitch change is a rigid rotation) and by a forward
+ * difference for the arms (span_velocity_terms), so the whole model is a
+ * consistent Lagrangian system (tests/sim/test_vehicle_energy.c).
  *
  * Left out: track translation-speed (gyroscopic) terms; the chord-rotation
  * terms of ts_span_force (Coriolis, centripetal: the frame kinetic energy
@@ -124,7 +125,7 @@ struct vm {
     double i_extra;             /* extra hull pitch inertia */
     double mqs[4][4];           /* quasi-static spin coupling among bodies 0..3 */
     span_el span[VM_NSPAN];
-    unsigned span_bodies, arm_span_bodies; /* end bodies of the spans (bit b = body b) */
+    unsigned arm_span_bodies; /* end bodies of the spans ending on a road wheel (bit b) */
     int dynamic;
     /* equilibrium */
     double *y_eq;
@@ -625,26 +626,24 @@ static double span_ke(const vm *v, const span_el *se, const span_map *mp, const 
     return t;
 }
 
-/* Evaluate the spans' maps at coordinates qs: kinetic energy t[s] and
- * momentum p[s][c] (p may be NULL). Only the spans' end bodies are placed;
- * arm_spans_only: just the spans ending on a road wheel. */
-static void spans_at(const vm *v, const double *qs, const double *qd, double t[VM_NSPAN],
-                     double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES], cset *cols,
-                     int arm_spans_only)
+/* Evaluate the maps of the spans ending on a road wheel at coordinates qs:
+ * kinetic energy t[s] and momentum p[s][c] (only those spans' end bodies are
+ * placed). */
+static void arm_spans_at(const vm *v, const double *qs, const double *qd, double t[VM_NSPAN],
+                         double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES])
 {
     kin k;
-    kinematics_of(v, qs, NULL, arm_spans_only ? v->arm_span_bodies : v->span_bodies, &k);
+    kinematics_of(v, qs, NULL, v->arm_span_bodies, &k);
     for (int s = 0; s < VM_NSPAN; s++) {
         const span_el *se = &v->span[s];
         if (!se->sp) continue;
         int a = se->elem, b = (se->elem + 1) % VM_NB;
-        if (arm_spans_only && a < VM_RW1 && b < VM_RW1) continue; /* t[s] not needed */
+        if (a < VM_RW1 && b < VM_RW1) continue;
         elem e;
         span_map mp;
         tangent(v, &k, a, b, &e);
         span_map_build(v, &k, se, &e, a, b, &mp);
-        t[s] = span_ke(v, se, &mp, qd, p ? p[s] : NULL);
-        if (cols) cols[s] = mp.cs;
+        t[s] = span_ke(v, se, &mp, qd, p[s]);
     }
 }
 
@@ -661,12 +660,13 @@ static span_base *span_base_init(const vm *v, const double *qd, span_base *sb)
 }
 
 /* Velocity terms of the span mass blocks, which depend on the hull pitch and
- * on the road arms at the spans' ends: Q += dT/dq - (dM/dt) q_d, by forward
- * differences from q (base point from span_element; the direction of q_d for
- * dM/dt; theta and the arms for dT/dq — no span ends on two road wheels, so
- * one perturbation serves all arms). Truncation error ~eps/2 relative (1e-5 rad against geometry that
- * changes over ~1 rad), far below the integration tolerances; the central
- * differences used before cost two more map evaluations per term. */
+ * on the road arms at the spans' ends: Q += dT/dq - (dM/dt) q_d. The pitch
+ * part in closed form (span_pitch_terms, from span_element); the arm part by
+ * a forward difference from q (base point from span_element) in all arms at
+ * once (no span ends on two road wheels), giving dT/dalpha and dp/dalpha,
+ * (dM/dt) q_d = sum alpha_d dp/dalpha over the spans' end arms. Truncation
+ * error ~eps/2 relative (1e-5 rad against geometry that changes over ~1 rad),
+ * far below the integration tolerances. */
 static void span_velocity_terms(const vm *v, const double *q, const span_base *sb, double *Q)
 {
     const double eps = 1e-5; /* [rad], differencing step */
@@ -675,46 +675,57 @@ static void span_velocity_terms(const vm *v, const double *q, const span_base *s
     double qs[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
     double tp[VM_NSPAN] = {0};
     double pp[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES];
-    double g = qd[QT] * qd[QT];
-    for (int i = 0; i < VM_NRW; i++)
-        g += qd[QA0 + i] * qd[QA0 + i];
-    g = sqrt(g);
-    if (g > 0) { /* (dM/dt) q_d: the momenta at q + eps q_d / |q_d| */
-        memcpy(qs, q, (size_t)nq * sizeof *qs);
-        qs[QT] += eps * qd[QT] / g;
-        for (int i = 0; i < VM_NRW; i++)
-            qs[QA0 + i] += eps * qd[QA0 + i] / g;
-        /* cppcheck-suppress legacyUninitvar */
-        spans_at(v, qs, qd, tp, pp, NULL, 0);
-        for (int s = 0; s < VM_NSPAN; s++) {
-            if (!v->span[s].sp) continue;
-            /* the compact column sets at q and q + eps d are the same
-             * (span_map_build adds the columns in a fixed order) */
-            const int *idx = sb->cols[s].idx;
-            for (int c = 0; c < sb->cols[s].n; c++)
-                Q[idx[c]] -= g * (pp[s][c] - sb->p[s][c]) / eps;
-        }
+    memcpy(qs, q, (size_t)nq * sizeof *qs);
+    for (int i = 0; i < VM_NRW; i++) /* no span ends on two road wheels */
+        qs[QA0 + i] += eps;
+    /* cppcheck-suppress legacyUninitvar */
+    arm_spans_at(v, qs, qd, tp, pp);
+    for (int s = 0; s < VM_NSPAN; s++) {
+        if (!v->span[s].sp) continue;
+        int a = v->span[s].elem, b = (a + 1) % VM_NB;
+        if (a < VM_RW1 && b < VM_RW1) continue;
+        int iq = QA0 + (a >= VM_RW1 ? a : b) - VM_RW1;
+        Q[iq] += (tp[s] - sb->t[s]) / eps; /* dT/dalpha */
+        /* (dM/dalpha alpha_d) q_d = alpha_d dp/dalpha; the compact column sets
+         * at q and q + eps e_alpha are the same (span_map_build adds the
+         * columns in a fixed order) */
+        double rate = qd[iq];
+        if (rate == 0) continue;
+        const int *idx = sb->cols[s].idx;
+        for (int c = 0; c < sb->cols[s].n; c++)
+            Q[idx[c]] -= rate * (pp[s][c] - sb->p[s][c]) / eps;
     }
-    for (int pass = 0; pass < 2; pass++) { /* dT/dq: 0 theta, 1 the road arms */
-        memcpy(qs, q, (size_t)nq * sizeof *qs);
-        if (pass == 0)
-            qs[QT] += eps;
-        else
-            for (int i = 0; i < VM_NRW; i++)
-                qs[QA0 + i] += eps;
-        /* the arms move only the spans ending on a road wheel */
-        spans_at(v, qs, qd, tp, NULL, NULL, pass == 1);
-        for (int s = 0; s < VM_NSPAN; s++) {
-            if (!v->span[s].sp) continue;
-            int a = v->span[s].elem, b = (a + 1) % VM_NB;
-            if (pass == 1 && a < VM_RW1 && b < VM_RW1) continue;
-            double d = (tp[s] - sb->t[s]) / eps;
-            if (pass == 0)
-                Q[QT] += d;
-            else
-                Q[QA0 + (a >= VM_RW1 ? a : b) - VM_RW1] += d;
-        }
+}
+
+/* The hull-pitch part of a span's velocity terms, in closed form. Turning
+ * theta with the arm angles (hull-relative), spins and modes held is a rigid
+ * rotation of the whole running gear about the CG: every map entry is a chord
+ * vector dotted with a body Jacobian column, and the columns of theta and the
+ * arms turn with the chord, so only the (x, z) columns change, as if (x_d,
+ * z_d) were turned the other way. The span's block obeys
+ * Ms(theta + d) = S(d)^T Ms S(d), S = rotation R(d) on the (x, z) entries, so
+ * with S' = dS/dd at 0 ([0 -1; 1 0] on (x, z)) and p = Ms q_d:
+ *   dT/dtheta = p . S' q_d = x_d p_z - z_d p_x,
+ *   (dMs/dtheta) q_d = S'^T p + Ms S' q_d.
+ * Adds dT/dtheta - theta_d (dMs/dtheta) q_d (q_d with the spin rates zeroed,
+ * sb->qdv) to Q; tests/sim/test_vehicle_energy.c checks the sum. */
+static void span_pitch_terms(const span_base *sb, const cset *cs,
+                             double Mc[][8 + 2 * TS_SPAN_MAX_MODES], int s, double *Q)
+{
+    const double *qd = sb->qdv, *p = sb->p[s];
+    int cx = -1, cz = -1;
+    for (int c = 0; c < cs->n; c++) {
+        if (cs->idx[c] == QX) cx = c;
+        if (cs->idx[c] == QZ) cz = c;
     }
+    if (cx < 0 || cz < 0) return; /* the hull columns are always in a span's set */
+    double xd = qd[QX], zd = qd[QZ], thd = qd[QT];
+    Q[QT] += xd * p[cz] - zd * p[cx];
+    if (thd == 0) return;
+    for (int c = 0; c < cs->n; c++)
+        Q[cs->idx[c]] -= thd * (xd * Mc[c][cz] - zd * Mc[c][cx]);
+    Q[QX] -= thd * p[cz];
+    Q[QZ] += thd * p[cx];
 }
 
 static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
@@ -808,6 +819,7 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
                 Y[r][c] = mb + cm;
             }
         }
+        double Mc[8 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES]; /* the block */
         for (int c1 = 0; c1 < cs.n; c1++)
             for (int c2 = c1; c2 < cs.n; c2++) {
                 double s = B[0][c1] * Y[0][c2] + B[1][c1] * Y[1][c2] + Cm[0][c1] * B[0][c2] +
@@ -816,9 +828,11 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
                 if (c2 >= cm0) s += Cm[2 + c2 - cm0][c1];
                 s += m * rx[c1] * rx[c2] + m / 3.0 * (ry0[c1] * ry0[c2] + ry1[c1] * ry1[c2]) +
                      m / 6.0 * (ry0[c1] * ry1[c2] + ry1[c1] * ry0[c2]);
+                Mc[c1][c2] = Mc[c2][c1] = s;
                 M[cs.idx[c1] * nq + cs.idx[c2]] += s;
                 if (c2 != c1) M[cs.idx[c2] * nq + cs.idx[c1]] += s;
             }
+        if (sb) span_pitch_terms(sb, &cs, Mc, (int)(se - v->span), Q);
     }
     if (diag) {
         ts_span_end_forces ef;
@@ -1092,9 +1106,7 @@ static ts_rc build_spans(vm *v, ts_err *err)
     v->dynamic = 1;
     for (int s = 0; s < VM_NSPAN; s++) {
         int a = v->span[s].elem, b = (a + 1) % VM_NB;
-        unsigned ends = 1u << a | 1u << b;
-        v->span_bodies |= ends;
-        if (a >= VM_RW1 || b >= VM_RW1) v->arm_span_bodies |= ends;
+        if (a >= VM_RW1 || b >= VM_RW1) v->arm_span_bodies |= 1u << a | 1u << b;
     }
     return TS_OK;
 }
