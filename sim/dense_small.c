@@ -3,8 +3,9 @@
  * right-looking LU with partial pivoting (Golub & Van Loan Alg. 3.4.1, the
  * trailing update column by column so the inner loop runs down contiguous
  * memory) and the right-looking (outer-product) Cholesky, likewise column by
- * column (Alg. 4.2.2), skipping zero multipliers so a sparse matrix ordered
- * for little fill (e.g. an arrowhead with its dense rows last) costs little. Leaves out blocking: meant for n below ~100.
+ * column (Alg. 4.2.2), touching only each column's nonzero rows, so a sparse
+ * matrix ordered for little fill (e.g. an arrowhead with its dense rows last)
+ * costs little. Leaves out blocking: meant for n below ~100.
  */
 #include "dense_small.h"
 
