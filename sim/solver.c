@@ -8,8 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "dense_small.h"
+
 #include <cvode/cvode.h>
-#include <lapacke.h>
+#include <cvode/cvode_ls.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -36,13 +38,13 @@ struct ts_ode {
  * Newton matrix I - gamma J has the block form [I  D; Mbl  Mbr] with D
  * diagonal (-gamma times the difference quotient of v by v). Eliminating the
  * first half, (Mbr - Mbl D) x2 = b2 - Mbl b1 and x1 = b1 - D x2: one h x h LU
- * instead of an n x n one (8x fewer flops), the same solution up to round-off.
+ * instead of an n x n one (8x fewer flops; dense_small.h, no BLAS threads), the same solution up to round-off.
  * setup() checks the structure exactly on each matrix and falls back to the
  * full n x n LU when it does not hold, so the solver is correct for any f. */
 typedef struct schur_ls {
     int n, h, full;
     double *S, *F, *d, *r;
-    lapack_int *piv;
+    int *piv;
     long last_flag;
 } schur_ls;
 
@@ -86,19 +88,18 @@ static int schur_setup(SUNLinearSolver ls, SUNMatrix A)
                 break;
             }
         }
-    lapack_int info;
+    int info;
     if (c->full) {
         memcpy(c->F, a, sizeof(double) * (size_t)n * (size_t)n);
-        info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, n, n, c->F, n, c->piv);
+        info = ts_lu_factor(c->F, n, n, c->piv);
     } else {
         for (int j = 0; j < h; j++)
             for (int i = 0; i < h; i++)
                 c->S[(size_t)j * h + i] =
                     a[(size_t)(h + j) * n + h + i] - a[(size_t)j * n + h + i] * c->d[j];
-        info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, h, h, c->S, h, c->piv);
+        info = ts_lu_factor(c->S, h, h, c->piv);
     }
     c->last_flag = info;
-    if (info < 0) return SUNLS_PACKAGE_FAIL_UNREC;
     return info > 0 ? SUNLS_LUFACT_FAIL : SUNLS_SUCCESS;
 }
 
@@ -110,9 +111,8 @@ static int schur_solve(SUNLinearSolver ls, SUNMatrix A, N_Vector xv, N_Vector bv
     int n = c->n, h = c->h;
     N_VScale(1.0, bv, xv);
     double *x = N_VGetArrayPointer(xv);
-    lapack_int info;
     if (c->full) {
-        info = LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', n, 1, c->F, n, c->piv, x, n);
+        ts_lu_solve(c->F, n, n, c->piv, x);
     } else {
         for (int i = 0; i < h; i++)
             c->r[i] = x[h + i];
@@ -122,14 +122,14 @@ static int schur_solve(SUNLinearSolver ls, SUNMatrix A, N_Vector xv, N_Vector bv
             for (int i = 0; i < h; i++)
                 c->r[i] -= col[i] * b1;
         }
-        info = LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', h, 1, c->S, h, c->piv, c->r, h);
+        ts_lu_solve(c->S, h, h, c->piv, c->r);
         for (int i = 0; i < h; i++) {
             x[i] -= c->d[i] * c->r[i];
             x[h + i] = c->r[i];
         }
     }
-    c->last_flag = info;
-    return info == 0 ? SUNLS_SUCCESS : SUNLS_PACKAGE_FAIL_UNREC;
+    c->last_flag = 0;
+    return SUNLS_SUCCESS;
 }
 
 static sunindextype schur_lastflag(SUNLinearSolver ls)
@@ -172,7 +172,7 @@ static SUNLinearSolver schur_make(int n, SUNContext ctx)
     c->F = malloc(sizeof(double) * (size_t)n * (size_t)n);
     c->d = malloc(sizeof(double) * (size_t)c->h);
     c->r = malloc(sizeof(double) * (size_t)c->h);
-    c->piv = malloc(sizeof(lapack_int) * (size_t)n);
+    c->piv = malloc(sizeof(int) * (size_t)n);
     if (!c->S || !c->F || !c->d || !c->r || !c->piv) {
         schur_free(ls);
         return NULL;
@@ -256,6 +256,10 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
                                               : SUNLinSol_Dense(o->y, o->A, o->ctx);
     if (!o->LS) goto nomem;
     if (check(o, CVodeSetLinearSolver(o->mem, o->LS, o->A), "CVodeSetLinearSolver", err))
+        goto fail;
+    if (opts->jac_eval_frequency > 0 &&
+        check(o, CVodeSetJacEvalFrequency(o->mem, opts->jac_eval_frequency),
+              "CVodeSetJacEvalFrequency", err))
         goto fail;
     if (opts->max_step > 0 &&
         check(o, CVodeSetMaxStep(o->mem, opts->max_step), "CVodeSetMaxStep", err))

@@ -35,6 +35,9 @@ typedef struct ts_ode_opts {
     int second_order;     /* non-zero: y = [q, q_d] (n/2 each) with dq/dt = q_d; the Newton
                            * systems are solved by their half-size Schur complement
                            * (falls back to the full LU when a matrix lacks that form) */
+    long jac_eval_frequency; /* max steps between Jacobian evaluations (CVODE msbj);
+                              * 0 = CVODE's default (51). CVODE still re-evaluates
+                              * on a convergence failure with a stale Jacobian. */
 } ts_ode_opts;
 
 typedef struct ts_ode_stats {

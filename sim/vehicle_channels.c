@@ -51,6 +51,12 @@ ts_rc vm_channels_declare(ts_model *m, ts_err *err)
                  vm_span_names[s]);
         rc = add(m, name, "m", desc, err);
     }
+    if (rc == TS_OK)
+        rc = add(m, "track.tension.quasi_static", "N",
+                 "rear-roller tension a massless track would have for the current support "
+                 "positions and sprocket torque (static element law, no damping); "
+                 "track.tension.rear_roller minus this is the dynamic part (Fig. 12)",
+                 err);
     return rc;
 }
 
@@ -78,4 +84,5 @@ void vm_channels_fill(const vm *v, const double *y, const double *ydot, const vm
         out[VM_CH_SPAN_T0 + s] = mid != 0 ? mid : dg->tension[vm_span_element[s]];
         out[VM_CH_SPAN_V0 + s] = dg->span_mid_deflection[s];
     }
+    out[VM_CH_T_QS] = dg->tension_quasi_static;
 }

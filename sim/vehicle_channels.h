@@ -9,7 +9,7 @@
  *   vehicle.x, vehicle.speed, hull.z, hull.pitch, hull.accel_x, hull.accel_z,
  *   track.tension.rear_roller, roller.rear.normal_force, track.anchor_force,
  *   road_arm.1..7.angle, road_wheel.1..7.load, span.<name>.tension (x5),
- *   span.<name>.deflection (x5).
+ *   span.<name>.deflection (x5), track.tension.quasi_static.
  */
 #ifndef TS_VEHICLE_CHANNELS_H
 #define TS_VEHICLE_CHANNELS_H
@@ -31,7 +31,8 @@ enum {
     VM_CH_LOAD0 = VM_CH_ARM0 + VM_NRW,      /* ground load per road wheel [N] */
     VM_CH_SPAN_T0 = VM_CH_LOAD0 + VM_NRW,   /* mid-span tension per free span [N] */
     VM_CH_SPAN_V0 = VM_CH_SPAN_T0 + VM_NSPAN, /* mid-span transverse deflection [m] */
-    VM_NCH = VM_CH_SPAN_V0 + VM_NSPAN
+    VM_CH_T_QS = VM_CH_SPAN_V0 + VM_NSPAN, /* quasi-static rear-roller tension [N] */
+    VM_NCH
 };
 
 /* Declare the VM_NCH channels, in block order, at the model's next indices. */

@@ -40,9 +40,10 @@
  * -tau_d K x_d on each span, the same retardation time as the chain elements.
  *
  * The span blocks of M depend on the hull pitch and the end road arms; their
- * velocity terms dT/dq - (dM/dt) q_d are taken by central differences
- * (span_velocity_terms), so the whole model is a consistent Lagrangian system
- * (tests/sim/test_vehicle_energy.c).
+ * velocity terms dT/dq - (dM/dt) q_d are taken in closed form for the pitch
+ * (span_pitch_terms: a pitch change is a rigid rotation) and by a forward
+ * difference for the arms (span_velocity_terms), so the whole model is a
+ * consistent Lagrangian system (tests/sim/test_vehicle_energy.c).
  *
  * Left out: track translation-speed (gyroscopic) terms; the chord-rotation
  * terms of ts_span_force (Coriolis, centripetal: the frame kinetic energy
@@ -61,6 +62,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "dense_small.h"
 #include "drive.h"
 #include "terrain.h"
 #include "track_span.h"
@@ -123,15 +125,18 @@ struct vm {
     double i_extra;             /* extra hull pitch inertia */
     double mqs[4][4];           /* quasi-static spin coupling among bodies 0..3 */
     span_el span[VM_NSPAN];
+    unsigned arm_span_bodies; /* end bodies of the spans ending on a road wheel (bit b) */
     int dynamic;
     /* equilibrium */
     double *y_eq;
     double t_static;
+    double g_eq;           /* loop geometric stretch at the equilibrium [m] */
+    double c_loop, c_tail; /* compliance of the loop and of anchor wheel -> sprocket [m/N] */
 };
 
 struct vm_work {
-    double *M, *Q, *B, *C;
-    double *qs; /* nq: perturbed coordinates (span velocity terms) */ /* nq x nq, nq, span maps */
+    double *M, *Q;
+    double *P, *pb; /* nq x nq, nq: the mass matrix reordered for its Cholesky factor */
     double sx[2 + 2 * TS_SPAN_MAX_MODES], sxd[2 + 2 * TS_SPAN_MAX_MODES],
         sf[2 + 2 * TS_SPAN_MAX_MODES];
 };
@@ -174,7 +179,11 @@ static int is_station(const double *list, int n, int station)
 
 /* ---- kinematics ---------------------------------------------------------- */
 
-static void kinematics(const vm *v, const double *q, const double *qd, kin *k)
+#define ALL_BODIES ((1u << VM_NB) - 1)
+
+/* Body centres, velocities and Jacobians; only the bodies in mask (bit b =
+ * body b) are filled (the span velocity terms need only the spans' ends). */
+static void kinematics_of(const vm *v, const double *q, const double *qd, unsigned mask, kin *k)
 {
     k->th = q[QT];
     k->cth = cos(k->th);
@@ -182,6 +191,7 @@ static void kinematics(const vm *v, const double *q, const double *qd, kin *k)
     k->thd = qd ? qd[QT] : 0;
     double xd = qd ? qd[QX] : 0, zd = qd ? qd[QZ] : 0;
     for (int b = 0; b < VM_NB; b++) {
+        if (!(mask >> b & 1u)) continue;
         jcol *j = &k->j[b];
         j->n = 3;
         j->idx[0] = QX;
@@ -221,6 +231,11 @@ static void kinematics(const vm *v, const double *q, const double *qd, kin *k)
             k->v[b][1] += ad * j->v[3][1];
         }
     }
+}
+
+static void kinematics(const vm *v, const double *q, const double *qd, kin *k)
+{
+    kinematics_of(v, q, qd, ALL_BODIES, k);
 }
 
 /* Tangent line from body a to body b (clockwise circuit, outward = left). */
@@ -316,25 +331,70 @@ static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M
                 M[(QS0 + a) * nq + QS0 + b] += v->mqs[a][b];
 }
 
-/* Cholesky solve of the symmetric positive-definite M x = b (in place; M,
- * row-major, is overwritten by its factor). LAPACK dpotrf/dpotrs (vectorised
- * BLAS kernels; the hand loop they replace cost a fifth of a run): M's
- * row-major lower triangle is the column-major upper one. */
-static int chol_solve(double *M, double *b, int n)
+/* Cholesky solve of the symmetric positive-definite M x = b (b in place),
+ * dense_small.h (single-threaded; threaded BLAS spent more time spinning than
+ * factoring at n <= 31). M is sparse but its hull rows (x, z, theta, the
+ * first three) are dense: factored in REVERSED order (modes, spins, arms,
+ * hull last: an arrowhead ordering) the factor fills in only along the spans'
+ * couplings, and the zero-skipping factorisation does a fraction of the
+ * dense work. Uses w->P, w->pb. */
+static int chol_solve(vm_work *w, const double *M, double *b, int n)
 {
-    if (LAPACKE_dpotrf_work(LAPACK_COL_MAJOR, 'U', n, M, n) != 0) return 1;
-    return LAPACKE_dpotrs_work(LAPACK_COL_MAJOR, 'U', n, 1, M, n, b, n) != 0;
+    double *P = w->P, *pb = w->pb;
+    for (int i = 0; i < n; i++) {
+        const double *mi = M + (size_t)(n - 1 - i) * (size_t)n + (n - 1);
+        double *pi = P + (size_t)i * (size_t)n;
+        for (int j = i; j < n; j++) /* the lower triangle (column-major) is all it reads */
+            pi[j] = mi[-j];
+        pb[i] = b[n - 1 - i];
+    }
+    if (ts_chol_factor(P, n) != 0) return 1;
+    ts_chol_solve(P, n, pb);
+    for (int i = 0; i < n; i++)
+        b[n - 1 - i] = pb[i];
+    return 0;
 }
 
 /* ---- forces ----------------------------------------------------------------- */
 
-/* Span part of one element: maps, forces and inertia. Defined with the spans. */
+/* The spans' kinetic energy t and momentum p (compact columns cols) at the
+ * current q, with the spin rates qdv (= q_d with the spins zeroed): the base
+ * point of the span velocity terms' differences, taken from the maps that
+ * span_element builds anyway. */
+/* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
+ * spins of a and b, the modal coordinates. */
+typedef struct cset {
+    int n;
+    int idx[8 + 2 * TS_SPAN_MAX_MODES];
+} cset;
+typedef struct span_base {
+    double qdv[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
+    double t[VM_NSPAN];
+    double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES];
+    cset cols[VM_NSPAN];
+} span_base;
+
+/* Span part of one element: maps, forces and inertia (and the base point of
+ * the velocity terms when sb is non-NULL). Defined with the spans. */
 static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
                          int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         int inertia, vm_diag *diag);
+                         int inertia, vm_diag *diag, span_base *sb);
 
-static void span_velocity_terms(const vm *v, vm_work *w, const double *q, const double *qd,
-                                double *Q);
+static span_base *span_base_init(const vm *v, const double *qd, span_base *sb);
+static void span_velocity_terms(const vm *v, const double *q, const span_base *sb, double *Q);
+
+/* Quasi-static rear-roller tension of the massless track (vm_diag) for the
+ * loop's geometric stretch g and the sprocket torque tau. Free wheels carry
+ * one tension T_A from the sprocket round the top to the anchor wheel and
+ * T_B = T_A + tau/r_s from there to the sprocket (sprocket torque balance);
+ * the loop's stretch sum (T - P0) L_e/EA equals g (the spins telescope out):
+ * T_A = P0 + (g - tau/r_s C_B)/C_loop, referred to the equilibrium; 0 when
+ * that is negative (a chain cannot push: the elements' T >= 0 clip). */
+static double quasi_static_tension(const vm *v, double g, double tau)
+{
+    double t = v->t_static + (g - v->g_eq - tau / v->rho_b[VM_SPROCKET] * v->c_tail) / v->c_loop;
+    return t > 0 ? t : 0;
+}
 
 /* Generalised forces Q (and M if inertia) at (t, q, qd). */
 static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
@@ -355,19 +415,23 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         M = w->M;
     }
     /* track elements */
+    span_base sb_store;
+    span_base *sb = inertia && qd && v->dynamic ? span_base_init(v, qd, &sb_store) : NULL;
     double fr[VM_NB][2];
     memset(fr, 0, sizeof fr);
     double rr_force[2] = {0, 0};
+    double loop_stretch = 0;
     for (int el = 0; el < VM_NB; el++) {
         int a = el, b = (el + 1) % VM_NB;
         elem e;
         tangent(v, &k, a, b, &e);
         e.dpsi = wrap_pi(e.psi - v->psi0[el]);
+        loop_stretch += (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi;
         const span_el *se = NULL;
         for (int s = 0; s < VM_NSPAN; s++)
             if (v->span[s].sp && v->span[s].elem == el) se = &v->span[s];
         if (se) {
-            span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, inertia, diag);
+            span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, inertia, diag, sb);
             if (diag && (a == VM_REAR_ROLLER || b == VM_REAR_ROLLER)) {
                 /* end force of the span on the rear roller (chord axes -> world) */
                 ts_span_end_forces ef;
@@ -397,7 +461,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     }
     for (int b = 0; b < VM_NB; b++)
         add_force(Q, &k.j[b], fr[b]);
-    if (inertia && qd && v->dynamic) span_velocity_terms(v, w, q, qd, Q);
+    if (sb) span_velocity_terms(v, q, sb, Q);
     /* foundation and anchor */
     for (int i = 0; i < VM_NRW; i++) {
         int b = VM_RW1 + i;
@@ -438,6 +502,8 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     Q[QT] -= tau;
     if (diag) {
         diag->drive_torque = tau;
+        diag->loop_stretch = loop_stretch;
+        diag->tension_quasi_static = quasi_static_tension(v, loop_stretch, tau);
         double up[2] = {k.sth, k.cth};
         diag->rear_roller_normal = -(rr_force[0] * up[0] + rr_force[1] * up[1]);
     }
@@ -446,12 +512,6 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
 
 /* ---- dynamic spans (track_span.h elements) ---------------------------------- */
 
-/* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
- * spins of a and b, the modal coordinates. */
-typedef struct cset {
-    int n;
-    int idx[8 + 2 * TS_SPAN_MAX_MODES];
-} cset;
 
 static int cset_add(cset *c, int i)
 {
@@ -463,10 +523,13 @@ static int cset_add(cset *c, int i)
 
 /* The span's velocity map: x_d = B q_d (compact columns cs), and the frame
  * velocities f_x = rx . q_d (end 0 along the chord), f_y0 = ry0 . q_d,
- * f_y1 = ry1 . q_d (ends 0, 1 normal to it). */
+ * f_y1 = ry1 . q_d (ends 0, 1 normal to it). Only B's dense rows 0, 1 (the
+ * end feeds u0, u1) are stored: row 2 + m is the unit vector on the modal
+ * coordinate q0 + m, whose compact column is cs.n - nm + m (the modal columns
+ * come last). */
 typedef struct span_map {
     cset cs;
-    double B[2 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES];
+    double B[2][8 + 2 * TS_SPAN_MAX_MODES];
     double rx[8 + 2 * TS_SPAN_MAX_MODES], ry0[8 + 2 * TS_SPAN_MAX_MODES],
         ry1[8 + 2 * TS_SPAN_MAX_MODES];
 } span_map;
@@ -474,18 +537,15 @@ typedef struct span_map {
 static void span_map_build(const vm *v, const kin *k, const span_el *se, const elem *e, int a,
                            int b, span_map *mp)
 {
-    int n = se->sp->n;
-    cset cs = {0, {0}};
+    cset cs;
+    cs.n = 0;
     /* mp is this function's output: nothing in it is read before it is written */
     /* cppcheck-suppress ctuuninitvar */
     double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp->B;
     double *rx = mp->rx, *ry0 = mp->ry0, *ry1 = mp->ry1;
     int ncap = 8 + se->nm; /* hull 3, two arms, two spins, the modes (+1 spare) */
-    for (int r = 0; r < n; r++)
-        for (int c = 0; c < ncap; c++)
-            B[r][c] = 0;
     for (int c = 0; c < ncap; c++)
-        rx[c] = ry0[c] = ry1[c] = 0;
+        B[0][c] = B[1][c] = rx[c] = ry0[c] = ry1[c] = 0;
     double ell = e->ell;
     /* rows 0, 1: u0 = rho_a (Phi_a + dpsi), u1 = rho_b (Phi_b + dpsi) + l - l0 */
     for (int side = 0; side < 2; side++) {
@@ -510,8 +570,8 @@ static void span_map_build(const vm *v, const kin *k, const span_el *se, const e
     }
     B[0][cset_add(&cs, QS0 + a)] += v->rho_b[a];
     B[1][cset_add(&cs, QS0 + b)] += v->rho_b[b];
-    for (int m = 0; m < se->nm; m++)
-        B[2 + m][cset_add(&cs, se->q0 + m)] = 1.0;
+    for (int m = 0; m < se->nm; m++) /* unique to this span: no search */
+        cs.idx[cs.n++] = se->q0 + m;
     mp->cs = cs;
 }
 
@@ -566,101 +626,121 @@ static double span_ke(const vm *v, const span_el *se, const span_map *mp, const 
     return t;
 }
 
-/* Evaluate every span's map at coordinates qs: kinetic energy t[s] and
- * momentum p[s][c]. */
-static void spans_at(const vm *v, const double *qs, const double *qd, double t[VM_NSPAN],
-                     double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES], span_map mp[VM_NSPAN],
-                     int arm_spans_only)
+/* Evaluate the maps of the spans ending on a road wheel at coordinates qs:
+ * kinetic energy t[s] and momentum p[s][c] (only those spans' end bodies are
+ * placed). */
+static void arm_spans_at(const vm *v, const double *qs, const double *qd, double t[VM_NSPAN],
+                         double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES])
 {
     kin k;
-    kinematics(v, qs, NULL, &k);
+    kinematics_of(v, qs, NULL, v->arm_span_bodies, &k);
     for (int s = 0; s < VM_NSPAN; s++) {
         const span_el *se = &v->span[s];
         if (!se->sp) continue;
         int a = se->elem, b = (se->elem + 1) % VM_NB;
-        if (arm_spans_only && a < VM_RW1 && b < VM_RW1) continue; /* t[s] not needed */
+        if (a < VM_RW1 && b < VM_RW1) continue;
         elem e;
+        span_map mp;
         tangent(v, &k, a, b, &e);
-        span_map_build(v, &k, se, &e, a, b, &mp[s]);
-        t[s] = span_ke(v, se, &mp[s], qd, p ? p[s] : NULL);
+        span_map_build(v, &k, se, &e, a, b, &mp);
+        t[s] = span_ke(v, se, &mp, qd, p[s]);
     }
 }
 
+/* Base point of the velocity terms: q_d with the spin rates zeroed. */
+static span_base *span_base_init(const vm *v, const double *qd, span_base *sb)
+{
+    /* the track's transport around the circuit (the spins) is left out of these
+     * terms, as the paper drops the transport-speed terms of Eqs. 1-2 (II.B) */
+    memcpy(sb->qdv, qd, (size_t)v->nq * sizeof *sb->qdv);
+    for (int b = 0; b < VM_NB; b++)
+        sb->qdv[QS0 + b] = 0;
+    memset(sb->t, 0, sizeof sb->t);
+    return sb;
+}
+
 /* Velocity terms of the span mass blocks, which depend on the hull pitch and
- * on the road arms at the spans' ends: Q += dT/dq - (dM/dt) q_d, by central
- * differences (the direction of q_d for dM/dt; theta and the arms for dT/dq —
- * no span ends on two road wheels, so one perturbation serves all arms). */
-static void span_velocity_terms(const vm *v, vm_work *w, const double *q, const double *qd,
-                                double *Q)
+ * on the road arms at the spans' ends: Q += dT/dq - (dM/dt) q_d. The pitch
+ * part in closed form (span_pitch_terms, from span_element); the arm part by
+ * a forward difference from q (base point from span_element) in all arms at
+ * once (no span ends on two road wheels), giving dT/dalpha and dp/dalpha,
+ * (dM/dt) q_d = sum alpha_d dp/dalpha over the spans' end arms. Truncation
+ * error ~eps/2 relative (1e-5 rad against geometry that changes over ~1 rad),
+ * far below the integration tolerances. */
+static void span_velocity_terms(const vm *v, const double *q, const span_base *sb, double *Q)
 {
     const double eps = 1e-5; /* [rad], differencing step */
     int nq = v->nq;
-    double *qs = w->qs;
-    /* the track's transport around the circuit (the spins) is left out of these
-     * terms, as the paper drops the transport-speed terms of Eqs. 1-2 (II.B) */
-    double qdv[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
-    memcpy(qdv, qd, (size_t)nq * sizeof *qdv);
-    for (int b = 0; b < VM_NB; b++)
-        qdv[QS0 + b] = 0;
-    qd = qdv;
-    double tp[VM_NSPAN] = {0}, tm[VM_NSPAN] = {0};
-    double pp[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES], pm[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES];
-    span_map mp[VM_NSPAN], mm[VM_NSPAN];
-    double g = qd[QT] * qd[QT];
-    for (int i = 0; i < VM_NRW; i++)
-        g += qd[QA0 + i] * qd[QA0 + i];
-    g = sqrt(g);
-    if (g > 0) {
-        for (int sg = -1; sg <= 1; sg += 2) {
-            memcpy(qs, q, (size_t)nq * sizeof *qs);
-            qs[QT] += sg * eps * qd[QT] / g;
-            for (int i = 0; i < VM_NRW; i++)
-                qs[QA0 + i] += sg * eps * qd[QA0 + i] / g;
-            /* output arrays, filled by spans_at (not read before) */
-            /* cppcheck-suppress legacyUninitvar */
-            spans_at(v, qs, qd, sg > 0 ? tp : tm, sg > 0 ? pp : pm, sg > 0 ? mp : mm, 0);
-        }
-        for (int s = 0; s < VM_NSPAN; s++) {
-            if (!v->span[s].sp) continue;
-            for (int c = 0; c < mp[s].cs.n; c++)
-                Q[mp[s].cs.idx[c]] -= g * (pp[s][c] - pm[s][c]) / (2 * eps);
-        }
+    const double *qd = sb->qdv;
+    double qs[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
+    double tp[VM_NSPAN] = {0};
+    double pp[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES];
+    memcpy(qs, q, (size_t)nq * sizeof *qs);
+    for (int i = 0; i < VM_NRW; i++) /* no span ends on two road wheels */
+        qs[QA0 + i] += eps;
+    /* cppcheck-suppress legacyUninitvar */
+    arm_spans_at(v, qs, qd, tp, pp);
+    for (int s = 0; s < VM_NSPAN; s++) {
+        if (!v->span[s].sp) continue;
+        int a = v->span[s].elem, b = (a + 1) % VM_NB;
+        if (a < VM_RW1 && b < VM_RW1) continue;
+        int iq = QA0 + (a >= VM_RW1 ? a : b) - VM_RW1;
+        Q[iq] += (tp[s] - sb->t[s]) / eps; /* dT/dalpha */
+        /* (dM/dalpha alpha_d) q_d = alpha_d dp/dalpha; the compact column sets
+         * at q and q + eps e_alpha are the same (span_map_build adds the
+         * columns in a fixed order) */
+        double rate = qd[iq];
+        if (rate == 0) continue;
+        const int *idx = sb->cols[s].idx;
+        for (int c = 0; c < sb->cols[s].n; c++)
+            Q[idx[c]] -= rate * (pp[s][c] - sb->p[s][c]) / eps;
     }
-    for (int pass = 0; pass < 2; pass++) { /* 0: theta, 1: the road arms */
-        for (int sg = -1; sg <= 1; sg += 2) {
-            memcpy(qs, q, (size_t)nq * sizeof *qs);
-            if (pass == 0)
-                qs[QT] += sg * eps;
-            else
-                for (int i = 0; i < VM_NRW; i++)
-                    qs[QA0 + i] += sg * eps;
-            /* the arms move only the spans ending on a road wheel */
-            spans_at(v, qs, qd, sg > 0 ? tp : tm, NULL, mp, pass == 1);
-        }
-        for (int s = 0; s < VM_NSPAN; s++) {
-            if (!v->span[s].sp) continue;
-            double d = (tp[s] - tm[s]) / (2 * eps);
-            if (pass == 0) {
-                Q[QT] += d;
-                continue;
-            }
-            int a = v->span[s].elem, b = (a + 1) % VM_NB;
-            if (a >= VM_RW1)
-                Q[QA0 + a - VM_RW1] += d;
-            else if (b >= VM_RW1)
-                Q[QA0 + b - VM_RW1] += d;
-        }
+}
+
+/* The hull-pitch part of a span's velocity terms, in closed form. Turning
+ * theta with the arm angles (hull-relative), spins and modes held is a rigid
+ * rotation of the whole running gear about the CG: every map entry is a chord
+ * vector dotted with a body Jacobian column, and the columns of theta and the
+ * arms turn with the chord, so only the (x, z) columns change, as if (x_d,
+ * z_d) were turned the other way. The span's block obeys
+ * Ms(theta + d) = S(d)^T Ms S(d), S = rotation R(d) on the (x, z) entries, so
+ * with S' = dS/dd at 0 ([0 -1; 1 0] on (x, z)) and p = Ms q_d:
+ *   dT/dtheta = p . S' q_d = x_d p_z - z_d p_x,
+ *   (dMs/dtheta) q_d = S'^T p + Ms S' q_d.
+ * Adds dT/dtheta - theta_d (dMs/dtheta) q_d (q_d with the spin rates zeroed,
+ * sb->qdv) to Q; tests/sim/test_vehicle_energy.c checks the sum. */
+static void span_pitch_terms(const span_base *sb, const cset *cs,
+                             double Mc[][8 + 2 * TS_SPAN_MAX_MODES], int s, double *Q)
+{
+    const double *qd = sb->qdv, *p = sb->p[s];
+    int cx = -1, cz = -1;
+    for (int c = 0; c < cs->n; c++) {
+        if (cs->idx[c] == QX) cx = c;
+        if (cs->idx[c] == QZ) cz = c;
     }
+    if (cx < 0 || cz < 0) return; /* the hull columns are always in a span's set */
+    double xd = qd[QX], zd = qd[QZ], thd = qd[QT];
+    Q[QT] += xd * p[cz] - zd * p[cx];
+    if (thd == 0) return;
+    for (int c = 0; c < cs->n; c++)
+        Q[cs->idx[c]] -= thd * (xd * Mc[c][cz] - zd * Mc[c][cx]);
+    Q[QX] -= thd * p[cz];
+    Q[QZ] += thd * p[cx];
 }
 
 static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
                          int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         int inertia, vm_diag *diag)
+                         int inertia, vm_diag *diag, span_base *sb)
 {
     const ts_span *sp = se->sp;
     int n = sp->n, nq = v->nq;
     span_map mp;
     span_map_build(v, k, se, e, a, b, &mp);
+    if (sb) {
+        int s = (int)(se - v->span);
+        sb->t[s] = span_ke(v, se, &mp, sb->qdv, sb->p[s]);
+        sb->cols[s] = mp.cs;
+    }
     const cset cs = mp.cs;
     double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp.B;
     const double *rx = mp.rx, *ry0 = mp.ry0, *ry1 = mp.ry1;
@@ -673,13 +753,18 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
     x[1] = u1 - u0;
     for (int m = 0; m < se->nm; m++)
         x[2 + m] = q[se->q0 + m];
-    for (int r = 0; r < n; r++) {
+    /* B's rows 0, 1 are dense; row 2 + m is the unit vector on the modal
+     * coordinate q0 + m, compact column cm0 + m (span_map) */
+    const int cm0 = cs.n - se->nm;
+    for (int r = 0; r < 2; r++) {
         double s = 0;
         if (qd)
             for (int c = 0; c < cs.n; c++)
                 s += B[r][c] * qd[cs.idx[c]];
         xd[r] = s;
     }
+    for (int r = 2; r < n; r++)
+        xd[r] = qd ? qd[se->q0 + r - 2] : 0;
     double psid = 0;
     if (qd) {
         psid = ((k->v[b][0] - k->v[a][0]) * e->n[0] + (k->v[b][1] - k->v[a][1]) * e->n[1]) / ell;
@@ -713,35 +798,41 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
     /* generalised forces: B^T f + frame gravity */
     double m = se->rho * se->len;
     for (int c = 0; c < cs.n; c++) {
-        double s = 0;
-        for (int r = 0; r < n; r++)
-            s += B[r][c] * f[r];
+        double s = B[0][c] * f[0] + B[1][c] * f[1];
+        if (c >= cm0) s += f[2 + c - cm0];
         s += m * gx * rx[c] + 0.5 * m * gy * (ry0[c] + ry1[c]);
         Q[cs.idx[c]] += s;
     }
     if (inertia) {
-        /* C = alpha rx + beta0 ry0 + beta1 ry1 (n x nc) */
+        /* block B^T Ms B + B^T C + C^T B + frame terms, C = alpha rx + beta0
+         * ry0 + beta1 ry1 (n x nc); Y = Ms B + C. Symmetric: the upper
+         * triangle of compact columns is computed and mirrored. */
         double Cm[2 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES];
-        for (int r = 0; r < n; r++)
-            for (int c = 0; c < cs.n; c++)
-                Cm[r][c] = se->alpha[r] * rx[c] + se->beta0[r] * ry0[c] + se->beta1[r] * ry1[c];
-        double MB[2 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES]; /* Ms B */
-        for (int r = 0; r < n; r++)
+        double Y[2 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES];
+        for (int r = 0; r < n; r++) {
+            const double *msr = sp->M + r * n;
             for (int c = 0; c < cs.n; c++) {
-                double s = 0;
-                for (int kk = 0; kk < n; kk++)
-                    s += sp->M[r * n + kk] * B[kk][c];
-                MB[r][c] = s;
+                double cm = se->alpha[r] * rx[c] + se->beta0[r] * ry0[c] + se->beta1[r] * ry1[c];
+                double mb = msr[0] * B[0][c] + msr[1] * B[1][c];
+                if (c >= cm0) mb += msr[2 + c - cm0];
+                Cm[r][c] = cm;
+                Y[r][c] = mb + cm;
             }
+        }
+        double Mc[8 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES]; /* the block */
         for (int c1 = 0; c1 < cs.n; c1++)
-            for (int c2 = 0; c2 < cs.n; c2++) {
-                double s = 0;
-                for (int r = 0; r < n; r++)
-                    s += B[r][c1] * MB[r][c2] + B[r][c1] * Cm[r][c2] + Cm[r][c1] * B[r][c2];
+            for (int c2 = c1; c2 < cs.n; c2++) {
+                double s = B[0][c1] * Y[0][c2] + B[1][c1] * Y[1][c2] + Cm[0][c1] * B[0][c2] +
+                           Cm[1][c1] * B[1][c2];
+                if (c1 >= cm0) s += Y[2 + c1 - cm0][c2];
+                if (c2 >= cm0) s += Cm[2 + c2 - cm0][c1];
                 s += m * rx[c1] * rx[c2] + m / 3.0 * (ry0[c1] * ry0[c2] + ry1[c1] * ry1[c2]) +
                      m / 6.0 * (ry0[c1] * ry1[c2] + ry1[c1] * ry0[c2]);
+                Mc[c1][c2] = Mc[c2][c1] = s;
                 M[cs.idx[c1] * nq + cs.idx[c2]] += s;
+                if (c2 != c1) M[cs.idx[c2] * nq + cs.idx[c1]] += s;
             }
+        if (sb) span_pitch_terms(sb, &cs, Mc, (int)(se - v->span), Q);
     }
     if (diag) {
         ts_span_end_forces ef;
@@ -815,8 +906,9 @@ vm_work *vm_work_make(const vm *v)
     size_t nq = (size_t)v->nq;
     w->M = calloc(nq * nq, sizeof(double));
     w->Q = calloc(nq, sizeof(double));
-    w->qs = calloc(nq, sizeof(double));
-    if (!w->M || !w->Q || !w->qs) {
+    w->P = calloc(nq * nq, sizeof(double));
+    w->pb = calloc(nq, sizeof(double));
+    if (!w->M || !w->Q || !w->P || !w->pb) {
         vm_work_free(w);
         return NULL;
     }
@@ -828,9 +920,8 @@ void vm_work_free(vm_work *w)
     if (!w) return;
     free(w->M);
     free(w->Q);
-    free(w->qs);
-    free(w->B);
-    free(w->C);
+    free(w->P);
+    free(w->pb);
     free(w);
 }
 
@@ -943,6 +1034,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         vm_diag dg;
         forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, 0, &dg);
         v->t_static = dg.tension_end1[0];
+        v->g_eq = dg.loop_stretch;
     }
     memcpy(v->y_eq, q, (size_t)nq * sizeof(double));
 done:
@@ -1012,6 +1104,10 @@ static ts_rc build_spans(vm *v, ts_err *err)
     }
     v->nmodal = q0 - VM_NQ_RIGID;
     v->dynamic = 1;
+    for (int s = 0; s < VM_NSPAN; s++) {
+        int a = v->span[s].elem, b = (a + 1) % VM_NB;
+        if (a >= VM_RW1 || b >= VM_RW1) v->arm_span_bodies |= 1u << a | 1u << b;
+    }
     return TS_OK;
 }
 
@@ -1124,6 +1220,10 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
         loop += v->ell0[el] + wa * v->rho_b[a];
     }
     (void)loop;
+    for (int el = 0; el < VM_NB; el++) {
+        v->c_loop += v->len_el[el] / v->ea;
+        if (el >= VM_RW1 + v->anchor) v->c_tail += v->len_el[el] / v->ea;
+    }
     double m_track = tc->mass_per_length * loop; /* one side */
     double m_body = 0.5 * vc->mass - m_track - VM_NRW * (v->m_w + v->m_arm);
     if (m_body <= 0) {
@@ -1187,7 +1287,7 @@ int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_
     forces(v, w, t, q, qd, w->M, w->Q, 1, 1, diag);
     memcpy(ydot, qd, (size_t)nq * sizeof(double));
     memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
-    if (chol_solve(w->M, ydot + nq, nq)) return 1;
+    if (chol_solve(w, w->M, ydot + nq, nq)) return 1;
     return 0;
 }
 
@@ -1206,10 +1306,13 @@ int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double spr
     w->M[QT * nq + QT] += sprocket_inertia;
     w->M[is * nq + QT] -= sprocket_inertia;
     w->M[QT * nq + is] -= sprocket_inertia;
-    if (diag) diag->drive_torque = sprocket_torque;
+    if (diag) {
+        diag->drive_torque = sprocket_torque;
+        diag->tension_quasi_static = quasi_static_tension(v, diag->loop_stretch, sprocket_torque);
+    }
     memcpy(ydot, qd, (size_t)nq * sizeof(double));
     memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
-    if (chol_solve(w->M, ydot + nq, nq)) return 1;
+    if (chol_solve(w, w->M, ydot + nq, nq)) return 1;
     return 0;
 }
 

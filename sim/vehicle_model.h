@@ -75,6 +75,19 @@ typedef struct vm_diag {
     double span_mid_deflection[VM_NSPAN]; /* dynamic transverse V at mid-span [m] */
     double span_mid_tension[VM_NSPAN];    /* total tension at mid-span [N] */
     double drive_torque;                  /* [N*m] */
+    /* Quasi-static reference (Fig. 12's "dynamic amplification"): the tension
+     * a massless track (the static fidelity's element law T = P0 + EA/L s,
+     * no damping, free-turning rollers, idler and road wheels) would have at
+     * the rear roller for the CURRENT support positions and sprocket torque:
+     *   T_qs = max(0, T_static + (G - G_eq - (tau / r_s) C_B) / C_loop),
+     * G the loop's geometric stretch (sum over the elements of
+     * (l - l0) + (rho_b - rho_a) dpsi), G_eq its value at the static
+     * equilibrium, C_loop = sum L_e/EA the loop compliance, C_B that of the
+     * elements from the anchor wheel to the sprocket (the sprocket makes their
+     * tension tau/r_s higher than the rest of the loop's). Same for every
+     * fidelity, so T_rear_roller - T_qs is the dynamic part. */
+    double loop_stretch;         /* G [m] */
+    double tension_quasi_static; /* T_qs [N] */
 } vm_diag;
 
 vm *vm_make(const ts_config *cfg, ts_err *err);

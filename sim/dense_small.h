@@ -1,0 +1,33 @@
+/*
+ * dense_small.h — LU (partial pivoting) and Cholesky factorisations of small
+ * dense matrices (n up to a few dozen), in plain C.
+ *
+ * Why: the vehicle model solves its 21..31-DOF mass matrix on every
+ * right-hand side and CVODE's Newton matrix on every step. At these sizes the
+ * threaded BLAS behind LAPACK costs more in call overhead and in idle threads
+ * spinning (sched_yield) than the arithmetic itself; these loops are
+ * single-threaded, allocation-free and deterministic. Numerical methods only,
+ * no physics (Golub & Van Loan, Alg. 3.4.1 and 4.2.2).
+ *
+ * Storage: COLUMN-major, a[i + j*lda]. ts_chol_* read only the lower
+ * triangle (i >= j) and overwrite it by L; a symmetric row-major matrix may
+ * be passed as it is (its upper triangle is read).
+ */
+#ifndef TS_DENSE_SMALL_H
+#define TS_DENSE_SMALL_H
+
+/* LU with partial pivoting of the n x n column-major a (leading dimension
+ * lda), in place: P a = L U, piv[k] = row swapped with k at step k.
+ * Returns 0, or k + 1 when the pivot of column k is exactly zero. */
+int ts_lu_factor(double *a, int n, int lda, int *piv);
+/* Solve (L U) x = P b in place in b with the output of ts_lu_factor. */
+void ts_lu_solve(const double *a, int n, int lda, const int *piv, double *b);
+
+/* Cholesky a = L L^T of the symmetric positive-definite n x n column-major a
+ * (leading dimension n; lower triangle read and overwritten by L). Returns 0, or j + 1 when the
+ * leading minor of order j + 1 is not positive. */
+int ts_chol_factor(double *a, int n);
+/* Solve L L^T x = b in place in b with the output of ts_chol_factor. */
+void ts_chol_solve(const double *a, int n, double *b);
+
+#endif

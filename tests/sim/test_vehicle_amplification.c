@@ -1,0 +1,154 @@
+/*
+ * test_vehicle_amplification.c — the quasi-static reference of the rear-roller
+ * tension (channel track.tension.quasi_static, vehicle_model.h vm_diag) and the
+ * dynamic amplification over it (paper Section II.D, Fig. 12: "the static
+ * model shows no dynamic amplification"; the dynamic track models do), on
+ * short runs of the Section II.D presets over the first bump of apg4-synth.
+ */
+#include "test_util.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "api/config_json.h"
+#include "sim/tanksim.h"
+
+typedef struct rows {
+    int nc;
+    long n, cap;
+    double *v;
+} rows;
+
+static int keep(void *ud, long index, double t, const double *v, int n)
+{
+    (void)index, (void)t;
+    rows *r = ud;
+    if (r->n == r->cap) {
+        long cap = r->cap ? 2 * r->cap : 4096;
+        double *p = realloc(r->v, sizeof(double) * (size_t)(cap * n));
+        if (!p) return 1;
+        r->v = p;
+        r->cap = cap;
+    }
+    memcpy(r->v + r->n * n, v, sizeof(double) * (size_t)n);
+    r->n++;
+    return 0;
+}
+
+/* Run preset for duration seconds; rows in *r, the model in *m (caller frees). */
+static void run(const char *preset, double duration, ts_model **m, rows *r)
+{
+    ts_config c;
+    ts_err err;
+    json_t *doc = json_pack("{s:s,s:{s:f}}", "preset", preset, "run", "duration", duration);
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    json_decref(doc);
+    *m = ts_model_make(&c, &err);
+    assert_non_null(*m);
+    ts_data *d = ts_data_make(*m, &err);
+    assert_non_null(d);
+    memset(r, 0, sizeof *r);
+    r->nc = ts_model_nchannel(*m);
+    assert_int_equal(ts_reset(*m, d, &err), TS_OK);
+    assert_int_equal(keep(r, 0, 0, ts_latest(d), r->nc), 0);
+    assert_int_equal(ts_advance(*m, d, duration, keep, r, &err), TS_OK);
+    ts_data_free(d);
+}
+
+static double metric(const ts_model *m, const rows *r, const char *name)
+{
+    ts_metric mt[32];
+    int n = ts_model_metrics(m, r->v, r->n, mt, 32);
+    for (int i = 0; i < n; i++)
+        if (strcmp(mt[i].name, name) == 0) return mt[i].value;
+    fail_msg("no metric %s", name);
+    return NAN;
+}
+
+/* EVIDENCE: closed form (static equilibrium of a massless chain with free
+ * wheels: one tension from the sprocket round the top to the anchor wheel,
+ * tau/r_s more from there to the sprocket; the stretches sum to the loop's
+ * geometric stretch) against the integrated static-fidelity model on the flat
+ * lead-in of the bump course under the constant prescribed torque (t = 2..5 s,
+ * the hull squatted, the tension 11 % below static). Tolerance 0.2 % of the
+ * static tension (what is left: spin inertia and Kelvin-Voigt damping while
+ * accelerating). Nothing calibrated. */
+static void quasi_static_tension_matches_static_model_on_flat(void **state)
+{
+    (void)state;
+    ts_model *m;
+    rows r;
+    run("bump-prescribed-static", 5.0, &m, &r);
+    int it = ts_model_channel_index(m, "track.tension.rear_roller");
+    int iq = ts_model_channel_index(m, "track.tension.quasi_static");
+    assert_true(it >= 0 && iq >= 0);
+    double t0 = metric(m, &r, "static_tension");
+    double worst = 0, mean_drop = 0;
+    int n = 0;
+    for (long i = 0; i < r.n; i++) {
+        double t = r.v[i * r.nc];
+        if (t < 2.0) continue;
+        const double *row = r.v + i * r.nc;
+        worst = fmax(worst, fabs(row[it] - row[iq]));
+        mean_drop += t0 - row[iq];
+        n++;
+    }
+    mean_drop /= n;
+    printf("# flat lead-in: |T - T_qs| <= %.1f N, T_qs %.0f N below static (%.1f %%)\n", worst,
+           mean_drop, 100 * mean_drop / t0);
+    assert_true(mean_drop > 0.05 * t0); /* the torque term is exercised */
+    assert_true(worst <= 0.002 * t0);
+    free(r.v);
+    ts_model_free(m);
+}
+
+/* EVIDENCE: paper Fig. 12 / Section II.D (qualitative): the static track model
+ * shows no dynamic amplification of the tension, the dynamic ones do. Run to
+ * 9 s (over the first, 1 ft x 25 ft bump). Quantity: max and RMS of
+ * (rear-roller tension - quasi-static tension) / static tension. Static: only
+ * the Kelvin-Voigt damping of the massless elements separates the two
+ * (max <= 0.15, RMS <= 0.01); coupled (31 DOF): the span inertia adds a
+ * dynamic part, max >= 0.1 and >= 2x the static model's, RMS >= 5x. Measured
+ * when the test was written: static max 0.063, RMS 0.002; coupled max 0.21,
+ * RMS 0.050 (25x); the thresholds were set after that measurement with
+ * margin: they are separations between the two models, not fits to the
+ * paper. Also: the static model's peak tension (1.88x static here) is the
+ * quasi-static peak within 5 %: the suspension geometry, not dynamics, makes
+ * it. Nothing calibrated. */
+static void static_model_shows_no_dynamic_amplification(void **state)
+{
+    (void)state;
+    ts_model *ms, *mc;
+    rows rs, rc;
+    run("bump-prescribed-static", 9.0, &ms, &rs);
+    run("bump-prescribed-coupled", 9.0, &mc, &rc);
+    double s_max = metric(ms, &rs, "dynamic_amplification_max");
+    double s_rms = metric(ms, &rs, "dynamic_amplification_rms");
+    double c_max = metric(mc, &rc, "dynamic_amplification_max");
+    double c_rms = metric(mc, &rc, "dynamic_amplification_rms");
+    double s_peak = metric(ms, &rs, "tension_amplification");
+    double s_qs = metric(ms, &rs, "quasi_static_peak_tension_lb") /
+                  (metric(ms, &rs, "static_tension") / 4.44822);
+    printf("# first bump: static max %.3f rms %.3f (peak/static %.2f, quasi-static %.2f); "
+           "coupled max %.3f rms %.3f\n",
+           s_max, s_rms, s_peak, s_qs, c_max, c_rms);
+    assert_true(s_max <= 0.15);
+    assert_true(s_rms <= 0.01);
+    /* the static model's peak is the quasi-static one (geometry, not dynamics) */
+    assert_close(s_peak, s_qs, 0.05, 0);
+    assert_true(c_max >= 0.1 && c_max >= 2 * s_max);
+    assert_true(c_rms >= 5 * s_rms);
+    free(rs.v);
+    free(rc.v);
+    ts_model_free(ms);
+    ts_model_free(mc);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(quasi_static_tension_matches_static_model_on_flat),
+        cmocka_unit_test(static_model_shows_no_dynamic_amplification),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
