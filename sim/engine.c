@@ -261,10 +261,20 @@ int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine
 
 #define EN_NWALL (EN_NCYL * EN_NSURF) /* wall stacks of the crank-angle model */
 
+/* Carried from one ts_engine_advance_load call to the next (crank_angle): the
+ * last step's derivative and its wall- and load-independent part, with the
+ * states and inputs it was evaluated at; the next call re-evaluates only the
+ * part that the wall step and the new load change (en_crank_refresh), which
+ * gives exactly the derivative a full evaluation would. */
+#define CARRY_HEAD 9 /* magic, engine, rack, fuel_per_cycle, p_amb, T_amb, hold, load_inertia, pad */
+#define CARRY_MAGIC 0x1.d1cep-3
+#define CARRY_PART ((sizeof(en_crank_part) + sizeof(double) - 1) / sizeof(double))
+static size_t carry_size(const ts_engine *e) { return CARRY_HEAD + 2 * (size_t)e->off_wall + CARRY_PART; }
+
 size_t ts_engine_work_size(const ts_engine *e)
 {
-    /* crank_angle: stages, error scales and wall fluxes */
-    return e->fidelity == TS_ENGINE_CRANK_ANGLE ? 8 * (size_t)e->nx + 5 * EN_NWALL
+    /* crank_angle: stages, error scales, wall fluxes and the carried derivative */
+    return e->fidelity == TS_ENGINE_CRANK_ANGLE ? 8 * (size_t)e->nx + 5 * EN_NWALL + carry_size(e)
                                                : 5 * (size_t)e->nx;
 }
 
@@ -360,6 +370,45 @@ static int step(const ts_engine *e, double *x, double t, double h, stage_load *s
  * /engine/ca_step / 4 and 8 ca_step (fine through the premixed burn and the
  * valve events, coarse through compression and expansion). tol: relative
  * tolerance on the engine's state scales (ts_engine_atol). */
+static void carry_head(const ts_engine *e, const ts_engine_inputs *in, double *h)
+{
+    memset(h, 0, sizeof(double) * CARRY_HEAD);
+    h[0] = CARRY_MAGIC;
+    memcpy(h + 1, &e, sizeof e);
+    h[2] = in->rack;
+    h[3] = in->fuel_per_cycle;
+    h[4] = in->p_amb;
+    h[5] = in->T_amb;
+    h[6] = in->hold_speed;
+    h[7] = in->load_inertia;
+}
+
+/* The carried derivative into k1 and q1 if it belongs to (e, x, in); 1: done. */
+static int carry_get(const ts_engine *e, const double *x, const ts_engine_inputs *in,
+                     const double *carry, double *k1, double *q1)
+{
+    int n = e->off_wall;
+    double h[CARRY_HEAD];
+    carry_head(e, in, h);
+    if (memcmp(h, carry, sizeof h) || memcmp(x, carry + CARRY_HEAD, sizeof(double) * (size_t)n))
+        return 0;
+    en_crank_part pc;
+    memcpy(k1, carry + CARRY_HEAD + n, sizeof(double) * (size_t)n);
+    memcpy(&pc, carry + CARRY_HEAD + 2 * n, sizeof pc);
+    en_crank_refresh(e, x, in, &pc, k1, q1);
+    return 1;
+}
+
+static void carry_put(const ts_engine *e, const double *x, const ts_engine_inputs *in,
+                      const double *k, const en_crank_part *pc, double *carry)
+{
+    int n = e->off_wall;
+    memcpy(carry + CARRY_HEAD, x, sizeof(double) * (size_t)n);
+    memcpy(carry + CARRY_HEAD + n, k, sizeof(double) * (size_t)n);
+    memcpy(carry + CARRY_HEAD + 2 * n, pc, sizeof *pc);
+    carry_head(e, in, carry);
+}
+
 #define BS_TOL 1e-3  /* relative tolerance (0.5 % band: test_engine_regression.c) */
 #define BS_MIN 0.25  /* smallest step, x /engine/ca_step */
 #define BS_MAX 8.0   /* largest step, x /engine/ca_step */
@@ -385,7 +434,10 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
     memset(qacc, 0, sizeof(double) * EN_NWALL);
     memcpy(xt + n, x + n, sizeof(double) * (size_t)(nx - n));
     memcpy(y1 + n, x + n, sizeof(double) * (size_t)(nx - n));
-    int have_k1 = 0;
+    double *carry = qacc + EN_NWALL;
+    en_crank_part part4; /* of the last k4 */
+    int have_k1 = carry_get(e, x, at(sl, t, x), carry, k1, q1), stepped = 0;
+    carry[0] = 0.0; /* invalid until this call ends */
     while (t < t_end - 1e-15) {
         double w = fmax(fabs(x[TS_ENGINE_X_SPEED]), 30.0);
         if (!have_k1 && en_crank_eval(e, x, at(sl, t, x), k1, NULL, q1)) goto diverged;
@@ -421,7 +473,7 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
         if (!bad) {
             for (int i = 0; i < n; i++)
                 y1[i] = x[i] + h * (2.0 / 9.0 * k1[i] + 1.0 / 3.0 * k2[i] + 4.0 / 9.0 * k3[i]);
-            bad = en_crank_eval(e, y1, at(sl, t + h, y1), k4, NULL, q4);
+            bad = en_crank_eval_part(e, y1, at(sl, t + h, y1), k4, NULL, q4, &part4);
         }
         double en = 0;
         if (!bad)
@@ -446,6 +498,7 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
             qacc[j] += h * (2.0 / 9.0 * q1[j] + 1.0 / 3.0 * q2[j] + 4.0 / 9.0 * q3[j]);
         hacc += h;
         memcpy(x, y1, sizeof(double) * (size_t)n);
+        stepped = 1;
         if (++nacc == BS_WALL_EVERY || last) {
             for (int j = 0; j < EN_NWALL; j++) qacc[j] /= hacc;
             en_walls_step(e, x, qacc, hacc);
@@ -466,6 +519,7 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
         }
         if (last) break;
     }
+    if (stepped) carry_put(e, x, &sl->in, k1, &part4, carry);
     return TS_OK;
 diverged:
     return ts_err_set(err, TS_ERR_DIVERGED, "/engine", "engine state left its domain at t = %.6f s",
