@@ -43,6 +43,7 @@
 
 static double wrap(double a)
 {
+    if (a >= 0.0 && a < EN_CYCLE) return a; /* fmod would return a itself */
     a = fmod(a, EN_CYCLE);
     return a < 0 ? a + EN_CYCLE : a;
 }
