@@ -414,6 +414,8 @@ static void carry_put(const ts_engine *e, const double *x, const ts_engine_input
 #define BS_MAX 8.0   /* largest step, x /engine/ca_step */
 #define BS_START 4.0 /* first step of a call, x /engine/ca_step */
 #define BS_WALL_EVERY 2 /* accepted steps per wall step (the walls' mean flux over them) */
+#define BS_IGNITION 1.0 /* step after an ignition at most this x /engine/ca_step (the
+                           premixed burn starts there; a larger step is rejected) */
 static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, stage_load *sl,
                           double *work, ts_err *err)
 {
@@ -436,7 +438,7 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
     memcpy(y1 + n, x + n, sizeof(double) * (size_t)(nx - n));
     double *carry = qacc + EN_NWALL;
     en_crank_part part4; /* of the last k4 */
-    int have_k1 = carry_get(e, x, at(sl, t, x), carry, k1, q1), stepped = 0;
+    int have_k1 = carry_get(e, x, at(sl, t, x), carry, k1, q1), stepped = 0, rejected = 0;
     carry[0] = 0.0; /* invalid until this call ends */
     while (t < t_end - 1e-15) {
         double w = fmax(fabs(x[TS_ENGINE_X_SPEED]), 30.0);
@@ -491,6 +493,7 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
             } else {
                 double f = bad || !isfinite(en) ? 0.25 : fmax(0.25, 0.9 * cbrt(1.0 / en));
                 dth = fmax(dth * f, BS_MIN * e->c.ca_step);
+                rejected = 1;
                 continue;
             }
         }
@@ -515,8 +518,11 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
         t += h;
         if (!last && !trunc) {
             double f = en > 0 ? 0.9 * cbrt(1.0 / en) : 4.0;
+            if (rejected && f > 1.0) f = 1.0; /* no growth right after a rejection */
             dth = fmin(fmax(dth * fmin(f, 4.0), BS_MIN * e->c.ca_step), BS_MAX * e->c.ca_step);
         }
+        if (trunc == 2) dth = fmin(dth, BS_IGNITION * e->c.ca_step); /* a cylinder ignites */
+        rejected = 0;
         if (last) break;
     }
     if (stepped) carry_put(e, x, &sl->in, k1, &part4, carry);
