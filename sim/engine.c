@@ -409,7 +409,12 @@ static void carry_put(const ts_engine *e, const double *x, const ts_engine_input
     carry_head(e, in, carry);
 }
 
-#define BS_TOL 1e-3  /* relative tolerance (0.5 % band: test_engine_regression.c) */
+/* BS_TOL: relative tolerance. 3e-3 (1e-3 until the speed-up of issue 6's 20x
+ * goal): the Table 2 point-mass figures moved < 0.03 % and the lug transient
+ * of test_engine_regression.c < 0.05 %; against tol 1e-4 the Table 2 figures
+ * differ by <= 0.11 % at 3e-3 and <= 0.10 % at 1e-3 (the error is dominated
+ * by the multirate wall coupling, not by the gas states' local tolerance) */
+#define BS_TOL 3e-3
 #define BS_MIN 0.25  /* smallest step, x /engine/ca_step */
 #define BS_MAX 8.0   /* largest step, x /engine/ca_step */
 #define BS_START 4.0 /* first step of a call, x /engine/ca_step */
