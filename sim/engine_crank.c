@@ -146,13 +146,14 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
                          c_th * e->cyl_cos[i] + s_th * e->cyl_sin[i], &kin);
         double m = xc[CX_M], T = xc[CX_T], mb = xc[CX_MB];
         if (!(m > 0 && T > 100 && T < 5000)) return 1;
-        double F = mb / m;
+        double im = 1.0 / m, iV = 1.0 / kin.V; /* the divisions by m and V */
+        double F = mb * im;
         F = F < 0.0 ? 0.0 : F > 1.0 ? 1.0 : F;
         en_gas_state gs;
         en_gas_eval(g, T, F, &gs);
         double R = gs.R, cp = gs.cp, gam = cp / gs.cv;
-        double p = m * R * T / kin.V;
-        double rho = m / kin.V;
+        double p = m * R * T * iV;
+        double rho = m * iV;
         /* valves */
         double a_iv = en_valve_area(en_valve_lift(thl, c->ivo, c->ivc, c->intake_max_lift),
                                     c->intake_valve_diameter, c->n_intake_valves, c->valve_cd);
@@ -205,7 +206,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
         double v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
         en_cascade_in ci = {m, kin.V, rho, T, p, c->bore, min_, v_in, mout,
-                            dm / m - kin.dVdth * w / kin.V, xc[CX_KMEAN],
+                            dm * im - kin.dVdth * w * iV, xc[CX_KMEAN],
                             xc[CX_KTURB] > K_FLOOR ? xc[CX_KTURB] : K_FLOOR};
         double dK, dk, Lh, up, Um;
         en_cascade(&ci, c->cascade_cbeta, c->cascade_rdt, &dK, &dk, &Lh, &up, &Um);
@@ -229,7 +230,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         cp_->hi = hi;
         cp_->he = he;
         double dmb = fi - fe + mfb * (1.0 + c->afr_stoich);
-        cp_->dF = (dmb - F * dm) / m;
+        cp_->dF = (dmb - F * dm) * im;
         dc[CX_M] = dm;
         dc[CX_MB] = dmb;
         dc[CX_IGN] = dI;
