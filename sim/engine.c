@@ -483,14 +483,18 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
             bad = en_crank_eval_part(e, y1, at(sl, t + h, y1), k4, NULL, q4, &part4);
         }
         double en = 0;
-        if (!bad)
+        /* error norm max |e_i| / d_i (0 for the ledger: d = inf), dividing only
+         * where the maximum may grow; not needed after a truncated step, whose
+         * stages that build y1 lie before the switch */
+        if (!bad && !trunc)
             for (int i = 0; i < n; i++) {
                 double ei = h * (-5.0 / 72.0 * k1[i] + 1.0 / 12.0 * k2[i] + 1.0 / 9.0 * k3[i] -
                                  1.0 / 8.0 * k4[i]);
-                double r = fabs(ei) / (tol * (sc[i] + fabs(y1[i]))); /* 0 for the ledger */
+                double a = fabs(ei), d = tol * (sc[i] + fabs(y1[i]));
+                if (a <= en * d) continue;
+                double r = a / d;
                 if (!(r <= en)) en = isnan(r) ? INFINITY : r;
             }
-        if (trunc && !bad) en = 0; /* the stages that build y1 lie before the switch */
         if (bad || !(en <= 1.0)) {
             if (dth <= BS_MIN * e->c.ca_step * 1.0000001) {
                 /* at the smallest step: accept (the fixed-step scheme would) unless broken */
@@ -515,11 +519,11 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
             memset(qacc, 0, sizeof(double) * EN_NWALL);
             hacc = 0;
             nacc = 0;
+            memcpy(xt + n, x + n, sizeof(double) * (size_t)(nx - n)); /* the stages' walls */
+            memcpy(y1 + n, x + n, sizeof(double) * (size_t)(nx - n));
         }
         memcpy(k1, k4, sizeof(double) * (size_t)n); /* FSAL (walls lag by this step) */
         memcpy(q1, q4, sizeof(double) * EN_NWALL);
-        memcpy(xt + n, x + n, sizeof(double) * (size_t)(nx - n));
-        memcpy(y1 + n, x + n, sizeof(double) * (size_t)(nx - n));
         t += h;
         if (!last && !trunc) {
             double f = en > 0 ? 0.9 * cbrt(1.0 / en) : 4.0;
