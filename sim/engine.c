@@ -19,6 +19,10 @@
  *            straddles a switch of the ignition/burn clocks); ~10x fewer
  *            operations than the former RK4 at equal or better accuracy;
  *            the walls take one Crank-Nicolson step per two gas steps.
+ *            Issue 6's 20x goal: the last derivative is carried in the work
+ *            buffer to the next call (the powertrain's next macro step), where
+ *            only its wall- and load-dependent part is re-evaluated
+ *            (en_crank_refresh, exact); relative tolerance 3e-3.
  *
  * State layout (offsets in struct ts_engine):
  *   x[0] crank speed, x[1] crank angle (all fidelities)
