@@ -138,7 +138,10 @@ int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine
  * (closer to the converged solution than that RK4: tests/sim/
  * test_engine_regression.c, report of issue 6/10). work:
  * ts_engine_work_size(e) doubles owned by the caller (scratch: the result
- * depends on x and the inputs only). Returns TS_OK or TS_ERR_DIVERGED. */
+ * depends on x and the inputs only; crank_angle keeps the last derivative
+ * there for the next call, used only when x and the inputs but the load
+ * torque are unchanged, and then exactly equal to a fresh evaluation).
+ * Returns TS_OK or TS_ERR_DIVERGED. */
 size_t ts_engine_work_size(const ts_engine *e);
 ts_rc ts_engine_advance(const ts_engine *e, double *x, double t, double dt,
                         const ts_engine_inputs *in, double *work, ts_err *err);

@@ -32,7 +32,10 @@ void en_watson_pre(const en_watson *w, double tau, double tau_id_ms, double n_rp
     double c1 = 2.0 + w->c1k * pow(tau_id_ms * n_rpm, w->c1e);
     double c2 = w->c2;
     double tc1 = exp(c1 * p->ltau);
-    double g = pow(1.0 - tc1, c2);
+    /* (1 - tc1)^c2 <= exp(-c2 tc1): past c2 tc1 = 50 the premixed burn is over
+     * to 2e-22 (f1 = 1 in double precision, df1 below 1e-17), and the power is
+     * skipped (c2 ~ 5000: after the first ~20 % of the burn) */
+    double g = c2 * tc1 > 50.0 ? 0.0 : pow(1.0 - tc1, c2);
     p->f1 = 1.0 - g;
     p->df1 = c2 * g / (1.0 - tc1) * c1 * tc1 / tau; /* c2 (1 - tc1)^(c2 - 1) c1 tc1 / tau */
 }

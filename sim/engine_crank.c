@@ -43,6 +43,7 @@
 
 static double wrap(double a)
 {
+    if (a >= 0.0 && a < EN_CYCLE) return a; /* fmod would return a itself */
     a = fmod(a, EN_CYCLE);
     return a < 0 ? a + EN_CYCLE : a;
 }
@@ -83,9 +84,16 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
  * one sincos of the crank angle rotated to every cylinder, one evaluation of
  * the gas polynomials per control volume, the manifold-side properties once
  * per bank, valve flows only while a valve is open, and (q_wall != NULL) the
- * walls frozen over a step of the multirate integrator in engine.c. */
-int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
-                  ts_engine_outputs *out, double *q_wall)
+ * walls frozen over a step of the multirate integrator in engine.c.
+ * The evaluation is split in two: gas_part computes everything that does not
+ * depend on the wall temperatures or the load (cached in en_crank_part),
+ * wall_part the wall heat fluxes, the cylinders' dT/dt, the coolant and oil
+ * and the crankshaft. en_crank_refresh re-runs wall_part alone (same
+ * operations, same result) after a wall step or a change of load. */
+
+/* Everything but the wall- and load-dependent derivatives; fills pc. */
+static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
+                    ts_engine_outputs *out, en_crank_part *pc)
 {
     const ts_engine_config *c = &e->c;
     const en_gas *g = &e->gas;
@@ -123,14 +131,13 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
     en_bank_flows bf[EN_NBANK];
     memset(bf, 0, sizeof bf);
     double t_ind = 0, J = c->inertia + in->load_inertia, dJ = 0;
-    double q_cool = 0, q_oil = 0;
     double led[EN_LEDGER_NX] = {0};
-    double T_cool = x[e->off_coolant], T_oil = x[e->off_coolant + 1];
     double s_th = sin(th), c_th = cos(th);
     double th_w = wrap(th);
     for (int i = 0; i < EN_NCYL; i++) {
         const double *xc = x + e->off_cyl + i * EN_CYL_NX;
         double *dc = xdot + e->off_cyl + i * EN_CYL_NX;
+        en_cyl_part *cp_ = &pc->cyl[i];
         int b = e->cyl_bank[i];
         double thl = th_w - e->cyl_offset[i];
         if (thl < 0) thl += EN_CYCLE;
@@ -139,13 +146,14 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
                          c_th * e->cyl_cos[i] + s_th * e->cyl_sin[i], &kin);
         double m = xc[CX_M], T = xc[CX_T], mb = xc[CX_MB];
         if (!(m > 0 && T > 100 && T < 5000)) return 1;
-        double F = mb / m;
+        double im = 1.0 / m, iV = 1.0 / kin.V; /* the divisions by m and V */
+        double F = mb * im;
         F = F < 0.0 ? 0.0 : F > 1.0 ? 1.0 : F;
         en_gas_state gs;
         en_gas_eval(g, T, F, &gs);
         double R = gs.R, cp = gs.cp, gam = cp / gs.cv;
-        double p = m * R * T / kin.V;
-        double rho = m / kin.V;
+        double p = m * R * T * iV;
+        double rho = m * iV;
         /* valves */
         double a_iv = en_valve_area(en_valve_lift(thl, c->ivo, c->ivc, c->intake_max_lift),
                                     c->intake_valve_diameter, c->n_intake_valves, c->valve_cd);
@@ -198,49 +206,33 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
         double mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
         double v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
         en_cascade_in ci = {m, kin.V, rho, T, p, c->bore, min_, v_in, mout,
-                            dm / m - kin.dVdth * w / kin.V, xc[CX_KMEAN],
+                            dm * im - kin.dVdth * w * iV, xc[CX_KMEAN],
                             xc[CX_KTURB] > K_FLOOR ? xc[CX_KTURB] : K_FLOOR};
         double dK, dk, Lh, up, Um;
         en_cascade(&ci, c->cascade_cbeta, c->cascade_rdt, &dK, &dk, &Lh, &up, &Um);
         double uch = sqrt(Um * Um + up * up + sp_half * sp_half);
-        double h = en_htc(c->nu_coeff, c->nu_exp, rho, uch, Lh, T, cp);
-        /* walls */
-        double q_w = 0;
-        double T4 = burning ? T * T * T * T : 0.0;
-        for (int sf = 0; sf < EN_NSURF; sf++) {
-            int ow = (i * EN_NSURF + sf) * EN_WALL_NODES;
-            const double *xw = x + e->off_wall + ow;
-            double Ts = xw[0];
-            double flux = h * (T - Ts);
-            if (burning) flux += c->emissivity * EN_SIGMA * (T4 - Ts * Ts * Ts * Ts);
-            double area = e->surf_area[sf], share = 1.0;
-            if (sf == EN_LINER) {
-                double exposed = EN_PI * c->bore * (kin.xp + geo->vc / geo->area);
-                share = exposed / area;
-                area = exposed;
-            }
-            q_w += flux * area;
-            const en_wall *wl = &e->wall[sf];
-            double T_sink = sf == EN_PISTON ? T_oil : T_cool, qb;
-            if (q_wall) { /* frozen wall: its back side only */
-                q_wall[i * EN_NSURF + sf] = flux * share;
-                qb = wl->cond[EN_WALL_NODES - 1] * (xw[EN_WALL_NODES - 1] - T_sink);
-            } else {
-                en_wall_rates(wl, xw, flux * share, T_sink, xdot + e->off_wall + ow, &qb);
-            }
-            if (sf == EN_PISTON)
-                q_oil += qb * e->surf_area[sf];
-            else
-                q_cool += qb * e->surf_area[sf];
-        }
-        /* first law */
+        /* what the walls need (wall_part) */
+        cp_->T = T;
+        cp_->h = en_htc(c->nu_coeff, c->nu_exp, rho, uch, Lh, T, cp);
+        cp_->burning = burning;
+        cp_->T4 = burning ? T * T * T * T : 0.0;
+        cp_->liner_area = EN_PI * c->bore * (kin.xp + geo->vc / geo->area); /* exposed liner */
+        cp_->liner_share = cp_->liner_area / e->surf_area[EN_LINER];
+        cp_->m = m;
+        cp_->dm = dm;
+        cp_->u = gs.u;
+        cp_->cv = gs.cv;
+        cp_->dudF = gs.dudF;
+        cp_->q_comb = q_comb;
+        /* first law but the wall heat */
         double pdv = p * kin.dVdth * w;
-        double dE = q_comb - q_w - pdv + hi - he;
+        cp_->pdv = pdv;
+        cp_->hi = hi;
+        cp_->he = he;
         double dmb = fi - fe + mfb * (1.0 + c->afr_stoich);
-        double dF = (dmb - F * dm) / m;
+        cp_->dF = (dmb - F * dm) * im;
         dc[CX_M] = dm;
         dc[CX_MB] = dmb;
-        dc[CX_T] = en_gas_dTdt_s(&gs, m, dE, dm, dF);
         dc[CX_IGN] = dI;
         dc[CX_BURN] = ds;
         dc[CX_KMEAN] = dK;
@@ -258,7 +250,6 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
         bf[b].mf_ex += fe;
         led[LX_FUEL_E] += q_comb;
         led[LX_WORK] += pdv;
-        led[LX_WALL] += q_w;
         led[LX_HIN] += hi;
         led[LX_HOUT] += he;
         led[LX_MIN] += mi;
@@ -268,10 +259,8 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
             out->cyl_pressure = p;
             out->cyl_temp = T;
             out->heat_release = q_comb;
-            out->piston_surface_temp = x[e->off_wall + EN_PISTON * EN_WALL_NODES];
         }
     }
-    if (q_wall) memset(xdot + e->off_wall, 0, sizeof(double) * EN_NCYL * EN_NSURF * EN_WALL_NODES);
     for (int b = 0; b < EN_NBANK; b++) {
         bf[b].have_co = 1;
         bf[b].co = cob[b];
@@ -279,23 +268,15 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
     for (int b = 0; b < EN_NBANK; b++)
         en_bank_rhs(e, x + e->off_bank + b * EN_BANK_NX, &bf[b], in->p_amb, in->T_amb,
                     xdot + e->off_bank + b * EN_BANK_NX, &bo[b]);
-    memcpy(xdot + e->off_ledger, led, sizeof led);
-    /* coolant and oil: thermostat opens over 4 K around the set point */
-    double open_c = fmin(fmax((T_cool - c->coolant_temp + 2.0) / 4.0, 0.0), 1.0);
-    double open_o = fmin(fmax((T_oil - c->oil_temp + 2.0) / 4.0, 0.0), 1.0);
-    xdot[e->off_coolant] = (q_cool - open_c * c->coolant_ua * (T_cool - in->T_amb)) /
-                           (c->coolant_capacity * e->thermal_scale);
-    xdot[e->off_coolant + 1] = (q_oil - open_o * c->oil_ua * (T_oil - in->T_amb)) /
-                               (c->oil_capacity * e->thermal_scale);
-    /* crankshaft */
+    memcpy(xdot + e->off_ledger, led, sizeof led); /* LX_WALL: wall_part */
     double t_fric = en_fmep(c, w) * geo->vd * EN_NCYL / EN_CYCLE * tanh(w / 5.0);
-    double t_brake = t_ind - t_fric;
-    xdot[TS_ENGINE_X_SPEED] =
-        in->hold_speed ? 0.0 : (t_brake - in->load_torque - 0.5 * dJ * w * w) / J;
+    pc->t_brake = t_ind - t_fric;
+    pc->J = J;
+    pc->dJ = dJ;
     xdot[TS_ENGINE_X_ANGLE] = w;
     if (out) {
         out->speed = w;
-        out->brake_torque = t_brake;
+        out->brake_torque = pc->t_brake;
         out->indicated_torque = t_ind;
         out->friction_torque = t_fric;
         out->boost = 0.5 * (bo[0].p_im + bo[1].p_im);
@@ -308,6 +289,87 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
         out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
     }
     return 0;
+}
+
+/* The wall heat fluxes and what depends on them (cylinder temperatures, wall
+ * ledger, coolant and oil, walls unless frozen) and the crankshaft (load). */
+static void wall_part(const ts_engine *e, const double *x, const ts_engine_inputs *in,
+                      const en_crank_part *pc, double *xdot, ts_engine_outputs *out,
+                      double *q_wall)
+{
+    const ts_engine_config *c = &e->c;
+    double w = x[TS_ENGINE_X_SPEED];
+    double T_cool = x[e->off_coolant], T_oil = x[e->off_coolant + 1];
+    double q_cool = 0, q_oil = 0, led_wall = 0;
+    for (int i = 0; i < EN_NCYL; i++) {
+        const en_cyl_part *cp_ = &pc->cyl[i];
+        double T = cp_->T, h = cp_->h, T4 = cp_->T4;
+        double q_w = 0;
+        for (int sf = 0; sf < EN_NSURF; sf++) {
+            int ow = (i * EN_NSURF + sf) * EN_WALL_NODES;
+            const double *xw = x + e->off_wall + ow;
+            double Ts = xw[0];
+            double flux = h * (T - Ts);
+            if (cp_->burning) flux += c->emissivity * EN_SIGMA * (T4 - Ts * Ts * Ts * Ts);
+            double area = e->surf_area[sf], share = 1.0;
+            if (sf == EN_LINER) {
+                share = cp_->liner_share;
+                area = cp_->liner_area;
+            }
+            q_w += flux * area;
+            const en_wall *wl = &e->wall[sf];
+            double T_sink = sf == EN_PISTON ? T_oil : T_cool, qb;
+            if (q_wall) { /* frozen wall: its back side only */
+                q_wall[i * EN_NSURF + sf] = flux * share;
+                qb = wl->cond[EN_WALL_NODES - 1] * (xw[EN_WALL_NODES - 1] - T_sink);
+            } else {
+                en_wall_rates(wl, xw, flux * share, T_sink, xdot + e->off_wall + ow, &qb);
+            }
+            if (sf == EN_PISTON)
+                q_oil += qb * e->surf_area[sf];
+            else
+                q_cool += qb * e->surf_area[sf];
+        }
+        /* first law */
+        double dE = cp_->q_comb - q_w - cp_->pdv + cp_->hi - cp_->he;
+        en_gas_state gs = {.u = cp_->u, .cv = cp_->cv, .dudF = cp_->dudF};
+        xdot[e->off_cyl + i * EN_CYL_NX + CX_T] = en_gas_dTdt_s(&gs, cp_->m, dE, cp_->dm, cp_->dF);
+        led_wall += q_w;
+    }
+    if (out) out->piston_surface_temp = x[e->off_wall + EN_PISTON * EN_WALL_NODES];
+    xdot[e->off_ledger + LX_WALL] = led_wall;
+    /* coolant and oil: thermostat opens over 4 K around the set point */
+    double open_c = fmin(fmax((T_cool - c->coolant_temp + 2.0) / 4.0, 0.0), 1.0);
+    double open_o = fmin(fmax((T_oil - c->oil_temp + 2.0) / 4.0, 0.0), 1.0);
+    xdot[e->off_coolant] = (q_cool - open_c * c->coolant_ua * (T_cool - in->T_amb)) /
+                           (c->coolant_capacity * e->thermal_scale);
+    xdot[e->off_coolant + 1] = (q_oil - open_o * c->oil_ua * (T_oil - in->T_amb)) /
+                               (c->oil_capacity * e->thermal_scale);
+    /* crankshaft */
+    xdot[TS_ENGINE_X_SPEED] =
+        in->hold_speed ? 0.0 : (pc->t_brake - in->load_torque - 0.5 * pc->dJ * w * w) / pc->J;
+}
+
+int en_crank_eval_part(const ts_engine *e, const double *x, const ts_engine_inputs *in,
+                       double *xdot, ts_engine_outputs *out, double *q_wall, en_crank_part *pc)
+{
+    en_crank_part local;
+    if (!pc) pc = &local;
+    if (gas_part(e, x, in, xdot, out, pc)) return 1;
+    wall_part(e, x, in, pc, xdot, out, q_wall);
+    return 0;
+}
+
+int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
+                  ts_engine_outputs *out, double *q_wall)
+{
+    return en_crank_eval_part(e, x, in, xdot, out, q_wall, NULL);
+}
+
+void en_crank_refresh(const ts_engine *e, const double *x, const ts_engine_inputs *in,
+                      const en_crank_part *pc, double *xdot, double *q_wall)
+{
+    wall_part(e, x, in, pc, xdot, NULL, q_wall);
 }
 
 double en_crank_next_switch(const ts_engine *e, const double *x, const double *xdot,

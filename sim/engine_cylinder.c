@@ -16,10 +16,10 @@ void en_kinematics(const en_geom *g, double th, en_kin *k)
 void en_kinematics_sc(const en_geom *g, double s, double c, en_kin *k)
 {
     double a = g->crank, l = g->rod;
-    double r = sqrt(l * l - a * a * s * s);
+    double r = sqrt(l * l - a * a * s * s), ir = 1.0 / r; /* one division */
     k->xp = a + l - (a * c + r);
-    k->dxdth = a * s + a * a * s * c / r;
-    k->d2xdth2 = a * c + a * a * (c * c - s * s) / r + a * a * a * a * s * s * c * c / (r * r * r);
+    k->dxdth = a * s + a * a * s * c * ir;
+    k->d2xdth2 = a * c + a * a * (c * c - s * s) * ir + a * a * a * a * s * s * c * c * (ir * ir * ir);
     k->V = g->vc + g->area * k->xp;
     k->dVdth = g->area * k->dxdth;
 }

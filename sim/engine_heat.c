@@ -25,14 +25,16 @@ void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, do
     double Lh = c->V / (EN_PI / 4.0 * c->bore * c->bore);
     if (Lh > c->bore / 2) Lh = c->bore / 2;
     double K = c->K > 0.0 ? c->K : 0.0, k = c->k > 1e-9 ? c->k : 1e-9;
-    double up = sqrt(2.0 * k / (3.0 * m));
-    double P = 0.3307 * cbeta * (K / Lh) * sqrt(k / m);
-    double eps = up * up * up / Lh;
-    *dK = 0.5 * c->mdot_in * c->v_in * c->v_in - P - K * c->mdot_out / m;
-    *dk = P - m * eps - k * c->mdot_out / m + rdt * (2.0 / 3.0) * k * c->drho_rho;
+    double im = 1.0 / m, iL = 1.0 / Lh, skm = sqrt(k * im); /* sqrt(k / m) */
+    double up = sqrt(2.0 / 3.0) * skm;                    /* sqrt(2 k / (3 m)) */
+    double P = 0.3307 * cbeta * (K * iL) * skm;
+    double eps = up * up * up * iL;
+    double out_m = c->mdot_out * im;
+    *dK = 0.5 * c->mdot_in * c->v_in * c->v_in - P - K * out_m;
+    *dk = P - m * eps - k * out_m + rdt * (2.0 / 3.0) * k * c->drho_rho;
     *L = Lh;
     *u_turb = up;
-    *U_mean = sqrt(2.0 * K / m);
+    *U_mean = sqrt(2.0 * K * im);
 }
 
 double en_htc(double a, double b, double rho, double u, double L, double T, double cp)

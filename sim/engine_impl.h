@@ -208,12 +208,36 @@ double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double ai
 int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
                  double *xdot, ts_engine_outputs *out);
 /* The crank-angle right-hand side with the walls FROZEN (multirate stepping,
- * engine.c): the wall nodes' derivatives are set to 0 and q_wall receives the
- * gas-side heat flux into each wall [W/m^2 of the wall's full area]
+ * engine.c): the wall nodes' derivatives are NOT written and q_wall receives
+ * the gas-side heat flux into each wall [W/m^2 of the wall's full area]
  * (EN_NCYL x EN_NSURF, layout of the wall states); the coolant and oil see the
  * frozen walls' back-side heat. With q_wall NULL this is en_crank_rhs. */
 int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
                   ts_engine_outputs *out, double *q_wall);
+/* What the wall heat fluxes, the cylinders' dT/dt and the crankshaft need from
+ * the rest of the evaluation (engine_crank.c splits it in two). */
+typedef struct en_cyl_part {
+    double T, h, T4;                /* gas temperature [K], coefficient [W/m^2/K], T^4 if burning */
+    double liner_area, liner_share; /* exposed liner [m^2] and its share of the full liner */
+    double m, dm, dF, u, cv, dudF;  /* mass, rates and gas properties of en_gas_dTdt_s */
+    double q_comb, pdv, hi, he;     /* energy rates but the wall heat [W] */
+    int burning;
+} en_cyl_part;
+typedef struct en_crank_part {
+    en_cyl_part cyl[EN_NCYL];
+    double t_brake, J, dJ; /* brake torque [N*m], inertia with the load's [kg*m^2], dJ/dth */
+} en_crank_part;
+/* en_crank_eval that also returns the wall- and load-independent part in pc
+ * (may be NULL). */
+int en_crank_eval_part(const ts_engine *e, const double *x, const ts_engine_inputs *in,
+                       double *xdot, ts_engine_outputs *out, double *q_wall, en_crank_part *pc);
+/* Re-evaluate only what depends on the wall temperatures and the load torque
+ * (dT/dt of the cylinders, the wall ledger, coolant, oil, crank speed, q_wall)
+ * in an xdot computed by en_crank_eval_part at the same non-wall states and
+ * the same inputs but load_torque: the result equals a full en_crank_eval at
+ * (x, in) exactly (the same operations on the same values). */
+void en_crank_refresh(const ts_engine *e, const double *x, const ts_engine_inputs *in,
+                      const en_crank_part *pc, double *xdot, double *q_wall);
 /* Crank angle [rad] from x to the next angle where a cylinder's ignition or
  * burn clock switches its right-hand side (start and end of the injection
  * window, start and end of the re-arm window); *ign: estimated angle to the

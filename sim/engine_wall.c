@@ -62,13 +62,17 @@ void en_wall_rates(const en_wall *w, const double *T, double q, double T_sink, d
 /* Crank-Nicolson over h for every stack: (C/h + K/2) T' = (C/h - K/2) T + q e_0 +
  * g_n T_sink e_n, K the (tridiagonal) conduction matrix. The matrix depends on
  * the surface and h only, so it is factored once per surface (Thomas
- * algorithm) and the twelve cylinders' stacks are solved with it. */
+ * algorithm) and the twelve cylinders' stacks are solved with it, node by node
+ * across the cylinders (twelve independent recurrences in flight instead of
+ * one; the same operations per stack). */
 void en_walls_step(const ts_engine *e, double *x, const double *q, double h)
 {
-    enum { N = EN_WALL_NODES };
+    enum { N = EN_WALL_NODES, S = EN_NSURF * N /* stride between cylinders */ };
     double T_cool = x[e->off_coolant], T_oil = x[e->off_coolant + 1];
+    double *T0 = x + e->off_wall;
     for (int sf = 0; sf < EN_NSURF; sf++) {
         const en_wall *w = &e->wall[sf];
+        const double *g = w->cond;
         double ch[N], gl[N], up[N], f[N], inv[N];
         for (int i = 0; i < N; i++) {
             gl[i] = i > 0 ? w->cond[i - 1] : 0.0;
@@ -84,20 +88,28 @@ void en_walls_step(const ts_engine *e, double *x, const double *q, double h)
             inv[i] = 1.0 / d;
         }
         double T_sink = sf == EN_PISTON ? T_oil : T_cool;
+        double r[N][EN_NCYL];
+        double *Ts = T0 + sf * N; /* stack of cylinder c: Ts + c * S */
         for (int c = 0; c < EN_NCYL; c++) {
-            double *T = x + e->off_wall + (c * EN_NSURF + sf) * N;
-            double r[N];
-            const double *g = w->cond;
-            r[0] = ch[0] * T[0] + 0.5 * g[0] * (T[1] - T[0]);
-            for (int i = 1; i < N - 1; i++) /* C/h T + 1/2 (g_l (T_l - T) + g_r (T_r - T)) */
-                r[i] = ch[i] * T[i] + 0.5 * (gl[i] * (T[i - 1] - T[i]) + g[i] * (T[i + 1] - T[i]));
-            r[N - 1] = ch[N - 1] * T[N - 1] +
-                       0.5 * (gl[N - 1] * (T[N - 2] - T[N - 1]) + g[N - 1] * (T_sink - T[N - 1]));
-            r[N - 1] += 0.5 * w->cond[N - 1] * T_sink; /* sink half of the implicit side */
-            r[0] += q[c * EN_NSURF + sf];
-            for (int i = 1; i < N; i++) r[i] -= f[i] * r[i - 1];
-            T[N - 1] = r[N - 1] * inv[N - 1];
-            for (int i = N - 2; i >= 0; i--) T[i] = (r[i] - up[i] * T[i + 1]) * inv[i];
+            const double *T = Ts + c * S;
+            r[0][c] = ch[0] * T[0] + 0.5 * g[0] * (T[1] - T[0]) + q[c * EN_NSURF + sf];
         }
+        for (int i = 1; i < N - 1; i++) /* C/h T + 1/2 (g_l (T_l - T) + g_r (T_r - T)) */
+            for (int c = 0; c < EN_NCYL; c++) {
+                const double *T = Ts + c * S;
+                r[i][c] = ch[i] * T[i] + 0.5 * (gl[i] * (T[i - 1] - T[i]) + g[i] * (T[i + 1] - T[i]));
+            }
+        for (int c = 0; c < EN_NCYL; c++) {
+            const double *T = Ts + c * S;
+            r[N - 1][c] = ch[N - 1] * T[N - 1] +
+                          0.5 * (gl[N - 1] * (T[N - 2] - T[N - 1]) + g[N - 1] * (T_sink - T[N - 1]));
+            r[N - 1][c] += 0.5 * w->cond[N - 1] * T_sink; /* sink half of the implicit side */
+        }
+        for (int i = 1; i < N; i++)
+            for (int c = 0; c < EN_NCYL; c++) r[i][c] -= f[i] * r[i - 1][c];
+        for (int c = 0; c < EN_NCYL; c++) Ts[c * S + N - 1] = r[N - 1][c] * inv[N - 1];
+        for (int i = N - 2; i >= 0; i--)
+            for (int c = 0; c < EN_NCYL; c++)
+                Ts[c * S + i] = (r[i][c] - up[i] * Ts[c * S + i + 1]) * inv[i];
     }
 }

@@ -1,0 +1,115 @@
+/*
+ * test_engine_stepper.c — bookkeeping of the crank-angle engine's own
+ * integrator (sim/engine.c, engine_crank.c) that the speed-up of issue 6
+ * relies on: the split right-hand side (en_crank_refresh re-evaluates only the
+ * wall- and load-dependent part) equals a full evaluation exactly, and the
+ * derivative carried from one ts_engine_advance_load call to the next changes
+ * no result (runs with the carry and with it destroyed are bit-identical).
+ * Uses the engine's internal header (engine_impl.h) on purpose.
+ */
+#include "test_util.h"
+
+#include <string.h>
+
+#include "engine_test_util.h"
+#include "sim/engine_impl.h"
+
+/* A running crank-angle engine (cylinders in every phase, some burning):
+ * from the initial state at 2100 rpm, 40 ms at full rack against a load. */
+static double *running_engine(ts_engine **e_out, ts_engine_inputs *in)
+{
+    ts_config c = et_defaults();
+    c.engine.fidelity = TS_ENGINE_CRANK_ANGLE;
+    ts_err err;
+    ts_engine *e = ts_engine_make(&c, &err);
+    assert_non_null(e);
+    double *x = calloc((size_t)ts_engine_nstate(e), sizeof *x);
+    double *work = calloc(ts_engine_work_size(e), sizeof *work);
+    assert_non_null(x);
+    assert_non_null(work);
+    *in = et_full_load();
+    in->hold_speed = 0;
+    in->load_torque = 3000.0;
+    ts_engine_init_state(e, ET_RPM(2100), in->p_amb, in->T_amb, x);
+    ts_engine_set_turbo_speed(e, x, 8000.0);
+    assert_int_equal(ts_engine_advance(e, x, 0, 0.04, in, work, &err), TS_OK);
+    free(work);
+    *e_out = e;
+    return x;
+}
+
+/* EVIDENCE: exactness by construction (same operations on the same values):
+ * after the walls change (every node +1..+12 K) and the load torque changes,
+ * en_crank_refresh applied to the derivative of the old walls and load gives
+ * the full evaluation's derivative and wall fluxes to the bit. Tolerance 0. */
+static void refresh_equals_full_evaluation(void **state)
+{
+    (void)state;
+    ts_engine *e;
+    ts_engine_inputs in;
+    double *x = running_engine(&e, &in);
+    int n = e->off_wall, nx = e->nx, burning = 0;
+    for (int i = 0; i < EN_NCYL; i++) {
+        const double *xc = x + e->off_cyl + i * EN_CYL_NX;
+        burning += xc[CX_IGN] >= 1.0 && xc[CX_BURN] < e->c.burn_duration;
+    }
+    assert_true(burning >= 1); /* the radiation branch is exercised too */
+    double *ka = calloc((size_t)nx, sizeof *ka), *kb = calloc((size_t)nx, sizeof *kb);
+    double qa[EN_NCYL * EN_NSURF], qb[EN_NCYL * EN_NSURF];
+    en_crank_part part;
+    assert_int_equal(en_crank_eval_part(e, x, &in, ka, NULL, qa, &part), 0);
+    for (int i = n; i < nx; i++) x[i] += 1.0 + (i % 12);
+    ts_engine_inputs in2 = in;
+    in2.load_torque = 4321.0;
+    assert_int_equal(en_crank_eval(e, x, &in2, kb, NULL, qb), 0);
+    assert_true(memcmp(ka, kb, sizeof(double) * (size_t)n) != 0); /* the change is seen */
+    en_crank_refresh(e, x, &in2, &part, ka, qa);
+    assert_memory_equal(ka, kb, sizeof(double) * (size_t)n);
+    assert_memory_equal(qa, qb, sizeof qa);
+    free(ka);
+    free(kb);
+    free(x);
+    ts_engine_free(e);
+}
+
+/* EVIDENCE: the derivative carried between calls is exact: twenty 1-ms calls
+ * of ts_engine_advance_load with one work buffer (the carry used) and with
+ * the buffer overwritten before every call (the carry never valid) end in
+ * bit-identical states. Tolerance 0. */
+static void carried_derivative_changes_nothing(void **state)
+{
+    (void)state;
+    ts_engine *e;
+    ts_engine_inputs in;
+    double *x = running_engine(&e, &in);
+    int nx = e->nx;
+    size_t nw = ts_engine_work_size(e);
+    double *xa = malloc(sizeof(double) * (size_t)nx), *xb = malloc(sizeof(double) * (size_t)nx);
+    double *wa = calloc(nw, sizeof *wa), *wb = calloc(nw, sizeof *wb);
+    memcpy(xa, x, sizeof(double) * (size_t)nx);
+    memcpy(xb, x, sizeof(double) * (size_t)nx);
+    ts_err err;
+    for (int k = 0; k < 20; k++) {
+        double t = 0.04 + 1e-3 * k;
+        in.load_torque = 3000.0 + 50.0 * k; /* the load changes between calls */
+        assert_int_equal(ts_engine_advance(e, xa, t, 1e-3, &in, wa, &err), TS_OK);
+        memset(wb, 0xff, sizeof(double) * nw); /* NaNs: no carry */
+        assert_int_equal(ts_engine_advance(e, xb, t, 1e-3, &in, wb, &err), TS_OK);
+    }
+    assert_memory_equal(xa, xb, sizeof(double) * (size_t)nx);
+    free(xa);
+    free(xb);
+    free(wa);
+    free(wb);
+    free(x);
+    ts_engine_free(e);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(refresh_equals_full_evaluation),
+        cmocka_unit_test(carried_derivative_changes_nothing),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
