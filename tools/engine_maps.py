@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Regenerate the engine map tables (/engine/map_*_<variant>) and the part-boost
-tables (/engine/pb_*_<variant>, spool_speed, spool_ratio, boost_lag) in
+tables (/engine/pb_*_<variant>, spool_speed, spool_ratio, spool_lag) in
 sim/data/defaults/engine.json from the crank-angle model's own runs.
 
 Usage (from the repository root, after `make`):
