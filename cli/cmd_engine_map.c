@@ -5,10 +5,20 @@
  * started from the previous one), rack from /control/rack, the configured
  * variant and fidelity. Writes one row per speed, ascending, with units in the
  * header. These rows are what /engine/map_* in engine.json are made from.
+ *
+ * With --spool FILE.csv (instead of --out): the turbo spool-up of a launch instead, the part-boost source
+ * of the mean-value and map fidelities (tools/engine_maps.py). The engine
+ * starts from its idle steady state (650 rpm, 313 N*m: the converter's stall
+ * load in the accel-pointmass presets; ts_engine_idle_state: idle-warm walls,
+ * idle turbo), the crank is then held at each of 800, 1000, ..., 2200 rpm and
+ * the rack stepped to /control/rack; one row per engine cycle for SPOOL_TIME
+ * seconds, real rotor inertia and wall capacities (the walls warm up as in a
+ * launch). Columns: time, speed, the cycle means and eta_v, eta_i, q_wall.
  */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "../sim/engine.h"
 #include "cli.h"
@@ -21,13 +31,76 @@
 #define STEADY_TOL 2e-4
 #define SEARCH_TURBO 8000.0 /* rotor speed the lug-down starts from [rad/s] */
 #define PI 3.14159265358979323846
+#define SPOOL_RPM_LO 800
+#define SPOOL_RPM_HI 2200
+#define SPOOL_RPM_STEP 200
+#define SPOOL_TIME 6.0      /* [s] of each spool-up; boost settles in ~2-4 s */
+#define IDLE_RPM 650.0      /* idle of the accel-pointmass presets */
+#define IDLE_TORQUE 313.0   /* converter stall load at idle there [N*m] */
+
+/* --spool: crank-angle spool-up transients at held speed (see the header). */
+static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
+{
+    ts_err err;
+    size_t nx = (size_t)ts_engine_nstate(e);
+    double *x0 = calloc(nx, sizeof *x0), *x = calloc(nx, sizeof *x);
+    double *work = malloc(sizeof(double) * ts_engine_work_size(e));
+    FILE *f = NULL;
+    int rc = TSC_EXIT_FAIL;
+    if (!x0 || !x || !work) {
+        fprintf(stderr, "tanksim engine-map: out of memory\n");
+        goto done;
+    }
+    if (ts_engine_idle_state(e, IDLE_RPM * PI / 30, IDLE_TORQUE, 101325.0, 298.15, x0, NULL, &err) !=
+        TS_OK) {
+        tsc_print_err("engine-map", &err);
+        goto done;
+    }
+    f = fopen(out, "w");
+    if (!f) {
+        fprintf(stderr, "tanksim engine-map: cannot write %s\n", out);
+        goto done;
+    }
+    fprintf(f, "speed_rpm [rpm],time [s],speed [rad/s],boost [Pa],intake_temp [K],fuel_flow [kg/s],"
+               "air_flow [kg/s],indicated_torque [N*m],friction_torque [N*m],brake_torque [N*m],"
+               "exhaust_temp [K],turbo_speed [rad/s],eta_v [1],eta_i [1],q_wall [1]\n");
+    ts_engine_inputs in = {.rack = cfg->control.rack, .fuel_per_cycle = -1, .p_amb = 101325.0,
+                           .T_amb = 298.15, .hold_speed = 1};
+    for (int rpm = SPOOL_RPM_LO; rpm <= SPOOL_RPM_HI; rpm += SPOOL_RPM_STEP) {
+        double w = rpm * PI / 30;
+        memcpy(x, x0, nx * sizeof *x);
+        x[TS_ENGINE_X_SPEED] = w;
+        double t = 0;
+        while (t < SPOOL_TIME) {
+            ts_engine_cycle c;
+            if (ts_engine_cycle_run(e, x, &in, work, &c, &err) != TS_OK) {
+                tsc_print_err("engine-map", &err);
+                goto done;
+            }
+            t += 4 * PI / w;
+            fprintf(f, "%d,%.4f,%.4f,%.0f,%.1f,%.6f,%.5f,%.2f,%.2f,%.2f,%.1f,%.0f,%.4f,%.4f,%.4f\n", rpm,
+                    t, w, c.mean.boost, c.mean.intake_temp, c.mean.fuel_flow, c.mean.air_flow,
+                    c.mean.indicated_torque, c.mean.friction_torque, c.mean.brake_torque,
+                    c.mean.exhaust_temp, c.mean.turbo_speed, c.eta_v, c.eta_i, c.q_wall);
+        }
+        fprintf(stderr, "  spool %4d rpm done\n", rpm);
+    }
+    rc = TSC_EXIT_OK;
+done:
+    if (f && fclose(f) != 0) rc = TSC_EXIT_FAIL;
+    free(x0);
+    free(x);
+    free(work);
+    return rc;
+}
 
 int tsc_cmd_engine_map(int argc, char **argv)
 {
     const char *out = tsc_option(argc, argv, "--out");
+    const char *spool_out = tsc_option(argc, argv, "--spool");
     ts_config cfg;
     if (tsc_load_config(argc, argv, &cfg, NULL) != 0) return TSC_EXIT_USAGE;
-    if (!out) {
+    if (!out && !spool_out) {
         fprintf(stderr, "tanksim engine-map: --out FILE.csv is required\n");
         return TSC_EXIT_USAGE;
     }
@@ -36,6 +109,11 @@ int tsc_cmd_engine_map(int argc, char **argv)
     if (!e) {
         tsc_print_err("engine-map", &err);
         return TSC_EXIT_FAIL;
+    }
+    if (spool_out) {
+        int src = spool(e, &cfg, spool_out);
+        ts_engine_free(e);
+        return src;
     }
     double *x = calloc((size_t)ts_engine_nstate(e), sizeof *x);
     ts_engine_cycle *rows = calloc(NPOINT, sizeof *rows);

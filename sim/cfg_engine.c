@@ -28,7 +28,16 @@ const char *const ts_engine_fidelity_names[] = {"crank_angle", "mean_value", "ma
     {"/engine/map_eta_i_" v, TS_PT_DARRAY, F(map[idx].eta_i), "1", 0.1, 0.7, NULL,                 \
      TS_ENGINE_MAP_MAX, F(map[idx].eta_i_n), "gross indicated efficiency (" v ")"},                \
     {"/engine/map_q_wall_" v, TS_PT_DARRAY, F(map[idx].q_wall), "1", 0, 0.6, NULL,                 \
-     TS_ENGINE_MAP_MAX, F(map[idx].q_wall_n), "in-cylinder heat loss / fuel energy (" v ")"}
+     TS_ENGINE_MAP_MAX, F(map[idx].q_wall_n), "in-cylinder heat loss / fuel energy (" v ")"},  \
+    {"/engine/pb_eta_v_" v, TS_PT_DARRAY, F(map[idx].pb_eta_v), "1", 0.3, 2, NULL,                \
+     TS_ENGINE_SPOOL_MAX, F(map[idx].pb_eta_v_n), "part-boost eta_v / full-load eta_v (" v ")"},   \
+    {"/engine/pb_eta_i_" v, TS_PT_DARRAY, F(map[idx].pb_eta_i), "1", 0.3, 2, NULL,                \
+     TS_ENGINE_SPOOL_MAX, F(map[idx].pb_eta_i_n), "part-boost eta_i / full-load eta_i (" v ")"},   \
+    {"/engine/pb_q_wall_" v, TS_PT_DARRAY, F(map[idx].pb_q_wall), "1", 0.3, 3, NULL,              \
+     TS_ENGINE_SPOOL_MAX, F(map[idx].pb_q_wall_n), "part-boost q_wall / full-load q_wall (" v ")"}, \
+    {"/engine/pb_torque_" v, TS_PT_DARRAY, F(map[idx].pb_torque), "1", 0, 2, NULL,                \
+     TS_ENGINE_SPOOL_MAX, F(map[idx].pb_torque_n),                                                 \
+     "part-boost indicated torque / full-load indicated torque (map fidelity) (" v ")"}
 
 static const ts_param engine_rows[] = {
     {"/engine/variant", TS_PT_ENUM, F(variant), "", 0, 0, ts_engine_variant_names, 0, 0,
@@ -136,8 +145,11 @@ static const ts_param engine_rows[] = {
     D(exhaust_volume, "m^3", 1e-4, 0.5, "exhaust manifold volume per bank"),
     D(exhaust_ua, "W/K", 0, 1e4, "exhaust manifold heat loss conductance per bank"),
     D(ca_step, "rad", 1e-3, 0.1, "base crank-angle step of the engine's own integrators (fixed for cycle means; adaptive runs 1/4 to 8 x)"),
-    D(boost_lag, "s", 0.01, 10, "map fidelity: first-order boost time constant"),
-    D(boost_floor, "1", 0, 1, "map fidelity: fuel fraction available at zero boost"),
+    A(spool_speed, TS_ENGINE_MAP_MAX, "rad/s", 0, 500, "speeds of the part-boost tables /engine/pb_*"),
+    A(spool_ratio, TS_ENGINE_MAP_MAX, "1", 0, 2,
+      "intake manifold pressure / full-load boost (map_boost) of the part-boost tables"),
+    A(spool_lag, TS_ENGINE_MAP_MAX, "s", 0.01, 100,
+      "map fidelity: first-order boost time constant at spool_speed"),
     A(map_speed, TS_ENGINE_MAP_MAX, "rad/s", 0, 400, "speeds of the map tables"),
     MAPROWS("conventional", 0),
     MAPROWS("lhr05", 1),

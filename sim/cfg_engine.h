@@ -28,6 +28,7 @@ typedef enum ts_engine_fidelity {
 extern const char *const ts_engine_fidelity_names[];
 
 #define TS_ENGINE_MAP_MAX 32 /* points of a map table */
+#define TS_ENGINE_SPOOL_MAX 96 /* points of a part-boost table (spool_speed x spool_ratio) */
 
 /* Full-load steady-state tables of one variant vs /engine/map_speed, written by
  * `tanksim engine-map` from the crank-angle model (provenance in engine.json). */
@@ -39,6 +40,12 @@ typedef struct ts_engine_map_table {
     double eta_i[TS_ENGINE_MAP_MAX];  /* gross indicated efficiency [1] */
     double q_wall[TS_ENGINE_MAP_MAX]; /* in-cylinder heat loss / fuel energy [1] */
     int torque_n, boost_n, fuel_n, eta_v_n, eta_i_n, q_wall_n;
+    /* Part-boost factors from the crank-angle spool-ups (`tanksim engine-map
+     * --spool`): value / full-load value at (spool_speed[i], spool_ratio[j]),
+     * row-major by speed; ratio = intake manifold pressure / map_boost. */
+    double pb_eta_v[TS_ENGINE_SPOOL_MAX], pb_eta_i[TS_ENGINE_SPOOL_MAX];
+    double pb_q_wall[TS_ENGINE_SPOOL_MAX], pb_torque[TS_ENGINE_SPOOL_MAX];
+    int pb_eta_v_n, pb_eta_i_n, pb_q_wall_n, pb_torque_n;
 } ts_engine_map_table;
 
 typedef struct ts_engine_config {
@@ -115,8 +122,12 @@ typedef struct ts_engine_config {
     /* numerics of the crank-angle model */
     double ca_step;          /* base step of the engine's integrators [rad CA] */
     /* map and mean-value fidelities */
-    double boost_lag;        /* map: first-order boost time constant [s] */
-    double boost_floor;      /* map: fuel fraction available without boost [1] */
+    double spool_speed[TS_ENGINE_MAP_MAX]; /* part-boost tables: speeds [rad/s] */
+    int spool_speed_n;
+    double spool_ratio[TS_ENGINE_MAP_MAX]; /* part-boost tables: p_im / map_boost [1] */
+    int spool_ratio_n;
+    double spool_lag[TS_ENGINE_MAP_MAX]; /* map: boost time constant at spool_speed [s] */
+    int spool_lag_n;
     double map_speed[TS_ENGINE_MAP_MAX]; /* [rad/s] */
     int map_speed_n;
     ts_engine_map_table map[TS_NENGINE_VARIANT];

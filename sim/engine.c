@@ -58,6 +58,29 @@ static ts_rc check_tables(const ts_engine_config *c, int v, ts_err *err)
             return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: %d values expected (one per map_speed), got %d",
                               ptr, n, counts[k]);
         }
+    int ns = c->spool_speed_n, nr = c->spool_ratio_n;
+    if (ns < 1 || nr < 2 || c->spool_lag_n != ns)
+        return ts_err_set(err, TS_ERR_PARAM, "/engine/spool_ratio",
+                          "/engine/spool_speed, spool_ratio, spool_lag: at least 1 speed and 2 "
+                          "ratios needed, one spool_lag per speed");
+    for (int i = 1; i < ns; i++)
+        if (!(c->spool_speed[i] > c->spool_speed[i - 1]))
+            return ts_err_set(err, TS_ERR_PARAM, "/engine/spool_speed",
+                              "/engine/spool_speed: speeds must increase (index %d)", i);
+    for (int i = 1; i < nr; i++)
+        if (!(c->spool_ratio[i] > c->spool_ratio[i - 1]))
+            return ts_err_set(err, TS_ERR_PARAM, "/engine/spool_ratio",
+                              "/engine/spool_ratio: ratios must increase (index %d)", i);
+    const int pb_counts[] = {t->pb_eta_v_n, t->pb_eta_i_n, t->pb_q_wall_n, t->pb_torque_n};
+    static const char *const pb_names[] = {"eta_v", "eta_i", "q_wall", "torque"};
+    for (int k = 0; k < 4; k++)
+        if (pb_counts[k] != ns * nr) {
+            char ptr[64];
+            snprintf(ptr, sizeof ptr, "/engine/pb_%s_%s", pb_names[k], ts_engine_variant_names[v]);
+            return ts_err_set(err, TS_ERR_PARAM, ptr,
+                              "%s: %d values expected (spool_speed x spool_ratio), got %d", ptr,
+                              ns * nr, pb_counts[k]);
+        }
     return TS_OK;
 }
 

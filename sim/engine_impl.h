@@ -201,6 +201,14 @@ struct ts_engine {
 
 /* Piecewise-linear interpolation in the map tables, clamped at the ends. */
 double en_map_interp(const ts_engine *e, const double *y, double omega);
+
+/* Bilinear interpolation in a part-boost table y (/engine/pb_*: row-major
+ * spool_speed x spool_ratio), clamped at the edges (engine_mean.c). */
+double en_pb_interp(const ts_engine *e, const double *y, double omega, double ratio);
+
+/* The map fidelity's boost time constant at crank speed omega [s]
+ * (/engine/spool_lag vs spool_speed, linear, clamped; engine_map.c). */
+double en_spool_lag(const ts_engine *e, double omega);
 /* Common outputs of the turbo banks (compressor flows, p, T) used by crank and mean. */
 double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double air_flow,
                        double omega);

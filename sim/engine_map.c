@@ -5,11 +5,19 @@
  * The tables (/engine/map_*_<variant>) are the crank-angle model's own
  * dynamometer sweep (`tanksim engine-map`, provenance in engine.json).
  * States: crank speed, crank angle, boost-lag state z in [0, 1]:
- *   dz/dt = (rack - z) / tau_boost
- *   available fuel fraction a = floor + (1 - floor) z   (smoke limit, no boost yet)
+ *   dz/dt = (rack - z) / tau_boost(speed)   (/engine/spool_lag: the
+ *           crank-angle spool-ups' 63 % time at each held speed,
+ *           tools/engine_maps.py; linear in speed between them)
+ *   boost p = p_amb + z (p_fl - p_amb), ratio r = p / p_fl
+ *   available fraction a = pb_torque(speed, r): the crank-angle spool-ups'
+ *           indicated torque / full-load indicated torque at that boost ratio
+ *           (smoke-limited fuel, part-boost efficiency and the launch's cold
+ *           walls; tools/engine_maps.py)
  *   fuel fraction f = min(rack, a) of the full-load fuel at this speed
  *   (or the commanded fuel_per_cycle, also capped by a)
  *   indicated torque = f (T_fl + T_fric), brake = indicated - T_fric (Willans line)
+ * The spool-ups are full-rack: at part rack (z settling at the rack) a is
+ * about r >= rack, so the cap does not bind in part-load steady states.
  *   J domega/dt = brake - load
  * The default fuel law of Eq. 14 needs the air flow, which a map does not
  * have: with rack input the map scales its full-load fuel (which already
@@ -33,7 +41,8 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
     double boost_fl = en_map_interp(e, e->map_boost, w);
     double vd_total = e->geom.vd * EN_NCYL;
     double t_fric = en_fmep(c, w) * vd_total / EN_CYCLE * tanh(w / 5.0);
-    double avail = c->boost_floor + (1.0 - c->boost_floor) * z;
+    double boost = in->p_amb + z * (boost_fl - in->p_amb);
+    double avail = en_pb_interp(e, c->map[c->variant].pb_torque, w, boost / boost_fl);
     double f;
     double cycles_per_s = fmax(w, 0.0) / EN_CYCLE;
     if (in->fuel_per_cycle >= 0) {
@@ -47,7 +56,7 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
     if (f < 0) f = 0;
     double t_ind = f * (tq_fl + t_fric);
     double t_brake = t_ind - t_fric;
-    double lag = c->boost_lag * e->turbo_inertia_scale; /* shrunk in ts_engine_steady */
+    double lag = en_spool_lag(e, w) * e->turbo_inertia_scale; /* shrunk in ts_engine_steady */
     xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) /
                                                         (c->inertia + in->load_inertia);
     xdot[TS_ENGINE_X_ANGLE] = w;
@@ -59,7 +68,7 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
         out->brake_torque = t_brake;
         out->indicated_torque = t_ind;
         out->friction_torque = t_fric;
-        out->boost = in->p_amb + z * (boost_fl - in->p_amb);
+        out->boost = boost;
         out->intake_temp = c->ic_wall_temp;
         out->fuel_flow = fuel;
         out->air_flow = fuel_fl * c->afr_stoich / phi * (out->boost / boost_fl);
@@ -67,4 +76,16 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
         out->phi = out->air_flow > 0 ? fuel * c->afr_stoich / out->air_flow : 0.0;
     }
     return 0;
+}
+
+double en_spool_lag(const ts_engine *e, double omega)
+{
+    const ts_engine_config *c = &e->c;
+    int n = c->spool_speed_n;
+    const double *ws = c->spool_speed, *y = c->spool_lag;
+    if (n < 2 || omega <= ws[0]) return y[0];
+    if (omega >= ws[n - 1]) return y[n - 1];
+    int i = 0;
+    while (i < n - 2 && omega > ws[i + 1]) i++;
+    return y[i] + (omega - ws[i]) / (ws[i + 1] - ws[i]) * (y[i + 1] - y[i]);
 }

@@ -10,12 +10,16 @@
  *   indicated torque          eta_i mdot_f LHV / w
  *   exhaust enthalpy          mdot h_im + mdot_f LHV (1 - eta_i - q_wall)
  * exhaust temperature from that enthalpy at the products' composition. At
- * part boost q_wall is scaled by (p_im / p_full_load)^(nu_exp - 1), the charge-
- * density dependence of the crank-angle model's heat-transfer coefficient
- * (see the loop below); eta_v and eta_i keep their full-load values (a known
- * limitation), and the walls' thermal inertia (cold walls early in a launch
- * take more heat in the crank-angle model) is not represented. No walls, no crank-angle variation:
- * crank speed follows J dw/dt = T_brake - T_load with the mean inertia.
+ * part boost eta_v, eta_i and q_wall are the full-load values times the
+ * factors /engine/pb_* at (speed, p_im / map_boost): the crank-angle model's
+ * own launch spool-ups (`tanksim engine-map --spool`, tools/engine_maps.py),
+ * which start from the idle walls, so the factors carry both the part-boost
+ * state and the cold-wall heat loss of a launch (walls warm for minutes, the
+ * spool-ups cover 6 s: at full boost the factors keep the 2-6-s walls, which
+ * is what a 20-s launch sees, not a long run's). Not represented: the walls'
+ * own warm-up beyond that (no wall state), the spool-up's dependence on the
+ * speed history. No crank-angle variation: crank speed follows
+ * J dw/dt = T_brake - T_load with the mean inertia.
  */
 #include <math.h>
 
@@ -41,32 +45,26 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         en_bank_read(e, xb, &bo[b]);
     }
     double mf_cyc = en_fuel_command(e, in, air, wp);
-    double eta_v = en_map_interp(e, e->map_eta_v, wp);
-    double eta_i = en_map_interp(e, e->map_eta_i, wp);
-    double q_w = en_map_interp(e, e->map_q_wall, wp);
+    const ts_engine_map_table *pb = &c->map[c->variant];
+    double eta_v_fl = en_map_interp(e, e->map_eta_v, wp);
+    double eta_i_fl = en_map_interp(e, e->map_eta_i, wp);
+    double q_w_fl = en_map_interp(e, e->map_q_wall, wp);
+    double p_fl = en_map_interp(e, e->map_boost, wp);
     double t_ind = 0, fuel_rate = 0, wall = 0, hin = 0, hout = 0, min = 0, mout = 0;
     double *xl = xdot + e->off_ledger;
     for (int b = 0; b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
         en_bank_out *o = &bo[b];
         double rho = o->p_im / (en_gas_r(g, o->F_im) * o->T_im);
+        /* part boost: the crank-angle spool-ups' factors at this bank's
+         * intake manifold pressure / full-load boost (see the header) */
+        double ratio = o->p_im / p_fl;
+        double eta_v = eta_v_fl * en_pb_interp(e, pb->pb_eta_v, wp, ratio);
+        double eta_i = eta_i_fl * en_pb_interp(e, pb->pb_eta_i, wp, ratio);
+        double q_wb = q_w_fl * en_pb_interp(e, pb->pb_q_wall, wp, ratio);
         double m_cyl = eta_v * rho * e->geom.vd * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
         double m_f = mf_cyc * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
         double q_fuel = m_f * c->lhv;
-        /* In-cylinder heat loss at part boost: the crank-angle model's
-         * coefficient is h = a Re^b lambda / L (engine_heat.c, b = /engine/
-         * nu_exp), so at fixed speed and gas temperatures the wall heat scales
-         * with the charge density to the power b, the fuel energy (constant
-         * equivalence ratio, Eq. 14) with its first power: the loss FRACTION
-         * scales as (rho / rho_full_load)^(b - 1). The density ratio is taken
-         * as the intake-manifold pressure ratio to the sweep's full-load boost
-         * at this speed (both intercooled to similar temperatures), clamped to
-         * [1/4, 3/2]. Without it the table's full-load fraction is used in the
-         * low-boost launch, giving ~60 K too hot exhaust and a quicker turbo
-         * than the crank-angle engine at the same boost. */
-        double p_fl = en_map_interp(e, e->map_boost, wp);
-        double dens = p_fl > 0 ? fmin(fmax(o->p_im / p_fl, 0.25), 1.5) : 1.0;
-        double q_wb = q_w * pow(dens, c->nu_exp - 1.0);
         double h_in = m_cyl * en_gas_h(g, o->T_im, o->F_im);
         double h_out = h_in + q_fuel * (1.0 - eta_i - q_wb);
         double m_out = m_cyl + m_f;
@@ -110,4 +108,23 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
     }
     return 0;
+}
+
+double en_pb_interp(const ts_engine *e, const double *y, double omega, double ratio)
+{
+    const ts_engine_config *c = &e->c;
+    int ns = c->spool_speed_n, nr = c->spool_ratio_n;
+    const double *ws = c->spool_speed, *rs = c->spool_ratio;
+    int i = 0, j = 0;
+    double fw = 0, fr = 0;
+    if (ns > 1) {
+        while (i < ns - 2 && omega > ws[i + 1]) i++;
+        fw = fmin(fmax((omega - ws[i]) / (ws[i + 1] - ws[i]), 0.0), 1.0);
+    }
+    while (j < nr - 2 && ratio > rs[j + 1]) j++;
+    fr = fmin(fmax((ratio - rs[j]) / (rs[j + 1] - rs[j]), 0.0), 1.0);
+    const double *r0 = y + i * nr, *r1 = ns > 1 ? y + (i + 1) * nr : r0;
+    double a = r0[j] + fr * (r0[j + 1] - r0[j]);
+    double b = r1[j] + fr * (r1[j + 1] - r1[j]);
+    return a + fw * (b - a);
 }

@@ -51,3 +51,45 @@ def test_dyno_preset_runs_crank_angle_traces(tmp_path):
     assert max(p) > 3e5 and min(p) > 0
     summary = json.load(open(tmp_path / "o" / "summary.json"))
     assert "brake_torque_mean" in summary["metrics"]
+
+
+def test_engine_map_spool_rows(tmp_path):
+    """--spool (issue 6): launch spool-ups at held speed, one row per engine
+    cycle, 800-2200 rpm in 200-rpm steps, 6 s each; boost rises from about
+    ambient. The mean-value fidelity keeps this fast (the tables in engine.json
+    come from crank-angle spool-ups, tools/engine_maps.py)."""
+    cfg = tmp_path / "cfg.json"
+    cfg.write_text(json.dumps({"run": {"kind": "engine_dyno"},
+                               "engine": {"fidelity": "mean_value"}, "control": {"rack": 1.0}}))
+    out = run("engine-map", str(cfg), "--spool", str(tmp_path / "spool.csv"))
+    assert out.returncode == 0, out.stderr
+    rows = list(csv.reader(open(tmp_path / "spool.csv")))
+    head = [h.split(" ")[0] for h in rows[0]]
+    for col in ("speed_rpm", "time", "boost", "eta_v", "eta_i", "q_wall", "indicated_torque"):
+        assert col in head
+    data = [dict(zip(head, map(float, r))) for r in rows[1:]]
+    assert sorted({int(r["speed_rpm"]) for r in data}) == list(range(800, 2201, 200))
+    for rpm in (1400, 2200):
+        cyc = [r for r in data if r["speed_rpm"] == rpm]
+        t = [r["time"] for r in cyc]
+        assert all(b > a for a, b in zip(t, t[1:])) and 5.9 < t[-1] < 6.2
+        assert abs(t[0] - 4 * 3.14159265 / cyc[0]["speed"]) < 1e-3  # one cycle per row
+        assert cyc[0]["boost"] < 1.3e5 < 3e5 < cyc[-1]["boost"]
+
+
+def test_engine_maps_tool_reproduces_defaults(tmp_path):
+    """engine.json's map and part-boost tables are exactly what
+    tools/engine_maps.py derives from the stored CSVs (no hand edits)."""
+    import os
+    import shutil
+    root = os.path.join(os.path.dirname(__file__), "..", "..")
+    shutil.copytree(os.path.join(root, "sim", "data", "engine_maps"),
+                    tmp_path / "sim" / "data" / "engine_maps")
+    os.makedirs(tmp_path / "sim" / "data" / "defaults")
+    src = os.path.join(root, "sim", "data", "defaults", "engine.json")
+    shutil.copy(src, tmp_path / "sim" / "data" / "defaults" / "engine.json")
+    out = subprocess.run(["/usr/bin/python3", os.path.join(root, "tools", "engine_maps.py"),
+                          "--no-run"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert json.load(open(tmp_path / "sim" / "data" / "defaults" / "engine.json")) == \
+        json.load(open(src))
