@@ -31,7 +31,29 @@ struct ts_ode {
     SUNLinearSolver LS;
     double t;
     char last_msg[256]; /* SUNDIALS' last error message */
+    ts_ode_stats acc;   /* counters of the runs before the last (re)start */
 };
+
+static void cvode_stats(void *mem, ts_ode_stats *s)
+{
+    memset(s, 0, sizeof *s);
+    CVodeGetNumSteps(mem, &s->steps);
+    CVodeGetNumRhsEvals(mem, &s->rhs_evals);
+    CVodeGetNumJacEvals(mem, &s->jac_evals);
+    CVodeGetNumErrTestFails(mem, &s->err_test_fails);
+    CVodeGetNumNonlinSolvIters(mem, &s->nonlin_iters);
+    CVodeGetNumNonlinSolvConvFails(mem, &s->nonlin_fails);
+}
+
+static void stats_add(ts_ode_stats *a, const ts_ode_stats *b)
+{
+    a->steps += b->steps;
+    a->rhs_evals += b->rhs_evals;
+    a->jac_evals += b->jac_evals;
+    a->err_test_fails += b->err_test_fails;
+    a->nonlin_iters += b->nonlin_iters;
+    a->nonlin_fails += b->nonlin_fails;
+}
 
 /* ---- half-size Schur complement linear solver ------------------------------
  * For a second-order system y = [q, v] with dq/dt = v (h = n/2 each), the
@@ -289,6 +311,9 @@ void ts_ode_free(ts_ode *o)
 
 ts_rc ts_ode_init(ts_ode *o, double t0, const double *y0, ts_err *err)
 {
+    ts_ode_stats cur;
+    cvode_stats(o->mem, &cur); /* CVodeReInit zeroes CVODE's counters */
+    stats_add(&o->acc, &cur);
     memcpy(N_VGetArrayPointer(o->y), y0, (size_t)o->n * sizeof(double));
     o->t = t0;
     o->last_msg[0] = '\0';
@@ -335,11 +360,6 @@ int ts_ode_n(const ts_ode *o) { return o->n; }
 
 void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s)
 {
-    memset(s, 0, sizeof *s);
-    CVodeGetNumSteps(o->mem, &s->steps);
-    CVodeGetNumRhsEvals(o->mem, &s->rhs_evals);
-    CVodeGetNumJacEvals(o->mem, &s->jac_evals);
-    CVodeGetNumErrTestFails(o->mem, &s->err_test_fails);
-    CVodeGetNumNonlinSolvIters(o->mem, &s->nonlin_iters);
-    CVodeGetNumNonlinSolvConvFails(o->mem, &s->nonlin_fails);
+    cvode_stats(o->mem, s);
+    stats_add(s, &o->acc);
 }

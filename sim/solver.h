@@ -66,6 +66,7 @@ ts_rc ts_ode_root_info(ts_ode *o, int *dirs, ts_err *err);
 
 double *ts_ode_y(ts_ode *o);      /* current state (n values), owned by the handle */
 int ts_ode_n(const ts_ode *o);
+/* Counters since ts_ode_make, summed over every (re)start. */
 void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s);
 
 #endif

@@ -106,6 +106,13 @@ static void rtf(const char *preset, const char *engine, const char *track, const
            preset, engine, track, method, r.t_end, r.wall, r.cpu, r.t_end / r.wall, r.t_end / r.cpu,
            r.st.vehicle_rhs, r.st.vehicle_wall, r.st.powertrain_rhs, r.st.powertrain_wall,
            r.st.exchanges);
+    printf("    per simulated s: vehicle rhs %.0f, steps %.0f, Jacobians %.1f, error-test fails "
+           "%.1f, Newton iterations %.0f (fails %.1f); powertrain rhs %.0f, leader CVODE steps "
+           "%.0f, restarts %.0f\n",
+           r.st.vehicle_rhs / r.t_end, r.st.vehicle_steps / r.t_end, r.st.vehicle_jacs / r.t_end,
+           r.st.vehicle_err_fails / r.t_end, r.st.vehicle_newton / r.t_end,
+           r.st.vehicle_newton_fails / r.t_end, r.st.powertrain_rhs / r.t_end,
+           r.st.powertrain_steps / r.t_end, r.st.leader_inits / r.t_end);
     fflush(stdout);
     ts_coupled_free(cm);
 }
