@@ -655,7 +655,8 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
                           .max_step = rc->max_step,
                           .max_steps = 1000000,
                           .nroots = ts_powertrain_nroots(c->pt),
-                          .roots = lead_roots};
+                          .roots = lead_roots,
+                          .small_dense = 1};
         r->lead_ode = ts_ode_make(c->np, lead_rhs, r, &lo, err);
         if (!r->lead_ode) goto fail;
         ts_ode_opts fo = {.rtol = rc->rtol,
@@ -845,7 +846,9 @@ void ts_coupled_run_stats(const ts_coupled_run *r, ts_coupled_stats *s)
     if (r->lead_ode) {
         ts_ode_get_stats(r->lead_ode, &os);
         s->powertrain_steps = os.steps;
+        s->powertrain_setups = os.lin_setups;
     }
+    s->powertrain_n = r->c->np;
 }
 
 /* Saved state: t, rack_fixed, report (t, omega, alpha), published torque and

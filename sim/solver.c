@@ -43,6 +43,7 @@ static void cvode_stats(void *mem, ts_ode_stats *s)
     CVodeGetNumErrTestFails(mem, &s->err_test_fails);
     CVodeGetNumNonlinSolvIters(mem, &s->nonlin_iters);
     CVodeGetNumNonlinSolvConvFails(mem, &s->nonlin_fails);
+    CVodeGetNumLinSolvSetups(mem, &s->lin_setups);
 }
 
 static void stats_add(ts_ode_stats *a, const ts_ode_stats *b)
@@ -53,6 +54,7 @@ static void stats_add(ts_ode_stats *a, const ts_ode_stats *b)
     a->err_test_fails += b->err_test_fails;
     a->nonlin_iters += b->nonlin_iters;
     a->nonlin_fails += b->nonlin_fails;
+    a->lin_setups += b->lin_setups;
 }
 
 /* ---- half-size Schur complement linear solver ------------------------------
@@ -65,6 +67,7 @@ static void stats_add(ts_ode_stats *a, const ts_ode_stats *b)
  * full n x n LU when it does not hold, so the solver is correct for any f. */
 typedef struct schur_ls {
     int n, h, full;
+    int always_full; /* plain n x n LU (opts.small_dense without the second-order form) */
     double *S, *F, *d, *r;
     int *piv;
     long last_flag;
@@ -93,7 +96,7 @@ static int schur_setup(SUNLinearSolver ls, SUNMatrix A)
     schur_ls *c = ls->content;
     const double *a = SUNDenseMatrix_Data(A); /* column-major, leading dimension n */
     int n = c->n, h = c->h;
-    c->full = 0;
+    c->full = c->always_full;
     for (int j = 0; j < h && !c->full; j++) /* top-left block == I */
         for (int i = 0; i < h; i++)
             if (a[(size_t)j * n + i] != (i == j ? 1.0 : 0.0)) {
@@ -172,7 +175,7 @@ static int schur_free(SUNLinearSolver ls)
     return SUNLS_SUCCESS;
 }
 
-static SUNLinearSolver schur_make(int n, SUNContext ctx)
+static SUNLinearSolver schur_make(int n, int always_full, SUNContext ctx)
 {
     SUNLinearSolver ls = SUNLinSolNewEmpty(ctx);
     if (!ls) return NULL;
@@ -190,6 +193,7 @@ static SUNLinearSolver schur_make(int n, SUNContext ctx)
         return NULL;
     }
     c->n = n, c->h = n / 2;
+    c->always_full = always_full || n % 2 != 0;
     c->S = malloc(sizeof(double) * (size_t)c->h * (size_t)c->h);
     c->F = malloc(sizeof(double) * (size_t)n * (size_t)n);
     c->d = malloc(sizeof(double) * (size_t)c->h);
@@ -274,8 +278,9 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
         goto fail;
     o->A = SUNDenseMatrix(n, n, o->ctx);
     if (!o->A) goto nomem;
-    o->LS = opts->second_order && n % 2 == 0 ? schur_make(n, o->ctx)
-                                              : SUNLinSol_Dense(o->y, o->A, o->ctx);
+    o->LS = opts->second_order && n % 2 == 0 ? schur_make(n, 0, o->ctx)
+            : opts->small_dense                ? schur_make(n, 1, o->ctx)
+                                               : SUNLinSol_Dense(o->y, o->A, o->ctx);
     if (!o->LS) goto nomem;
     if (check(o, CVodeSetLinearSolver(o->mem, o->LS, o->A), "CVodeSetLinearSolver", err))
         goto fail;
