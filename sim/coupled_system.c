@@ -13,11 +13,15 @@
  *
  * Events: gear-shift start/end are roots of whichever integrator carries the
  * powertrain; at a root the discrete state is updated and that integrator
- * re-initialised (powertrain.h protocol). The leader is also re-initialised
- * whenever a new vehicle report changes its input (the predictor restarts: a
- * discontinuity in time). The follower is not: the published torque is a
- * continuous piecewise-linear function of time, final once published; the
- * follower's integrator never steps past the last sample (stop time).
+ * re-initialised (powertrain.h protocol). A new vehicle report does NOT
+ * re-initialise the leader: its integrator never steps past its step end
+ * (stop time), so the new prediction only acts from there on, and the error
+ * test absorbs the small jump (lead_ode_advance). Nor the follower: the
+ * published torque is a continuous piecewise-linear function of time, final
+ * once published; the follower's integrator never steps past the last sample
+ * (stop time). Both vehicle-side integrators use the standalone vehicle's
+ * solver settings (VELOCITY_TIME, JAC_EVAL_STEPS; docs/coupled.md, Real-time
+ * factors).
  * Second order in the macro step needs the interface terms of publish() and
  * the consistent start of ts_coupled_run_reset (coupled_system.h,
  * docs/coupled.md).
@@ -216,7 +220,7 @@ struct ts_coupled_run {
     int last_order;
     ts_cosim_report prev; /* the report before last (jerk estimate) */
     double step;          /* leader step of the current advance [s] */
-    int lead_dirty;             /* leader input changed: re-init before integrating */
+    int lead_dirty; /* restart the leader before integrating (reset, restore, rack step, shift) */
     double lead_t;              /* leader time */
     ts_cosim_sample pub;        /* sample last published by the leader */
     const ts_cosim_torque *src; /* follower's torque source during its advance */

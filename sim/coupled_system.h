@@ -113,7 +113,7 @@ typedef struct ts_coupled_stats {
     long powertrain_steps;  /* the leader's CVODE steps (0 for the RK4 / co-simulated leader) */
     long powertrain_setups; /* the leader's Newton-matrix factorisations */
     int powertrain_n;       /* powertrain-side states (powertrain + IVS integral) */
-    long leader_inits;     /* leader CVODE (re)starts */
+    long leader_inits;      /* leader CVODE (re)starts */
 } ts_coupled_stats;
 
 typedef struct ts_coupled_run ts_coupled_run;

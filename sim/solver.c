@@ -279,8 +279,8 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
     o->A = SUNDenseMatrix(n, n, o->ctx);
     if (!o->A) goto nomem;
     o->LS = opts->second_order && n % 2 == 0 ? schur_make(n, 0, o->ctx)
-            : opts->small_dense                ? schur_make(n, 1, o->ctx)
-                                               : SUNLinSol_Dense(o->y, o->A, o->ctx);
+            : opts->small_dense              ? schur_make(n, 1, o->ctx)
+                                             : SUNLinSol_Dense(o->y, o->A, o->ctx);
     if (!o->LS) goto nomem;
     if (check(o, CVodeSetLinearSolver(o->mem, o->LS, o->A), "CVodeSetLinearSolver", err))
         goto fail;
