@@ -13,11 +13,15 @@
  *
  * Events: gear-shift start/end are roots of whichever integrator carries the
  * powertrain; at a root the discrete state is updated and that integrator
- * re-initialised (powertrain.h protocol). The leader is also re-initialised
- * whenever a new vehicle report changes its input (the predictor restarts: a
- * discontinuity in time). The follower is not: the published torque is a
- * continuous piecewise-linear function of time, final once published; the
- * follower's integrator never steps past the last sample (stop time).
+ * re-initialised (powertrain.h protocol). A new vehicle report does NOT
+ * re-initialise the leader: its integrator never steps past its step end
+ * (stop time), so the new prediction only acts from there on, and the error
+ * test absorbs the small jump (lead_ode_advance). Nor the follower: the
+ * published torque is a continuous piecewise-linear function of time, final
+ * once published; the follower's integrator never steps past the last sample
+ * (stop time). Both vehicle-side integrators use the standalone vehicle's
+ * solver settings (VELOCITY_TIME, JAC_EVAL_STEPS; docs/coupled.md, Real-time
+ * factors).
  * Second order in the macro step needs the interface terms of publish() and
  * the consistent start of ts_coupled_run_reset (coupled_system.h,
  * docs/coupled.md).
@@ -38,6 +42,15 @@
     8 /* discrete updates at one event time (a completed shift may start the next) */
 #define SPIN_SPROCKET (10 + VM_SPROCKET) /* q index of the sprocket spin (vehicle_model.h) */
 #define Q_THETA       2                  /* q index of the hull pitch */
+/* Vehicle-side integrator settings, the standalone vehicle's
+ * (scenario_vehicle.c; numerical choices, not physics): velocity tolerance =
+ * run.atol / VELOCITY_TIME (a position error of atol accrued over 10 ms), and
+ * at most JAC_EVAL_STEPS steps between Jacobian evaluations (CVODE's default
+ * 51; a difference-quotient Jacobian costs one right-hand side per state and
+ * was ~60 % of the follower's right-hand sides; CVODE re-evaluates anyway
+ * when Newton fails with a stale one). */
+#define VELOCITY_TIME  0.01
+#define JAC_EVAL_STEPS 1000
 
 struct ts_coupled {
     ts_config cfg;
@@ -207,7 +220,7 @@ struct ts_coupled_run {
     int last_order;
     ts_cosim_report prev; /* the report before last (jerk estimate) */
     double step;          /* leader step of the current advance [s] */
-    int lead_dirty;             /* leader input changed: re-init before integrating */
+    int lead_dirty; /* restart the leader before integrating (reset, restore, rack step, shift) */
     double lead_t;              /* leader time */
     ts_cosim_sample pub;        /* sample last published by the leader */
     const ts_cosim_torque *src; /* follower's torque source during its advance */
@@ -468,6 +481,52 @@ static ts_rc lead_cosim(ts_coupled_run *r, double t_to, ts_err *err)
     return TS_OK;
 }
 
+/* The leader's CVODE to t_to (implicit path), never stepping past t_to: the
+ * next report changes the predicted sprocket speed from t_to on, which the
+ * integrator's history must not have seen. It is NOT restarted at a report:
+ * the prediction jumps by the last macro step's prediction error (O(h^2) in
+ * omega) and the integrator's error test absorbs that jump in a step or two,
+ * where a restart (order 1, a fresh initial step) cost ~40 right-hand sides
+ * per 1-ms exchange (bench_coupled: ~4x the leader's right-hand sides). If
+ * the error test cannot get past a jump (tight tolerances: rtol 1e-9 with a
+ * stiff turbine), it restarts there, once per call. Restarts always after a
+ * discrete update (gear-shift event) and when lead_dirty is set. */
+static ts_rc lead_ode_advance(ts_coupled_run *r, double t_to, ts_err *err)
+{
+    const ts_coupled *c = r->c;
+    ts_rc rc = TS_OK;
+    int restarted = 0;
+    if (r->lead_dirty) {
+        rc = ts_ode_init(r->lead_ode, r->lead_t, r->yp, err);
+        r->lead_dirty = 0;
+        r->st.leader_inits++;
+        restarted = 1;
+    }
+    if (rc == TS_OK) rc = ts_ode_set_stop(r->lead_ode, t_to, err);
+    while (rc == TS_OK && r->lead_t < t_to) {
+        int root = 0;
+        ts_err e1;
+        rc = ts_ode_advance(r->lead_ode, t_to, &r->lead_t, &root, &e1);
+        if (rc != TS_OK) {
+            if (restarted) {
+                if (err) *err = e1;
+                break;
+            }
+            restarted = 1;
+            r->st.leader_inits++;
+            rc = ts_ode_init(r->lead_ode, r->lead_t, r->yp, err);
+            if (rc == TS_OK) rc = ts_ode_set_stop(r->lead_ode, t_to, err);
+            continue;
+        }
+        memcpy(r->yp, ts_ode_y(r->lead_ode), sizeof(double) * (size_t)c->np);
+        if (root && settle(r, r->lead_t, r->yp, lead_w(r, r->lead_t))) {
+            rc = ts_ode_init(r->lead_ode, r->lead_t, r->yp, err);
+            if (rc == TS_OK && r->lead_t < t_to) rc = ts_ode_set_stop(r->lead_ode, t_to, err);
+        }
+    }
+    return rc;
+}
+
 static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, int order,
                           ts_cosim_sample *out, ts_err *err)
 {
@@ -479,7 +538,8 @@ static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, in
         if (last->t > r->last.t) r->prev = r->last;
         r->last = *last;
         r->last_order = order;
-        r->lead_dirty = 1;
+        /* no restart: the leader's integrator carries on across the
+         * predictor's jump (lead_ode_advance) */
     }
     ts_rc rc = TS_OK;
     if (settle(r, r->lead_t, r->yp, lead_w(r, r->lead_t))) r->lead_dirty = 1;
@@ -487,17 +547,8 @@ static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, in
         rc = lead_cosim(r, t_to, err);
     } else if (ts_powertrain_explicit_step(c->pt, r->yp) > 0) {
         rc = lead_explicit(r, t_to, err);
-    } else if (r->lead_dirty) {
-        rc = ts_ode_init(r->lead_ode, r->lead_t, r->yp, err);
-        r->lead_dirty = 0;
-    }
-    while (rc == TS_OK && r->lead_t < t_to) {
-        int root = 0;
-        rc = ts_ode_advance(r->lead_ode, t_to, &r->lead_t, &root, err);
-        if (rc != TS_OK) break;
-        memcpy(r->yp, ts_ode_y(r->lead_ode), sizeof(double) * (size_t)c->np);
-        if (root && settle(r, r->lead_t, r->yp, lead_w(r, r->lead_t)))
-            rc = ts_ode_init(r->lead_ode, r->lead_t, r->yp, err);
+    } else {
+        rc = lead_ode_advance(r, t_to, err);
     }
     if (rc == TS_OK) {
         ts_powertrain_out o;
@@ -585,7 +636,7 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
     r->ja_scratch = r->rk + 5 * c->np;
     const ts_run_config *rc = &c->cfg.run;
     for (int i = 0; i < c->nv; i++)
-        atol[i] = rc->atol;
+        atol[i] = i < c->nq ? rc->atol : rc->atol / VELOCITY_TIME;
     ts_powertrain_scale(c->pt, atol + c->nv);
     for (int i = 0; i < c->npt; i++)
         atol[c->nv + i] *= rc->atol;
@@ -597,7 +648,8 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
                          .max_step = rc->max_step,
                          .max_steps = 1000000,
                          .nroots = ts_powertrain_nroots(c->pt),
-                         .roots = mono_roots};
+                         .roots = mono_roots,
+                         .jac_eval_frequency = JAC_EVAL_STEPS};
         r->mono = ts_ode_make(n, mono_rhs, r, &o, err);
         if (!r->mono) goto fail;
     } else if (method == TS_COUPLING_LEADING_FOLLOWING) {
@@ -607,14 +659,17 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
                           .max_step = rc->max_step,
                           .max_steps = 1000000,
                           .nroots = ts_powertrain_nroots(c->pt),
-                          .roots = lead_roots};
+                          .roots = lead_roots,
+                          .small_dense = 1};
         r->lead_ode = ts_ode_make(c->np, lead_rhs, r, &lo, err);
         if (!r->lead_ode) goto fail;
         ts_ode_opts fo = {.rtol = rc->rtol,
                           .atol = rc->atol,
                           .atol_v = atol,
                           .max_step = rc->max_step,
-                          .max_steps = 1000000};
+                          .max_steps = 1000000,
+                          .second_order = 1, /* y = [q, qd]: half-size Schur solves */
+                          .jac_eval_frequency = JAC_EVAL_STEPS};
         r->follow_ode = ts_ode_make(c->nv, follow_rhs, r, &fo, err);
         if (!r->follow_ode) goto fail;
         ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead,
@@ -782,6 +837,22 @@ void ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o)
 void ts_coupled_run_stats(const ts_coupled_run *r, ts_coupled_stats *s)
 {
     *s = r->st;
+    ts_ode *v = r->mono ? r->mono : r->follow_ode;
+    ts_ode_stats os;
+    if (v) {
+        ts_ode_get_stats(v, &os);
+        s->vehicle_steps = os.steps;
+        s->vehicle_jacs = os.jac_evals;
+        s->vehicle_err_fails = os.err_test_fails;
+        s->vehicle_newton = os.nonlin_iters;
+        s->vehicle_newton_fails = os.nonlin_fails;
+    }
+    if (r->lead_ode) {
+        ts_ode_get_stats(r->lead_ode, &os);
+        s->powertrain_steps = os.steps;
+        s->powertrain_setups = os.lin_setups;
+    }
+    s->powertrain_n = r->c->np;
 }
 
 /* Saved state: t, rack_fixed, report (t, omega, alpha), published torque and

@@ -106,6 +106,14 @@ typedef struct ts_coupled_stats {
     long vehicle_rhs, powertrain_rhs;     /* right-hand-side evaluations */
     long exchanges;                       /* co-simulation messages */
     double vehicle_wall, powertrain_wall; /* wall seconds inside each side's integrator */
+    /* CVODE counters of the integrator carrying the vehicle (the follower, or
+     * the monolithic one): steps, Jacobian evaluations, error-test failures,
+     * Newton iterations, Newton convergence failures */
+    long vehicle_steps, vehicle_jacs, vehicle_err_fails, vehicle_newton, vehicle_newton_fails;
+    long powertrain_steps;  /* the leader's CVODE steps (0 for the RK4 / co-simulated leader) */
+    long powertrain_setups; /* the leader's Newton-matrix factorisations */
+    int powertrain_n;       /* powertrain-side states (powertrain + IVS integral) */
+    long leader_inits;      /* leader CVODE (re)starts */
 } ts_coupled_stats;
 
 typedef struct ts_coupled_run ts_coupled_run;

@@ -31,7 +31,31 @@ struct ts_ode {
     SUNLinearSolver LS;
     double t;
     char last_msg[256]; /* SUNDIALS' last error message */
+    ts_ode_stats acc;   /* counters of the runs before the last (re)start */
 };
+
+static void cvode_stats(void *mem, ts_ode_stats *s)
+{
+    memset(s, 0, sizeof *s);
+    CVodeGetNumSteps(mem, &s->steps);
+    CVodeGetNumRhsEvals(mem, &s->rhs_evals);
+    CVodeGetNumJacEvals(mem, &s->jac_evals);
+    CVodeGetNumErrTestFails(mem, &s->err_test_fails);
+    CVodeGetNumNonlinSolvIters(mem, &s->nonlin_iters);
+    CVodeGetNumNonlinSolvConvFails(mem, &s->nonlin_fails);
+    CVodeGetNumLinSolvSetups(mem, &s->lin_setups);
+}
+
+static void stats_add(ts_ode_stats *a, const ts_ode_stats *b)
+{
+    a->steps += b->steps;
+    a->rhs_evals += b->rhs_evals;
+    a->jac_evals += b->jac_evals;
+    a->err_test_fails += b->err_test_fails;
+    a->nonlin_iters += b->nonlin_iters;
+    a->nonlin_fails += b->nonlin_fails;
+    a->lin_setups += b->lin_setups;
+}
 
 /* ---- half-size Schur complement linear solver ------------------------------
  * For a second-order system y = [q, v] with dq/dt = v (h = n/2 each), the
@@ -43,6 +67,7 @@ struct ts_ode {
  * full n x n LU when it does not hold, so the solver is correct for any f. */
 typedef struct schur_ls {
     int n, h, full;
+    int always_full; /* plain n x n LU (opts.small_dense without the second-order form) */
     double *S, *F, *d, *r;
     int *piv;
     long last_flag;
@@ -71,7 +96,7 @@ static int schur_setup(SUNLinearSolver ls, SUNMatrix A)
     schur_ls *c = ls->content;
     const double *a = SUNDenseMatrix_Data(A); /* column-major, leading dimension n */
     int n = c->n, h = c->h;
-    c->full = 0;
+    c->full = c->always_full;
     for (int j = 0; j < h && !c->full; j++) /* top-left block == I */
         for (int i = 0; i < h; i++)
             if (a[(size_t)j * n + i] != (i == j ? 1.0 : 0.0)) {
@@ -150,7 +175,7 @@ static int schur_free(SUNLinearSolver ls)
     return SUNLS_SUCCESS;
 }
 
-static SUNLinearSolver schur_make(int n, SUNContext ctx)
+static SUNLinearSolver schur_make(int n, int always_full, SUNContext ctx)
 {
     SUNLinearSolver ls = SUNLinSolNewEmpty(ctx);
     if (!ls) return NULL;
@@ -168,6 +193,7 @@ static SUNLinearSolver schur_make(int n, SUNContext ctx)
         return NULL;
     }
     c->n = n, c->h = n / 2;
+    c->always_full = always_full || n % 2 != 0;
     c->S = malloc(sizeof(double) * (size_t)c->h * (size_t)c->h);
     c->F = malloc(sizeof(double) * (size_t)n * (size_t)n);
     c->d = malloc(sizeof(double) * (size_t)c->h);
@@ -252,8 +278,9 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
         goto fail;
     o->A = SUNDenseMatrix(n, n, o->ctx);
     if (!o->A) goto nomem;
-    o->LS = opts->second_order && n % 2 == 0 ? schur_make(n, o->ctx)
-                                              : SUNLinSol_Dense(o->y, o->A, o->ctx);
+    o->LS = opts->second_order && n % 2 == 0 ? schur_make(n, 0, o->ctx)
+            : opts->small_dense              ? schur_make(n, 1, o->ctx)
+                                             : SUNLinSol_Dense(o->y, o->A, o->ctx);
     if (!o->LS) goto nomem;
     if (check(o, CVodeSetLinearSolver(o->mem, o->LS, o->A), "CVodeSetLinearSolver", err))
         goto fail;
@@ -289,6 +316,9 @@ void ts_ode_free(ts_ode *o)
 
 ts_rc ts_ode_init(ts_ode *o, double t0, const double *y0, ts_err *err)
 {
+    ts_ode_stats cur;
+    cvode_stats(o->mem, &cur); /* CVodeReInit zeroes CVODE's counters */
+    stats_add(&o->acc, &cur);
     memcpy(N_VGetArrayPointer(o->y), y0, (size_t)o->n * sizeof(double));
     o->t = t0;
     o->last_msg[0] = '\0';
@@ -335,11 +365,6 @@ int ts_ode_n(const ts_ode *o) { return o->n; }
 
 void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s)
 {
-    memset(s, 0, sizeof *s);
-    CVodeGetNumSteps(o->mem, &s->steps);
-    CVodeGetNumRhsEvals(o->mem, &s->rhs_evals);
-    CVodeGetNumJacEvals(o->mem, &s->jac_evals);
-    CVodeGetNumErrTestFails(o->mem, &s->err_test_fails);
-    CVodeGetNumNonlinSolvIters(o->mem, &s->nonlin_iters);
-    CVodeGetNumNonlinSolvConvFails(o->mem, &s->nonlin_fails);
+    cvode_stats(o->mem, s);
+    stats_add(s, &o->acc);
 }

@@ -35,6 +35,9 @@ typedef struct ts_ode_opts {
     int second_order;     /* non-zero: y = [q, q_d] (n/2 each) with dq/dt = q_d; the Newton
                            * systems are solved by their half-size Schur complement
                            * (falls back to the full LU when a matrix lacks that form) */
+    int small_dense;      /* non-zero: the full n x n Newton systems by dense_small.h's LU
+                           * (single-threaded, skips zeros; for small sparse-ish systems,
+                           * e.g. a powertrain) instead of SUNDIALS' dense LU */
     long jac_eval_frequency; /* max steps between Jacobian evaluations (CVODE msbj);
                               * 0 = CVODE's default (51). CVODE still re-evaluates
                               * on a convergence failure with a stale Jacobian. */
@@ -42,6 +45,7 @@ typedef struct ts_ode_opts {
 
 typedef struct ts_ode_stats {
     long steps, rhs_evals, jac_evals, err_test_fails, nonlin_iters, nonlin_fails;
+    long lin_setups; /* Newton-matrix factorisations */
 } ts_ode_stats;
 
 ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_err *err);
@@ -66,6 +70,7 @@ ts_rc ts_ode_root_info(ts_ode *o, int *dirs, ts_err *err);
 
 double *ts_ode_y(ts_ode *o);      /* current state (n values), owned by the handle */
 int ts_ode_n(const ts_ode *o);
+/* Counters since ts_ode_make, summed over every (re)start. */
 void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s);
 
 #endif
