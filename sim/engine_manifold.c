@@ -20,18 +20,16 @@
 
 /* Flow function Psi(pr) with pr = p_down / p_up <= 1:
  *   Psi^2 = 2 g/(g-1) (pr^(2/g) - pr^((g+1)/g)) = 2 g/(g-1) a (a - pr),  a = pr^(1/g),
- * clamped at the critical ratio (2/(g+1))^(g/(g-1)). The comparison with the
- * critical ratio is made on logarithms, so one log per call replaces the
- * three powers of the textbook form (same value to rounding). */
+ * clamped at the critical ratio pr_c = (2/(g+1))^(g/(g-1)). In terms of a,
+ * Psi^2 ~ a^2 - a^(g+1) peaks where a^(g-1) = pr / a = 2/(g+1), so the flow is
+ * choked exactly when (g+1) pr < 2 a (no logarithm of the critical ratio), and
+ * there Psi_c = sqrt(2 g/(g+1)) a_c, a_c = (2/(g+1))^(1/(g-1)). One log and one
+ * exp per unchoked call (same value to rounding as the textbook powers). */
 static double psi(double pr, double g)
 {
-    double lc = g / (g - 1.0) * log(2.0 / (g + 1.0)); /* log of the critical ratio */
-    double lp = log(pr);
-    if (lp < lc) {
-        lp = lc;
-        pr = exp(lc);
-    }
-    double a = exp(lp / g);
+    double a = exp(log(pr) / g);
+    if ((g + 1.0) * pr < 2.0 * a) /* past the critical ratio: choked */
+        return sqrt(2.0 * g / (g + 1.0)) * exp(log(2.0 / (g + 1.0)) / (g - 1.0));
     double v = 2.0 * g / (g - 1.0) * a * (a - pr);
     return sqrt(v > 0 ? v : 0);
 }
