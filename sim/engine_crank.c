@@ -83,7 +83,8 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
 /* Performance notes (issue 6/10 speed-up; the equations are those above):
  * one sincos of the crank angle rotated to every cylinder, one evaluation of
  * the gas polynomials per control volume, the manifold-side properties once
- * per bank, valve flows only while a valve is open, and (q_wall != NULL) the
+ * per bank (handed on to en_bank_rhs with the compressor), valve flows only
+ * while a valve is open, and (q_wall != NULL) the
  * walls frozen over a step of the multirate integrator in engine.c.
  * The evaluation is split in two: gas_part computes everything that does not
  * depend on the wall temperatures or the load (cached in en_crank_part),
@@ -107,6 +108,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     double h_im[EN_NBANK], h_em[EN_NBANK], rho_im[EN_NBANK];
     double air = 0;
     en_comp_out cob[EN_NBANK];
+    en_gas_state s_imb[EN_NBANK], s_emb[EN_NBANK];
     for (int b = 0; b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
         if (!(xb[BX_IMM] > 0 && xb[BX_EMM] > 0 && xb[BX_ICM] > 0 && xb[BX_IMT] > 100 &&
@@ -116,9 +118,10 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &cob[b]);
         air += cob[b].mdot;
         en_bank_read(e, xb, &bo[b]);
-        en_gas_state si, se;
-        en_gas_eval(g, bo[b].T_im, bo[b].F_im, &si);
-        en_gas_eval(g, bo[b].T_em, bo[b].F_em, &se);
+        en_gas_state *sip = &s_imb[b], *sep = &s_emb[b];
+        en_gas_eval(g, bo[b].T_im, bo[b].F_im, sip);
+        en_gas_eval(g, bo[b].T_em, bo[b].F_em, sep);
+        en_gas_state si = *sip, se = *sep;
         R_im[b] = si.R;
         g_im[b] = si.cp / si.cv;
         h_im[b] = si.h;
@@ -264,6 +267,9 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     for (int b = 0; b < EN_NBANK; b++) {
         bf[b].have_co = 1;
         bf[b].co = cob[b];
+        bf[b].have_gas = 1;
+        bf[b].s_im = s_imb[b];
+        bf[b].s_em = s_emb[b];
     }
     for (int b = 0; b < EN_NBANK; b++)
         en_bank_rhs(e, x + e->off_bank + b * EN_BANK_NX, &bf[b], in->p_amb, in->T_amb,

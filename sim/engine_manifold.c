@@ -80,8 +80,13 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
         en_compressor(&e->turbo, xb[BX_TC], p_amb, T_amb, p_ic, &co);
     en_gas_state s_ic, s_im, s_em, s_c;
     en_gas_eval(g, T_ic, 0, &s_ic);
-    en_gas_eval(g, o->T_im, o->F_im, &s_im);
-    en_gas_eval(g, o->T_em, o->F_em, &s_em);
+    if (f->have_gas) { /* the caller's evaluation at this state (same values) */
+        s_im = f->s_im;
+        s_em = f->s_em;
+    } else {
+        en_gas_eval(g, o->T_im, o->F_im, &s_im);
+        en_gas_eval(g, o->T_em, o->F_em, &s_em);
+    }
     en_gas_eval(g, co.T_out, 0, &s_c);
     /* intercooler outlet orifice -> intake manifold (reverse flow carries F_im) */
     double g_ic = s_ic.cp / s_ic.cv, g_im = s_im.cp / s_im.cv;
