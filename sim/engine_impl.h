@@ -55,7 +55,23 @@ typedef struct en_gas_state {
     double R, cp, h, u, cv; /* [J/kg/K], [J/kg] */
     double dudF;            /* u_burned - u_air at T [J/kg] */
 } en_gas_state;
-void en_gas_eval(const en_gas *g, double T, double F, en_gas_state *s);
+/* inline: 16 calls per crank-angle right-hand side evaluation */
+static inline void en_gas_eval(const en_gas *g, double T, double F, en_gas_state *s)
+{
+    F = F < 0 ? 0 : F > 1 ? 1 : F;
+    double Tc = T < 150 ? 150 : T > 3500 ? 3500 : T; /* clampT */
+    const double *a = g->cpT_a, *b = g->cpT_b, *ha_ = g->hT_a, *hb_ = g->hT_b;
+    double cpa = a[0] + Tc * (a[1] + Tc * (a[2] + Tc * a[3]));
+    double cpb = b[0] + Tc * (b[1] + Tc * (b[2] + Tc * b[3]));
+    double ha = ha_[0] + T * (ha_[1] + T * (ha_[2] + T * (ha_[3] + T * ha_[4])));
+    double hb = hb_[0] + T * (hb_[1] + T * (hb_[2] + T * (hb_[3] + T * hb_[4])));
+    s->R = (1 - F) * g->r_a + F * g->r_b;
+    s->cp = (1 - F) * cpa + F * cpb;
+    s->h = (1 - F) * ha + F * hb;
+    s->u = s->h - s->R * T;
+    s->cv = s->cp - s->R;
+    s->dudF = (hb - g->r_b * T) - (ha - g->r_a * T);
+}
 /* en_gas_dTdt from a state evaluated at the same (T, F). */
 static inline double en_gas_dTdt_s(const en_gas_state *s, double m, double dEdt, double dmdt,
                                    double dFdt)
