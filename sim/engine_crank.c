@@ -92,6 +92,23 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
  * and the crankshaft. en_crank_refresh re-runs wall_part alone (same
  * operations, same result) after a wall step or a change of load. */
 
+/* en_valve_lift of valve v (0 intake, 1 exhaust) of cylinder i at local angle
+ * thl = th_w - offset + 4 pi nw: the same (1 - cos(k d)) / 2 profile, with
+ * cos(k d) = cos(k th_w - phase) = C cos(phase) + S sin(phase) from the
+ * evaluation's C, S = cos, sin(k th_w) (one sincos per valve kind instead of
+ * one cos per open valve; equal to rounding). */
+static double valve_lift(const ts_engine *e, int v, int i, double thl, int nw, double open,
+                         double close, double lmax, double C, double S)
+{
+    double d = thl - open;
+    if (d < 0) {
+        d += EN_CYCLE;
+        nw++;
+    }
+    if (d > close - open) return 0.0;
+    return lmax * 0.5 * (1.0 - (C * e->valve_cos[v][i][nw] + S * e->valve_sin[v][i][nw]));
+}
+
 /* Everything but the wall- and load-dependent derivatives; fills pc. */
 static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
                     ts_engine_outputs *out, en_crank_part *pc)
@@ -137,13 +154,22 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     double led[EN_LEDGER_NX] = {0};
     double s_th = sin(th), c_th = cos(th);
     double th_w = wrap(th);
+    double vC[2], vS[2]; /* cos, sin of k th_w for the valve lifts */
+    for (int v = 0; v < 2; v++) {
+        vS[v] = sin(e->valve_k[v] * th_w);
+        vC[v] = cos(e->valve_k[v] * th_w);
+    }
     for (int i = 0; i < EN_NCYL; i++) {
         const double *xc = x + e->off_cyl + i * EN_CYL_NX;
         double *dc = xdot + e->off_cyl + i * EN_CYL_NX;
         en_cyl_part *cp_ = &pc->cyl[i];
         int b = e->cyl_bank[i];
         double thl = th_w - e->cyl_offset[i];
-        if (thl < 0) thl += EN_CYCLE;
+        int nw = 0;
+        if (thl < 0) {
+            thl += EN_CYCLE;
+            nw = 1;
+        }
         en_kin kin; /* sin, cos of th - offset by rotation */
         en_kinematics_sc(geo, s_th * e->cyl_cos[i] - c_th * e->cyl_sin[i],
                          c_th * e->cyl_cos[i] + s_th * e->cyl_sin[i], &kin);
@@ -158,10 +184,12 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double p = m * R * T * iV;
         double rho = m * iV;
         /* valves */
-        double a_iv = en_valve_area(en_valve_lift(thl, c->ivo, c->ivc, c->intake_max_lift),
-                                    c->intake_valve_diameter, c->n_intake_valves, c->valve_cd);
-        double a_ev = en_valve_area(en_valve_lift(thl, c->evo, c->evc, c->exhaust_max_lift),
-                                    c->exhaust_valve_diameter, c->n_exhaust_valves, c->valve_cd);
+        double a_iv = en_valve_area(
+            valve_lift(e, 0, i, thl, nw, c->ivo, c->ivc, c->intake_max_lift, vC[0], vS[0]),
+            c->intake_valve_diameter, c->n_intake_valves, c->valve_cd);
+        double a_ev = en_valve_area(
+            valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]),
+            c->exhaust_valve_diameter, c->n_exhaust_valves, c->valve_cd);
         const en_bank_out *o = &bo[b];
         double mi = 0, me = 0, hi = 0, fi = 0, he = 0, fe = 0;
         if (a_iv > 0) {

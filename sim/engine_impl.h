@@ -230,6 +230,10 @@ struct ts_engine {
     double surf_area[EN_NSURF];  /* piston and head areas; liner area at full stroke [m^2] */
     double cyl_offset[EN_NCYL];  /* firing offset of each cylinder [rad] */
     double cyl_sin[EN_NCYL], cyl_cos[EN_NCYL]; /* sin, cos of the offsets */
+    /* valve phases for the lift's cosine by rotation (engine_crank.c): intake
+     * (0) and exhaust (1), k = 2 pi / (close - open), phase = k (offset + open
+     * - 4 pi n) for n = 0, 1, 2 wraps of the local angle; cos and sin */
+    double valve_k[2], valve_cos[2][EN_NCYL][3], valve_sin[2][EN_NCYL][3];
     int cyl_bank[EN_NCYL];
     double speed_step;           /* map/mean_value fixed step [s] */
     double turbo_inertia_scale;  /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
