@@ -552,8 +552,9 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
         if (++nacc == BS_WALL_EVERY || last) {
             for (int j = 0; j < EN_NWALL; j++) qacc[j] /= hacc;
             en_walls_step(e, x, qacc, hacc);
-            for (int i = n; i < nx; i++)
-                if (!isfinite(x[i])) goto diverged;
+            double wsum = 0.0; /* NaN or inf in any wall node makes the sum non-finite */
+            for (int i = n; i < nx; i++) wsum += x[i];
+            if (!isfinite(wsum)) goto diverged;
             memset(qacc, 0, sizeof(double) * EN_NWALL);
             hacc = 0;
             nacc = 0;
