@@ -315,7 +315,8 @@ typedef struct en_bank_flows {
     double m_ex, h_ex, mf_ex; /* cylinders -> exhaust manifold */
     int have_co;              /* co holds the compressor at this state (else computed) */
     en_comp_out co;
-    int have_gas;             /* s_im, s_em hold the manifolds' gas at this state (else computed) */
+    int have_gas;             /* s_im, s_em hold the manifolds' gas at this state and the
+                                 en_bank_rhs o argument its en_bank_read (else computed) */
     en_gas_state s_im, s_em;
 } en_bank_flows;
 typedef struct en_bank_out {

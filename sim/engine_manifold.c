@@ -69,7 +69,7 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
 {
     const en_gas *g = &e->gas;
     const ts_engine_config *c = &e->c;
-    en_bank_read(e, xb, o);
+    if (!f->have_gas) en_bank_read(e, xb, o); /* else the caller read o at this state */
     double m_ic = xb[BX_ICM], T_ic = xb[BX_ICT];
     double p_ic = m_ic * g->r_a * T_ic / c->ic_volume;
     /* compressor: ambient -> intercooler volume */
