@@ -158,6 +158,15 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
         e->cyl_sin[i] = sin(e->cyl_offset[i]);
         e->cyl_cos[i] = cos(e->cyl_offset[i]);
         e->cyl_bank[i] = i % 2;
+        const double vo[2] = {c->ivo, c->evo}, vcl[2] = {c->ivc, c->evc};
+        for (int v = 0; v < 2; v++) {
+            e->valve_k[v] = 2.0 * EN_PI / (vcl[v] - vo[v]);
+            for (int n = 0; n < 3; n++) {
+                double ph = e->valve_k[v] * (e->cyl_offset[i] + vo[v] - n * EN_CYCLE);
+                e->valve_cos[v][i][n] = cos(ph);
+                e->valve_sin[v][i][n] = sin(ph);
+            }
+        }
     }
     e->map_n = c->map_speed_n;
     const ts_engine_map_table *t = &c->map[c->variant];
@@ -543,8 +552,9 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
         if (++nacc == BS_WALL_EVERY || last) {
             for (int j = 0; j < EN_NWALL; j++) qacc[j] /= hacc;
             en_walls_step(e, x, qacc, hacc);
-            for (int i = n; i < nx; i++)
-                if (!isfinite(x[i])) goto diverged;
+            double wsum = 0.0; /* NaN or inf in any wall node makes the sum non-finite */
+            for (int i = n; i < nx; i++) wsum += x[i];
+            if (!isfinite(wsum)) goto diverged;
             memset(qacc, 0, sizeof(double) * EN_NWALL);
             hacc = 0;
             nacc = 0;

@@ -18,7 +18,8 @@
 double en_ignition_delay(double a_ms, double n, double ta, double p, double T)
 {
     double p_bar = fmax(p / 1e5, 0.1);
-    return 1e-3 * a_ms * pow(p_bar, -n) * exp(ta / fmax(T, 200.0));
+    /* p^-n exp(ta / T) as one exp: exp(ta / T - n log p) */
+    return 1e-3 * a_ms * exp(ta / fmax(T, 200.0) - n * log(p_bar));
 }
 
 void en_watson_pre(const en_watson *w, double tau, double tau_id_ms, double n_rpm,

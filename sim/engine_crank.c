@@ -83,13 +83,31 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
 /* Performance notes (issue 6/10 speed-up; the equations are those above):
  * one sincos of the crank angle rotated to every cylinder, one evaluation of
  * the gas polynomials per control volume, the manifold-side properties once
- * per bank, valve flows only while a valve is open, and (q_wall != NULL) the
+ * per bank (handed on to en_bank_rhs with the compressor), valve flows only
+ * while a valve is open, and (q_wall != NULL) the
  * walls frozen over a step of the multirate integrator in engine.c.
  * The evaluation is split in two: gas_part computes everything that does not
  * depend on the wall temperatures or the load (cached in en_crank_part),
  * wall_part the wall heat fluxes, the cylinders' dT/dt, the coolant and oil
  * and the crankshaft. en_crank_refresh re-runs wall_part alone (same
  * operations, same result) after a wall step or a change of load. */
+
+/* en_valve_lift of valve v (0 intake, 1 exhaust) of cylinder i at local angle
+ * thl = th_w - offset + 4 pi nw: the same (1 - cos(k d)) / 2 profile, with
+ * cos(k d) = cos(k th_w - phase) = C cos(phase) + S sin(phase) from the
+ * evaluation's C, S = cos, sin(k th_w) (one sincos per valve kind instead of
+ * one cos per open valve; equal to rounding). */
+static double valve_lift(const ts_engine *e, int v, int i, double thl, int nw, double open,
+                         double close, double lmax, double C, double S)
+{
+    double d = thl - open;
+    if (d < 0) {
+        d += EN_CYCLE;
+        nw++;
+    }
+    if (d > close - open) return 0.0;
+    return lmax * 0.5 * (1.0 - (C * e->valve_cos[v][i][nw] + S * e->valve_sin[v][i][nw]));
+}
 
 /* Everything but the wall- and load-dependent derivatives; fills pc. */
 static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
@@ -107,6 +125,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     double h_im[EN_NBANK], h_em[EN_NBANK], rho_im[EN_NBANK];
     double air = 0;
     en_comp_out cob[EN_NBANK];
+    en_gas_state s_imb[EN_NBANK], s_emb[EN_NBANK];
     for (int b = 0; b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
         if (!(xb[BX_IMM] > 0 && xb[BX_EMM] > 0 && xb[BX_ICM] > 0 && xb[BX_IMT] > 100 &&
@@ -116,9 +135,10 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &cob[b]);
         air += cob[b].mdot;
         en_bank_read(e, xb, &bo[b]);
-        en_gas_state si, se;
-        en_gas_eval(g, bo[b].T_im, bo[b].F_im, &si);
-        en_gas_eval(g, bo[b].T_em, bo[b].F_em, &se);
+        en_gas_state *sip = &s_imb[b], *sep = &s_emb[b];
+        en_gas_eval(g, bo[b].T_im, bo[b].F_im, sip);
+        en_gas_eval(g, bo[b].T_em, bo[b].F_em, sep);
+        en_gas_state si = *sip, se = *sep;
         R_im[b] = si.R;
         g_im[b] = si.cp / si.cv;
         h_im[b] = si.h;
@@ -134,13 +154,22 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     double led[EN_LEDGER_NX] = {0};
     double s_th = sin(th), c_th = cos(th);
     double th_w = wrap(th);
+    double vC[2], vS[2]; /* cos, sin of k th_w for the valve lifts */
+    for (int v = 0; v < 2; v++) {
+        vS[v] = sin(e->valve_k[v] * th_w);
+        vC[v] = cos(e->valve_k[v] * th_w);
+    }
     for (int i = 0; i < EN_NCYL; i++) {
         const double *xc = x + e->off_cyl + i * EN_CYL_NX;
         double *dc = xdot + e->off_cyl + i * EN_CYL_NX;
         en_cyl_part *cp_ = &pc->cyl[i];
         int b = e->cyl_bank[i];
         double thl = th_w - e->cyl_offset[i];
-        if (thl < 0) thl += EN_CYCLE;
+        int nw = 0;
+        if (thl < 0) {
+            thl += EN_CYCLE;
+            nw = 1;
+        }
         en_kin kin; /* sin, cos of th - offset by rotation */
         en_kinematics_sc(geo, s_th * e->cyl_cos[i] - c_th * e->cyl_sin[i],
                          c_th * e->cyl_cos[i] + s_th * e->cyl_sin[i], &kin);
@@ -155,10 +184,12 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double p = m * R * T * iV;
         double rho = m * iV;
         /* valves */
-        double a_iv = en_valve_area(en_valve_lift(thl, c->ivo, c->ivc, c->intake_max_lift),
-                                    c->intake_valve_diameter, c->n_intake_valves, c->valve_cd);
-        double a_ev = en_valve_area(en_valve_lift(thl, c->evo, c->evc, c->exhaust_max_lift),
-                                    c->exhaust_valve_diameter, c->n_exhaust_valves, c->valve_cd);
+        double a_iv = en_valve_area(
+            valve_lift(e, 0, i, thl, nw, c->ivo, c->ivc, c->intake_max_lift, vC[0], vS[0]),
+            c->intake_valve_diameter, c->n_intake_valves, c->valve_cd);
+        double a_ev = en_valve_area(
+            valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]),
+            c->exhaust_valve_diameter, c->n_exhaust_valves, c->valve_cd);
         const en_bank_out *o = &bo[b];
         double mi = 0, me = 0, hi = 0, fi = 0, he = 0, fe = 0;
         if (a_iv > 0) {
@@ -264,6 +295,9 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     for (int b = 0; b < EN_NBANK; b++) {
         bf[b].have_co = 1;
         bf[b].co = cob[b];
+        bf[b].have_gas = 1;
+        bf[b].s_im = s_imb[b];
+        bf[b].s_em = s_emb[b];
     }
     for (int b = 0; b < EN_NBANK; b++)
         en_bank_rhs(e, x + e->off_bank + b * EN_BANK_NX, &bf[b], in->p_amb, in->T_amb,

@@ -7,6 +7,7 @@
  * data, 300-2500 K, within 1 %). Enthalpies are sensible, zero at 298.15 K;
  * the chemical energy enters the cylinder as the fuel's LHV when it burns.
  * Leaves out dissociation (small below ~2500 K at the lean mixtures here).
+ * en_gas_eval, the right-hand sides' hot path, is static inline in engine_impl.h.
  */
 #include <math.h>
 
@@ -73,23 +74,6 @@ void en_gas_init(en_gas *g, const double *cp_air, const double *cp_burned, doubl
     g->r_b = r_burned;
     derive(g->cp_a, g->cpT_a, g->hT_a);
     derive(g->cp_b, g->cpT_b, g->hT_b);
-}
-
-void en_gas_eval(const en_gas *g, double T, double F, en_gas_state *s)
-{
-    F = F < 0 ? 0 : F > 1 ? 1 : F;
-    double Tc = T < 150 ? 150 : T > 3500 ? 3500 : T; /* clampT */
-    const double *a = g->cpT_a, *b = g->cpT_b, *ha_ = g->hT_a, *hb_ = g->hT_b;
-    double cpa = a[0] + Tc * (a[1] + Tc * (a[2] + Tc * a[3]));
-    double cpb = b[0] + Tc * (b[1] + Tc * (b[2] + Tc * b[3]));
-    double ha = ha_[0] + T * (ha_[1] + T * (ha_[2] + T * (ha_[3] + T * ha_[4])));
-    double hb = hb_[0] + T * (hb_[1] + T * (hb_[2] + T * (hb_[3] + T * hb_[4])));
-    s->R = (1 - F) * g->r_a + F * g->r_b;
-    s->cp = (1 - F) * cpa + F * cpb;
-    s->h = (1 - F) * ha + F * hb;
-    s->u = s->h - s->R * T;
-    s->cv = s->cp - s->R;
-    s->dudF = (hb - g->r_b * T) - (ha - g->r_a * T);
 }
 
 double en_gas_T_from_h(const en_gas *g, double h, double F, double T)

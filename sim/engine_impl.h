@@ -18,6 +18,8 @@
 #ifndef TS_ENGINE_IMPL_H
 #define TS_ENGINE_IMPL_H
 
+#include <math.h>
+
 #include "engine.h"
 #include "fuel_actuator.h"
 
@@ -53,7 +55,23 @@ typedef struct en_gas_state {
     double R, cp, h, u, cv; /* [J/kg/K], [J/kg] */
     double dudF;            /* u_burned - u_air at T [J/kg] */
 } en_gas_state;
-void en_gas_eval(const en_gas *g, double T, double F, en_gas_state *s);
+/* inline: 16 calls per crank-angle right-hand side evaluation */
+static inline void en_gas_eval(const en_gas *g, double T, double F, en_gas_state *s)
+{
+    F = F < 0 ? 0 : F > 1 ? 1 : F;
+    double Tc = T < 150 ? 150 : T > 3500 ? 3500 : T; /* clampT */
+    const double *a = g->cpT_a, *b = g->cpT_b, *ha_ = g->hT_a, *hb_ = g->hT_b;
+    double cpa = a[0] + Tc * (a[1] + Tc * (a[2] + Tc * a[3]));
+    double cpb = b[0] + Tc * (b[1] + Tc * (b[2] + Tc * b[3]));
+    double ha = ha_[0] + T * (ha_[1] + T * (ha_[2] + T * (ha_[3] + T * ha_[4])));
+    double hb = hb_[0] + T * (hb_[1] + T * (hb_[2] + T * (hb_[3] + T * hb_[4])));
+    s->R = (1 - F) * g->r_a + F * g->r_b;
+    s->cp = (1 - F) * cpa + F * cpb;
+    s->h = (1 - F) * ha + F * hb;
+    s->u = s->h - s->R * T;
+    s->cv = s->cp - s->R;
+    s->dudF = (hb - g->r_b * T) - (ha - g->r_a * T);
+}
 /* en_gas_dTdt from a state evaluated at the same (T, F). */
 static inline double en_gas_dTdt_s(const en_gas_state *s, double m, double dEdt, double dmdt,
                                    double dFdt)
@@ -85,13 +103,36 @@ typedef struct en_kin {
     double xp, dxdth, d2xdth2; /* piston distance from TDC [m] and derivatives */
 } en_kin;
 void en_kinematics(const en_geom *g, double th, en_kin *k);
-/* The same from sin(th), cos(th) (the caller rotates one sincos to every cylinder). */
-void en_kinematics_sc(const en_geom *g, double s, double c, en_kin *k);
+/* The same from sin(th), cos(th) (the caller rotates one sincos to every cylinder).
+ * This and the valve functions below are inline: the crank-angle right-hand
+ * side calls them 12 and 2 x 12 times per evaluation (issue 6 speed-up). */
+static inline void en_kinematics_sc(const en_geom *g, double s, double c, en_kin *k)
+{
+    double a = g->crank, l = g->rod;
+    double r = sqrt(l * l - a * a * s * s), ir = 1.0 / r; /* one division */
+    k->xp = a + l - (a * c + r);
+    k->dxdth = a * s + a * a * s * c * ir;
+    k->d2xdth2 = a * c + a * a * (c * c - s * s) * ir + a * a * a * a * s * s * c * c * (ir * ir * ir);
+    k->V = g->vc + g->area * k->xp;
+    k->dVdth = g->area * k->dxdth;
+}
 /* Lift [m] of a valve open on [open, close] (rad CA, close may exceed 4 pi),
  * smooth sine-squared-like profile (1 - cos) / 2. th in [0, 4 pi). */
-double en_valve_lift(double th, double open, double close, double lmax);
+static inline double en_valve_lift(double th, double open, double close, double lmax)
+{
+    double span = close - open;
+    double d = th - open;
+    if (d < 0) d += 4.0 * EN_PI;
+    if (d > span) return 0.0;
+    return lmax * 0.5 * (1.0 - cos(2.0 * EN_PI * d / span));
+}
 /* Effective flow area = cd x min(curtain, 0.9 x seat area) x n valves. */
-double en_valve_area(double lift, double diameter, int n, double cd);
+static inline double en_valve_area(double lift, double diameter, int n, double cd)
+{
+    double curtain = EN_PI * diameter * lift;
+    double seat = 0.9 * EN_PI / 4.0 * diameter * diameter;
+    return cd * n * (curtain < seat ? curtain : seat);
+}
 
 /* ---- combustion (engine_combustion.c) ------------------------------------- */
 typedef struct en_watson {
@@ -189,6 +230,10 @@ struct ts_engine {
     double surf_area[EN_NSURF];  /* piston and head areas; liner area at full stroke [m^2] */
     double cyl_offset[EN_NCYL];  /* firing offset of each cylinder [rad] */
     double cyl_sin[EN_NCYL], cyl_cos[EN_NCYL]; /* sin, cos of the offsets */
+    /* valve phases for the lift's cosine by rotation (engine_crank.c): intake
+     * (0) and exhaust (1), k = 2 pi / (close - open), phase = k (offset + open
+     * - 4 pi n) for n = 0, 1, 2 wraps of the local angle; cos and sin */
+    double valve_k[2], valve_cos[2][EN_NCYL][3], valve_sin[2][EN_NCYL][3];
     int cyl_bank[EN_NCYL];
     double speed_step;           /* map/mean_value fixed step [s] */
     double turbo_inertia_scale;  /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
@@ -270,6 +315,9 @@ typedef struct en_bank_flows {
     double m_ex, h_ex, mf_ex; /* cylinders -> exhaust manifold */
     int have_co;              /* co holds the compressor at this state (else computed) */
     en_comp_out co;
+    int have_gas;             /* s_im, s_em hold the manifolds' gas at this state and the
+                                 en_bank_rhs o argument its en_bank_read (else computed) */
+    en_gas_state s_im, s_em;
 } en_bank_flows;
 typedef struct en_bank_out {
     double p_im, T_im, F_im, p_em, T_em, F_em, air_flow, turbo_speed;

@@ -20,18 +20,16 @@
 
 /* Flow function Psi(pr) with pr = p_down / p_up <= 1:
  *   Psi^2 = 2 g/(g-1) (pr^(2/g) - pr^((g+1)/g)) = 2 g/(g-1) a (a - pr),  a = pr^(1/g),
- * clamped at the critical ratio (2/(g+1))^(g/(g-1)). The comparison with the
- * critical ratio is made on logarithms, so one log per call replaces the
- * three powers of the textbook form (same value to rounding). */
+ * clamped at the critical ratio pr_c = (2/(g+1))^(g/(g-1)). In terms of a,
+ * Psi^2 ~ a^2 - a^(g+1) peaks where a^(g-1) = pr / a = 2/(g+1), so the flow is
+ * choked exactly when (g+1) pr < 2 a (no logarithm of the critical ratio), and
+ * there Psi_c = sqrt(2 g/(g+1)) a_c, a_c = (2/(g+1))^(1/(g-1)). One log and one
+ * exp per unchoked call (same value to rounding as the textbook powers). */
 static double psi(double pr, double g)
 {
-    double lc = g / (g - 1.0) * log(2.0 / (g + 1.0)); /* log of the critical ratio */
-    double lp = log(pr);
-    if (lp < lc) {
-        lp = lc;
-        pr = exp(lc);
-    }
-    double a = exp(lp / g);
+    double a = exp(log(pr) / g);
+    if ((g + 1.0) * pr < 2.0 * a) /* past the critical ratio: choked */
+        return sqrt(2.0 * g / (g + 1.0)) * exp(log(2.0 / (g + 1.0)) / (g - 1.0));
     double v = 2.0 * g / (g - 1.0) * a * (a - pr);
     return sqrt(v > 0 ? v : 0);
 }
@@ -71,7 +69,7 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
 {
     const en_gas *g = &e->gas;
     const ts_engine_config *c = &e->c;
-    en_bank_read(e, xb, o);
+    if (!f->have_gas) en_bank_read(e, xb, o); /* else the caller read o at this state */
     double m_ic = xb[BX_ICM], T_ic = xb[BX_ICT];
     double p_ic = m_ic * g->r_a * T_ic / c->ic_volume;
     /* compressor: ambient -> intercooler volume */
@@ -82,8 +80,13 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
         en_compressor(&e->turbo, xb[BX_TC], p_amb, T_amb, p_ic, &co);
     en_gas_state s_ic, s_im, s_em, s_c;
     en_gas_eval(g, T_ic, 0, &s_ic);
-    en_gas_eval(g, o->T_im, o->F_im, &s_im);
-    en_gas_eval(g, o->T_em, o->F_em, &s_em);
+    if (f->have_gas) { /* the caller's evaluation at this state (same values) */
+        s_im = f->s_im;
+        s_em = f->s_em;
+    } else {
+        en_gas_eval(g, o->T_im, o->F_im, &s_im);
+        en_gas_eval(g, o->T_em, o->F_em, &s_em);
+    }
     en_gas_eval(g, co.T_out, 0, &s_c);
     /* intercooler outlet orifice -> intake manifold (reverse flow carries F_im) */
     double g_ic = s_ic.cp / s_ic.cv, g_im = s_im.cp / s_im.cv;
