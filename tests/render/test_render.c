@@ -47,13 +47,21 @@ static part_px count_part(const tsr_image *img, int part)
     return r;
 }
 
-/* Render s with v into a malloc'd copy of the RGBA pixels. */
-static unsigned char *render_copy(tsr_ctx *c, const ts_geom *g, const tsr_view *v, tsr_image *img)
+/* A scene of g under v (for tsr_project, tsr_scene_hull_box, tsr_render). */
+static tsr_scene *scene_or_fail(const ts_geom *g, const tsr_view *v)
 {
     ts_err err;
     tsr_scene *sc = tsr_scene_make(&err);
-    assert_non_null(sc);
+    if (!sc) fail_msg("tsr_scene_make: %s", err.msg);
     assert_int_equal(tsr_scene_update(sc, g, v, &err), TS_OK);
+    return sc;
+}
+
+/* Render g with v into a malloc'd copy of the RGBA pixels. */
+static unsigned char *render_copy(tsr_ctx *c, const ts_geom *g, const tsr_view *v, tsr_image *img)
+{
+    ts_err err;
+    tsr_scene *sc = scene_or_fail(g, v);
     assert_int_equal(tsr_render(c, sc, v, img, &err), TS_OK);
     size_t n = img->stride * (size_t)img->height;
     unsigned char *copy = malloc(n);
@@ -84,6 +92,28 @@ static tsr_ctx *ctx_or_fail(void)
     tsr_ctx *c = tsr_ctx_make(&err);
     if (!c) fail_msg("tsr_ctx_make: %s", err.msg);
     return c;
+}
+
+/* The default view with one exact colour per part (the geometric checks). */
+static tsr_view ids_view(void)
+{
+    tsr_view v;
+    tsr_view_default(&v);
+    v.shading = TSR_SHADE_IDS;
+    return v;
+}
+
+/* Pixel position of the hull-frame point (bx, bz) at world depth y: the
+ * rigid-body rotation by the hull pitch (positive nose-down) about the hull
+ * origin, written out here independently of scene.c, then tsr_project. */
+static void project_hull_point(const tsr_scene *sc, const tsr_view *v, const ts_geom *g,
+                               double bx, double bz, double y, double *px, double *py)
+{
+    double cs = cos(g->hull_pitch), sn = sin(g->hull_pitch);
+    double wx = g->hull_x + bx * cs + bz * sn;
+    double wz = g->hull_z - bx * sn + bz * cs;
+    ts_err err;
+    assert_int_equal(tsr_project(sc, v, wx, y, wz, px, py, &err), TS_OK);
 }
 
 /* ---- tests -------------------------------------------------------------------- */
@@ -172,9 +202,7 @@ static void hull_pixels_in_projected_box(void **state)
     static m1_state s;
     flat_state(&s, 0);
     tsr_ctx *c = ctx_or_fail();
-    tsr_view v;
-    tsr_view_default(&v);
-    v.shading = TSR_SHADE_IDS;
+    tsr_view v = ids_view();
     const int W = v.width, H = v.height;
     /* layout of vehicle.json: sprocket (0, 0.70) r 0.327; idler (5.88, 0.60) r 0.3175 */
     double env_rear = 0.0 - 0.327, env_front = 5.88 + 0.3175;
@@ -188,8 +216,7 @@ static void hull_pixels_in_projected_box(void **state)
 #define PY(z) (H / 2.0 - k * ((z) - cz))
     tsr_image img;
     ts_err err;
-    tsr_scene *sc = tsr_scene_make(&err);
-    assert_int_equal(tsr_scene_update(sc, &s.g, &v, &err), TS_OK);
+    tsr_scene *sc = scene_or_fail(&s.g, &v);
     double br, bf, bb, bt;
     tsr_scene_hull_box(sc, &br, &bf, &bb, &bt);
     assert_close(br + s.g.hull_x, rear, 0, 1e-9);
@@ -228,23 +255,16 @@ static void pitched_hull_inside_rotated_box(void **state)
     bump_state(&s);
     assert_true(s.g.hull_pitch < -0.01); /* climbing: nose up */
     tsr_ctx *c = ctx_or_fail();
-    tsr_view v;
-    tsr_view_default(&v);
-    v.shading = TSR_SHADE_IDS;
-    ts_err err;
-    tsr_scene *sc = tsr_scene_make(&err);
-    assert_int_equal(tsr_scene_update(sc, &s.g, &v, &err), TS_OK);
+    tsr_view v = ids_view();
+    tsr_scene *sc = scene_or_fail(&s.g, &v);
     double r, f, b, t;
     tsr_scene_hull_box(sc, &r, &f, &b, &t);
     double deck = b + 0.52 * (t - b);
-    double cs = cos(s.g.hull_pitch), sn = sin(s.g.hull_pitch);
     double bx[4] = {r, f, f, r}, bz[4] = {b, b, deck, deck};
     double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
     for (int i = 0; i < 4; i++) {
-        double wx = s.g.hull_x + bx[i] * cs + bz[i] * sn;
-        double wz = s.g.hull_z - bx[i] * sn + bz[i] * cs;
         double px, py;
-        assert_int_equal(tsr_project(sc, &v, wx, -5, wz, &px, &py, &err), TS_OK);
+        project_hull_point(sc, &v, &s.g, bx[i], bz[i], -5, &px, &py);
         xmin = fmin(xmin, px), xmax = fmax(xmax, px), ymin = fmin(ymin, py), ymax = fmax(ymax, py);
     }
     tsr_image img;
@@ -256,11 +276,8 @@ static void pitched_hull_inside_rotated_box(void **state)
     double nose[2], rear_lo[2], rear_hi[2];
     double pts[3][2] = {{f, b + 0.30 * (t - b)}, {r, b + 0.10 * (t - b)}, {r, b + 0.49 * (t - b)}};
     double *outp[3] = {nose, rear_lo, rear_hi};
-    for (int i = 0; i < 3; i++) {
-        double wx = s.g.hull_x + pts[i][0] * cs + pts[i][1] * sn;
-        double wz = s.g.hull_z - pts[i][0] * sn + pts[i][1] * cs;
-        assert_int_equal(tsr_project(sc, &v, wx, -5, wz, &outp[i][0], &outp[i][1], &err), TS_OK);
-    }
+    for (int i = 0; i < 3; i++)
+        project_hull_point(sc, &v, &s.g, pts[i][0], pts[i][1], -5, &outp[i][0], &outp[i][1]);
     assert_close(hull.x1 + 1, nose[0], 0, 2.0);
     assert_close(hull.x0, fmin(rear_lo[0], rear_hi[0]), 0, 2.0);
     free(ids);
@@ -300,9 +317,7 @@ static void track_follows_span_deflection(void **state)
     bent = rest;
     m1_span_mode(&bent, 2, 0.02);
     tsr_ctx *c = ctx_or_fail();
-    tsr_view v;
-    tsr_view_default(&v);
-    v.shading = TSR_SHADE_IDS;
+    tsr_view v = ids_view();
     tsr_image i_rest, i0, i1, i5;
     unsigned char *p_rest = render_copy(c, &rest.g, &v, &i_rest);
     v.exaggeration = 0;
@@ -320,8 +335,7 @@ static void track_follows_span_deflection(void **state)
     assert_true(d5 > 2 * d1);
     /* where: between the rollers (world x 1.83 .. 4.55), above their centres */
     ts_err err;
-    tsr_scene *sc = tsr_scene_make(&err);
-    assert_int_equal(tsr_scene_update(sc, &rest.g, &v, &err), TS_OK);
+    tsr_scene *sc = scene_or_fail(&rest.g, &v);
     double pa, pb, py, dummy;
     assert_int_equal(tsr_project(sc, &v, 1.83, -5, 0.84, &pa, &py, &err), TS_OK);
     assert_int_equal(tsr_project(sc, &v, 4.55, -5, 0.84, &pb, &dummy, &err), TS_OK);
@@ -418,14 +432,11 @@ static void track_rests_on_terrain(void **state)
     static m1_state s;
     bump_state(&s);
     tsr_ctx *c = ctx_or_fail();
-    tsr_view v;
-    tsr_view_default(&v);
-    v.shading = TSR_SHADE_IDS;
+    tsr_view v = ids_view();
     tsr_image img;
     unsigned char *px = render_copy(c, &s.g, &v, &img);
     ts_err err;
-    tsr_scene *sc = tsr_scene_make(&err);
-    assert_int_equal(tsr_scene_update(sc, &s.g, &v, &err), TS_OK);
+    tsr_scene *sc = scene_or_fail(&s.g, &v);
     int on_bump = 0;
     for (int i = 0; i < s.g.nwheel; i++) {
         const ts_geom_wheel *w = &s.g.wheel[i];
@@ -456,10 +467,8 @@ static void three_quarter_view_shows_the_tank(void **state)
     static m1_state s;
     bump_state(&s);
     tsr_ctx *c = ctx_or_fail();
-    tsr_view v;
-    tsr_view_default(&v);
+    tsr_view v = ids_view();
     v.kind = TSR_VIEW_THREE_QUARTER;
-    v.shading = TSR_SHADE_IDS;
     v.width = 640;
     v.height = 360;
     tsr_image img;
@@ -467,15 +476,11 @@ static void three_quarter_view_shows_the_tank(void **state)
     int parts[] = {TSR_PART_HULL, TSR_PART_TURRET, TSR_PART_TRACK, TSR_PART_ROAD_WHEEL,
                    TSR_PART_TERRAIN};
     for (int i = 0; i < 5; i++) assert_true(count_part(&img, parts[i]).n > 50);
-    ts_err err;
-    tsr_scene *sc = tsr_scene_make(&err);
-    assert_int_equal(tsr_scene_update(sc, &s.g, &v, &err), TS_OK);
+    tsr_scene *sc = scene_or_fail(&s.g, &v);
     double r, f, b, t, fx, fy;
     tsr_scene_hull_box(sc, &r, &f, &b, &t);
-    double cx = r + 0.40 * (f - r), cz = b + 0.85 * (t - b); /* inside the turret */
-    double wx = s.g.hull_x + cx * cos(s.g.hull_pitch) + cz * sin(s.g.hull_pitch);
-    double wz = s.g.hull_z - cx * sin(s.g.hull_pitch) + cz * cos(s.g.hull_pitch);
-    assert_int_equal(tsr_project(sc, &v, wx, 0, wz, &fx, &fy, &err), TS_OK);
+    /* inside the turret */
+    project_hull_point(sc, &v, &s.g, r + 0.40 * (f - r), b + 0.85 * (t - b), 0, &fx, &fy);
     assert_true(fx > 0 && fx < v.width && fy > 0 && fy < v.height);
     int x = (int)fx, y = (int)fy;
     assert_true(is_part(&img, x, y, TSR_PART_HULL) || is_part(&img, x, y, TSR_PART_TURRET));
