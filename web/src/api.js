@@ -39,7 +39,8 @@ export class ApiError extends Error {
   }
 }
 
-async function problemOf(resp) {
+/** The problem document of a failed Response (a synthesized one when the body is not JSON). */
+export async function problemOf(resp) {
   const text = await resp.text().catch(() => '');
   try {
     const doc = JSON.parse(text);
@@ -113,8 +114,7 @@ export async function allSessions() {
   let token;
   for (let guard = 0; guard < 50; guard++) {
     const page = await api.sessions(token);
-    const items = Array.isArray(page) ? page : page.sessions || page.items || [];
-    out.push(...items);
+    out.push(...(page.sessions || []));
     token = page.next_page_token;
     if (!token) break;
   }

@@ -12,7 +12,7 @@
  * it is filled first from GET /series (history) and then from the stream.
  */
 import { fetchEventSource } from '@microsoft/fetch-event-source';
-import { api, authHeaders, ApiError, seriesAll } from './api.js';
+import { api, authHeaders, ApiError, problemOf, seriesAll } from './api.js';
 
 export class SeriesStore {
   constructor(channels) {
@@ -71,13 +71,7 @@ export function streamSession(id, store, { onStatus = () => {}, isFinished = () 
         onStatus('live');
         return;
       }
-      let problem = { title: `HTTP ${resp.status}` };
-      try {
-        problem = await resp.json();
-      } catch {
-        /* keep the generic title */
-      }
-      throw new ApiError(resp.status, problem); /* fatal: onerror rethrows */
+      throw new ApiError(resp.status, await problemOf(resp)); /* fatal: onerror rethrows */
     },
     onmessage(ev) {
       if (ev.event === 'end') return; /* the daemon closes the stream next */
