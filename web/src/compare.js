@@ -6,8 +6,8 @@
  */
 import uPlot from 'uplot';
 import { seriesAll } from './api.js';
-import { bracket, display, fmt } from './units.js';
-import { chartWidth, color } from './plots.js';
+import { bracket, display, toDisplay } from './units.js';
+import { chartWidth, color, fmtTicks, fmtValue } from './plots.js';
 
 const MAX_POINTS = 4000;
 
@@ -29,8 +29,7 @@ export class ComparePanel {
       const count = Math.max(1, Math.round((s.t || 0) * rate));
       const every = Math.max(1, Math.ceil(count / MAX_POINTS));
       const ser = await seriesAll(s.id, { channels: channel, every });
-      const ys = (ser.cols[channel] || []).map((v) => (v === null ? null : v * d.factor));
-      tables.push([ser.t, ys]);
+      tables.push([ser.t, toDisplay(ser.cols[channel] || [], d)]);
       labels.push(describe(s, differing));
     }
     this.plot?.destroy();
@@ -42,10 +41,10 @@ export class ComparePanel {
       height: 260,
       scales: { x: { time: false } },
       cursor: { drag: { x: true, y: false } },
-      axes: [{ label: 't [s]' }, { label: d.label || channel, size: 64, values: (u, t) => t.map((v) => fmt(v)) }],
+      axes: [{ label: 't [s]' }, { label: d.label || channel, size: 64, values: fmtTicks }],
       series: [
-        { label: 't [s]', value: (u, v) => fmt(v) },
-        ...labels.map((label, i) => ({ label, stroke: color(i), width: 1.5, spanGaps: true, value: (u, v) => fmt(v) })),
+        { label: 't [s]', value: fmtValue },
+        ...labels.map((label, i) => ({ label, stroke: color(i), width: 1.5, spanGaps: true, value: fmtValue })),
       ],
     };
     this.plot = new uPlot(opts, data, this.root);

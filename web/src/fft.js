@@ -6,16 +6,12 @@
  */
 import uPlot from 'uplot';
 import { api } from './api.js';
-import { bracket, display, fmt } from './units.js';
-import { chartWidth } from './plots.js';
-
-/* Accept the few plausible spellings of the arrays in the response. */
-const pick = (doc, ...keys) => keys.map((k) => doc[k]).find(Array.isArray) || [];
+import { bracket, display, fmt, toDisplay } from './units.js';
+import { chartWidth, fmtTicks, fmtValue } from './plots.js';
 
 export class FftPanel {
-  constructor(root, { onError }) {
+  constructor(root) {
     this.root = root;
-    this.onError = onError;
     this.plot = null;
   }
 
@@ -24,14 +20,11 @@ export class FftPanel {
   async compute(session, channel, from, to, { fmax, log } = {}) {
     const ch = (session.channels || []).find((c) => c.name === channel) || { unit: '' };
     const doc = await api.fft(session.id, { channel, from, to });
-    const freq = pick(doc, 'frequency', 'freq', 'f');
-    const amp = pick(doc, 'amplitude', 'amp', 'magnitude');
-    const unit = doc.unit || ch.unit;
-    const d = display(unit);
-    const ys = d.factor === 1 ? amp : amp.map((v) => v * d.factor);
+    const freq = doc.frequency || []; /* api/openapi.yaml Spectrum */
+    const d = display(doc.unit || ch.unit);
     /* Leave out the DC bin: the mean dwarfs the vibration content. */
     let xs = freq.slice(1);
-    let yy = ys.slice(1);
+    let yy = toDisplay((doc.amplitude || []).slice(1), d);
     if (log) yy = yy.map((v) => (v > 0 ? v : null));
     if (fmax > 0) {
       const n = xs.findIndex((f) => f > fmax);
@@ -48,10 +41,10 @@ export class FftPanel {
       height: 220,
       scales: { x: { time: false }, y: log ? { distr: 3 } : {} },
       cursor: { drag: { x: true, y: false } },
-      axes: [{ label: 'frequency [Hz]' }, { label: `amplitude${bracket(d.label)}`, size: 64, values: (u, t) => t.map((v) => fmt(v)) }],
+      axes: [{ label: 'frequency [Hz]' }, { label: `amplitude${bracket(d.label)}`, size: 64, values: fmtTicks }],
       series: [
-        { label: 'f [Hz]', value: (u, v) => fmt(v) },
-        { label: `|${channel}|${bracket(d.label)}`, stroke: '#7c3aed', width: 1.5, fill: 'rgba(124,58,237,0.08)', value: (u, v) => fmt(v) },
+        { label: 'f [Hz]', value: fmtValue },
+        { label: `|${channel}|${bracket(d.label)}`, stroke: '#7c3aed', width: 1.5, fill: 'rgba(124,58,237,0.08)', value: fmtValue },
       ],
     };
     this.plot = new uPlot(opts, [xs, yy], this.root);

@@ -4,7 +4,7 @@
  * display-unit conversion (SI in the data; mph / rpm only on screen).
  */
 import uPlot from 'uplot';
-import { bracket, display, fmt } from './units.js';
+import { bracket, display, fmt, toDisplay } from './units.js';
 
 /* Channels picked by default when a session opens: the paper's plotted
  * quantities (vehicle speed, engine speed, gear, rack, sprocket torque, rear
@@ -39,6 +39,10 @@ export function defaultPicks(channels) {
 
 const COLORS = ['#2563eb', '#dc2626', '#059669', '#d97706', '#7c3aed', '#0891b2', '#db2777', '#4b5563'];
 export const color = (i) => COLORS[i % COLORS.length];
+
+/* uPlot formatters shared by every chart: axis ticks and legend values. */
+export const fmtTicks = (u, ticks) => ticks.map((v) => fmt(v));
+export const fmtValue = (u, v) => fmt(v);
 
 export function chartWidth(container) {
   return Math.max(280, Math.floor(container.getBoundingClientRect().width) - 4);
@@ -84,11 +88,11 @@ export class LivePlots {
       legend: { live: true },
       axes: [
         { label: 't [s]', size: 36 },
-        { label: d.label || ch.name, size: 64, values: (u, ticks) => ticks.map((v) => fmt(v)) },
+        { label: d.label || ch.name, size: 64, values: fmtTicks },
       ],
       series: [
-        { label: 't [s]', value: (u, v) => fmt(v) },
-        { label: `${ch.name}${bracket(d.label)}`, stroke, width: 1.5, value: (u, v) => fmt(v) },
+        { label: 't [s]', value: fmtValue },
+        { label: `${ch.name}${bracket(d.label)}`, stroke, width: 1.5, value: fmtValue },
       ],
       hooks: {
         /* zoomed = the x range is narrower than the data: then new data must
@@ -113,9 +117,7 @@ export class LivePlots {
   }
 
   data(entry) {
-    const ys = this.store.cols[entry.name] || [];
-    const f = entry.d.factor;
-    return [this.store.t, f === 1 ? ys : ys.map((v) => (v === null ? null : v * f))];
+    return [this.store.t, toDisplay(this.store.cols[entry.name] || [], entry.d)];
   }
 
   redraw(force) {

@@ -69,6 +69,11 @@ export function convertible(siUnit) {
   return (DISPLAY[siUnit] || []).length > 1;
 }
 
+/** SI values (null = no sample) in the display unit {factor}. */
+export function toDisplay(values, { factor }) {
+  return factor === 1 ? values : values.map((v) => (v === null ? null : v * factor));
+}
+
 /** Format a number compactly for tables and labels. */
 export function fmt(v, digits = 4) {
   if (v === null || v === undefined || Number.isNaN(v)) return '—';
