@@ -22,7 +22,6 @@ const $ = (id) => document.getElementById(id);
 const HISTORY_POINTS = 50000;
 
 const state = {
-  schema: null,
   form: null,
   sessions: [],
   compare: new Set(), /* ids ticked for Compare */
@@ -150,9 +149,8 @@ function pill(status) {
 
 async function initCreateForm() {
   const [schema, presets] = await Promise.all([api.schema(), api.presets()]);
-  state.schema = schema;
   state.form = new SchemaForm($('schema-form'), schema);
-  const list = Array.isArray(presets) ? presets : presets.presets || [];
+  const list = presets.presets || [];
   const sel = $('preset-select');
   sel.replaceChildren();
   for (const p of list) {
@@ -175,8 +173,7 @@ async function loadPreset(list) {
   let doc = {};
   if (name) {
     try {
-      const p = await api.preset(name);
-      doc = p.config || p.document || p;
+      doc = (await api.preset(name)).config; /* the resolved document (GET /v1/presets/{name}) */
     } catch (e) {
       showError($('create-error'), e);
     }
@@ -358,7 +355,7 @@ async function onStep() {
   const duration = Number($('step-duration').value);
   try {
     const r = await api.step(s.id, duration);
-    if (r && typeof r.done === 'boolean' && !r.done) pollOperation(opId(r));
+    if (r && typeof r.done === 'boolean' && !r.done) pollOperation(r.id);
     else await refreshSession();
     startStream(); /* fetch the new rows (the stream ends when they are sent) */
     refreshSessions();
@@ -373,7 +370,7 @@ async function onRun() {
   try {
     const pace = Number($('run-pace').value) || undefined;
     const op = await api.run(s.id, s.config?.run?.duration, pace);
-    pollOperation(opId(op), op);
+    pollOperation(op.id, op);
     startStream();
   } catch (e) {
     showError($('session-error'), e);
@@ -382,8 +379,6 @@ async function onRun() {
 
 /* google.rpc code 1 = CANCELLED (the daemon also sends a problem type). */
 const isCancelled = (err) => err.code === 1 || /cancel/i.test(err.type || '');
-
-const opId = (op) => op.id || (op.name ? String(op.name).split('/').pop() : undefined);
 
 function stopOpPolling() {
   if (state.op) clearTimeout(state.op.timer);
@@ -568,7 +563,7 @@ async function onFft() {
 /* ---------- boot ---------- */
 
 const plots = new LivePlots($('plots'));
-const fft = new FftPanel($('fft-plot'), {});
+const fft = new FftPanel($('fft-plot'));
 const compare = new ComparePanel($('compare-plot'));
 const frames = new FrameViewer({
   img: $('frame-img'),
