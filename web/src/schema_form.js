@@ -97,11 +97,9 @@ export class SchemaForm {
    */
   constructor(root, schema) {
     this.root = root;
-    this.schema = schema;
     this.fields = schemaFields(schema);
     this.inputs = new Map(); /* pointer -> {f, input, row, msg, hint} */
     this.dirty = new Set();
-    this.base = {};
     this.build();
   }
 
@@ -195,10 +193,9 @@ export class SchemaForm {
 
   /** Show the effective values of a preset (resolved over the schema defaults). */
   setBase(presetDoc) {
-    this.base = presetDoc || {};
     this.dirty.clear();
     for (const [pointer, e] of this.inputs) {
-      let v = getPath(this.base, pointer);
+      let v = getPath(presetDoc || {}, pointer);
       if (v === undefined) v = e.f.prop.default;
       this.writeInput(e, v);
       e.row.classList.remove('edited');
