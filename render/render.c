@@ -288,9 +288,7 @@ tsr_ctx *tsr_ctx_make(ts_err *err)
     GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, FS, log, sizeof log) : 0;
     if (!vs || !fs) {
         if (vs) glDeleteShader(vs);
-        release_current();
-        OSMesaDestroyContext(c->osm);
-        free(c);
+        tsr_ctx_free(c);
         ts_err_set(err, TS_ERR_INTERNAL, NULL, "render: shader: %s", log);
         return NULL;
     }
@@ -304,9 +302,7 @@ tsr_ctx *tsr_ctx_make(ts_err *err)
     glGetProgramiv(c->prog, GL_LINK_STATUS, &ok);
     if (!ok) {
         glGetProgramInfoLog(c->prog, sizeof log, NULL, log);
-        release_current();
-        OSMesaDestroyContext(c->osm);
-        free(c);
+        tsr_ctx_free(c);
         ts_err_set(err, TS_ERR_INTERNAL, NULL, "render: link: %s", log);
         return NULL;
     }
@@ -370,13 +366,10 @@ static void draw_overlay(const tsr_scene *s, const tsr_view *v, unsigned char *p
     char line[2][160];
     int nl = 0;
     if (v->overlay) {
-        double kmh = s->speed * 3.6, mph = s->speed / 0.44704;
-        if (s->gear != 0)
-            snprintf(line[nl++], sizeof line[0], "t %.2f s   v %.1f km/h (%.1f mph)   gear %d",
-                     s->t, kmh, mph, s->gear);
-        else
-            snprintf(line[nl++], sizeof line[0], "t %.2f s   v %.1f km/h (%.1f mph)", s->t, kmh,
-                     mph);
+        int n = snprintf(line[0], sizeof line[0], "t %.2f s   v %.1f km/h (%.1f mph)", s->t,
+                         s->speed * 3.6, s->speed / 0.44704);
+        if (s->gear != 0) snprintf(line[0] + n, sizeof line[0] - (size_t)n, "   gear %d", s->gear);
+        nl = 1;
         if (v->text[0]) snprintf(line[nl++], sizeof line[0], "%s", v->text);
     }
     if (nl) {
