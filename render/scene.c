@@ -44,6 +44,7 @@ static const double GROUND_REACH = 40.0;    /* [m] ground drawn ahead of/behind 
 static const double GROUND_STEP = 0.25;     /* [m] ground sampling step (divides the stripes) */
 static const double GROUND_STRIPE = 1.0;    /* [m] alternating ground bands (speed cue) */
 static const double DEFAULT_SPAN = 13.0;    /* [m] side view width when tsr_view.span = 0 */
+#define SIDE_SPAN(v) ((v)->span > 0 ? (v)->span : DEFAULT_SPAN)
 static const double FOV_Y = 30.0 * TSR_PI / 180.0; /* three-quarter camera vertical field */
 
 /* Hull side profile: (fraction of length from the rear, fraction of belly->roof
@@ -528,9 +529,6 @@ static void build_hull(mb *b, tsr_scene *s, const ts_geom *g, int isp, int iid)
     if (zf < zb + 0.1) zf = zb + 0.1;
 #undef BX
 #undef BZ
-    s->ref_x = g->hull_x;
-    s->ref_z = g->hull_z;
-    s->pitch = g->hull_pitch;
     s->x_rear = x0;
     s->x_front = x0 + L;
     s->z_belly = zb;
@@ -698,7 +696,7 @@ ts_rc tsr_scene_update(tsr_scene *s, const ts_geom *g, const tsr_view *v, ts_err
      * its span, and the left (y > 0) running gear and track lie exactly behind
      * the right ones (same x-z outline, farther away), so they are left out. */
     int side_view = v->kind == TSR_VIEW_SIDE;
-    double span = v->span > 0 ? v->span : DEFAULT_SPAN;
+    double span = SIDE_SPAN(v);
     double aspect = (double)v->width / v->height;
     double reach = side_view ? 0.5 * span * fmax(1.0, 1.0 / aspect) + 2.0 : GROUND_REACH;
     build_ground(&b, g, s->aim[0], reach);
@@ -776,7 +774,7 @@ static void mvp_d(const tsr_scene *s, const tsr_view *v, double m[16])
     } else {
         double eye[3] = {s->aim[0], s->aim[1] - 50.0, s->aim[2]}, up[3] = {0, 0, 1};
         look_at(eye, s->aim, up, view);
-        double hw = (v->span > 0 ? v->span : DEFAULT_SPAN) / 2, hh = hw / aspect;
+        double hw = SIDE_SPAN(v) / 2, hh = hw / aspect;
         double n = 1.0, f = 100.0;
         proj[0] = 1 / hw;
         proj[5] = 1 / hh;

@@ -26,8 +26,7 @@ struct tsr_scene {
     int gear;
     int color_by_tension;
     double tension_ref;  /* [N] tension mapped to the neutral colour */
-    /* hull body frame and drawn box */
-    double ref_x, ref_z, pitch;
+    /* drawn hull box, in the hull body frame */
     double x_rear, x_front, z_belly, z_roof;
     /* camera aim (world): centre of the hull box, and a radius that bounds the
      * vehicle with its gun */
