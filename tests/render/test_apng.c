@@ -1,8 +1,8 @@
 /*
  * test_apng.c — APNG assembly (apng.h) against the APNG specification (W3C
  * PNG 3rd edition, acTL/fcTL/fdAT): chunk order and sequence numbers, CRCs,
- * the frame count and delays, and the default image being frame 0 for readers
- * that do not know APNG.
+ * the frame count and delays, every frame's data being its own PNG's image
+ * data, and the default image being frame 0 for readers that do not know APNG.
  */
 #include "test_util.h"
 
@@ -17,6 +17,19 @@
 static uint32_t rd32(const unsigned char *p)
 {
     return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
+}
+
+/* Concatenated IDAT payloads (the zlib stream) of a PNG, in a malloc'd buffer. */
+static unsigned char *idat_stream(const unsigned char *png, size_t len, size_t *n)
+{
+    unsigned char *out = malloc(len);
+    *n = 0;
+    for (size_t pos = 8; pos + 12 <= len; pos += 12 + rd32(png + pos))
+        if (memcmp(png + pos + 4, "IDAT", 4) == 0) {
+            memcpy(out + *n, png + pos + 8, rd32(png + pos));
+            *n += rd32(png + pos);
+        }
+    return out;
 }
 
 static unsigned char *frame(int w, int h, unsigned char r, size_t *len)
@@ -49,6 +62,8 @@ static void three_frames_make_a_valid_apng(void **state)
                      TS_OK);
     /* walk the chunks: order, sequence numbers, CRCs */
     char order[128] = "";
+    unsigned char *data_of[3] = {malloc(n), malloc(n), malloc(n)}; /* IDAT / fdAT payloads */
+    size_t ndata[3] = {0, 0, 0};
     uint32_t expect_seq = 0;
     int frames = 0;
     size_t pos = 8;
@@ -64,6 +79,12 @@ static void three_frames_make_a_valid_apng(void **state)
             assert_int_equal(rd32(data + 4), 0); /* loop forever */
         }
         if (!strcmp(t, "fcTL") || !strcmp(t, "fdAT")) assert_int_equal(rd32(data), expect_seq++);
+        if (!strcmp(t, "IDAT") || !strcmp(t, "fdAT")) {
+            int skip = t[0] == 'f' ? 4 : 0; /* fdAT: sequence number, then the frame data */
+            assert_true(frames >= 1 && frames <= 3);
+            memcpy(data_of[frames - 1] + ndata[frames - 1], data + skip, len - skip);
+            ndata[frames - 1] += len - skip;
+        }
         if (!strcmp(t, "fcTL")) {
             frames++;
             assert_int_equal(rd32(data + 4), 16);
@@ -80,6 +101,15 @@ static void three_frames_make_a_valid_apng(void **state)
     assert_int_equal(pos, n);
     assert_int_equal(frames, 3);
     assert_string_equal(order, "IHDR acTL fcTL IDAT fcTL fdAT fcTL fdAT IEND");
+    /* each frame carries exactly its own PNG's image data */
+    for (int i = 0; i < 3; i++) {
+        size_t m;
+        unsigned char *want = idat_stream(f[i], lens[i], &m);
+        assert_int_equal(ndata[i], m);
+        assert_memory_equal(data_of[i], want, m);
+        free(want);
+        free(data_of[i]);
+    }
     /* a reader without APNG support sees frame 0 */
     unsigned char *a, *b;
     int w, h;
