@@ -32,6 +32,15 @@ static double now(void)
     return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
+/* A failed call would time garbage (and encode an unset image): stop instead. */
+#define CHECK(call)                                                                \
+    do {                                                                           \
+        if ((call) != TS_OK) {                                                     \
+            fprintf(stderr, "bench_render: %s: %s\n", #call, err.msg);            \
+            return 1;                                                              \
+        }                                                                          \
+    } while (0)
+
 static int cmp(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -125,20 +134,24 @@ int main(void)
         return 1;
     }
     tsr_scene *sc = tsr_scene_make(&err);
+    if (!sc) {
+        fprintf(stderr, "bench_render: %s\n", err.msg);
+        return 1;
+    }
     for (int i = -3; i < N; i++) {
         m1_pose(&s, 4.0 + 0.1 * (i < 0 ? 0 : i), 0.05 * i, 2.2);
         m1_span_mode(&s, 2, 0.01);
         /* the baseline alternates with the real frame, so both see the same load */
         double tb = bare_frame_ms(&b, fast, &blen);
         double t0 = now();
-        tsr_scene_update(sc, &s.g, &v, &err);
+        CHECK(tsr_scene_update(sc, &s.g, &v, &err));
         double t1 = now();
         tsr_image img;
-        tsr_render(c, sc, &v, &img, &err);
+        CHECK(tsr_render(c, sc, &v, &img, &err));
         double t2 = now();
         unsigned char *png;
-        tsr_png_encode_opaque(img.rgba, img.width, img.height, img.stride, &fast, &png, &len,
-                              &err);
+        CHECK(tsr_png_encode_opaque(img.rgba, img.width, img.height, img.stride, &fast, &png,
+                                    &len, &err));
         double t3 = now();
         free(png);
         if (i < 0) continue; /* warm-up (shader JIT, buffer allocation) */
@@ -161,9 +174,9 @@ int main(void)
 
     /* PNG settings on a real frame */
     m1_pose(&s, 12.0, 3.0, 2.2);
-    tsr_scene_update(sc, &s.g, &v, &err);
+    CHECK(tsr_scene_update(sc, &s.g, &v, &err));
     tsr_image img;
-    tsr_render(c, sc, &v, &img, &err);
+    CHECK(tsr_render(c, sc, &v, &img, &err));
     printf("png settings on one M1 frame (fastest of 15, bytes):\n");
     const char *fname[] = {"none", "sub", "up", "avg", "paeth"};
     static const int levels[] = {1, 2, 3, 6};
@@ -177,8 +190,8 @@ int main(void)
                 for (int k = 0; k < 15; k++) {
                     double t0 = now();
                     unsigned char *png;
-                    (opq ? tsr_png_encode_opaque : tsr_png_encode)(
-                        img.rgba, img.width, img.height, img.stride, &o, &png, &l, &err);
+                    CHECK((opq ? tsr_png_encode_opaque : tsr_png_encode)(
+                        img.rgba, img.width, img.height, img.stride, &o, &png, &l, &err));
                     double t = (now() - t0) * 1e3;
                     if (t < best) best = t;
                     free(png);
