@@ -5,36 +5,14 @@
  */
 #include "apng.h"
 
+#include "bytebuf.h"
+
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <zlib.h>
 
 static const unsigned char png_sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-
-typedef struct {
-    unsigned char *p;
-    size_t n, cap;
-    int oom;
-} outbuf;
-
-static void put(outbuf *b, const void *d, size_t n)
-{
-    if (b->oom || n == 0) return;
-    if (b->n + n > b->cap) {
-        size_t cap = b->cap ? b->cap : 65536;
-        while (cap < b->n + n) cap *= 2;
-        unsigned char *np = realloc(b->p, cap);
-        if (!np) {
-            b->oom = 1;
-            return;
-        }
-        b->p = np;
-        b->cap = cap;
-    }
-    memcpy(b->p + b->n, d, n);
-    b->n += n;
-}
 
 static void be32(unsigned char *p, uint32_t v)
 {
@@ -50,21 +28,21 @@ static uint32_t rd32(const unsigned char *p)
 }
 
 /* One chunk; data2 (may be NULL) is appended after data (for fdAT's payload). */
-static void chunk(outbuf *b, const char *type, const unsigned char *data, size_t n,
+static void chunk(tsr_bytebuf *b, const char *type, const unsigned char *data, size_t n,
                   const unsigned char *data2, size_t n2)
 {
     unsigned char hdr[8];
     be32(hdr, (uint32_t)(n + n2));
     memcpy(hdr + 4, type, 4);
-    put(b, hdr, 8);
-    put(b, data, n);
-    if (data2) put(b, data2, n2);
+    tsr_bytebuf_put(b, hdr, 8);
+    tsr_bytebuf_put(b, data, n);
+    if (data2) tsr_bytebuf_put(b, data2, n2);
     uLong crc = crc32(0L, (const Bytef *)type, 4);
     if (n) crc = crc32(crc, data, (uInt)n); /* crc32(c, NULL, 0) would reset c */
     if (data2 && n2) crc = crc32(crc, data2, (uInt)n2);
     unsigned char c[4];
     be32(c, (uint32_t)crc);
-    put(b, c, 4);
+    tsr_bytebuf_put(b, c, 4);
 }
 
 /* Walk the chunks of one PNG: *ihdr gets its IHDR data (13 bytes); every IDAT
@@ -89,7 +67,7 @@ static int walk(const unsigned char *png, size_t len, const unsigned char **ihdr
 }
 
 typedef struct {
-    outbuf *b;
+    tsr_bytebuf *b;
     uint32_t *seq;
     int as_fdat;
 } frame_sink;
@@ -130,9 +108,9 @@ ts_rc tsr_apng_assemble(const unsigned char *const *pngs, const size_t *lens, in
             return ts_err_set(err, TS_ERR_PARAM, NULL,
                               "apng: frame %d differs from frame 0 in size or format", i);
     }
-    outbuf b = {0};
+    tsr_bytebuf b = {0};
     uint32_t seq = 0;
-    put(&b, png_sig, 8);
+    tsr_bytebuf_put(&b, png_sig, 8);
     chunk(&b, "IHDR", ihdr0, 13, NULL, 0);
     unsigned char actl[8];
     be32(actl, (uint32_t)n); /* num_frames */

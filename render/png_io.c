@@ -4,34 +4,16 @@
  */
 #include "png_io.h"
 
+#include "bytebuf.h"
+
 #include <png.h>
 #include <setjmp.h>
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct {
-    unsigned char *buf;
-    size_t len, cap;
-    int oom;
-} membuf;
-
 static void write_cb(png_structp p, png_bytep data, png_size_t n)
 {
-    membuf *m = png_get_io_ptr(p);
-    if (m->oom) return;
-    if (m->len + n > m->cap) {
-        size_t cap = m->cap ? m->cap : 65536;
-        while (cap < m->len + n) cap *= 2;
-        unsigned char *nb = realloc(m->buf, cap);
-        if (!nb) {
-            m->oom = 1;
-            return;
-        }
-        m->buf = nb;
-        m->cap = cap;
-    }
-    memcpy(m->buf + m->len, data, n);
-    m->len += n;
+    tsr_bytebuf_put(png_get_io_ptr(p), data, n);
 }
 
 static void flush_cb(png_structp p) { (void)p; }
@@ -46,7 +28,7 @@ static ts_rc encode(const unsigned char *rgba, int width, int height, size_t str
     int filter = opts ? opts->filter : 1;
     if (width <= 0 || height <= 0 || level < 0 || level > 9 || filter < 0 || filter > 4)
         return ts_err_set(err, TS_ERR_PARAM, NULL, "png: bad size or options");
-    membuf m = {0};
+    tsr_bytebuf m = {0};
     png_structp p = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
     png_infop info = p ? png_create_info_struct(p) : NULL;
     if (!p || !info) {
@@ -55,7 +37,7 @@ static ts_rc encode(const unsigned char *rgba, int width, int height, size_t str
     }
     if (setjmp(png_jmpbuf(p))) {
         png_destroy_write_struct(&p, &info);
-        free(m.buf);
+        free(m.p);
         return ts_err_set(err, TS_ERR_INTERNAL, NULL, "png: libpng failed while encoding");
     }
     png_set_write_fn(p, &m, write_cb, flush_cb);
@@ -70,11 +52,11 @@ static ts_rc encode(const unsigned char *rgba, int width, int height, size_t str
     png_write_end(p, NULL);
     png_destroy_write_struct(&p, &info);
     if (m.oom) {
-        free(m.buf);
+        free(m.p);
         return ts_err_set(err, TS_ERR_NOMEM, NULL, "png: out of memory");
     }
-    *out = m.buf;
-    *out_len = m.len;
+    *out = m.p;
+    *out_len = m.n;
     return TS_OK;
 }
 
