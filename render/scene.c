@@ -48,12 +48,11 @@ static const double DEFAULT_SPAN = 13.0;    /* [m] side view width when tsr_view
 static const double FOV_Y = 30.0 * TSR_PI / 180.0; /* three-quarter camera vertical field */
 
 /* Hull side profile: (fraction of length from the rear, fraction of belly->roof
- * height), counter-clockwise; star-shaped about HULL_CENTRE. Deck at 0.52,
+ * height), counter-clockwise. Deck at 0.52,
  * shallow upper glacis from the nose (1.00, 0.30) to the turret ring. */
 static const double HULL_PROFILE[][2] = {{0.02, 0.00}, {0.80, 0.00}, {0.93, 0.17}, {1.00, 0.30},
                                          {0.99, 0.34}, {0.72, 0.52}, {0.03, 0.52}, {0.00, 0.49},
                                          {0.00, 0.10}};
-static const double HULL_CENTRE[2] = {0.50, 0.26};
 static const double DECK = 0.52;
 /* Turret side profile: (fraction of hull length, fraction of deck->roof). */
 static const double TURRET_PROFILE[][2] = {{0.33, 0.00}, {0.66, 0.00}, {0.685, 0.45},
@@ -545,7 +544,6 @@ static void build_hull(mb *b, tsr_scene *s, const ts_geom *g, int isp, int iid)
         prof[i][0] = x0 + HULL_PROFILE[i][0] * L;
         prof[i][1] = zb + HULL_PROFILE[i][1] * Hh;
     }
-    double hcx = x0 + HULL_CENTRE[0] * L, hcz = zb + HULL_CENTRE[1] * Hh;
     /* split the profile at the fender line: narrow below, full width above */
     double lower[20][2], upper[20][2];
     int nl = 0, nu = 0;
@@ -575,8 +573,6 @@ static void build_hull(mb *b, tsr_scene *s, const ts_geom *g, int isp, int iid)
         extrude(b, (const double(*)[2])upper, nu, ucx, ucz, -OVERALL_WIDTH / 2, OVERALL_WIDTH / 2,
                 0, 0);
     }
-    (void)hcx;
-    (void)hcz;
     /* turret with sloped sides */
     double zd = zb + DECK * Hh, ht = zb + Hh - zd;
     int nt = (int)(sizeof TURRET_PROFILE / sizeof TURRET_PROFILE[0]);
@@ -605,13 +601,10 @@ static void build_hull(mb *b, tsr_scene *s, const ts_geom *g, int isp, int iid)
     cylinder_x(b, gx0, gx0 + 0.55 * gl, 0.0, gz, 0.10, 12);
     cylinder_x(b, gx0 + 0.55 * gl, gx1, 0.0, gz, 0.08, 12);
     cylinder_x(b, gx0 + 0.62 * gl, gx0 + 0.74 * gl, 0.0, gz, 0.125, 12);
+    /* camera aim (world): the centre of the hull box */
+    const double box_centre[3] = {x0 + 0.5 * L, 0.0, zb + 0.5 * Hh};
+    to_world(b, box_centre, s->aim);
     b->body = 0;
-
-    /* camera aim and reach */
-    double cx = x0 + 0.5 * L, cz = zb + 0.5 * Hh;
-    s->aim[0] = g->hull_x + cx * c + cz * sn;
-    s->aim[1] = 0.0;
-    s->aim[2] = g->hull_z - cx * sn + cz * c;
     double reach = 0.5 * L + TSR_GUN_REACH;
     s->radius = sqrt(reach * reach + 0.25 * Hh * Hh + 0.25 * OVERALL_WIDTH * OVERALL_WIDTH);
 }
@@ -631,7 +624,6 @@ static void build_running_gear(mb *b, const ts_geom *g, int side)
             double ya = yi - out * 0.02, yb = yi - out * 0.16;
             beam(b, w->pivot_x, w->pivot_z, w->x, w->z, 0.14, fmin(ya, yb), fmax(ya, yb));
             double hub_a = yi, hub_b = yi - out * 0.2;
-            set_paint(b, TSR_PART_ROAD_ARM, COL_STEEL);
             disc(b, w->pivot_x, w->pivot_z, 0.09, fmin(hub_a, hub_b), fmax(hub_a, hub_b), 10);
             dual_wheel(b, w, TSR_PART_ROAD_WHEEL, yc, wheel_half, out, 6);
             break;
