@@ -118,22 +118,10 @@ void tsr_text_draw(unsigned char *rgba, int width, int height, size_t stride, in
     for (; *s; s++, x += TSR_ADVANCE * scale) {
         const unsigned char *g = glyph((unsigned char)*s);
         for (int r = 0; r < TSR_GLYPH_H; r++)
-            for (int c = 0; c < TSR_GLYPH_W; c++) {
-                if (!(g[r] & (0x10 >> c))) continue;
-                for (int dy = 0; dy < scale; dy++) {
-                    int py = y + r * scale + dy;
-                    if (py < 0 || py >= height) continue;
-                    for (int dx = 0; dx < scale; dx++) {
-                        int px = x + c * scale + dx;
-                        if (px < 0 || px >= width) continue;
-                        unsigned char *p = rgba + (size_t)py * stride + (size_t)px * 4;
-                        p[0] = rgb[0];
-                        p[1] = rgb[1];
-                        p[2] = rgb[2];
-                        p[3] = 255;
-                    }
-                }
-            }
+            for (int c = 0; c < TSR_GLYPH_W; c++)
+                if (g[r] & (0x10 >> c)) /* one font pixel: a scale x scale opaque block */
+                    tsr_fill_rect(rgba, width, height, stride, x + c * scale, y + r * scale,
+                                  scale, scale, rgb, 1.0);
     }
 }
 
