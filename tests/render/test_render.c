@@ -116,6 +116,31 @@ static void project_hull_point(const tsr_scene *sc, const tsr_view *v, const ts_
     assert_int_equal(tsr_project(sc, v, wx, y, wz, px, py, &err), TS_OK);
 }
 
+/* One frame of g under v with the scene it was drawn from (for tsr_project
+ * and the hull box); shot_free releases all of it. */
+typedef struct {
+    tsr_ctx *c;
+    tsr_scene *sc;
+    tsr_image img; /* img.rgba = px */
+    unsigned char *px; /* malloc'd copy of the pixels */
+} shot;
+
+static shot shot_take(const ts_geom *g, const tsr_view *v)
+{
+    shot sh;
+    sh.c = ctx_or_fail();
+    sh.sc = scene_or_fail(g, v);
+    sh.px = render_copy(sh.c, g, v, &sh.img);
+    return sh;
+}
+
+static void shot_free(shot *sh)
+{
+    free(sh->px);
+    tsr_scene_free(sh->sc);
+    tsr_ctx_free(sh->c);
+}
+
 /* ---- tests -------------------------------------------------------------------- */
 
 /* EVIDENCE: PNG spec (signature, IHDR) + png_io decode; the frame has the
@@ -201,7 +226,6 @@ static void hull_pixels_in_projected_box(void **state)
     (void)state;
     static m1_state s;
     flat_state(&s, 0);
-    tsr_ctx *c = ctx_or_fail();
     tsr_view v = ids_view();
     const int W = v.width, H = v.height;
     /* layout of vehicle.json: sprocket (0, 0.70) r 0.327; idler (5.88, 0.60) r 0.3175 */
@@ -214,31 +238,27 @@ static void hull_pixels_in_projected_box(void **state)
     double cx = 0.5 * (rear + front), cz = 0.5 * (belly + roof), k = W / 13.0;
 #define PX(x) (W / 2.0 + k * ((x) - cx))
 #define PY(z) (H / 2.0 - k * ((z) - cz))
-    tsr_image img;
     ts_err err;
-    tsr_scene *sc = scene_or_fail(&s.g, &v);
+    shot sh = shot_take(&s.g, &v);
     double br, bf, bb, bt;
-    tsr_scene_hull_box(sc, &br, &bf, &bb, &bt);
+    tsr_scene_hull_box(sh.sc, &br, &bf, &bb, &bt);
     assert_close(br + s.g.hull_x, rear, 0, 1e-9);
     assert_close(bt + s.g.hull_z, roof, 0, 1e-9);
     double px, py;
-    assert_int_equal(tsr_project(sc, &v, front, -5.0, deck, &px, &py, &err), TS_OK);
+    assert_int_equal(tsr_project(sh.sc, &v, front, -5.0, deck, &px, &py, &err), TS_OK);
     assert_close(px, PX(front), 0, 1e-6);
     assert_close(py, PY(deck), 0, 1e-6);
-    unsigned char *ids = render_copy(c, &s.g, &v, &img);
-    part_px hull = count_part(&img, TSR_PART_HULL);
+    part_px hull = count_part(&sh.img, TSR_PART_HULL);
     /* pixel i covers [i, i+1): an edge at e gives first/last covered pixel ~ e, e-1 */
     assert_close(hull.x0, PX(rear), 0, 1.5);
     assert_close(hull.x1 + 1, PX(front), 0, 1.5);
     assert_close(hull.y0, PY(deck), 0, 1.5);
     assert_close(hull.y1 + 1, PY(belly), 0, 1.5);
-    part_px turret = count_part(&img, TSR_PART_TURRET);
+    part_px turret = count_part(&sh.img, TSR_PART_TURRET);
     assert_close(turret.y0, PY(roof + 0.16), 0, 1.5); /* weapon station on the roof */
-    part_px gun = count_part(&img, TSR_PART_GUN);
+    part_px gun = count_part(&sh.img, TSR_PART_GUN);
     assert_close(gun.x1 + 1, PX(front + TSR_GUN_REACH), 0, 1.5);
-    free(ids);
-    tsr_scene_free(sc);
-    tsr_ctx_free(c);
+    shot_free(&sh);
 #undef PX
 #undef PY
 }
@@ -254,22 +274,19 @@ static void pitched_hull_inside_rotated_box(void **state)
     static m1_state s;
     bump_state(&s);
     assert_true(s.g.hull_pitch < -0.01); /* climbing: nose up */
-    tsr_ctx *c = ctx_or_fail();
     tsr_view v = ids_view();
-    tsr_scene *sc = scene_or_fail(&s.g, &v);
+    shot sh = shot_take(&s.g, &v);
     double r, f, b, t;
-    tsr_scene_hull_box(sc, &r, &f, &b, &t);
+    tsr_scene_hull_box(sh.sc, &r, &f, &b, &t);
     double deck = b + 0.52 * (t - b);
     double bx[4] = {r, f, f, r}, bz[4] = {b, b, deck, deck};
     double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
     for (int i = 0; i < 4; i++) {
         double px, py;
-        project_hull_point(sc, &v, &s.g, bx[i], bz[i], -5, &px, &py);
+        project_hull_point(sh.sc, &v, &s.g, bx[i], bz[i], -5, &px, &py);
         xmin = fmin(xmin, px), xmax = fmax(xmax, px), ymin = fmin(ymin, py), ymax = fmax(ymax, py);
     }
-    tsr_image img;
-    unsigned char *ids = render_copy(c, &s.g, &v, &img);
-    part_px hull = count_part(&img, TSR_PART_HULL);
+    part_px hull = count_part(&sh.img, TSR_PART_HULL);
     assert_true(hull.n > 1000);
     assert_true(hull.x0 >= xmin - 1.5 && hull.x1 + 1 <= xmax + 1.5);
     assert_true(hull.y0 >= ymin - 1.5 && hull.y1 + 1 <= ymax + 1.5);
@@ -277,12 +294,10 @@ static void pitched_hull_inside_rotated_box(void **state)
     double pts[3][2] = {{f, b + 0.30 * (t - b)}, {r, b + 0.10 * (t - b)}, {r, b + 0.49 * (t - b)}};
     double *outp[3] = {nose, rear_lo, rear_hi};
     for (int i = 0; i < 3; i++)
-        project_hull_point(sc, &v, &s.g, pts[i][0], pts[i][1], -5, &outp[i][0], &outp[i][1]);
+        project_hull_point(sh.sc, &v, &s.g, pts[i][0], pts[i][1], -5, &outp[i][0], &outp[i][1]);
     assert_close(hull.x1 + 1, nose[0], 0, 2.0);
     assert_close(hull.x0, fmin(rear_lo[0], rear_hi[0]), 0, 2.0);
-    free(ids);
-    tsr_scene_free(sc);
-    tsr_ctx_free(c);
+    shot_free(&sh);
 }
 
 /* Pixels whose track/non-track status differs between two id images, and
@@ -431,31 +446,27 @@ static void track_rests_on_terrain(void **state)
     (void)state;
     static m1_state s;
     bump_state(&s);
-    tsr_ctx *c = ctx_or_fail();
     tsr_view v = ids_view();
-    tsr_image img;
-    unsigned char *px = render_copy(c, &s.g, &v, &img);
+    shot sh = shot_take(&s.g, &v);
+    const tsr_image *img = &sh.img;
     ts_err err;
-    tsr_scene *sc = scene_or_fail(&s.g, &v);
     int on_bump = 0;
     for (int i = 0; i < s.g.nwheel; i++) {
         const ts_geom_wheel *w = &s.g.wheel[i];
         if (w->role != TS_WHEEL_ROAD) continue;
         double fx, fy;
-        assert_int_equal(tsr_project(sc, &v, w->x, -5, w->z, &fx, &fy, &err), TS_OK);
+        assert_int_equal(tsr_project(sh.sc, &v, w->x, -5, w->z, &fx, &fy, &err), TS_OK);
         int x = (int)fx, low_track = -1, top_terrain = -1;
-        for (int y = 0; y < img.height; y++) {
-            if (is_part(&img, x, y, TSR_PART_TRACK)) low_track = y;
-            if (top_terrain < 0 && is_part(&img, x, y, TSR_PART_TERRAIN)) top_terrain = y;
+        for (int y = 0; y < img->height; y++) {
+            if (is_part(img, x, y, TSR_PART_TRACK)) low_track = y;
+            if (top_terrain < 0 && is_part(img, x, y, TSR_PART_TERRAIN)) top_terrain = y;
         }
         assert_true(low_track >= 0 && top_terrain >= 0);
         assert_true(top_terrain - low_track >= 1 && top_terrain - low_track <= 3);
         if (m1_terrain(&s.g, w->x) > 0.05) on_bump++;
     }
     assert_true(on_bump >= 2); /* the check covered wheels up on the bump */
-    tsr_scene_free(sc);
-    free(px);
-    tsr_ctx_free(c);
+    shot_free(&sh);
 }
 
 /* EVIDENCE: perspective camera aimed at the hull (render.h): the three-quarter
@@ -466,27 +477,22 @@ static void three_quarter_view_shows_the_tank(void **state)
     (void)state;
     static m1_state s;
     bump_state(&s);
-    tsr_ctx *c = ctx_or_fail();
     tsr_view v = ids_view();
     v.kind = TSR_VIEW_THREE_QUARTER;
     v.width = 640;
     v.height = 360;
-    tsr_image img;
-    unsigned char *px = render_copy(c, &s.g, &v, &img);
+    shot sh = shot_take(&s.g, &v);
     int parts[] = {TSR_PART_HULL, TSR_PART_TURRET, TSR_PART_TRACK, TSR_PART_ROAD_WHEEL,
                    TSR_PART_TERRAIN};
-    for (int i = 0; i < 5; i++) assert_true(count_part(&img, parts[i]).n > 50);
-    tsr_scene *sc = scene_or_fail(&s.g, &v);
+    for (int i = 0; i < 5; i++) assert_true(count_part(&sh.img, parts[i]).n > 50);
     double r, f, b, t, fx, fy;
-    tsr_scene_hull_box(sc, &r, &f, &b, &t);
+    tsr_scene_hull_box(sh.sc, &r, &f, &b, &t);
     /* inside the turret */
-    project_hull_point(sc, &v, &s.g, r + 0.40 * (f - r), b + 0.85 * (t - b), 0, &fx, &fy);
+    project_hull_point(sh.sc, &v, &s.g, r + 0.40 * (f - r), b + 0.85 * (t - b), 0, &fx, &fy);
     assert_true(fx > 0 && fx < v.width && fy > 0 && fy < v.height);
     int x = (int)fx, y = (int)fy;
-    assert_true(is_part(&img, x, y, TSR_PART_HULL) || is_part(&img, x, y, TSR_PART_TURRET));
-    tsr_scene_free(sc);
-    free(px);
-    tsr_ctx_free(c);
+    assert_true(is_part(&sh.img, x, y, TSR_PART_HULL) || is_part(&sh.img, x, y, TSR_PART_TURRET));
+    shot_free(&sh);
 }
 
 /* ---- threads -------------------------------------------------------------------- */
