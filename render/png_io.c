@@ -28,19 +28,24 @@ static ts_rc encode(const unsigned char *rgba, int width, int height, size_t str
     int filter = opts ? opts->filter : 1;
     if (width <= 0 || height <= 0 || level < 0 || level > 9 || filter < 0 || filter > 4)
         return ts_err_set(err, TS_ERR_PARAM, NULL, "png: bad size or options");
-    tsr_bytebuf m = {0};
-    png_structp p = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    /* The sink lives on the heap: libpng writes into it between setjmp and a
+     * possible longjmp, and an automatic object modified there would be
+     * indeterminate after the jump (C11 7.13.2.1); the pointer itself is not. */
+    tsr_bytebuf *m = calloc(1, sizeof *m);
+    png_structp p = m ? png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL) : NULL;
     png_infop info = p ? png_create_info_struct(p) : NULL;
     if (!p || !info) {
         png_destroy_write_struct(&p, NULL);
+        free(m);
         return ts_err_set(err, TS_ERR_NOMEM, NULL, "png: out of memory");
     }
     if (setjmp(png_jmpbuf(p))) {
         png_destroy_write_struct(&p, &info);
-        free(m.p);
+        free(m->p);
+        free(m);
         return ts_err_set(err, TS_ERR_INTERNAL, NULL, "png: libpng failed while encoding");
     }
-    png_set_write_fn(p, &m, write_cb, flush_cb);
+    png_set_write_fn(p, m, write_cb, flush_cb);
     png_set_IHDR(p, info, (png_uint_32)width, (png_uint_32)height, 8,
                  opaque ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGBA,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
@@ -51,12 +56,12 @@ static ts_rc encode(const unsigned char *rgba, int width, int height, size_t str
     for (int y = 0; y < height; y++) png_write_row(p, (png_const_bytep)(rgba + (size_t)y * stride));
     png_write_end(p, NULL);
     png_destroy_write_struct(&p, &info);
-    if (m.oom) {
-        free(m.p);
-        return ts_err_set(err, TS_ERR_NOMEM, NULL, "png: out of memory");
-    }
-    *out = m.p;
-    *out_len = m.n;
+    int oom = m->oom;
+    *out = oom ? NULL : m->p;
+    *out_len = oom ? 0 : m->n;
+    if (oom) free(m->p);
+    free(m);
+    if (oom) return ts_err_set(err, TS_ERR_NOMEM, NULL, "png: out of memory");
     return TS_OK;
 }
 
