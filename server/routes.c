@@ -118,6 +118,76 @@ static enum MHD_Result reply_body_err(tsd_request *r, const ts_err *e, json_t *e
     return ret;
 }
 
+/* Request body as a JSON object; an empty body reads as {} when optional.
+ * NULL when a 400 reply was queued (*ret). */
+static json_t *body_object(tsd_request *r, int optional, enum MHD_Result *ret)
+{
+    ts_err e;
+    int empty = optional && r->body_len == 0;
+    json_t *doc = tsa_parse_object(empty ? "{}" : r->body, empty ? 2 : r->body_len, &e);
+    if (!doc) *ret = tsd_reply_err(r, &e, NULL);
+    return doc;
+}
+
+/* Read numeric body fields (tsa_read_numbers); -1 when a 400 reply was queued. */
+static int body_numbers(tsd_request *r, int optional, tsa_num_field *f, int n,
+                        enum MHD_Result *ret)
+{
+    json_t *doc = body_object(r, optional, ret);
+    if (!doc) return -1;
+    ts_err e;
+    json_t *errors = json_array();
+    ts_rc rc = tsa_read_numbers(doc, f, n, errors, &e);
+    json_decref(doc);
+    if (rc != TS_OK) {
+        *ret = reply_body_err(r, &e, errors);
+        return -1;
+    }
+    json_decref(errors);
+    return 0;
+}
+
+/* Problem from e with another status than its code maps to (e.g. a size
+ * limit of one request answers 422, not the 429 of TS_ERR_LIMIT). */
+static enum MHD_Result reply_err_status(tsd_request *r, const ts_err *e, unsigned status)
+{
+    json_t *p = tsa_problem_from_err(e, NULL);
+    json_object_set_new(p, "status", json_integer(status));
+    return tsd_reply_problem_json(r, status, p);
+}
+
+/* Reply of a deferred request once its worker resumed it: async_result with
+ * status, or the problem in async_err (with async_errors when non-empty). */
+static enum MHD_Result reply_async(tsd_request *r, unsigned status)
+{
+    if (r->async_result) {
+        json_t *j = r->async_result;
+        r->async_result = NULL;
+        return tsd_reply_json(r, status, j);
+    }
+    r->location[0] = '\0';
+    return tsd_reply_err(r, &r->async_err,
+                         json_array_size(r->async_errors) ? r->async_errors : NULL);
+}
+
+/* Parse the body into r->async_doc and run job(r) on the pool with the
+ * connection suspended; the job fills async_* and resumes, resumed replies. */
+static enum MHD_Result defer_body_job(tsd_request *r, int optional, tsd_job_fn job,
+                                      enum MHD_Result (*resumed)(tsd_request *r))
+{
+    enum MHD_Result ret = MHD_NO;
+    json_t *doc = body_object(r, optional, &ret);
+    if (!doc) return ret;
+    r->async_doc = doc;
+    r->async_errors = json_array();
+    tsd_request_defer(r, resumed);
+    if (tsd_pool_submit(r->srv->pool, job, r, 0) != 0) {
+        ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "the daemon is shutting down");
+        tsd_request_resume(r);
+    }
+    return MHD_YES;
+}
+
 /* ---- service --------------------------------------------------------------------- */
 
 static enum MHD_Result get_health(tsd_request *r)
@@ -273,29 +343,12 @@ static void create_job(void *arg)
 
 static enum MHD_Result create_resumed(tsd_request *r)
 {
-    if (r->async_result) {
-        json_t *j = r->async_result;
-        r->async_result = NULL;
-        return tsd_reply_json(r, MHD_HTTP_CREATED, j);
-    }
-    r->location[0] = '\0';
-    return tsd_reply_err(r, &r->async_err,
-                         json_array_size(r->async_errors) ? r->async_errors : NULL);
+    return reply_async(r, MHD_HTTP_CREATED);
 }
 
 static enum MHD_Result post_sessions(tsd_request *r)
 {
-    ts_err e;
-    json_t *doc = tsa_parse_object(r->body, r->body_len, &e);
-    if (!doc) return tsd_reply_err(r, &e, NULL);
-    r->async_doc = doc;
-    r->async_errors = json_array();
-    tsd_request_defer(r, create_resumed);
-    if (tsd_pool_submit(r->srv->pool, create_job, r, 0) != 0) {
-        ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "the daemon is shutting down");
-        tsd_request_resume(r);
-    }
-    return MHD_YES;
+    return defer_body_job(r, 0, create_job, create_resumed);
 }
 
 static enum MHD_Result get_sessions(tsd_request *r)
@@ -327,26 +380,15 @@ static void step_done(void *ud)
 
 static enum MHD_Result step_resumed(tsd_request *r)
 {
-    if (r->async_result) {
-        json_t *j = r->async_result;
-        r->async_result = NULL;
-        return tsd_reply_json(r, MHD_HTTP_OK, j);
-    }
-    return tsd_reply_err(r, &r->async_err, NULL);
+    return reply_async(r, MHD_HTTP_OK);
 }
 
 static enum MHD_Result post_step(tsd_request *r)
 {
-    ts_err e;
-    json_t *doc = tsa_parse_object(r->body, r->body_len, &e);
-    if (!doc) return tsd_reply_err(r, &e, NULL);
+    enum MHD_Result ret = MHD_NO;
     double duration = 0;
     tsa_num_field f[] = {{"duration", 1, 0.0, 1e9, &duration, NULL}};
-    json_t *errors = json_array();
-    ts_rc rc = tsa_read_numbers(doc, f, 1, errors, &e);
-    json_decref(doc);
-    if (rc != TS_OK) return reply_body_err(r, &e, errors);
-    json_decref(errors);
+    if (body_numbers(r, 0, f, 1, &ret) < 0) return ret;
     if (duration > r->srv->opt.max_step) {
         char detail[300];
         snprintf(detail, sizeof detail,
@@ -372,18 +414,13 @@ static enum MHD_Result post_step(tsd_request *r)
 
 static enum MHD_Result post_run(tsd_request *r)
 {
-    ts_err e;
-    json_t *doc = tsa_parse_object(r->body_len ? r->body : "{}", r->body_len ? r->body_len : 2, &e);
-    if (!doc) return tsd_reply_err(r, &e, NULL);
+    enum MHD_Result ret = MHD_NO;
     tsd_session *s = r->session;
     double until = s->m ? ts_model_config(s->m)->run.duration : 0, rtf = 0;
     tsa_num_field f[] = {{"until", 0, 0.0, 1e12, &until, NULL},
                          {"real_time_factor", 0, 1e-3, 1e9, &rtf, NULL}};
-    json_t *errors = json_array();
-    ts_rc rc = tsa_read_numbers(doc, f, 2, errors, &e);
-    json_decref(doc);
-    if (rc != TS_OK) return reply_body_err(r, &e, errors);
-    json_decref(errors);
+    if (body_numbers(r, 1, f, 2, &ret) < 0) return ret;
+    ts_err e;
     json_t *op = NULL;
     if (tsd_session_run(s, until, rtf, &op, &e) != TS_OK) return tsd_reply_err(r, &e, NULL);
     snprintf(r->location, sizeof r->location, "/v1/operations/%s",
@@ -518,15 +555,11 @@ static enum MHD_Result get_fft(tsd_request *r)
     if (parse_range(r, s, ch, &q, &ret) < 0) return ret;
     long want = q.to - q.from + 1;
     if (want > r->srv->opt.max_samples) {
-        char msg[200];
-        snprintf(msg, sizeof msg,
-                 "/to: the range holds %ld samples, more than --max-samples = %ld; narrow "
-                 "from/to",
-                 want, r->srv->opt.max_samples);
-        ts_err_set(&e, TS_ERR_LIMIT, "/to", "%s", msg);
-        json_t *p = tsa_problem_from_err(&e, NULL);
-        json_object_set_new(p, "status", json_integer(422));
-        return tsd_reply_problem_json(r, 422, p);
+        ts_err_set(&e, TS_ERR_LIMIT, "/to",
+                   "/to: the range holds %ld samples, more than --max-samples = %ld; narrow "
+                   "from/to",
+                   want, r->srv->opt.max_samples);
+        return reply_err_status(r, &e, 422);
     }
     if (want < 2) {
         ts_err_set(&e, TS_ERR_PARAM, "/from",
@@ -684,9 +717,7 @@ static enum MHD_Result get_frames(tsd_request *r)
                    "/fps: %ld frames requested, at most %d per %s request; lower fps or narrow "
                    "from/to",
                    n, limit, apng ? "APNG (format=multipart streams up to 3000)" : "multipart");
-        json_t *p = tsa_problem_from_err(&e, NULL);
-        json_object_set_new(p, "status", json_integer(422));
-        return tsd_reply_problem_json(r, 422, p);
+        return reply_err_status(r, &e, 422);
     }
     return tsd_frames_reply(r, s, &v, (double)q.from, rate / fps, n, 0, apng ? fps : 0);
 }
@@ -705,28 +736,12 @@ static void modes_job(void *arg)
 
 static enum MHD_Result modes_resumed(tsd_request *r)
 {
-    if (r->async_result) {
-        json_t *j = r->async_result;
-        r->async_result = NULL;
-        return tsd_reply_json(r, MHD_HTTP_OK, j);
-    }
-    return tsd_reply_err(r, &r->async_err,
-                         json_array_size(r->async_errors) ? r->async_errors : NULL);
+    return reply_async(r, MHD_HTTP_OK);
 }
 
 static enum MHD_Result post_modes(tsd_request *r)
 {
-    ts_err e;
-    json_t *doc = tsa_parse_object(r->body_len ? r->body : "{}", r->body_len ? r->body_len : 2, &e);
-    if (!doc) return tsd_reply_err(r, &e, NULL);
-    r->async_doc = doc;
-    r->async_errors = json_array();
-    tsd_request_defer(r, modes_resumed);
-    if (tsd_pool_submit(r->srv->pool, modes_job, r, 0) != 0) {
-        ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "the daemon is shutting down");
-        tsd_request_resume(r);
-    }
-    return MHD_YES;
+    return defer_body_job(r, 1, modes_job, modes_resumed);
 }
 
 /* ---- operations ------------------------------------------------------------------- */
