@@ -16,6 +16,8 @@
 #ifndef TSD_POOL_H
 #define TSD_POOL_H
 
+#include <stddef.h>
+
 typedef struct tsd_pool tsd_pool;
 typedef void (*tsd_job_fn)(void *arg);
 
@@ -37,5 +39,9 @@ void tsd_pool_stop(tsd_pool *p);
 
 /* Monotonic clock [s]. */
 double tsd_now(void);
+
+/* Fresh random id: prefix + 16 hex digits (getrandom; the clock if that
+ * fails) into out[n]. Sessions ("s...") and operations ("op...") use it. */
+void tsd_random_id(char *out, size_t n, const char *prefix);
 
 #endif

@@ -47,7 +47,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/random.h>
 #include <time.h>
 
 #include "../api/config_json.h"
@@ -386,13 +385,7 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
     const json_t *preset = json_object_get(doc, "preset");
     snprintf(s->preset, sizeof s->preset, "%s",
              json_is_string(preset) ? json_string_value(preset) : "");
-    unsigned char rnd[8] = {0};
-    if (getrandom(rnd, sizeof rnd, 0) != (ssize_t)sizeof rnd) {
-        double x = unix_now();
-        memcpy(rnd, &x, sizeof rnd);
-    }
-    snprintf(s->id, sizeof s->id, "s%02x%02x%02x%02x%02x%02x%02x%02x", rnd[0], rnd[1], rnd[2],
-             rnd[3], rnd[4], rnd[5], rnd[6], rnd[7]);
+    tsd_random_id(s->id, sizeof s->id, "s");
     s->created = unix_now();
     s->status = TSD_CREATED;
     s->t = 0.0;
