@@ -671,8 +671,8 @@ static enum MHD_Result get_frame(tsd_request *r)
     /* A stored sample's frame never changes: a strong ETag over the session,
      * the sample index, the drawing options and the version answers repeat
      * requests with 304 without drawing (issue 8: caching of past frames). */
-    static const char *const opts[] = {"width", "height", "view",    "exaggeration", "color",
-                                        "text",  "overlay", "antialias", "span",       "shading"};
+    static const char *const opts[] = {"width", "height",  "view",     "exaggeration",
+                                        "color", "text",    "overlay",  "antialias"}; /* parse_view */
     uint64_t h = 1469598103934665603ULL; /* FNV-1a 64 */
     for (size_t i = 0; i < sizeof opts / sizeof opts[0]; i++) {
         const char *val = tsd_arg(r, opts[i]);
