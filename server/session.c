@@ -121,9 +121,11 @@ static void ref(tsd_session *s)
     pthread_mutex_unlock(&s->mu);
 }
 
-/* Allocate a session around a resolved config; builds model and data when it
- * can (m stays NULL and err is filled when it cannot). */
-static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, ts_err *err)
+/* Allocate a session around a resolved config (steals resolved); builds model
+ * and data when it can (m stays NULL and err is filled when it cannot). cfg is
+ * resolved already read (NULL: read it here). */
+static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, const ts_config *cfg,
+                                  ts_err *err)
 {
     tsd_session *s = calloc(1, sizeof *s);
     if (!s) {
@@ -136,10 +138,13 @@ static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, ts_err *err
     s->refs = 1;
     s->config = resolved;
     s->index = 0;
-    ts_config cfg;
+    ts_config own;
     ts_err_clear(err);
-    if (tsa_config_load(resolved, &cfg, NULL, NULL, err) != TS_OK) return s;
-    s->m = ts_model_make(&cfg, err);
+    if (!cfg) {
+        if (tsa_config_load(resolved, &own, NULL, NULL, err) != TS_OK) return s;
+        cfg = &own;
+    }
+    s->m = ts_model_make(cfg, err);
     if (!s->m) return s;
     s->d = ts_data_make(s->m, err);
     s->nch = ts_model_nchannel(s->m);
@@ -191,7 +196,7 @@ static void load_session(void *ud, long seq, const char *id, double created, con
     json_error_t je;
     json_t *resolved = json_loads(config_json, 0, &je);
     ts_err err;
-    tsd_session *s = session_alloc(srv, resolved ? resolved : json_object(), &err);
+    tsd_session *s = session_alloc(srv, resolved ? resolved : json_object(), NULL, &err);
     if (!s) return;
     snprintf(s->id, sizeof s->id, "%s", id);
     snprintf(s->preset, sizeof s->preset, "%s", preset);
@@ -280,16 +285,23 @@ void tsd_sessions_count(tsd_server *srv, long counts[TSD_NSTATUS])
     pthread_mutex_unlock(&srv->reg->mu);
 }
 
+/* Index of session id in the registry or -1. Caller holds g->mu. */
+static int registry_find_locked(const tsd_registry *g, const char *id)
+{
+    for (int i = 0; i < g->n; i++)
+        if (strcmp(g->v[i]->id, id) == 0) return i;
+    return -1;
+}
+
 tsd_session *tsd_session_get(tsd_server *srv, const char *id)
 {
     tsd_session *found = NULL;
     pthread_mutex_lock(&srv->reg->mu);
-    for (int i = 0; i < srv->reg->n; i++)
-        if (strcmp(srv->reg->v[i]->id, id) == 0) {
-            found = srv->reg->v[i];
-            ref(found);
-            break;
-        }
+    int i = registry_find_locked(srv->reg, id);
+    if (i >= 0) {
+        found = srv->reg->v[i];
+        ref(found);
+    }
     pthread_mutex_unlock(&srv->reg->mu);
     return found;
 }
@@ -370,7 +382,7 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
                           "%d sessions exist (--max-sessions); delete some first",
                           srv->opt.max_sessions);
     }
-    tsd_session *s = session_alloc(srv, resolved, err);
+    tsd_session *s = session_alloc(srv, resolved, &cfg, err);
     if (!s) return err->code;
     if (!s->m) {
         rc = err->code != TS_OK ? err->code : TS_ERR_INTERNAL;
@@ -431,16 +443,15 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
 ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
 {
     tsd_session *s = NULL;
-    pthread_mutex_lock(&srv->reg->mu);
-    for (int i = 0; i < srv->reg->n; i++)
-        if (strcmp(srv->reg->v[i]->id, id) == 0) {
-            s = srv->reg->v[i];
-            memmove(&srv->reg->v[i], &srv->reg->v[i + 1],
-                    sizeof srv->reg->v[0] * (size_t)(srv->reg->n - i - 1));
-            srv->reg->n--;
-            break;
-        }
-    pthread_mutex_unlock(&srv->reg->mu);
+    tsd_registry *g = srv->reg;
+    pthread_mutex_lock(&g->mu);
+    int i = registry_find_locked(g, id);
+    if (i >= 0) {
+        s = g->v[i];
+        memmove(&g->v[i], &g->v[i + 1], sizeof g->v[0] * (size_t)(g->n - i - 1));
+        g->n--;
+    }
+    pthread_mutex_unlock(&g->mu);
     if (!s) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
     pthread_mutex_lock(&s->mu);
     s->deleted = 1;
