@@ -156,14 +156,15 @@ static enum MHD_Result reply_err_status(tsd_request *r, const ts_err *e, unsigne
     return tsd_reply_problem_json(r, status, p);
 }
 
-/* Reply of a deferred request once its worker resumed it: async_result with
- * status, or the problem in async_err (with async_errors when non-empty). */
-static enum MHD_Result reply_async(tsd_request *r, unsigned status)
+/* on_resume of a deferred request once its worker resumed it: async_result
+ * with async_status, or the problem in async_err (with async_errors when
+ * non-empty). */
+static enum MHD_Result reply_async(tsd_request *r)
 {
     if (r->async_result) {
         json_t *j = r->async_result;
         r->async_result = NULL;
-        return tsd_reply_json(r, status, j);
+        return tsd_reply_json(r, r->async_status, j);
     }
     r->location[0] = '\0';
     return tsd_reply_err(r, &r->async_err,
@@ -171,16 +172,18 @@ static enum MHD_Result reply_async(tsd_request *r, unsigned status)
 }
 
 /* Parse the body into r->async_doc and run job(r) on the pool with the
- * connection suspended; the job fills async_* and resumes, resumed replies. */
+ * connection suspended; the job fills async_* and resumes; reply_async
+ * answers with status on success. */
 static enum MHD_Result defer_body_job(tsd_request *r, int optional, tsd_job_fn job,
-                                      enum MHD_Result (*resumed)(tsd_request *r))
+                                      unsigned status)
 {
     enum MHD_Result ret = MHD_NO;
     json_t *doc = body_object(r, optional, &ret);
     if (!doc) return ret;
     r->async_doc = doc;
     r->async_errors = json_array();
-    tsd_request_defer(r, resumed);
+    r->async_status = status;
+    tsd_request_defer(r, reply_async);
     if (tsd_pool_submit(r->srv->pool, job, r, 0) != 0) {
         ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "the daemon is shutting down");
         tsd_request_resume(r);
@@ -341,14 +344,9 @@ static void create_job(void *arg)
     tsd_request_resume(r);
 }
 
-static enum MHD_Result create_resumed(tsd_request *r)
-{
-    return reply_async(r, MHD_HTTP_CREATED);
-}
-
 static enum MHD_Result post_sessions(tsd_request *r)
 {
-    return defer_body_job(r, 0, create_job, create_resumed);
+    return defer_body_job(r, 0, create_job, MHD_HTTP_CREATED);
 }
 
 static enum MHD_Result get_sessions(tsd_request *r)
@@ -372,15 +370,10 @@ static enum MHD_Result delete_session(tsd_request *r)
     return tsd_reply_text(r, MHD_HTTP_NO_CONTENT, "application/json", "", 0);
 }
 
-/* Step: parse, hand to the pool, suspend; step_resumed replies. */
+/* Step: parse, hand to the pool, suspend; reply_async replies. */
 static void step_done(void *ud)
 {
     tsd_request_resume(ud);
-}
-
-static enum MHD_Result step_resumed(tsd_request *r)
-{
-    return reply_async(r, MHD_HTTP_OK);
 }
 
 static enum MHD_Result post_step(tsd_request *r)
@@ -403,7 +396,8 @@ static enum MHD_Result post_step(tsd_request *r)
         json_object_set_new(p, "run", json_string(run));
         return tsd_reply_problem_json(r, 422, p);
     }
-    tsd_request_defer(r, step_resumed);
+    r->async_status = MHD_HTTP_OK;
+    tsd_request_defer(r, reply_async);
     if (tsd_session_step(r->session, duration, &r->async_result, &r->async_err, step_done, r) !=
         TS_OK) {
         /* nothing queued: r->async_err holds why; reply from the resume path */
@@ -734,14 +728,9 @@ static void modes_job(void *arg)
     tsd_request_resume(r);
 }
 
-static enum MHD_Result modes_resumed(tsd_request *r)
-{
-    return reply_async(r, MHD_HTTP_OK);
-}
-
 static enum MHD_Result post_modes(tsd_request *r)
 {
-    return defer_body_job(r, 1, modes_job, modes_resumed);
+    return defer_body_job(r, 1, modes_job, MHD_HTTP_OK);
 }
 
 /* ---- operations ------------------------------------------------------------------- */
