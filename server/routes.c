@@ -93,21 +93,29 @@ static int q_number(tsd_request *r, const char *name, double lo, double hi, doub
     return 1;
 }
 
+/* Whole decimal string v as an integer in [lo, hi]: 0, or -1 when it is not. */
+static int parse_integer(const char *v, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long x = strtol(v, &end, 10);
+    if (errno || end == v || *end || x < lo || x > hi) return -1;
+    *out = x;
+    return 0;
+}
+
+/* Optional query integer in [lo, hi]: 1 present, 0 absent, -1 replied 400. */
 static int q_integer(tsd_request *r, const char *name, long lo, long hi, long *out,
                      enum MHD_Result *ret)
 {
     const char *v = tsd_arg(r, name);
     if (!v || !*v) return 0;
-    char *end;
-    errno = 0;
-    long x = strtol(v, &end, 10);
-    if (errno || *end || x < lo || x > hi) {
+    if (parse_integer(v, lo, hi, out) != 0) {
         char what[96];
         snprintf(what, sizeof what, "integer in [%ld, %ld] expected", lo, hi);
         *ret = bad_param(r, name, what, v);
         return -1;
     }
-    *out = x;
     return 1;
 }
 
@@ -520,13 +528,8 @@ static enum MHD_Result get_stream(tsd_request *r)
     long since = -1;
     const char *last_id = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Last-Event-ID");
     if (q_integer(r, "since", -1, 1L << 62, &since, &ret) < 0) return ret;
-    if (last_id && *last_id) {
-        char *end;
-        errno = 0;
-        long v = strtol(last_id, &end, 10);
-        if (errno || *end || v < -1) return bad_param(r, "Last-Event-ID", "sample index", last_id);
-        since = v;
-    }
+    if (last_id && *last_id && parse_integer(last_id, -1, 1L << 62, &since) != 0)
+        return bad_param(r, "Last-Event-ID", "sample index", last_id);
     const char *accept = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Accept");
     const char *format = tsd_arg(r, "format");
     int ndjson = (accept && strstr(accept, "application/x-ndjson")) ||
