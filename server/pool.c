@@ -156,13 +156,6 @@ int tsd_pool_submit(tsd_pool *p, tsd_job_fn fn, void *arg, double not_before)
     return 0;
 }
 
-int tsd_pool_stopping(tsd_pool *p)
-{
-    pthread_mutex_lock(&p->mu);
-    int s = p->stopping;
-    pthread_mutex_unlock(&p->mu);
-    return s;
-}
 
 int tsd_pool_pending(tsd_pool *p)
 {

@@ -10,8 +10,8 @@
  * long run (see session.c).
  *
  * Shutdown (tsd_pool_stop): no new jobs are accepted, every queued job is
- * still run (jobs see tsd_pool_stopping() and finish quickly), then the
- * threads are joined. Jobs own their argument.
+ * still run (jobs see tsd_server.stopping, set before, and finish quickly),
+ * then the threads are joined. Jobs own their argument.
  */
 #ifndef TSD_POOL_H
 #define TSD_POOL_H
@@ -27,9 +27,6 @@ tsd_pool *tsd_pool_start(int nthreads);
 /* Queue fn(arg) to run at or after monotonic time not_before (0 = now).
  * 0 on success, -1 when the pool is stopping (the job is not run). */
 int tsd_pool_submit(tsd_pool *p, tsd_job_fn fn, void *arg, double not_before);
-
-/* 1 once tsd_pool_stop has begun. */
-int tsd_pool_stopping(tsd_pool *p);
 
 /* Jobs queued or running (for /metrics). */
 int tsd_pool_pending(tsd_pool *p);
