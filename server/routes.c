@@ -455,7 +455,7 @@ static int parse_range(tsd_request *r, tsd_session *s, const char *channels, ran
     if (q_number(r, "from", 0, 1e12, &from, ret) < 0) return -1;
     if (q_number(r, "to", 0, 1e12, &to, ret) < 0) return -1;
     pthread_mutex_lock(&s->mu);
-    long last = s->persisted - 1;
+    long last = s->index;
     pthread_mutex_unlock(&s->mu);
     q->from = (long)ceil(from * rate - 1e-6);
     q->to = to * rate + 1e-6 >= (double)last ? last : (long)floor(to * rate + 1e-6);

@@ -31,7 +31,7 @@
  *  (2) Rows reach the database in batches (BATCH_ROWS, or at the end of each
  *      slice), each batch together with the state snapshot at its last row
  *      in one transaction (db.h), so stored rows and stored state agree; t,
- *      index, latest and persisted describe the last STORED row.
+ *      index and latest describe the last STORED row (index + 1 rows stored).
  *  (3) A run advances in slices of at most SLICE_WALL seconds and re-queues
  *      itself, so many sessions share few workers; with rtf > 0 the next
  *      slice is queued for when real time has caught up (no sleeping).
@@ -227,7 +227,6 @@ static void load_session(void *ud, long seq, const char *id, double created, con
         tsd_db_truncate(srv->db, seq, ts_sample_index(s->d));
         s->t = ts_time(s->d);
         s->index = ts_sample_index(s->d);
-        s->persisted = s->index + 1;
         memcpy(s->latest, ts_latest(s->d), sizeof(double) * (size_t)s->nch);
     }
     tsd_db_session_status(srv->db, seq, tsd_status_name(s->status), s->error);
@@ -334,7 +333,7 @@ int tsd_session_await(tsd_session *s, long next, tsd_waiter *w)
 {
     int r;
     pthread_mutex_lock(&s->mu);
-    if (next < s->persisted)
+    if (next <= s->index)
         r = 1;
     else if (s->status != TSD_RUNNING || s->deleted || atomic_load(&s->srv->stopping))
         r = -1;
@@ -402,7 +401,6 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
     s->status = TSD_CREATED;
     s->t = 0.0;
     s->index = 0;
-    s->persisted = 1;
     memcpy(s->latest, ts_latest(s->d), sizeof(double) * (size_t)s->nch);
 
     pthread_mutex_lock(&srv->reg->mu);
@@ -473,7 +471,7 @@ static json_t *json_locked(tsd_session *s, int summary)
         .created = s->created,
         .t = s->t,
         .index = s->index,
-        .persisted = s->persisted,
+        .persisted = s->m ? s->index + 1 : 0,
         .config = s->config,
         .m = s->m,
         .latest = s->m ? s->latest : NULL,
@@ -543,7 +541,6 @@ static int flush(tsd_session *s, const char *status)
         pthread_mutex_lock(&s->mu);
         s->t = last[0];
         s->index = idx;
-        s->persisted = idx + 1;
         memcpy(s->latest, last, sizeof(double) * (size_t)s->nch);
         wake_locked(s);
         pthread_mutex_unlock(&s->mu);
