@@ -185,14 +185,10 @@ typedef struct {
 } load_ctx;
 
 static void load_session(void *ud, long seq, const char *id, double created, const char *preset,
-                         const char *config_json, int nchannel, const char *status, double t,
-                         long idx, const char *error)
+                         const char *config_json, const char *status, const char *error)
 {
     load_ctx *lc = ud;
     tsd_server *srv = lc->srv;
-    (void)nchannel;
-    (void)t;
-    (void)idx;
     json_error_t je;
     json_t *resolved = json_loads(config_json, 0, &je);
     ts_err err;
