@@ -462,6 +462,25 @@ static int parse_range(tsd_request *r, tsd_session *s, const char *channels, ran
     return 0;
 }
 
+/* Stored rows of s with from <= index <= to, every-th, at most max, into
+ * malloc'd *index and *rows (the caller frees both, also on failure). The
+ * count, or -1 with err set (TS_ERR_NOMEM, TS_ERR_IO). */
+static long read_rows(tsd_request *r, tsd_session *s, long from, long to, long every, long max,
+                      long **index, double **rows, int *more, ts_err *err)
+{
+    *more = 0;
+    *index = malloc(sizeof(long) * (size_t)max);
+    *rows = malloc(sizeof(double) * (size_t)max * (size_t)s->nch);
+    if (!*index || !*rows) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory for %ld rows", max);
+        return -1;
+    }
+    if (from > to) return 0;
+    long n = tsd_db_rows(r->srv->db, s->seq, from, to, every, max, s->nch, *index, *rows, more);
+    if (n < 0) ts_err_set(err, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
+    return n;
+}
+
 static enum MHD_Result get_series(tsd_request *r)
 {
     tsd_session *s = r->session;
@@ -478,24 +497,14 @@ static enum MHD_Result get_series(tsd_request *r)
     if (format && !csv && strcmp(format, "json") != 0)
         return bad_param(r, "format", "json or csv expected", format);
     long start = token >= 0 ? token : q.from;
-    long *index = malloc(sizeof(long) * (size_t)page_size);
-    double *rows = malloc(sizeof(double) * (size_t)page_size * (size_t)s->nch);
-    if (!index || !rows) {
-        free(index);
-        free(rows);
-        ts_err e;
-        ts_err_set(&e, TS_ERR_NOMEM, NULL, "out of memory for %ld rows", page_size);
-        return tsd_reply_err(r, &e, NULL);
-    }
-    int more = 0;
-    long n = start <= q.to ? tsd_db_rows(r->srv->db, s->seq, start, q.to, every, page_size, s->nch,
-                                         index, rows, &more)
-                           : 0;
+    long *index;
+    double *rows;
+    int more;
+    ts_err e;
+    long n = read_rows(r, s, start, q.to, every, page_size, &index, &rows, &more, &e);
     if (n < 0) {
         free(index);
         free(rows);
-        ts_err e;
-        ts_err_set(&e, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
         return tsd_reply_err(r, &e, NULL);
     }
     char next[32] = "";
@@ -563,17 +572,18 @@ static enum MHD_Result get_fft(tsd_request *r)
                    "the range holds %ld stored samples; a spectrum needs at least 2", want);
         return tsd_reply_err(r, &e, NULL);
     }
-    long *index = malloc(sizeof(long) * (size_t)want);
-    double *rows = malloc(sizeof(double) * (size_t)want * (size_t)s->nch);
+    long *index;
+    double *rows;
+    int more;
+    long n = read_rows(r, s, q.from, q.to, 1, want, &index, &rows, &more, &e);
     double *x = malloc(sizeof(double) * (size_t)want);
     long nf = want / 2 + 1;
     double *freq = malloc(sizeof(double) * (size_t)nf), *amp = malloc(sizeof(double) * (size_t)nf);
-    int more;
-    long n = (index && rows && x && freq && amp) ? tsd_db_rows(r->srv->db, s->seq, q.from, q.to, 1,
-                                                               want, s->nch, index, rows, &more)
-                                                 : -1;
-    ts_rc rc = TS_OK;
-    if (n != want) rc = ts_err_set(&e, TS_ERR_IO, NULL, "could not read %ld samples", want);
+    ts_rc rc = n < 0 ? e.code : TS_OK;
+    if (rc == TS_OK && !(x && freq && amp))
+        rc = ts_err_set(&e, TS_ERR_NOMEM, NULL, "out of memory for a %ld-point spectrum", want);
+    if (rc == TS_OK && n != want)
+        rc = ts_err_set(&e, TS_ERR_IO, NULL, "could not read %ld samples", want);
     int c = q.idx[q.n - 1]; /* the named channel (t is always idx[0]) */
     if (rc == TS_OK) {
         for (long k = 0; k < n; k++)
