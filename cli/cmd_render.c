@@ -78,9 +78,10 @@ int tsc_cmd_render(int argc, char **argv)
         return TSC_EXIT_USAGE;
     if (span_s && number(span_s, "--span", 0, 1000, &v.span) != 0) return TSC_EXIT_USAGE;
     if (color_s) {
+        /* the same words as the daemon's color= (api/openapi.yaml); "none" kept as before */
         if (strcmp(color_s, "tension") == 0) v.color_by_tension = 1;
-        else if (strcmp(color_s, "none") != 0) {
-            fprintf(stderr, "tanksim: --color: tension or none, got '%s'\n", color_s);
+        else if (strcmp(color_s, "plain") != 0 && strcmp(color_s, "none") != 0) {
+            fprintf(stderr, "tanksim: --color: tension or plain, got '%s'\n", color_s);
             return TSC_EXIT_USAGE;
         }
     }

@@ -214,9 +214,8 @@ static const char *col_text(sqlite3_stmt *st, int i)
 }
 
 typedef struct stored_session {
-    long seq, idx;
-    int nchannel;
-    double created, t;
+    long seq;
+    double created;
     char *id, *preset, *config, *status, *error;
 } stored_session;
 
@@ -229,7 +228,7 @@ int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
     int rc = -1;
     pthread_mutex_lock(&db->rmu);
     if (sqlite3_prepare_v2(db->r,
-                           "SELECT seq,id,created,preset,config,nchannel,status,t,idx,error"
+                           "SELECT seq,id,created,preset,config,status,error"
                            " FROM sessions ORDER BY seq",
                            -1, &st, NULL) != SQLITE_OK)
         goto out;
@@ -247,11 +246,8 @@ int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
         x->created = sqlite3_column_double(st, 2);
         x->preset = strdup(col_text(st, 3));
         x->config = strdup(col_text(st, 4));
-        x->nchannel = sqlite3_column_int(st, 5);
-        x->status = strdup(col_text(st, 6));
-        x->t = sqlite3_column_double(st, 7);
-        x->idx = (long)sqlite3_column_int64(st, 8);
-        x->error = strdup(col_text(st, 9));
+        x->status = strdup(col_text(st, 5));
+        x->error = strdup(col_text(st, 6));
     }
     rc = s == SQLITE_DONE ? 0 : -1;
 out:
@@ -261,8 +257,7 @@ out:
     for (long i = 0; i < n; i++) {
         stored_session *x = &v[i];
         if (rc == 0 && x->id && x->preset && x->config && x->status && x->error)
-            fn(ud, x->seq, x->id, x->created, x->preset, x->config, x->nchannel, x->status, x->t,
-               x->idx, x->error);
+            fn(ud, x->seq, x->id, x->created, x->preset, x->config, x->status, x->error);
         free(x->id);
         free(x->preset);
         free(x->config);

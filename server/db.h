@@ -42,10 +42,12 @@ int tsd_db_session_delete(tsd_db *db, long seq);
 int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, const double *rows,
                   const void *state, size_t state_size, double t, long idx, const char *status);
 
-/* Visit every stored session in seq order (startup recovery). */
+/* Visit every stored session in seq order (startup recovery). Its t and idx
+ * are not passed: the state snapshot (tsd_db_state) is what a session
+ * restarts from; the columns keep them for inspection of the file. */
 typedef void (*tsd_db_session_fn)(void *ud, long seq, const char *id, double created,
-                                  const char *preset, const char *config_json, int nchannel,
-                                  const char *status, double t, long idx, const char *error);
+                                  const char *preset, const char *config_json,
+                                  const char *status, const char *error);
 int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud);
 
 /* The stored state snapshot: *blob malloc'd (caller frees), *idx its index;

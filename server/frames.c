@@ -130,7 +130,7 @@ static ts_rc state_at(frames_ctx *f, long k)
 static ts_rc draw_one(frames_ctx *f)
 {
     pthread_mutex_lock(&f->s->mu);
-    long last = f->s->persisted - 1;
+    long last = f->s->index;
     pthread_mutex_unlock(&f->s->mu);
     long k = lround(f->k0 + (double)f->i * f->dk);
     if (k > last) k = last;

@@ -9,7 +9,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/random.h>
 
 #include "pool.h"
 
@@ -58,13 +57,7 @@ tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double unti
     tsd_ops *o = srv->ops;
     tsd_op *op = calloc(1, sizeof *op);
     if (!op) return NULL;
-    unsigned char rnd[8] = {0};
-    if (getrandom(rnd, sizeof rnd, 0) != (ssize_t)sizeof rnd) {
-        double x = tsd_now();
-        memcpy(rnd, &x, sizeof rnd);
-    }
-    snprintf(op->id, sizeof op->id, "op%02x%02x%02x%02x%02x%02x%02x%02x", rnd[0], rnd[1], rnd[2],
-             rnd[3], rnd[4], rnd[5], rnd[6], rnd[7]);
+    tsd_random_id(op->id, sizeof op->id, "op");
     snprintf(op->sid, sizeof op->sid, "%s", sid);
     op->t_start = op->t = t_start;
     op->until = until;

@@ -10,7 +10,10 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <sys/random.h>
 #include <time.h>
 
 typedef struct job {
@@ -36,6 +39,19 @@ double tsd_now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void tsd_random_id(char *out, size_t n, const char *prefix)
+{
+    unsigned char rnd[8] = {0};
+    if (getrandom(rnd, sizeof rnd, 0) != (ssize_t)sizeof rnd) {
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        double x = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+        memcpy(rnd, &x, sizeof rnd);
+    }
+    snprintf(out, n, "%s%02x%02x%02x%02x%02x%02x%02x%02x", prefix, rnd[0], rnd[1], rnd[2], rnd[3],
+             rnd[4], rnd[5], rnd[6], rnd[7]);
 }
 
 /* Take the first due job (all jobs are due while stopping); NULL if none. */
@@ -140,13 +156,6 @@ int tsd_pool_submit(tsd_pool *p, tsd_job_fn fn, void *arg, double not_before)
     return 0;
 }
 
-int tsd_pool_stopping(tsd_pool *p)
-{
-    pthread_mutex_lock(&p->mu);
-    int s = p->stopping;
-    pthread_mutex_unlock(&p->mu);
-    return s;
-}
 
 int tsd_pool_pending(tsd_pool *p)
 {

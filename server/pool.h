@@ -10,11 +10,13 @@
  * long run (see session.c).
  *
  * Shutdown (tsd_pool_stop): no new jobs are accepted, every queued job is
- * still run (jobs see tsd_pool_stopping() and finish quickly), then the
- * threads are joined. Jobs own their argument.
+ * still run (jobs see tsd_server.stopping, set before, and finish quickly),
+ * then the threads are joined. Jobs own their argument.
  */
 #ifndef TSD_POOL_H
 #define TSD_POOL_H
+
+#include <stddef.h>
 
 typedef struct tsd_pool tsd_pool;
 typedef void (*tsd_job_fn)(void *arg);
@@ -26,9 +28,6 @@ tsd_pool *tsd_pool_start(int nthreads);
  * 0 on success, -1 when the pool is stopping (the job is not run). */
 int tsd_pool_submit(tsd_pool *p, tsd_job_fn fn, void *arg, double not_before);
 
-/* 1 once tsd_pool_stop has begun. */
-int tsd_pool_stopping(tsd_pool *p);
-
 /* Jobs queued or running (for /metrics). */
 int tsd_pool_pending(tsd_pool *p);
 
@@ -37,5 +36,9 @@ void tsd_pool_stop(tsd_pool *p);
 
 /* Monotonic clock [s]. */
 double tsd_now(void);
+
+/* Fresh random id: prefix + 16 hex digits (getrandom; the clock if that
+ * fails) into out[n]. Sessions ("s...") and operations ("op...") use it. */
+void tsd_random_id(char *out, size_t n, const char *prefix);
 
 #endif

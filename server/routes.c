@@ -93,21 +93,29 @@ static int q_number(tsd_request *r, const char *name, double lo, double hi, doub
     return 1;
 }
 
+/* Whole decimal string v as an integer in [lo, hi]: 0, or -1 when it is not. */
+static int parse_integer(const char *v, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long x = strtol(v, &end, 10);
+    if (errno || end == v || *end || x < lo || x > hi) return -1;
+    *out = x;
+    return 0;
+}
+
+/* Optional query integer in [lo, hi]: 1 present, 0 absent, -1 replied 400. */
 static int q_integer(tsd_request *r, const char *name, long lo, long hi, long *out,
                      enum MHD_Result *ret)
 {
     const char *v = tsd_arg(r, name);
     if (!v || !*v) return 0;
-    char *end;
-    errno = 0;
-    long x = strtol(v, &end, 10);
-    if (errno || *end || x < lo || x > hi) {
+    if (parse_integer(v, lo, hi, out) != 0) {
         char what[96];
         snprintf(what, sizeof what, "integer in [%ld, %ld] expected", lo, hi);
         *ret = bad_param(r, name, what, v);
         return -1;
     }
-    *out = x;
     return 1;
 }
 
@@ -116,6 +124,79 @@ static enum MHD_Result reply_body_err(tsd_request *r, const ts_err *e, json_t *e
     enum MHD_Result ret = tsd_reply_err(r, e, json_array_size(errors) ? errors : NULL);
     json_decref(errors);
     return ret;
+}
+
+/* Request body as a JSON object; an empty body reads as {} when optional.
+ * NULL when a 400 reply was queued (*ret). */
+static json_t *body_object(tsd_request *r, int optional, enum MHD_Result *ret)
+{
+    ts_err e;
+    int empty = optional && r->body_len == 0;
+    json_t *doc = tsa_parse_object(empty ? "{}" : r->body, empty ? 2 : r->body_len, &e);
+    if (!doc) *ret = tsd_reply_err(r, &e, NULL);
+    return doc;
+}
+
+/* Read numeric body fields (tsa_read_numbers); -1 when a 400 reply was queued. */
+static int body_numbers(tsd_request *r, int optional, tsa_num_field *f, int n,
+                        enum MHD_Result *ret)
+{
+    json_t *doc = body_object(r, optional, ret);
+    if (!doc) return -1;
+    ts_err e;
+    json_t *errors = json_array();
+    ts_rc rc = tsa_read_numbers(doc, f, n, errors, &e);
+    json_decref(doc);
+    if (rc != TS_OK) {
+        *ret = reply_body_err(r, &e, errors);
+        return -1;
+    }
+    json_decref(errors);
+    return 0;
+}
+
+/* Problem from e with another status than its code maps to (e.g. a size
+ * limit of one request answers 422, not the 429 of TS_ERR_LIMIT). */
+static enum MHD_Result reply_err_status(tsd_request *r, const ts_err *e, unsigned status)
+{
+    json_t *p = tsa_problem_from_err(e, NULL);
+    json_object_set_new(p, "status", json_integer(status));
+    return tsd_reply_problem_json(r, status, p);
+}
+
+/* on_resume of a deferred request once its worker resumed it: async_result
+ * with async_status, or the problem in async_err (with async_errors when
+ * non-empty). */
+static enum MHD_Result reply_async(tsd_request *r)
+{
+    if (r->async_result) {
+        json_t *j = r->async_result;
+        r->async_result = NULL;
+        return tsd_reply_json(r, r->async_status, j);
+    }
+    r->location[0] = '\0';
+    return tsd_reply_err(r, &r->async_err,
+                         json_array_size(r->async_errors) ? r->async_errors : NULL);
+}
+
+/* Parse the body into r->async_doc and run job(r) on the pool with the
+ * connection suspended; the job fills async_* and resumes; reply_async
+ * answers with status on success. */
+static enum MHD_Result defer_body_job(tsd_request *r, int optional, tsd_job_fn job,
+                                      unsigned status)
+{
+    enum MHD_Result ret = MHD_NO;
+    json_t *doc = body_object(r, optional, &ret);
+    if (!doc) return ret;
+    r->async_doc = doc;
+    r->async_errors = json_array();
+    r->async_status = status;
+    tsd_request_defer(r, reply_async);
+    if (tsd_pool_submit(r->srv->pool, job, r, 0) != 0) {
+        ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "the daemon is shutting down");
+        tsd_request_resume(r);
+    }
+    return MHD_YES;
 }
 
 /* ---- service --------------------------------------------------------------------- */
@@ -271,31 +352,9 @@ static void create_job(void *arg)
     tsd_request_resume(r);
 }
 
-static enum MHD_Result create_resumed(tsd_request *r)
-{
-    if (r->async_result) {
-        json_t *j = r->async_result;
-        r->async_result = NULL;
-        return tsd_reply_json(r, MHD_HTTP_CREATED, j);
-    }
-    r->location[0] = '\0';
-    return tsd_reply_err(r, &r->async_err,
-                         json_array_size(r->async_errors) ? r->async_errors : NULL);
-}
-
 static enum MHD_Result post_sessions(tsd_request *r)
 {
-    ts_err e;
-    json_t *doc = tsa_parse_object(r->body, r->body_len, &e);
-    if (!doc) return tsd_reply_err(r, &e, NULL);
-    r->async_doc = doc;
-    r->async_errors = json_array();
-    tsd_request_defer(r, create_resumed);
-    if (tsd_pool_submit(r->srv->pool, create_job, r, 0) != 0) {
-        ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "the daemon is shutting down");
-        tsd_request_resume(r);
-    }
-    return MHD_YES;
+    return defer_body_job(r, 0, create_job, MHD_HTTP_CREATED);
 }
 
 static enum MHD_Result get_sessions(tsd_request *r)
@@ -319,34 +378,18 @@ static enum MHD_Result delete_session(tsd_request *r)
     return tsd_reply_text(r, MHD_HTTP_NO_CONTENT, "application/json", "", 0);
 }
 
-/* Step: parse, hand to the pool, suspend; step_resumed replies. */
+/* Step: parse, hand to the pool, suspend; reply_async replies. */
 static void step_done(void *ud)
 {
     tsd_request_resume(ud);
 }
 
-static enum MHD_Result step_resumed(tsd_request *r)
-{
-    if (r->async_result) {
-        json_t *j = r->async_result;
-        r->async_result = NULL;
-        return tsd_reply_json(r, MHD_HTTP_OK, j);
-    }
-    return tsd_reply_err(r, &r->async_err, NULL);
-}
-
 static enum MHD_Result post_step(tsd_request *r)
 {
-    ts_err e;
-    json_t *doc = tsa_parse_object(r->body, r->body_len, &e);
-    if (!doc) return tsd_reply_err(r, &e, NULL);
+    enum MHD_Result ret = MHD_NO;
     double duration = 0;
     tsa_num_field f[] = {{"duration", 1, 0.0, 1e9, &duration, NULL}};
-    json_t *errors = json_array();
-    ts_rc rc = tsa_read_numbers(doc, f, 1, errors, &e);
-    json_decref(doc);
-    if (rc != TS_OK) return reply_body_err(r, &e, errors);
-    json_decref(errors);
+    if (body_numbers(r, 0, f, 1, &ret) < 0) return ret;
     if (duration > r->srv->opt.max_step) {
         char detail[300];
         snprintf(detail, sizeof detail,
@@ -361,7 +404,8 @@ static enum MHD_Result post_step(tsd_request *r)
         json_object_set_new(p, "run", json_string(run));
         return tsd_reply_problem_json(r, 422, p);
     }
-    tsd_request_defer(r, step_resumed);
+    r->async_status = MHD_HTTP_OK;
+    tsd_request_defer(r, reply_async);
     if (tsd_session_step(r->session, duration, &r->async_result, &r->async_err, step_done, r) !=
         TS_OK) {
         /* nothing queued: r->async_err holds why; reply from the resume path */
@@ -372,18 +416,13 @@ static enum MHD_Result post_step(tsd_request *r)
 
 static enum MHD_Result post_run(tsd_request *r)
 {
-    ts_err e;
-    json_t *doc = tsa_parse_object(r->body_len ? r->body : "{}", r->body_len ? r->body_len : 2, &e);
-    if (!doc) return tsd_reply_err(r, &e, NULL);
+    enum MHD_Result ret = MHD_NO;
     tsd_session *s = r->session;
     double until = s->m ? ts_model_config(s->m)->run.duration : 0, rtf = 0;
     tsa_num_field f[] = {{"until", 0, 0.0, 1e12, &until, NULL},
                          {"real_time_factor", 0, 1e-3, 1e9, &rtf, NULL}};
-    json_t *errors = json_array();
-    ts_rc rc = tsa_read_numbers(doc, f, 2, errors, &e);
-    json_decref(doc);
-    if (rc != TS_OK) return reply_body_err(r, &e, errors);
-    json_decref(errors);
+    if (body_numbers(r, 1, f, 2, &ret) < 0) return ret;
+    ts_err e;
     json_t *op = NULL;
     if (tsd_session_run(s, until, rtf, &op, &e) != TS_OK) return tsd_reply_err(r, &e, NULL);
     snprintf(r->location, sizeof r->location, "/v1/operations/%s",
@@ -416,11 +455,30 @@ static int parse_range(tsd_request *r, tsd_session *s, const char *channels, ran
     if (q_number(r, "from", 0, 1e12, &from, ret) < 0) return -1;
     if (q_number(r, "to", 0, 1e12, &to, ret) < 0) return -1;
     pthread_mutex_lock(&s->mu);
-    long last = s->persisted - 1;
+    long last = s->index;
     pthread_mutex_unlock(&s->mu);
     q->from = (long)ceil(from * rate - 1e-6);
     q->to = to * rate + 1e-6 >= (double)last ? last : (long)floor(to * rate + 1e-6);
     return 0;
+}
+
+/* Stored rows of s with from <= index <= to, every-th, at most max, into
+ * malloc'd *index and *rows (the caller frees both, also on failure). The
+ * count, or -1 with err set (TS_ERR_NOMEM, TS_ERR_IO). */
+static long read_rows(tsd_request *r, tsd_session *s, long from, long to, long every, long max,
+                      long **index, double **rows, int *more, ts_err *err)
+{
+    *more = 0;
+    *index = malloc(sizeof(long) * (size_t)max);
+    *rows = malloc(sizeof(double) * (size_t)max * (size_t)s->nch);
+    if (!*index || !*rows) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory for %ld rows", max);
+        return -1;
+    }
+    if (from > to) return 0;
+    long n = tsd_db_rows(r->srv->db, s->seq, from, to, every, max, s->nch, *index, *rows, more);
+    if (n < 0) ts_err_set(err, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
+    return n;
 }
 
 static enum MHD_Result get_series(tsd_request *r)
@@ -439,24 +497,14 @@ static enum MHD_Result get_series(tsd_request *r)
     if (format && !csv && strcmp(format, "json") != 0)
         return bad_param(r, "format", "json or csv expected", format);
     long start = token >= 0 ? token : q.from;
-    long *index = malloc(sizeof(long) * (size_t)page_size);
-    double *rows = malloc(sizeof(double) * (size_t)page_size * (size_t)s->nch);
-    if (!index || !rows) {
-        free(index);
-        free(rows);
-        ts_err e;
-        ts_err_set(&e, TS_ERR_NOMEM, NULL, "out of memory for %ld rows", page_size);
-        return tsd_reply_err(r, &e, NULL);
-    }
-    int more = 0;
-    long n = start <= q.to ? tsd_db_rows(r->srv->db, s->seq, start, q.to, every, page_size, s->nch,
-                                         index, rows, &more)
-                           : 0;
+    long *index;
+    double *rows;
+    int more;
+    ts_err e;
+    long n = read_rows(r, s, start, q.to, every, page_size, &index, &rows, &more, &e);
     if (n < 0) {
         free(index);
         free(rows);
-        ts_err e;
-        ts_err_set(&e, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
         return tsd_reply_err(r, &e, NULL);
     }
     char next[32] = "";
@@ -489,13 +537,8 @@ static enum MHD_Result get_stream(tsd_request *r)
     long since = -1;
     const char *last_id = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Last-Event-ID");
     if (q_integer(r, "since", -1, 1L << 62, &since, &ret) < 0) return ret;
-    if (last_id && *last_id) {
-        char *end;
-        errno = 0;
-        long v = strtol(last_id, &end, 10);
-        if (errno || *end || v < -1) return bad_param(r, "Last-Event-ID", "sample index", last_id);
-        since = v;
-    }
+    if (last_id && *last_id && parse_integer(last_id, -1, 1L << 62, &since) != 0)
+        return bad_param(r, "Last-Event-ID", "sample index", last_id);
     const char *accept = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Accept");
     const char *format = tsd_arg(r, "format");
     int ndjson = (accept && strstr(accept, "application/x-ndjson")) ||
@@ -518,32 +561,29 @@ static enum MHD_Result get_fft(tsd_request *r)
     if (parse_range(r, s, ch, &q, &ret) < 0) return ret;
     long want = q.to - q.from + 1;
     if (want > r->srv->opt.max_samples) {
-        char msg[200];
-        snprintf(msg, sizeof msg,
-                 "/to: the range holds %ld samples, more than --max-samples = %ld; narrow "
-                 "from/to",
-                 want, r->srv->opt.max_samples);
-        ts_err_set(&e, TS_ERR_LIMIT, "/to", "%s", msg);
-        json_t *p = tsa_problem_from_err(&e, NULL);
-        json_object_set_new(p, "status", json_integer(422));
-        return tsd_reply_problem_json(r, 422, p);
+        ts_err_set(&e, TS_ERR_LIMIT, "/to",
+                   "/to: the range holds %ld samples, more than --max-samples = %ld; narrow "
+                   "from/to",
+                   want, r->srv->opt.max_samples);
+        return reply_err_status(r, &e, 422);
     }
     if (want < 2) {
         ts_err_set(&e, TS_ERR_PARAM, "/from",
                    "the range holds %ld stored samples; a spectrum needs at least 2", want);
         return tsd_reply_err(r, &e, NULL);
     }
-    long *index = malloc(sizeof(long) * (size_t)want);
-    double *rows = malloc(sizeof(double) * (size_t)want * (size_t)s->nch);
+    long *index;
+    double *rows;
+    int more;
+    long n = read_rows(r, s, q.from, q.to, 1, want, &index, &rows, &more, &e);
     double *x = malloc(sizeof(double) * (size_t)want);
     long nf = want / 2 + 1;
     double *freq = malloc(sizeof(double) * (size_t)nf), *amp = malloc(sizeof(double) * (size_t)nf);
-    int more;
-    long n = (index && rows && x && freq && amp) ? tsd_db_rows(r->srv->db, s->seq, q.from, q.to, 1,
-                                                               want, s->nch, index, rows, &more)
-                                                 : -1;
-    ts_rc rc = TS_OK;
-    if (n != want) rc = ts_err_set(&e, TS_ERR_IO, NULL, "could not read %ld samples", want);
+    ts_rc rc = n < 0 ? e.code : TS_OK;
+    if (rc == TS_OK && !(x && freq && amp))
+        rc = ts_err_set(&e, TS_ERR_NOMEM, NULL, "out of memory for a %ld-point spectrum", want);
+    if (rc == TS_OK && n != want)
+        rc = ts_err_set(&e, TS_ERR_IO, NULL, "could not read %ld samples", want);
     int c = q.idx[q.n - 1]; /* the named channel (t is always idx[0]) */
     if (rc == TS_OK) {
         for (long k = 0; k < n; k++)
@@ -638,8 +678,8 @@ static enum MHD_Result get_frame(tsd_request *r)
     /* A stored sample's frame never changes: a strong ETag over the session,
      * the sample index, the drawing options and the version answers repeat
      * requests with 304 without drawing (issue 8: caching of past frames). */
-    static const char *const opts[] = {"width", "height", "view",    "exaggeration", "color",
-                                        "text",  "overlay", "antialias", "span",       "shading"};
+    static const char *const opts[] = {"width", "height",  "view",     "exaggeration",
+                                        "color", "text",    "overlay",  "antialias"}; /* parse_view */
     uint64_t h = 1469598103934665603ULL; /* FNV-1a 64 */
     for (size_t i = 0; i < sizeof opts / sizeof opts[0]; i++) {
         const char *val = tsd_arg(r, opts[i]);
@@ -684,9 +724,7 @@ static enum MHD_Result get_frames(tsd_request *r)
                    "/fps: %ld frames requested, at most %d per %s request; lower fps or narrow "
                    "from/to",
                    n, limit, apng ? "APNG (format=multipart streams up to 3000)" : "multipart");
-        json_t *p = tsa_problem_from_err(&e, NULL);
-        json_object_set_new(p, "status", json_integer(422));
-        return tsd_reply_problem_json(r, 422, p);
+        return reply_err_status(r, &e, 422);
     }
     return tsd_frames_reply(r, s, &v, (double)q.from, rate / fps, n, 0, apng ? fps : 0);
 }
@@ -703,30 +741,9 @@ static void modes_job(void *arg)
     tsd_request_resume(r);
 }
 
-static enum MHD_Result modes_resumed(tsd_request *r)
-{
-    if (r->async_result) {
-        json_t *j = r->async_result;
-        r->async_result = NULL;
-        return tsd_reply_json(r, MHD_HTTP_OK, j);
-    }
-    return tsd_reply_err(r, &r->async_err,
-                         json_array_size(r->async_errors) ? r->async_errors : NULL);
-}
-
 static enum MHD_Result post_modes(tsd_request *r)
 {
-    ts_err e;
-    json_t *doc = tsa_parse_object(r->body_len ? r->body : "{}", r->body_len ? r->body_len : 2, &e);
-    if (!doc) return tsd_reply_err(r, &e, NULL);
-    r->async_doc = doc;
-    r->async_errors = json_array();
-    tsd_request_defer(r, modes_resumed);
-    if (tsd_pool_submit(r->srv->pool, modes_job, r, 0) != 0) {
-        ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "the daemon is shutting down");
-        tsd_request_resume(r);
-    }
-    return MHD_YES;
+    return defer_body_job(r, 1, modes_job, MHD_HTTP_OK);
 }
 
 /* ---- operations ------------------------------------------------------------------- */

@@ -7,6 +7,7 @@
 #include "server.h"
 
 #include "../api/problem.h"
+#include "pool.h"
 #include "session.h"
 
 #include <arpa/inet.h>
@@ -16,13 +17,6 @@
 #include <string.h>
 #include <sys/socket.h>
 #include <time.h>
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static enum MHD_Result queue(tsd_request *r, unsigned status, struct MHD_Response *resp,
                              const char *content_type, size_t len)
@@ -130,7 +124,7 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         r->conn = conn;
         r->method = method;
         r->url = url;
-        r->t_start = now_seconds();
+        r->t_start = tsd_now();
         *con_cls = r;
         return MHD_YES;
     }
@@ -179,7 +173,7 @@ static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     gmtime_r(&now, &tm);
     strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", &tm);
     fprintf(stderr, "%s %s %s %u %zu %.1fms%s\n", when, r->method, r->url, r->status, r->bytes,
-            1e3 * (now_seconds() - r->t_start),
+            1e3 * (tsd_now() - r->t_start),
             toe == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " (aborted)");
     tsd_session_put(r->session);
     json_decref(r->async_result);

@@ -73,6 +73,7 @@ typedef struct tsd_request {
      * the next access-handler call runs on_resume to queue the response. */
     enum MHD_Result (*on_resume)(struct tsd_request *r);
     json_t *async_result;          /* owned; set by the worker */
+    unsigned async_status;         /* status of a reply with async_result (routes.c) */
     ts_err async_err;              /* set by the worker on failure */
     json_t *async_errors;          /* owned; config errors [{pointer, message}] on failure */
     json_t *async_doc;             /* owned; the parsed body handed to the worker */

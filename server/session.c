@@ -31,7 +31,7 @@
  *  (2) Rows reach the database in batches (BATCH_ROWS, or at the end of each
  *      slice), each batch together with the state snapshot at its last row
  *      in one transaction (db.h), so stored rows and stored state agree; t,
- *      index, latest and persisted describe the last STORED row.
+ *      index and latest describe the last STORED row (index + 1 rows stored).
  *  (3) A run advances in slices of at most SLICE_WALL seconds and re-queues
  *      itself, so many sessions share few workers; with rtf > 0 the next
  *      slice is queued for when real time has caught up (no sleeping).
@@ -47,7 +47,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/random.h>
 #include <time.h>
 
 #include "../api/config_json.h"
@@ -122,9 +121,11 @@ static void ref(tsd_session *s)
     pthread_mutex_unlock(&s->mu);
 }
 
-/* Allocate a session around a resolved config; builds model and data when it
- * can (m stays NULL and err is filled when it cannot). */
-static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, ts_err *err)
+/* Allocate a session around a resolved config (steals resolved); builds model
+ * and data when it can (m stays NULL and err is filled when it cannot). cfg is
+ * resolved already read (NULL: read it here). */
+static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, const ts_config *cfg,
+                                  ts_err *err)
 {
     tsd_session *s = calloc(1, sizeof *s);
     if (!s) {
@@ -137,10 +138,13 @@ static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, ts_err *err
     s->refs = 1;
     s->config = resolved;
     s->index = 0;
-    ts_config cfg;
+    ts_config own;
     ts_err_clear(err);
-    if (tsa_config_load(resolved, &cfg, NULL, NULL, err) != TS_OK) return s;
-    s->m = ts_model_make(&cfg, err);
+    if (!cfg) {
+        if (tsa_config_load(resolved, &own, NULL, NULL, err) != TS_OK) return s;
+        cfg = &own;
+    }
+    s->m = ts_model_make(cfg, err);
     if (!s->m) return s;
     s->d = ts_data_make(s->m, err);
     s->nch = ts_model_nchannel(s->m);
@@ -181,18 +185,14 @@ typedef struct {
 } load_ctx;
 
 static void load_session(void *ud, long seq, const char *id, double created, const char *preset,
-                         const char *config_json, int nchannel, const char *status, double t,
-                         long idx, const char *error)
+                         const char *config_json, const char *status, const char *error)
 {
     load_ctx *lc = ud;
     tsd_server *srv = lc->srv;
-    (void)nchannel;
-    (void)t;
-    (void)idx;
     json_error_t je;
     json_t *resolved = json_loads(config_json, 0, &je);
     ts_err err;
-    tsd_session *s = session_alloc(srv, resolved ? resolved : json_object(), &err);
+    tsd_session *s = session_alloc(srv, resolved ? resolved : json_object(), NULL, &err);
     if (!s) return;
     snprintf(s->id, sizeof s->id, "%s", id);
     snprintf(s->preset, sizeof s->preset, "%s", preset);
@@ -223,7 +223,6 @@ static void load_session(void *ud, long seq, const char *id, double created, con
         tsd_db_truncate(srv->db, seq, ts_sample_index(s->d));
         s->t = ts_time(s->d);
         s->index = ts_sample_index(s->d);
-        s->persisted = s->index + 1;
         memcpy(s->latest, ts_latest(s->d), sizeof(double) * (size_t)s->nch);
     }
     tsd_db_session_status(srv->db, seq, tsd_status_name(s->status), s->error);
@@ -281,16 +280,23 @@ void tsd_sessions_count(tsd_server *srv, long counts[TSD_NSTATUS])
     pthread_mutex_unlock(&srv->reg->mu);
 }
 
+/* Index of session id in the registry or -1. Caller holds g->mu. */
+static int registry_find_locked(const tsd_registry *g, const char *id)
+{
+    for (int i = 0; i < g->n; i++)
+        if (strcmp(g->v[i]->id, id) == 0) return i;
+    return -1;
+}
+
 tsd_session *tsd_session_get(tsd_server *srv, const char *id)
 {
     tsd_session *found = NULL;
     pthread_mutex_lock(&srv->reg->mu);
-    for (int i = 0; i < srv->reg->n; i++)
-        if (strcmp(srv->reg->v[i]->id, id) == 0) {
-            found = srv->reg->v[i];
-            ref(found);
-            break;
-        }
+    int i = registry_find_locked(srv->reg, id);
+    if (i >= 0) {
+        found = srv->reg->v[i];
+        ref(found);
+    }
     pthread_mutex_unlock(&srv->reg->mu);
     return found;
 }
@@ -323,7 +329,7 @@ int tsd_session_await(tsd_session *s, long next, tsd_waiter *w)
 {
     int r;
     pthread_mutex_lock(&s->mu);
-    if (next < s->persisted)
+    if (next <= s->index)
         r = 1;
     else if (s->status != TSD_RUNNING || s->deleted || atomic_load(&s->srv->stopping))
         r = -1;
@@ -371,7 +377,7 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
                           "%d sessions exist (--max-sessions); delete some first",
                           srv->opt.max_sessions);
     }
-    tsd_session *s = session_alloc(srv, resolved, err);
+    tsd_session *s = session_alloc(srv, resolved, &cfg, err);
     if (!s) return err->code;
     if (!s->m) {
         rc = err->code != TS_OK ? err->code : TS_ERR_INTERNAL;
@@ -386,18 +392,11 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
     const json_t *preset = json_object_get(doc, "preset");
     snprintf(s->preset, sizeof s->preset, "%s",
              json_is_string(preset) ? json_string_value(preset) : "");
-    unsigned char rnd[8] = {0};
-    if (getrandom(rnd, sizeof rnd, 0) != (ssize_t)sizeof rnd) {
-        double x = unix_now();
-        memcpy(rnd, &x, sizeof rnd);
-    }
-    snprintf(s->id, sizeof s->id, "s%02x%02x%02x%02x%02x%02x%02x%02x", rnd[0], rnd[1], rnd[2],
-             rnd[3], rnd[4], rnd[5], rnd[6], rnd[7]);
+    tsd_random_id(s->id, sizeof s->id, "s");
     s->created = unix_now();
     s->status = TSD_CREATED;
     s->t = 0.0;
     s->index = 0;
-    s->persisted = 1;
     memcpy(s->latest, ts_latest(s->d), sizeof(double) * (size_t)s->nch);
 
     pthread_mutex_lock(&srv->reg->mu);
@@ -438,16 +437,15 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
 ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
 {
     tsd_session *s = NULL;
-    pthread_mutex_lock(&srv->reg->mu);
-    for (int i = 0; i < srv->reg->n; i++)
-        if (strcmp(srv->reg->v[i]->id, id) == 0) {
-            s = srv->reg->v[i];
-            memmove(&srv->reg->v[i], &srv->reg->v[i + 1],
-                    sizeof srv->reg->v[0] * (size_t)(srv->reg->n - i - 1));
-            srv->reg->n--;
-            break;
-        }
-    pthread_mutex_unlock(&srv->reg->mu);
+    tsd_registry *g = srv->reg;
+    pthread_mutex_lock(&g->mu);
+    int i = registry_find_locked(g, id);
+    if (i >= 0) {
+        s = g->v[i];
+        memmove(&g->v[i], &g->v[i + 1], sizeof g->v[0] * (size_t)(g->n - i - 1));
+        g->n--;
+    }
+    pthread_mutex_unlock(&g->mu);
     if (!s) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
     pthread_mutex_lock(&s->mu);
     s->deleted = 1;
@@ -469,7 +467,7 @@ static json_t *json_locked(tsd_session *s, int summary)
         .created = s->created,
         .t = s->t,
         .index = s->index,
-        .persisted = s->persisted,
+        .persisted = s->m ? s->index + 1 : 0,
         .config = s->config,
         .m = s->m,
         .latest = s->m ? s->latest : NULL,
@@ -539,7 +537,6 @@ static int flush(tsd_session *s, const char *status)
         pthread_mutex_lock(&s->mu);
         s->t = last[0];
         s->index = idx;
-        s->persisted = idx + 1;
         memcpy(s->latest, last, sizeof(double) * (size_t)s->nch);
         wake_locked(s);
         pthread_mutex_unlock(&s->mu);

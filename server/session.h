@@ -64,7 +64,6 @@ typedef struct tsd_session {
     int deleted;         /* (mu) removed from the registry */
     double t;            /* (mu) time of the last stored row [s] */
     long index;          /* (mu) index of the last stored row */
-    long persisted;      /* (mu) rows stored = index + 1 */
     double *latest;      /* (mu) last stored row, nch values */
     char error[384];     /* (mu) message of the failure (failed) */
     char op_id[24];      /* (mu) the run operation in progress or last run */
