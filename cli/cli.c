@@ -25,6 +25,27 @@ void tsc_print_err(const char *what, const ts_err *err)
     fprintf(stderr, "tanksim: %s: %s (%s)\n", what, err->msg, ts_rc_name(err->code));
 }
 
+int tsc_model_start(const ts_config *cfg, ts_model **m, ts_data **d)
+{
+    ts_err err;
+    *d = NULL;
+    *m = ts_model_make(cfg, &err);
+    if (!*m) {
+        tsc_print_err("model", &err);
+        return -1;
+    }
+    *d = ts_data_make(*m, &err);
+    if (!*d) {
+        tsc_print_err("data", &err);
+        return -1;
+    }
+    if (ts_reset(*m, *d, &err) != TS_OK) {
+        tsc_print_err("reset", &err);
+        return -1;
+    }
+    return 0;
+}
+
 int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
 {
     const char *preset = tsc_option(argc, argv, "--preset");

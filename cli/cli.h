@@ -32,6 +32,10 @@ const char *tsc_option(int argc, char **argv, const char *name);
 /* Print a ts_err as "tanksim: <pointer>: message" to stderr. */
 void tsc_print_err(const char *what, const ts_err *err);
 
+/* Build the model and its data for cfg and reset it (sample row 0). On failure prints the
+ * error, leaves *m / *d as far as they were built (the caller frees them) and returns -1. */
+int tsc_model_start(const ts_config *cfg, ts_model **m, ts_data **d);
+
 /* Commands (cmd_*.c). */
 int tsc_cmd_run(int argc, char **argv);
 int tsc_cmd_modes(int argc, char **argv);

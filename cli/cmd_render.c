@@ -109,20 +109,7 @@ int tsc_cmd_render(int argc, char **argv)
         fprintf(stderr, "tanksim: out of memory\n");
         return TSC_EXIT_FAIL;
     }
-    m = ts_model_make(&cfg, &err);
-    if (!m) {
-        tsc_print_err("model", &err);
-        goto done;
-    }
-    d = ts_data_make(m, &err);
-    if (!d) {
-        tsc_print_err("data", &err);
-        goto done;
-    }
-    if (ts_reset(m, d, &err) != TS_OK) {
-        tsc_print_err("reset", &err);
-        goto done;
-    }
+    if (tsc_model_start(&cfg, &m, &d) != 0) goto done;
     if (t > 0 && ts_advance(m, d, t, NULL, NULL, &err) != TS_OK) {
         tsc_print_err("run", &err);
         goto done;

@@ -77,16 +77,7 @@ int tsc_cmd_run(int argc, char **argv)
         fprintf(stderr, "tanksim: cannot create %s: %s\n", out, strerror(errno));
         goto done;
     }
-    m = ts_model_make(&cfg, &err);
-    if (!m) {
-        tsc_print_err("model", &err);
-        goto done;
-    }
-    d = ts_data_make(m, &err);
-    if (!d) {
-        tsc_print_err("data", &err);
-        goto done;
-    }
+    if (tsc_model_start(&cfg, &m, &d) != 0) goto done;
     snprintf(path, sizeof path, "%s/series.csv", out);
     csv = fopen(path, "w");
     if (!csv) {
@@ -96,10 +87,6 @@ int tsc_cmd_run(int argc, char **argv)
     for (int i = 0; i < ts_model_nchannel(m); i++)
         fprintf(csv, i ? ",%s" : "%s", ts_model_channel(m, i)->name);
     fputc('\n', csv);
-    if (ts_reset(m, d, &err) != TS_OK) {
-        tsc_print_err("reset", &err);
-        goto done;
-    }
     sink.csv = csv;
     write_row(&sink, 0, 0.0, ts_latest(d), ts_model_nchannel(m));
     ts_rc arc = ts_advance(m, d, until, write_row, &sink, &err);
