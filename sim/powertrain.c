@@ -41,6 +41,7 @@ typedef struct engine_ctx {
     ts_engine *e;
     double w0, p_amb, T_amb;
     double ca_step; /* crank-angle step of the explicit integration [rad] */
+    double *idle;   /* idle steady state (ts_powertrain_idle_start), or NULL */
 } engine_ctx;
 
 #define MIN_STEP_SPEED 30.0 /* speed floor of the crank-angle step [rad/s], as in engine.c */
@@ -49,7 +50,10 @@ static ts_rc engine_reset(void *ctx, double *y, ts_err *err)
 {
     (void)err;
     const engine_ctx *c = ctx;
-    ts_engine_init_state(c->e, c->w0, c->p_amb, c->T_amb, y);
+    if (c->idle)
+        memcpy(y, c->idle, sizeof *y * (size_t)ts_engine_nstate(c->e));
+    else
+        ts_engine_init_state(c->e, c->w0, c->p_amb, c->T_amb, y);
     return TS_OK;
 }
 
@@ -97,6 +101,7 @@ static void engine_free(void *ctx)
     engine_ctx *c = ctx;
     if (!c) return;
     ts_engine_free(c->e);
+    free(c->idle);
     free(c);
 }
 
@@ -180,6 +185,24 @@ ts_powertrain *ts_powertrain_make(const ts_config *cfg, ts_err *err)
     memset(&port, 0, sizeof port);
     if (bind_engine(cfg, &port, err) != TS_OK) return NULL;
     return ts_powertrain_make_port(cfg, &port, err);
+}
+
+ts_rc ts_powertrain_idle_start(ts_powertrain *pt, ts_err *err)
+{
+    if (pt->engine.reset != engine_reset) return TS_OK; /* an engine bound through a port */
+    engine_ctx *c = pt->engine.ctx;
+    if (ts_engine_get_fidelity(c->e) == TS_ENGINE_MAP || c->idle) return TS_OK;
+    double *y = malloc(sizeof *y * (size_t)pt->engine.nstate);
+    if (!y) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    ts_tc_point tc; /* the converter at stall: turbine at rest with the vehicle */
+    ts_torque_converter_eval(&pt->tc, c->w0, 0.0, &tc);
+    ts_rc rc = ts_engine_idle_state(c->e, c->w0, tc.pump_torque, c->p_amb, c->T_amb, y, NULL, err);
+    if (rc != TS_OK) {
+        free(y);
+        return rc;
+    }
+    c->idle = y;
+    return TS_OK;
 }
 
 void ts_powertrain_free(ts_powertrain *pt)

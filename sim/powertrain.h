@@ -154,6 +154,17 @@ int ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_sta
 /* Per-state magnitudes for absolute tolerances (nstate values). */
 void ts_powertrain_scale(const ts_powertrain *pt, double *scale);
 
+/* Make every later ts_powertrain_reset start the engine from its IDLE steady
+ * state (engine.h ts_engine_idle_state: walls, coolant, manifolds and turbo
+ * rotors steady at /driveline/launch_engine_speed against the converter at
+ * stall, turbine at rest) instead of ts_engine_init_state's coolant-temperature
+ * walls and guessed turbo speed: the standing start of a launch, "a step
+ * increase of driver demand to 100 %" [P III.C.2]. Costly (the engine's steady
+ * cycles), so run once per powertrain, by callers that start from standstill.
+ * No-op for the map fidelity (no such states) and for engines bound through
+ * ts_powertrain_make_port. Returns TS_OK, TS_ERR_NOMEM or the engine's error. */
+ts_rc ts_powertrain_idle_start(ts_powertrain *pt, ts_err *err);
+
 /* Initial state: engine from its reset (idle), 1st gear applied, turbine
  * turning with the output at sprocket speed w_sprocket. */
 ts_rc ts_powertrain_reset(const ts_powertrain *pt, ts_powertrain_state *ps, double *y,

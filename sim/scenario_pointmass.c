@@ -36,7 +36,6 @@
 #include <string.h>
 
 #include "drive.h"
-#include "engine.h"
 #include "powertrain.h"
 #include "scenario.h"
 #include "solver.h"
@@ -53,8 +52,6 @@ typedef struct pm_model {
     ts_powertrain *pt; /* NULL for a prescribed drive */
     int npt;           /* powertrain states */
     double mass_eff;   /* M [kg] */
-    double *engine_idle; /* idle steady engine state (ne_idle values), or NULL */
-    int ne_idle;
 } pm_model;
 
 typedef struct pm_data {
@@ -116,56 +113,6 @@ static int roots(double t, const double *y, double *g, void *ud)
     return 0;
 }
 
-/* The launch's initial engine state: "a step increase of driver demand to
- * 100 %" [P III.C.2] from standstill starts from an engine idling at
- * /driveline/launch_engine_speed against the converter at stall, its walls,
- * coolant, manifolds and turbo rotors at their IDLE steady values
- * (ts_engine_idle_state), not the coolant-temperature walls and guessed turbo
- * speed of ts_engine_init_state that the powertrain's reset uses. The LHR's
- * insulated walls idle much hotter than the conventional engine's, which is
- * the charge heating of Fig. 21 in the launch phase. Computed once per model
- * (engine states sit first in the powertrain's state vector, powertrain.h);
- * the map fidelity has no such states and keeps the reset's state. */
-static ts_rc idle_engine(ts_model *m, pm_model *pm, ts_err *err)
-{
-    ts_engine *e = ts_engine_make(&m->cfg, err);
-    if (!e) return err ? err->code : TS_ERR_INTERNAL;
-    int ne = ts_engine_nstate(e);
-    if (ts_engine_get_fidelity(e) == TS_ENGINE_MAP) {
-        ts_engine_free(e);
-        return TS_OK;
-    }
-    if (ne > pm->npt) {
-        ts_engine_free(e);
-        return ts_err_set(err, TS_ERR_INTERNAL, NULL, "engine states exceed the powertrain's");
-    }
-    double *y = calloc((size_t)pm->npt * 2 + (size_t)ne, sizeof *y);
-    if (!y) {
-        ts_engine_free(e);
-        return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
-    }
-    ts_powertrain_state ps;
-    ts_powertrain_out o;
-    ts_rc rc = ts_powertrain_reset(pm->pt, &ps, y, 0.0, err);
-    if (rc == TS_OK &&
-        ts_powertrain_rhs(pm->pt, &ps, 0.0, y, 0.0, m->cfg.control.rack, y + pm->npt, &o) < 0)
-        rc = ts_err_set(err, TS_ERR_INTERNAL, NULL, "powertrain at reset outside its domain");
-    const ts_driveline_config *dc = &m->cfg.driveline;
-    if (rc == TS_OK)
-        rc = ts_engine_idle_state(e, y[ts_powertrain_engine_speed_index(pm->pt)], o.pump_torque,
-                                  dc->ambient_pressure, dc->ambient_temperature,
-                                  y + 2 * pm->npt, NULL, err);
-    ts_engine_free(e);
-    if (rc != TS_OK) {
-        free(y);
-        return rc;
-    }
-    memmove(y, y + 2 * pm->npt, sizeof *y * (size_t)ne);
-    pm->engine_idle = y;
-    pm->ne_idle = ne;
-    return TS_OK;
-}
-
 static ts_rc model_init(ts_model *m, ts_err *err)
 {
     ts_rc rc = ts_drive_check(&m->cfg.drive, err);
@@ -185,7 +132,11 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         pm->mass_eff += ts_powertrain_output_inertia(pm->pt) / (r * r);
         m->dof = 3; /* vehicle, crankshaft + pump, turbine + transmission input */
         m->nstate = NVEH + pm->npt;
-        rc = idle_engine(m, pm, err);
+        /* the launch starts from standstill with the engine at its idle
+         * steady state (powertrain.h ts_powertrain_idle_start); the LHR's
+         * insulated walls idle much hotter than the conventional engine's,
+         * the charge heating of Fig. 21 in the launch phase */
+        rc = ts_powertrain_idle_start(pm->pt, err);
         if (rc != TS_OK) return rc;
     }
     static const struct {
@@ -213,10 +164,7 @@ static ts_rc model_init(ts_model *m, ts_err *err)
 static void model_fini(ts_model *m)
 {
     pm_model *pm = m->impl;
-    if (pm) {
-        ts_powertrain_free(pm->pt);
-        free(pm->engine_idle);
-    }
+    if (pm) ts_powertrain_free(pm->pt);
     free(pm);
     m->impl = NULL;
 }
@@ -397,8 +345,6 @@ static ts_rc reset(const ts_model *m, ts_data *d, ts_err *err)
     if (pm->pt) {
         ts_rc rc = ts_powertrain_reset(pm->pt, &p->ps, p->y + NVEH, 0.0, err);
         if (rc != TS_OK) return rc;
-        if (pm->engine_idle) /* idle steady engine (idle_engine) */
-            memcpy(p->y + NVEH, pm->engine_idle, sizeof *p->y * (size_t)pm->ne_idle);
     }
     p->t_int = 0.0;
     ts_rc rc = ts_ode_init(p->ode, 0.0, p->y, err);
