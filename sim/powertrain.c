@@ -381,7 +381,7 @@ int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, doubl
     return ts_transmission_update(&pt->tr, &ps->shift, t, w_e, tp.input_torque);
 }
 
-static const ts_powertrain_channel channels[TS_POWERTRAIN_NCHANNEL] = {
+static const ts_channel channels[TS_POWERTRAIN_NCHANNEL] = {
     {"engine.speed", "rad/s", "crankshaft speed (= converter pump speed)"},
     {"engine.torque", "N*m", "engine brake torque"},
     {"engine.power", "W", "engine brake power"},
@@ -408,7 +408,7 @@ static const ts_powertrain_channel channels[TS_POWERTRAIN_NCHANNEL] = {
     {"engine.fuel_flow", "kg/s", "fuel mass flow, whole engine"},
 };
 
-const ts_powertrain_channel *ts_powertrain_channels(void) { return channels; }
+const ts_channel *ts_powertrain_channels(void) { return channels; }
 
 void ts_powertrain_channel_values(const ts_powertrain_out *o, double *v)
 {

@@ -30,6 +30,7 @@
 
 #include "config.h"
 #include "errors.h"
+#include "model.h"
 #include "transmission.h"
 
 /* What the powertrain needs from an engine (engine.h's model seen through a
@@ -216,10 +217,7 @@ ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *e
 /* Output channels: names, units and descriptions in channel order, and the
  * values of one row from a ts_powertrain_out. */
 #define TS_POWERTRAIN_NCHANNEL 24
-typedef struct ts_powertrain_channel {
-    const char *name, *unit, *description;
-} ts_powertrain_channel;
-const ts_powertrain_channel *ts_powertrain_channels(void); /* TS_POWERTRAIN_NCHANNEL rows */
+const ts_channel *ts_powertrain_channels(void); /* TS_POWERTRAIN_NCHANNEL rows */
 void ts_powertrain_channel_values(const ts_powertrain_out *o, double *values);
 
 #endif

@@ -31,7 +31,6 @@
  * module's).
  */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -139,9 +138,7 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         rc = ts_powertrain_idle_start(pm->pt, err);
         if (rc != TS_OK) return rc;
     }
-    static const struct {
-        const char *name, *unit, *desc;
-    } ch[] = {
+    static const ts_channel ch[] = {
         {"vehicle.x", "m", "distance travelled"},
         {"vehicle.speed", "m/s", "vehicle speed"},
         {"vehicle.accel", "m/s^2", "vehicle acceleration"},
@@ -149,16 +146,10 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         {"sprocket.speed", "rad/s", "sprocket angular speed (no slip)"},
         {"vehicle.traction", "N", "total tractive force of both tracks"},
     };
-    for (size_t i = 0; i < sizeof ch / sizeof ch[0]; i++)
-        if (ts_model_add_channel(m, ch[i].name, ch[i].unit, ch[i].desc, err) < 0)
-            return err ? err->code : TS_ERR_INTERNAL;
-    if (pm->pt) {
-        const ts_powertrain_channel *pc = ts_powertrain_channels();
-        for (int i = 0; i < TS_POWERTRAIN_NCHANNEL; i++)
-            if (ts_model_add_channel(m, pc[i].name, pc[i].unit, pc[i].description, err) < 0)
-                return err ? err->code : TS_ERR_INTERNAL;
-    }
-    return TS_OK;
+    rc = ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
+    if (rc == TS_OK && pm->pt)
+        rc = ts_model_add_channels(m, ts_powertrain_channels(), TS_POWERTRAIN_NCHANNEL, err);
+    return rc;
 }
 
 static void model_fini(ts_model *m)
@@ -411,19 +402,6 @@ static ts_rc state_restore(const ts_model *m, ts_data *d, const void *buf, ts_er
     return ts_ode_init(p->ode, d->t, p->y, err);
 }
 
-/* First time the series col crosses level upwards (linear interpolation), NAN if never. */
-static double first_crossing(const double *rows, long nrows, int ncol, int col, double level)
-{
-    for (long i = 1; i < nrows; i++) {
-        double a = rows[(i - 1) * ncol + col], b = rows[i * ncol + col];
-        if (a < level && b >= level) {
-            double ta = rows[(i - 1) * ncol], tb = rows[i * ncol];
-            return ta + (tb - ta) * (level - a) / (b - a);
-        }
-    }
-    return NAN;
-}
-
 /* Value of col at time t (linear interpolation), NAN outside the run. */
 static double value_at(const double *rows, long nrows, int ncol, int col, double t)
 {
@@ -437,36 +415,29 @@ static double value_at(const double *rows, long nrows, int ncol, int col, double
     return NAN;
 }
 
-static void put(ts_metric *o, const char *name, const char *unit, double v, const char *desc)
-{
-    snprintf(o->name, sizeof o->name, "%s", name);
-    snprintf(o->unit, sizeof o->unit, "%s", unit);
-    o->value = v;
-    snprintf(o->description, sizeof o->description, "%s", desc);
-}
-
 /* Table 2 figures from the series (predicted; see driveline.json for which
  * inputs are calibrated). */
 static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
 {
     int nc = m->nchannel, n = 0;
-    if (max < 4) return 0;
-    double t20 = first_crossing(rows, nrows, nc, CH_SPEED, 20 * KMH);
-    double t60 = first_crossing(rows, nrows, nc, CH_SPEED, 60 * KMH);
-    put(&out[n++], "speed_at_20s_kmh", "km/h", value_at(rows, nrows, nc, CH_SPEED, 20.0) * 3.6,
-        "vehicle speed 20 s after the start (Table 2 column 1)");
-    put(&out[n++], "t_0_60_kmh_s", "s", t60, "time from standstill to 60 km/h (Table 2 column 2)");
-    put(&out[n++], "t_20_60_kmh_s", "s", t60 - t20,
-        "time from 20 to 60 km/h (Table 2 column 3)");
-    put(&out[n++], "speed_at_end_kmh", "km/h", rows[(nrows - 1) * nc + CH_SPEED] * 3.6,
-        "vehicle speed at the end of the run");
+    double t20 = ts_rows_first_crossing(rows, nrows, nc, CH_SPEED, 20 * KMH);
+    double t60 = ts_rows_first_crossing(rows, nrows, nc, CH_SPEED, 60 * KMH);
+    n = ts_metric_add(out, n, max, "speed_at_20s_kmh", "km/h",
+                      value_at(rows, nrows, nc, CH_SPEED, 20.0) * 3.6,
+                      "vehicle speed 20 s after the start (Table 2 column 1)");
+    n = ts_metric_add(out, n, max, "t_0_60_kmh_s", "s", t60,
+                      "time from standstill to 60 km/h (Table 2 column 2)");
+    n = ts_metric_add(out, n, max, "t_20_60_kmh_s", "s", t60 - t20,
+                      "time from 20 to 60 km/h (Table 2 column 3)");
+    n = ts_metric_add(out, n, max, "speed_at_end_kmh", "km/h", rows[(nrows - 1) * nc + CH_SPEED] * 3.6,
+                      "vehicle speed at the end of the run");
     int ig = ts_model_channel_index(m, "transmission.gear");
     if (ig > 0) { /* start times of the first three shifts, from the fractional gear */
         static const char *const names[] = {"shift_1_2_s", "shift_2_3_s", "shift_3_4_s"};
-        for (int k = 0; k < 3 && n < max; k++) {
-            double ts = first_crossing(rows, nrows, nc, ig, (k + 1) + 1e-6);
-            put(&out[n++], names[k], "s", ts, "time the upshift began (gear leaves its integer value)");
-        }
+        for (int k = 0; k < 3; k++)
+            n = ts_metric_add(out, n, max, names[k], "s",
+                              ts_rows_first_crossing(rows, nrows, nc, ig, (k + 1) + 1e-6),
+                              "time the upshift began (gear leaves its integer value)");
     }
     return n;
 }
