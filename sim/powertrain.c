@@ -369,16 +369,26 @@ void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps,
     ts_transmission_roots(&pt->tr, &ps->shift, t, y[pt->engine.speed_index], g);
 }
 
-int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
-                         const double *y, double w_sprocket, double rack)
+static int update_once(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
+                       const double *y, double w_sprocket)
 {
-    (void)rack;
     double w_e = y[pt->engine.speed_index], w_t = y[pt->engine.nstate];
     /* input torque now, for the shift-clutch capacity */
     ts_tr_point tp;
     ts_transmission_eval(&pt->tr, &ps->shift, t, w_t,
                          ts_final_drive_output_speed(&pt->fd, w_sprocket), &tp);
     return ts_transmission_update(&pt->tr, &ps->shift, t, w_e, tp.input_torque);
+}
+
+#define MAX_EVENTS_AT_ONCE 8 /* discrete updates at one event time */
+
+int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
+                         const double *y, double w_sprocket)
+{
+    int changed = 0;
+    for (int k = 0; k < MAX_EVENTS_AT_ONCE && update_once(pt, ps, t, y, w_sprocket); k++)
+        changed = 1;
+    return changed;
 }
 
 static const ts_channel channels[TS_POWERTRAIN_NCHANNEL] = {
@@ -426,7 +436,6 @@ void ts_powertrain_channel_values(const ts_powertrain_out *o, double *v)
 
 /* ---- the powertrain on its own integrator ---------------------------------- */
 
-#define SIM_MAX_EVENTS_AT_ONCE 8
 
 struct ts_powertrain_sim {
     const ts_powertrain *pt;
@@ -502,12 +511,9 @@ void ts_powertrain_sim_free(ts_powertrain_sim *s)
 
 static ts_rc sim_settle(ts_powertrain_sim *s, ts_err *err)
 {
-    int changed = 0;
-    for (int k = 0; k < SIM_MAX_EVENTS_AT_ONCE; k++) {
-        if (!ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), s->rack)) break;
-        changed = 1;
-    }
-    return changed ? ts_ode_init(s->ode, s->t, s->y, err) : TS_OK;
+    return ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t))
+               ? ts_ode_init(s->ode, s->t, s->y, err)
+               : TS_OK;
 }
 
 ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0, ts_err *err)
@@ -542,8 +548,7 @@ static ts_rc sim_advance_explicit(ts_powertrain_sim *s, double t_to, ts_err *err
             return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                               "powertrain state left its domain at t = %.6f s", t);
         s->t = t + h;
-        for (int k = 0; k < SIM_MAX_EVENTS_AT_ONCE; k++)
-            if (!ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), s->rack)) break;
+        ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t));
     }
     s->t = t_to;
     return TS_OK;
@@ -582,8 +587,7 @@ static ts_rc sim_advance_cosim(ts_powertrain_sim *s, double t_to, ts_err *err)
                 return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                                   "turbine speed not finite at t = %.6f s", t);
             s->t = t + h;
-            for (int e = 0; e < SIM_MAX_EVENTS_AT_ONCE; e++)
-                if (!ts_powertrain_update(pt, &s->ps, s->t, y, sim_w(s, s->t), s->rack)) break;
+            ts_powertrain_update(pt, &s->ps, s->t, y, sim_w(s, s->t));
         }
         s->t = t_end;
     }

@@ -14,8 +14,7 @@
  * Events: gear-shift start and end are root functions of the caller's ODE
  * (ts_powertrain_roots, ts_powertrain_nroots of them); at a root the caller
  * calls ts_powertrain_update and, when it returns 1, re-initialises its
- * integrator at the same (t, y) — then calls ts_powertrain_update again
- * (a completed shift can start the next one) until it returns 0.
+ * integrator at the same (t, y).
  *
  * The transmission output, propshaft, final drives and sprockets turn with
  * the sprocket: their inertia (ts_powertrain_output_inertia) belongs to the
@@ -182,9 +181,10 @@ int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, do
 void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
                          const double *y, double *g);
 
-/* Discrete update at an event; 1 when the state changed (re-init needed). */
+/* Discrete updates at an event, repeated until nothing changes (a completed
+ * shift can start the next one); 1 when the state changed (re-init needed). */
 int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
-                         const double *y, double w_sprocket, double rack);
+                         const double *y, double w_sprocket);
 
 /* ---- the powertrain on its own integrator --------------------------------
  * For callers that integrate the powertrain separately from the vehicle (the

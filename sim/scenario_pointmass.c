@@ -41,7 +41,6 @@
 
 #define GRAVITY 9.80665 /* standard gravity [m/s^2] */
 #define V_EPS 0.01      /* standstill smoothing speed [m/s] */
-#define MAX_EVENTS_AT_ONCE 8
 #define KMH (1.0 / 3.6)
 
 enum { X, V, NVEH };
@@ -219,14 +218,10 @@ static ts_rc settle_events(const ts_model *m, pm_data *p, double t, ts_err *err)
 {
     const pm_model *pm = m->impl;
     if (!pm->pt) return TS_OK;
-    int changed = 0;
-    for (int k = 0; k < MAX_EVENTS_AT_ONCE; k++) {
-        if (!ts_powertrain_update(pm->pt, &p->ps, t, p->y + NVEH,
-                                  p->y[V] / m->cfg.vehicle.sprocket_radius, m->cfg.control.rack))
-            break;
-        changed = 1;
-    }
-    return changed ? ts_ode_init(p->ode, t, p->y, err) : TS_OK;
+    return ts_powertrain_update(pm->pt, &p->ps, t, p->y + NVEH,
+                                p->y[V] / m->cfg.vehicle.sprocket_radius)
+               ? ts_ode_init(p->ode, t, p->y, err)
+               : TS_OK;
 }
 
 /* One classical RK4 step of size h from (p->t_int, p->y). */
@@ -265,10 +260,7 @@ static ts_rc step_to_explicit(const ts_model *m, pm_data *p, double t, ts_err *e
         if (p->t_int + h > t) h = t - p->t_int;
         ts_rc rc = rk4_step(m, p, h, err);
         if (rc != TS_OK) return rc;
-        for (int k = 0; k < MAX_EVENTS_AT_ONCE; k++)
-            if (!ts_powertrain_update(pm->pt, &p->ps, p->t_int, p->y + NVEH, p->y[V] / r_s,
-                                      m->cfg.control.rack))
-                break;
+        ts_powertrain_update(pm->pt, &p->ps, p->t_int, p->y + NVEH, p->y[V] / r_s);
     }
     p->t_int = t;
     return TS_OK;
@@ -318,9 +310,7 @@ static ts_rc step_to_cosim(const ts_model *m, pm_data *p, double t, ts_err *err)
                                       "driveline state left its domain at t = %.6f s", t0);
             }
             p->t_int = t0 + h;
-            for (int e = 0; e < MAX_EVENTS_AT_ONCE; e++)
-                if (!ts_powertrain_update(pm->pt, &p->ps, p->t_int, y + NVEH, y[V] / r_s, rack))
-                    break;
+            ts_powertrain_update(pm->pt, &p->ps, p->t_int, y + NVEH, y[V] / r_s);
         }
         p->t_int = t_end;
     }
