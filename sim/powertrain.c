@@ -29,6 +29,7 @@ struct ts_powertrain {
     ts_transmission tr;
     ts_final_drive fd;
     double pump_inertia, turbine_inertia;
+    double crank_share; /* J_e / (J_e + J_p): the engine's speed derivative rescaled for the pump */
     double macro_step; /* engine co-simulation step [s]; 0: engine in the RK4 */
     int nstate;
 };
@@ -157,6 +158,7 @@ ts_powertrain *ts_powertrain_make_port(const ts_config *cfg, const ts_engine_por
     }
     pt->pump_inertia = dc->pump_inertia;
     pt->turbine_inertia = dc->turbine_inertia;
+    pt->crank_share = port->inertia / (port->inertia + pt->pump_inertia);
     pt->nstate = port->nstate + 1;
     /* co-simulate the engine when it asks for an explicit crank-angle step and
      * can advance itself */
@@ -285,9 +287,34 @@ ts_rc ts_powertrain_reset(const ts_powertrain *pt, ts_powertrain_state *ps, doub
     return TS_OK;
 }
 
+/* Every shaft's speed and torque from the pieces of one evaluation. */
 static void fill_out(const ts_powertrain *pt, double w_sprocket, double rack, double w_e,
-                     double w_t, double w_out, const ts_tc_point *tcp, const ts_tr_point *tpp,
-                     const ts_engine_obs *obsp, ts_powertrain_out *out);
+                     double w_t, double w_out, const ts_tc_point *tc, const ts_tr_point *tp,
+                     const ts_engine_obs *obs, ts_powertrain_out *out)
+{
+    out->sprocket_torque = ts_final_drive_sprocket_torque(&pt->fd, tp->output_torque);
+    out->sprocket_speed = w_sprocket;
+    out->rack = rack;
+    out->engine_speed = w_e;
+    out->engine_torque = obs->brake_torque;
+    out->engine_power = obs->brake_torque * w_e;
+    out->boost = obs->boost;
+    out->exhaust_temp = obs->exhaust_temp;
+    out->turbo_speed = obs->turbo_speed;
+    out->piston_temp = obs->piston_temp;
+    out->fuel_flow = obs->fuel_flow;
+    out->pump_torque = tc->pump_torque;
+    out->turbine_torque = tc->turbine_torque;
+    out->turbine_speed = w_t;
+    out->speed_ratio = w_e > 0 ? w_t / w_e : 0.0;
+    out->torque_ratio = tc->torque_ratio;
+    out->tc_efficiency = tc->efficiency;
+    out->gear = tp->gear;
+    out->clutch_offgoing = tp->offgoing_torque;
+    out->clutch_oncoming = tp->oncoming_torque;
+    out->out_speed = w_out;
+    out->out_torque = tp->output_torque;
+}
 
 int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
                       const double *y, double w_sprocket, double rack, double *ydot,
@@ -303,7 +330,7 @@ int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, do
     int rc = e->rhs(e->ctx, t, y, rack, tc.pump_torque, ydot, &obs);
     if (rc != 0) return rc;
     /* the pump turns with the crankshaft: same torque imbalance, larger inertia */
-    ydot[e->speed_index] *= e->inertia / (e->inertia + pt->pump_inertia);
+    ydot[e->speed_index] *= pt->crank_share;
     ts_tr_point tp;
     ts_transmission_eval(&pt->tr, &ps->shift, t, w_t, w_out, &tp);
     ydot[ne] = (tc.turbine_torque - tp.input_torque) / pt->turbine_inertia;
@@ -328,39 +355,6 @@ int ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_sta
         fill_out(pt, w_sprocket, rack, w_e, w_t, w_out, &tc, &tp, &obs, out);
     }
     return 0;
-}
-
-static void fill_out(const ts_powertrain *pt, double w_sprocket, double rack, double w_e,
-                     double w_t, double w_out, const ts_tc_point *tcp, const ts_tr_point *tpp,
-                     const ts_engine_obs *obsp, ts_powertrain_out *out)
-{
-    const ts_tc_point tc = *tcp;
-    const ts_tr_point tp = *tpp;
-    const ts_engine_obs obs = *obsp;
-    {
-        out->sprocket_torque = ts_final_drive_sprocket_torque(&pt->fd, tp.output_torque);
-        out->sprocket_speed = w_sprocket;
-        out->rack = rack;
-        out->engine_speed = w_e;
-        out->engine_torque = obs.brake_torque;
-        out->engine_power = obs.brake_torque * w_e;
-        out->boost = obs.boost;
-        out->exhaust_temp = obs.exhaust_temp;
-        out->turbo_speed = obs.turbo_speed;
-        out->piston_temp = obs.piston_temp;
-        out->fuel_flow = obs.fuel_flow;
-        out->pump_torque = tc.pump_torque;
-        out->turbine_torque = tc.turbine_torque;
-        out->turbine_speed = w_t;
-        out->speed_ratio = w_e > 0 ? w_t / w_e : 0.0;
-        out->torque_ratio = tc.torque_ratio;
-        out->tc_efficiency = tc.efficiency;
-        out->gear = tp.gear;
-        out->clutch_offgoing = tp.offgoing_torque;
-        out->clutch_oncoming = tp.oncoming_torque;
-        out->out_speed = w_out;
-        out->out_torque = tp.output_torque;
-    }
 }
 
 void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
