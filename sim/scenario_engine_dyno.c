@@ -37,8 +37,8 @@ static ts_engine_inputs inputs(const ts_model *m)
     ts_engine_inputs in = {.rack = m->cfg.control.rack,
                            .fuel_per_cycle = -1.0,
                            .load_torque = 0.0,
-                           .p_amb = 101325.0,
-                           .T_amb = 298.15,
+                           .p_amb = m->cfg.driveline.ambient_pressure,
+                           .T_amb = m->cfg.driveline.ambient_temperature,
                            .hold_speed = 1};
     return in;
 }
