@@ -170,26 +170,27 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     n = ts_metric_add(out, n, max, "dof", "1", m->dof, "vehicle mechanical degrees of freedom");
     n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / MPH, "predicted top speed");
     n = ts_metric_add(out, n, max, "final_speed_mph", "mph", last[CH_SPEED] / MPH,
-                   "predicted speed at the end of the run");
+                      "predicted speed at the end of the run");
     n = ts_metric_add(out, n, max, "static_tension", "N", vm_static_tension(ts_coupled_vehicle(c)),
-                   "static rear-roller tension (tensioner setting)");
+                      "static rear-roller tension (tensioner setting)");
     n = ts_metric_add(out, n, max, "peak_tension", "N", tmax, "predicted peak rear-roller tension");
     n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / LBF, "the same in lbf");
     n = ts_metric_add(out, n, max, "peak_sprocket_torque", "N*m", tq_max,
-                   "predicted peak torque at each sprocket (Fig. 28 converter multiplication)");
+                      "predicted peak torque at each sprocket (Fig. 28 converter multiplication)");
     char name[64], desc[160];
     for (int g = 1; g <= 3; g++) {
         snprintf(name, sizeof name, "shift_%d_%d_time", g, g + 1);
         snprintf(desc, sizeof desc, "time the %d-%d upshift is half done (gear passes %d.5)", g,
                  g + 1, g);
         n = ts_metric_add(out, n, max, name, "s",
-                       ts_rows_first_crossing(rows, nrows, nc, CH_PT0 + PT_GEAR, g + 0.5), desc);
+                          ts_rows_first_crossing(rows, nrows, nc, CH_PT0 + PT_GEAR, g + 0.5), desc);
     }
     if (m->cfg.control.mode == TS_CONTROL_IVS) {
         double vt = m->cfg.control.target_speed;
         double t_hit = ts_rows_first_crossing(rows, nrows, nc, CH_SPEED, vt);
-        n = ts_metric_add(out, n, max, "time_to_target", "s", t_hit,
-                       "first time the vehicle reaches the IVS set speed (paper Fig. 33: < 8 s)");
+        n = ts_metric_add(
+            out, n, max, "time_to_target", "s", t_hit,
+            "first time the vehicle reaches the IVS set speed (paper Fig. 33: < 8 s)");
         double se = 0, sa = 0, rmin = INFINITY, rmax = -INFINITY, wmin = INFINITY, wmax = -INFINITY;
         long k = 0;
         for (long i = 0; i < nrows; i++) {
@@ -207,19 +208,19 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
         for (long i = 0; i < nrows && rows[i * nc] <= 1.0; i++)
             rl = fmax(rl, rows[i * nc + CH_RACK_DEMAND]);
         n = ts_metric_add(out, n, max, "rack_at_launch", "1", rl,
-                       "largest rack demand in the first second (Fig. 33: 1.0)");
+                          "largest rack demand in the first second (Fig. 33: 1.0)");
         n = ts_metric_add(out, n, max, "mean_speed_error_mph", "mph", k ? se / k / MPH : NAN,
-                       "mean (speed - target) after first reaching the target");
+                          "mean (speed - target) after first reaching the target");
         n = ts_metric_add(out, n, max, "mean_abs_speed_error_mph", "mph", k ? sa / k / MPH : NAN,
-                       "mean |speed - target| after first reaching the target");
+                          "mean |speed - target| after first reaching the target");
         n = ts_metric_add(out, n, max, "rack_min", "1", k ? rmin : NAN,
-                       "smallest rack demand after reaching the target (Fig. 33: ~0.1)");
+                          "smallest rack demand after reaching the target (Fig. 33: ~0.1)");
         n = ts_metric_add(out, n, max, "rack_max", "1", k ? rmax : NAN,
-                       "largest rack demand after reaching the target (Fig. 33: 1.0)");
+                          "largest rack demand after reaching the target (Fig. 33: 1.0)");
         n = ts_metric_add(out, n, max, "engine_speed_min", "rad/s", k ? wmin : NAN,
-                       "lowest engine speed after reaching the target (Fig. 34)");
+                          "lowest engine speed after reaching the target (Fig. 34)");
         n = ts_metric_add(out, n, max, "engine_speed_max", "rad/s", k ? wmax : NAN,
-                       "highest engine speed after reaching the target (Fig. 34)");
+                          "highest engine speed after reaching the target (Fig. 34)");
     }
     return n;
 }

@@ -225,7 +225,7 @@ static ts_rc settle_events(const ts_model *m, pm_data *p, double t, ts_err *err)
 }
 
 /* One classical RK4 step of size h from (p->t_int, p->y). */
-static ts_rc rk4_step(const ts_model *m, pm_data *p, double h, ts_err *err)
+static ts_rc rk4_step(pm_data *p, double h, ts_err *err)
 {
     int n = p->n;
     double *k1 = p->k, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n;
@@ -241,7 +241,6 @@ static ts_rc rk4_step(const ts_model *m, pm_data *p, double h, ts_err *err)
         p->y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
         if (!isfinite(p->y[i])) rc = 1;
     }
-    (void)m;
     if (rc)
         return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                           "powertrain state left its domain at t = %.6f s (RK4 step %.3g s)", t,
@@ -258,7 +257,7 @@ static ts_rc step_to_explicit(const ts_model *m, pm_data *p, double t, ts_err *e
     while (p->t_int < t - 1e-12 * (1.0 + t)) {
         double h = ts_powertrain_explicit_step(pm->pt, p->y + NVEH);
         if (p->t_int + h > t) h = t - p->t_int;
-        ts_rc rc = rk4_step(m, p, h, err);
+        ts_rc rc = rk4_step(p, h, err);
         if (rc != TS_OK) return rc;
         ts_powertrain_update(pm->pt, &p->ps, p->t_int, p->y + NVEH, p->y[V] / r_s);
     }
@@ -419,7 +418,8 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
                       "time from standstill to 60 km/h (Table 2 column 2)");
     n = ts_metric_add(out, n, max, "t_20_60_kmh_s", "s", t60 - t20,
                       "time from 20 to 60 km/h (Table 2 column 3)");
-    n = ts_metric_add(out, n, max, "speed_at_end_kmh", "km/h", rows[(nrows - 1) * nc + CH_SPEED] * 3.6,
+    n = ts_metric_add(out, n, max, "speed_at_end_kmh", "km/h",
+                      rows[(nrows - 1) * nc + CH_SPEED] * 3.6,
                       "vehicle speed at the end of the run");
     int ig = ts_model_channel_index(m, "transmission.gear");
     if (ig > 0) { /* start times of the first three shifts, from the fractional gear */
