@@ -38,8 +38,6 @@
 #include "ivs_controller.h"
 #include "solver.h"
 
-#define MAX_EVENTS_AT_ONCE                                                                         \
-    8 /* discrete updates at one event time (a completed shift may start the next) */
 #define SPIN_SPROCKET (10 + VM_SPROCKET) /* q index of the sprocket spin (vehicle_model.h) */
 #define Q_THETA       2                  /* q index of the hull pitch */
 /* Vehicle-side integrator settings, the standalone vehicle's
@@ -293,13 +291,7 @@ static int follow_rhs(double t, const double *y, double *ydot, void *ud)
 /* Discrete powertrain updates at (t, yp) with sprocket speed w; 1 if changed. */
 static int settle(ts_coupled_run *r, double t, const double *yp, double w)
 {
-    int changed = 0;
-    for (int k = 0; k < MAX_EVENTS_AT_ONCE; k++) {
-        drive_cmd d = command(r->c, r->rack_fixed, yp, w);
-        if (!ts_powertrain_update(r->c->pt, &r->ps, t, yp, w, d.rack)) break;
-        changed = 1;
-    }
-    return changed;
+    return ts_powertrain_update(r->c->pt, &r->ps, t, yp, w);
 }
 
 /* The turbine equation f = dw_t/dt linearised at (t, yp, w): its partial

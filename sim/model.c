@@ -10,6 +10,7 @@
 #include "model.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -239,6 +240,30 @@ int ts_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metri
 {
     if (!m->ops->metrics || !rows || nrows <= 0 || max <= 0) return 0;
     return m->ops->metrics(m, rows, nrows, out, max);
+}
+
+int ts_metric_add(ts_metric *out, int n, int max, const char *name, const char *unit, double value,
+                  const char *desc)
+{
+    if (n >= max) return n;
+    ts_metric *mt = &out[n];
+    snprintf(mt->name, sizeof mt->name, "%s", name);
+    snprintf(mt->unit, sizeof mt->unit, "%s", unit);
+    mt->value = value;
+    snprintf(mt->description, sizeof mt->description, "%s", desc);
+    return n + 1;
+}
+
+double ts_rows_first_crossing(const double *rows, long nrows, int nc, int col, double level)
+{
+    for (long i = 1; i < nrows; i++) {
+        double a = rows[(i - 1) * nc + col], b = rows[i * nc + col];
+        if (a < level && b >= level) {
+            double ta = rows[(i - 1) * nc], tb = rows[i * nc];
+            return ta + (tb - ta) * (level - a) / (b - a);
+        }
+    }
+    return NAN;
 }
 
 /* Saved state = header (t, index) + the scenario's own bytes. */

@@ -29,6 +29,7 @@ struct ts_powertrain {
     ts_transmission tr;
     ts_final_drive fd;
     double pump_inertia, turbine_inertia;
+    double crank_share; /* J_e / (J_e + J_p): the engine's speed derivative rescaled for the pump */
     double macro_step; /* engine co-simulation step [s]; 0: engine in the RK4 */
     int nstate;
 };
@@ -41,6 +42,7 @@ typedef struct engine_ctx {
     ts_engine *e;
     double w0, p_amb, T_amb;
     double ca_step; /* crank-angle step of the explicit integration [rad] */
+    double *idle;   /* idle steady state (ts_powertrain_idle_start), or NULL */
 } engine_ctx;
 
 #define MIN_STEP_SPEED 30.0 /* speed floor of the crank-angle step [rad/s], as in engine.c */
@@ -49,7 +51,10 @@ static ts_rc engine_reset(void *ctx, double *y, ts_err *err)
 {
     (void)err;
     const engine_ctx *c = ctx;
-    ts_engine_init_state(c->e, c->w0, c->p_amb, c->T_amb, y);
+    if (c->idle)
+        memcpy(y, c->idle, sizeof *y * (size_t)ts_engine_nstate(c->e));
+    else
+        ts_engine_init_state(c->e, c->w0, c->p_amb, c->T_amb, y);
     return TS_OK;
 }
 
@@ -97,6 +102,7 @@ static void engine_free(void *ctx)
     engine_ctx *c = ctx;
     if (!c) return;
     ts_engine_free(c->e);
+    free(c->idle);
     free(c);
 }
 
@@ -152,6 +158,7 @@ ts_powertrain *ts_powertrain_make_port(const ts_config *cfg, const ts_engine_por
     }
     pt->pump_inertia = dc->pump_inertia;
     pt->turbine_inertia = dc->turbine_inertia;
+    pt->crank_share = port->inertia / (port->inertia + pt->pump_inertia);
     pt->nstate = port->nstate + 1;
     /* co-simulate the engine when it asks for an explicit crank-angle step and
      * can advance itself */
@@ -180,6 +187,24 @@ ts_powertrain *ts_powertrain_make(const ts_config *cfg, ts_err *err)
     memset(&port, 0, sizeof port);
     if (bind_engine(cfg, &port, err) != TS_OK) return NULL;
     return ts_powertrain_make_port(cfg, &port, err);
+}
+
+ts_rc ts_powertrain_idle_start(ts_powertrain *pt, ts_err *err)
+{
+    if (pt->engine.reset != engine_reset) return TS_OK; /* an engine bound through a port */
+    engine_ctx *c = pt->engine.ctx;
+    if (ts_engine_get_fidelity(c->e) == TS_ENGINE_MAP || c->idle) return TS_OK;
+    double *y = malloc(sizeof *y * (size_t)pt->engine.nstate);
+    if (!y) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    ts_tc_point tc; /* the converter at stall: turbine at rest with the vehicle */
+    ts_torque_converter_eval(&pt->tc, c->w0, 0.0, &tc);
+    ts_rc rc = ts_engine_idle_state(c->e, c->w0, tc.pump_torque, c->p_amb, c->T_amb, y, NULL, err);
+    if (rc != TS_OK) {
+        free(y);
+        return rc;
+    }
+    c->idle = y;
+    return TS_OK;
 }
 
 void ts_powertrain_free(ts_powertrain *pt)
@@ -262,9 +287,34 @@ ts_rc ts_powertrain_reset(const ts_powertrain *pt, ts_powertrain_state *ps, doub
     return TS_OK;
 }
 
+/* Every shaft's speed and torque from the pieces of one evaluation. */
 static void fill_out(const ts_powertrain *pt, double w_sprocket, double rack, double w_e,
-                     double w_t, double w_out, const ts_tc_point *tcp, const ts_tr_point *tpp,
-                     const ts_engine_obs *obsp, ts_powertrain_out *out);
+                     double w_t, double w_out, const ts_tc_point *tc, const ts_tr_point *tp,
+                     const ts_engine_obs *obs, ts_powertrain_out *out)
+{
+    out->sprocket_torque = ts_final_drive_sprocket_torque(&pt->fd, tp->output_torque);
+    out->sprocket_speed = w_sprocket;
+    out->rack = rack;
+    out->engine_speed = w_e;
+    out->engine_torque = obs->brake_torque;
+    out->engine_power = obs->brake_torque * w_e;
+    out->boost = obs->boost;
+    out->exhaust_temp = obs->exhaust_temp;
+    out->turbo_speed = obs->turbo_speed;
+    out->piston_temp = obs->piston_temp;
+    out->fuel_flow = obs->fuel_flow;
+    out->pump_torque = tc->pump_torque;
+    out->turbine_torque = tc->turbine_torque;
+    out->turbine_speed = w_t;
+    out->speed_ratio = w_e > 0 ? w_t / w_e : 0.0;
+    out->torque_ratio = tc->torque_ratio;
+    out->tc_efficiency = tc->efficiency;
+    out->gear = tp->gear;
+    out->clutch_offgoing = tp->offgoing_torque;
+    out->clutch_oncoming = tp->oncoming_torque;
+    out->out_speed = w_out;
+    out->out_torque = tp->output_torque;
+}
 
 int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
                       const double *y, double w_sprocket, double rack, double *ydot,
@@ -280,7 +330,7 @@ int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, do
     int rc = e->rhs(e->ctx, t, y, rack, tc.pump_torque, ydot, &obs);
     if (rc != 0) return rc;
     /* the pump turns with the crankshaft: same torque imbalance, larger inertia */
-    ydot[e->speed_index] *= e->inertia / (e->inertia + pt->pump_inertia);
+    ydot[e->speed_index] *= pt->crank_share;
     ts_tr_point tp;
     ts_transmission_eval(&pt->tr, &ps->shift, t, w_t, w_out, &tp);
     ydot[ne] = (tc.turbine_torque - tp.input_torque) / pt->turbine_inertia;
@@ -307,49 +357,15 @@ int ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_sta
     return 0;
 }
 
-static void fill_out(const ts_powertrain *pt, double w_sprocket, double rack, double w_e,
-                     double w_t, double w_out, const ts_tc_point *tcp, const ts_tr_point *tpp,
-                     const ts_engine_obs *obsp, ts_powertrain_out *out)
-{
-    const ts_tc_point tc = *tcp;
-    const ts_tr_point tp = *tpp;
-    const ts_engine_obs obs = *obsp;
-    {
-        out->sprocket_torque = ts_final_drive_sprocket_torque(&pt->fd, tp.output_torque);
-        out->sprocket_speed = w_sprocket;
-        out->rack = rack;
-        out->engine_speed = w_e;
-        out->engine_torque = obs.brake_torque;
-        out->engine_power = obs.brake_torque * w_e;
-        out->boost = obs.boost;
-        out->exhaust_temp = obs.exhaust_temp;
-        out->turbo_speed = obs.turbo_speed;
-        out->piston_temp = obs.piston_temp;
-        out->fuel_flow = obs.fuel_flow;
-        out->pump_torque = tc.pump_torque;
-        out->turbine_torque = tc.turbine_torque;
-        out->turbine_speed = w_t;
-        out->speed_ratio = w_e > 0 ? w_t / w_e : 0.0;
-        out->torque_ratio = tc.torque_ratio;
-        out->tc_efficiency = tc.efficiency;
-        out->gear = tp.gear;
-        out->clutch_offgoing = tp.offgoing_torque;
-        out->clutch_oncoming = tp.oncoming_torque;
-        out->out_speed = w_out;
-        out->out_torque = tp.output_torque;
-    }
-}
-
 void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
                          const double *y, double *g)
 {
     ts_transmission_roots(&pt->tr, &ps->shift, t, y[pt->engine.speed_index], g);
 }
 
-int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
-                         const double *y, double w_sprocket, double rack)
+static int update_once(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
+                       const double *y, double w_sprocket)
 {
-    (void)rack;
     double w_e = y[pt->engine.speed_index], w_t = y[pt->engine.nstate];
     /* input torque now, for the shift-clutch capacity */
     ts_tr_point tp;
@@ -358,7 +374,18 @@ int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, doubl
     return ts_transmission_update(&pt->tr, &ps->shift, t, w_e, tp.input_torque);
 }
 
-static const ts_powertrain_channel channels[TS_POWERTRAIN_NCHANNEL] = {
+#define MAX_EVENTS_AT_ONCE 8 /* discrete updates at one event time */
+
+int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
+                         const double *y, double w_sprocket)
+{
+    int changed = 0;
+    for (int k = 0; k < MAX_EVENTS_AT_ONCE && update_once(pt, ps, t, y, w_sprocket); k++)
+        changed = 1;
+    return changed;
+}
+
+static const ts_channel channels[TS_POWERTRAIN_NCHANNEL] = {
     {"engine.speed", "rad/s", "crankshaft speed (= converter pump speed)"},
     {"engine.torque", "N*m", "engine brake torque"},
     {"engine.power", "W", "engine brake power"},
@@ -385,7 +412,7 @@ static const ts_powertrain_channel channels[TS_POWERTRAIN_NCHANNEL] = {
     {"engine.fuel_flow", "kg/s", "fuel mass flow, whole engine"},
 };
 
-const ts_powertrain_channel *ts_powertrain_channels(void) { return channels; }
+const ts_channel *ts_powertrain_channels(void) { return channels; }
 
 void ts_powertrain_channel_values(const ts_powertrain_out *o, double *v)
 {
@@ -403,7 +430,6 @@ void ts_powertrain_channel_values(const ts_powertrain_out *o, double *v)
 
 /* ---- the powertrain on its own integrator ---------------------------------- */
 
-#define SIM_MAX_EVENTS_AT_ONCE 8
 
 struct ts_powertrain_sim {
     const ts_powertrain *pt;
@@ -479,12 +505,9 @@ void ts_powertrain_sim_free(ts_powertrain_sim *s)
 
 static ts_rc sim_settle(ts_powertrain_sim *s, ts_err *err)
 {
-    int changed = 0;
-    for (int k = 0; k < SIM_MAX_EVENTS_AT_ONCE; k++) {
-        if (!ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), s->rack)) break;
-        changed = 1;
-    }
-    return changed ? ts_ode_init(s->ode, s->t, s->y, err) : TS_OK;
+    return ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t))
+               ? ts_ode_init(s->ode, s->t, s->y, err)
+               : TS_OK;
 }
 
 ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0, ts_err *err)
@@ -519,8 +542,7 @@ static ts_rc sim_advance_explicit(ts_powertrain_sim *s, double t_to, ts_err *err
             return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                               "powertrain state left its domain at t = %.6f s", t);
         s->t = t + h;
-        for (int k = 0; k < SIM_MAX_EVENTS_AT_ONCE; k++)
-            if (!ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), s->rack)) break;
+        ts_powertrain_update(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t));
     }
     s->t = t_to;
     return TS_OK;
@@ -559,8 +581,7 @@ static ts_rc sim_advance_cosim(ts_powertrain_sim *s, double t_to, ts_err *err)
                 return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                                   "turbine speed not finite at t = %.6f s", t);
             s->t = t + h;
-            for (int e = 0; e < SIM_MAX_EVENTS_AT_ONCE; e++)
-                if (!ts_powertrain_update(pt, &s->ps, s->t, y, sim_w(s, s->t), s->rack)) break;
+            ts_powertrain_update(pt, &s->ps, s->t, y, sim_w(s, s->t));
         }
         s->t = t_end;
     }

@@ -14,8 +14,7 @@
  * Events: gear-shift start and end are root functions of the caller's ODE
  * (ts_powertrain_roots, ts_powertrain_nroots of them); at a root the caller
  * calls ts_powertrain_update and, when it returns 1, re-initialises its
- * integrator at the same (t, y) — then calls ts_powertrain_update again
- * (a completed shift can start the next one) until it returns 0.
+ * integrator at the same (t, y).
  *
  * The transmission output, propshaft, final drives and sprockets turn with
  * the sprocket: their inertia (ts_powertrain_output_inertia) belongs to the
@@ -30,6 +29,7 @@
 
 #include "config.h"
 #include "errors.h"
+#include "model.h"
 #include "transmission.h"
 
 /* What the powertrain needs from an engine (engine.h's model seen through a
@@ -154,6 +154,17 @@ int ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_sta
 /* Per-state magnitudes for absolute tolerances (nstate values). */
 void ts_powertrain_scale(const ts_powertrain *pt, double *scale);
 
+/* Make every later ts_powertrain_reset start the engine from its IDLE steady
+ * state (engine.h ts_engine_idle_state: walls, coolant, manifolds and turbo
+ * rotors steady at /driveline/launch_engine_speed against the converter at
+ * stall, turbine at rest) instead of ts_engine_init_state's coolant-temperature
+ * walls and guessed turbo speed: the standing start of a launch, "a step
+ * increase of driver demand to 100 %" [P III.C.2]. Costly (the engine's steady
+ * cycles), so run once per powertrain, by callers that start from standstill.
+ * No-op for the map fidelity (no such states) and for engines bound through
+ * ts_powertrain_make_port. Returns TS_OK, TS_ERR_NOMEM or the engine's error. */
+ts_rc ts_powertrain_idle_start(ts_powertrain *pt, ts_err *err);
+
 /* Initial state: engine from its reset (idle), 1st gear applied, turbine
  * turning with the output at sprocket speed w_sprocket. */
 ts_rc ts_powertrain_reset(const ts_powertrain *pt, ts_powertrain_state *ps, double *y,
@@ -170,9 +181,10 @@ int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, do
 void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
                          const double *y, double *g);
 
-/* Discrete update at an event; 1 when the state changed (re-init needed). */
+/* Discrete updates at an event, repeated until nothing changes (a completed
+ * shift can start the next one); 1 when the state changed (re-init needed). */
 int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
-                         const double *y, double w_sprocket, double rack);
+                         const double *y, double w_sprocket);
 
 /* ---- the powertrain on its own integrator --------------------------------
  * For callers that integrate the powertrain separately from the vehicle (the
@@ -205,10 +217,7 @@ ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *e
 /* Output channels: names, units and descriptions in channel order, and the
  * values of one row from a ts_powertrain_out. */
 #define TS_POWERTRAIN_NCHANNEL 24
-typedef struct ts_powertrain_channel {
-    const char *name, *unit, *description;
-} ts_powertrain_channel;
-const ts_powertrain_channel *ts_powertrain_channels(void); /* TS_POWERTRAIN_NCHANNEL rows */
+const ts_channel *ts_powertrain_channels(void); /* TS_POWERTRAIN_NCHANNEL rows */
 void ts_powertrain_channel_values(const ts_powertrain_out *o, double *values);
 
 #endif

@@ -72,6 +72,15 @@ int ts_model_add_channel(ts_model *m, const char *name, const char *unit,
  * first failure's code, with err filled. */
 ts_rc ts_model_add_channels(ts_model *m, const ts_channel *rows, int n, ts_err *err);
 
+/* Helpers for a scenario's metrics (ts_scenario_ops.metrics). */
+/* out[n] = {name, unit, value, desc} (strings truncated to the fields) when
+ * n < max; returns the new count n + 1, or n when out is full. */
+int ts_metric_add(ts_metric *out, int n, int max, const char *name, const char *unit, double value,
+                  const char *desc);
+/* First time the sampled column col crosses level upwards (rows: nrows rows
+ * of nc values, time in column 0; linear interpolation), NAN if never. */
+double ts_rows_first_crossing(const double *rows, long nrows, int nc, int col, double level);
+
 /* Scenario tables, one per kind (scenario_*.c). */
 extern const ts_scenario_ops ts_scenario_pointmass;
 extern const ts_scenario_ops ts_scenario_engine_dyno;

@@ -52,12 +52,6 @@ typedef struct cpl_data {
     ts_coupled_obs obs;
 } cpl_data;
 
-static ts_rc add(ts_model *m, const char *name, const char *unit, const char *desc, ts_err *err)
-{
-    return ts_model_add_channel(m, name, unit, desc, err) < 0 ? (err ? err->code : TS_ERR_INTERNAL)
-                                                              : TS_OK;
-}
-
 static ts_rc model_init(ts_model *m, ts_err *err)
 {
     ts_coupled *c = ts_coupled_make(&m->cfg, err);
@@ -78,9 +72,7 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     };
     ts_rc rc = vm_channels_declare(m, err);
     if (rc == TS_OK) rc = ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
-    const ts_powertrain_channel *pc = ts_powertrain_channels();
-    for (int i = 0; i < TS_POWERTRAIN_NCHANNEL && rc == TS_OK; i++)
-        rc = add(m, pc[i].name, pc[i].unit, pc[i].description, err);
+    if (rc == TS_OK) rc = ts_model_add_channels(m, ts_powertrain_channels(), TS_POWERTRAIN_NCHANNEL, err);
     return rc;
 }
 
@@ -162,31 +154,6 @@ static ts_rc state_restore(const ts_model *m, ts_data *d, const void *buf, ts_er
     return ts_coupled_run_restore(p->r, buf, err);
 }
 
-static int add_metric(ts_metric *out, int n, int max, const char *name, const char *unit,
-                      double value, const char *desc)
-{
-    if (n >= max) return n;
-    ts_metric *mt = &out[n];
-    snprintf(mt->name, sizeof mt->name, "%s", name);
-    snprintf(mt->unit, sizeof mt->unit, "%s", unit);
-    mt->value = value;
-    snprintf(mt->description, sizeof mt->description, "%s", desc);
-    return n + 1;
-}
-
-/* First time col crosses level upwards (linear interpolation), NAN if never. */
-static double first_crossing(const double *rows, long nrows, int nc, int col, double level)
-{
-    for (long i = 1; i < nrows; i++) {
-        double a = rows[(i - 1) * nc + col], b = rows[i * nc + col];
-        if (a < level && b >= level) {
-            double ta = rows[(i - 1) * nc], tb = rows[i * nc];
-            return ta + (tb - ta) * (level - a) / (b - a);
-        }
-    }
-    return NAN;
-}
-
 static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
 {
     const ts_coupled *c = m->impl;
@@ -200,29 +167,30 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
         tq_max = fmax(tq_max, r[CH_TORQUE]);
     }
     const double *last = rows + (nrows - 1) * nc;
-    n = add_metric(out, n, max, "dof", "1", m->dof, "vehicle mechanical degrees of freedom");
-    n = add_metric(out, n, max, "top_speed_mph", "mph", vmax / MPH, "predicted top speed");
-    n = add_metric(out, n, max, "final_speed_mph", "mph", last[CH_SPEED] / MPH,
-                   "predicted speed at the end of the run");
-    n = add_metric(out, n, max, "static_tension", "N", vm_static_tension(ts_coupled_vehicle(c)),
-                   "static rear-roller tension (tensioner setting)");
-    n = add_metric(out, n, max, "peak_tension", "N", tmax, "predicted peak rear-roller tension");
-    n = add_metric(out, n, max, "peak_tension_lb", "lbf", tmax / LBF, "the same in lbf");
-    n = add_metric(out, n, max, "peak_sprocket_torque", "N*m", tq_max,
-                   "predicted peak torque at each sprocket (Fig. 28 converter multiplication)");
+    n = ts_metric_add(out, n, max, "dof", "1", m->dof, "vehicle mechanical degrees of freedom");
+    n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / MPH, "predicted top speed");
+    n = ts_metric_add(out, n, max, "final_speed_mph", "mph", last[CH_SPEED] / MPH,
+                      "predicted speed at the end of the run");
+    n = ts_metric_add(out, n, max, "static_tension", "N", vm_static_tension(ts_coupled_vehicle(c)),
+                      "static rear-roller tension (tensioner setting)");
+    n = ts_metric_add(out, n, max, "peak_tension", "N", tmax, "predicted peak rear-roller tension");
+    n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / LBF, "the same in lbf");
+    n = ts_metric_add(out, n, max, "peak_sprocket_torque", "N*m", tq_max,
+                      "predicted peak torque at each sprocket (Fig. 28 converter multiplication)");
     char name[64], desc[160];
     for (int g = 1; g <= 3; g++) {
         snprintf(name, sizeof name, "shift_%d_%d_time", g, g + 1);
         snprintf(desc, sizeof desc, "time the %d-%d upshift is half done (gear passes %d.5)", g,
                  g + 1, g);
-        n = add_metric(out, n, max, name, "s",
-                       first_crossing(rows, nrows, nc, CH_PT0 + PT_GEAR, g + 0.5), desc);
+        n = ts_metric_add(out, n, max, name, "s",
+                          ts_rows_first_crossing(rows, nrows, nc, CH_PT0 + PT_GEAR, g + 0.5), desc);
     }
     if (m->cfg.control.mode == TS_CONTROL_IVS) {
         double vt = m->cfg.control.target_speed;
-        double t_hit = first_crossing(rows, nrows, nc, CH_SPEED, vt);
-        n = add_metric(out, n, max, "time_to_target", "s", t_hit,
-                       "first time the vehicle reaches the IVS set speed (paper Fig. 33: < 8 s)");
+        double t_hit = ts_rows_first_crossing(rows, nrows, nc, CH_SPEED, vt);
+        n = ts_metric_add(
+            out, n, max, "time_to_target", "s", t_hit,
+            "first time the vehicle reaches the IVS set speed (paper Fig. 33: < 8 s)");
         double se = 0, sa = 0, rmin = INFINITY, rmax = -INFINITY, wmin = INFINITY, wmax = -INFINITY;
         long k = 0;
         for (long i = 0; i < nrows; i++) {
@@ -239,20 +207,20 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
         double rl = 0;
         for (long i = 0; i < nrows && rows[i * nc] <= 1.0; i++)
             rl = fmax(rl, rows[i * nc + CH_RACK_DEMAND]);
-        n = add_metric(out, n, max, "rack_at_launch", "1", rl,
-                       "largest rack demand in the first second (Fig. 33: 1.0)");
-        n = add_metric(out, n, max, "mean_speed_error_mph", "mph", k ? se / k / MPH : NAN,
-                       "mean (speed - target) after first reaching the target");
-        n = add_metric(out, n, max, "mean_abs_speed_error_mph", "mph", k ? sa / k / MPH : NAN,
-                       "mean |speed - target| after first reaching the target");
-        n = add_metric(out, n, max, "rack_min", "1", k ? rmin : NAN,
-                       "smallest rack demand after reaching the target (Fig. 33: ~0.1)");
-        n = add_metric(out, n, max, "rack_max", "1", k ? rmax : NAN,
-                       "largest rack demand after reaching the target (Fig. 33: 1.0)");
-        n = add_metric(out, n, max, "engine_speed_min", "rad/s", k ? wmin : NAN,
-                       "lowest engine speed after reaching the target (Fig. 34)");
-        n = add_metric(out, n, max, "engine_speed_max", "rad/s", k ? wmax : NAN,
-                       "highest engine speed after reaching the target (Fig. 34)");
+        n = ts_metric_add(out, n, max, "rack_at_launch", "1", rl,
+                          "largest rack demand in the first second (Fig. 33: 1.0)");
+        n = ts_metric_add(out, n, max, "mean_speed_error_mph", "mph", k ? se / k / MPH : NAN,
+                          "mean (speed - target) after first reaching the target");
+        n = ts_metric_add(out, n, max, "mean_abs_speed_error_mph", "mph", k ? sa / k / MPH : NAN,
+                          "mean |speed - target| after first reaching the target");
+        n = ts_metric_add(out, n, max, "rack_min", "1", k ? rmin : NAN,
+                          "smallest rack demand after reaching the target (Fig. 33: ~0.1)");
+        n = ts_metric_add(out, n, max, "rack_max", "1", k ? rmax : NAN,
+                          "largest rack demand after reaching the target (Fig. 33: 1.0)");
+        n = ts_metric_add(out, n, max, "engine_speed_min", "rad/s", k ? wmin : NAN,
+                          "lowest engine speed after reaching the target (Fig. 34)");
+        n = ts_metric_add(out, n, max, "engine_speed_max", "rad/s", k ? wmax : NAN,
+                          "highest engine speed after reaching the target (Fig. 34)");
     }
     return n;
 }

@@ -37,8 +37,8 @@ static ts_engine_inputs inputs(const ts_model *m)
     ts_engine_inputs in = {.rack = m->cfg.control.rack,
                            .fuel_per_cycle = -1.0,
                            .load_torque = 0.0,
-                           .p_amb = 101325.0,
-                           .T_amb = 298.15,
+                           .p_amb = m->cfg.driveline.ambient_pressure,
+                           .T_amb = m->cfg.driveline.ambient_temperature,
                            .hold_speed = 1};
     return in;
 }
@@ -50,9 +50,7 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     m->impl = e;
     m->dof = 1;
     m->nstate = ts_engine_nstate(e);
-    static const struct {
-        const char *name, *unit, *desc;
-    } ch[] = {
+    static const ts_channel ch[] = {
         {"engine.speed", "rad/s", "crankshaft speed (held by the dynamometer)"},
         {"engine.torque", "N*m", "brake torque, instantaneous (indicated - friction)"},
         {"engine.power", "W", "brake power, instantaneous"},
@@ -70,10 +68,7 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         {"piston.surface_temperature", "K", "cylinder 1 piston gas-side surface temperature"},
         {"rack", "1", "rack (driver demand)"},
     };
-    for (size_t i = 0; i < sizeof ch / sizeof ch[0]; i++)
-        if (ts_model_add_channel(m, ch[i].name, ch[i].unit, ch[i].desc, err) < 0)
-            return err ? err->code : TS_ERR_INTERNAL;
-    return TS_OK;
+    return ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
 }
 
 static void model_fini(ts_model *m)

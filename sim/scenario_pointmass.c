@@ -31,19 +31,16 @@
  * module's).
  */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "drive.h"
-#include "engine.h"
 #include "powertrain.h"
 #include "scenario.h"
 #include "solver.h"
 
 #define GRAVITY 9.80665 /* standard gravity [m/s^2] */
 #define V_EPS 0.01      /* standstill smoothing speed [m/s] */
-#define MAX_EVENTS_AT_ONCE 8
 #define KMH (1.0 / 3.6)
 
 enum { X, V, NVEH };
@@ -53,8 +50,6 @@ typedef struct pm_model {
     ts_powertrain *pt; /* NULL for a prescribed drive */
     int npt;           /* powertrain states */
     double mass_eff;   /* M [kg] */
-    double *engine_idle; /* idle steady engine state (ne_idle values), or NULL */
-    int ne_idle;
 } pm_model;
 
 typedef struct pm_data {
@@ -116,56 +111,6 @@ static int roots(double t, const double *y, double *g, void *ud)
     return 0;
 }
 
-/* The launch's initial engine state: "a step increase of driver demand to
- * 100 %" [P III.C.2] from standstill starts from an engine idling at
- * /driveline/launch_engine_speed against the converter at stall, its walls,
- * coolant, manifolds and turbo rotors at their IDLE steady values
- * (ts_engine_idle_state), not the coolant-temperature walls and guessed turbo
- * speed of ts_engine_init_state that the powertrain's reset uses. The LHR's
- * insulated walls idle much hotter than the conventional engine's, which is
- * the charge heating of Fig. 21 in the launch phase. Computed once per model
- * (engine states sit first in the powertrain's state vector, powertrain.h);
- * the map fidelity has no such states and keeps the reset's state. */
-static ts_rc idle_engine(ts_model *m, pm_model *pm, ts_err *err)
-{
-    ts_engine *e = ts_engine_make(&m->cfg, err);
-    if (!e) return err ? err->code : TS_ERR_INTERNAL;
-    int ne = ts_engine_nstate(e);
-    if (ts_engine_get_fidelity(e) == TS_ENGINE_MAP) {
-        ts_engine_free(e);
-        return TS_OK;
-    }
-    if (ne > pm->npt) {
-        ts_engine_free(e);
-        return ts_err_set(err, TS_ERR_INTERNAL, NULL, "engine states exceed the powertrain's");
-    }
-    double *y = calloc((size_t)pm->npt * 2 + (size_t)ne, sizeof *y);
-    if (!y) {
-        ts_engine_free(e);
-        return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
-    }
-    ts_powertrain_state ps;
-    ts_powertrain_out o;
-    ts_rc rc = ts_powertrain_reset(pm->pt, &ps, y, 0.0, err);
-    if (rc == TS_OK &&
-        ts_powertrain_rhs(pm->pt, &ps, 0.0, y, 0.0, m->cfg.control.rack, y + pm->npt, &o) < 0)
-        rc = ts_err_set(err, TS_ERR_INTERNAL, NULL, "powertrain at reset outside its domain");
-    const ts_driveline_config *dc = &m->cfg.driveline;
-    if (rc == TS_OK)
-        rc = ts_engine_idle_state(e, y[ts_powertrain_engine_speed_index(pm->pt)], o.pump_torque,
-                                  dc->ambient_pressure, dc->ambient_temperature,
-                                  y + 2 * pm->npt, NULL, err);
-    ts_engine_free(e);
-    if (rc != TS_OK) {
-        free(y);
-        return rc;
-    }
-    memmove(y, y + 2 * pm->npt, sizeof *y * (size_t)ne);
-    pm->engine_idle = y;
-    pm->ne_idle = ne;
-    return TS_OK;
-}
-
 static ts_rc model_init(ts_model *m, ts_err *err)
 {
     ts_rc rc = ts_drive_check(&m->cfg.drive, err);
@@ -185,12 +130,14 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         pm->mass_eff += ts_powertrain_output_inertia(pm->pt) / (r * r);
         m->dof = 3; /* vehicle, crankshaft + pump, turbine + transmission input */
         m->nstate = NVEH + pm->npt;
-        rc = idle_engine(m, pm, err);
+        /* the launch starts from standstill with the engine at its idle
+         * steady state (powertrain.h ts_powertrain_idle_start); the LHR's
+         * insulated walls idle much hotter than the conventional engine's,
+         * the charge heating of Fig. 21 in the launch phase */
+        rc = ts_powertrain_idle_start(pm->pt, err);
         if (rc != TS_OK) return rc;
     }
-    static const struct {
-        const char *name, *unit, *desc;
-    } ch[] = {
+    static const ts_channel ch[] = {
         {"vehicle.x", "m", "distance travelled"},
         {"vehicle.speed", "m/s", "vehicle speed"},
         {"vehicle.accel", "m/s^2", "vehicle acceleration"},
@@ -198,25 +145,16 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         {"sprocket.speed", "rad/s", "sprocket angular speed (no slip)"},
         {"vehicle.traction", "N", "total tractive force of both tracks"},
     };
-    for (size_t i = 0; i < sizeof ch / sizeof ch[0]; i++)
-        if (ts_model_add_channel(m, ch[i].name, ch[i].unit, ch[i].desc, err) < 0)
-            return err ? err->code : TS_ERR_INTERNAL;
-    if (pm->pt) {
-        const ts_powertrain_channel *pc = ts_powertrain_channels();
-        for (int i = 0; i < TS_POWERTRAIN_NCHANNEL; i++)
-            if (ts_model_add_channel(m, pc[i].name, pc[i].unit, pc[i].description, err) < 0)
-                return err ? err->code : TS_ERR_INTERNAL;
-    }
-    return TS_OK;
+    rc = ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
+    if (rc == TS_OK && pm->pt)
+        rc = ts_model_add_channels(m, ts_powertrain_channels(), TS_POWERTRAIN_NCHANNEL, err);
+    return rc;
 }
 
 static void model_fini(ts_model *m)
 {
     pm_model *pm = m->impl;
-    if (pm) {
-        ts_powertrain_free(pm->pt);
-        free(pm->engine_idle);
-    }
+    if (pm) ts_powertrain_free(pm->pt);
     free(pm);
     m->impl = NULL;
 }
@@ -280,18 +218,14 @@ static ts_rc settle_events(const ts_model *m, pm_data *p, double t, ts_err *err)
 {
     const pm_model *pm = m->impl;
     if (!pm->pt) return TS_OK;
-    int changed = 0;
-    for (int k = 0; k < MAX_EVENTS_AT_ONCE; k++) {
-        if (!ts_powertrain_update(pm->pt, &p->ps, t, p->y + NVEH,
-                                  p->y[V] / m->cfg.vehicle.sprocket_radius, m->cfg.control.rack))
-            break;
-        changed = 1;
-    }
-    return changed ? ts_ode_init(p->ode, t, p->y, err) : TS_OK;
+    return ts_powertrain_update(pm->pt, &p->ps, t, p->y + NVEH,
+                                p->y[V] / m->cfg.vehicle.sprocket_radius)
+               ? ts_ode_init(p->ode, t, p->y, err)
+               : TS_OK;
 }
 
 /* One classical RK4 step of size h from (p->t_int, p->y). */
-static ts_rc rk4_step(const ts_model *m, pm_data *p, double h, ts_err *err)
+static ts_rc rk4_step(pm_data *p, double h, ts_err *err)
 {
     int n = p->n;
     double *k1 = p->k, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n;
@@ -307,7 +241,6 @@ static ts_rc rk4_step(const ts_model *m, pm_data *p, double h, ts_err *err)
         p->y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
         if (!isfinite(p->y[i])) rc = 1;
     }
-    (void)m;
     if (rc)
         return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                           "powertrain state left its domain at t = %.6f s (RK4 step %.3g s)", t,
@@ -324,12 +257,9 @@ static ts_rc step_to_explicit(const ts_model *m, pm_data *p, double t, ts_err *e
     while (p->t_int < t - 1e-12 * (1.0 + t)) {
         double h = ts_powertrain_explicit_step(pm->pt, p->y + NVEH);
         if (p->t_int + h > t) h = t - p->t_int;
-        ts_rc rc = rk4_step(m, p, h, err);
+        ts_rc rc = rk4_step(p, h, err);
         if (rc != TS_OK) return rc;
-        for (int k = 0; k < MAX_EVENTS_AT_ONCE; k++)
-            if (!ts_powertrain_update(pm->pt, &p->ps, p->t_int, p->y + NVEH, p->y[V] / r_s,
-                                      m->cfg.control.rack))
-                break;
+        ts_powertrain_update(pm->pt, &p->ps, p->t_int, p->y + NVEH, p->y[V] / r_s);
     }
     p->t_int = t;
     return TS_OK;
@@ -379,9 +309,7 @@ static ts_rc step_to_cosim(const ts_model *m, pm_data *p, double t, ts_err *err)
                                       "driveline state left its domain at t = %.6f s", t0);
             }
             p->t_int = t0 + h;
-            for (int e = 0; e < MAX_EVENTS_AT_ONCE; e++)
-                if (!ts_powertrain_update(pm->pt, &p->ps, p->t_int, y + NVEH, y[V] / r_s, rack))
-                    break;
+            ts_powertrain_update(pm->pt, &p->ps, p->t_int, y + NVEH, y[V] / r_s);
         }
         p->t_int = t_end;
     }
@@ -397,8 +325,6 @@ static ts_rc reset(const ts_model *m, ts_data *d, ts_err *err)
     if (pm->pt) {
         ts_rc rc = ts_powertrain_reset(pm->pt, &p->ps, p->y + NVEH, 0.0, err);
         if (rc != TS_OK) return rc;
-        if (pm->engine_idle) /* idle steady engine (idle_engine) */
-            memcpy(p->y + NVEH, pm->engine_idle, sizeof *p->y * (size_t)pm->ne_idle);
     }
     p->t_int = 0.0;
     ts_rc rc = ts_ode_init(p->ode, 0.0, p->y, err);
@@ -465,19 +391,6 @@ static ts_rc state_restore(const ts_model *m, ts_data *d, const void *buf, ts_er
     return ts_ode_init(p->ode, d->t, p->y, err);
 }
 
-/* First time the series col crosses level upwards (linear interpolation), NAN if never. */
-static double first_crossing(const double *rows, long nrows, int ncol, int col, double level)
-{
-    for (long i = 1; i < nrows; i++) {
-        double a = rows[(i - 1) * ncol + col], b = rows[i * ncol + col];
-        if (a < level && b >= level) {
-            double ta = rows[(i - 1) * ncol], tb = rows[i * ncol];
-            return ta + (tb - ta) * (level - a) / (b - a);
-        }
-    }
-    return NAN;
-}
-
 /* Value of col at time t (linear interpolation), NAN outside the run. */
 static double value_at(const double *rows, long nrows, int ncol, int col, double t)
 {
@@ -491,36 +404,30 @@ static double value_at(const double *rows, long nrows, int ncol, int col, double
     return NAN;
 }
 
-static void put(ts_metric *o, const char *name, const char *unit, double v, const char *desc)
-{
-    snprintf(o->name, sizeof o->name, "%s", name);
-    snprintf(o->unit, sizeof o->unit, "%s", unit);
-    o->value = v;
-    snprintf(o->description, sizeof o->description, "%s", desc);
-}
-
 /* Table 2 figures from the series (predicted; see driveline.json for which
  * inputs are calibrated). */
 static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
 {
     int nc = m->nchannel, n = 0;
-    if (max < 4) return 0;
-    double t20 = first_crossing(rows, nrows, nc, CH_SPEED, 20 * KMH);
-    double t60 = first_crossing(rows, nrows, nc, CH_SPEED, 60 * KMH);
-    put(&out[n++], "speed_at_20s_kmh", "km/h", value_at(rows, nrows, nc, CH_SPEED, 20.0) * 3.6,
-        "vehicle speed 20 s after the start (Table 2 column 1)");
-    put(&out[n++], "t_0_60_kmh_s", "s", t60, "time from standstill to 60 km/h (Table 2 column 2)");
-    put(&out[n++], "t_20_60_kmh_s", "s", t60 - t20,
-        "time from 20 to 60 km/h (Table 2 column 3)");
-    put(&out[n++], "speed_at_end_kmh", "km/h", rows[(nrows - 1) * nc + CH_SPEED] * 3.6,
-        "vehicle speed at the end of the run");
+    double t20 = ts_rows_first_crossing(rows, nrows, nc, CH_SPEED, 20 * KMH);
+    double t60 = ts_rows_first_crossing(rows, nrows, nc, CH_SPEED, 60 * KMH);
+    n = ts_metric_add(out, n, max, "speed_at_20s_kmh", "km/h",
+                      value_at(rows, nrows, nc, CH_SPEED, 20.0) * 3.6,
+                      "vehicle speed 20 s after the start (Table 2 column 1)");
+    n = ts_metric_add(out, n, max, "t_0_60_kmh_s", "s", t60,
+                      "time from standstill to 60 km/h (Table 2 column 2)");
+    n = ts_metric_add(out, n, max, "t_20_60_kmh_s", "s", t60 - t20,
+                      "time from 20 to 60 km/h (Table 2 column 3)");
+    n = ts_metric_add(out, n, max, "speed_at_end_kmh", "km/h",
+                      rows[(nrows - 1) * nc + CH_SPEED] * 3.6,
+                      "vehicle speed at the end of the run");
     int ig = ts_model_channel_index(m, "transmission.gear");
     if (ig > 0) { /* start times of the first three shifts, from the fractional gear */
         static const char *const names[] = {"shift_1_2_s", "shift_2_3_s", "shift_3_4_s"};
-        for (int k = 0; k < 3 && n < max; k++) {
-            double ts = first_crossing(rows, nrows, nc, ig, (k + 1) + 1e-6);
-            put(&out[n++], names[k], "s", ts, "time the upshift began (gear leaves its integer value)");
-        }
+        for (int k = 0; k < 3; k++)
+            n = ts_metric_add(out, n, max, names[k], "s",
+                              ts_rows_first_crossing(rows, nrows, nc, ig, (k + 1) + 1e-6),
+                              "time the upshift began (gear leaves its integer value)");
     }
     return n;
 }

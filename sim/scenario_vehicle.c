@@ -16,7 +16,6 @@
  * Leaves out: the powertrain drive (kind "powertrain" is refused here).
  */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -204,18 +203,6 @@ static ts_rc state_restore(const ts_model *m, ts_data *d, const void *buf, ts_er
     return ts_ode_init(p->ode, d->t, p->y, err);
 }
 
-static int add_metric(ts_metric *out, int n, int max, const char *name, const char *unit,
-                      double value, const char *desc)
-{
-    if (n >= max) return n;
-    ts_metric *mt = &out[n];
-    snprintf(mt->name, sizeof mt->name, "%s", name);
-    snprintf(mt->unit, sizeof mt->unit, "%s", unit);
-    mt->value = value;
-    snprintf(mt->description, sizeof mt->description, "%s", desc);
-    return n + 1;
-}
-
 /* Spectrum peak of channel ch over rows, in [f0, f1]. */
 static double spectrum_peak(const ts_model *m, const double *rows, long nrows, int ch, double f0,
                             double f1, double *amp)
@@ -259,48 +246,48 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
         d2 += dyn * dyn;
     }
     double t0 = vm_static_tension(vmm->v);
-    n = add_metric(out, n, max, "dof", "1", m->dof,
-                   "mechanical degrees of freedom (paper: 21/26/31)");
-    n = add_metric(out, n, max, "top_speed_mph", "mph", vmax / MPH,
-                   "predicted top speed (paper II.D: ~25 mph; torque calibrated to it)");
-    n = add_metric(out, n, max, "static_tension", "N", t0,
-                   "static track tension at the rear roller (tensioner setting P0)");
-    n = add_metric(out, n, max, "peak_tension", "N", tmax,
-                   "predicted peak rear-roller tension (paper Fig. 12: ~30,000 lb = 133 kN)");
-    n = add_metric(out, n, max, "peak_tension_lb", "lbf", tmax / LBF, "the same in lbf");
-    n = add_metric(out, n, max, "tension_amplification", "1", t0 > 0 ? tmax / t0 : NAN,
-                   "predicted peak over static tension (paper: nearly 2)");
-    n = add_metric(out, n, max, "quasi_static_peak_tension_lb", "lbf", qsmax / LBF,
-                   "peak of track.tension.quasi_static: what the suspension travel alone "
-                   "(loop-length change, massless track) gives");
-    n = add_metric(out, n, max, "dynamic_amplification_max", "1",
-                   nrows > 0 && t0 > 0 ? dmax / t0 : NAN,
-                   "max(rear-roller tension - quasi-static tension) / static tension: the "
-                   "dynamic amplification of Fig. 12 (~0 for the static model)");
-    n = add_metric(out, n, max, "dynamic_amplification_rms", "1",
-                   nrows > 0 && t0 > 0 ? sqrt(d2 / (double)nrows) / t0 : NAN,
-                   "RMS(rear-roller tension - quasi-static tension) / static tension");
-    n = add_metric(out, n, max, "peak_abs_accel_x", "m/s^2", amax,
-                   "predicted largest |hull.accel_x| (Fig. 11)");
-    n = add_metric(out, n, max, "peak_abs_roller_force", "N", nmax,
-                   "largest |roller.rear.normal_force|");
+    n = ts_metric_add(out, n, max, "dof", "1", m->dof,
+                      "mechanical degrees of freedom (paper: 21/26/31)");
+    n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / MPH,
+                      "predicted top speed (paper II.D: ~25 mph; torque calibrated to it)");
+    n = ts_metric_add(out, n, max, "static_tension", "N", t0,
+                      "static track tension at the rear roller (tensioner setting P0)");
+    n = ts_metric_add(out, n, max, "peak_tension", "N", tmax,
+                      "predicted peak rear-roller tension (paper Fig. 12: ~30,000 lb = 133 kN)");
+    n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / LBF, "the same in lbf");
+    n = ts_metric_add(out, n, max, "tension_amplification", "1", t0 > 0 ? tmax / t0 : NAN,
+                      "predicted peak over static tension (paper: nearly 2)");
+    n = ts_metric_add(out, n, max, "quasi_static_peak_tension_lb", "lbf", qsmax / LBF,
+                      "peak of track.tension.quasi_static: what the suspension travel alone "
+                      "(loop-length change, massless track) gives");
+    n = ts_metric_add(out, n, max, "dynamic_amplification_max", "1",
+                      nrows > 0 && t0 > 0 ? dmax / t0 : NAN,
+                      "max(rear-roller tension - quasi-static tension) / static tension: the "
+                      "dynamic amplification of Fig. 12 (~0 for the static model)");
+    n = ts_metric_add(out, n, max, "dynamic_amplification_rms", "1",
+                      nrows > 0 && t0 > 0 ? sqrt(d2 / (double)nrows) / t0 : NAN,
+                      "RMS(rear-roller tension - quasi-static tension) / static tension");
+    n = ts_metric_add(out, n, max, "peak_abs_accel_x", "m/s^2", amax,
+                      "predicted largest |hull.accel_x| (Fig. 11)");
+    n = ts_metric_add(out, n, max, "peak_abs_roller_force", "N", nmax,
+                      "largest |roller.rear.normal_force|");
     double a;
     double f = spectrum_peak(m, rows, nrows, CH_T_RR, 2.0, 6.0, &a);
-    n = add_metric(out, n, max, "tension_peak_2_6hz", "Hz", f,
-                   "predicted tension spectrum peak in 2-6 Hz (paper Fig. 13c: 3.7 Hz)");
-    n = add_metric(out, n, max, "tension_peak_2_6hz_amp", "N", a, "its amplitude");
+    n = ts_metric_add(out, n, max, "tension_peak_2_6hz", "Hz", f,
+                      "predicted tension spectrum peak in 2-6 Hz (paper Fig. 13c: 3.7 Hz)");
+    n = ts_metric_add(out, n, max, "tension_peak_2_6hz_amp", "N", a, "its amplitude");
     f = spectrum_peak(m, rows, nrows, CH_T_RR, 13.0, 20.0, &a);
-    n = add_metric(out, n, max, "tension_peak_13_20hz", "Hz", f,
-                   "predicted tension spectrum peak in 13-20 Hz (paper Fig. 13b-c: 14.0 Hz)");
-    n = add_metric(out, n, max, "tension_peak_13_20hz_amp", "N", a, "its amplitude");
+    n = ts_metric_add(out, n, max, "tension_peak_13_20hz", "Hz", f,
+                      "predicted tension spectrum peak in 13-20 Hz (paper Fig. 13b-c: 14.0 Hz)");
+    n = ts_metric_add(out, n, max, "tension_peak_13_20hz_amp", "N", a, "its amplitude");
     f = spectrum_peak(m, rows, nrows, CH_N_RR, 2.0, 4.6, &a);
-    n = add_metric(out, n, max, "roller_force_peak_2_4.6hz", "Hz", f,
-                   "predicted roller-force spectrum peak in 2-4.6 Hz (paper Fig. 14b: 3.7 Hz)");
-    n = add_metric(out, n, max, "roller_force_peak_2_4.6hz_amp", "N", a, "its amplitude");
+    n = ts_metric_add(out, n, max, "roller_force_peak_2_4.6hz", "Hz", f,
+                      "predicted roller-force spectrum peak in 2-4.6 Hz (paper Fig. 14b: 3.7 Hz)");
+    n = ts_metric_add(out, n, max, "roller_force_peak_2_4.6hz_amp", "N", a, "its amplitude");
     f = spectrum_peak(m, rows, nrows, CH_N_RR, 4.6, 7.0, &a);
-    n = add_metric(out, n, max, "roller_force_peak_4.6_7hz", "Hz", f,
-                   "predicted roller-force spectrum peak in 4.6-7 Hz (paper Fig. 14b: 5.5 Hz)");
-    n = add_metric(out, n, max, "roller_force_peak_4.6_7hz_amp", "N", a, "its amplitude");
+    n = ts_metric_add(out, n, max, "roller_force_peak_4.6_7hz", "Hz", f,
+                      "predicted roller-force spectrum peak in 4.6-7 Hz (paper Fig. 14b: 5.5 Hz)");
+    n = ts_metric_add(out, n, max, "roller_force_peak_4.6_7hz_amp", "N", a, "its amplitude");
     return n;
 }
 

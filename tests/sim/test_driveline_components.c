@@ -51,11 +51,29 @@ static void converter_torque_balance_and_efficiency(void **state)
         assert_close(p.turbine_torque * sr * wp / (p.pump_torque * wp), p.efficiency, 1e-12,
                      1e-15);
     }
-    /* between rows: efficiency still TR * SR, and below 1 everywhere */
+    /* between rows: TR and capacity 1/K^2 linear in SR between the table rows,
+     * capacity falling linearly to 0 at SR 1 above the last row; efficiency
+     * TR * SR, below 1 everywhere */
+    int n = d->tc_speed_ratio_n;
+    const double *srt = d->tc_speed_ratio, *trt = d->tc_torque_ratio, *kt = d->tc_k_factor;
     for (double sr = 0.01; sr < 1.0; sr += 0.0137) {
         ts_tc_point p;
         ts_torque_converter_eval(&tc, wp, sr * wp, &p);
-        assert_close(p.turbine_torque * sr / p.pump_torque, p.torque_ratio * sr, 1e-12, 1e-15);
+        double tr_want, cap_want;
+        if (sr >= srt[n - 1]) {
+            tr_want = trt[n - 1];
+            cap_want = (1.0 - (sr - srt[n - 1]) / (1.0 - srt[n - 1])) / (kt[n - 1] * kt[n - 1]);
+        } else {
+            int j = 0;
+            while (srt[j + 1] <= sr) j++;
+            double f = (sr - srt[j]) / (srt[j + 1] - srt[j]);
+            tr_want = trt[j] + f * (trt[j + 1] - trt[j]);
+            cap_want = (1 - f) / (kt[j] * kt[j]) + f / (kt[j + 1] * kt[j + 1]);
+        }
+        assert_close(p.torque_ratio, tr_want, 1e-12, 0);
+        assert_close(p.pump_torque, cap_want * wp * wp, 1e-12, 1e-9);
+        assert_close(p.turbine_torque, tr_want * p.pump_torque, 1e-12, 1e-9);
+        assert_close(p.efficiency, tr_want * sr, 1e-12, 1e-15);
         assert_true(p.efficiency <= 1.0 + 1e-12);
         assert_true(p.pump_torque >= 0.0);
     }

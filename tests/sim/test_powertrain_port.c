@@ -96,12 +96,10 @@ static void run(drive *d, ts_ode *ode, double t_end, double *shift_w, int *nshif
         assert_int_equal(ts_ode_advance(ode, t_end, &t, &root, &err), TS_OK);
         if (!root) break;
         double *y = ts_ode_y(ode);
-        int changed = 0;
-        while (ts_powertrain_update(d->pt, &d->ps, t, y, d->a * t, d->rack)) {
-            changed = 1;
+        if (ts_powertrain_update(d->pt, &d->ps, t, y, d->a * t)) {
             if (d->ps.shift.target && *nshift < 8) shift_w[(*nshift)++] = y[0];
+            assert_int_equal(ts_ode_init(ode, t, y, &err), TS_OK);
         }
-        if (changed) assert_int_equal(ts_ode_init(ode, t, y, &err), TS_OK);
     }
 }
 
