@@ -400,7 +400,6 @@ static double quasi_static_tension(const vm *v, double g, double tau)
 static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
                    double *Q, int inertia, int drive_on, vm_diag *diag)
 {
-    const ts_vehicle_config *vc = &v->cfg.vehicle;
     int nq = v->nq;
     kin k;
     kinematics(v, q, qd, &k);
@@ -507,7 +506,6 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         double up[2] = {k.sth, k.cth};
         diag->rear_roller_normal = -(rr_force[0] * up[0] + rr_force[1] * up[1]);
     }
-    (void)vc;
 }
 
 /* ---- dynamic spans (track_span.h elements) ---------------------------------- */
@@ -579,10 +577,8 @@ static void span_map_build(const vm *v, const kin *k, const span_el *se, const e
  * and their cross terms) and its momentum p_c = dT/d(q_d) on the compact
  * columns (p may be NULL). Consistent with the mass-matrix block assembled in
  * span_element: p = M_span q_d. */
-static double span_ke(const vm *v, const span_el *se, const span_map *mp, const double *qd,
-                      double *p)
+static double span_ke(const span_el *se, const span_map *mp, const double *qd, double *p)
 {
-    (void)v;
     const ts_span *sp = se->sp;
     int n = sp->n, nc = mp->cs.n;
     double xd[2 + 2 * TS_SPAN_MAX_MODES], mx[2 + 2 * TS_SPAN_MAX_MODES];
@@ -643,7 +639,7 @@ static void arm_spans_at(const vm *v, const double *qs, const double *qd, double
         span_map mp;
         tangent(v, &k, a, b, &e);
         span_map_build(v, &k, se, &e, a, b, &mp);
-        t[s] = span_ke(v, se, &mp, qd, p[s]);
+        t[s] = span_ke(se, &mp, qd, p[s]);
     }
 }
 
@@ -738,7 +734,7 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
     span_map_build(v, k, se, e, a, b, &mp);
     if (sb) {
         int s = (int)(se - v->span);
-        sb->t[s] = span_ke(v, se, &mp, sb->qdv, sb->p[s]);
+        sb->t[s] = span_ke(se, &mp, sb->qdv, sb->p[s]);
         sb->cols[s] = mp.cs;
     }
     const cset cs = mp.cs;
@@ -765,17 +761,12 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
     }
     for (int r = 2; r < n; r++)
         xd[r] = qd ? qd[se->q0 + r - 2] : 0;
-    double psid = 0;
-    if (qd) {
-        psid = ((k->v[b][0] - k->v[a][0]) * e->n[0] + (k->v[b][1] - k->v[a][1]) * e->n[1]) / ell;
-    }
     double gx = -GRAVITY * e->u[1], gy = -GRAVITY * e->n[1];
     /* The frame's translation and rotation enter through the mass matrix (the
      * frame-velocity coupling below), so no support accelerations are passed;
      * the chord's rotation rate is not passed either: its centripetal term
      * would do work the lumped frame kinetic energy does not account for, and
      * its Coriolis term (no work) is second order at hull pitch rates. */
-    (void)psid;
     ts_span_motion mo = {0, 0, 0, 0, gy};
     ts_span_force(sp, &mo, x, xd, f);
     /* Kelvin-Voigt track damping, the same retardation time as the chain
@@ -933,13 +924,8 @@ void vm_work_free(vm_work *w)
  * tensioner condition T_rear_roller = P0. The anchor reference stays at its
  * design value, so the anchor carries whatever the massive spans' weight along
  * the circuit needs. */
-typedef struct eq_map {
-    int nu;
-} eq_map;
-
-static void eq_apply(vm *v, const eq_map *mp, const double *u, double *q)
+static void eq_apply(vm *v, const double *u, double *q)
 {
-    (void)mp;
     int p = 0;
     q[QX] = u[p++];
     q[QZ] = u[p++];
@@ -953,9 +939,9 @@ static void eq_apply(vm *v, const eq_map *mp, const double *u, double *q)
         q[VM_NQ_RIGID + m] = u[p++];
 }
 
-static void eq_residual(vm *v, vm_work *w, const eq_map *mp, const double *u, double *q, double *r)
+static void eq_residual(vm *v, vm_work *w, const double *u, double *q, double *r)
 {
-    eq_apply(v, mp, u, q);
+    eq_apply(v, u, q);
     vm_diag dg;
     forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, 0, &dg);
     int p = 0;
@@ -973,8 +959,7 @@ static void eq_residual(vm *v, vm_work *w, const eq_map *mp, const double *u, do
 
 static ts_rc equilibrium(vm *v, ts_err *err)
 {
-    eq_map mp = {3 + VM_NB - 1 + VM_NRW + 1 + v->nmodal};
-    int nu = mp.nu, nq = v->nq;
+    int nu = 3 + VM_NB - 1 + VM_NRW + 1 + v->nmodal, nq = v->nq;
     vm_work *w = vm_work_make(v);
     double *u = calloc((size_t)nu, sizeof(double)), *r = calloc((size_t)nu, sizeof(double)),
            *r2 = calloc((size_t)nu, sizeof(double)),
@@ -1000,7 +985,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
     double scale_f = wsup;
     int it;
     for (it = 0; it < 40; it++) {
-        eq_residual(v, w, &mp, u, q, r);
+        eq_residual(v, w, u, q, r);
         double rn = 0;
         for (int i = 0; i < nu; i++)
             rn = fmax(rn, fabs(r[i]));
@@ -1009,7 +994,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
             double h = 1e-7 * fmax(1.0, fabs(u[j]));
             double keep = u[j];
             u[j] = keep + h;
-            eq_residual(v, w, &mp, u, q, r2);
+            eq_residual(v, w, u, q, r2);
             u[j] = keep;
             for (int i = 0; i < nu; i++)
                 J[i * nu + j] = (r2[i] - r[i]) / h;
@@ -1029,7 +1014,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
                         "static equilibrium did not converge in 40 Newton steps");
         goto done;
     }
-    eq_apply(v, &mp, u, q);
+    eq_apply(v, u, q);
     {
         vm_diag dg;
         forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, 0, &dg);
@@ -1219,7 +1204,6 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
         v->len_el[el] = v->ell0[el] + 0.5 * (wa * v->rho_b[a] + wb * v->rho_b[b]);
         loop += v->ell0[el] + wa * v->rho_b[a];
     }
-    (void)loop;
     for (int el = 0; el < VM_NB; el++) {
         v->c_loop += v->len_el[el] / v->ea;
         if (el >= VM_RW1 + v->anchor) v->c_tail += v->len_el[el] / v->ea;
@@ -1387,7 +1371,6 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
         double m = se->rho * se->len;
         pe += v->p0 * x[1] + xk - (gy - sp->p.g_y) * ay;
         pe += m * GRAVITY * k.c[a][1] - 0.5 * m * se->len * gx - gx * ax;
-        (void)gy;
     }
     return ke + pe;
 }
