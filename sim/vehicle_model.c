@@ -125,6 +125,7 @@ struct vm {
     double i_extra;             /* extra hull pitch inertia */
     double mqs[4][4];           /* quasi-static spin coupling among bodies 0..3 */
     span_el span[VM_NSPAN];
+    const span_el *span_of[VM_NB]; /* element -> its dynamic span, NULL when massless */
     unsigned arm_span_bodies; /* end bodies of the spans ending on a road wheel (bit b) */
     int dynamic;
     /* equilibrium */
@@ -426,9 +427,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         tangent(v, &k, a, b, &e);
         e.dpsi = wrap_pi(e.psi - v->psi0[el]);
         loop_stretch += (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi;
-        const span_el *se = NULL;
-        for (int s = 0; s < VM_NSPAN; s++)
-            if (v->span[s].sp && v->span[s].elem == el) se = &v->span[s];
+        const span_el *se = v->span_of[el];
         if (se) {
             span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, inertia, diag, sb);
             if (diag && (a == VM_REAR_ROLLER || b == VM_REAR_ROLLER)) {
@@ -1077,6 +1076,7 @@ static ts_rc build_spans(vm *v, ts_err *err)
         se->rho = tc->mass_per_length;
         se->len = v->ell0[el];
         q0 += se->nm;
+        v->span_of[el] = se;
         /* frame-coupling integrals from the span's load vectors: rho int N_i
          * (longitudinal rows) and, for the transverse frame velocity
          * interpolated between the ends, rho int (1 - s/L) phi_k = ay - sy/L and
@@ -1340,9 +1340,7 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
         elem e;
         tangent(v, &k, a, b, &e);
         e.dpsi = wrap_pi(e.psi - v->psi0[el]);
-        const span_el *se = NULL;
-        for (int s = 0; s < VM_NSPAN; s++)
-            if (v->span[s].sp && v->span[s].elem == el) se = &v->span[s];
+        const span_el *se = v->span_of[el];
         double u0 = v->rho_b[a] * (q[QS0 + a] + e.dpsi);
         double u1 = v->rho_b[b] * (q[QS0 + b] + e.dpsi) + e.ell - v->ell0[el];
         if (!se) {
@@ -1428,9 +1426,7 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
         tangent(v, &k, el, (el + 1) % VM_NB, &e[el]);
     for (int el = 0; el < VM_NB; el++) {
         int a = el, b = (el + 1) % VM_NB, next = (el + 1) % VM_NB;
-        const span_el *se = NULL;
-        for (int s = 0; s < VM_NSPAN; s++)
-            if (v->span[s].sp && v->span[s].elem == el) se = &v->span[s];
+        const span_el *se = v->span_of[el];
         double pa[2] = {k.c[a][0] + v->rho_b[a] * e[el].n[0], k.c[a][1] + v->rho_b[a] * e[el].n[1]};
         int free_span = el <= 3 || el == 10;
         int npt = free_span ? 12 : 2;
