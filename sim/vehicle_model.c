@@ -112,7 +112,8 @@ struct vm {
     double link_dir[2], d_link;      /* idler link direction and setting */
     double rho_b[VM_NB], j_b[VM_NB]; /* pitch-line radii, spin inertias */
     double wheel_ground;             /* hub to ground-contact surface: r + thickness */
-    double ell0[VM_NB], psi0[VM_NB], len_el[VM_NB];
+    double ell0[VM_NB], len_el[VM_NB];
+    double u0[VM_NB][2]; /* element directions at the design configuration */
     double ea, p0, tau_d;
     double kf, kf3, cf, ka, ca;
     int anchor; /* road-wheel index 0..6 */
@@ -151,7 +152,7 @@ typedef struct kin {
 } kin;
 
 typedef struct elem {
-    double u[2], n[2], ell, psi, dpsi, s, sd, t;
+    double u[2], n[2], ell, dpsi, s, sd, t;
 } elem;
 
 /* ---- small helpers -------------------------------------------------------- */
@@ -160,15 +161,6 @@ static void rot(const kin *k, const double l[2], double w[2])
 { /* hull frame -> world for clockwise pitch theta */
     w[0] = l[0] * k->cth + l[1] * k->sth;
     w[1] = -l[0] * k->sth + l[1] * k->cth;
-}
-
-static double wrap_pi(double a)
-{
-    while (a > PI)
-        a -= 2 * PI;
-    while (a <= -PI)
-        a += 2 * PI;
-    return a;
 }
 
 static int is_station(const double *list, int n, int station)
@@ -239,20 +231,27 @@ static void kinematics(const vm *v, const double *q, const double *qd, kin *k)
     kinematics_of(v, q, qd, ALL_BODIES, k);
 }
 
-/* Tangent line from body a to body b (clockwise circuit, outward = left). */
-static void tangent(const vm *v, const kin *k, int a, int b, elem *e)
+/* Tangent line of element el, from body el to body el + 1 (clockwise circuit,
+ * outward = left): direction u, outward normal n, length ell and its turn dpsi
+ * from the design direction v->u0[el], in (-pi, pi]. u is the centre line's
+ * direction turned by asin(ratio), ratio = (rho_a - rho_b)/D, written with
+ * that angle's cosine and sine (no trigonometric calls on the rhs path). */
+static void tangent(const vm *v, const kin *k, int el, elem *e)
 {
+    int a = el, b = (el + 1) % VM_NB;
     double dx = k->c[b][0] - k->c[a][0], dz = k->c[b][1] - k->c[a][1];
     double D = hypot(dx, dz), cr = v->rho_b[a] - v->rho_b[b];
     double ratio = cr / D;
     if (ratio > 0.999) ratio = 0.999;
     if (ratio < -0.999) ratio = -0.999;
-    e->psi = atan2(dz, dx) - asin(ratio);
-    e->u[0] = cos(e->psi);
-    e->u[1] = sin(e->psi);
+    double ca = sqrt(1.0 - ratio * ratio), cx = dx / D, cz = dz / D;
+    e->u[0] = cx * ca + cz * ratio;
+    e->u[1] = cz * ca - cx * ratio;
     e->n[0] = -e->u[1];
     e->n[1] = e->u[0];
     e->ell = sqrt(D * D - cr * cr);
+    const double *u0 = v->u0[el];
+    e->dpsi = atan2(u0[0] * e->u[1] - u0[1] * e->u[0], u0[0] * e->u[0] + u0[1] * e->u[1]);
 }
 
 /* ---- mass matrix pieces ---------------------------------------------------- */
@@ -424,8 +423,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     for (int el = 0; el < VM_NB; el++) {
         int a = el, b = (el + 1) % VM_NB;
         elem e;
-        tangent(v, &k, a, b, &e);
-        e.dpsi = wrap_pi(e.psi - v->psi0[el]);
+        tangent(v, &k, el, &e);
         loop_stretch += (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi;
         const span_el *se = v->span_of[el];
         if (se) {
@@ -636,7 +634,7 @@ static void arm_spans_at(const vm *v, const double *qs, const double *qd, double
         if (a < VM_RW1 && b < VM_RW1) continue;
         elem e;
         span_map mp;
-        tangent(v, &k, a, b, &e);
+        tangent(v, &k, se->elem, &e);
         span_map_build(v, &k, se, &e, a, b, &mp);
         t[s] = span_ke(se, &mp, qd, p[s]);
     }
@@ -1056,9 +1054,8 @@ static ts_rc build_spans(vm *v, ts_err *err)
     for (int s = 0; s < VM_NSPAN; s++) {
         span_el *se = &v->span[s];
         int el = vm_span_element[s];
-        double ang = v->psi0[el];
         ts_span_params p = {.length = v->ell0[el],
-                            .g_y = -GRAVITY * cos(ang), /* g . n, n = (-sin, cos) */
+                            .g_y = -GRAVITY * v->u0[el][0], /* g . n, n = (-u_z, u_x) */
                             .rho = tc->mass_per_length,
                             .ea = tc->ea,
                             .tension = tc->tension,
@@ -1187,18 +1184,20 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     kin k;
     kinematics(v, q, NULL, &k);
     v->x_anchor0 = k.c[VM_RW1 + v->anchor][0];
-    double loop = 0;
+    double loop = 0, psi0[VM_NB];
     for (int el = 0; el < VM_NB; el++) {
         elem e;
-        tangent(v, &k, el, (el + 1) % VM_NB, &e);
+        tangent(v, &k, el, &e); /* v->u0 still zero: e.dpsi meaningless here */
         v->ell0[el] = e.ell;
-        v->psi0[el] = e.psi;
+        v->u0[el][0] = e.u[0];
+        v->u0[el][1] = e.u[1];
+        psi0[el] = atan2(e.u[1], e.u[0]);
     }
     for (int el = 0; el < VM_NB; el++) {
         int a = el, b = (el + 1) % VM_NB, prev = (el + VM_NB - 1) % VM_NB, next = (el + 1) % VM_NB;
         /* wrap on a: from the entry of element prev to the exit of el (clockwise) */
-        double wa = fmod(v->psi0[prev] - v->psi0[el] + 4 * PI, 2 * PI);
-        double wb = fmod(v->psi0[el] - v->psi0[next] + 4 * PI, 2 * PI);
+        double wa = fmod(psi0[prev] - psi0[el] + 4 * PI, 2 * PI);
+        double wb = fmod(psi0[el] - psi0[next] + 4 * PI, 2 * PI);
         if (wa > 1.9 * PI) wa = 0;
         if (wb > 1.9 * PI) wb = 0;
         v->len_el[el] = v->ell0[el] + 0.5 * (wa * v->rho_b[a] + wb * v->rho_b[b]);
@@ -1338,8 +1337,7 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
     for (int el = 0; el < VM_NB; el++) {
         int a = el, b = (el + 1) % VM_NB;
         elem e;
-        tangent(v, &k, a, b, &e);
-        e.dpsi = wrap_pi(e.psi - v->psi0[el]);
+        tangent(v, &k, el, &e);
         const span_el *se = v->span_of[el];
         double u0 = v->rho_b[a] * (q[QS0 + a] + e.dpsi);
         double u1 = v->rho_b[b] * (q[QS0 + b] + e.dpsi) + e.ell - v->ell0[el];
@@ -1423,7 +1421,7 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
     g->track_static_tension = v->t_static;
     elem e[VM_NB];
     for (int el = 0; el < VM_NB; el++)
-        tangent(v, &k, el, (el + 1) % VM_NB, &e[el]);
+        tangent(v, &k, el, &e[el]);
     for (int el = 0; el < VM_NB; el++) {
         int a = el, b = (el + 1) % VM_NB, next = (el + 1) % VM_NB;
         const span_el *se = v->span_of[el];
@@ -1433,7 +1431,7 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
         double kappa = v->cfg.track.mass_per_length * (-GRAVITY * e[el].n[1]) / v->p0;
         double x[2 + 2 * TS_SPAN_MAX_MODES] = {0};
         if (se) {
-            double dpsi = wrap_pi(e[el].psi - v->psi0[el]);
+            double dpsi = e[el].dpsi;
             x[1] = v->rho_b[b] * (q[QS0 + b] + dpsi) + e[el].ell - v->ell0[el] -
                    v->rho_b[a] * (q[QS0 + a] + dpsi);
             for (int m = 0; m < se->nm; m++)
