@@ -112,7 +112,8 @@ struct vm {
     double link_dir[2], d_link;      /* idler link direction and setting */
     double rho_b[VM_NB], j_b[VM_NB]; /* pitch-line radii, spin inertias */
     double wheel_ground;             /* hub to ground-contact surface: r + thickness */
-    double ell0[VM_NB], len_el[VM_NB];
+    double ell0[VM_NB];
+    double k_el[VM_NB]; /* element stiffness EA / L_e, L_e = chord + half of each wrap [N/m] */
     double u0[VM_NB][2]; /* element directions at the design configuration */
     double ea, p0, tau_d;
     double kf, kf3, cf, ka, ca;
@@ -443,7 +444,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         e.s = (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi +
               v->rho_b[b] * q[QS0 + b] - v->rho_b[a] * q[QS0 + a];
         e.sd = vrel + (qd ? v->rho_b[b] * qd[QS0 + b] - v->rho_b[a] * qd[QS0 + a] : 0);
-        double kel = v->ea / v->len_el[el];
+        double kel = v->k_el[el];
         e.t = v->p0 + kel * e.s + v->dscale * kel * v->tau_d * e.sd;
         if (e.t < 0) e.t = 0;
         double f[2] = {e.t * e.u[0], e.t * e.u[1]};
@@ -1184,7 +1185,7 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     kin k;
     kinematics(v, q, NULL, &k);
     v->x_anchor0 = k.c[VM_RW1 + v->anchor][0];
-    double loop = 0, psi0[VM_NB];
+    double loop = 0, psi0[VM_NB], len_el[VM_NB];
     for (int el = 0; el < VM_NB; el++) {
         elem e;
         tangent(v, &k, el, &e); /* v->u0 still zero: e.dpsi meaningless here */
@@ -1200,12 +1201,13 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
         double wb = fmod(psi0[el] - psi0[next] + 4 * PI, 2 * PI);
         if (wa > 1.9 * PI) wa = 0;
         if (wb > 1.9 * PI) wb = 0;
-        v->len_el[el] = v->ell0[el] + 0.5 * (wa * v->rho_b[a] + wb * v->rho_b[b]);
+        len_el[el] = v->ell0[el] + 0.5 * (wa * v->rho_b[a] + wb * v->rho_b[b]);
+        v->k_el[el] = v->ea / len_el[el];
         loop += v->ell0[el] + wa * v->rho_b[a];
     }
     for (int el = 0; el < VM_NB; el++) {
-        v->c_loop += v->len_el[el] / v->ea;
-        if (el >= VM_RW1 + v->anchor) v->c_tail += v->len_el[el] / v->ea;
+        v->c_loop += len_el[el] / v->ea;
+        if (el >= VM_RW1 + v->anchor) v->c_tail += len_el[el] / v->ea;
     }
     double m_track = tc->mass_per_length * loop; /* one side */
     double m_body = 0.5 * vc->mass - m_track - VM_NRW * (v->m_w + v->m_arm);
@@ -1263,15 +1265,19 @@ fail:
 
 /* ---- evaluation ------------------------------------------------------------ */
 
-int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_diag *diag)
+/* ydot = [q_d, M^-1 Q] from the w->M, w->Q that forces() left. */
+static int first_order(const vm *v, vm_work *w, const double *y, double *ydot)
 {
     int nq = v->nq;
-    const double *q = y, *qd = y + nq;
-    forces(v, w, t, q, qd, w->M, w->Q, 1, 1, diag);
-    memcpy(ydot, qd, (size_t)nq * sizeof(double));
+    memcpy(ydot, y + nq, (size_t)nq * sizeof(double));
     memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
-    if (chol_solve(w, w->M, ydot + nq, nq)) return 1;
-    return 0;
+    return chol_solve(w, w->M, ydot + nq, nq);
+}
+
+int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_diag *diag)
+{
+    forces(v, w, t, y, y + v->nq, w->M, w->Q, 1, 1, diag);
+    return first_order(v, w, y, ydot);
 }
 
 int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double sprocket_torque,
@@ -1293,10 +1299,7 @@ int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double spr
         diag->drive_torque = sprocket_torque;
         diag->tension_quasi_static = quasi_static_tension(v, diag->loop_stretch, sprocket_torque);
     }
-    memcpy(ydot, qd, (size_t)nq * sizeof(double));
-    memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
-    if (chol_solve(w, w->M, ydot + nq, nq)) return 1;
-    return 0;
+    return first_order(v, w, y, ydot);
 }
 
 double vm_energy(const vm *v, vm_work *w, const double *y)
@@ -1342,7 +1345,7 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
         double u0 = v->rho_b[a] * (q[QS0 + a] + e.dpsi);
         double u1 = v->rho_b[b] * (q[QS0 + b] + e.dpsi) + e.ell - v->ell0[el];
         if (!se) {
-            double s = u1 - u0, kel = v->ea / v->len_el[el];
+            double s = u1 - u0, kel = v->k_el[el];
             if (s < -v->p0 / kel) s = -v->p0 / kel; /* slack: T = 0, energy flat */
             pe += v->p0 * s + 0.5 * kel * s * s;
             continue;
