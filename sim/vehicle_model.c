@@ -113,7 +113,7 @@ struct vm {
     double rho_b[VM_NB], j_b[VM_NB]; /* pitch-line radii, spin inertias */
     double wheel_ground;             /* hub to ground-contact surface: r + thickness */
     double ell0[VM_NB];
-    double k_el[VM_NB]; /* element stiffness EA / L_e, L_e = chord + half of each wrap [N/m] */
+    double k_el[VM_NB];  /* element stiffness EA / L_e, L_e = chord + half of each wrap [N/m] */
     double u0[VM_NB][2]; /* element directions at the design configuration */
     double ea, p0, tau_d;
     double kf, kf3, cf, ka, ca;
@@ -128,7 +128,7 @@ struct vm {
     double mqs[4][4];           /* quasi-static spin coupling among bodies 0..3 */
     span_el span[VM_NSPAN];
     const span_el *span_of[VM_NB]; /* element -> its dynamic span, NULL when massless */
-    unsigned arm_span_bodies; /* end bodies of the spans ending on a road wheel (bit b) */
+    unsigned arm_span_bodies;      /* end bodies of the spans ending on a road wheel (bit b) */
     int dynamic;
     /* equilibrium */
     double *y_eq;
@@ -507,7 +507,6 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
 }
 
 /* ---- dynamic spans (track_span.h elements) ---------------------------------- */
-
 
 static int cset_add(cset *c, int i)
 {
@@ -1288,7 +1287,8 @@ int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double spr
     int nq = v->nq;
     const double *q = y, *qd = y + nq;
     forces(v, w, t, q, qd, w->M, w->Q, 1, 0, diag);
-    /* the caller's torque on the sprocket spin, its reaction on the hull (as the drive in forces) */
+    /* the caller's torque on the sprocket spin, its reaction on the hull (as the drive in forces)
+     */
     w->Q[QS0 + VM_SPROCKET] += sprocket_torque;
     w->Q[QT] -= sprocket_torque;
     /* hull-mounted inertia turning with the sprocket: kinetic energy J/2 (Phi_s' - theta')^2 */
