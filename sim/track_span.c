@@ -316,8 +316,9 @@ void ts_span_force(const ts_span *sp, const ts_span_motion *mo, const double *x,
     double dg = mo->g_y - sp->p.g_y;
     for (int i = 0; i < n; i++) {
         double cor = 0.0;
-        for (int j = 0; j < n; j++)
-            cor += sp->W[i * n + j] * xd[j];
+        if (mo->theta_d != 0.0) /* the vehicle passes no chord rotation: skip the product */
+            for (int j = 0; j < n; j++)
+                cor += sp->W[i * n + j] * xd[j];
         f[i] += 2.0 * mo->theta_d * cor                     /* Eqs. 4-5 Coriolis */
                 - mo->a0x * sp->ax[i] - mo->a0y * sp->ay[i] /* x0_dd, y0_dd */
                 + mo->theta_d * mo->theta_d * sp->sx[i]     /* -x theta_d^2 */

@@ -63,7 +63,8 @@ typedef struct pin {
 } pin;
 
 static const pin pins[] = {
-    {"bump-prescribed-static", 21, 29.762774, 28923.657364, 2.190904, 15.705981, 2.190904, 6.094315},
+    {"bump-prescribed-static", 21, 29.762774, 28923.657364, 2.190904, 15.705981, 2.190904,
+     6.094315},
     {"bump-prescribed-longitudinal", 26, 25.388269, 33095.938955, 2.015762, 14.793819, 2.015637,
      5.691946},
     {"bump-prescribed-coupled", 31, 25.330256, 35104.657248, 3.978580, 14.791545, 3.951156,
@@ -94,11 +95,10 @@ static int check_pins(const char *preset, int dof, const ts_metric *mt, int nm)
                dof == p->dof ? "ok" : "FAIL");
         bad += dof != p->dof;
         bad += check_value("top_speed_mph", metric(mt, nm, "top_speed_mph"), p->top_speed_mph);
-        bad += check_value("peak_tension_lb", metric(mt, nm, "peak_tension_lb"),
-                           p->peak_tension_lb);
+        bad +=
+            check_value("peak_tension_lb", metric(mt, nm, "peak_tension_lb"), p->peak_tension_lb);
         bad += check_freq("tension_peak_2_6hz", metric(mt, nm, "tension_peak_2_6hz"), p->t26);
-        bad += check_freq("tension_peak_13_20hz", metric(mt, nm, "tension_peak_13_20hz"),
-                          p->t1320);
+        bad += check_freq("tension_peak_13_20hz", metric(mt, nm, "tension_peak_13_20hz"), p->t1320);
         bad += check_freq("roller_force_peak_2_4.6hz", metric(mt, nm, "roller_force_peak_2_4.6hz"),
                           p->r246);
         bad += check_freq("roller_force_peak_4.6_7hz", metric(mt, nm, "roller_force_peak_4.6_7hz"),
@@ -144,39 +144,41 @@ static int run(const char *preset)
            "real-time factor %.0fx (wall), %.0fx (CPU)\n",
            preset, ts_model_dof(m), c.run.duration, wall, cpu, c.run.duration / wall,
            c.run.duration / cpu);
+    /* model figure beside the paper's: label, metric, scale, decimals, paper */
+    static const struct {
+        const char *label, *metric;
+        double scale;
+        int prec;
+        const char *paper;
+    } fig[] = {
+        {"top speed [mph] (torque calibrated)", "top_speed_mph", 1, 1, "~25 (II.D), 27 (IV.C)"},
+        {"static tension [lbf]", "static_tension", 1 / 4.44822, 0, "~15,000 (inferred)"},
+        {"peak rear-roller tension [lbf]", "peak_tension_lb", 1, 0, "~30,000 (Fig. 12)"},
+        {"peak / static tension", "tension_amplification", 1, 2,
+         "~2 ('nearly 100 %'), dynamic models"},
+        {"quasi-static peak tension [lbf]", "quasi_static_peak_tension_lb", 1, 0,
+         "(massless track, support geometry)"},
+        {"dyn. amplification max (T-Tqs)/T0", "dynamic_amplification_max", 1, 3,
+         "static: none; dynamic: yes (Fig. 12)"},
+        {"dyn. amplification RMS (T-Tqs)/T0", "dynamic_amplification_rms", 1, 3, ""},
+        {"peak |accel_x| [m/s^2]", "peak_abs_accel_x", 1, 2, "static model largest (Fig. 11)"},
+        {"tension FFT peak 2-6 Hz [Hz]", "tension_peak_2_6hz", 1, 2,
+         "3.7 (coupled only, Fig. 13c)"},
+        {"  its amplitude [N]", "tension_peak_2_6hz_amp", 1, 0, ""},
+        {"tension FFT peak 13-20 Hz [Hz]", "tension_peak_13_20hz", 1, 2,
+         "14.0 (dynamic models, Fig. 13b-c)"},
+        {"  its amplitude [N]", "tension_peak_13_20hz_amp", 1, 0, ""},
+        {"roller force FFT peak 2-4.6 Hz", "roller_force_peak_2_4.6hz", 1, 2,
+         "3.7 (coupled, Fig. 14b)"},
+        {"  its amplitude [N]", "roller_force_peak_2_4.6hz_amp", 1, 0, "static: null"},
+        {"roller force FFT peak 4.6-7 Hz", "roller_force_peak_4.6_7hz", 1, 2,
+         "5.5 (coupled, Fig. 14b)"},
+        {"  its amplitude [N]", "roller_force_peak_4.6_7hz_amp", 1, 0, "static: null"},
+    };
     printf("  %-34s %12s   %s\n", "figure", "model", "paper");
-    printf("  %-34s %12.1f   %s\n", "top speed [mph] (torque calibrated)",
-           metric(mt, nm, "top_speed_mph"), "~25 (II.D), 27 (IV.C)");
-    printf("  %-34s %12.0f   %s\n", "static tension [lbf]",
-           metric(mt, nm, "static_tension") / 4.44822, "~15,000 (inferred)");
-    printf("  %-34s %12.0f   %s\n", "peak rear-roller tension [lbf]",
-           metric(mt, nm, "peak_tension_lb"), "~30,000 (Fig. 12)");
-    printf("  %-34s %12.2f   %s\n", "peak / static tension",
-           metric(mt, nm, "tension_amplification"), "~2 ('nearly 100 %'), dynamic models");
-    printf("  %-34s %12.0f   %s\n", "quasi-static peak tension [lbf]",
-           metric(mt, nm, "quasi_static_peak_tension_lb"), "(massless track, support geometry)");
-    printf("  %-34s %12.3f   %s\n", "dyn. amplification max (T-Tqs)/T0",
-           metric(mt, nm, "dynamic_amplification_max"), "static: none; dynamic: yes (Fig. 12)");
-    printf("  %-34s %12.3f   %s\n", "dyn. amplification RMS (T-Tqs)/T0",
-           metric(mt, nm, "dynamic_amplification_rms"), "");
-    printf("  %-34s %12.2f   %s\n", "peak |accel_x| [m/s^2]", metric(mt, nm, "peak_abs_accel_x"),
-           "static model largest (Fig. 11)");
-    printf("  %-34s %12.2f   %s\n", "tension FFT peak 2-6 Hz [Hz]",
-           metric(mt, nm, "tension_peak_2_6hz"), "3.7 (coupled only, Fig. 13c)");
-    printf("  %-34s %12.0f   %s\n", "  its amplitude [N]", metric(mt, nm, "tension_peak_2_6hz_amp"),
-           "");
-    printf("  %-34s %12.2f   %s\n", "tension FFT peak 13-20 Hz [Hz]",
-           metric(mt, nm, "tension_peak_13_20hz"), "14.0 (dynamic models, Fig. 13b-c)");
-    printf("  %-34s %12.0f   %s\n", "  its amplitude [N]",
-           metric(mt, nm, "tension_peak_13_20hz_amp"), "");
-    printf("  %-34s %12.2f   %s\n", "roller force FFT peak 2-4.6 Hz",
-           metric(mt, nm, "roller_force_peak_2_4.6hz"), "3.7 (coupled, Fig. 14b)");
-    printf("  %-34s %12.0f   %s\n", "  its amplitude [N]",
-           metric(mt, nm, "roller_force_peak_2_4.6hz_amp"), "static: null");
-    printf("  %-34s %12.2f   %s\n", "roller force FFT peak 4.6-7 Hz",
-           metric(mt, nm, "roller_force_peak_4.6_7hz"), "5.5 (coupled, Fig. 14b)");
-    printf("  %-34s %12.0f   %s\n", "  its amplitude [N]",
-           metric(mt, nm, "roller_force_peak_4.6_7hz_amp"), "static: null");
+    for (size_t i = 0; i < sizeof fig / sizeof fig[0]; i++)
+        printf("  %-34s %12.*f   %s\n", fig[i].label, fig[i].prec,
+               metric(mt, nm, fig[i].metric) * fig[i].scale, fig[i].paper);
     int bad = check_pins(preset, ts_model_dof(m), mt, nm);
     free(s.rows);
     ts_data_free(d);
@@ -188,7 +190,8 @@ int main(int argc, char **argv)
 {
     int rc = 0;
     if (argc > 1) { /* bench_vehicle PRESET...: only these (profiling) */
-        for (int i = 1; i < argc; i++) rc |= run(argv[i]);
+        for (int i = 1; i < argc; i++)
+            rc |= run(argv[i]);
         return rc;
     }
     rc |= run("bump-prescribed-static");

@@ -6,7 +6,8 @@
  * and that the mass matrix and velocity terms belong together.
  */
 #include "test_util.h"
-#define PLUCK 0.01 /* m, span mode amplitude */
+#define PLUCK      0.01 /* m, span mode amplitude */
+#define PITCH_RATE 0.5  /* rad/s, initial hull pitch rate (moves the chord frames) */
 
 #include <stdlib.h>
 #include <string.h>
@@ -43,7 +44,8 @@ static ts_config conservative(const char *fidelity)
     return c;
 }
 
-/* Energy drift over 10 s after dropping the hull 3 cm and plucking a span. */
+/* Energy drift over 10 s after dropping the hull 3 cm, setting it pitching at
+ * PITCH_RATE and plucking a span. */
 static void check_energy(const char *fidelity, double tol)
 {
     ts_config c = conservative(fidelity);
@@ -62,9 +64,10 @@ static void check_energy(const char *fidelity, double tol)
     for (int i = 0; i < 7; i++)
         y[3 + i] = asin(sin(y[3 + i]) + 0.03 / arm);
     if (nq > 21) y[nq - 1] += PLUCK; /* last modal coordinate of the last span plucked 1 cm */
+    y[nq + 2] = PITCH_RATE;
     double e0 = vm_energy(v, u.w, y);
     double disturbance = e0 - e_eq;
-    assert_true(disturbance > 1000.0);
+    assert_true(disturbance > 10000.0);
     /* Classic fourth-order Runge-Kutta at a fixed 0.2-ms step (omega dt < 0.2
      * for the stiffest mode), independent of the production integrator. */
     double dt = 2e-4, t = 0, worst = 0;
@@ -99,34 +102,38 @@ static void check_energy(const char *fidelity, double tol)
 /* EVIDENCE: conservation of mechanical energy (closed form: dE/dt = 0 for a
  * conservative Lagrangian system). Static fidelity (massless chain, 21 DOF),
  * all dampers, foundation/anchor/track damping and the drive off; the hull is
- * dropped 3 cm onto its suspension. Tolerance: 1 % of the disturbance energy over 10 s (fixed-step
- * RK4). Nothing calibrated. */
+ * dropped 3 cm onto its suspension, pitching at 0.5 rad/s. Tolerance: 0.5 % of
+ * the disturbance energy (~19 kJ) over 10 s (fixed-step RK4; measured
+ * 0.05-0.17 % over the six fidelities when written). Nothing calibrated. */
 static void static_model_conserves_energy(void **state)
 {
     (void)state;
-    check_energy("static", 0.01);
+    check_energy("static", 0.005);
 }
 
 /* EVIDENCE: as above for the coupled fidelity (31 DOF: span longitudinal and
  * transverse modes, inertia coupling to the supports); a span mode plucked
  * 1 cm as well; this also checks the span blocks' velocity terms (dM/dq of
- * the moving chord frame, vehicle_model.c). Tolerance 1 % over 10 s. Nothing
+ * the moving chord frame, vehicle_model.c): without their road-arm part the
+ * drift is 1.0 % (coupled) and 2.6 % (longitudinal), so 0.5 % fails it. Their
+ * pitch part (span_pitch_terms) is below this test's resolution: without it
+ * 0.18 % instead of 0.12 % (coupled). Tolerance 0.5 % over 10 s. Nothing
  * calibrated. */
 static void coupled_model_conserves_energy(void **state)
 {
     (void)state;
-    check_energy("coupled", 0.01);
+    check_energy("coupled", 0.005);
 }
 
 /* EVIDENCE: as above for the lumped, quasi-static, longitudinal and
- * transverse fidelities. Tolerance 1 % over 10 s. */
+ * transverse fidelities. Tolerance 0.5 % over 10 s. */
 static void other_fidelities_conserve_energy(void **state)
 {
     (void)state;
-    check_energy("lumped", 0.01);
-    check_energy("quasi_static", 0.01);
-    check_energy("longitudinal", 0.01);
-    check_energy("transverse", 0.01);
+    check_energy("lumped", 0.005);
+    check_energy("quasi_static", 0.005);
+    check_energy("longitudinal", 0.005);
+    check_energy("transverse", 0.005);
 }
 
 int main(void)
