@@ -8,7 +8,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-#define PI 3.14159265358979323846
+#include "constants.h"
+#define PI TS_PI
 
 int ts_fft_nbins(int n)
 {

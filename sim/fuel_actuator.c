@@ -5,7 +5,8 @@
 
 #include <math.h>
 
-#define RPM_PER_RAD_S (30.0 / 3.14159265358979323846)
+#include "constants.h"
+#define RPM_PER_RAD_S (30.0 / TS_PI)
 #define OMEGA_MIN 10.0 /* guard against N -> 0 in Eq. 14 [rad/s] */
 #define N_REV_PER_CYCLE 2.0 /* n_R: four-stroke */
 

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "constants.h"
 #include "engine.h"
 #include "scenario.h"
 
@@ -122,7 +123,7 @@ static ts_rc reset(const ts_model *m, ts_data *d, ts_err *err)
     ts_engine_set_turbo_speed(e, p->x, SEARCH_TURBO);
     ts_rc rc = ts_engine_steady(e, p->x, w, &in, STEADY_CYCLES, STEADY_TOL, NULL, err);
     if (rc != TS_OK) return rc;
-    p->x[TS_ENGINE_X_ANGLE] = fmod(p->x[TS_ENGINE_X_ANGLE], 4.0 * 3.14159265358979323846);
+    p->x[TS_ENGINE_X_ANGLE] = fmod(p->x[TS_ENGINE_X_ANGLE], 4.0 * TS_PI);
     return TS_OK;
 }
 
@@ -149,7 +150,7 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     out[CH_FUEL] = o.fuel_flow;
     out[CH_PHI] = o.phi;
     out[CH_TURBO] = o.turbo_speed;
-    out[CH_ANGLE] = fmod(p->x[TS_ENGINE_X_ANGLE], 4.0 * 3.14159265358979323846);
+    out[CH_ANGLE] = fmod(p->x[TS_ENGINE_X_ANGLE], 4.0 * TS_PI);
     out[CH_CYL_P] = o.cyl_pressure;
     out[CH_CYL_T] = o.cyl_temp;
     out[CH_HRR] = o.heat_release;

@@ -39,7 +39,8 @@
 #include "scenario.h"
 #include "solver.h"
 
-#define GRAVITY 9.80665 /* standard gravity [m/s^2] */
+#include "constants.h"
+#define GRAVITY TS_GRAVITY
 #define V_EPS 0.01      /* standstill smoothing speed [m/s] */
 #define KMH (1.0 / 3.6)
 

@@ -12,7 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
+#include "constants.h"
+#define PI TS_PI
 
 struct ts_terrain {
     int kind;

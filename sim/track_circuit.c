@@ -11,7 +11,8 @@
 #include <string.h>
 
 #define TWO_PI  6.28318530717958647692
-#define GRAVITY 9.80665 /* standard gravity [m/s^2] */
+#include "constants.h"
+#define GRAVITY TS_GRAVITY
 
 const char *const ts_circuit_support_names[TS_CIRCUIT_NSUPPORTS] = {
     "road_wheel_1", "idler", "front_roller", "rear_roller", "sprocket", "road_wheel_7"};

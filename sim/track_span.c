@@ -19,7 +19,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
+#include "constants.h"
+#define PI TS_PI
 
 /* 5-point Gauss–Legendre nodes and weights on [-1, 1] (method constants). */
 static const double gl_x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,

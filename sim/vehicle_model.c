@@ -67,8 +67,9 @@
 #include "terrain.h"
 #include "track_span.h"
 
-#define GRAVITY 9.80665 /* standard gravity [m/s^2] */
-#define PI      3.14159265358979323846
+#include "constants.h"
+#define GRAVITY TS_GRAVITY
+#define PI      TS_PI
 
 enum { QX, QZ, QT, QA0, QS0 = QA0 + VM_NRW };
 

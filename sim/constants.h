@@ -1,0 +1,12 @@
+/*
+ * constants.h — the physical and mathematical constants sim/ uses, defined once
+ * (they were repeated per file). Not parameters: a parameter that a user may
+ * change belongs in the parameter table and sim/data/defaults.
+ */
+#ifndef TS_CONSTANTS_H
+#define TS_CONSTANTS_H
+
+#define TS_PI      3.14159265358979323846 /* pi */
+#define TS_GRAVITY 9.80665                /* standard gravity [m/s^2] (ISO 80000-3) */
+
+#endif
