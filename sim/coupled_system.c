@@ -389,26 +389,11 @@ static ts_cosim_sample publish(ts_coupled_run *r, double t, const double *yp, do
 static ts_rc lead_explicit(ts_coupled_run *r, double t_to, ts_err *err)
 {
     const ts_coupled *c = r->c;
-    int n = c->np;
-    double *k1 = r->rk, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n, *y = r->yp;
+    double *y = r->yp;
     while (r->lead_t < t_to - 1e-12 * (1.0 + fabs(t_to))) {
         double h = ts_powertrain_explicit_step(c->pt, y), t = r->lead_t;
         if (t + h > t_to) h = t_to - t;
-        int rc = lead_rhs(t, y, k1, r);
-        for (int i = 0; !rc && i < n; i++)
-            yt[i] = y[i] + 0.5 * h * k1[i];
-        if (!rc) rc = lead_rhs(t + 0.5 * h, yt, k2, r);
-        for (int i = 0; !rc && i < n; i++)
-            yt[i] = y[i] + 0.5 * h * k2[i];
-        if (!rc) rc = lead_rhs(t + 0.5 * h, yt, k3, r);
-        for (int i = 0; !rc && i < n; i++)
-            yt[i] = y[i] + h * k3[i];
-        if (!rc) rc = lead_rhs(t + h, yt, k4, r);
-        for (int i = 0; !rc && i < n; i++) {
-            y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
-            if (!isfinite(y[i])) rc = 1;
-        }
-        if (rc)
+        if (ts_rk4_step(c->np, lead_rhs, r, t, h, y, r->rk))
             return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                               "powertrain state left its domain at t = %.6f s", t);
         r->lead_t = t + h;

@@ -522,23 +522,10 @@ ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0, ts_err
  * shift state machine at every step end (as scenario_pointmass.c). */
 static ts_rc sim_advance_explicit(ts_powertrain_sim *s, double t_to, ts_err *err)
 {
-    int n = s->pt->nstate;
-    double *k1 = s->k, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n;
     while (s->t < t_to - 1e-12 * (1.0 + fabs(t_to))) {
         double h = ts_powertrain_explicit_step(s->pt, s->y), t = s->t;
         if (t + h > t_to) h = t_to - t;
-        int rc = sim_rhs(t, s->y, k1, s);
-        for (int i = 0; !rc && i < n; i++) yt[i] = s->y[i] + 0.5 * h * k1[i];
-        if (!rc) rc = sim_rhs(t + 0.5 * h, yt, k2, s);
-        for (int i = 0; !rc && i < n; i++) yt[i] = s->y[i] + 0.5 * h * k2[i];
-        if (!rc) rc = sim_rhs(t + 0.5 * h, yt, k3, s);
-        for (int i = 0; !rc && i < n; i++) yt[i] = s->y[i] + h * k3[i];
-        if (!rc) rc = sim_rhs(t + h, yt, k4, s);
-        for (int i = 0; !rc && i < n; i++) {
-            s->y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
-            if (!isfinite(s->y[i])) rc = 1;
-        }
-        if (rc)
+        if (ts_rk4_step(s->pt->nstate, sim_rhs, s, t, h, s->y, s->k))
             return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                               "powertrain state left its domain at t = %.6f s", t);
         s->t = t + h;

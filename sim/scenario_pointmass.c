@@ -228,20 +228,8 @@ static ts_rc settle_events(const ts_model *m, pm_data *p, double t, ts_err *err)
 /* One classical RK4 step of size h from (p->t_int, p->y). */
 static ts_rc rk4_step(pm_data *p, double h, ts_err *err)
 {
-    int n = p->n;
-    double *k1 = p->k, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n;
     double t = p->t_int;
-    int rc = rhs(t, p->y, k1, p);
-    for (int i = 0; !rc && i < n; i++) yt[i] = p->y[i] + 0.5 * h * k1[i];
-    if (!rc) rc = rhs(t + 0.5 * h, yt, k2, p);
-    for (int i = 0; !rc && i < n; i++) yt[i] = p->y[i] + 0.5 * h * k2[i];
-    if (!rc) rc = rhs(t + 0.5 * h, yt, k3, p);
-    for (int i = 0; !rc && i < n; i++) yt[i] = p->y[i] + h * k3[i];
-    if (!rc) rc = rhs(t + h, yt, k4, p);
-    for (int i = 0; !rc && i < n; i++) {
-        p->y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
-        if (!isfinite(p->y[i])) rc = 1;
-    }
+    int rc = ts_rk4_step(p->n, rhs, p, t, h, p->y, p->k);
     if (rc)
         return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                           "powertrain state left its domain at t = %.6f s (RK4 step %.3g s)", t,

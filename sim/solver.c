@@ -4,6 +4,7 @@
  */
 #include "solver.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -367,4 +368,22 @@ void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s)
 {
     cvode_stats(o->mem, s);
     stats_add(s, &o->acc);
+}
+
+int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y, double *work)
+{
+    double *k1 = work, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n;
+    if (f(t, y, k1, ud)) return 1;
+    for (int i = 0; i < n; i++) yt[i] = y[i] + 0.5 * h * k1[i];
+    if (f(t + 0.5 * h, yt, k2, ud)) return 1;
+    for (int i = 0; i < n; i++) yt[i] = y[i] + 0.5 * h * k2[i];
+    if (f(t + 0.5 * h, yt, k3, ud)) return 1;
+    for (int i = 0; i < n; i++) yt[i] = y[i] + h * k3[i];
+    if (f(t + h, yt, k4, ud)) return 1;
+    int bad = 0;
+    for (int i = 0; i < n; i++) {
+        y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+        if (!isfinite(y[i])) bad = 1;
+    }
+    return bad;
 }

@@ -73,4 +73,10 @@ int ts_ode_n(const ts_ode *o);
 /* Counters since ts_ode_make, summed over every (re)start. */
 void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s);
 
+/* One classical RK4 step of size h of y' = f(t, y) from (t, y), in place, for the
+ * explicit paths (the crank-angle engine's macro-stepped powertrain). work holds
+ * 5 n doubles. Returns 0, or non-zero if f failed or y left the finite numbers
+ * (y is then unspecified). */
+int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y, double *work);
+
 #endif
