@@ -168,14 +168,6 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
             }
         }
     }
-    e->map_n = c->map_speed_n;
-    const ts_engine_map_table *t = &c->map[c->variant];
-    memcpy(e->map_tq, t->torque, sizeof e->map_tq);
-    memcpy(e->map_boost, t->boost, sizeof e->map_boost);
-    memcpy(e->map_fuel, t->fuel, sizeof e->map_fuel);
-    memcpy(e->map_eta_v, t->eta_v, sizeof e->map_eta_v);
-    memcpy(e->map_eta_i, t->eta_i, sizeof e->map_eta_i);
-    memcpy(e->map_q_wall, t->q_wall, sizeof e->map_q_wall);
     e->turbo_inertia_scale = 1.0;
     e->thermal_scale = 1.0;
     e->speed_step = 5e-4;
@@ -213,7 +205,7 @@ int ts_engine_nstate(const ts_engine *e) { return e->nx; }
 double en_map_interp(const ts_engine *e, const double *y, double omega)
 {
     const double *xs = e->c.map_speed;
-    int n = e->map_n;
+    int n = e->c.map_speed_n;
     if (omega <= xs[0]) return y[0];
     if (omega >= xs[n - 1]) return y[n - 1];
     int i = 0;
@@ -251,7 +243,7 @@ void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double
         xb[BX_EMF] = 0.5;
         xb[BX_TC] = e->c.turbo_idle_speed;
     }
-    if (e->fidelity == TS_ENGINE_CRANK_ANGLE) en_crank_init(e, omega, p_amb, T_amb, x);
+    if (e->fidelity == TS_ENGINE_CRANK_ANGLE) en_crank_init(e, p_amb, T_amb, x);
 }
 
 void ts_engine_set_turbo_speed(const ts_engine *e, double *x, double w)

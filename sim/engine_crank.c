@@ -48,9 +48,8 @@ static double wrap(double a)
     return a < 0 ? a + EN_CYCLE : a;
 }
 
-void en_crank_init(const ts_engine *e, double omega, double p, double T, double *x)
+void en_crank_init(const ts_engine *e, double p, double T, double *x)
 {
-    (void)omega;
     const ts_engine_config *c = &e->c;
     x[e->off_coolant] = c->coolant_temp;
     x[e->off_coolant + 1] = c->oil_temp;

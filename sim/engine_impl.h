@@ -238,13 +238,16 @@ struct ts_engine {
     double speed_step;           /* map/mean_value fixed step [s] */
     double turbo_inertia_scale;  /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
     double thermal_scale;        /* 1, shrunk by ts_engine_steady (coolant, oil capacities) */
-    double map_tq[TS_ENGINE_MAP_MAX], map_boost[TS_ENGINE_MAP_MAX], map_fuel[TS_ENGINE_MAP_MAX];
-    double map_eta_v[TS_ENGINE_MAP_MAX], map_eta_i[TS_ENGINE_MAP_MAX];
-    double map_q_wall[TS_ENGINE_MAP_MAX];
-    int map_n;
 };
 
-/* Piecewise-linear interpolation in the map tables, clamped at the ends. */
+/* The variant's map tables (/engine/map_*_<variant>, /engine/pb_*_<variant>). */
+static inline const ts_engine_map_table *en_map_table(const ts_engine *e)
+{
+    return &e->c.map[e->variant];
+}
+
+/* Piecewise-linear interpolation in a map table y (one value per
+ * /engine/map_speed), clamped at the ends. */
 double en_map_interp(const ts_engine *e, const double *y, double omega);
 
 /* Bilinear interpolation in a part-boost table y (/engine/pb_*: row-major
@@ -303,7 +306,8 @@ double en_crank_next_switch(const ts_engine *e, const double *x, const double *x
  * temperatures in x: Crank-Nicolson (A-stable, second order; the conduction
  * equations are linear). */
 void en_walls_step(const ts_engine *e, double *x, const double *q, double h);
-void en_crank_init(const ts_engine *e, double omega, double p, double T, double *x);
+/* Crank-angle states at rest gas (p, T) in every cylinder, walls, coolant and oil. */
+void en_crank_init(const ts_engine *e, double p, double T, double *x);
 int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
                 double *xdot, ts_engine_outputs *out);
 int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,

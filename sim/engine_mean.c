@@ -45,11 +45,11 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         en_bank_read(e, xb, &bo[b]);
     }
     double mf_cyc = en_fuel_command(e, in, air, wp);
-    const ts_engine_map_table *pb = &c->map[c->variant];
-    double eta_v_fl = en_map_interp(e, e->map_eta_v, wp);
-    double eta_i_fl = en_map_interp(e, e->map_eta_i, wp);
-    double q_w_fl = en_map_interp(e, e->map_q_wall, wp);
-    double p_fl = en_map_interp(e, e->map_boost, wp);
+    const ts_engine_map_table *mt = en_map_table(e);
+    double eta_v_fl = en_map_interp(e, mt->eta_v, wp);
+    double eta_i_fl = en_map_interp(e, mt->eta_i, wp);
+    double q_w_fl = en_map_interp(e, mt->q_wall, wp);
+    double p_fl = en_map_interp(e, mt->boost, wp);
     double t_ind = 0, fuel_rate = 0, wall = 0, hin = 0, hout = 0, min = 0, mout = 0;
     double *xl = xdot + e->off_ledger;
     for (int b = 0; b < EN_NBANK; b++) {
@@ -59,9 +59,9 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         /* part boost: the crank-angle spool-ups' factors at this bank's
          * intake manifold pressure / full-load boost (see the header) */
         double ratio = o->p_im / p_fl;
-        double eta_v = eta_v_fl * en_pb_interp(e, pb->pb_eta_v, wp, ratio);
-        double eta_i = eta_i_fl * en_pb_interp(e, pb->pb_eta_i, wp, ratio);
-        double q_wb = q_w_fl * en_pb_interp(e, pb->pb_q_wall, wp, ratio);
+        double eta_v = eta_v_fl * en_pb_interp(e, mt->pb_eta_v, wp, ratio);
+        double eta_i = eta_i_fl * en_pb_interp(e, mt->pb_eta_i, wp, ratio);
+        double q_wb = q_w_fl * en_pb_interp(e, mt->pb_q_wall, wp, ratio);
         double m_cyl = eta_v * rho * e->geom.vd * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
         double m_f = mf_cyc * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
         double q_fuel = m_f * c->lhv;
