@@ -302,7 +302,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         en_bank_rhs(e, x + e->off_bank + b * EN_BANK_NX, &bf[b], in->p_amb, in->T_amb,
                     xdot + e->off_bank + b * EN_BANK_NX, &bo[b]);
     memcpy(xdot + e->off_ledger, led, sizeof led); /* LX_WALL: wall_part */
-    double t_fric = en_fmep(c, w) * geo->vd * EN_NCYL / EN_CYCLE * tanh(w / 5.0);
+    double t_fric = en_friction_torque(e, w);
     pc->t_brake = t_ind - t_fric;
     pc->J = J;
     pc->dJ = dJ;
@@ -312,14 +312,10 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         out->brake_torque = pc->t_brake;
         out->indicated_torque = t_ind;
         out->friction_torque = t_fric;
-        out->boost = 0.5 * (bo[0].p_im + bo[1].p_im);
-        out->intake_temp = 0.5 * (bo[0].T_im + bo[1].T_im);
-        out->exhaust_temp = 0.5 * (bo[0].T_em + bo[1].T_em);
-        out->air_flow = bo[0].air_flow + bo[1].air_flow;
+        en_bank_outputs(bo, out);
         out->fuel_per_cycle = mf_cyc;
         out->fuel_flow = mf_cyc * EN_NCYL * wp / EN_CYCLE;
         out->phi = out->air_flow > 0 ? out->fuel_flow * c->afr_stoich / out->air_flow : 0.0;
-        out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
     }
     return 0;
 }

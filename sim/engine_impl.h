@@ -207,6 +207,8 @@ double en_intercooler_heat(double ua, double mdot, double cp, double T_in, doubl
 /* ---- friction and inertia (engine_friction.c) ----------------------------- */
 /* Millington-Hartles friction mean effective pressure [Pa] at omega [rad/s]. */
 double en_fmep(const ts_engine_config *c, double omega);
+/* Friction torque of the whole engine [N*m] at omega (every fidelity). */
+double en_friction_torque(const ts_engine *e, double omega);
 
 /* ---- the model ------------------------------------------------------------ */
 /* Offsets of the state vector. Per cylinder (EN_CYL_NX): */
@@ -326,6 +328,9 @@ typedef struct en_bank_flows {
 typedef struct en_bank_out {
     double p_im, T_im, F_im, p_em, T_em, F_em, air_flow, turbo_speed;
 } en_bank_out;
+/* The bank-level channels of out (boost, intake and exhaust temperature: bank
+ * means; air flow: sum; turbo speed: mean) from both banks' en_bank_out. */
+void en_bank_outputs(const en_bank_out *bo, ts_engine_outputs *out);
 /* Read the bank's manifold states (p, T, F) without derivatives. */
 void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o);
 void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, double p_amb,

@@ -80,7 +80,7 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         min += m_cyl;
         mout += m_out;
     }
-    double t_fric = en_fmep(c, w) * e->geom.vd * EN_NCYL / EN_CYCLE * tanh(w / 5.0);
+    double t_fric = en_friction_torque(e, w);
     double t_brake = t_ind - t_fric;
     xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) /
                                                         (c->inertia + in->load_inertia);
@@ -98,14 +98,10 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         out->brake_torque = t_brake;
         out->indicated_torque = t_ind;
         out->friction_torque = t_fric;
-        out->boost = 0.5 * (bo[0].p_im + bo[1].p_im);
-        out->intake_temp = 0.5 * (bo[0].T_im + bo[1].T_im);
-        out->exhaust_temp = 0.5 * (bo[0].T_em + bo[1].T_em);
-        out->air_flow = bo[0].air_flow + bo[1].air_flow;
+        en_bank_outputs(bo, out);
         out->fuel_flow = fuel_rate;
         out->fuel_per_cycle = mf_cyc;
         out->phi = min > 0 ? fuel_rate * c->afr_stoich / min : 0.0;
-        out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
     }
     return 0;
 }
