@@ -120,35 +120,30 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     double n_rpm = wp * EN_RPM;
     double sp_half = c->stroke * wp / EN_PI / 2.0; /* half the mean piston speed */
     en_bank_out bo[EN_NBANK];
-    double R_im[EN_NBANK], g_im[EN_NBANK], R_em[EN_NBANK], g_em[EN_NBANK];
-    double h_im[EN_NBANK], h_em[EN_NBANK], rho_im[EN_NBANK];
+    /* the manifolds' gas (handed on to en_bank_rhs with the compressor) */
+    en_bank_flows bf[EN_NBANK];
+    memset(bf, 0, sizeof bf);
+    double g_im[EN_NBANK], g_em[EN_NBANK], rho_im[EN_NBANK];
     double air = 0;
-    en_comp_out cob[EN_NBANK];
-    en_gas_state s_imb[EN_NBANK], s_emb[EN_NBANK];
     for (int b = 0; b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
         if (!(xb[BX_IMM] > 0 && xb[BX_EMM] > 0 && xb[BX_ICM] > 0 && xb[BX_IMT] > 100 &&
               xb[BX_EMT] > 100 && xb[BX_ICT] > 100))
             return 1;
         double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
-        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &cob[b]);
-        air += cob[b].mdot;
+        bf[b].have_co = 1;
+        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &bf[b].co);
+        air += bf[b].co.mdot;
         en_bank_read(e, xb, &bo[b]);
-        en_gas_state *sip = &s_imb[b], *sep = &s_emb[b];
-        en_gas_eval(g, bo[b].T_im, bo[b].F_im, sip);
-        en_gas_eval(g, bo[b].T_em, bo[b].F_em, sep);
-        en_gas_state si = *sip, se = *sep;
-        R_im[b] = si.R;
-        g_im[b] = si.cp / si.cv;
-        h_im[b] = si.h;
-        rho_im[b] = bo[b].p_im / (si.R * bo[b].T_im);
-        R_em[b] = se.R;
-        g_em[b] = se.cp / se.cv;
-        h_em[b] = se.h;
+        bf[b].have_gas = 1;
+        const en_gas_state *si = &bf[b].s_im, *se = &bf[b].s_em;
+        en_gas_eval(g, bo[b].T_im, bo[b].F_im, &bf[b].s_im);
+        en_gas_eval(g, bo[b].T_em, bo[b].F_em, &bf[b].s_em);
+        g_im[b] = si->cp / si->cv;
+        rho_im[b] = bo[b].p_im / (si->R * bo[b].T_im);
+        g_em[b] = se->cp / se->cv;
     }
     double mf_cyc = en_fuel_command(e, in, air, wp);
-    en_bank_flows bf[EN_NBANK];
-    memset(bf, 0, sizeof bf);
     double t_ind = 0, J = c->inertia + in->load_inertia, dJ = 0;
     double led[EN_LEDGER_NX] = {0};
     double s_th = sin(th), c_th = cos(th);
@@ -190,15 +185,16 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
             valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]),
             c->exhaust_valve_diameter, c->n_exhaust_valves, c->valve_cd);
         const en_bank_out *o = &bo[b];
+        const en_gas_state *si = &bf[b].s_im, *se = &bf[b].s_em;
         double mi = 0, me = 0, hi = 0, fi = 0, he = 0, fe = 0;
         if (a_iv > 0) {
-            mi = en_orifice(a_iv, o->p_im, o->T_im, R_im[b], g_im[b], p, T, R, gam);
-            hi = mi >= 0 ? mi * h_im[b] : mi * gs.h;
+            mi = en_orifice(a_iv, o->p_im, o->T_im, si->R, g_im[b], p, T, R, gam);
+            hi = mi >= 0 ? mi * si->h : mi * gs.h;
             fi = mi >= 0 ? mi * o->F_im : mi * F;
         }
         if (a_ev > 0) {
-            me = en_orifice(a_ev, p, T, R, gam, o->p_em, o->T_em, R_em[b], g_em[b]);
-            he = me >= 0 ? me * gs.h : me * h_em[b];
+            me = en_orifice(a_ev, p, T, R, gam, o->p_em, o->T_em, se->R, g_em[b]);
+            he = me >= 0 ? me * gs.h : me * se->h;
             fe = me >= 0 ? me * F : me * o->F_em;
         }
         /* ignition delay and burning */
@@ -290,13 +286,6 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
             out->cyl_temp = T;
             out->heat_release = q_comb;
         }
-    }
-    for (int b = 0; b < EN_NBANK; b++) {
-        bf[b].have_co = 1;
-        bf[b].co = cob[b];
-        bf[b].have_gas = 1;
-        bf[b].s_im = s_imb[b];
-        bf[b].s_em = s_emb[b];
     }
     for (int b = 0; b < EN_NBANK; b++)
         en_bank_rhs(e, x + e->off_bank + b * EN_BANK_NX, &bf[b], in->p_amb, in->T_amb,

@@ -40,7 +40,10 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
     double tq_fl = en_map_interp(e, mt->torque, w);
     double fuel_fl = en_map_interp(e, mt->fuel, w);
     double boost_fl = en_map_interp(e, mt->boost, w);
-    double t_fric = en_friction_torque(e, w);
+    /* en_friction_torque with fmep x (12 V_d): the other association moves the
+     * map runs by rounding, which clutch and shift events amplify to 1e-5 */
+    double vd_total = e->geom.vd * EN_NCYL;
+    double t_fric = en_fmep(c, w) * vd_total / EN_CYCLE * tanh(w / 5.0);
     double boost = in->p_amb + z * (boost_fl - in->p_amb);
     double avail = en_pb_interp(e, mt->pb_torque, w, boost / boost_fl);
     double f;
