@@ -202,16 +202,15 @@ void ts_engine_free(ts_engine *e) { free(e); }
 int ts_engine_get_fidelity(const ts_engine *e) { return e->fidelity; }
 int ts_engine_nstate(const ts_engine *e) { return e->nx; }
 
-double en_map_interp(const ts_engine *e, const double *y, double omega)
+en_lin en_map_at(const ts_engine *e, double omega)
 {
     const double *xs = e->c.map_speed;
     int n = e->c.map_speed_n;
-    if (omega <= xs[0]) return y[0];
-    if (omega >= xs[n - 1]) return y[n - 1];
+    if (omega <= xs[0]) return (en_lin){0, 0, 0.0};
+    if (omega >= xs[n - 1]) return (en_lin){n - 1, n - 1, 0.0};
     int i = 0;
     while (i < n - 2 && omega > xs[i + 1]) i++;
-    double f = (omega - xs[i]) / (xs[i + 1] - xs[i]);
-    return y[i] + f * (y[i + 1] - y[i]);
+    return (en_lin){i, i + 1, (omega - xs[i]) / (xs[i + 1] - xs[i])};
 }
 
 double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double air_flow,

@@ -248,12 +248,37 @@ static inline const ts_engine_map_table *en_map_table(const ts_engine *e)
     return &e->c.map[e->variant];
 }
 
-/* Piecewise-linear interpolation in a map table y (one value per
- * /engine/map_speed), clamped at the ends. */
-double en_map_interp(const ts_engine *e, const double *y, double omega);
+/* Piecewise-linear interpolation in the map tables (one value per
+ * /engine/map_speed), clamped at the ends: en_map_at locates omega once,
+ * en_lin_eval reads any table there (the right-hand sides read three or four
+ * tables at one speed). */
+typedef struct en_lin {
+    int i0, i1; /* bracketing nodes (equal when clamped) */
+    double f;   /* weight of i1 */
+} en_lin;
+en_lin en_map_at(const ts_engine *e, double omega);
+static inline double en_lin_eval(const en_lin *l, const double *y)
+{
+    return y[l->i0] + l->f * (y[l->i1] - y[l->i0]);
+}
 
-/* Bilinear interpolation in a part-boost table y (/engine/pb_*: row-major
- * spool_speed x spool_ratio), clamped at the edges (engine_mean.c). */
+/* Bilinear interpolation in the part-boost tables (/engine/pb_*: row-major
+ * spool_speed x spool_ratio), clamped at the edges (engine_mean.c): en_pb_at
+ * locates (omega, ratio) once, en_bilin_eval reads any table there;
+ * en_pb_interp does both. */
+typedef struct en_bilin {
+    int row0, row1, j; /* offsets of the bracketing speed rows, ratio node */
+    double fw, fr;     /* weights of row1 and of node j + 1 */
+} en_bilin;
+en_bilin en_pb_at(const ts_engine *e, double omega, double ratio);
+static inline double en_bilin_eval(const en_bilin *w, const double *y)
+{
+    const double *r0 = y + w->row0, *r1 = y + w->row1;
+    int j = w->j;
+    double a = r0[j] + w->fr * (r0[j + 1] - r0[j]);
+    double b = r1[j] + w->fr * (r1[j + 1] - r1[j]);
+    return a + w->fw * (b - a);
+}
 double en_pb_interp(const ts_engine *e, const double *y, double omega, double ratio);
 
 /* The map fidelity's boost time constant at crank speed omega [s]

@@ -37,9 +37,10 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
     double z = fmin(fmax(x[e->off_lag], 0.0), 1.0);
     double rack = fmin(fmax(in->rack, 0.0), 1.0);
     const ts_engine_map_table *mt = en_map_table(e);
-    double tq_fl = en_map_interp(e, mt->torque, w);
-    double fuel_fl = en_map_interp(e, mt->fuel, w);
-    double boost_fl = en_map_interp(e, mt->boost, w);
+    en_lin at = en_map_at(e, w);
+    double tq_fl = en_lin_eval(&at, mt->torque);
+    double fuel_fl = en_lin_eval(&at, mt->fuel);
+    double boost_fl = en_lin_eval(&at, mt->boost);
     /* en_friction_torque with fmep x (12 V_d): the other association moves the
      * map runs by rounding, which clutch and shift events amplify to 1e-5 */
     double vd_total = e->geom.vd * EN_NCYL;

@@ -46,10 +46,11 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
     }
     double mf_cyc = en_fuel_command(e, in, air, wp);
     const ts_engine_map_table *mt = en_map_table(e);
-    double eta_v_fl = en_map_interp(e, mt->eta_v, wp);
-    double eta_i_fl = en_map_interp(e, mt->eta_i, wp);
-    double q_w_fl = en_map_interp(e, mt->q_wall, wp);
-    double p_fl = en_map_interp(e, mt->boost, wp);
+    en_lin at = en_map_at(e, wp);
+    double eta_v_fl = en_lin_eval(&at, mt->eta_v);
+    double eta_i_fl = en_lin_eval(&at, mt->eta_i);
+    double q_w_fl = en_lin_eval(&at, mt->q_wall);
+    double p_fl = en_lin_eval(&at, mt->boost);
     double t_ind = 0, fuel_rate = 0, wall = 0, hin = 0, hout = 0, min = 0, mout = 0;
     double *xl = xdot + e->off_ledger;
     for (int b = 0; b < EN_NBANK; b++) {
@@ -59,9 +60,10 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         /* part boost: the crank-angle spool-ups' factors at this bank's
          * intake manifold pressure / full-load boost (see the header) */
         double ratio = o->p_im / p_fl;
-        double eta_v = eta_v_fl * en_pb_interp(e, mt->pb_eta_v, wp, ratio);
-        double eta_i = eta_i_fl * en_pb_interp(e, mt->pb_eta_i, wp, ratio);
-        double q_wb = q_w_fl * en_pb_interp(e, mt->pb_q_wall, wp, ratio);
+        en_bilin pb = en_pb_at(e, wp, ratio);
+        double eta_v = eta_v_fl * en_bilin_eval(&pb, mt->pb_eta_v);
+        double eta_i = eta_i_fl * en_bilin_eval(&pb, mt->pb_eta_i);
+        double q_wb = q_w_fl * en_bilin_eval(&pb, mt->pb_q_wall);
         double m_cyl = eta_v * rho * e->geom.vd * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
         double m_f = mf_cyc * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
         double q_fuel = m_f * c->lhv;
@@ -106,7 +108,7 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
     return 0;
 }
 
-double en_pb_interp(const ts_engine *e, const double *y, double omega, double ratio)
+en_bilin en_pb_at(const ts_engine *e, double omega, double ratio)
 {
     const ts_engine_config *c = &e->c;
     int ns = c->spool_speed_n, nr = c->spool_ratio_n;
@@ -119,8 +121,11 @@ double en_pb_interp(const ts_engine *e, const double *y, double omega, double ra
     }
     while (j < nr - 2 && ratio > rs[j + 1]) j++;
     fr = fmin(fmax((ratio - rs[j]) / (rs[j + 1] - rs[j]), 0.0), 1.0);
-    const double *r0 = y + i * nr, *r1 = ns > 1 ? y + (i + 1) * nr : r0;
-    double a = r0[j] + fr * (r0[j + 1] - r0[j]);
-    double b = r1[j] + fr * (r1[j + 1] - r1[j]);
-    return a + fw * (b - a);
+    return (en_bilin){i * nr, ns > 1 ? (i + 1) * nr : i * nr, j, fw, fr};
+}
+
+double en_pb_interp(const ts_engine *e, const double *y, double omega, double ratio)
+{
+    en_bilin w = en_pb_at(e, omega, ratio);
+    return en_bilin_eval(&w, y);
 }
