@@ -116,6 +116,8 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
     g->area = EN_PI / 4 * c->bore * c->bore;
     g->vd = g->area * c->stroke;
     g->vc = g->vd / (c->compression_ratio - 1);
+    g->circ = EN_PI * c->bore;
+    g->clear_h = g->vc / g->area;
     e->watson = (en_watson){c->watson_a,  c->watson_b,  c->watson_c,  c->watson_c1k, c->watson_c1e,
                             c->watson_c2, c->watson_c3k, c->watson_c3e, c->watson_c4k,
                             c->burn_duration};
@@ -137,7 +139,8 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
                           .eta_t = c->turb_eta_max,
                           .bsr_opt = c->turb_bsr_opt,
                           .inertia = c->turbo_inertia_ref * pow(s, 2.5),
-                          .mech_eff = c->turbo_mech_eff};
+                          .mech_eff = c->turbo_mech_eff,
+                          .r_air = c->r_air};
     /* Walls: coating per variant on the combustion-chamber surfaces (Section
      * III.B.3): piston and head, and the liner unless /engine/coat_liner is off. */
     double coat = c->variant == TS_ENGINE_LHR05 ? c->coating_lhr05

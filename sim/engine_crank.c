@@ -231,9 +231,10 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double min_ = (mi > 0 ? mi : 0) + (me < 0 ? -me : 0);
         double mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
         double v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
-        en_cascade_in ci = {m, kin.V, rho, T, p, c->bore, min_, v_in, mout,
-                            dm * im - kin.dVdth * w * iV, xc[CX_KMEAN],
-                            xc[CX_KTURB] > K_FLOOR ? xc[CX_KTURB] : K_FLOOR};
+        en_cascade_in ci = {.m = m, .V = kin.V, .bore = c->bore, .area = geo->area,
+                            .mdot_in = min_, .v_in = v_in, .mdot_out = mout,
+                            .drho_rho = dm * im - kin.dVdth * w * iV, .K = xc[CX_KMEAN],
+                            .k = xc[CX_KTURB] > K_FLOOR ? xc[CX_KTURB] : K_FLOOR};
         double dK, dk, Lh, up, Um;
         en_cascade(&ci, c->cascade_cbeta, c->cascade_rdt, &dK, &dk, &Lh, &up, &Um);
         double uch = sqrt(Um * Um + up * up + sp_half * sp_half);
@@ -242,7 +243,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         cp_->h = en_htc(c->nu_coeff, c->nu_exp, rho, uch, Lh, T, cp);
         cp_->burning = burning;
         cp_->T4 = burning ? T * T * T * T : 0.0;
-        cp_->liner_area = EN_PI * c->bore * (kin.xp + geo->vc / geo->area); /* exposed liner */
+        cp_->liner_area = geo->circ * (kin.xp + geo->clear_h); /* exposed liner */
         cp_->liner_share = cp_->liner_area / e->surf_area[EN_LINER];
         cp_->m = m;
         cp_->dm = dm;

@@ -97,6 +97,7 @@ typedef struct en_geom {
     double bore, stroke, crank, rod; /* [m]; crank = stroke / 2 */
     double area;                     /* piston (bore) area [m^2] */
     double vd, vc;                   /* displaced and clearance volume per cylinder [m^3] */
+    double circ, clear_h;            /* bore circumference [m], clearance height vc / area [m] */
 } en_geom;
 typedef struct en_kin {
     double V, dVdth;   /* volume [m^3] and dV/dtheta [m^3/rad] */
@@ -157,7 +158,8 @@ void en_watson_phi(const en_watson *w, const en_watson_tau *p, double phi, doubl
 
 /* ---- heat transfer (engine_heat.c) ---------------------------------------- */
 typedef struct en_cascade_in {
-    double m, V, rho, T, p, bore;
+    double m, V;           /* charge mass [kg], volume [m^3] */
+    double bore, area;     /* bore [m] and piston (bore) area [m^2] */
     double mdot_in, v_in;  /* inflow [kg/s] and its jet velocity [m/s] */
     double mdot_out;       /* outflow [kg/s] */
     double drho_rho;       /* (1/rho) drho/dt [1/s] */
@@ -192,6 +194,7 @@ typedef struct en_turbo {
     double mach_opt, mach_w;    /* tip-Mach efficiency fall-off */
     double a_t, eta_t, bsr_opt; /* turbine effective area [m^2], efficiency, u/c_s */
     double inertia, mech_eff;
+    double r_air;               /* gas constant of the compressor's air [J/kg/K] */
 } en_turbo;
 typedef struct en_comp_out { double mdot, T_out, power, eta; } en_comp_out;
 typedef struct en_turb_out { double mdot, power, eta; } en_turb_out;

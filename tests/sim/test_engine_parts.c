@@ -171,7 +171,7 @@ static void turbo_maps(void **state)
     en_turbo t = {.d_c = 0.1, .d_t = 0.1, .psi0 = 0.9, .phi_ch = 0.22, .eta_max = 0.8,
                   .phi_opt = 0.13, .phi_w = 0.15, .eta_min = 0.45, .mach_opt = 1.0,
                   .mach_w = 1.5, .a_t = 1e-3, .eta_t = 0.8, .bsr_opt = 0.7, .inertia = 1e-3,
-                  .mech_eff = 0.98};
+                  .mech_eff = 0.98, .r_air = 287.0};
     en_comp_out o;
     double w = 9000, U = w * 0.05, T1 = 298, p1 = 1e5, pr = 3.0;
     double dh = 1005 * T1 * (pow(pr, 0.4 / 1.4) - 1), rho = p1 / (287 * T1);
