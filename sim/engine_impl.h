@@ -72,18 +72,13 @@ static inline void en_gas_eval(const en_gas *g, double T, double F, en_gas_state
     s->cv = s->cp - s->R;
     s->dudF = (hb - g->r_b * T) - (ha - g->r_a * T);
 }
-/* en_gas_dTdt from a state evaluated at the same (T, F). */
+/* dT/dt of a control volume (m, T, F) from its energy rate dE/dt = d(m u)/dt,
+ * mass rate and composition rate; s evaluated at (T, F). */
 static inline double en_gas_dTdt_s(const en_gas_state *s, double m, double dEdt, double dmdt,
                                    double dFdt)
 {
     return (dEdt - s->u * dmdt - m * s->dudF * dFdt) / (m * s->cv);
 }
-/* Temperature with enthalpy h at composition F (Newton). */
-double en_gas_T_from_h(const en_gas *g, double h, double F, double T_guess);
-/* dT/dt of a control volume (m, T, F) from its energy rate dE/dt = d(m u)/dt,
- * mass rate and composition rate. */
-double en_gas_dTdt(const en_gas *g, double m, double T, double F, double dEdt, double dmdt,
-                   double dFdt);
 
 /* ---- orifice flow (engine_manifold.c) ------------------------------------- */
 /* Mass flow [kg/s] from side 1 to side 2 (negative: reverse) through effective
