@@ -4,13 +4,15 @@
  *   engine.c            model construction, state layout, dispatch, fixed-step
  *                       integration, cycle means and the steady-state search
  *   engine_gas.c        ideal-gas properties vs temperature and composition
- *   engine_cylinder.c   slider-crank kinematics, valve lift and areas
+ *   engine_cylinder.c   slider-crank kinematics by angle (the sin/cos form
+ *                       and the valve lift and areas are inline below)
  *   engine_manifold.c   quasi-steady compressible orifice flow, control volumes
  *   engine_combustion.c ignition delay (Livengood-Wu) and Watson burning
  *   engine_heat.c       K-k energy cascade, Nusselt convection, radiation
  *   engine_wall.c       layered wall conduction (metal / zirconia)
  *   engine_turbo.c      compressor and turbine maps, rotor, intercooler
- *   engine_friction.c   Millington-Hartles friction, crank-angle-varying inertia
+ *   engine_friction.c   Millington-Hartles friction (the crank-angle-varying
+ *                       inertia is in engine_crank.c)
  *   engine_crank.c      the crank-angle fidelity's right-hand side
  *   engine_mean.c       the mean-value fidelity's right-hand side
  *   engine_map.c        the map fidelity's right-hand side
@@ -282,7 +284,8 @@ double en_pb_interp(const ts_engine *e, const double *y, double omega, double ra
 /* The map fidelity's boost time constant at crank speed omega [s]
  * (/engine/spool_lag vs spool_speed, linear, clamped; engine_map.c). */
 double en_spool_lag(const ts_engine *e, double omega);
-/* Common outputs of the turbo banks (compressor flows, p, T) used by crank and mean. */
+/* Fuel per cylinder and cycle [kg]: in->fuel_per_cycle when >= 0, else the
+ * fuel law (Eqs. 13-14) on the compressors' air flow [kg/s] (crank and mean). */
 double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double air_flow,
                        double omega);
 
