@@ -34,14 +34,15 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
     double w = x[TS_ENGINE_X_SPEED];
     double wp = fmax(w, 0.0);
     en_bank_out bo[EN_NBANK];
+    en_comp_out co[EN_NBANK];
     double air = 0;
     for (int b = 0; b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
-        /* compressor flow is needed for Eq. 14 before the bank derivatives */
+        /* compressor flow is needed for Eq. 14 before the bank derivatives
+         * (and handed on to en_bank_rhs) */
         double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
-        en_comp_out co;
-        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &co);
-        air += co.mdot;
+        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &co[b]);
+        air += co[b].mdot;
         en_bank_read(e, xb, &bo[b]);
     }
     double mf_cyc = en_fuel_command(e, in, air, wp);
@@ -72,7 +73,8 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         double m_out = m_cyl + m_f;
         double F_out = m_out > 0 ? fmin((m_cyl * o->F_im + m_f * (1 + c->afr_stoich)) / m_out, 1.0) : o->F_em;
         en_bank_flows f = {.m_in = m_cyl, .h_in = h_in, .mf_in = m_cyl * o->F_im,
-                           .m_ex = m_out, .h_ex = h_out, .mf_ex = m_out * F_out};
+                           .m_ex = m_out, .h_ex = h_out, .mf_ex = m_out * F_out,
+                           .have_co = 1, .co = co[b]};
         en_bank_rhs(e, xb, &f, in->p_amb, in->T_amb, xdot + e->off_bank + b * EN_BANK_NX, o);
         t_ind += wp > 1 ? eta_i * q_fuel / wp : 0.0;
         fuel_rate += m_f;
