@@ -220,7 +220,7 @@ enum { LX_FUEL_E, LX_WORK, LX_WALL, LX_HIN, LX_HOUT, LX_MIN, LX_MOUT, LX_MFUEL, 
 
 struct ts_engine {
     ts_engine_config c;   /* copy of the section */
-    int fidelity, variant;
+    /* fidelity and variant: c.fidelity, c.variant */
     int nx;               /* length of the state vector */
     int off_bank, off_ledger, off_cyl, off_wall, off_coolant, off_lag; /* -1 when absent */
     en_gas gas;
@@ -237,7 +237,6 @@ struct ts_engine {
      * - 4 pi n) for n = 0, 1, 2 wraps of the local angle; cos and sin */
     double valve_k[2], valve_cos[2][EN_NCYL][3], valve_sin[2][EN_NCYL][3];
     int cyl_bank[EN_NCYL];
-    double speed_step;           /* map/mean_value fixed step [s] */
     double turbo_inertia_scale;  /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
     double thermal_scale;        /* 1, shrunk by ts_engine_steady (coolant, oil capacities) */
 };
@@ -245,7 +244,7 @@ struct ts_engine {
 /* The variant's map tables (/engine/map_*_<variant>, /engine/pb_*_<variant>). */
 static inline const ts_engine_map_table *en_map_table(const ts_engine *e)
 {
-    return &e->c.map[e->variant];
+    return &e->c.map[e->c.variant];
 }
 
 /* Piecewise-linear interpolation in the map tables (one value per
