@@ -1,7 +1,8 @@
 /*
  * cfg_engine.c — parameter-table rows of the "engine" section (columns in
  * param.h). Defaults and sources: sim/data/defaults/engine.json, where every
- * constant is tagged literature ([P], [S], [R]) or calibrated ([C ...]).
+ * constant is tagged paper [P], public source [S], literature correlation [R<n>]
+ * (listed in its "_about"), derived [D], estimate [E] or calibrated [C ...].
  */
 #include <stddef.h>
 
