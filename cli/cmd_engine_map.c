@@ -14,6 +14,8 @@
  * the rack stepped to /control/rack; one row per engine cycle for SPOOL_TIME
  * seconds, real rotor inertia and wall capacities (the walls warm up as in a
  * launch). Columns: time, speed, the cycle means and eta_v, eta_i, q_wall.
+ * Ambient: /driveline/ambient_pressure and ambient_temperature (the air the
+ * vehicle runs' engine breathes).
  */
 #include <math.h>
 #include <stdio.h>
@@ -51,7 +53,8 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
         fprintf(stderr, "tanksim engine-map: out of memory\n");
         goto done;
     }
-    if (ts_engine_idle_state(e, IDLE_RPM * PI / 30, IDLE_TORQUE, 101325.0, 298.15, x0, NULL, &err) !=
+    double p_amb = cfg->driveline.ambient_pressure, T_amb = cfg->driveline.ambient_temperature;
+    if (ts_engine_idle_state(e, IDLE_RPM * PI / 30, IDLE_TORQUE, p_amb, T_amb, x0, NULL, &err) !=
         TS_OK) {
         tsc_print_err("engine-map", &err);
         goto done;
@@ -64,8 +67,8 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
     fprintf(f, "speed_rpm [rpm],time [s],speed [rad/s],boost [Pa],intake_temp [K],fuel_flow [kg/s],"
                "air_flow [kg/s],indicated_torque [N*m],friction_torque [N*m],brake_torque [N*m],"
                "exhaust_temp [K],turbo_speed [rad/s],eta_v [1],eta_i [1],q_wall [1]\n");
-    ts_engine_inputs in = {.rack = cfg->control.rack, .fuel_per_cycle = -1, .p_amb = 101325.0,
-                           .T_amb = 298.15, .hold_speed = 1};
+    ts_engine_inputs in = {.rack = cfg->control.rack, .fuel_per_cycle = -1, .p_amb = p_amb,
+                           .T_amb = T_amb, .hold_speed = 1};
     for (int rpm = SPOOL_RPM_LO; rpm <= SPOOL_RPM_HI; rpm += SPOOL_RPM_STEP) {
         double w = rpm * PI / 30;
         memcpy(x, x0, nx * sizeof *x);
@@ -124,8 +127,9 @@ int tsc_cmd_engine_map(int argc, char **argv)
         ts_engine_free(e);
         return TSC_EXIT_FAIL;
     }
-    ts_engine_inputs in = {.rack = cfg.control.rack, .fuel_per_cycle = -1, .p_amb = 101325.0,
-                           .T_amb = 298.15, .hold_speed = 1};
+    ts_engine_inputs in = {.rack = cfg.control.rack, .fuel_per_cycle = -1,
+                           .p_amb = cfg.driveline.ambient_pressure,
+                           .T_amb = cfg.driveline.ambient_temperature, .hold_speed = 1};
     ts_engine_init_state(e, RPM_HI * PI / 30, in.p_amb, in.T_amb, x);
     ts_engine_set_turbo_speed(e, x, SEARCH_TURBO);
     int rc = TSC_EXIT_OK;

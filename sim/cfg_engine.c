@@ -1,7 +1,8 @@
 /*
  * cfg_engine.c — parameter-table rows of the "engine" section (columns in
  * param.h). Defaults and sources: sim/data/defaults/engine.json, where every
- * constant is tagged literature ([P], [S], [R]) or calibrated ([C ...]).
+ * constant is tagged paper [P], public source [S], literature correlation [R<n>]
+ * (listed in its "_about"), derived [D], estimate [E] or calibrated [C ...].
  */
 #include <stddef.h>
 
@@ -63,7 +64,6 @@ static const ts_param engine_rows[] = {
     D(evc, "rad", 0, 12.57, "exhaust valve closing, crank angle after firing TDC"),
     D(valve_cd, "1", 0.3, 1, "valve discharge coefficient on the curtain area"),
     D(soi, "rad", 0, 1, "start of injection before firing TDC"),
-    D(inj_duration, "rad", 0.01, 1.5, "injection interval (fuel delivery) in crank angle"),
     D(lhv, "J/kg", 3e7, 5e7, "fuel lower heating value"),
     D(afr_stoich, "1", 10, 20, "stoichiometric air/fuel ratio"),
     D(phi_rated, "1", 0.1, 1, "Eq. 13: target equivalence ratio at phi_speed"),

@@ -66,7 +66,6 @@ typedef struct ts_engine_config {
     double valve_cd;                                      /* discharge coefficient [1] */
     /* injection and fuel law */
     double soi;            /* start of injection, before firing TDC [rad CA] */
-    double inj_duration;   /* injection interval [rad CA] */
     double lhv;            /* fuel lower heating value [J/kg] */
     double afr_stoich;     /* stoichiometric air/fuel ratio [1] */
     double phi_rated;      /* Eq. 13 constant term [1] */

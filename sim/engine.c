@@ -104,8 +104,6 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
         return NULL;
     }
     e->c = *c;
-    e->fidelity = c->fidelity;
-    e->variant = c->variant;
     e->fuel = ts_fuel_law_from_config(c);
     en_gas_init(&e->gas, c->cp_air, c->cp_burned, c->r_air, c->r_burned);
     en_geom *g = &e->geom;
@@ -116,6 +114,8 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
     g->area = EN_PI / 4 * c->bore * c->bore;
     g->vd = g->area * c->stroke;
     g->vc = g->vd / (c->compression_ratio - 1);
+    g->circ = EN_PI * c->bore;
+    g->clear_h = g->vc / g->area;
     e->watson = (en_watson){c->watson_a,  c->watson_b,  c->watson_c,  c->watson_c1k, c->watson_c1e,
                             c->watson_c2, c->watson_c3k, c->watson_c3e, c->watson_c4k,
                             c->burn_duration};
@@ -137,7 +137,8 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
                           .eta_t = c->turb_eta_max,
                           .bsr_opt = c->turb_bsr_opt,
                           .inertia = c->turbo_inertia_ref * pow(s, 2.5),
-                          .mech_eff = c->turbo_mech_eff};
+                          .mech_eff = c->turbo_mech_eff,
+                          .r_air = c->r_air};
     /* Walls: coating per variant on the combustion-chamber surfaces (Section
      * III.B.3): piston and head, and the liner unless /engine/coat_liner is off. */
     double coat = c->variant == TS_ENGINE_LHR05 ? c->coating_lhr05
@@ -168,20 +169,11 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
             }
         }
     }
-    e->map_n = c->map_speed_n;
-    const ts_engine_map_table *t = &c->map[c->variant];
-    memcpy(e->map_tq, t->torque, sizeof e->map_tq);
-    memcpy(e->map_boost, t->boost, sizeof e->map_boost);
-    memcpy(e->map_fuel, t->fuel, sizeof e->map_fuel);
-    memcpy(e->map_eta_v, t->eta_v, sizeof e->map_eta_v);
-    memcpy(e->map_eta_i, t->eta_i, sizeof e->map_eta_i);
-    memcpy(e->map_q_wall, t->q_wall, sizeof e->map_q_wall);
     e->turbo_inertia_scale = 1.0;
     e->thermal_scale = 1.0;
-    e->speed_step = 5e-4;
     e->off_bank = e->off_ledger = e->off_cyl = e->off_wall = e->off_coolant = e->off_lag = -1;
     int n = 2;
-    switch (e->fidelity) {
+    switch (e->c.fidelity) {
     case TS_ENGINE_MAP: e->off_lag = n++; break;
     case TS_ENGINE_MEAN_VALUE:
         e->off_bank = n;
@@ -207,19 +199,18 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
 }
 
 void ts_engine_free(ts_engine *e) { free(e); }
-int ts_engine_get_fidelity(const ts_engine *e) { return e->fidelity; }
+int ts_engine_get_fidelity(const ts_engine *e) { return e->c.fidelity; }
 int ts_engine_nstate(const ts_engine *e) { return e->nx; }
 
-double en_map_interp(const ts_engine *e, const double *y, double omega)
+en_lin en_map_at(const ts_engine *e, double omega)
 {
     const double *xs = e->c.map_speed;
-    int n = e->map_n;
-    if (omega <= xs[0]) return y[0];
-    if (omega >= xs[n - 1]) return y[n - 1];
+    int n = e->c.map_speed_n;
+    if (omega <= xs[0]) return (en_lin){0, 0, 0.0};
+    if (omega >= xs[n - 1]) return (en_lin){n - 1, n - 1, 0.0};
     int i = 0;
     while (i < n - 2 && omega > xs[i + 1]) i++;
-    double f = (omega - xs[i]) / (xs[i + 1] - xs[i]);
-    return y[i] + f * (y[i + 1] - y[i]);
+    return (en_lin){i, i + 1, (omega - xs[i]) / (xs[i + 1] - xs[i])};
 }
 
 double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double air_flow,
@@ -234,7 +225,7 @@ void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double
     memset(x, 0, sizeof(double) * (size_t)e->nx);
     x[TS_ENGINE_X_SPEED] = omega;
     x[TS_ENGINE_X_ANGLE] = 0.0;
-    if (e->fidelity == TS_ENGINE_MAP) {
+    if (e->c.fidelity == TS_ENGINE_MAP) {
         x[e->off_lag] = 0.0;
         return;
     }
@@ -251,7 +242,7 @@ void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double
         xb[BX_EMF] = 0.5;
         xb[BX_TC] = e->c.turbo_idle_speed;
     }
-    if (e->fidelity == TS_ENGINE_CRANK_ANGLE) en_crank_init(e, omega, p_amb, T_amb, x);
+    if (e->c.fidelity == TS_ENGINE_CRANK_ANGLE) en_crank_init(e, p_amb, T_amb, x);
 }
 
 void ts_engine_set_turbo_speed(const ts_engine *e, double *x, double w)
@@ -290,7 +281,7 @@ int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine
                   double *xdot, ts_engine_outputs *out)
 {
     if (out) memset(out, 0, sizeof *out);
-    switch (e->fidelity) {
+    switch (e->c.fidelity) {
     case TS_ENGINE_MAP: return en_map_rhs(e, t, x, in, xdot, out);
     case TS_ENGINE_MEAN_VALUE: return en_mean_rhs(e, t, x, in, xdot, out);
     default: return en_crank_rhs(e, t, x, in, xdot, out);
@@ -312,14 +303,17 @@ static size_t carry_size(const ts_engine *e) { return CARRY_HEAD + 2 * (size_t)e
 size_t ts_engine_work_size(const ts_engine *e)
 {
     /* crank_angle: stages, error scales, wall fluxes and the carried derivative */
-    return e->fidelity == TS_ENGINE_CRANK_ANGLE ? 8 * (size_t)e->nx + 5 * EN_NWALL + carry_size(e)
+    return e->c.fidelity == TS_ENGINE_CRANK_ANGLE ? 8 * (size_t)e->nx + 5 * EN_NWALL + carry_size(e)
                                                : 5 * (size_t)e->nx;
 }
+
+#define MV_STEP 5e-4 /* map and mean_value fixed RK4 step [s] (numerical setting of
+                        the engine's own integrator; callers with CVODE do not use it) */
 
 /* Step size [s]: a fixed crank-angle step for the crank-angle model. */
 static double step_size(const ts_engine *e, const double *x)
 {
-    if (e->fidelity != TS_ENGINE_CRANK_ANGLE) return e->speed_step;
+    if (e->c.fidelity != TS_ENGINE_CRANK_ANGLE) return MV_STEP;
     double w = fmax(fabs(x[TS_ENGINE_X_SPEED]), 30.0);
     return e->c.ca_step / w;
 }
@@ -395,7 +389,7 @@ static int mr_step(const ts_engine *e, double *x, double t, double h, stage_load
 
 static int step(const ts_engine *e, double *x, double t, double h, stage_load *sl, double *work)
 {
-    if (e->fidelity == TS_ENGINE_CRANK_ANGLE) return mr_step(e, x, t, h, sl, work);
+    if (e->c.fidelity == TS_ENGINE_CRANK_ANGLE) return mr_step(e, x, t, h, sl, work);
     return rk4(e, x, t, h, sl, work);
 }
 
@@ -585,7 +579,7 @@ ts_rc ts_engine_advance_load(const ts_engine *e, double *x, double t, double dt,
                              double *work, ts_err *err)
 {
     stage_load sl = {load, ud, *in};
-    if (e->fidelity == TS_ENGINE_CRANK_ANGLE)
+    if (e->c.fidelity == TS_ENGINE_CRANK_ANGLE)
         return bs23_advance(e, x, t, dt, &sl, work, err);
     double t_end = t + dt;
     while (t < t_end - 1e-15) {
@@ -781,7 +775,7 @@ ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque,
 {
     ts_engine_init_state(e, omega, p_amb, T_amb, x);
     if (rack) *rack = 0.0;
-    if (e->fidelity == TS_ENGINE_MAP) return TS_OK;
+    if (e->c.fidelity == TS_ENGINE_MAP) return TS_OK;
     ts_engine_inputs in = {.rack = 0.15, .fuel_per_cycle = -1.0, .p_amb = p_amb, .T_amb = T_amb};
     ts_engine_cycle cyc;
     /* secant on the rack: brake torque is nearly linear in it at fixed speed

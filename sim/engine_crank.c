@@ -48,9 +48,8 @@ static double wrap(double a)
     return a < 0 ? a + EN_CYCLE : a;
 }
 
-void en_crank_init(const ts_engine *e, double omega, double p, double T, double *x)
+void en_crank_init(const ts_engine *e, double p, double T, double *x)
 {
-    (void)omega;
     const ts_engine_config *c = &e->c;
     x[e->off_coolant] = c->coolant_temp;
     x[e->off_coolant + 1] = c->oil_temp;
@@ -121,35 +120,30 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     double n_rpm = wp * EN_RPM;
     double sp_half = c->stroke * wp / EN_PI / 2.0; /* half the mean piston speed */
     en_bank_out bo[EN_NBANK];
-    double R_im[EN_NBANK], g_im[EN_NBANK], R_em[EN_NBANK], g_em[EN_NBANK];
-    double h_im[EN_NBANK], h_em[EN_NBANK], rho_im[EN_NBANK];
+    /* the manifolds' gas (handed on to en_bank_rhs with the compressor) */
+    en_bank_flows bf[EN_NBANK];
+    memset(bf, 0, sizeof bf);
+    double g_im[EN_NBANK], g_em[EN_NBANK], rho_im[EN_NBANK];
     double air = 0;
-    en_comp_out cob[EN_NBANK];
-    en_gas_state s_imb[EN_NBANK], s_emb[EN_NBANK];
     for (int b = 0; b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
         if (!(xb[BX_IMM] > 0 && xb[BX_EMM] > 0 && xb[BX_ICM] > 0 && xb[BX_IMT] > 100 &&
               xb[BX_EMT] > 100 && xb[BX_ICT] > 100))
             return 1;
         double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
-        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &cob[b]);
-        air += cob[b].mdot;
+        bf[b].have_co = 1;
+        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &bf[b].co);
+        air += bf[b].co.mdot;
         en_bank_read(e, xb, &bo[b]);
-        en_gas_state *sip = &s_imb[b], *sep = &s_emb[b];
-        en_gas_eval(g, bo[b].T_im, bo[b].F_im, sip);
-        en_gas_eval(g, bo[b].T_em, bo[b].F_em, sep);
-        en_gas_state si = *sip, se = *sep;
-        R_im[b] = si.R;
-        g_im[b] = si.cp / si.cv;
-        h_im[b] = si.h;
-        rho_im[b] = bo[b].p_im / (si.R * bo[b].T_im);
-        R_em[b] = se.R;
-        g_em[b] = se.cp / se.cv;
-        h_em[b] = se.h;
+        bf[b].have_gas = 1;
+        const en_gas_state *si = &bf[b].s_im, *se = &bf[b].s_em;
+        en_gas_eval(g, bo[b].T_im, bo[b].F_im, &bf[b].s_im);
+        en_gas_eval(g, bo[b].T_em, bo[b].F_em, &bf[b].s_em);
+        g_im[b] = si->cp / si->cv;
+        rho_im[b] = bo[b].p_im / (si->R * bo[b].T_im);
+        g_em[b] = se->cp / se->cv;
     }
     double mf_cyc = en_fuel_command(e, in, air, wp);
-    en_bank_flows bf[EN_NBANK];
-    memset(bf, 0, sizeof bf);
     double t_ind = 0, J = c->inertia + in->load_inertia, dJ = 0;
     double led[EN_LEDGER_NX] = {0};
     double s_th = sin(th), c_th = cos(th);
@@ -191,15 +185,16 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
             valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]),
             c->exhaust_valve_diameter, c->n_exhaust_valves, c->valve_cd);
         const en_bank_out *o = &bo[b];
+        const en_gas_state *si = &bf[b].s_im, *se = &bf[b].s_em;
         double mi = 0, me = 0, hi = 0, fi = 0, he = 0, fe = 0;
         if (a_iv > 0) {
-            mi = en_orifice(a_iv, o->p_im, o->T_im, R_im[b], g_im[b], p, T, R, gam);
-            hi = mi >= 0 ? mi * h_im[b] : mi * gs.h;
+            mi = en_orifice(a_iv, o->p_im, o->T_im, si->R, g_im[b], p, T, R, gam);
+            hi = mi >= 0 ? mi * si->h : mi * gs.h;
             fi = mi >= 0 ? mi * o->F_im : mi * F;
         }
         if (a_ev > 0) {
-            me = en_orifice(a_ev, p, T, R, gam, o->p_em, o->T_em, R_em[b], g_em[b]);
-            he = me >= 0 ? me * gs.h : me * h_em[b];
+            me = en_orifice(a_ev, p, T, R, gam, o->p_em, o->T_em, se->R, g_em[b]);
+            he = me >= 0 ? me * gs.h : me * se->h;
             fe = me >= 0 ? me * F : me * o->F_em;
         }
         /* ignition delay and burning */
@@ -236,9 +231,10 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double min_ = (mi > 0 ? mi : 0) + (me < 0 ? -me : 0);
         double mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
         double v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
-        en_cascade_in ci = {m, kin.V, rho, T, p, c->bore, min_, v_in, mout,
-                            dm * im - kin.dVdth * w * iV, xc[CX_KMEAN],
-                            xc[CX_KTURB] > K_FLOOR ? xc[CX_KTURB] : K_FLOOR};
+        en_cascade_in ci = {.m = m, .V = kin.V, .bore = c->bore, .area = geo->area,
+                            .mdot_in = min_, .v_in = v_in, .mdot_out = mout,
+                            .drho_rho = dm * im - kin.dVdth * w * iV, .K = xc[CX_KMEAN],
+                            .k = xc[CX_KTURB] > K_FLOOR ? xc[CX_KTURB] : K_FLOOR};
         double dK, dk, Lh, up, Um;
         en_cascade(&ci, c->cascade_cbeta, c->cascade_rdt, &dK, &dk, &Lh, &up, &Um);
         double uch = sqrt(Um * Um + up * up + sp_half * sp_half);
@@ -247,7 +243,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         cp_->h = en_htc(c->nu_coeff, c->nu_exp, rho, uch, Lh, T, cp);
         cp_->burning = burning;
         cp_->T4 = burning ? T * T * T * T : 0.0;
-        cp_->liner_area = EN_PI * c->bore * (kin.xp + geo->vc / geo->area); /* exposed liner */
+        cp_->liner_area = geo->circ * (kin.xp + geo->clear_h); /* exposed liner */
         cp_->liner_share = cp_->liner_area / e->surf_area[EN_LINER];
         cp_->m = m;
         cp_->dm = dm;
@@ -292,18 +288,11 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
             out->heat_release = q_comb;
         }
     }
-    for (int b = 0; b < EN_NBANK; b++) {
-        bf[b].have_co = 1;
-        bf[b].co = cob[b];
-        bf[b].have_gas = 1;
-        bf[b].s_im = s_imb[b];
-        bf[b].s_em = s_emb[b];
-    }
     for (int b = 0; b < EN_NBANK; b++)
         en_bank_rhs(e, x + e->off_bank + b * EN_BANK_NX, &bf[b], in->p_amb, in->T_amb,
                     xdot + e->off_bank + b * EN_BANK_NX, &bo[b]);
     memcpy(xdot + e->off_ledger, led, sizeof led); /* LX_WALL: wall_part */
-    double t_fric = en_fmep(c, w) * geo->vd * EN_NCYL / EN_CYCLE * tanh(w / 5.0);
+    double t_fric = en_friction_torque(e, w);
     pc->t_brake = t_ind - t_fric;
     pc->J = J;
     pc->dJ = dJ;
@@ -313,14 +302,10 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         out->brake_torque = pc->t_brake;
         out->indicated_torque = t_ind;
         out->friction_torque = t_fric;
-        out->boost = 0.5 * (bo[0].p_im + bo[1].p_im);
-        out->intake_temp = 0.5 * (bo[0].T_im + bo[1].T_im);
-        out->exhaust_temp = 0.5 * (bo[0].T_em + bo[1].T_em);
-        out->air_flow = bo[0].air_flow + bo[1].air_flow;
+        en_bank_outputs(bo, out);
         out->fuel_per_cycle = mf_cyc;
         out->fuel_flow = mf_cyc * EN_NCYL * wp / EN_CYCLE;
         out->phi = out->air_flow > 0 ? out->fuel_flow * c->afr_stoich / out->air_flow : 0.0;
-        out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
     }
     return 0;
 }

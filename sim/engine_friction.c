@@ -3,9 +3,13 @@
  * Section III.B.1, ref. 28), evaluated at the INSTANTANEOUS crank speed:
  *   fmep = a (r_c - 4) + b N + c S_p^2,   N [rpm], S_p = 2 stroke N / 60 [m/s].
  * Constants in engine.json (a literature; b, c provisional, parameters.md 3.5).
- * The crank-angle-varying inertia is in engine_crank.c (it needs the piston
- * kinematics of every cylinder).
+ * The friction torque fmep V_d / (4 pi) fades to zero below a few rad/s
+ * (tanh(w / 5 rad/s), a numerical smoothing so the engine does not drive
+ * itself backwards at rest). The crank-angle-varying inertia is in
+ * engine_crank.c (it needs the piston kinematics of every cylinder).
  */
+#include <math.h>
+
 #include "engine_impl.h"
 
 double en_fmep(const ts_engine_config *c, double omega)
@@ -13,4 +17,9 @@ double en_fmep(const ts_engine_config *c, double omega)
     double n = (omega > 0 ? omega : 0) * EN_RPM;
     double sp = 2.0 * c->stroke * n / 60.0;
     return c->fmep_a * (c->compression_ratio - 4.0) + c->fmep_b * n + c->fmep_c * sp * sp;
+}
+
+double en_friction_torque(const ts_engine *e, double omega)
+{
+    return en_fmep(&e->c, omega) * e->geom.vd * EN_NCYL / EN_CYCLE * tanh(omega / 5.0);
 }

@@ -9,8 +9,6 @@
  * Leaves out dissociation (small below ~2500 K at the lean mixtures here).
  * en_gas_eval, the right-hand sides' hot path, is static inline in engine_impl.h.
  */
-#include <math.h>
-
 #include "engine_impl.h"
 
 static double cp1(const double *c, double T)
@@ -74,25 +72,4 @@ void en_gas_init(en_gas *g, const double *cp_air, const double *cp_burned, doubl
     g->r_b = r_burned;
     derive(g->cp_a, g->cpT_a, g->hT_a);
     derive(g->cp_b, g->cpT_b, g->hT_b);
-}
-
-double en_gas_T_from_h(const en_gas *g, double h, double F, double T)
-{
-    for (int i = 0; i < 8; i++) {
-        double dT = (h - en_gas_h(g, T, F)) / en_gas_cp(g, T, F);
-        T += dT;
-        if (fabs(dT) < 1e-6) break;
-    }
-    return T;
-}
-
-double en_gas_dTdt(const en_gas *g, double m, double T, double F, double dEdt, double dmdt,
-                   double dFdt)
-{
-    /* E = m u(T, F): dE = m cv dT + u dm + m (u_b - u_a) dF */
-    double Fc = clampF(F);
-    double cv = en_gas_cp(g, T, Fc) - en_gas_r(g, Fc);
-    double u = en_gas_u(g, T, Fc);
-    double dudF = (h1(g->cp_b, T) - g->r_b * T) - (h1(g->cp_a, T) - g->r_a * T);
-    return (dEdt - u * dmdt - m * dudF * dFdt) / (m * cv);
 }

@@ -22,7 +22,7 @@ void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, do
                 double *L, double *u_turb, double *U_mean)
 {
     double m = c->m;
-    double Lh = c->V / (EN_PI / 4.0 * c->bore * c->bore);
+    double Lh = c->V / c->area;
     if (Lh > c->bore / 2) Lh = c->bore / 2;
     double K = c->K > 0.0 ? c->K : 0.0, k = c->k > 1e-9 ? c->k : 1e-9;
     double im = 1.0 / m, iL = 1.0 / Lh, skm = sqrt(k * im); /* sqrt(k / m) */

@@ -4,13 +4,15 @@
  *   engine.c            model construction, state layout, dispatch, fixed-step
  *                       integration, cycle means and the steady-state search
  *   engine_gas.c        ideal-gas properties vs temperature and composition
- *   engine_cylinder.c   slider-crank kinematics, valve lift and areas
+ *   engine_cylinder.c   slider-crank kinematics by angle (the sin/cos form
+ *                       and the valve lift and areas are inline below)
  *   engine_manifold.c   quasi-steady compressible orifice flow, control volumes
  *   engine_combustion.c ignition delay (Livengood-Wu) and Watson burning
  *   engine_heat.c       K-k energy cascade, Nusselt convection, radiation
  *   engine_wall.c       layered wall conduction (metal / zirconia)
  *   engine_turbo.c      compressor and turbine maps, rotor, intercooler
- *   engine_friction.c   Millington-Hartles friction, crank-angle-varying inertia
+ *   engine_friction.c   Millington-Hartles friction (the crank-angle-varying
+ *                       inertia is in engine_crank.c)
  *   engine_crank.c      the crank-angle fidelity's right-hand side
  *   engine_mean.c       the mean-value fidelity's right-hand side
  *   engine_map.c        the map fidelity's right-hand side
@@ -72,18 +74,13 @@ static inline void en_gas_eval(const en_gas *g, double T, double F, en_gas_state
     s->cv = s->cp - s->R;
     s->dudF = (hb - g->r_b * T) - (ha - g->r_a * T);
 }
-/* en_gas_dTdt from a state evaluated at the same (T, F). */
+/* dT/dt of a control volume (m, T, F) from its energy rate dE/dt = d(m u)/dt,
+ * mass rate and composition rate; s evaluated at (T, F). */
 static inline double en_gas_dTdt_s(const en_gas_state *s, double m, double dEdt, double dmdt,
                                    double dFdt)
 {
     return (dEdt - s->u * dmdt - m * s->dudF * dFdt) / (m * s->cv);
 }
-/* Temperature with enthalpy h at composition F (Newton). */
-double en_gas_T_from_h(const en_gas *g, double h, double F, double T_guess);
-/* dT/dt of a control volume (m, T, F) from its energy rate dE/dt = d(m u)/dt,
- * mass rate and composition rate. */
-double en_gas_dTdt(const en_gas *g, double m, double T, double F, double dEdt, double dmdt,
-                   double dFdt);
 
 /* ---- orifice flow (engine_manifold.c) ------------------------------------- */
 /* Mass flow [kg/s] from side 1 to side 2 (negative: reverse) through effective
@@ -97,6 +94,7 @@ typedef struct en_geom {
     double bore, stroke, crank, rod; /* [m]; crank = stroke / 2 */
     double area;                     /* piston (bore) area [m^2] */
     double vd, vc;                   /* displaced and clearance volume per cylinder [m^3] */
+    double circ, clear_h;            /* bore circumference [m], clearance height vc / area [m] */
 } en_geom;
 typedef struct en_kin {
     double V, dVdth;   /* volume [m^3] and dV/dtheta [m^3/rad] */
@@ -157,7 +155,8 @@ void en_watson_phi(const en_watson *w, const en_watson_tau *p, double phi, doubl
 
 /* ---- heat transfer (engine_heat.c) ---------------------------------------- */
 typedef struct en_cascade_in {
-    double m, V, rho, T, p, bore;
+    double m, V;           /* charge mass [kg], volume [m^3] */
+    double bore, area;     /* bore [m] and piston (bore) area [m^2] */
     double mdot_in, v_in;  /* inflow [kg/s] and its jet velocity [m/s] */
     double mdot_out;       /* outflow [kg/s] */
     double drho_rho;       /* (1/rho) drho/dt [1/s] */
@@ -192,6 +191,7 @@ typedef struct en_turbo {
     double mach_opt, mach_w;    /* tip-Mach efficiency fall-off */
     double a_t, eta_t, bsr_opt; /* turbine effective area [m^2], efficiency, u/c_s */
     double inertia, mech_eff;
+    double r_air;               /* gas constant of the compressor's air [J/kg/K] */
 } en_turbo;
 typedef struct en_comp_out { double mdot, T_out, power, eta; } en_comp_out;
 typedef struct en_turb_out { double mdot, power, eta; } en_turb_out;
@@ -207,6 +207,8 @@ double en_intercooler_heat(double ua, double mdot, double cp, double T_in, doubl
 /* ---- friction and inertia (engine_friction.c) ----------------------------- */
 /* Millington-Hartles friction mean effective pressure [Pa] at omega [rad/s]. */
 double en_fmep(const ts_engine_config *c, double omega);
+/* Friction torque of the whole engine [N*m] at omega (every fidelity). */
+double en_friction_torque(const ts_engine *e, double omega);
 
 /* ---- the model ------------------------------------------------------------ */
 /* Offsets of the state vector. Per cylinder (EN_CYL_NX): */
@@ -218,7 +220,7 @@ enum { LX_FUEL_E, LX_WORK, LX_WALL, LX_HIN, LX_HOUT, LX_MIN, LX_MOUT, LX_MFUEL, 
 
 struct ts_engine {
     ts_engine_config c;   /* copy of the section */
-    int fidelity, variant;
+    /* fidelity and variant: c.fidelity, c.variant */
     int nx;               /* length of the state vector */
     int off_bank, off_ledger, off_cyl, off_wall, off_coolant, off_lag; /* -1 when absent */
     en_gas gas;
@@ -235,26 +237,54 @@ struct ts_engine {
      * - 4 pi n) for n = 0, 1, 2 wraps of the local angle; cos and sin */
     double valve_k[2], valve_cos[2][EN_NCYL][3], valve_sin[2][EN_NCYL][3];
     int cyl_bank[EN_NCYL];
-    double speed_step;           /* map/mean_value fixed step [s] */
     double turbo_inertia_scale;  /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
     double thermal_scale;        /* 1, shrunk by ts_engine_steady (coolant, oil capacities) */
-    double map_tq[TS_ENGINE_MAP_MAX], map_boost[TS_ENGINE_MAP_MAX], map_fuel[TS_ENGINE_MAP_MAX];
-    double map_eta_v[TS_ENGINE_MAP_MAX], map_eta_i[TS_ENGINE_MAP_MAX];
-    double map_q_wall[TS_ENGINE_MAP_MAX];
-    int map_n;
 };
 
-/* Piecewise-linear interpolation in the map tables, clamped at the ends. */
-double en_map_interp(const ts_engine *e, const double *y, double omega);
+/* The variant's map tables (/engine/map_*_<variant>, /engine/pb_*_<variant>). */
+static inline const ts_engine_map_table *en_map_table(const ts_engine *e)
+{
+    return &e->c.map[e->c.variant];
+}
 
-/* Bilinear interpolation in a part-boost table y (/engine/pb_*: row-major
- * spool_speed x spool_ratio), clamped at the edges (engine_mean.c). */
+/* Piecewise-linear interpolation in the map tables (one value per
+ * /engine/map_speed), clamped at the ends: en_map_at locates omega once,
+ * en_lin_eval reads any table there (the right-hand sides read three or four
+ * tables at one speed). */
+typedef struct en_lin {
+    int i0, i1; /* bracketing nodes (equal when clamped) */
+    double f;   /* weight of i1 */
+} en_lin;
+en_lin en_map_at(const ts_engine *e, double omega);
+static inline double en_lin_eval(const en_lin *l, const double *y)
+{
+    return y[l->i0] + l->f * (y[l->i1] - y[l->i0]);
+}
+
+/* Bilinear interpolation in the part-boost tables (/engine/pb_*: row-major
+ * spool_speed x spool_ratio), clamped at the edges (engine_mean.c): en_pb_at
+ * locates (omega, ratio) once, en_bilin_eval reads any table there;
+ * en_pb_interp does both. */
+typedef struct en_bilin {
+    int row0, row1, j; /* offsets of the bracketing speed rows, ratio node */
+    double fw, fr;     /* weights of row1 and of node j + 1 */
+} en_bilin;
+en_bilin en_pb_at(const ts_engine *e, double omega, double ratio);
+static inline double en_bilin_eval(const en_bilin *w, const double *y)
+{
+    const double *r0 = y + w->row0, *r1 = y + w->row1;
+    int j = w->j;
+    double a = r0[j] + w->fr * (r0[j + 1] - r0[j]);
+    double b = r1[j] + w->fr * (r1[j + 1] - r1[j]);
+    return a + w->fw * (b - a);
+}
 double en_pb_interp(const ts_engine *e, const double *y, double omega, double ratio);
 
 /* The map fidelity's boost time constant at crank speed omega [s]
  * (/engine/spool_lag vs spool_speed, linear, clamped; engine_map.c). */
 double en_spool_lag(const ts_engine *e, double omega);
-/* Common outputs of the turbo banks (compressor flows, p, T) used by crank and mean. */
+/* Fuel per cylinder and cycle [kg]: in->fuel_per_cycle when >= 0, else the
+ * fuel law (Eqs. 13-14) on the compressors' air flow [kg/s] (crank and mean). */
 double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double air_flow,
                        double omega);
 
@@ -303,7 +333,8 @@ double en_crank_next_switch(const ts_engine *e, const double *x, const double *x
  * temperatures in x: Crank-Nicolson (A-stable, second order; the conduction
  * equations are linear). */
 void en_walls_step(const ts_engine *e, double *x, const double *q, double h);
-void en_crank_init(const ts_engine *e, double omega, double p, double T, double *x);
+/* Crank-angle states at rest gas (p, T) in every cylinder, walls, coolant and oil. */
+void en_crank_init(const ts_engine *e, double p, double T, double *x);
 int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
                 double *xdot, ts_engine_outputs *out);
 int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
@@ -322,6 +353,9 @@ typedef struct en_bank_flows {
 typedef struct en_bank_out {
     double p_im, T_im, F_im, p_em, T_em, F_em, air_flow, turbo_speed;
 } en_bank_out;
+/* The bank-level channels of out (boost, intake and exhaust temperature: bank
+ * means; air flow: sum; turbo speed: mean) from both banks' en_bank_out. */
+void en_bank_outputs(const en_bank_out *bo, ts_engine_outputs *out);
 /* Read the bank's manifold states (p, T, F) without derivatives. */
 void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o);
 void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, double p_amb,

@@ -64,6 +64,15 @@ void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o)
     o->air_flow = 0;
 }
 
+void en_bank_outputs(const en_bank_out *bo, ts_engine_outputs *out)
+{
+    out->boost = 0.5 * (bo[0].p_im + bo[1].p_im);
+    out->intake_temp = 0.5 * (bo[0].T_im + bo[1].T_im);
+    out->exhaust_temp = 0.5 * (bo[0].T_em + bo[1].T_em);
+    out->air_flow = bo[0].air_flow + bo[1].air_flow;
+    out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
+}
+
 void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, double p_amb,
                  double T_amb, double *xd, en_bank_out *o)
 {

@@ -36,13 +36,17 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
     double w = x[TS_ENGINE_X_SPEED];
     double z = fmin(fmax(x[e->off_lag], 0.0), 1.0);
     double rack = fmin(fmax(in->rack, 0.0), 1.0);
-    double tq_fl = en_map_interp(e, e->map_tq, w);
-    double fuel_fl = en_map_interp(e, e->map_fuel, w);
-    double boost_fl = en_map_interp(e, e->map_boost, w);
+    const ts_engine_map_table *mt = en_map_table(e);
+    en_lin at = en_map_at(e, w);
+    double tq_fl = en_lin_eval(&at, mt->torque);
+    double fuel_fl = en_lin_eval(&at, mt->fuel);
+    double boost_fl = en_lin_eval(&at, mt->boost);
+    /* en_friction_torque with fmep x (12 V_d): the other association moves the
+     * map runs by rounding, which clutch and shift events amplify to 1e-5 */
     double vd_total = e->geom.vd * EN_NCYL;
     double t_fric = en_fmep(c, w) * vd_total / EN_CYCLE * tanh(w / 5.0);
     double boost = in->p_amb + z * (boost_fl - in->p_amb);
-    double avail = en_pb_interp(e, c->map[c->variant].pb_torque, w, boost / boost_fl);
+    double avail = en_pb_interp(e, mt->pb_torque, w, boost / boost_fl);
     double f;
     double cycles_per_s = fmax(w, 0.0) / EN_CYCLE;
     if (in->fuel_per_cycle >= 0) {

@@ -34,22 +34,24 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
     double w = x[TS_ENGINE_X_SPEED];
     double wp = fmax(w, 0.0);
     en_bank_out bo[EN_NBANK];
+    en_comp_out co[EN_NBANK];
     double air = 0;
     for (int b = 0; b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
-        /* compressor flow is needed for Eq. 14 before the bank derivatives */
+        /* compressor flow is needed for Eq. 14 before the bank derivatives
+         * (and handed on to en_bank_rhs) */
         double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
-        en_comp_out co;
-        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &co);
-        air += co.mdot;
+        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &co[b]);
+        air += co[b].mdot;
         en_bank_read(e, xb, &bo[b]);
     }
     double mf_cyc = en_fuel_command(e, in, air, wp);
-    const ts_engine_map_table *pb = &c->map[c->variant];
-    double eta_v_fl = en_map_interp(e, e->map_eta_v, wp);
-    double eta_i_fl = en_map_interp(e, e->map_eta_i, wp);
-    double q_w_fl = en_map_interp(e, e->map_q_wall, wp);
-    double p_fl = en_map_interp(e, e->map_boost, wp);
+    const ts_engine_map_table *mt = en_map_table(e);
+    en_lin at = en_map_at(e, wp);
+    double eta_v_fl = en_lin_eval(&at, mt->eta_v);
+    double eta_i_fl = en_lin_eval(&at, mt->eta_i);
+    double q_w_fl = en_lin_eval(&at, mt->q_wall);
+    double p_fl = en_lin_eval(&at, mt->boost);
     double t_ind = 0, fuel_rate = 0, wall = 0, hin = 0, hout = 0, min = 0, mout = 0;
     double *xl = xdot + e->off_ledger;
     for (int b = 0; b < EN_NBANK; b++) {
@@ -59,9 +61,10 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         /* part boost: the crank-angle spool-ups' factors at this bank's
          * intake manifold pressure / full-load boost (see the header) */
         double ratio = o->p_im / p_fl;
-        double eta_v = eta_v_fl * en_pb_interp(e, pb->pb_eta_v, wp, ratio);
-        double eta_i = eta_i_fl * en_pb_interp(e, pb->pb_eta_i, wp, ratio);
-        double q_wb = q_w_fl * en_pb_interp(e, pb->pb_q_wall, wp, ratio);
+        en_bilin pb = en_pb_at(e, wp, ratio);
+        double eta_v = eta_v_fl * en_bilin_eval(&pb, mt->pb_eta_v);
+        double eta_i = eta_i_fl * en_bilin_eval(&pb, mt->pb_eta_i);
+        double q_wb = q_w_fl * en_bilin_eval(&pb, mt->pb_q_wall);
         double m_cyl = eta_v * rho * e->geom.vd * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
         double m_f = mf_cyc * (EN_NCYL / EN_NBANK) * wp / EN_CYCLE;
         double q_fuel = m_f * c->lhv;
@@ -70,7 +73,8 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         double m_out = m_cyl + m_f;
         double F_out = m_out > 0 ? fmin((m_cyl * o->F_im + m_f * (1 + c->afr_stoich)) / m_out, 1.0) : o->F_em;
         en_bank_flows f = {.m_in = m_cyl, .h_in = h_in, .mf_in = m_cyl * o->F_im,
-                           .m_ex = m_out, .h_ex = h_out, .mf_ex = m_out * F_out};
+                           .m_ex = m_out, .h_ex = h_out, .mf_ex = m_out * F_out,
+                           .have_co = 1, .co = co[b]};
         en_bank_rhs(e, xb, &f, in->p_amb, in->T_amb, xdot + e->off_bank + b * EN_BANK_NX, o);
         t_ind += wp > 1 ? eta_i * q_fuel / wp : 0.0;
         fuel_rate += m_f;
@@ -80,7 +84,7 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         min += m_cyl;
         mout += m_out;
     }
-    double t_fric = en_fmep(c, w) * e->geom.vd * EN_NCYL / EN_CYCLE * tanh(w / 5.0);
+    double t_fric = en_friction_torque(e, w);
     double t_brake = t_ind - t_fric;
     xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) /
                                                         (c->inertia + in->load_inertia);
@@ -98,19 +102,15 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         out->brake_torque = t_brake;
         out->indicated_torque = t_ind;
         out->friction_torque = t_fric;
-        out->boost = 0.5 * (bo[0].p_im + bo[1].p_im);
-        out->intake_temp = 0.5 * (bo[0].T_im + bo[1].T_im);
-        out->exhaust_temp = 0.5 * (bo[0].T_em + bo[1].T_em);
-        out->air_flow = bo[0].air_flow + bo[1].air_flow;
+        en_bank_outputs(bo, out);
         out->fuel_flow = fuel_rate;
         out->fuel_per_cycle = mf_cyc;
         out->phi = min > 0 ? fuel_rate * c->afr_stoich / min : 0.0;
-        out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
     }
     return 0;
 }
 
-double en_pb_interp(const ts_engine *e, const double *y, double omega, double ratio)
+en_bilin en_pb_at(const ts_engine *e, double omega, double ratio)
 {
     const ts_engine_config *c = &e->c;
     int ns = c->spool_speed_n, nr = c->spool_ratio_n;
@@ -123,8 +123,11 @@ double en_pb_interp(const ts_engine *e, const double *y, double omega, double ra
     }
     while (j < nr - 2 && ratio > rs[j + 1]) j++;
     fr = fmin(fmax((ratio - rs[j]) / (rs[j + 1] - rs[j]), 0.0), 1.0);
-    const double *r0 = y + i * nr, *r1 = ns > 1 ? y + (i + 1) * nr : r0;
-    double a = r0[j] + fr * (r0[j + 1] - r0[j]);
-    double b = r1[j] + fr * (r1[j + 1] - r1[j]);
-    return a + fw * (b - a);
+    return (en_bilin){i * nr, ns > 1 ? (i + 1) * nr : i * nr, j, fw, fr};
+}
+
+double en_pb_interp(const ts_engine *e, const double *y, double omega, double ratio)
+{
+    en_bilin w = en_pb_at(e, omega, ratio);
+    return en_bilin_eval(&w, y);
 }

@@ -47,7 +47,7 @@ void en_compressor(const en_turbo *t, double w, double p01, double T01, double p
     double pr = p02 / p01;
     double dh = CP_AIR_TURBO * T01 * (pow(pr, k) - 1.0);
     double U = fmax(w, 0.0) * t->d_c / 2.0;
-    double rho = p01 / (287.0 * T01);
+    double rho = p01 / (t->r_air * T01);
     double arg = U * U - dh / t->psi0;
     double mdot = arg > 0 ? rho * t->d_c * t->d_c * t->phi_ch * sqrt(arg) : 0.0;
     double phi = U > 1.0 ? mdot / (rho * U * t->d_c * t->d_c) : t->phi_opt;
@@ -55,7 +55,7 @@ void en_compressor(const en_turbo *t, double w, double p01, double T01, double p
     double eta = t->eta_max * (1.0 - x * x);
     /* high tip speed: efficiency falls with the tip Mach number U/a01 above
      * mach_opt (shock and tip-clearance losses on the high speed lines) */
-    double mach = U / sqrt(GAMMA_AIR * 287.0 * T01);
+    double mach = U / sqrt(GAMMA_AIR * t->r_air * T01);
     if (mach > t->mach_opt) {
         double y = (mach - t->mach_opt) / t->mach_w;
         eta *= 1.0 - y * y;

@@ -33,9 +33,8 @@ static inline ts_engine_inputs et_full_load(void)
     return in;
 }
 
-/* Steady full-load state at rpm for variant/fidelity; x allocated (caller frees). */
-static inline double *et_steady(int variant, int fidelity, double rpm, ts_engine **e_out,
-                                ts_engine_cycle *cyc)
+/* The engine of the default config with this variant and fidelity (caller frees). */
+static inline ts_engine *et_make(int variant, int fidelity)
 {
     ts_config c = et_defaults();
     c.engine.variant = variant;
@@ -43,6 +42,15 @@ static inline double *et_steady(int variant, int fidelity, double rpm, ts_engine
     ts_err err;
     ts_engine *e = ts_engine_make(&c, &err);
     assert_non_null(e);
+    return e;
+}
+
+/* Steady full-load state at rpm for variant/fidelity; x allocated (caller frees). */
+static inline double *et_steady(int variant, int fidelity, double rpm, ts_engine **e_out,
+                                ts_engine_cycle *cyc)
+{
+    ts_err err;
+    ts_engine *e = et_make(variant, fidelity);
     double *x = calloc((size_t)ts_engine_nstate(e), sizeof *x);
     assert_non_null(x);
     ts_engine_inputs in = et_full_load();

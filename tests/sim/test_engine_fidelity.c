@@ -11,17 +11,6 @@
 #include "sim/engine_impl.h"
 #include "sim/solver.h"
 
-static ts_engine *make(int fidelity, int variant)
-{
-    ts_config c = et_defaults();
-    c.engine.fidelity = fidelity;
-    c.engine.variant = variant;
-    ts_err err;
-    ts_engine *e = ts_engine_make(&c, &err);
-    assert_non_null(e);
-    return e;
-}
-
 /* EVIDENCE: the map fidelity's definition (engine_map.c): after a rack step
  * 0 -> 1 at held speed the boost-lag state follows z = 1 - exp(-t/tau) with
  * tau = /engine/spool_lag at this speed (1600 rpm is a spool speed: the
@@ -34,7 +23,7 @@ static void map_boost_lag_closed_form(void **state)
 {
     (void)state;
     ts_config c = et_defaults();
-    ts_engine *e = make(TS_ENGINE_MAP, TS_ENGINE_CONVENTIONAL);
+    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_MAP);
     double x[3], work[15], xd[3];
     double w = c.engine.map_speed[8]; /* 1600 rpm, the 9th map speed */
     int is = -1;
@@ -82,7 +71,7 @@ static void map_crank_dynamics_settle_on_load(void **state)
 {
     (void)state;
     ts_config c = et_defaults();
-    ts_engine *e = make(TS_ENGINE_MAP, TS_ENGINE_CONVENTIONAL);
+    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_MAP);
     double x[3], work[15];
     ts_engine_init_state(e, ET_RPM(1700), 101325, 298, x);
     x[2] = 1.0;
@@ -151,7 +140,7 @@ static int cv_rhs(double t, const double *y, double *ydot, void *ud)
 static void caller_integrates_with_cvode(void **state)
 {
     (void)state;
-    ts_engine *e = make(TS_ENGINE_MEAN_VALUE, TS_ENGINE_CONVENTIONAL);
+    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_MEAN_VALUE);
     int n = ts_engine_nstate(e);
     double *x = calloc((size_t)n, sizeof *x), *x2 = calloc((size_t)n, sizeof *x2);
     double *atol = calloc((size_t)n, sizeof *atol);

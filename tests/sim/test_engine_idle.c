@@ -17,12 +17,8 @@ typedef struct idle {
 
 static idle idle_of(int variant, int fidelity)
 {
-    ts_config c = et_defaults();
-    c.engine.variant = variant;
-    c.engine.fidelity = fidelity;
     ts_err err;
-    ts_engine *e = ts_engine_make(&c, &err);
-    assert_non_null(e);
+    ts_engine *e = et_make(variant, fidelity);
     double *x = calloc((size_t)ts_engine_nstate(e), sizeof *x);
     double *work = malloc(sizeof(double) * ts_engine_work_size(e));
     assert_non_null(x);

@@ -82,9 +82,10 @@ static void watson_and_ignition_delay(void **state)
 }
 
 /* EVIDENCE: ideal gas with cp(T): h(T0) = 0; dh/dT = cp (central difference);
- * u = h - R T; T_from_h inverts h; cp(air, 300 K) = 1005 +/- 1 %,
- * cp(air, 1000 K) = 1142 +/- 1 % (JANAF). The energy-form temperature rate
- * closes: m cv dT + u dm + m du/dF dF = dE. Closed form. */
+ * u = h - R T; cp(air, 300 K) = 1005 +/- 1 %,
+ * cp(air, 1000 K) = 1142 +/- 1 % (JANAF). The energy-form temperature rate of
+ * the right-hand sides (en_gas_dTdt_s) closes: m cv dT + u dm + m du/dF dF =
+ * dE. Closed form. */
 static void gas_properties(void **state)
 {
     (void)state;
@@ -98,11 +99,12 @@ static void gas_properties(void **state)
         double d = 1e-3;
         assert_close((en_gas_h(&g, T + d, 0.4) - en_gas_h(&g, T - d, 0.4)) / (2 * d),
                      en_gas_cp(&g, T, 0.4), 1e-6, 0);
-        assert_close(en_gas_T_from_h(&g, en_gas_h(&g, T, 0.7), 0.7, 500), T, 1e-9, 0);
     }
     /* dT/dt from an energy rate: check with finite differences of E = m u(T, F) */
     double m = 0.01, T = 1200, F = 0.3, dE = 5e4, dm = 0.2, dF = 3.0;
-    double dT = en_gas_dTdt(&g, m, T, F, dE, dm, dF), h = 1e-7;
+    en_gas_state s0;
+    en_gas_eval(&g, T, F, &s0);
+    double dT = en_gas_dTdt_s(&s0, m, dE, dm, dF), h = 1e-7;
     double E0 = m * en_gas_u(&g, T, F);
     double E1 = (m + dm * h) * en_gas_u(&g, T + dT * h, F + dF * h);
     assert_close((E1 - E0) / h, dE, 1e-4, 0);
@@ -116,8 +118,6 @@ static void gas_properties(void **state)
             assert_close(st.R, en_gas_r(&g, Fk), 1e-12, 0);
             assert_close(st.h, en_gas_h(&g, Tk, Fk), 1e-11, 1e-6);
             assert_close(st.u, en_gas_u(&g, Tk, Fk), 1e-11, 1e-6);
-            assert_close(en_gas_dTdt_s(&st, m, dE, dm, dF), en_gas_dTdt(&g, m, Tk, Fk, dE, dm, dF),
-                         1e-10, 1e-9);
         }
 }
 
@@ -171,7 +171,7 @@ static void turbo_maps(void **state)
     en_turbo t = {.d_c = 0.1, .d_t = 0.1, .psi0 = 0.9, .phi_ch = 0.22, .eta_max = 0.8,
                   .phi_opt = 0.13, .phi_w = 0.15, .eta_min = 0.45, .mach_opt = 1.0,
                   .mach_w = 1.5, .a_t = 1e-3, .eta_t = 0.8, .bsr_opt = 0.7, .inertia = 1e-3,
-                  .mech_eff = 0.98};
+                  .mech_eff = 0.98, .r_air = 287.0};
     en_comp_out o;
     double w = 9000, U = w * 0.05, T1 = 298, p1 = 1e5, pr = 3.0;
     double dh = 1005 * T1 * (pow(pr, 0.4 / 1.4) - 1), rho = p1 / (287 * T1);

@@ -18,11 +18,8 @@
  * from the initial state at 2100 rpm, 40 ms at full rack against a load. */
 static double *running_engine(ts_engine **e_out, ts_engine_inputs *in)
 {
-    ts_config c = et_defaults();
-    c.engine.fidelity = TS_ENGINE_CRANK_ANGLE;
     ts_err err;
-    ts_engine *e = ts_engine_make(&c, &err);
-    assert_non_null(e);
+    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_CRANK_ANGLE);
     double *x = calloc((size_t)ts_engine_nstate(e), sizeof *x);
     double *work = calloc(ts_engine_work_size(e), sizeof *work);
     assert_non_null(x);
