@@ -37,6 +37,7 @@
 #include <string.h>
 
 #include "engine_impl.h"
+#include "solver.h"
 
 static ts_rc check_tables(const ts_engine_config *c, int v, ts_err *err)
 {
@@ -331,23 +332,23 @@ static const ts_engine_inputs *at(stage_load *sl, double t, const double *x)
     return &sl->in;
 }
 
-/* One classical RK4 step of size h (map and mean_value). */
+/* One classical RK4 step of size h (map and mean_value): solver.h's, with the
+ * load evaluated at every stage. */
+typedef struct rk4_ud {
+    const ts_engine *e;
+    stage_load *sl;
+} rk4_ud;
+
+static int rk4_rhs(double t, const double *x, double *xdot, void *ud)
+{
+    const rk4_ud *r = ud;
+    return ts_engine_rhs(r->e, t, x, at(r->sl, t, x), xdot, NULL);
+}
+
 static int rk4(const ts_engine *e, double *x, double t, double h, stage_load *sl, double *work)
 {
-    int n = e->nx;
-    double *k1 = work, *k2 = work + n, *k3 = work + 2 * n, *k4 = work + 3 * n, *xt = work + 4 * n;
-    if (ts_engine_rhs(e, t, x, at(sl, t, x), k1, NULL)) return 1;
-    for (int i = 0; i < n; i++) xt[i] = x[i] + 0.5 * h * k1[i];
-    if (ts_engine_rhs(e, t + 0.5 * h, xt, at(sl, t + 0.5 * h, xt), k2, NULL)) return 1;
-    for (int i = 0; i < n; i++) xt[i] = x[i] + 0.5 * h * k2[i];
-    if (ts_engine_rhs(e, t + 0.5 * h, xt, at(sl, t + 0.5 * h, xt), k3, NULL)) return 1;
-    for (int i = 0; i < n; i++) xt[i] = x[i] + h * k3[i];
-    if (ts_engine_rhs(e, t + h, xt, at(sl, t + h, xt), k4, NULL)) return 1;
-    for (int i = 0; i < n; i++) {
-        x[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
-        if (!isfinite(x[i])) return 1;
-    }
-    return 0;
+    rk4_ud r = {e, sl};
+    return ts_rk4_step(e->nx, rk4_rhs, &r, t, h, x, work);
 }
 
 /* Multirate step of the crank-angle model (issue 6/10 speed-up): the gas,

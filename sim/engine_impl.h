@@ -22,10 +22,11 @@
 
 #include <math.h>
 
+#include "constants.h"
 #include "engine.h"
 #include "fuel_actuator.h"
 
-#define EN_PI 3.14159265358979323846
+#define EN_PI TS_PI
 #define EN_NCYL 12
 #define EN_NBANK 2
 #define EN_CYCLE (4.0 * EN_PI) /* crank angle of one four-stroke cycle [rad] */
