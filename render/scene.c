@@ -34,7 +34,6 @@
 static const double OVERALL_WIDTH = 3.66;   /* [m] M1 width over the tracks */
 static const double TRACK_WIDTH = 0.635;    /* [m] T-156/T-158 shoe width */
 static const double LOWER_HULL_HALF = 1.05; /* [m] lower hull between the tracks */
-static const double SHOE_PITCH = 0.180;     /* [m] as sim/data/defaults/track.json "pitch" */
 static const double SHOE_INNER = 0.045;     /* [m] shoe body inside the pitch line */
 static const double SHOE_OUTER = 0.045;     /* [m] shoe body outside the pitch line */
 static const double SHOE_GAP = 0.06;        /* fraction of a pitch left open at each end */
@@ -383,12 +382,12 @@ static void build_track(mb *b, const ts_geom *g, const tsr_view *v, double phase
         area += g->track_x[i] * g->track_z[k] - g->track_x[k] * g->track_z[i];
     }
     double L = lp->cum[n];
-    if (!(L > 0)) {
+    if (!(L > 0) || !(g->track_pitch > 0)) { /* no loop, or no pitch to draw shoes at */
         free(lp);
         return;
     }
     double orient = area >= 0 ? 1.0 : -1.0; /* +1: counter-clockwise in (x right, z up) */
-    int nshoe = (int)lround(L / SHOE_PITCH);
+    int nshoe = (int)lround(L / g->track_pitch);
     if (nshoe < 8) nshoe = 8;
     double p = L / nshoe;
     /* Forward rolling (positive sprocket spin) moves the top run forward, i.e.

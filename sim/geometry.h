@@ -45,6 +45,7 @@ typedef struct ts_geom {
                                   deflection to add, scaled by a renderer's exaggeration [m] */
     double track_tension[TS_GEOM_MAX_TRACK]; /* dynamic tension at each point [N] */
     double track_static_tension; /* for colour scaling [N] */
+    double track_pitch;        /* shoe pitch, for drawing the shoes [m] */
     int nterrain;              /* terrain profile under and around the vehicle */
     double terrain_x[TS_GEOM_MAX_TERRAIN], terrain_z[TS_GEOM_MAX_TERRAIN]; /* [m] */
 } ts_geom;

@@ -1425,6 +1425,7 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
         }
     }
     g->track_static_tension = v->t_static;
+    g->track_pitch = v->cfg.track.pitch;
     elem e[VM_NB];
     for (int el = 0; el < VM_NB; el++)
         tangent(v, &k, el, &e[el]);

@@ -145,6 +145,7 @@ static void m1_pose(m1_state *s, double X, double t, double speed)
     g->hull_length = 7.92;
     g->hull_height = 2.44;
     g->track_static_tension = 66700.0;
+    g->track_pitch = 0.180; /* sim/data/defaults/track.json */
     /* least-squares line through the ground under the road wheels */
     double sx = 0, sz = 0, sxx = 0, sxz = 0;
     for (int i = 0; i < M1_NROAD; i++) {
