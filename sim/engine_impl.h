@@ -359,6 +359,8 @@ typedef struct en_bank_out {
 void en_bank_outputs(const en_bank_out *bo, ts_engine_outputs *out);
 /* Read the bank's manifold states (p, T, F) without derivatives. */
 void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o);
+/* Open fraction of the wastegate [0, 1] at intake manifold pressure p_boost [Pa]. */
+double en_wastegate_open(const ts_engine_config *c, double p_boost);
 void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, double p_amb,
                  double T_amb, double *xbdot, en_bank_out *o);
 

@@ -8,7 +8,9 @@
  * Per bank: ambient -> compressor -> [intercooler volume, heat to its wall]
  * -> orifice -> [intake manifold] -> intake valves -> cylinders -> exhaust
  * valves -> [exhaust manifold, small heat loss] -> turbine (|| wastegate,
- * /engine/wg_area; 0 = none) -> ambient.
+ * /engine/wg_area; 0 = none) -> ambient. The wastegate's pneumatic actuator
+ * (en_wastegate_open) opens it linearly in boost between /engine/wg_crack
+ * and /engine/wg_full (diaphragm force against a preloaded linear spring).
  * Leaves out pipe wave dynamics (0-D volumes) and the air filter / exhaust
  * back pressure (turbine exhausts to ambient).
  */
@@ -49,6 +51,23 @@ double en_orifice(double cda, double p1, double T1, double R1, double g1, double
     if (cda <= 0) return 0.0;
     if (p1 >= p2) return flow1(cda, p1, T1, R1, g1, p2);
     return -flow1(cda, p2, T2, R2, g2, p1);
+}
+
+/* Pneumatic actuator: boost on the diaphragm against the spring preload
+ * (wg_crack) and rate (full lift at wg_full): lift, and so the poppet's
+ * curtain area, LINEAR in boost between the two, with C1 rounding over
+ * WG_ROUND of the spring range at each end (the integrators want a continuous
+ * slope). Fraction of /engine/wg_area open, in [0, 1]. */
+#define WG_ROUND 0.02
+double en_wastegate_open(const ts_engine_config *c, double p_boost)
+{
+    double t = (p_boost - c->wg_crack) / fmax(c->wg_full - c->wg_crack, 1.0);
+    const double d = WG_ROUND;
+    if (t <= -d) return 0.0;
+    if (t < d) return (t + d) * (t + d) / (4.0 * d);
+    if (t <= 1.0 - d) return t;
+    if (t < 1.0 + d) return 1.0 - (1.0 + d - t) * (1.0 + d - t) / (4.0 * d);
+    return 1.0;
 }
 
 void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o)
@@ -120,10 +139,8 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     double R_em = s_em.R, cp_em = s_em.cp;
     en_turb_out to;
     en_turbine(&e->turbo, xb[BX_TC], o->p_em, o->T_em, R_em, cp_em, p_amb, &to);
-    /* wastegate: boost-sensing bypass around the turbine, opening linearly
-     * between wg_crack and wg_full (smoothed at both ends) */
-    double open = (o->p_im - c->wg_crack) / fmax(c->wg_full - c->wg_crack, 1.0);
-    open = open <= 0 ? 0 : open >= 1 ? 1 : open * open * (3.0 - 2.0 * open);
+    /* wastegate: boost-sensing bypass around the turbine */
+    double open = en_wastegate_open(c, o->p_im);
     double g_em = cp_em / (cp_em - R_em);
     double m_wg = en_orifice(open * c->wg_area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R_em, g_em);
     if (m_wg < 0) m_wg = 0; /* check valve: no reverse flow into the manifold */
