@@ -141,6 +141,7 @@ struct vm {
 struct vm_work {
     double *M, *Q;
     double *P, *pb; /* nq x nq, nq: the mass matrix reordered for its Cholesky factor */
+    int *pat;       /* nq (nq + 1): the factor's column patterns (dense_small.h) */
     double sx[2 + 2 * TS_SPAN_MAX_MODES], sxd[2 + 2 * TS_SPAN_MAX_MODES],
         sf[2 + 2 * TS_SPAN_MAX_MODES];
 };
@@ -339,7 +340,8 @@ static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M
  * first three) are dense: factored in REVERSED order (modes, spins, arms,
  * hull last: an arrowhead ordering) the factor fills in only along the spans'
  * couplings, and the zero-skipping factorisation does a fraction of the
- * dense work. Uses w->P, w->pb. */
+ * dense work; the factor's column patterns are kept (w->pat) so the two
+ * triangular sweeps skip its zeros too (same result). Uses w->P, w->pb, w->pat. */
 static int chol_solve(vm_work *w, const double *M, double *b, int n)
 {
     double *P = w->P, *pb = w->pb;
@@ -350,8 +352,8 @@ static int chol_solve(vm_work *w, const double *M, double *b, int n)
             pi[j] = mi[-j];
         pb[i] = b[n - 1 - i];
     }
-    if (ts_chol_factor(P, n) != 0) return 1;
-    ts_chol_solve(P, n, pb);
+    if (ts_chol_factor_pattern(P, n, w->pat) != 0) return 1;
+    ts_chol_solve_pattern(P, n, w->pat, pb);
     for (int i = 0; i < n; i++)
         b[n - 1 - i] = pb[i];
     return 0;
@@ -899,7 +901,8 @@ vm_work *vm_work_make(const vm *v)
     w->Q = calloc(nq, sizeof(double));
     w->P = calloc(nq * nq, sizeof(double));
     w->pb = calloc(nq, sizeof(double));
-    if (!w->M || !w->Q || !w->P || !w->pb) {
+    w->pat = calloc(nq * (nq + 1), sizeof(int));
+    if (!w->M || !w->Q || !w->P || !w->pb || !w->pat) {
         vm_work_free(w);
         return NULL;
     }
@@ -913,6 +916,7 @@ void vm_work_free(vm_work *w)
     free(w->Q);
     free(w->P);
     free(w->pb);
+    free(w->pat);
     free(w);
 }
 
