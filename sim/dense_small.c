@@ -98,6 +98,8 @@ static int chol_factor(double *a, int n, int *pat)
             }
             continue;
         }
+        /* nzl is this loop's output when no pattern is kept: written before read */
+        /* cppcheck-suppress legacyUninitvar */
         int *nz = pat ? pat + (long)j * (n + 1) + 1 : nzl;
         int m = 0;
         for (int i = j + 1; i < n; i++)
