@@ -16,6 +16,7 @@ typedef struct ts_vehicle_config {
     double sprocket_radius;          /* sprocket pitch radius [m] */
     double rolling_resistance;       /* rolling-resistance coefficient at rest [1] */
     double rolling_resistance_speed; /* its growth with speed [s/m] */
+    double rolling_resistance_smoothing; /* speed scale of its sign through standstill [m/s] */
     double cda;                      /* drag coefficient x frontal area [m^2] */
     double air_density;              /* [kg/m^3] */
     double grade;                    /* road slope, positive uphill [rad] */

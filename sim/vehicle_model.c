@@ -16,6 +16,11 @@
  *   - no slip under road wheel 4 [P II.C.1]: a stiff tangential spring between
  *     the track under that wheel and the ground; thrust is the tension the
  *     sprocket builds between itself and this anchor;
+ *   - running-gear rolling resistance: under each loaded road wheel a torque
+ *     f N rho on the wheel's spin relative to the hull (f = f0 + f1 |v|, the
+ *     point-mass model's coefficients of /vehicle, sign smoothed through
+ *     standstill), so the model dissipates f W v like the point-mass vehicle;
+ *     aerodynamic drag at the CG;
  *   - prescribed sprocket torque on the sprocket spin, its reaction on the hull;
  *   - gravity.
  * The idler sits on the track-adjusting link, locked while running (a grease
@@ -118,6 +123,8 @@ struct vm {
     double u0[VM_NB][2]; /* element directions at the design configuration */
     double ea, p0, tau_d;
     double kf, kf3, cf, ka, ca;
+    double rr0, rr1, rr_v0; /* running-gear rolling resistance f = rr0 + rr1 |v|, smoothing */
+    double drag_side;       /* 1/2 rho CdA per side [kg/m] */
     int anchor; /* road-wheel index 0..6 */
     double x_anchor0;
     double x0, z0; /* design CG world position */
@@ -476,6 +483,16 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
             double f[2] = {-slope * nload * s, nload * s};
             add_force(Q, &k.j[b], f);
         }
+        if (nload > 0 && qd) {
+            /* running-gear rolling resistance: a torque on the wheel's spin
+             * relative to the hull, f N rho, so it dissipates f N v at the
+             * rolling speed v = rho (spin - pitch rate); its reaction on the hull */
+            double vr = v->rho_b[b] * (qd[QS0 + b] - qd[QT]);
+            double f = v->rr0 + v->rr1 * fabs(vr);
+            double tr = v->dscale * f * nload * v->rho_b[b] * tanh(vr / v->rr_v0);
+            Q[QS0 + b] -= tr;
+            Q[QT] += tr;
+        }
         if (diag) {
             diag->wheel_load[i] = nload;
             diag->arm_angle[i] = q[QA0 + i];
@@ -496,6 +513,8 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         Q[QS0 + b] -= v->rho_b[b] * fa;
         if (diag) diag->anchor_force = fa;
     }
+    /* aerodynamic drag on the hull, at the CG (its pitch moment left out) */
+    if (qd) Q[QX] -= v->dscale * v->drag_side * qd[QX] * fabs(qd[QX]);
     /* drive */
     double tau = drive_on ? ts_drive_torque(&v->cfg.drive, t) : 0.0;
     Q[QS0 + VM_SPROCKET] += tau;
@@ -1140,6 +1159,10 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     }
     v->bs_angle = vc->bump_stop_angle;
     v->k_bs = vc->bump_stop_rate;
+    v->rr0 = vc->rolling_resistance;
+    v->rr1 = vc->rolling_resistance_speed;
+    v->rr_v0 = vc->rolling_resistance_smoothing;
+    v->drag_side = 0.25 * vc->air_density * vc->cda;
     v->ea = tc->ea;
     v->p0 = tc->tension;
     v->tau_d = vc->track_damping_time;

@@ -179,7 +179,7 @@ static void plain_exchange_is_unstable_interface_inertia_fixes_it(void **state)
 /* EVIDENCE: paper Figs. 29-30 (Section IV.C): a gear shift shows as a spike in
  * the track tension and excites the transverse span vibration. Flat ground,
  * 90 % rack, coupled track (1 + 1 modes per span), leading-following; the
- * 1-2 shift ends at ~2.75 s. Predicted (not calibrated): within 0.3 s after
+ * 1-2 shift ends at ~3.7 s. Predicted (not calibrated): within 0.3 s after
  * the end of the shift the rear-roller tension departs from its level just
  * before by more than 20 % of the static tension, and the peak-to-peak
  * transverse mid-span deflection of the upper span (rear roller -> front
@@ -189,7 +189,7 @@ static void shift_spikes_tension_and_excites_span(void **state)
     (void)state;
     ts_config c = load("flat-coupled-rack90", NULL);
     ts_err err;
-    assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 3.4, 0.005, &h_a, &err), TS_OK);
+    assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 4.6, 0.005, &h_a, &err), TS_OK);
     int ie = -1;
     for (int i = 1; i < h_a.n; i++)
         if (h_a.gear[i - 1] < 2.0 && h_a.gear[i] >= 2.0) {
@@ -225,11 +225,47 @@ static void shift_spikes_tension_and_excites_span(void **state)
     assert_true(dmax1 - dmin1 > 2.0 * (dmax0 - dmin0));
 }
 
+/* EVIDENCE: paper Fig. 31 (Section IV.C): over the bump course at 90 % rack
+ * "the second and third gear shifts are delayed" against flat ground, as the
+ * obstacles take drive torque. Preset flat-coupled-rack90 (upshift at 1750
+ * rpm, engine-speed triggered, [E]) on flat ground and on the bump course,
+ * coupled track, leading-following, 9 s. Measured shift starts 4.68 / 7.50 s
+ * flat and 5.32 / 7.80 s on bumps. Predicted: the 1-2 shift, still on
+ * the flat run-in before the first bump, at the same time (within 0.05 s);
+ * the 2-3 and 3-4 shifts each at least 0.15 s later on bumps. */
+static double shift_start(const hist *h, double gear)
+{
+    for (int i = 1; i < h->n; i++)
+        if (h->gear[i - 1] <= gear && h->gear[i] > gear) return h->t[i - 1];
+    return INFINITY;
+}
+
+static void bumps_delay_second_and_third_upshift(void **state)
+{
+    (void)state;
+    ts_config c = load("flat-coupled-rack90", NULL);
+    ts_err err;
+    assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 9.0, 0.01, &h_ref, &err), TS_OK);
+    c.terrain.kind = TS_TERRAIN_BUMPS;
+    assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 9.0, 0.01, &h_a, &err), TS_OK);
+    double f[3], b[3];
+    for (int g = 0; g < 3; g++) {
+        f[g] = shift_start(&h_ref, g + 1.0);
+        b[g] = shift_start(&h_a, g + 1.0);
+    }
+    print_message("upshifts flat %.2f / %.2f / %.2f s, bumps %.2f / %.2f / %.2f s\n", f[0], f[1],
+                  f[2], b[0], b[1], b[2]);
+    assert_true(isfinite(b[2]) && isfinite(f[2]));
+    assert_close(b[0], f[0], 0, 0.05);
+    assert_true(b[1] > f[1] + 0.15);
+    assert_true(b[2] > f[2] + 0.15);
+}
+
 /* EVIDENCE: paper Fig. 33 (Section IV.C): with the IVS controller at 5 mph the
  * rack goes to 100 % at launch and 5 mph is reached before the 8th second,
  * after which the rack comes back below full. Flat ground (the bump course is
- * the report's 30-s run), static track, gains of /control (kp 0.5, ti 4 s,
- * estimates [E], not tuned to this test). Also the speed is then held within
+ * the report's 80-s run), static track, gains of /control (kp 2 per m/s
+ * CALIBRATED to Fig. 33's full rack through the launch, ti 4 s [E]). Also the speed is then held within
  * 1 mph on average over the last 3 s. Predicted. */
 static void ivs_full_rack_at_launch_then_holds_5mph(void **state)
 {
@@ -323,6 +359,7 @@ int main(void)
         cmocka_unit_test(leader_not_restarted_follower_reuses_jacobian),
         cmocka_unit_test(plain_exchange_is_unstable_interface_inertia_fixes_it),
         cmocka_unit_test(shift_spikes_tension_and_excites_span),
+        cmocka_unit_test(bumps_delay_second_and_third_upshift),
         cmocka_unit_test(ivs_full_rack_at_launch_then_holds_5mph),
         cmocka_unit_test(save_restore_reproduces),
         cmocka_unit_test(gain_schedule_and_config_errors),
