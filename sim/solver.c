@@ -70,7 +70,7 @@ static void stats_add(ts_ode_stats *a, const ts_ode_stats *b)
  *
  * With opts.second_order the Newton matrix is formed by schur_linsys (CVODE's
  * linear-system hook) instead of CVODE's dense path: the same difference-
- * quotient Jacobian J (cvLsDenseDQJac's increments), kept in the solver's own
+ * quotient Jacobian J (cvLsDenseDQJac's increments and arithmetic), kept in the solver's own
  * n x n array, and only the h x h Schur complement of I - gamma J formed from
  * it, so the n x n SUNDIALS matrix is never copied nor scaled (CVODE's
  * savedJ -> A copy and A = I - gamma J were ~10 % of a vehicle run). The
@@ -198,12 +198,12 @@ static int schur_solve(SUNLinearSolver ls, SUNMatrix A, N_Vector xv, N_Vector bv
     } else {
         for (int i = 0; i < h; i++)
             c->r[i] = x[h + i];
-        if (c->ext) { /* Mbl = -gamma J21 */
+        if (c->ext) { /* Mbl = -gamma J21, rounded as CVODE's A = I - gamma J */
             for (int j = 0; j < h; j++) {
-                double b1 = c->gamma * x[j];
+                double b1 = x[j], mg = -c->gamma;
                 const double *col = c->J + (size_t)j * n + h;
                 for (int i = 0; i < h; i++)
-                    c->r[i] += col[i] * b1;
+                    c->r[i] -= (mg * col[i]) * b1;
             }
         } else {
             const double *a = SUNDenseMatrix_Data(A);
@@ -312,6 +312,8 @@ static int schur_linsys(sunrealtype t, N_Vector yv, N_Vector fyv, SUNMatrix A, s
             CVodeGetNonlinearSystemData(o->mem, &tn, &v1, &v2, &v3, &g, &rl1, &v4, &u) < 0)
             return -1;
         hcur = g / rl1;
+        double hnext;
+        if (CVodeGetCurrentStep(o->mem, &hnext) >= 0 && hnext * rl1 == g) hcur = hnext; /* exact */
         const double uround = 2.220446049250313e-16, srur = sqrt(uround);
         double fnorm = N_VWrmsNorm(fyv, tmp1);
         double min_inc = fnorm != 0.0 ? DQ_MIN_INC_MULT * fabs(hcur) * uround * n * fnorm : 1.0;
@@ -319,12 +321,11 @@ static int schur_linsys(sunrealtype t, N_Vector yv, N_Vector fyv, SUNMatrix A, s
             double keep = y[j], inc = fmax(srur * fabs(keep), min_inc / ewt[j]);
             y[j] += inc;
             int rc = o->f(t, y, ft, o->ud);
-            inc = y[j] - keep;
             y[j] = keep;
             if (rc != 0) return rc;
             double *col = c->J + (size_t)j * n, inv = 1.0 / inc;
-            for (int i = 0; i < n; i++) /* N_VLinearSum's order of operations */
-                col[i] = inv * ft[i] + (-inv) * fy[i];
+            for (int i = 0; i < n; i++) /* N_VLinearSum(inv, ft, -inv, fy)'s arithmetic */
+                col[i] = inv * (ft[i] - fy[i]);
         }
         *jcur = SUNTRUE;
     } else {
