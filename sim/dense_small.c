@@ -10,6 +10,7 @@
 #include "dense_small.h"
 
 #include <math.h>
+#include <stddef.h>
 
 int ts_lu_factor(double *a, int n, int lda, int *piv)
 {
@@ -69,15 +70,16 @@ void ts_lu_solve(const double *a, int n, int lda, const int *piv, double *b)
     }
 }
 
-int ts_chol_factor(double *a, int n)
+/* The factorisation; with pat non-NULL (n <= TS_CHOL_NZ_MAX) the row pattern of
+ * each column of L below the diagonal is recorded for ts_chol_solve_pattern. */
+static int chol_factor(double *a, int n, int *pat)
 {
     /* right-looking, column-major lower: column j is scaled, then each trailing
      * column k with L_kj != 0 gets L_ij L_kj subtracted on the rows i >= k
      * where L_ij != 0. The rows are gathered per column (nz), so a sparse
      * matrix ordered for little fill costs ~sum over j of nnz_j^2; the skipped
      * terms are exact zeros, so the result is that of the dense loop. */
-    enum { NZ_MAX = 256 };
-    int nz[NZ_MAX];
+    int nzl[TS_CHOL_NZ_MAX];
     for (int j = 0; j < n; j++) {
         double *cj = a + (long)j * n;
         double d = cj[j];
@@ -85,7 +87,7 @@ int ts_chol_factor(double *a, int n)
         d = sqrt(d);
         cj[j] = d;
         double inv = 1.0 / d;
-        if (n > NZ_MAX) { /* dense fallback (contiguous axpys) */
+        if (n > TS_CHOL_NZ_MAX) { /* dense fallback (contiguous axpys) */
             for (int i = j + 1; i < n; i++)
                 cj[i] *= inv;
             for (int k = j + 1; k < n; k++) {
@@ -96,12 +98,16 @@ int ts_chol_factor(double *a, int n)
             }
             continue;
         }
+        /* nzl is this loop's output when no pattern is kept: written before read */
+        /* cppcheck-suppress legacyUninitvar */
+        int *nz = pat ? pat + (long)j * (n + 1) + 1 : nzl;
         int m = 0;
         for (int i = j + 1; i < n; i++)
             if (cj[i] != 0.0) {
                 cj[i] *= inv;
                 nz[m++] = i;
             }
+        if (pat) nz[-1] = m;
         for (int r = 0; r < m; r++) {
             int k = nz[r];
             double *ck = a + (long)k * n, f = cj[k];
@@ -110,6 +116,16 @@ int ts_chol_factor(double *a, int n)
         }
     }
     return 0;
+}
+
+int ts_chol_factor(double *a, int n)
+{
+    return chol_factor(a, n, NULL);
+}
+
+int ts_chol_factor_pattern(double *a, int n, int *pat)
+{
+    return chol_factor(a, n, n <= TS_CHOL_NZ_MAX ? pat : NULL);
 }
 
 void ts_chol_solve(const double *a, int n, double *b)
@@ -127,6 +143,33 @@ void ts_chol_solve(const double *a, int n, double *b)
         double s = b[i];
         for (int k = i + 1; k < n; k++)
             s -= ci[k] * b[k];
+        b[i] = s / ci[i];
+    }
+}
+
+void ts_chol_solve_pattern(const double *a, int n, const int *pat, double *b)
+{
+    if (n > TS_CHOL_NZ_MAX) {
+        ts_chol_solve(a, n, b);
+        return;
+    }
+    /* the sweeps of ts_chol_solve over each column's nonzero rows only: the
+     * skipped terms are exact zeros, the result is the same */
+    for (int j = 0; j < n; j++) {
+        const double *cj = a + (long)j * n;
+        const int *nz = pat + (long)j * (n + 1);
+        b[j] /= cj[j];
+        double bj = b[j];
+        if (bj != 0.0)
+            for (int r = 1; r <= nz[0]; r++)
+                b[nz[r]] -= bj * cj[nz[r]];
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        const double *ci = a + (long)i * n;
+        const int *nz = pat + (long)i * (n + 1);
+        double s = b[i];
+        for (int r = 1; r <= nz[0]; r++)
+            s -= ci[nz[r]] * b[nz[r]];
         b[i] = s / ci[i];
     }
 }

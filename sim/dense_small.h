@@ -30,4 +30,13 @@ int ts_chol_factor(double *a, int n);
 /* Solve L L^T x = b in place in b with the output of ts_chol_factor. */
 void ts_chol_solve(const double *a, int n, double *b);
 
+/* The same pair for sparse factors: ts_chol_factor_pattern also records the
+ * nonzero rows of each column of L below the diagonal in pat (n (n + 1) ints:
+ * pat[j (n + 1)] = count, then the rows), and ts_chol_solve_pattern sweeps only
+ * those (same result as ts_chol_solve; the skipped terms are exact zeros).
+ * Above TS_CHOL_NZ_MAX no pattern is kept and both fall back to the dense loops. */
+#define TS_CHOL_NZ_MAX 256
+int ts_chol_factor_pattern(double *a, int n, int *pat);
+void ts_chol_solve_pattern(const double *a, int n, const int *pat, double *b);
+
 #endif

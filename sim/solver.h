@@ -34,7 +34,10 @@ typedef struct ts_ode_opts {
     ts_root_fn roots;     /* may be NULL when nroots == 0 */
     int second_order;     /* non-zero: y = [q, q_d] (n/2 each) with dq/dt = q_d; the Newton
                            * systems are solved by their half-size Schur complement
-                           * (falls back to the full LU when a matrix lacks that form) */
+                           * (falls back to the full LU when a matrix lacks that form),
+                           * formed from the solver's own difference-quotient Jacobian
+                           * (CVODE's increments and rounding: the same steps) without
+                           * CVODE's n x n matrix copies */
     int small_dense;      /* non-zero: the full n x n Newton systems by dense_small.h's LU
                            * (single-threaded, skips zeros; for small sparse-ish systems,
                            * e.g. a powertrain) instead of SUNDIALS' dense LU */

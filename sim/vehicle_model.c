@@ -148,6 +148,9 @@ struct vm {
 struct vm_work {
     double *M, *Q;
     double *P, *pb; /* nq x nq, nq: the mass matrix reordered for its Cholesky factor */
+    int *pat;       /* nq (nq + 1): the factor's column patterns (dense_small.h) */
+    double *qf;     /* the coordinates of vm_rhs's factor in P ... */
+    int qf_ok;      /* ... when set (cleared by every other factorisation) */
     double sx[2 + 2 * TS_SPAN_MAX_MODES], sxd[2 + 2 * TS_SPAN_MAX_MODES],
         sf[2 + 2 * TS_SPAN_MAX_MODES];
 };
@@ -270,9 +273,10 @@ static void add_point_mass(const vm *v, double *M, double *Q, double m, const jc
 {
     int nq = v->nq;
     for (int r = 0; r < j->n; r++) {
-        for (int c = 0; c < j->n; c++)
-            M[j->idx[r] * nq + j->idx[c]] +=
-                m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
+        if (M) /* NULL: M known (vm_rhs's factor cache), Q only */
+            for (int c = 0; c < j->n; c++)
+                M[j->idx[r] * nq + j->idx[c]] +=
+                    m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
         /* -m J^T (bias) + gravity */
         Q[j->idx[r]] -= m * (j->v[r][0] * bias[0] + j->v[r][1] * bias[1]);
         Q[j->idx[r]] -= g_on * m * GRAVITY * j->v[r][1];
@@ -295,14 +299,17 @@ static void hull_point_jac(const double w[2], jcol *j)
     j->v[2][0] = w[1], j->v[2][1] = -w[0];
 }
 
-/* Rigid-body mass matrix, velocity terms and gravity into M and Q. */
+/* Rigid-body mass matrix, velocity terms and gravity into M and Q (M NULL:
+ * Q only). */
 static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M, double *Q)
 {
     int nq = v->nq;
     double thd2 = k->thd * k->thd;
-    M[QX * nq + QX] += v->m_hull;
-    M[QZ * nq + QZ] += v->m_hull;
-    M[QT * nq + QT] += v->i_hull + v->i_extra;
+    if (M) {
+        M[QX * nq + QX] += v->m_hull;
+        M[QZ * nq + QZ] += v->m_hull;
+        M[QT * nq + QT] += v->i_hull + v->i_extra;
+    }
     Q[QZ] -= v->m_hull * GRAVITY;
     for (int p = 0; p < v->npm; p++) {
         double w[2], bias[2];
@@ -327,11 +334,13 @@ static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M
         double biasm[2] = {-thd2 * k->wp[i][0] - 0.5 * zd * zd * k->e[i][0],
                            -thd2 * k->wp[i][1] - 0.5 * zd * zd * k->e[i][1]};
         add_point_mass(v, M, Q, v->m_arm, &ja, biasm, 1.0);
+        if (!M) continue;
         M[ia * nq + ia] += v->i_arm_cg;
         M[QT * nq + QT] += v->i_arm_cg;
         M[ia * nq + QT] -= v->i_arm_cg;
         M[QT * nq + ia] -= v->i_arm_cg;
     }
+    if (!M) return;
     for (int b = 0; b < VM_NB; b++)
         M[(QS0 + b) * nq + QS0 + b] += v->j_b[b];
     if (v->fidelity == TS_TRACK_QUASI_STATIC)
@@ -346,7 +355,8 @@ static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M
  * first three) are dense: factored in REVERSED order (modes, spins, arms,
  * hull last: an arrowhead ordering) the factor fills in only along the spans'
  * couplings, and the zero-skipping factorisation does a fraction of the
- * dense work. Uses w->P, w->pb. */
+ * dense work; the factor's column patterns are kept (w->pat) so the two
+ * triangular sweeps skip its zeros too (same result). Uses w->P, w->pb, w->pat. */
 static int chol_solve(vm_work *w, const double *M, double *b, int n)
 {
     double *P = w->P, *pb = w->pb;
@@ -357,11 +367,22 @@ static int chol_solve(vm_work *w, const double *M, double *b, int n)
             pi[j] = mi[-j];
         pb[i] = b[n - 1 - i];
     }
-    if (ts_chol_factor(P, n) != 0) return 1;
-    ts_chol_solve(P, n, pb);
+    if (ts_chol_factor_pattern(P, n, w->pat) != 0) return 1;
+    ts_chol_solve_pattern(P, n, w->pat, pb);
     for (int i = 0; i < n; i++)
         b[n - 1 - i] = pb[i];
     return 0;
+}
+
+/* Solve with the factor chol_solve left in w->P (same reordering). */
+static void chol_resolve(vm_work *w, double *b, int n)
+{
+    double *pb = w->pb;
+    for (int i = 0; i < n; i++)
+        pb[i] = b[n - 1 - i];
+    ts_chol_solve_pattern(w->P, n, w->pat, pb);
+    for (int i = 0; i < n; i++)
+        b[n - 1 - i] = pb[i];
 }
 
 /* ---- forces ----------------------------------------------------------------- */
@@ -405,7 +426,8 @@ static double quasi_static_tension(const vm *v, double g, double tau)
     return t > 0 ? t : 0;
 }
 
-/* Generalised forces Q (and M if inertia) at (t, q, qd). */
+/* Generalised forces Q (and M if inertia and M is non-NULL; inertia with M
+ * NULL: the inertial velocity terms in Q without assembling M) at (t, q, qd). */
 static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
                    double *Q, int inertia, int drive_on, vm_diag *diag)
 {
@@ -414,7 +436,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     kinematics(v, q, qd, &k);
     memset(Q, 0, (size_t)nq * sizeof *Q);
     if (inertia) {
-        memset(M, 0, (size_t)nq * nq * sizeof *M);
+        if (M) memset(M, 0, (size_t)nq * nq * sizeof *M);
         rigid_inertia(v, &k, qd, M, Q);
     } else {
         /* gravity only (static residual): M goes to scratch */
@@ -813,7 +835,7 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
         s += m * gx * rx[c] + 0.5 * m * gy * (ry0[c] + ry1[c]);
         Q[cs.idx[c]] += s;
     }
-    if (inertia) {
+    if (inertia && (M || sb)) {
         /* block B^T Ms B + B^T C + C^T B + frame terms, C = alpha rx + beta0
          * ry0 + beta1 ry1 (n x nc); Y = Ms B + C. Symmetric: the upper
          * triangle of compact columns is computed and mirrored. */
@@ -839,6 +861,7 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
                 s += m * rx[c1] * rx[c2] + m / 3.0 * (ry0[c1] * ry0[c2] + ry1[c1] * ry1[c2]) +
                      m / 6.0 * (ry0[c1] * ry1[c2] + ry1[c1] * ry0[c2]);
                 Mc[c1][c2] = Mc[c2][c1] = s;
+                if (!M) continue; /* the velocity terms need Mc only */
                 M[cs.idx[c1] * nq + cs.idx[c2]] += s;
                 if (c2 != c1) M[cs.idx[c2] * nq + cs.idx[c1]] += s;
             }
@@ -918,7 +941,9 @@ vm_work *vm_work_make(const vm *v)
     w->Q = calloc(nq, sizeof(double));
     w->P = calloc(nq * nq, sizeof(double));
     w->pb = calloc(nq, sizeof(double));
-    if (!w->M || !w->Q || !w->P || !w->pb) {
+    w->pat = calloc(nq * (nq + 1), sizeof(int));
+    w->qf = calloc(nq, sizeof(double));
+    if (!w->M || !w->Q || !w->P || !w->pb || !w->pat || !w->qf) {
         vm_work_free(w);
         return NULL;
     }
@@ -932,6 +957,8 @@ void vm_work_free(vm_work *w)
     free(w->Q);
     free(w->P);
     free(w->pb);
+    free(w->pat);
+    free(w->qf);
     free(w);
 }
 
@@ -1294,15 +1321,33 @@ fail:
 static int first_order(const vm *v, vm_work *w, const double *y, double *ydot)
 {
     int nq = v->nq;
+    w->qf_ok = 0;
     memcpy(ydot, y + nq, (size_t)nq * sizeof(double));
     memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
     return chol_solve(w, w->M, ydot + nq, nq);
 }
 
+/* M depends on q alone: when q is bit for bit that of the factor left by the
+ * previous vm_rhs (a difference-quotient Jacobian's velocity columns), M is
+ * neither assembled nor factored again; the result is the same to the bit. */
 int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_diag *diag)
 {
-    forces(v, w, t, y, y + v->nq, w->M, w->Q, 1, 1, diag);
-    return first_order(v, w, y, ydot);
+    int nq = v->nq;
+    size_t qsz = (size_t)nq * sizeof(double);
+    if (w->qf_ok && memcmp(w->qf, y, qsz) == 0) {
+        forces(v, w, t, y, y + nq, NULL, w->Q, 1, 1, diag);
+        memcpy(ydot, y + nq, qsz);
+        memcpy(ydot + nq, w->Q, qsz);
+        chol_resolve(w, ydot + nq, nq);
+        return 0;
+    }
+    forces(v, w, t, y, y + nq, w->M, w->Q, 1, 1, diag);
+    int rc = first_order(v, w, y, ydot);
+    if (rc == 0) {
+        memcpy(w->qf, y, qsz);
+        w->qf_ok = 1;
+    }
+    return rc;
 }
 
 int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double sprocket_torque,

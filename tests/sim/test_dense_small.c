@@ -69,7 +69,10 @@ static void lu_reports_singular(void **state)
 /* EVIDENCE: definition of the Cholesky solve on random SPD matrices (B^T B +
  * n I) and on a sparse arrowhead (dense last rows, the vehicle mass matrix's
  * shape, where the zero-skipping path acts); tolerance 1e-12 relative
- * residual. A matrix with a negative pivot is refused. */
+ * residual; the pattern-recording pair (ts_chol_*_pattern) gives the same
+ * solution bit for bit, its recorded rows are the nonzeros, and the
+ * arrowhead's factor is recorded sparse (fewer than n(n-1)/2 entries). A
+ * matrix with a negative pivot is refused. */
 static void cholesky_solves_spd_and_refuses_indefinite(void **state)
 {
     (void)state;
@@ -105,6 +108,22 @@ static void cholesky_solves_spd_and_refuses_indefinite(void **state)
             assert_int_equal(ts_chol_factor(F, n), 0);
             ts_chol_solve(F, n, x);
             assert_true(residual(A, n, x, b) < 1e-12);
+            /* the pattern pair: the same factor and solution bit for bit (it
+             * skips only exact zeros), and the arrowhead's pattern is sparse */
+            double F2[NMAX * NMAX], x2[NMAX];
+            int pat[NMAX * (NMAX + 1)];
+            memcpy(F2, A, sizeof(double) * (size_t)(n * n));
+            memcpy(x2, b, sizeof(double) * (size_t)n);
+            assert_int_equal(ts_chol_factor_pattern(F2, n, pat), 0);
+            ts_chol_solve_pattern(F2, n, pat, x2);
+            assert_memory_equal(x2, x, sizeof(double) * (size_t)n);
+            int nnz = 0;
+            for (int j = 0; j < n; j++) {
+                nnz += pat[j * (n + 1)];
+                for (int r = 1; r <= pat[j * (n + 1)]; r++)
+                    assert_true(F2[pat[j * (n + 1) + r] + j * n] != 0.0);
+            }
+            if (pass == 1 && n > 6) assert_true(nnz < n * (n - 1) / 2);
         }
     double A[4] = {1, 2, 2, 1}; /* eigenvalues 3, -1 */
     assert_int_equal(ts_chol_factor(A, 2), 2);
