@@ -13,7 +13,8 @@
  * speed are tied by the pitch radius, w_s = v / r_s (no track slip). s(v)
  * smooths the sign of rolling resistance through standstill so that a vehicle
  * at rest with too little torque stays (nearly) at rest instead of being
- * pushed backwards; v_eps = 0.01 m/s.
+ * pushed backwards; v_eps = /vehicle/rolling_resistance_smoothing (the multibody
+ * model smooths its rolling resistance with the same row).
  *
  * With the powertrain the ODE is monolithic: [x, v, powertrain states]. Two
  * integration paths, chosen by ts_powertrain_explicit_step:
@@ -41,7 +42,6 @@
 
 #include "constants.h"
 #define GRAVITY TS_GRAVITY
-#define V_EPS 0.01      /* standstill smoothing speed [m/s] */
 #define KMH (1.0 / 3.6)
 
 enum { X, V, NVEH };
@@ -68,7 +68,8 @@ typedef struct pm_data {
 static double resistance(const ts_vehicle_config *vc, double v)
 {
     double fr = vc->rolling_resistance + vc->rolling_resistance_speed * fabs(v);
-    return vc->mass * GRAVITY * (fr * cos(vc->grade) * tanh(v / V_EPS) + sin(vc->grade)) +
+    double sgn = tanh(v / vc->rolling_resistance_smoothing);
+    return vc->mass * GRAVITY * (fr * cos(vc->grade) * sgn + sin(vc->grade)) +
            0.5 * vc->air_density * vc->cda * v * fabs(v);
 }
 

@@ -16,11 +16,13 @@
  *   - no slip under road wheel 4 [P II.C.1]: a stiff tangential spring between
  *     the track under that wheel and the ground; thrust is the tension the
  *     sprocket builds between itself and this anchor;
- *   - running-gear rolling resistance: under each loaded road wheel a torque
- *     f N rho on the wheel's spin relative to the hull (f = f0 + f1 |v|, the
- *     point-mass model's coefficients of /vehicle, sign smoothed through
- *     standstill), so the model dissipates f W v like the point-mass vehicle;
- *     aerodynamic drag at the CG;
+ *   - running-gear rolling resistance: at each loaded road wheel a force
+ *     f N from the ground against the wheel centre's velocity along the
+ *     terrain (f = f0 + f1 |v|, the point-mass model's law and coefficients
+ *     of /vehicle, sign smoothed through standstill), so the model dissipates
+ *     f N v like the point-mass vehicle, N summing to the side's weight less
+ *     its track (the track's own weight is not on the wheels); aerodynamic
+ *     drag at the CG, 1/4 rho CdA v^2 per side;
  *   - prescribed sprocket torque on the sprocket spin, its reaction on the hull;
  *   - gravity.
  * The idler sits on the track-adjusting link, locked while running (a grease
@@ -124,7 +126,7 @@ struct vm {
     double ea, p0, tau_d;
     double kf, kf3, cf, ka, ca;
     double rr0, rr1, rr_v0; /* running-gear rolling resistance f = rr0 + rr1 |v|, smoothing */
-    double drag_side;       /* 1/2 rho CdA per side [kg/m] */
+    double drag_side;       /* 1/4 rho CdA: half of the vehicle's 1/2 rho CdA [kg/m] */
     int anchor; /* road-wheel index 0..6 */
     double x_anchor0;
     double x0, z0; /* design CG world position */
@@ -504,14 +506,17 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
             add_force(Q, &k.j[b], f);
         }
         if (nload > 0 && qd) {
-            /* running-gear rolling resistance: a torque on the wheel's spin
-             * relative to the hull, f N rho, so it dissipates f N v at the
-             * rolling speed v = rho (spin - pitch rate); its reaction on the hull */
-            double vr = v->rho_b[b] * (qd[QS0 + b] - qd[QT]);
-            double f = v->rr0 + v->rr1 * fabs(vr);
-            double tr = v->dscale * f * nload * v->rho_b[b] * tanh(vr / v->rr_v0);
-            Q[QS0 + b] -= tr;
-            Q[QT] += tr;
+            /* running-gear rolling resistance: f N against the wheel centre's
+             * velocity along the terrain, from the ground (the hysteresis
+             * moment N e of the tyre on the track is balanced by a contact
+             * force N e / r; the track under the wheel grips the ground, so
+             * the force goes to the ground, not along the track to the anchor) */
+            double tx = 1.0 / sqrt(1.0 + slope * slope), tz = slope * tx;
+            double vt = k.v[b][0] * tx + k.v[b][1] * tz;
+            double f_roll =
+                v->dscale * (v->rr0 + v->rr1 * fabs(vt)) * nload * tanh(vt / v->rr_v0);
+            double f[2] = {-f_roll * tx, -f_roll * tz};
+            add_force(Q, &k.j[b], f);
         }
         if (diag) {
             diag->wheel_load[i] = nload;

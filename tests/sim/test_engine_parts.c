@@ -227,7 +227,7 @@ static void wastegate_actuator_linear(void **state)
     assert_close(en_wastegate_open(e, 4.16e5) - en_wastegate_open(e, 4.06e5), 0.1 / 5.2, 1e-9, 0);
     const double ends[2] = {2.8e5, 8.0e5}, band = 0.02 * 5.2e5;
     for (int k = 0; k < 2; k++)
-        for (int s = -1; s <= 1; s += 2) { /* value and slope continuous at the band edges */
+        for (int s = -1; s <= 1; s++) { /* value and slope continuous at the ends and band edges */
             double pe = ends[k] + s * band, h = 1.0;
             double below = en_wastegate_open(e, pe - h), at = en_wastegate_open(e, pe);
             double above = en_wastegate_open(e, pe + h);
