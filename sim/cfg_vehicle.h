@@ -12,15 +12,15 @@
 #define TS_PATH_LEN        256
 
 typedef struct ts_vehicle_config {
-    double mass;                     /* combat mass, whole vehicle [kg] */
-    double sprocket_radius;          /* sprocket pitch radius [m] */
-    double rolling_resistance;       /* rolling-resistance coefficient at rest [1] */
-    double rolling_resistance_speed; /* its growth with speed [s/m] */
+    double mass;                         /* combat mass, whole vehicle [kg] */
+    double sprocket_radius;              /* sprocket pitch radius [m] */
+    double rolling_resistance;           /* rolling-resistance coefficient at rest [1] */
+    double rolling_resistance_speed;     /* its growth with speed [s/m] */
     double rolling_resistance_smoothing; /* speed scale of its sign through standstill [m/s] */
-    double cda;                      /* drag coefficient x frontal area [m^2] */
-    double air_density;              /* [kg/m^3] */
-    double grade;                    /* road slope, positive uphill [rad] */
-    double rotating_mass_factor;     /* effective/actual mass for point-mass runs [1] */
+    double cda;                          /* drag coefficient x frontal area [m^2] */
+    double air_density;                  /* [kg/m^3] */
+    double grade;                        /* road slope, positive uphill [rad] */
+    double rotating_mass_factor;         /* effective/actual mass for point-mass runs [1] */
     /* Running-gear layout, hull-fixed, at static equilibrium on flat ground:
      * origin on the ground below the sprocket axle, x forward, z up [m]. */
     double sprocket_x, sprocket_z;         /* drive sprocket centre (rear) */

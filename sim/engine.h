@@ -26,10 +26,9 @@
  * linear in boost between crack and full): the turbine is sized for
  * low-speed boost and the wastegate, calibrated at the rated point, bypasses
  * exhaust at high speed (not in the paper; it also absorbs most of the LHR
- * engines' extra exhaust energy, see engine.json wg_area). No governor: a free-running engine at full rack with too
- * little load overspeeds; speed limiting belongs to the control layer.
- *   map          full-load torque map from the crank-angle sweep + first-order
- *                boost lag (3 states).
+ * engines' extra exhaust energy, see engine.json wg_area). No governor: a free-running engine at
+ * full rack with too little load overspeeds; speed limiting belongs to the control layer. map
+ * full-load torque map from the crank-angle sweep + first-order boost lag (3 states).
  *
  * Fuel actuator hook: inputs.fuel_per_cycle >= 0 is injected as given (the
  * control layer owns the law); inputs.fuel_per_cycle < 0 means "use the default
@@ -64,23 +63,23 @@ typedef struct ts_engine_inputs {
 } ts_engine_inputs;
 
 typedef struct ts_engine_outputs {
-    double speed;          /* crankshaft speed [rad/s] */
-    double brake_torque;   /* indicated - friction: torque delivered to the load [N*m]
-                              (instantaneous for crank_angle; load in steady state) */
+    double speed;            /* crankshaft speed [rad/s] */
+    double brake_torque;     /* indicated - friction: torque delivered to the load [N*m]
+                                (instantaneous for crank_angle; load in steady state) */
     double indicated_torque; /* gas-pressure torque [N*m] */
     double friction_torque;  /* Millington-Hartles friction torque [N*m] */
-    double boost;          /* intake manifold pressure, mean of the banks [Pa] */
-    double intake_temp;    /* intake manifold temperature, mean of the banks [K] */
-    double exhaust_temp;   /* exhaust manifold temperature, mean of the banks [K] */
-    double air_flow;       /* compressor air mass flow, both banks [kg/s] */
-    double fuel_flow;      /* fuel mass flow being injected, whole engine [kg/s] */
-    double fuel_per_cycle; /* fuel per cylinder per cycle actually commanded [kg] */
-    double phi;            /* fuel/air equivalence ratio delivered [1] */
-    double turbo_speed;    /* turbocharger rotor speed, mean of the banks [rad/s] */
+    double boost;            /* intake manifold pressure, mean of the banks [Pa] */
+    double intake_temp;      /* intake manifold temperature, mean of the banks [K] */
+    double exhaust_temp;     /* exhaust manifold temperature, mean of the banks [K] */
+    double air_flow;         /* compressor air mass flow, both banks [kg/s] */
+    double fuel_flow;        /* fuel mass flow being injected, whole engine [kg/s] */
+    double fuel_per_cycle;   /* fuel per cylinder per cycle actually commanded [kg] */
+    double phi;              /* fuel/air equivalence ratio delivered [1] */
+    double turbo_speed;      /* turbocharger rotor speed, mean of the banks [rad/s] */
     /* crank-angle fidelity only (0 otherwise): cylinder 1 */
-    double cyl_pressure;   /* [Pa] */
-    double cyl_temp;       /* [K] */
-    double heat_release;   /* rate of fuel energy release, dQ/dt [W] */
+    double cyl_pressure;        /* [Pa] */
+    double cyl_temp;            /* [K] */
+    double heat_release;        /* rate of fuel energy release, dQ/dt [W] */
     double piston_surface_temp; /* gas-side piston surface temperature [K] */
 } ts_engine_outputs;
 
@@ -94,8 +93,7 @@ int ts_engine_nstate(const ts_engine *e);       /* length of x */
 /* Initial state at crank speed omega [rad/s] and ambient p, T: manifolds at
  * ambient, turbos at /engine/turbo_idle_speed, walls at coolant temperature,
  * cylinders filled from the intake at their valve phase. */
-void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double T_amb,
-                          double *x);
+void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double T_amb, double *x);
 
 /* Idle steady state, the initial condition of a launch from standstill
  * ("a step increase of driver demand to 100 %" [P III.C.2] starts from an
@@ -208,8 +206,8 @@ typedef struct ts_engine_cycle {
 
 /* Run one engine cycle (4 pi of crank) from x with the given inputs and return
  * its means in cyc (may be NULL). speed_held: dynamometer. */
-ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in,
-                          double *work, ts_engine_cycle *cyc, ts_err *err);
+ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in, double *work,
+                          ts_engine_cycle *cyc, ts_err *err);
 
 /* Steady state on the dynamometer: integrate with speed held at omega and the
  * given inputs until the cycle-mean brake torque changes by less than tol

@@ -26,13 +26,13 @@
 #include "engine.h"
 #include "fuel_actuator.h"
 
-#define EN_PI TS_PI
-#define EN_NCYL 12
+#define EN_PI    TS_PI
+#define EN_NCYL  12
 #define EN_NBANK 2
-#define EN_CYCLE (4.0 * EN_PI) /* crank angle of one four-stroke cycle [rad] */
-#define EN_RPM (30.0 / EN_PI)  /* rpm per rad/s */
-#define EN_T0 298.15           /* reference temperature of sensible enthalpy [K] */
-#define EN_SIGMA 5.670374e-8   /* Stefan-Boltzmann [W/m^2/K^4] */
+#define EN_CYCLE (4.0 * EN_PI)  /* crank angle of one four-stroke cycle [rad] */
+#define EN_RPM   (30.0 / EN_PI) /* rpm per rad/s */
+#define EN_T0    298.15         /* reference temperature of sensible enthalpy [K] */
+#define EN_SIGMA 5.670374e-8    /* Stefan-Boltzmann [W/m^2/K^4] */
 
 /* ---- gas (engine_gas.c) --------------------------------------------------- */
 typedef struct en_gas {
@@ -98,7 +98,7 @@ typedef struct en_geom {
     double circ, clear_h;            /* bore circumference [m], clearance height vc / area [m] */
 } en_geom;
 typedef struct en_kin {
-    double V, dVdth;   /* volume [m^3] and dV/dtheta [m^3/rad] */
+    double V, dVdth;           /* volume [m^3] and dV/dtheta [m^3/rad] */
     double xp, dxdth, d2xdth2; /* piston distance from TDC [m] and derivatives */
 } en_kin;
 void en_kinematics(const en_geom *g, double th, en_kin *k);
@@ -111,7 +111,8 @@ static inline void en_kinematics_sc(const en_geom *g, double s, double c, en_kin
     double r = sqrt(l * l - a * a * s * s), ir = 1.0 / r; /* one division */
     k->xp = a + l - (a * c + r);
     k->dxdth = a * s + a * a * s * c * ir;
-    k->d2xdth2 = a * c + a * a * (c * c - s * s) * ir + a * a * a * a * s * s * c * c * (ir * ir * ir);
+    k->d2xdth2 =
+        a * c + a * a * (c * c - s * s) * ir + a * a * a * a * s * s * c * c * (ir * ir * ir);
     k->V = g->vc + g->area * k->xp;
     k->dVdth = g->area * k->dxdth;
 }
@@ -156,17 +157,17 @@ void en_watson_phi(const en_watson *w, const en_watson_tau *p, double phi, doubl
 
 /* ---- heat transfer (engine_heat.c) ---------------------------------------- */
 typedef struct en_cascade_in {
-    double m, V;           /* charge mass [kg], volume [m^3] */
-    double bore, area;     /* bore [m] and piston (bore) area [m^2] */
-    double mdot_in, v_in;  /* inflow [kg/s] and its jet velocity [m/s] */
-    double mdot_out;       /* outflow [kg/s] */
-    double drho_rho;       /* (1/rho) drho/dt [1/s] */
-    double K, k;           /* mean-flow and turbulent kinetic energy [J] */
+    double m, V;          /* charge mass [kg], volume [m^3] */
+    double bore, area;    /* bore [m] and piston (bore) area [m^2] */
+    double mdot_in, v_in; /* inflow [kg/s] and its jet velocity [m/s] */
+    double mdot_out;      /* outflow [kg/s] */
+    double drho_rho;      /* (1/rho) drho/dt [1/s] */
+    double K, k;          /* mean-flow and turbulent kinetic energy [J] */
 } en_cascade_in;
 /* Energy cascade: dK/dt, dk/dt; returns the length scale L_I and u' through
  * pointers. */
-void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, double *dk,
-                double *L, double *u_turb, double *U_mean);
+void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, double *dk, double *L,
+                double *u_turb, double *U_mean);
 /* Convective coefficient [W/m^2/K]: Nu = a Re^b on length L with velocity u. */
 double en_htc(double a, double b, double rho, double u, double L, double T, double cp);
 
@@ -174,10 +175,10 @@ double en_htc(double a, double b, double rho, double u, double L, double T, doub
 #define EN_WALL_NODES 11 /* vertex-centred nodes through one wall, node 0 on the gas side */
 enum { EN_PISTON, EN_HEAD, EN_LINER, EN_NSURF };
 typedef struct en_wall {
-    double cap[EN_WALL_NODES];  /* heat capacity per area [J/m^2/K] */
-    double cond[EN_WALL_NODES]; /* conductance node i -> i+1 per area [W/m^2/K]; last: to sink */
-    double depth[EN_WALL_NODES];/* node depth below the gas-side surface [m] */
-    int coated_nodes;           /* nodes within the coating (0 for all-metal) */
+    double cap[EN_WALL_NODES];   /* heat capacity per area [J/m^2/K] */
+    double cond[EN_WALL_NODES];  /* conductance node i -> i+1 per area [W/m^2/K]; last: to sink */
+    double depth[EN_WALL_NODES]; /* node depth below the gas-side surface [m] */
+    int coated_nodes;            /* nodes within the coating (0 for all-metal) */
 } en_wall;
 void en_wall_build(en_wall *w, double coating, double k_coat, double rc_coat, double metal,
                    double k_metal, double rc_metal, double h_back);
@@ -187,21 +188,24 @@ void en_wall_rates(const en_wall *w, const double *T, double q, double T_sink, d
 
 /* ---- turbocharger and intercooler (engine_turbo.c) ------------------------ */
 typedef struct en_turbo {
-    double d_c, d_t;            /* scaled wheel diameters [m] */
+    double d_c, d_t; /* scaled wheel diameters [m] */
     double psi0, phi_ch, eta_max, phi_opt, phi_w, eta_min;
     double mach_opt, mach_w;    /* tip-Mach efficiency fall-off */
     double a_t, eta_t, bsr_opt; /* turbine effective area [m^2], efficiency, u/c_s */
     double inertia, mech_eff;
-    double r_air;               /* gas constant of the compressor's air [J/kg/K] */
+    double r_air; /* gas constant of the compressor's air [J/kg/K] */
 } en_turbo;
-typedef struct en_comp_out { double mdot, T_out, power, eta; } en_comp_out;
-typedef struct en_turb_out { double mdot, power, eta; } en_turb_out;
+typedef struct en_comp_out {
+    double mdot, T_out, power, eta;
+} en_comp_out;
+typedef struct en_turb_out {
+    double mdot, power, eta;
+} en_turb_out;
 /* Compressor from p01, T01 to p02 at rotor speed w [rad/s]. */
-void en_compressor(const en_turbo *t, double w, double p01, double T01, double p02,
-                   en_comp_out *o);
+void en_compressor(const en_turbo *t, double w, double p01, double T01, double p02, en_comp_out *o);
 /* Turbine from p03, T03 (gas R, cp) to p4 at rotor speed w. */
-void en_turbine(const en_turbo *t, double w, double p03, double T03, double R, double cp,
-                double p4, en_turb_out *o);
+void en_turbine(const en_turbo *t, double w, double p03, double T03, double R, double cp, double p4,
+                en_turb_out *o);
 /* Intercooler heat removal [W]: effectiveness form, eps = 1 - exp(-UA/(m cp)). */
 double en_intercooler_heat(double ua, double mdot, double cp, double T_in, double T_wall);
 
@@ -220,9 +224,9 @@ enum { BX_ICM, BX_ICT, BX_IMM, BX_IMT, BX_IMF, BX_EMM, BX_EMT, BX_EMF, BX_TC, EN
 enum { LX_FUEL_E, LX_WORK, LX_WALL, LX_HIN, LX_HOUT, LX_MIN, LX_MOUT, LX_MFUEL, EN_LEDGER_NX };
 
 struct ts_engine {
-    ts_engine_config c;   /* copy of the section */
+    ts_engine_config c; /* copy of the section */
     /* fidelity and variant: c.fidelity, c.variant */
-    int nx;               /* length of the state vector */
+    int nx; /* length of the state vector */
     int off_bank, off_ledger, off_cyl, off_wall, off_coolant, off_lag; /* -1 when absent */
     en_gas gas;
     en_geom geom;
@@ -230,16 +234,16 @@ struct ts_engine {
     en_turbo turbo;
     ts_fuel_law fuel;
     en_wall wall[EN_NSURF];
-    double surf_area[EN_NSURF];  /* piston and head areas; liner area at full stroke [m^2] */
-    double cyl_offset[EN_NCYL];  /* firing offset of each cylinder [rad] */
+    double surf_area[EN_NSURF]; /* piston and head areas; liner area at full stroke [m^2] */
+    double cyl_offset[EN_NCYL]; /* firing offset of each cylinder [rad] */
     double cyl_sin[EN_NCYL], cyl_cos[EN_NCYL]; /* sin, cos of the offsets */
     /* valve phases for the lift's cosine by rotation (engine_crank.c): intake
      * (0) and exhaust (1), k = 2 pi / (close - open), phase = k (offset + open
      * - 4 pi n) for n = 0, 1, 2 wraps of the local angle; cos and sin */
     double valve_k[2], valve_cos[2][EN_NCYL][3], valve_sin[2][EN_NCYL][3];
     int cyl_bank[EN_NCYL];
-    double turbo_inertia_scale;  /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
-    double thermal_scale;        /* 1, shrunk by ts_engine_steady (coolant, oil capacities) */
+    double turbo_inertia_scale; /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
+    double thermal_scale;       /* 1, shrunk by ts_engine_steady (coolant, oil capacities) */
 };
 
 /* The variant's map tables (/engine/map_*_<variant>, /engine/pb_*_<variant>). */
@@ -327,8 +331,7 @@ void en_crank_refresh(const ts_engine *e, const double *x, const ts_engine_input
  * window, start and end of the re-arm window); *ign: estimated angle to the
  * next ignition (Livengood-Wu integral reaching 1, from xdot). For the
  * error-controlled stepper, which ends steps on these switches. */
-double en_crank_next_switch(const ts_engine *e, const double *x, const double *xdot,
-                            double *ign);
+double en_crank_next_switch(const ts_engine *e, const double *x, const double *xdot, double *ign);
 /* Advance every wall stack over h [s] with the gas-side flux q (EN_NCYL x
  * EN_NSURF, as from en_crank_eval) held and the sinks at the coolant and oil
  * temperatures in x: Crank-Nicolson (A-stable, second order; the conduction
@@ -343,12 +346,13 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
 /* Bank states shared by crank and mean: derivative of the manifolds and rotor
  * given the cylinders' flows into/out of the bank. */
 typedef struct en_bank_flows {
-    double m_in, h_in, mf_in; /* cylinders <- intake manifold: mass [kg/s], enthalpy [W], burned [kg/s] */
+    double m_in, h_in,
+        mf_in; /* cylinders <- intake manifold: mass [kg/s], enthalpy [W], burned [kg/s] */
     double m_ex, h_ex, mf_ex; /* cylinders -> exhaust manifold */
     int have_co;              /* co holds the compressor at this state (else computed) */
     en_comp_out co;
-    int have_gas;             /* s_im, s_em hold the manifolds' gas at this state and the
-                                 en_bank_rhs o argument its en_bank_read (else computed) */
+    int have_gas; /* s_im, s_em hold the manifolds' gas at this state and the
+                     en_bank_rhs o argument its en_bank_read (else computed) */
     en_gas_state s_im, s_em;
 } en_bank_flows;
 typedef struct en_bank_out {

@@ -142,7 +142,8 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     /* wastegate: boost-sensing bypass around the turbine */
     double open = en_wastegate_open(c, o->p_im);
     double g_em = cp_em / (cp_em - R_em);
-    double m_wg = en_orifice(open * c->wg_area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R_em, g_em);
+    double m_wg =
+        en_orifice(open * c->wg_area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R_em, g_em);
     if (m_wg < 0) m_wg = 0; /* check valve: no reverse flow into the manifold */
     double m_out = to.mdot + m_wg;
     double m_em = xb[BX_EMM];

@@ -42,7 +42,7 @@
 
 #include "constants.h"
 #define GRAVITY TS_GRAVITY
-#define KMH (1.0 / 3.6)
+#define KMH     (1.0 / 3.6)
 
 enum { X, V, NVEH };
 enum { CH_X = 1, CH_SPEED, CH_ACCEL, CH_SPROCKET_TORQUE, CH_SPROCKET_SPEED, CH_TRACTION, NCH };
@@ -54,15 +54,15 @@ typedef struct pm_model {
 } pm_model;
 
 typedef struct pm_data {
-    const ts_model *m;         /* for the ODE callbacks */
+    const ts_model *m; /* for the ODE callbacks */
     ts_ode *ode;
     int n;
-    double *y, *ydot;          /* n */
-    double *k;                 /* 5 n: RK4 stages and trial state */
-    double t_int;              /* time the state y is at [s] */
+    double *y, *ydot; /* n */
+    double *k;        /* 5 n: RK4 stages and trial state */
+    double t_int;     /* time the state y is at [s] */
     ts_powertrain_state ps;
-    ts_powertrain_out out;     /* scratch for sample */
-    double *work;              /* engine co-simulation scratch */
+    ts_powertrain_out out; /* scratch for sample */
+    double *work;          /* engine co-simulation scratch */
 } pm_data;
 
 static double resistance(const ts_vehicle_config *vc, double v)
@@ -187,7 +187,8 @@ static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
     atol[X] = atol[V] = m->cfg.run.atol;
     if (pm->pt) {
         ts_powertrain_scale(pm->pt, atol + NVEH);
-        for (int i = NVEH; i < p->n; i++) atol[i] *= m->cfg.run.atol;
+        for (int i = NVEH; i < p->n; i++)
+            atol[i] *= m->cfg.run.atol;
     }
     ts_ode_opts o = {.rtol = m->cfg.run.rtol,
                      .atol = m->cfg.run.atol,
@@ -233,8 +234,7 @@ static ts_rc rk4_step(pm_data *p, double h, ts_err *err)
     int rc = ts_rk4_step(p->n, rhs, p, t, h, p->y, p->k);
     if (rc)
         return ts_err_set(err, TS_ERR_DIVERGED, NULL,
-                          "powertrain state left its domain at t = %.6f s (RK4 step %.3g s)", t,
-                          h);
+                          "powertrain state left its domain at t = %.6f s (RK4 step %.3g s)", t, h);
     p->t_int = t + h;
     return TS_OK;
 }
@@ -286,11 +286,14 @@ static ts_rc step_to_cosim(const ts_model *m, pm_data *p, double t, ts_err *err)
             double h = ts_powertrain_explicit_step(pm->pt, y + NVEH), t0 = p->t_int;
             if (t0 + h > t_end) h = t_end - t0;
             static const double c[4] = {0.0, 0.5, 0.5, 1.0}; /* RK4 stage times */
-            for (int j = 0; j < 3; j++) y0[j] = y[idx[j]];
+            for (int j = 0; j < 3; j++)
+                y0[j] = y[idx[j]];
             for (int s = 0; s < 4; s++) {
-                for (int j = 0; s > 0 && j < 3; j++) y[idx[j]] = y0[j] + c[s] * h * k[s - 1][j];
+                for (int j = 0; s > 0 && j < 3; j++)
+                    y[idx[j]] = y0[j] + c[s] * h * k[s - 1][j];
                 derivs_driveline(m, p, t0 + c[s] * h, y, yd);
-                for (int j = 0; j < 3; j++) k[s][j] = yd[idx[j]];
+                for (int j = 0; j < 3; j++)
+                    k[s][j] = yd[idx[j]];
             }
             for (int j = 0; j < 3; j++) {
                 y[idx[j]] = y0[j] + h / 6.0 * (k[0][j] + 2 * k[1][j] + 2 * k[2][j] + k[3][j]);

@@ -64,9 +64,9 @@ static void stats_add(ts_ode_stats *a, const ts_ode_stats *b)
  * Newton matrix I - gamma J has the block form [I  D; Mbl  Mbr] with D
  * diagonal (-gamma times the difference quotient of v by v). Eliminating the
  * first half, (Mbr - Mbl D) x2 = b2 - Mbl b1 and x1 = b1 - D x2: one h x h LU
- * instead of an n x n one (8x fewer flops; dense_small.h, no BLAS threads), the same solution up to round-off.
- * setup() checks the structure exactly on each matrix and falls back to the
- * full n x n LU when it does not hold, so the solver is correct for any f.
+ * instead of an n x n one (8x fewer flops; dense_small.h, no BLAS threads), the same solution up to
+ * round-off. setup() checks the structure exactly on each matrix and falls back to the full n x n
+ * LU when it does not hold, so the solver is correct for any f.
  *
  * With opts.second_order the Newton matrix is formed by schur_linsys (CVODE's
  * linear-system hook) instead of CVODE's dense path: the same difference-
@@ -80,8 +80,8 @@ typedef struct schur_ls {
     int always_full; /* plain n x n LU (opts.small_dense without the second-order form) */
     int ext;         /* the system was formed by schur_linsys (A is not read) */
     double *S, *F, *d, *r;
-    double *J;       /* ext: the Jacobian (column-major n x n) */
-    double gamma;    /* ext: of the current factorisation */
+    double *J;    /* ext: the Jacobian (column-major n x n) */
+    double gamma; /* ext: of the current factorisation */
     int *piv;
     long last_flag;
 } schur_ls;
@@ -403,8 +403,7 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
             : opts->small_dense ? schur_make(n, 1, 0, o->ctx)
                                 : SUNLinSol_Dense(o->y, o->A, o->ctx);
     if (!o->LS) goto nomem;
-    if (check(o, CVodeSetLinearSolver(o->mem, o->LS, o->A), "CVodeSetLinearSolver", err))
-        goto fail;
+    if (check(o, CVodeSetLinearSolver(o->mem, o->LS, o->A), "CVodeSetLinearSolver", err)) goto fail;
     if (ext) {
         o->sls = o->LS->content;
         if (check(o, CVodeSetLinSysFn(o->mem, schur_linsys), "CVodeSetLinSysFn", err)) goto fail;
@@ -485,8 +484,14 @@ ts_rc ts_ode_root_info(ts_ode *o, int *dirs, ts_err *err)
     return check(o, CVodeGetRootInfo(o->mem, dirs), "CVodeGetRootInfo", err);
 }
 
-double *ts_ode_y(ts_ode *o) { return N_VGetArrayPointer(o->y); }
-int ts_ode_n(const ts_ode *o) { return o->n; }
+double *ts_ode_y(ts_ode *o)
+{
+    return N_VGetArrayPointer(o->y);
+}
+int ts_ode_n(const ts_ode *o)
+{
+    return o->n;
+}
 
 void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s)
 {
@@ -498,11 +503,14 @@ int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y, dou
 {
     double *k1 = work, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n;
     if (f(t, y, k1, ud)) return 1;
-    for (int i = 0; i < n; i++) yt[i] = y[i] + 0.5 * h * k1[i];
+    for (int i = 0; i < n; i++)
+        yt[i] = y[i] + 0.5 * h * k1[i];
     if (f(t + 0.5 * h, yt, k2, ud)) return 1;
-    for (int i = 0; i < n; i++) yt[i] = y[i] + 0.5 * h * k2[i];
+    for (int i = 0; i < n; i++)
+        yt[i] = y[i] + 0.5 * h * k2[i];
     if (f(t + 0.5 * h, yt, k3, ud)) return 1;
-    for (int i = 0; i < n; i++) yt[i] = y[i] + h * k3[i];
+    for (int i = 0; i < n; i++)
+        yt[i] = y[i] + h * k3[i];
     if (f(t + h, yt, k4, ud)) return 1;
     int bad = 0;
     for (int i = 0; i < n; i++) {

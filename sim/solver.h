@@ -25,22 +25,22 @@ typedef int (*ts_root_fn)(double t, const double *y, double *g, void *ud);
 typedef struct ts_ode ts_ode;
 
 typedef struct ts_ode_opts {
-    double rtol;          /* relative tolerance */
-    double atol;          /* absolute tolerance applied to every state ... */
-    const double *atol_v; /* ... or per-state absolute tolerances (n values), if non-NULL */
-    double max_step;      /* 0 = unlimited [s] */
-    long max_steps;       /* internal steps per call, 0 = 100000 */
-    int nroots;           /* number of root functions (0: none) */
-    ts_root_fn roots;     /* may be NULL when nroots == 0 */
-    int second_order;     /* non-zero: y = [q, q_d] (n/2 each) with dq/dt = q_d; the Newton
-                           * systems are solved by their half-size Schur complement
-                           * (falls back to the full LU when a matrix lacks that form),
-                           * formed from the solver's own difference-quotient Jacobian
-                           * (CVODE's increments and rounding: the same steps) without
-                           * CVODE's n x n matrix copies */
-    int small_dense;      /* non-zero: the full n x n Newton systems by dense_small.h's LU
-                           * (single-threaded, skips zeros; for small sparse-ish systems,
-                           * e.g. a powertrain) instead of SUNDIALS' dense LU */
+    double rtol;             /* relative tolerance */
+    double atol;             /* absolute tolerance applied to every state ... */
+    const double *atol_v;    /* ... or per-state absolute tolerances (n values), if non-NULL */
+    double max_step;         /* 0 = unlimited [s] */
+    long max_steps;          /* internal steps per call, 0 = 100000 */
+    int nroots;              /* number of root functions (0: none) */
+    ts_root_fn roots;        /* may be NULL when nroots == 0 */
+    int second_order;        /* non-zero: y = [q, q_d] (n/2 each) with dq/dt = q_d; the Newton
+                              * systems are solved by their half-size Schur complement
+                              * (falls back to the full LU when a matrix lacks that form),
+                              * formed from the solver's own difference-quotient Jacobian
+                              * (CVODE's increments and rounding: the same steps) without
+                              * CVODE's n x n matrix copies */
+    int small_dense;         /* non-zero: the full n x n Newton systems by dense_small.h's LU
+                              * (single-threaded, skips zeros; for small sparse-ish systems,
+                              * e.g. a powertrain) instead of SUNDIALS' dense LU */
     long jac_eval_frequency; /* max steps between Jacobian evaluations (CVODE msbj);
                               * 0 = CVODE's default (51). CVODE still re-evaluates
                               * on a convergence failure with a stale Jacobian. */
@@ -71,7 +71,7 @@ ts_rc ts_ode_set_stop(ts_ode *o, double tstop, ts_err *err);
 /* Which roots fired at the last root return (nroots ints, -1/0/+1 direction). */
 ts_rc ts_ode_root_info(ts_ode *o, int *dirs, ts_err *err);
 
-double *ts_ode_y(ts_ode *o);      /* current state (n values), owned by the handle */
+double *ts_ode_y(ts_ode *o); /* current state (n values), owned by the handle */
 int ts_ode_n(const ts_ode *o);
 /* Counters since ts_ode_make, summed over every (re)start. */
 void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s);

@@ -127,7 +127,7 @@ struct vm {
     double kf, kf3, cf, ka, ca;
     double rr0, rr1, rr_v0; /* running-gear rolling resistance f = rr0 + rr1 |v|, smoothing */
     double drag_side;       /* 1/4 rho CdA: half of the vehicle's 1/2 rho CdA [kg/m] */
-    int anchor; /* road-wheel index 0..6 */
+    int anchor;             /* road-wheel index 0..6 */
     double x_anchor0;
     double x0, z0; /* design CG world position */
     double dscale;
@@ -513,8 +513,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
              * the force goes to the ground, not along the track to the anchor) */
             double tx = 1.0 / sqrt(1.0 + slope * slope), tz = slope * tx;
             double vt = k.v[b][0] * tx + k.v[b][1] * tz;
-            double f_roll =
-                v->dscale * (v->rr0 + v->rr1 * fabs(vt)) * nload * tanh(vt / v->rr_v0);
+            double f_roll = v->dscale * (v->rr0 + v->rr1 * fabs(vt)) * nload * tanh(vt / v->rr_v0);
             double f[2] = {-f_roll * tx, -f_roll * tz};
             add_force(Q, &k.j[b], f);
         }

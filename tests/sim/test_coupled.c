@@ -234,9 +234,9 @@ static void shift_spikes_tension_and_excites_span(void **state)
  * flat and 5.35 / 8.06 s on bumps. The delay is conditional on the [E]
  * upshift speed: a sweep (12-s runs, shifts half done) gives it for both
  * shifts at 1750-1850 rpm, but not for the 2-3 shift at 1650, 1700 and
- * 1900 rpm (at 1700 the 3-4 shift even comes earlier on the bumps). Predicted: the 1-2 shift, still on
- * the flat run-in before the first bump, at the same time (within 0.05 s);
- * the 2-3 and 3-4 shifts each at least 0.15 s later on bumps. */
+ * 1900 rpm (at 1700 the 3-4 shift even comes earlier on the bumps). Predicted: the 1-2 shift, still
+ * on the flat run-in before the first bump, at the same time (within 0.05 s); the 2-3 and 3-4
+ * shifts each at least 0.15 s later on bumps. */
 static double shift_start(const hist *h, double gear)
 {
     for (int i = 1; i < h->n; i++)

@@ -47,8 +47,9 @@ static point steady(int variant, double rpm)
     ts_engine *e;
     ts_engine_cycle c;
     double *x = et_steady(variant, TS_ENGINE_CRANK_ANGLE, rpm, &e, &c);
-    point p = {c.mean.brake_torque * c.mean.speed, c.mean.brake_torque, c.mean.boost, c.q_wall,
-               c.eta_v, c.mean.piston_surface_temp, surface_swing(e, x)};
+    point p = {
+        c.mean.brake_torque * c.mean.speed, c.mean.brake_torque, c.mean.boost, c.q_wall, c.eta_v,
+        c.mean.piston_surface_temp,         surface_swing(e, x)};
     ts_engine_free(e);
     free(x);
     return p;
@@ -72,12 +73,16 @@ static void lhr_rated_point_trends(void **state)
     point l10 = steady(TS_ENGINE_LHR10, 2100);
     const double ref = 1350 * ET_HP;
     print_message("      gain over 1350 hp: conventional %+.1f %%, lhr05 %+.1f %%, lhr10 %+.1f %%"
-                  " (paper +9.9, +15.7, +19.8)\n", 100 * (c.power / ref - 1),
-                  100 * (l5.power / ref - 1), 100 * (l10.power / ref - 1));
-    print_message("      boost %.2f / %.2f / %.2f bar, q_wall %.3f / %.3f / %.3f, piston %.0f / %.0f /"
-                  " %.0f K\n", c.boost / 1e5, l5.boost / 1e5, l10.boost / 1e5, c.q_wall, l5.q_wall,
-                  l10.q_wall, c.piston_t, l5.piston_t, l10.piston_t);
-    print_message("      piston surface swing %.0f / %.0f / %.0f K\n", c.swing, l5.swing, l10.swing);
+                  " (paper +9.9, +15.7, +19.8)\n",
+                  100 * (c.power / ref - 1), 100 * (l5.power / ref - 1),
+                  100 * (l10.power / ref - 1));
+    print_message(
+        "      boost %.2f / %.2f / %.2f bar, q_wall %.3f / %.3f / %.3f, piston %.0f / %.0f /"
+        " %.0f K\n",
+        c.boost / 1e5, l5.boost / 1e5, l10.boost / 1e5, c.q_wall, l5.q_wall, l10.q_wall, c.piston_t,
+        l5.piston_t, l10.piston_t);
+    print_message("      piston surface swing %.0f / %.0f / %.0f K\n", c.swing, l5.swing,
+                  l10.swing);
     assert_true(l5.swing > 2 * c.swing && l10.swing > 2 * c.swing);
     assert_true(l5.q_wall < c.q_wall && l10.q_wall < l5.q_wall);
     assert_true(l5.piston_t > c.piston_t + 50 && l10.piston_t > l5.piston_t);
@@ -89,12 +94,12 @@ static void lhr_rated_point_trends(void **state)
 }
 
 typedef struct split {
-    double q[EN_NSURF];  /* cycle-mean heat into piston, head, liner [W], 12 cylinders */
+    double q[EN_NSURF];      /* cycle-mean heat into piston, head, liner [W], 12 cylinders */
     double t_surf[EN_NSURF]; /* cycle-mean gas-side surface temperature [K], 12 cylinders */
-    double h_exhaust;    /* cycle-mean enthalpy flow leaving the exhaust manifolds [W] */
-    double p_turbine;    /* turbine power, both banks [W] */
-    double wg_share;     /* wastegate share of the exhaust mass flow [1] */
-    double fuel_e;       /* fuel energy rate [W] */
+    double h_exhaust;        /* cycle-mean enthalpy flow leaving the exhaust manifolds [W] */
+    double p_turbine;        /* turbine power, both banks [W] */
+    double wg_share;         /* wastegate share of the exhaust mass flow [1] */
+    double fuel_e;           /* fuel energy rate [W] */
     double boost, air, eta_v, eta_i, power;
 } split;
 
@@ -117,15 +122,25 @@ static split energy_split(int variant)
     double w = c.mean.speed, q[EN_NCYL * EN_NSURF], m_t = 0, m_wg = 0;
     const int N = 1440;
     double dt = 4 * ET_PI / w / N;
-    split s = {{0}, {0}, 0, 0, 0, c.mean.fuel_flow * cc->lhv, c.mean.boost, c.mean.air_flow,
-               c.eta_v, c.eta_i, c.mean.brake_torque * w};
+    split s = {{0},
+               {0},
+               0,
+               0,
+               0,
+               c.mean.fuel_flow * cc->lhv,
+               c.mean.boost,
+               c.mean.air_flow,
+               c.eta_v,
+               c.eta_i,
+               c.mean.brake_torque * w};
     ts_err err;
     for (int k = 0; k < N; k++) {
         assert_int_equal(en_crank_eval(e, x, &in, xd, NULL, q), 0);
         for (int i = 0; i < EN_NCYL; i++)
             for (int sf = 0; sf < EN_NSURF; sf++) {
                 s.q[sf] += q[i * EN_NSURF + sf] * e->surf_area[sf] / N;
-                s.t_surf[sf] += x[e->off_wall + (i * EN_NSURF + sf) * EN_WALL_NODES] / (EN_NCYL * N);
+                s.t_surf[sf] +=
+                    x[e->off_wall + (i * EN_NSURF + sf) * EN_WALL_NODES] / (EN_NCYL * N);
             }
         for (int b = 0; b < EN_NBANK; b++) {
             const double *xb = x + e->off_bank + b * EN_BANK_NX;
@@ -211,8 +226,9 @@ static void lhr_low_speed_torque_deficit(void **state)
     (void)state;
     point c = steady(TS_ENGINE_CONVENTIONAL, 800);
     point l10 = steady(TS_ENGINE_LHR10, 800);
-    print_message("      800 rpm: torque %.0f vs %.0f N*m, eta_v %.3f vs %.3f, boost %.2f vs %.2f bar\n",
-                  c.torque, l10.torque, c.eta_v, l10.eta_v, c.boost / 1e5, l10.boost / 1e5);
+    print_message(
+        "      800 rpm: torque %.0f vs %.0f N*m, eta_v %.3f vs %.3f, boost %.2f vs %.2f bar\n",
+        c.torque, l10.torque, c.eta_v, l10.eta_v, c.boost / 1e5, l10.boost / 1e5);
     assert_true(l10.torque < c.torque && l10.torque > 0.9 * c.torque);
     assert_true(l10.eta_v < c.eta_v);
     assert_close(l10.boost, c.boost, 0.03, 0);

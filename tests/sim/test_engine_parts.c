@@ -151,7 +151,8 @@ static void wall_steady_conduction(void **state)
             T[n] = Tsink + q * r;
         }
         en_wall_rates(&w, T, q, Tsink, dT, &qb);
-        for (int n = 0; n < EN_WALL_NODES; n++) assert_true(fabs(dT[n]) < 1e-6);
+        for (int n = 0; n < EN_WALL_NODES; n++)
+            assert_true(fabs(dT[n]) < 1e-6);
         assert_close(qb, q, 1e-9, 0);
         assert_close(w.depth[EN_WALL_NODES - 1], 0.012 + (coated ? 1e-3 : 0), 1e-9, 0);
         if (coated) assert_close(T[0] - T[w.coated_nodes], q * 1e-3 / 1.0, 1e-9, 0);
@@ -168,10 +169,22 @@ static void wall_steady_conduction(void **state)
 static void turbo_maps(void **state)
 {
     (void)state;
-    en_turbo t = {.d_c = 0.1, .d_t = 0.1, .psi0 = 0.9, .phi_ch = 0.22, .eta_max = 0.8,
-                  .phi_opt = 0.13, .phi_w = 0.15, .eta_min = 0.45, .mach_opt = 1.0,
-                  .mach_w = 1.5, .a_t = 1e-3, .eta_t = 0.8, .bsr_opt = 0.7, .inertia = 1e-3,
-                  .mech_eff = 0.98, .r_air = 287.0};
+    en_turbo t = {.d_c = 0.1,
+                  .d_t = 0.1,
+                  .psi0 = 0.9,
+                  .phi_ch = 0.22,
+                  .eta_max = 0.8,
+                  .phi_opt = 0.13,
+                  .phi_w = 0.15,
+                  .eta_min = 0.45,
+                  .mach_opt = 1.0,
+                  .mach_w = 1.5,
+                  .a_t = 1e-3,
+                  .eta_t = 0.8,
+                  .bsr_opt = 0.7,
+                  .inertia = 1e-3,
+                  .mech_eff = 0.98,
+                  .r_air = 287.0};
     en_comp_out o;
     double w = 9000, U = w * 0.05, T1 = 298, p1 = 1e5, pr = 3.0;
     double dh = 1005 * T1 * (pow(pr, 0.4 / 1.4) - 1), rho = p1 / (287 * T1);
@@ -262,10 +275,14 @@ static void friction_and_fuel_law(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(slider_crank),          cmocka_unit_test(valve_lift_and_area),
-        cmocka_unit_test(watson_and_ignition_delay), cmocka_unit_test(gas_properties),
-        cmocka_unit_test(orifice_flow),          cmocka_unit_test(wall_steady_conduction),
-        cmocka_unit_test(turbo_maps),            cmocka_unit_test(friction_and_fuel_law),
+        cmocka_unit_test(slider_crank),
+        cmocka_unit_test(valve_lift_and_area),
+        cmocka_unit_test(watson_and_ignition_delay),
+        cmocka_unit_test(gas_properties),
+        cmocka_unit_test(orifice_flow),
+        cmocka_unit_test(wall_steady_conduction),
+        cmocka_unit_test(turbo_maps),
+        cmocka_unit_test(friction_and_fuel_law),
         cmocka_unit_test(wastegate_actuator_linear),
     };
     return cmocka_run_group_tests_name("engine_parts", tests, NULL, NULL);

@@ -20,14 +20,14 @@
 
 typedef struct pinned {
     double rpm;
-    double torque;   /* cycle-mean brake torque [N*m] */
-    double bsfc;     /* [g/kWh] */
-    double peak;     /* cylinder 1 peak pressure [bar] */
-    double boost;    /* [bar] */
-    double exhaust;  /* exhaust manifold temperature [K] */
-    double air;      /* compressor air flow, both banks [kg/s] */
+    double torque;               /* cycle-mean brake torque [N*m] */
+    double bsfc;                 /* [g/kWh] */
+    double peak;                 /* cylinder 1 peak pressure [bar] */
+    double boost;                /* [bar] */
+    double exhaust;              /* exhaust manifold temperature [K] */
+    double air;                  /* compressor air flow, both banks [kg/s] */
     double eta_v, eta_i, q_wall; /* [1] */
-    double piston;   /* cycle-mean piston surface temperature, cylinder 1 [K] */
+    double piston;               /* cycle-mean piston surface temperature, cylinder 1 [K] */
 } pinned;
 
 /* Produced by the reference integrator (commit cf69e12), et_steady(..., 5e-4),
@@ -40,8 +40,10 @@ typedef struct pinned {
  * 3.535 bar with the former smoothstep law, which kept the wastegate nearly
  * shut at mid speed). */
 static const pinned ref[] = {
-    {2100, 5036.8, 225.149, 213.201, 4.06377, 816.531, 2.23216, 0.901886, 0.409114, 0.188624, 702.845},
-    {1200, 6218.76, 198.918, 197.472, 3.3072, 770.103, 1.1997, 0.926267, 0.447376, 0.20222, 614.042},
+    {2100, 5036.8, 225.149, 213.201, 4.06377, 816.531, 2.23216, 0.901886, 0.409114, 0.188624,
+     702.845},
+    {1200, 6218.76, 198.918, 197.472, 3.3072, 770.103, 1.1997, 0.926267, 0.447376, 0.20222,
+     614.042},
 };
 
 static void check_point(const pinned *r)
@@ -49,9 +51,17 @@ static void check_point(const pinned *r)
     ts_engine *e;
     ts_engine_cycle c;
     double *x = et_steady(TS_ENGINE_CONVENTIONAL, TS_ENGINE_CRANK_ANGLE, r->rpm, &e, &c);
-    pinned g = {r->rpm, c.mean.brake_torque, c.bsfc * 3.6e9, c.peak_pressure / 1e5,
-                c.mean.boost / 1e5, c.mean.exhaust_temp, c.mean.air_flow, c.eta_v, c.eta_i,
-                c.q_wall, c.mean.piston_surface_temp};
+    pinned g = {r->rpm,
+                c.mean.brake_torque,
+                c.bsfc * 3.6e9,
+                c.peak_pressure / 1e5,
+                c.mean.boost / 1e5,
+                c.mean.exhaust_temp,
+                c.mean.air_flow,
+                c.eta_v,
+                c.eta_i,
+                c.q_wall,
+                c.mean.piston_surface_temp};
     print_message("      {%.0f, %.6g, %.6g, %.6g, %.6g, %.6g, %.6g, %.6g, %.6g, %.6g, %.6g},"
                   " cycles %d, residuals %.2e %.2e\n",
                   g.rpm, g.torque, g.bsfc, g.peak, g.boost, g.exhaust, g.air, g.eta_v, g.eta_i,
@@ -187,18 +197,20 @@ static void cosim_load_callback(void **state)
         xa[TS_ENGINE_X_SPEED] = w_ss + 10.0;
         lin_load lr = {in.load_torque, k[r], w_ss, 1e9, -1e9, 0};
         in.load_inertia = jl[r];
-        assert_int_equal(ts_engine_advance_load(e, xa, 0, 0.25 - 4 * ET_PI / w_ss, &in,
-                                                lin_load_fn, &lr, work, &err), TS_OK);
+        assert_int_equal(ts_engine_advance_load(e, xa, 0, 0.25 - 4 * ET_PI / w_ss, &in, lin_load_fn,
+                                                &lr, work, &err),
+                         TS_OK);
         double sum = 0, dt = 4 * ET_PI / w_ss / 72;
         for (int j = 0; j < 72; j++) {
-            assert_int_equal(ts_engine_advance_load(e, xa, 0, dt, &in, lin_load_fn, &lr, work, &err),
-                             TS_OK);
+            assert_int_equal(
+                ts_engine_advance_load(e, xa, 0, dt, &in, lin_load_fn, &lr, work, &err), TS_OK);
             sum += xa[TS_ENGINE_X_SPEED] - w_ss;
         }
         off[r] = sum / 72;
     }
     print_message("      speed offset after 0.25 s: k = 200: %.2f rad/s, constant load: %.2f rad/s,"
-                  " k = 200 with +5 kg*m^2: %.2f rad/s\n", off[0], off[1], off[2]);
+                  " k = 200 with +5 kg*m^2: %.2f rad/s\n",
+                  off[0], off[1], off[2]);
     assert_true(fabs(off[0]) < 1.0);
     assert_true(off[1] > 5.0);
     assert_true(off[2] > 1.5 * off[0] && off[2] < 1.0);

@@ -57,8 +57,8 @@ static void constant_torque_no_resistance_is_uniform_acceleration(void **state)
     counter cnt = {0, 0};
     assert_int_equal(ts_advance(m, d, 10.0, count_rows, &cnt, &err), TS_OK);
     assert_int_equal(cnt.rows, 1000); /* 100 Hz for 10 s after row 0 */
-    double a = 2 * 5000 / (c.vehicle.sprocket_radius * c.vehicle.rotating_mass_factor *
-                           c.vehicle.mass);
+    double a =
+        2 * 5000 / (c.vehicle.sprocket_radius * c.vehicle.rotating_mass_factor * c.vehicle.mass);
     int iv = ts_model_channel_index(m, "vehicle.speed");
     int ix = ts_model_channel_index(m, "vehicle.x");
     assert_true(iv > 0 && ix > 0);

@@ -211,8 +211,8 @@ static void drag_decelerates_by_its_closed_form(void **state)
     double v2 = (v6 * v6 + v6 * v8 + v8 * v8) / 3.0;
     double drag = 0.25 * c.vehicle.air_density * c.vehicle.cda * v2;
     double want = (c.drive.torque / c.vehicle.sprocket_radius - drag) / rolling_mass(&c);
-    printf("# mean acceleration %.5f m/s^2, closed form %.5f m/s^2 (drag %.0f N)\n",
-           (v8 - v6) / 2, want, drag);
+    printf("# mean acceleration %.5f m/s^2, closed form %.5f m/s^2 (drag %.0f N)\n", (v8 - v6) / 2,
+           want, drag);
     assert_close((v8 - v6) / 2.0, want, 0.01, 0);
     ts_data_free(d);
     ts_model_free(m);
