@@ -111,7 +111,8 @@ static const ts_param vehicle_rows[] = {
     {"/vehicle/anchor_station", TS_PT_INT, F(anchor_station), "1", 1, TS_MAX_ROAD_WHEELS, NULL, 0,
      0, "road wheel under which the track does not slip (4 = middle)"},
     {"/vehicle/damping_scale", TS_PT_DOUBLE, F(damping_scale), "1", 0, 10, NULL, 0, 0,
-     "factor on every damper, the foundation, anchor and track damping (0 for energy checks)"},
+     "factor on every damper, the foundation, anchor and track damping, the rolling resistance "
+     "and the drag (0 for energy checks)"},
 };
 #undef F
 

@@ -90,6 +90,12 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
     ts_err_clear(err);
     const ts_engine_config *c = &cfg->engine;
     if (check_tables(c, c->variant, err) != TS_OK) return NULL;
+    if (c->wg_area > 0 && !(c->wg_full > c->wg_crack)) {
+        ts_err_set(err, TS_ERR_PARAM, "/engine/wg_full",
+                   "/engine/wg_full (%g Pa) must exceed /engine/wg_crack (%g Pa)", c->wg_full,
+                   c->wg_crack);
+        return NULL;
+    }
     if (c->cp_air_n != 4 || c->cp_burned_n != 4) {
         ts_err_set(err, TS_ERR_PARAM, "/engine/cp_air", "/engine/cp_air, cp_burned: 4 coefficients each");
         return NULL;

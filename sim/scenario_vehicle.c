@@ -249,7 +249,8 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     n = ts_metric_add(out, n, max, "dof", "1", m->dof,
                       "mechanical degrees of freedom (paper: 21/26/31)");
     n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / MPH,
-                      "predicted top speed (paper II.D: ~25 mph; torque calibrated to it)");
+                      "highest speed, here the speed at the end of the run (paper II.D: ~25 mph; the "
+                      "prescribed torque is calibrated to it [C II.D])");
     n = ts_metric_add(out, n, max, "static_tension", "N", t0,
                       "static track tension at the rear roller (tensioner setting P0)");
     n = ts_metric_add(out, n, max, "peak_tension", "N", tmax,

@@ -6,7 +6,7 @@ issue-10 report quotes. Once-run script (minutes of CPU), not a test.
 Usage: tools/coupled_runs.py [OUTDIR]   (default /tmp/tanksim-coupled-runs)
 Runs: flat-coupled-rack90, bump-coupled-rack90, bump-coupled-ivs5mph,
 bump-prescribed-coupled-nopowertrain, and sensitivity runs given as
-config overrides (IVS with the `tanksim tune` gains; 90 % rack with a 1950-rpm
+config overrides (IVS with the gains `tanksim tune` computes now; 90 % rack with a 1950-rpm
 upshift speed on flat and bumps).
 """
 import csv
@@ -103,9 +103,13 @@ def main():
     print(f"  peak tension: IVS 5 mph {mi['peak_tension']/LBF:.0f} lb, prescribed "
           f"{mp['peak_tension']/LBF:.0f} lb (paper: axis to 35,000 lb, high-speed much higher)")
     # sensitivity runs
+    tune = json.loads(subprocess.run([TANKSIM, "tune", "--preset", "bump-coupled-ivs5mph"],
+                                     capture_output=True, text=True, cwd=ROOT,
+                                     check=True).stdout)
+    kp, ti = tune["kp"], tune["ti"]
     zn, mz = run("bump-coupled-ivs5mph-zn", config={
-        "preset": "bump-coupled-ivs5mph", "control": {"kp": 0.1005, "ti": 6.97}}, out=out)
-    print("\nIVS with the `tanksim tune` gains (kp 0.1005, ti 6.97 s):")
+        "preset": "bump-coupled-ivs5mph", "control": {"kp": kp, "ti": ti}}, out=out)
+    print(f"\nIVS with the `tanksim tune` gains (X {tune['x']:.2f} s, kp {kp:.4f}, ti {ti:.2f} s):")
     for k in ["time_to_target", "rack_at_launch", "mean_abs_speed_error_mph", "rack_min",
               "rack_max", "peak_tension"]:
         print(f"  {k} = {mz[k]:.3f}")

@@ -2,7 +2,8 @@
  * test_engine_parts.c — the engine's building blocks against closed forms:
  * slider-crank kinematics, valve lift, Watson burn law, ignition delay, ideal-
  * gas properties, orifice flow, layered-wall conduction, turbomachinery map
- * shapes, Millington-Hartles friction and the fuel law of Eqs. 13-14.
+ * shapes, the wastegate actuator law and its range check, Millington-Hartles
+ * friction and the fuel law of Eqs. 13-14.
  * Uses the engine's internal header (engine_impl.h) on purpose.
  */
 #include "test_util.h"
@@ -254,6 +255,20 @@ static void wastegate_actuator_linear(void **state)
     }
 }
 
+/* A wastegate whose full-open pressure is not above its crack pressure is a
+ * configuration error naming /engine/wg_full (not a step in the opening). */
+static void wastegate_range_is_checked(void **state)
+{
+    (void)state;
+    ts_config c = et_defaults();
+    c.engine.wg_full = c.engine.wg_crack;
+    ts_err err;
+    ts_engine *e = ts_engine_make(&c, &err);
+    assert_null(e);
+    assert_int_equal(err.code, TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/engine/wg_full");
+}
+
 /* EVIDENCE: Millington & Hartles (SAE 680590) with the provisional constants:
  * fmep = 6895 (15 - 4) + 33.1 N + 107 S_p^2 Pa = 1.59 bar at 2100 rpm
  * (parameters.md 3.5 asks for 1.5-2.5 bar). Eq. 13: phi_tgt = 0.45 at 2100
@@ -284,6 +299,7 @@ int main(void)
         cmocka_unit_test(turbo_maps),
         cmocka_unit_test(friction_and_fuel_law),
         cmocka_unit_test(wastegate_actuator_linear),
+        cmocka_unit_test(wastegate_range_is_checked),
     };
     return cmocka_run_group_tests_name("engine_parts", tests, NULL, NULL);
 }

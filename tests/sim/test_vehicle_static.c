@@ -1,8 +1,9 @@
 /*
  * test_vehicle_static.c — the vehicle scenario at rest and under a constant
  * sprocket torque on flat ground: static equilibrium (tensioner setting, wheel
- * loads, design arm angles), DOF counts of the six fidelities, and the thrust
- * path sprocket -> track -> no-slip anchor against the work-energy balance.
+ * loads, design arm angles), DOF counts of the six fidelities, the thrust
+ * path sprocket -> track -> no-slip anchor against the work-energy balance
+ * with the running-gear rolling resistance, and the drag's closed form.
  */
 #include "test_util.h"
 
