@@ -25,6 +25,20 @@ time the boost takes to cover 63.2 % of its way from the idle value to
 map_boost; where it never gets there within the run (1000 rpm: the launch stays
 on the low-boost branch), the first-order equivalent t_end / -ln(1 - fraction
 covered at t_end); median over the three variants.
+Turbo-match diagnosis (no runs, nothing written):
+    tools/engine_maps.py --match [VARIANT] [key=value ...]
+prints, per bank, turbine power (x mech. efficiency) against compressor power
+as functions of boost at 1000, 1300, 1600 and 2100 rpm with the turbo held at
+the speed the compressor needs: a quasi-steady mean-flow mirror of
+sim/engine_turbo.c (synthetic maps, orifice turbine, wastegate actuator
+without its end rounding) and sim/engine_manifold.c (intercooler orifice and
+effectiveness), the engine taken from the crank-angle sweep of the variant
+(eta_v = map_eta_v, exhaust minus intake manifold temperature from
+sim/data/engine_maps/VARIANT.csv, phi from Eq. 13). key=value overrides
+/engine/<key> (e.g. wg_area=0 turb_area_ref=0.00152). The equilibrium boosts it
+finds match the crank-angle lug-down within 0.1 bar from 1000 to 2100 rpm
+with the default maps (0.3 bar high at 2100 rpm with wg_area=0
+turb_area_ref=0.00152); pulse energy and the cycle's flow variations are left out.
 """
 import csv
 import json
@@ -97,7 +111,95 @@ def part_boost(sweep, spool):
     return tables, [round(w, 3) for w in speeds], t63
 
 
+def match_table(argv):
+    """--match: turbine vs compressor power of one bank against boost (see the header)."""
+    args = [a for a in argv if a != "--match"]
+    variant = next((a for a in args if "=" not in a), "conventional")
+    c = json.load(open("sim/data/defaults/engine.json"))
+    for a in args:
+        if "=" in a:
+            k, v = a.split("=", 1)
+            c[k] = float(v)
+    dl = json.load(open("sim/data/defaults/driveline.json"))
+    pa, ta = dl["ambient_pressure"], dl["ambient_temperature"]
+    sweep = read_csv("sim/data/engine_maps/%s.csv" % variant)
+    g, r_air, cp = 1.4, c["r_air"], 1005.0  # the compressor's constants (engine_turbo.c)
+    s = c["turbo_flow_scale"]
+    d_c, d_t = c["comp_diameter_ref"] * math.sqrt(s), c["turb_diameter_ref"] * math.sqrt(s)
+    a_t = c["turb_area_ref"] * s
+    vd_bank = 6 * math.pi / 4 * c["bore"] ** 2 * c["stroke"]
+
+    def psi(pr, gg):  # engine_manifold.c flow function, choked below the critical ratio
+        pr = max(pr, (2 / (gg + 1)) ** (gg / (gg - 1)))
+        return math.sqrt(max(2 * gg / (gg - 1) * (pr ** (2 / gg) - pr ** ((gg + 1) / gg)), 0))
+
+    def orifice(cda, pu, tu, pd, gg, rr):
+        if cda <= 0:
+            return 0.0
+        base = cda * pu / math.sqrt(rr * tu)
+        pr = pd / pu
+        return base * psi(0.99, gg) * (1 - pr) / 0.01 if pr > 0.99 else base * psi(pr, gg)
+
+    def upstream(cda, m, t, pd, gg, rr):  # pressure that passes m through cda into pd
+        lo, hi = pd, 50 * pd
+        for _ in range(80):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if orifice(cda, mid, t, pd, gg, rr) < m else (lo, mid)
+        return 0.5 * (lo + hi)
+
+    def compressor(m, pr):  # engine_turbo.c en_compressor, inverted for the tip speed
+        dh = cp * ta * (pr ** ((g - 1) / g) - 1)
+        rho = pa / (r_air * ta)
+        u = math.sqrt((m / (rho * d_c ** 2 * c["comp_phi_choke"])) ** 2 + dh / c["comp_psi0"])
+        x = (m / (rho * u * d_c ** 2) - c["comp_phi_opt"]) / c["comp_phi_width"]
+        eta = c["comp_eta_max"] * (1 - x * x)
+        mach = u / math.sqrt(g * r_air * ta)
+        if mach > c["comp_mach_opt"]:
+            y = (mach - c["comp_mach_opt"]) / c["comp_mach_width"]
+            eta *= 1 - y * y
+        eta = max(eta, c["comp_eta_min"])
+        return u, m * dh / eta, eta, ta + dh / (eta * cp)
+
+    def cp_gas(t, f):
+        tt = t / 1000.0
+        return sum(((1 - f) * a + f * b) * tt ** j
+                   for j, (a, b) in enumerate(zip(c["cp_air"], c["cp_burned"])))
+
+    print("%s, per bank: boost [bar]: turbine power x eta_m / compressor power [kW]" % variant)
+    for rpm in (1000, 1300, 1600, 2100):
+        w = rpm * math.pi / 30
+        row = next(r for r in sweep if abs(r["speed_rpm"] - rpm) < 1)
+        d_exh = row["exhaust_temp"] - row["intake_temp"]
+        eta_v = interp(c["map_speed"], c["map_eta_v_" + variant], w)
+        phi = min(c["phi_rated"] + c["phi_curvature"] * (rpm - c["phi_speed"] * 30 / math.pi) ** 2,
+                  c["phi_max"])
+        cells = []
+        for pb in (1.2, 1.6, 2.0, 2.4, 2.8, 3.2, 3.6, 4.0):
+            p_im, t_im = pb * 1e5, 330.0
+            for _ in range(40):  # intake temperature through compressor + intercooler
+                m = eta_v * p_im / (r_air * t_im) * vd_bank * w / (4 * math.pi)
+                p_ic = upstream(c["ic_cda"], m, t_im, p_im, g, r_air)
+                u, p_c, eta_c, t_c = compressor(m, p_ic / pa)
+                t_im = t_c - (1 - math.exp(-c["ic_ua"] / (m * cp))) * (t_c - c["ic_wall_temp"])
+            t3 = t_im + d_exh
+            r_ex = c["r_burned"]
+            cp_ex = cp_gas(t3, min(phi, 1))
+            g_ex = cp_ex / (cp_ex - r_ex)
+            m_ex = m * (1 + phi / c["afr_stoich"])
+            opening = min(max((p_im - c["wg_crack"]) / max(c["wg_full"] - c["wg_crack"], 1), 0), 1)
+            p3 = upstream(a_t + opening * c["wg_area"], m_ex, t3, pa, g_ex, r_ex)
+            m_t = orifice(a_t, p3, t3, pa, g_ex, r_ex)
+            dh_t = cp_ex * t3 * (1 - (pa / p3) ** ((g_ex - 1) / g_ex))
+            bsr = u * d_t / d_c / math.sqrt(2 * dh_t) / c["turb_bsr_opt"]
+            p_t = c["turbo_mech_eff"] * m_t * max(c["turb_eta_max"] * (2 * bsr - bsr * bsr), 0) * dh_t
+            cells.append("%.1f: %3.0f/%3.0f" % (pb, p_t / 1e3, p_c / 1e3))
+        print("%4d rpm  %s" % (rpm, "  ".join(cells)))
+
+
 def main():
+    if "--match" in sys.argv:
+        match_table(sys.argv[1:])
+        return
     if "--no-run" not in sys.argv:
         procs = []
         for v in VARIANTS:
