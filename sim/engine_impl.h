@@ -365,6 +365,11 @@ void en_bank_outputs(const en_bank_out *bo, ts_engine_outputs *out);
 void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o);
 /* Open fraction of the wastegate [0, 1] at intake manifold pressure p_boost [Pa]. */
 double en_wastegate_open(const ts_engine_config *c, double p_boost);
+/* Outflows of the exhaust manifold at the bank state o (gas state s_em): the
+ * turbine's (flow, power) and the wastegate bypass flow m_wg >= 0 [kg/s]. */
+void en_exhaust_outflow(const ts_engine *e, double w_tc, const en_bank_out *o,
+                        const en_gas_state *s_em, double p_amb, double T_amb, en_turb_out *to,
+                        double *m_wg);
 void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, double p_amb,
                  double T_amb, double *xbdot, en_bank_out *o);
 

@@ -92,6 +92,22 @@ void en_bank_outputs(const en_bank_out *bo, ts_engine_outputs *out)
     out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
 }
 
+/* Outflows of the exhaust manifold: the turbine, and the boost-sensing
+ * wastegate bypass around it (a check valve: no reverse flow). */
+void en_exhaust_outflow(const ts_engine *e, double w_tc, const en_bank_out *o,
+                        const en_gas_state *s_em, double p_amb, double T_amb, en_turb_out *to,
+                        double *m_wg)
+{
+    const ts_engine_config *c = &e->c;
+    double R_em = s_em->R, cp_em = s_em->cp;
+    en_turbine(&e->turbo, w_tc, o->p_em, o->T_em, R_em, cp_em, p_amb, to);
+    double open = en_wastegate_open(c, o->p_im);
+    double g_em = cp_em / (cp_em - R_em);
+    double m =
+        en_orifice(open * c->wg_area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R_em, g_em);
+    *m_wg = m > 0 ? m : 0;
+}
+
 void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, double p_amb,
                  double T_amb, double *xd, en_bank_out *o)
 {
@@ -136,15 +152,9 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     xd[BX_IMF] = dF_im;
     xd[BX_IMT] = en_gas_dTdt_s(&s_im, m_im, h_ici - f->h_in, dm_im, dF_im);
     /* exhaust manifold -> turbine -> ambient */
-    double R_em = s_em.R, cp_em = s_em.cp;
     en_turb_out to;
-    en_turbine(&e->turbo, xb[BX_TC], o->p_em, o->T_em, R_em, cp_em, p_amb, &to);
-    /* wastegate: boost-sensing bypass around the turbine */
-    double open = en_wastegate_open(c, o->p_im);
-    double g_em = cp_em / (cp_em - R_em);
-    double m_wg =
-        en_orifice(open * c->wg_area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R_em, g_em);
-    if (m_wg < 0) m_wg = 0; /* check valve: no reverse flow into the manifold */
+    double m_wg;
+    en_exhaust_outflow(e, xb[BX_TC], o, &s_em, p_amb, T_amb, &to, &m_wg);
     double m_out = to.mdot + m_wg;
     double m_em = xb[BX_EMM];
     double dm_em = f->m_ex - m_out;

@@ -149,11 +149,8 @@ static split energy_split(int variant)
             en_gas_state se;
             en_gas_eval(&e->gas, bo.T_em, bo.F_em, &se);
             en_turb_out to;
-            en_turbine(&e->turbo, xb[BX_TC], bo.p_em, bo.T_em, se.R, se.cp, in.p_amb, &to);
-            double g = se.cp / (se.cp - se.R);
-            double mw = en_orifice(en_wastegate_open(cc, bo.p_im) * cc->wg_area, bo.p_em, bo.T_em,
-                                   se.R, g, in.p_amb, in.T_amb, se.R, g);
-            mw = fmax(mw, 0.0);
+            double mw;
+            en_exhaust_outflow(e, xb[BX_TC], &bo, &se, in.p_amb, in.T_amb, &to, &mw);
             s.p_turbine += to.power / N;
             s.h_exhaust += (to.mdot + mw) * se.h / N;
             m_t += to.mdot / N;
