@@ -21,7 +21,8 @@ static const ts_param vehicle_rows[] = {
      NULL, 0, 0, "growth of the rolling-resistance coefficient with speed"},
     {"/vehicle/rolling_resistance_smoothing", TS_PT_DOUBLE, F(rolling_resistance_smoothing), "m/s",
      1e-4, 1, NULL, 0, 0,
-     "multibody runs: speed over which the rolling resistance's sign goes smoothly through zero"},
+     "speed over which the rolling resistance's sign goes smoothly through zero (point-mass "
+     "and multibody runs)"},
     {"/vehicle/cda", TS_PT_DOUBLE, F(cda), "m^2", 0, 50, NULL, 0, 0,
      "aerodynamic drag coefficient times frontal area"},
     {"/vehicle/air_density", TS_PT_DOUBLE, F(air_density), "kg/m^3", 0, 2, NULL, 0, 0,
@@ -111,8 +112,8 @@ static const ts_param vehicle_rows[] = {
     {"/vehicle/anchor_station", TS_PT_INT, F(anchor_station), "1", 1, TS_MAX_ROAD_WHEELS, NULL, 0,
      0, "road wheel under which the track does not slip (4 = middle)"},
     {"/vehicle/damping_scale", TS_PT_DOUBLE, F(damping_scale), "1", 0, 10, NULL, 0, 0,
-     "factor on every damper, the foundation, anchor and track damping, the rolling resistance "
-     "and the drag (0 for energy checks)"},
+     "multibody model: factor on every damper, the foundation, anchor and track damping, the "
+     "rolling resistance and the drag (0 for energy checks)"},
 };
 #undef F
 

@@ -22,13 +22,15 @@
  *                should co-simulate it with ts_engine_advance_load.
  *   mean_value   cycle-averaged cylinders (tables from the crank-angle sweep)
  *                with the intercoolers, manifolds and turbos kept (28 states).
+ *   map          full-load torque map from the crank-angle sweep + first-order
+ *                boost lag (3 states).
  * Each bank's turbine has a boost-sensing wastegate (/engine/wg_*; opening
  * linear in boost between crack and full): the turbine is sized for
  * low-speed boost and the wastegate, calibrated at the rated point, bypasses
  * exhaust at high speed (not in the paper; it also absorbs most of the LHR
- * engines' extra exhaust energy, see engine.json wg_area). No governor: a free-running engine at
- * full rack with too little load overspeeds; speed limiting belongs to the control layer. map
- * full-load torque map from the crank-angle sweep + first-order boost lag (3 states).
+ * engines' extra exhaust energy, see engine.json wg_area). No governor: a
+ * free-running engine at full rack with too little load overspeeds; speed
+ * limiting belongs to the control layer.
  *
  * Fuel actuator hook: inputs.fuel_per_cycle >= 0 is injected as given (the
  * control layer owns the law); inputs.fuel_per_cycle < 0 means "use the default

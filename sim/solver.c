@@ -301,6 +301,7 @@ static int schur_linsys(sunrealtype t, N_Vector yv, N_Vector fyv, SUNMatrix A, s
     ts_ode *o = ud;
     schur_ls *c = o->sls;
     int n = o->n;
+    *jcur = SUNFALSE; /* set before any early return: CVODE counts a Jacobian by it */
     if (!jok) {
         double *y = N_VGetArrayPointer(yv), *fy = N_VGetArrayPointer(fyv);
         double *ewt = N_VGetArrayPointer(tmp1), *ft = N_VGetArrayPointer(tmp2);
@@ -314,7 +315,7 @@ static int schur_linsys(sunrealtype t, N_Vector yv, N_Vector fyv, SUNMatrix A, s
         hcur = g / rl1;
         double hnext;
         if (CVodeGetCurrentStep(o->mem, &hnext) >= 0 && hnext * rl1 == g) hcur = hnext; /* exact */
-        const double uround = 2.220446049250313e-16, srur = sqrt(uround);
+        const double uround = SUN_UNIT_ROUNDOFF, srur = sqrt(uround);
         double fnorm = N_VWrmsNorm(fyv, tmp1);
         double min_inc = fnorm != 0.0 ? DQ_MIN_INC_MULT * fabs(hcur) * uround * n * fnorm : 1.0;
         for (int j = 0; j < n; j++) {
@@ -328,8 +329,6 @@ static int schur_linsys(sunrealtype t, N_Vector yv, N_Vector fyv, SUNMatrix A, s
                 col[i] = inv * (ft[i] - fy[i]);
         }
         *jcur = SUNTRUE;
-    } else {
-        *jcur = SUNFALSE;
     }
     return schur_form(c, gamma) > 0 ? 1 : 0;
 }

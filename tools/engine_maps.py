@@ -165,7 +165,8 @@ def match_table(argv):
         return sum(((1 - f) * a + f * b) * tt ** j
                    for j, (a, b) in enumerate(zip(c["cp_air"], c["cp_burned"])))
 
-    print("%s, per bank: boost [bar]: turbine power x eta_m / compressor power [kW]" % variant)
+    print("%s, per bank: boost [bar]: turbine power x eta_m / compressor power [kW], "
+          "q = their ratio" % variant)
     for rpm in (1000, 1300, 1600, 2100):
         w = rpm * math.pi / 30
         row = next(r for r in sweep if abs(r["speed_rpm"] - rpm) < 1)
@@ -192,7 +193,7 @@ def match_table(argv):
             dh_t = cp_ex * t3 * (1 - (pa / p3) ** ((g_ex - 1) / g_ex))
             bsr = u * d_t / d_c / math.sqrt(2 * dh_t) / c["turb_bsr_opt"]
             p_t = c["turbo_mech_eff"] * m_t * max(c["turb_eta_max"] * (2 * bsr - bsr * bsr), 0) * dh_t
-            cells.append("%.1f: %3.0f/%3.0f" % (pb, p_t / 1e3, p_c / 1e3))
+            cells.append("%.1f: %3.0f/%3.0f q %.2f" % (pb, p_t / 1e3, p_c / 1e3, p_t / p_c))
         print("%4d rpm  %s" % (rpm, "  ".join(cells)))
 
 

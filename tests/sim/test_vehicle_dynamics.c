@@ -182,7 +182,8 @@ static void roller_force_dynamics_need_the_transverse_modes(void **state)
  * alone): at a perturbed state, rates changed with q held (the velocity
  * columns of a difference-quotient Jacobian) give the same ydot, to the bit,
  * as a fresh vm_work that assembles and factors M; after a call at another
- * q the cache is not used (the same again). */
+ * q the cache is not used (the same again), nor after vm_rhs_torque factored
+ * its own M (with the powertrain's sprocket inertia) at the same q. */
 static void rhs_factor_reuse_is_exact(void **state)
 {
     (void)state;
@@ -211,6 +212,11 @@ static void rhs_factor_reuse_is_exact(void **state)
     vm_work *fresh = vm_work_make(v);
     assert_int_equal(vm_rhs(v, fresh, 0.1, y, b, NULL), 0);
     vm_work_free(fresh);
+    assert_memory_equal(a, b, sizeof(double) * (size_t)ny);
+    /* a factorisation by vm_rhs_torque (sprocket inertia added to M) at the
+     * same q must clear the cache: vm_rhs then factors its own M again */
+    assert_int_equal(vm_rhs_torque(v, w, 0.1, y, 1000.0, 50.0, a, NULL), 0);
+    assert_int_equal(vm_rhs(v, w, 0.1, y, a, NULL), 0);
     assert_memory_equal(a, b, sizeof(double) * (size_t)ny);
     free(y), free(a), free(b);
     vm_work_free(w);
