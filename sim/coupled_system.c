@@ -31,11 +31,11 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cosim.h"
 #include "governor.h"
 #include "ivs_controller.h"
+#include "scenario.h"
 #include "solver.h"
 
 #define SPIN_SPROCKET (10 + VM_SPROCKET) /* q index of the sprocket spin (vehicle_model.h) */
@@ -229,13 +229,6 @@ struct ts_coupled_run {
     double *ja_scratch; /* 2 np: interface-inertia differences */
     double *ework; /* engine co-simulation scratch (ts_powertrain_work_size) */
 };
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* monolithic right-hand side and roots */
 static int mono_rhs(double t, const double *y, double *ydot, void *ud)
@@ -509,7 +502,7 @@ static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, in
 {
     ts_coupled_run *r = ud;
     const ts_coupled *c = r->c;
-    double w0 = now_seconds();
+    double w0 = ts_monotonic_seconds();
     r->step = t_to - r->lead_t;
     if (memcmp(last, &r->last, sizeof *last) != 0 || order != r->last_order) {
         if (last->t > r->last.t) r->prev = r->last;
@@ -533,7 +526,7 @@ static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, in
                 &o, NULL);
         *out = publish(r, r->lead_t, r->yp, lead_w(r, r->lead_t), &o);
     }
-    r->st.powertrain_wall += now_seconds() - w0;
+    r->st.powertrain_wall += ts_monotonic_seconds() - w0;
     return rc;
 }
 
@@ -550,7 +543,7 @@ static ts_rc follow_advance(void *ud, double t_to, const ts_cosim_torque *src, t
                             ts_err *err)
 {
     ts_coupled_run *r = ud;
-    double w0 = now_seconds();
+    double w0 = ts_monotonic_seconds();
     r->src = src;
     double t;
     /* never step past the last published sample: CVODE would step beyond t_to
@@ -571,7 +564,7 @@ static ts_rc follow_advance(void *ud, double t_to, const ts_cosim_torque *src, t
         r->rep = *out;
     }
     r->src = NULL;
-    r->st.vehicle_wall += now_seconds() - w0;
+    r->st.vehicle_wall += ts_monotonic_seconds() - w0;
     return rc;
 }
 
@@ -749,7 +742,7 @@ ts_rc ts_coupled_run_advance(ts_coupled_run *r, double t_to, ts_err *err)
         r->st.exchanges = ts_cosim_exchanges(r->cosim);
         return rc;
     }
-    double w0 = now_seconds();
+    double w0 = ts_monotonic_seconds();
     ts_rc rc = TS_OK;
     while (rc == TS_OK && r->t < t_to) {
         int root = 0;
@@ -761,7 +754,7 @@ ts_rc ts_coupled_run_advance(ts_coupled_run *r, double t_to, ts_err *err)
             rc = ts_ode_init(r->mono, r->t, r->ym, err);
     }
     /* one integrator: its wall time is shared; book it on the vehicle side */
-    r->st.vehicle_wall += now_seconds() - w0;
+    r->st.vehicle_wall += ts_monotonic_seconds() - w0;
     return rc;
 }
 

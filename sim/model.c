@@ -27,7 +27,7 @@ static const ts_scenario_ops *const scenarios[TS_NRUN_KIND] = {
 
 #define CHANNEL_STRINGS_CAP 65536
 
-static double now_seconds(void)
+double ts_monotonic_seconds(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -198,7 +198,7 @@ ts_rc ts_advance(const ts_model *m, ts_data *d, double t_end, ts_sample_fn fn, v
     if (t_end > m->cfg.run.duration) t_end = m->cfg.run.duration;
     const double dt = 1.0 / m->cfg.run.sample_rate;
     const long last = (long)floor(t_end / dt + 1e-9);
-    double t0 = now_seconds();
+    double t0 = ts_monotonic_seconds();
     ts_rc rc = TS_OK;
     while (d->index < last) {
         long k = d->index + 1;
@@ -227,7 +227,7 @@ ts_rc ts_advance(const ts_model *m, ts_data *d, double t_end, ts_sample_fn fn, v
             break;
         }
     }
-    d->wall += now_seconds() - t0;
+    d->wall += ts_monotonic_seconds() - t0;
     return rc;
 }
 

@@ -81,6 +81,10 @@ int ts_metric_add(ts_metric *out, int n, int max, const char *name, const char *
  * of nc values, time in column 0; linear interpolation), NAN if never. */
 double ts_rows_first_crossing(const double *rows, long nrows, int nc, int col, double level);
 
+/* Monotonic wall clock [s] (CLOCK_MONOTONIC), for wall-time counters: the
+ * model's ts_wall_seconds and the coupled system's per-side timers. */
+double ts_monotonic_seconds(void);
+
 /* Scenario tables, one per kind (scenario_*.c). */
 extern const ts_scenario_ops ts_scenario_pointmass;
 extern const ts_scenario_ops ts_scenario_engine_dyno;
