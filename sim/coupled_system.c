@@ -302,21 +302,23 @@ static turbine_lin linearise_turbine(ts_coupled_run *r, double t, const double *
     const double d_t = 1e-4, d_w = 1e-5; /* difference steps [rad/s] */
     double *y = r->ja_scratch, *yd = y + c->np;
     memcpy(y, yp, sizeof(double) * (size_t)c->np);
-    drive_cmd d = command(c, r->rack_fixed, yp, w);
+    /* the turbine equation does not depend on the rack (rhs_driveline only
+     * reports it), so the driver/governor command is not evaluated here */
+    const double rack = r->rack_fixed;
     ts_powertrain_out o;
     double f[4], T[2];
     for (int k = 0; k < 2; k++) {
         y[it] = yp[it] + (k ? -d_t : d_t);
-        ts_powertrain_rhs_driveline(c->pt, &r->ps, t, y, w, d.rack, yd, &o);
+        ts_powertrain_rhs_driveline(c->pt, &r->ps, t, y, w, rack, yd, &o);
         f[k] = yd[it];
         T[k] = o.sprocket_torque;
     }
     y[it] = yp[it];
     for (int k = 0; k < 2; k++) {
-        ts_powertrain_rhs_driveline(c->pt, &r->ps, t, y, w + (k ? -d_w : d_w), d.rack, yd, NULL);
+        ts_powertrain_rhs_driveline(c->pt, &r->ps, t, y, w + (k ? -d_w : d_w), rack, yd, NULL);
         f[2 + k] = yd[it];
     }
-    ts_powertrain_rhs_driveline(c->pt, &r->ps, t, y, w, d.rack, yd, NULL);
+    ts_powertrain_rhs_driveline(c->pt, &r->ps, t, y, w, rack, yd, NULL);
     turbine_lin l = {yd[it], (f[0] - f[1]) / (2 * d_t), (f[2] - f[3]) / (2 * d_w),
                      (T[0] - T[1]) / (2 * d_t)};
     return l;
