@@ -35,14 +35,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "constants.h"
 #include "drive.h"
 #include "powertrain.h"
 #include "scenario.h"
 #include "solver.h"
 
-#include "constants.h"
-#define GRAVITY TS_GRAVITY
-#define KMH     (1.0 / 3.6)
+#define KMH (1.0 / 3.6) /* m/s per km/h */
 
 enum { X, V, NVEH };
 enum { CH_X = 1, CH_SPEED, CH_ACCEL, CH_SPROCKET_TORQUE, CH_SPROCKET_SPEED, CH_TRACTION, NCH };
@@ -69,7 +68,7 @@ static double resistance(const ts_vehicle_config *vc, double v)
 {
     double fr = vc->rolling_resistance + vc->rolling_resistance_speed * fabs(v);
     double sgn = tanh(v / vc->rolling_resistance_smoothing);
-    return vc->mass * GRAVITY * (fr * cos(vc->grade) * sgn + sin(vc->grade)) +
+    return vc->mass * TS_GRAVITY * (fr * cos(vc->grade) * sgn + sin(vc->grade)) +
            0.5 * vc->air_density * vc->cda * v * fabs(v);
 }
 
