@@ -47,15 +47,23 @@ typedef struct {
     int nm;
 } run_result;
 
-/* Run a preset with the given engine fidelity for duration seconds. */
-static run_result run_preset(const char *preset, const char *fidelity, double duration)
+/* A preset's config with the given engine fidelity. */
+static ts_config load(const char *preset, const char *fidelity)
 {
     ts_config c;
     ts_err err;
-    json_t *doc = json_pack("{s:s,s:{s:s},s:{s:f}}", "preset", preset, "engine", "fidelity",
-                            fidelity, "run", "duration", duration);
+    json_t *doc = json_pack("{s:s,s:{s:s}}", "preset", preset, "engine", "fidelity", fidelity);
     assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
     json_decref(doc);
+    return c;
+}
+
+/* Run a preset with the given engine fidelity for duration seconds. */
+static run_result run_preset(const char *preset, const char *fidelity, double duration)
+{
+    ts_config c = load(preset, fidelity);
+    c.run.duration = duration;
+    ts_err err;
     run_result r = {0};
     r.m = ts_model_make(&c, &err);
     if (!r.m) fail_msg("model: %s", err.msg);
@@ -224,12 +232,8 @@ static void pointmass_kinematics_and_channels(void **state)
 static void save_restore_mid_run(void **state)
 {
     (void)state;
-    ts_config c;
+    ts_config c = load("accel-pointmass-conventional", "map");
     ts_err err;
-    json_t *doc = json_pack("{s:s,s:{s:s}}", "preset", "accel-pointmass-conventional", "engine",
-                            "fidelity", "map");
-    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
-    json_decref(doc);
     ts_model *m = ts_model_make(&c, &err);
     ts_data *d = ts_data_make(m, &err);
     assert_int_equal(ts_reset(m, d, &err), TS_OK);
@@ -297,12 +301,8 @@ static double slowest_drift(const ts_powertrain *pt, const ts_powertrain_state *
 static void idle_start_is_steady_at_stall(void **state)
 {
     (void)state;
-    ts_config c;
+    ts_config c = load("accel-pointmass-lhr10", "mean_value");
     ts_err err;
-    json_t *doc = json_pack("{s:s,s:{s:s}}", "preset", "accel-pointmass-lhr10", "engine",
-                            "fidelity", "mean_value");
-    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
-    json_decref(doc);
     ts_powertrain *pt = ts_powertrain_make(&c, &err);
     assert_non_null(pt);
     int n = ts_powertrain_nstate(pt);
