@@ -37,6 +37,19 @@ typedef struct hist {
         engine[NMAX];
 } hist;
 
+/* A run of method made, reset and advanced to t_to; *cm its system (free both). */
+static ts_coupled_run *started(const ts_config *c, int method, double t_to, ts_coupled **cm)
+{
+    ts_err err;
+    *cm = ts_coupled_make(c, &err);
+    assert_non_null(*cm);
+    ts_coupled_run *r = ts_coupled_run_make(*cm, method, &err);
+    assert_non_null(r);
+    assert_int_equal(ts_coupled_run_reset(r, &err), TS_OK);
+    assert_int_equal(ts_coupled_run_advance(r, t_to, &err), TS_OK);
+    return r;
+}
+
 static ts_rc run(const ts_config *c, int method, double t_end, double dt, hist *h, ts_err *err)
 {
     ts_coupled *cm = ts_coupled_make(c, err);
@@ -133,13 +146,8 @@ static void leader_not_restarted_follower_reuses_jacobian(void **state)
 {
     (void)state;
     ts_config c = load("flat-coupled-rack90", "static");
-    ts_err err;
-    ts_coupled *cm = ts_coupled_make(&c, &err);
-    assert_non_null(cm);
-    ts_coupled_run *r = ts_coupled_run_make(cm, TS_COUPLING_LEADING_FOLLOWING, &err);
-    assert_non_null(r);
-    assert_int_equal(ts_coupled_run_reset(r, &err), TS_OK);
-    assert_int_equal(ts_coupled_run_advance(r, 0.5, &err), TS_OK);
+    ts_coupled *cm;
+    ts_coupled_run *r = started(&c, TS_COUPLING_LEADING_FOLLOWING, 0.5, &cm);
     ts_coupled_stats st;
     ts_coupled_run_stats(r, &st);
     print_message("messages %ld, leader restarts %ld, leader steps %ld, follower steps %ld, "
@@ -310,12 +318,8 @@ static void save_restore_reproduces(void **state)
     c.run.atol = 1e-11;
     ts_err err;
     for (int method = 0; method < 2; method++) {
-        ts_coupled *cm = ts_coupled_make(&c, &err);
-        assert_non_null(cm);
-        ts_coupled_run *r = ts_coupled_run_make(cm, method, &err);
-        assert_non_null(r);
-        assert_int_equal(ts_coupled_run_reset(r, &err), TS_OK);
-        assert_int_equal(ts_coupled_run_advance(r, 0.5, &err), TS_OK);
+        ts_coupled *cm;
+        ts_coupled_run *r = started(&c, method, 0.5, &cm);
         size_t n = ts_coupled_state_size(cm);
         void *buf = malloc(n);
         ts_coupled_run_save(r, buf);
