@@ -592,7 +592,8 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
     r->co = c->cfg.coupling;
     r->rack_fixed = c->cfg.control.rack;
     int n = c->nv + c->np;
-    /* yv, yp, ydv, ydp, ym (n), atol (n), lead scratch (np) */
+    /* yv, yp, ydv, ydp, ym (n), atol (n), lead scratch (np), RK4 stages (5 np),
+     * interface-inertia differences (2 np) */
     r->yv = calloc((size_t)(4 * n + 8 * c->np), sizeof(double));
     r->w = vm_work_make(c->v);
     if (!r->yv || !r->w) goto nomem;
