@@ -216,15 +216,19 @@ void ts_engine_free(ts_engine *e) { free(e); }
 int ts_engine_get_fidelity(const ts_engine *e) { return e->c.fidelity; }
 int ts_engine_nstate(const ts_engine *e) { return e->nx; }
 
-en_lin en_map_at(const ts_engine *e, double omega)
+int en_bracket(const double *xs, int n, double x)
 {
-    const double *xs = e->c.map_speed;
-    int n = e->c.map_speed_n;
-    if (omega <= xs[0]) return (en_lin){0, 0, 0.0};
-    if (omega >= xs[n - 1]) return (en_lin){n - 1, n - 1, 0.0};
     int i = 0;
-    while (i < n - 2 && omega > xs[i + 1]) i++;
-    return (en_lin){i, i + 1, (omega - xs[i]) / (xs[i + 1] - xs[i])};
+    while (i < n - 2 && x > xs[i + 1]) i++;
+    return i;
+}
+
+en_lin en_lin_at(const double *xs, int n, double x)
+{
+    if (x <= xs[0]) return (en_lin){0, 0, 0.0};
+    if (x >= xs[n - 1]) return (en_lin){n - 1, n - 1, 0.0};
+    int i = en_bracket(xs, n, x);
+    return (en_lin){i, i + 1, (x - xs[i]) / (xs[i + 1] - xs[i])};
 }
 
 double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double air_flow,

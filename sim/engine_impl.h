@@ -260,7 +260,15 @@ typedef struct en_lin {
     int i0, i1; /* bracketing nodes (equal when clamped) */
     double f;   /* weight of i1 */
 } en_lin;
-en_lin en_map_at(const ts_engine *e, double omega);
+/* Index i in [0, n - 2] of the interval [xs[i], xs[i + 1]] that holds x
+ * (xs increasing, n >= 2; the end intervals below and above the table). */
+int en_bracket(const double *xs, int n, double x);
+/* Linear weights of x in the increasing abscissae xs[0..n), clamped at the ends. */
+en_lin en_lin_at(const double *xs, int n, double x);
+static inline en_lin en_map_at(const ts_engine *e, double omega)
+{
+    return en_lin_at(e->c.map_speed, e->c.map_speed_n, omega);
+}
 static inline double en_lin_eval(const en_lin *l, const double *y)
 {
     return y[l->i0] + l->f * (y[l->i1] - y[l->i0]);

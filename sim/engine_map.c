@@ -84,12 +84,6 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
 
 double en_spool_lag(const ts_engine *e, double omega)
 {
-    const ts_engine_config *c = &e->c;
-    int n = c->spool_speed_n;
-    const double *ws = c->spool_speed, *y = c->spool_lag;
-    if (n < 2 || omega <= ws[0]) return y[0];
-    if (omega >= ws[n - 1]) return y[n - 1];
-    int i = 0;
-    while (i < n - 2 && omega > ws[i + 1]) i++;
-    return y[i] + (omega - ws[i]) / (ws[i + 1] - ws[i]) * (y[i + 1] - y[i]);
+    en_lin l = en_lin_at(e->c.spool_speed, e->c.spool_speed_n, omega);
+    return en_lin_eval(&l, e->c.spool_lag);
 }
