@@ -33,6 +33,7 @@
 #define EN_RPM   (30.0 / EN_PI) /* rpm per rad/s */
 #define EN_T0    298.15         /* reference temperature of sensible enthalpy [K] */
 #define EN_SIGMA 5.670374e-8    /* Stefan-Boltzmann [W/m^2/K^4] */
+#define EN_FRICTION_FADE 5.0  /* friction torque x tanh(w / this) [rad/s]: smoothing at rest */
 
 /* ---- gas (engine_gas.c) --------------------------------------------------- */
 typedef struct en_gas {

@@ -44,7 +44,7 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
     /* en_friction_torque with fmep x (12 V_d): the other association moves the
      * map runs by rounding, which clutch and shift events amplify to 1e-5 */
     double vd_total = e->geom.vd * EN_NCYL;
-    double t_fric = en_fmep(c, w) * vd_total / EN_CYCLE * tanh(w / 5.0);
+    double t_fric = en_fmep(c, w) * vd_total / EN_CYCLE * tanh(w / EN_FRICTION_FADE);
     double boost = in->p_amb + z * (boost_fl - in->p_amb);
     double avail = en_pb_interp(e, mt->pb_torque, w, boost / boost_fl);
     double f;
