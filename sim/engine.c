@@ -411,19 +411,11 @@ static int step(const ts_engine *e, double *x, double t, double h, stage_load *s
     return rk4(e, x, t, h, sl, work);
 }
 
-/* Error-controlled multirate step of the crank-angle model: Bogacki-Shampine
- * 3(2) (FSAL) on every state but the walls, walls frozen over the step; every
- * BS_WALL_EVERY accepted steps (and at the end of the call) each wall stack by
- * one Crank-Nicolson step with the mean heat flux of those steps (each step's
- * flux with the scheme's own weights: the heat the gas lost is the heat the
- * walls receive). The step adapts in crank angle between
- * /engine/ca_step / 4 and 8 ca_step (fine through the premixed burn and the
- * valve events, coarse through compression and expansion). tol: relative
- * tolerance on the engine's state scales (ts_engine_atol). */
 static void carry_head(const ts_engine *e, const ts_engine_inputs *in, double *h)
 {
     memset(h, 0, sizeof(double) * CARRY_HEAD);
     h[0] = CARRY_MAGIC;
+    _Static_assert(sizeof e <= sizeof(double), "the engine's address fits one double");
     memcpy(h + 1, &e, sizeof e);
     h[2] = in->rack;
     h[3] = in->fuel_per_cycle;
@@ -459,6 +451,15 @@ static void carry_put(const ts_engine *e, const double *x, const ts_engine_input
     carry_head(e, in, carry);
 }
 
+/* Error-controlled multirate step of the crank-angle model: Bogacki-Shampine
+ * 3(2) (FSAL) on every state but the walls, walls frozen over the step; every
+ * BS_WALL_EVERY accepted steps (and at the end of the call) each wall stack by
+ * one Crank-Nicolson step with the mean heat flux of those steps (each step's
+ * flux with the scheme's own weights: the heat the gas lost is the heat the
+ * walls receive). The step adapts in crank angle between
+ * /engine/ca_step / 4 and 8 ca_step (fine through the premixed burn and the
+ * valve events, coarse through compression and expansion). tol: relative
+ * tolerance on the engine's state scales (ts_engine_atol). */
 /* BS_TOL: relative tolerance. 3e-3 (1e-3 until the speed-up of issue 6's 20x
  * goal): the Table 2 point-mass figures moved < 0.03 % and the lug transient
  * of test_engine_regression.c < 0.05 %; against tol 1e-4 the Table 2 figures
