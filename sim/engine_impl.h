@@ -341,6 +341,11 @@ void en_crank_refresh(const ts_engine *e, const double *x, const ts_engine_input
  * next ignition (Livengood-Wu integral reaching 1, from xdot). For the
  * error-controlled stepper, which ends steps on these switches. */
 double en_crank_next_switch(const ts_engine *e, const double *x, const double *xdot, double *ign);
+/* Lift [m] of valve v (0 intake, 1 exhaust) of cylinder i at crank angle th
+ * [rad] as the crank-angle right-hand side evaluates it (by rotation of the
+ * precomputed valve phases); equals en_valve_lift at the cylinder's local
+ * angle to rounding (tests/sim/test_engine_stepper.c). */
+double en_crank_valve_lift(const ts_engine *e, int v, int i, double th);
 /* Advance every wall stack over h [s] with the gas-side flux q (EN_NCYL x
  * EN_NSURF, as from en_crank_eval) held and the sinks at the coolant and oil
  * temperatures in x: Crank-Nicolson (A-stable, second order; the conduction
