@@ -8,9 +8,9 @@
  *
  * With --spool FILE.csv (instead of --out): the turbo spool-up of a launch instead, the part-boost source
  * of the mean-value and map fidelities (tools/engine_maps.py). The engine
- * starts from its idle steady state (650 rpm, 313 N*m: the converter's stall
- * load in the accel-pointmass presets; ts_engine_idle_state: idle-warm walls,
- * idle turbo), the crank is then held at each of 800, 1000, ..., 2200 rpm and
+ * starts from an idle steady state (ts_engine_idle_state at IDLE_RPM against
+ * IDLE_TORQUE: idle-warm walls, idle turbo), the crank is then held at each of
+ * 800, 1000, ..., 2200 rpm and
  * the rack stepped to /control/rack; one row per engine cycle for SPOOL_TIME
  * seconds, real rotor inertia and wall capacities (the walls warm up as in a
  * launch). Columns: time, speed, the cycle means and eta_v, eta_i, q_wall.
@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../sim/constants.h"
 #include "../sim/engine.h"
 #include "cli.h"
 
@@ -32,13 +33,20 @@
 #define STEADY_CYCLES 80
 #define STEADY_TOL 2e-4
 #define SEARCH_TURBO 8000.0 /* rotor speed the lug-down starts from [rad/s] */
-#define PI 3.14159265358979323846
+#define PI TS_PI
 #define SPOOL_RPM_LO 800
 #define SPOOL_RPM_HI 2200
 #define SPOOL_RPM_STEP 200
 #define SPOOL_TIME 6.0      /* [s] of each spool-up; boost settles in ~2-4 s */
-#define IDLE_RPM 650.0      /* idle of the accel-pointmass presets */
-#define IDLE_TORQUE 313.0   /* converter stall load at idle there [N*m] */
+/* The idle point the stored spool-ups (sim/data/engine_maps/<variant>_spool.csv,
+ * hence /engine/pb_* and spool_lag) were made from. NOT the launch's idle
+ * state: ts_powertrain_idle_start idles at /driveline/launch_engine_speed
+ * (68.07 rad/s) against the converter at stall, (w / K0)^2 = 799 N*m with
+ * K0 = /driveline/tc_k_factor[0] (tests/sim/test_engine_idle.c: 800 N*m).
+ * Kept so that the stored tables stay reproducible; taking the point from the
+ * driveline config means regenerating the spool CSVs and the pb_* tables. */
+#define IDLE_RPM 650.0    /* [rpm] */
+#define IDLE_TORQUE 313.0 /* [N*m] */
 
 /* --spool: crank-angle spool-up transients at held speed (see the header). */
 static int spool(const ts_engine *e, const ts_config *cfg, const char *out)

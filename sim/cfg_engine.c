@@ -17,28 +17,32 @@ const char *const ts_engine_fidelity_names[] = {"crank_angle", "mean_value", "ma
 #define I(name, lo, hi, desc) {"/engine/" #name, TS_PT_INT, F(name), "1", lo, hi, NULL, 0, 0, desc}
 #define A(name, cap, unit, lo, hi, desc) \
     {"/engine/" #name, TS_PT_DARRAY, F(name), unit, lo, hi, NULL, cap, F(name##_n), desc}
+/* One table row of variant v (map index idx): /engine/<key>_<v>, member mem
+ * of map[idx] with its count mem_n. */
+#define MAPROW(v, idx, key, mem, unit, lo, hi, cap, desc)                                          \
+    {"/engine/" key "_" v, TS_PT_DARRAY, F(map[idx].mem), unit, lo, hi, NULL, cap,                 \
+     F(map[idx].mem##_n), desc " (" v ")"}
 #define MAPROWS(v, idx)                                                                            \
-    {"/engine/map_torque_" v, TS_PT_DARRAY, F(map[idx].torque), "N*m", 0, 2e4, NULL,             \
-     TS_ENGINE_MAP_MAX, F(map[idx].torque_n), "full-load brake torque at map_speed (" v ")"},     \
-    {"/engine/map_boost_" v, TS_PT_DARRAY, F(map[idx].boost), "Pa", 5e4, 1e6, NULL,                \
-     TS_ENGINE_MAP_MAX, F(map[idx].boost_n), "full-load intake manifold pressure (" v ")"},        \
-    {"/engine/map_fuel_" v, TS_PT_DARRAY, F(map[idx].fuel), "kg/s", 0, 1, NULL,                    \
-     TS_ENGINE_MAP_MAX, F(map[idx].fuel_n), "full-load fuel flow, whole engine (" v ")"},          \
-    {"/engine/map_eta_v_" v, TS_PT_DARRAY, F(map[idx].eta_v), "1", 0.2, 1.5, NULL,                 \
-     TS_ENGINE_MAP_MAX, F(map[idx].eta_v_n), "volumetric efficiency vs intake manifold (" v ")"},  \
-    {"/engine/map_eta_i_" v, TS_PT_DARRAY, F(map[idx].eta_i), "1", 0.1, 0.7, NULL,                 \
-     TS_ENGINE_MAP_MAX, F(map[idx].eta_i_n), "gross indicated efficiency (" v ")"},                \
-    {"/engine/map_q_wall_" v, TS_PT_DARRAY, F(map[idx].q_wall), "1", 0, 0.6, NULL,                 \
-     TS_ENGINE_MAP_MAX, F(map[idx].q_wall_n), "in-cylinder heat loss / fuel energy (" v ")"},  \
-    {"/engine/pb_eta_v_" v, TS_PT_DARRAY, F(map[idx].pb_eta_v), "1", 0.3, 2, NULL,                \
-     TS_ENGINE_SPOOL_MAX, F(map[idx].pb_eta_v_n), "part-boost eta_v / full-load eta_v (" v ")"},   \
-    {"/engine/pb_eta_i_" v, TS_PT_DARRAY, F(map[idx].pb_eta_i), "1", 0.3, 2, NULL,                \
-     TS_ENGINE_SPOOL_MAX, F(map[idx].pb_eta_i_n), "part-boost eta_i / full-load eta_i (" v ")"},   \
-    {"/engine/pb_q_wall_" v, TS_PT_DARRAY, F(map[idx].pb_q_wall), "1", 0.3, 3, NULL,              \
-     TS_ENGINE_SPOOL_MAX, F(map[idx].pb_q_wall_n), "part-boost q_wall / full-load q_wall (" v ")"}, \
-    {"/engine/pb_torque_" v, TS_PT_DARRAY, F(map[idx].pb_torque), "1", 0, 2, NULL,                \
-     TS_ENGINE_SPOOL_MAX, F(map[idx].pb_torque_n),                                                 \
-     "part-boost indicated torque / full-load indicated torque (map fidelity) (" v ")"}
+    MAPROW(v, idx, "map_torque", torque, "N*m", 0, 2e4, TS_ENGINE_MAP_MAX,                         \
+           "full-load brake torque at map_speed"),                                                 \
+    MAPROW(v, idx, "map_boost", boost, "Pa", 5e4, 1e6, TS_ENGINE_MAP_MAX,                          \
+           "full-load intake manifold pressure"),                                                  \
+    MAPROW(v, idx, "map_fuel", fuel, "kg/s", 0, 1, TS_ENGINE_MAP_MAX,                              \
+           "full-load fuel flow, whole engine"),                                                   \
+    MAPROW(v, idx, "map_eta_v", eta_v, "1", 0.2, 1.5, TS_ENGINE_MAP_MAX,                           \
+           "volumetric efficiency vs intake manifold"),                                            \
+    MAPROW(v, idx, "map_eta_i", eta_i, "1", 0.1, 0.7, TS_ENGINE_MAP_MAX,                           \
+           "gross indicated efficiency"),                                                          \
+    MAPROW(v, idx, "map_q_wall", q_wall, "1", 0, 0.6, TS_ENGINE_MAP_MAX,                           \
+           "in-cylinder heat loss / fuel energy"),                                                 \
+    MAPROW(v, idx, "pb_eta_v", pb_eta_v, "1", 0.3, 2, TS_ENGINE_SPOOL_MAX,                         \
+           "part-boost eta_v / full-load eta_v"),                                                  \
+    MAPROW(v, idx, "pb_eta_i", pb_eta_i, "1", 0.3, 2, TS_ENGINE_SPOOL_MAX,                         \
+           "part-boost eta_i / full-load eta_i"),                                                  \
+    MAPROW(v, idx, "pb_q_wall", pb_q_wall, "1", 0.3, 3, TS_ENGINE_SPOOL_MAX,                       \
+           "part-boost q_wall / full-load q_wall"),                                                \
+    MAPROW(v, idx, "pb_torque", pb_torque, "1", 0, 2, TS_ENGINE_SPOOL_MAX,                         \
+           "part-boost indicated torque / full-load indicated torque (map fidelity)")
 
 static const ts_param engine_rows[] = {
     {"/engine/variant", TS_PT_ENUM, F(variant), "", 0, 0, ts_engine_variant_names, 0, 0,

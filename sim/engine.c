@@ -39,6 +39,32 @@
 #include "engine_impl.h"
 #include "solver.h"
 
+/* TS_ERR_PARAM unless a[0..n) strictly increases (pointer: the array's). */
+static ts_rc check_increasing(const double *a, int n, const char *ptr, const char *what,
+                              ts_err *err)
+{
+    for (int i = 1; i < n; i++)
+        if (!(a[i] > a[i - 1]))
+            return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: %s must increase (index %d)", ptr, what,
+                              i);
+    return TS_OK;
+}
+
+/* TS_ERR_PARAM unless every /engine/<prefix><names[k]>_<variant> has want values. */
+static ts_rc check_counts(const int *counts, const char *const *names, int k_n, const char *prefix,
+                          int v, int want, const char *what, ts_err *err)
+{
+    for (int k = 0; k < k_n; k++)
+        if (counts[k] != want) {
+            char ptr[64];
+            snprintf(ptr, sizeof ptr, "/engine/%s%s_%s", prefix, names[k],
+                     ts_engine_variant_names[v]);
+            return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: %d values expected (%s), got %d", ptr,
+                              want, what, counts[k]);
+        }
+    return TS_OK;
+}
+
 static ts_rc check_tables(const ts_engine_config *c, int v, ts_err *err)
 {
     const ts_engine_map_table *t = &c->map[v];
@@ -46,43 +72,24 @@ static ts_rc check_tables(const ts_engine_config *c, int v, ts_err *err)
     if (n < 2)
         return ts_err_set(err, TS_ERR_PARAM, "/engine/map_speed",
                           "/engine/map_speed: at least 2 speeds needed, got %d", n);
-    for (int i = 1; i < n; i++)
-        if (!(c->map_speed[i] > c->map_speed[i - 1]))
-            return ts_err_set(err, TS_ERR_PARAM, "/engine/map_speed",
-                              "/engine/map_speed: speeds must increase (index %d)", i);
+    ts_rc rc = check_increasing(c->map_speed, n, "/engine/map_speed", "speeds", err);
+    if (rc != TS_OK) return rc;
     const int counts[] = {t->torque_n, t->boost_n, t->fuel_n, t->eta_v_n, t->eta_i_n, t->q_wall_n};
     static const char *const names[] = {"torque", "boost", "fuel", "eta_v", "eta_i", "q_wall"};
-    for (int k = 0; k < 6; k++)
-        if (counts[k] != n) {
-            char ptr[64];
-            snprintf(ptr, sizeof ptr, "/engine/map_%s_%s", names[k], ts_engine_variant_names[v]);
-            return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: %d values expected (one per map_speed), got %d",
-                              ptr, n, counts[k]);
-        }
+    rc = check_counts(counts, names, 6, "map_", v, n, "one per map_speed", err);
+    if (rc != TS_OK) return rc;
     int ns = c->spool_speed_n, nr = c->spool_ratio_n;
     if (ns < 1 || nr < 2 || c->spool_lag_n != ns)
         return ts_err_set(err, TS_ERR_PARAM, "/engine/spool_ratio",
                           "/engine/spool_speed, spool_ratio, spool_lag: at least 1 speed and 2 "
                           "ratios needed, one spool_lag per speed");
-    for (int i = 1; i < ns; i++)
-        if (!(c->spool_speed[i] > c->spool_speed[i - 1]))
-            return ts_err_set(err, TS_ERR_PARAM, "/engine/spool_speed",
-                              "/engine/spool_speed: speeds must increase (index %d)", i);
-    for (int i = 1; i < nr; i++)
-        if (!(c->spool_ratio[i] > c->spool_ratio[i - 1]))
-            return ts_err_set(err, TS_ERR_PARAM, "/engine/spool_ratio",
-                              "/engine/spool_ratio: ratios must increase (index %d)", i);
+    rc = check_increasing(c->spool_speed, ns, "/engine/spool_speed", "speeds", err);
+    if (rc == TS_OK) rc = check_increasing(c->spool_ratio, nr, "/engine/spool_ratio", "ratios", err);
+    if (rc != TS_OK) return rc;
     const int pb_counts[] = {t->pb_eta_v_n, t->pb_eta_i_n, t->pb_q_wall_n, t->pb_torque_n};
     static const char *const pb_names[] = {"eta_v", "eta_i", "q_wall", "torque"};
-    for (int k = 0; k < 4; k++)
-        if (pb_counts[k] != ns * nr) {
-            char ptr[64];
-            snprintf(ptr, sizeof ptr, "/engine/pb_%s_%s", pb_names[k], ts_engine_variant_names[v]);
-            return ts_err_set(err, TS_ERR_PARAM, ptr,
-                              "%s: %d values expected (spool_speed x spool_ratio), got %d", ptr,
-                              ns * nr, pb_counts[k]);
-        }
-    return TS_OK;
+    return check_counts(pb_counts, pb_names, 4, "pb_", v, ns * nr, "spool_speed x spool_ratio",
+                        err);
 }
 
 ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
@@ -209,15 +216,19 @@ void ts_engine_free(ts_engine *e) { free(e); }
 int ts_engine_get_fidelity(const ts_engine *e) { return e->c.fidelity; }
 int ts_engine_nstate(const ts_engine *e) { return e->nx; }
 
-en_lin en_map_at(const ts_engine *e, double omega)
+int en_bracket(const double *xs, int n, double x)
 {
-    const double *xs = e->c.map_speed;
-    int n = e->c.map_speed_n;
-    if (omega <= xs[0]) return (en_lin){0, 0, 0.0};
-    if (omega >= xs[n - 1]) return (en_lin){n - 1, n - 1, 0.0};
     int i = 0;
-    while (i < n - 2 && omega > xs[i + 1]) i++;
-    return (en_lin){i, i + 1, (omega - xs[i]) / (xs[i + 1] - xs[i])};
+    while (i < n - 2 && x > xs[i + 1]) i++;
+    return i;
+}
+
+en_lin en_lin_at(const double *xs, int n, double x)
+{
+    if (x <= xs[0]) return (en_lin){0, 0, 0.0};
+    if (x >= xs[n - 1]) return (en_lin){n - 1, n - 1, 0.0};
+    int i = en_bracket(xs, n, x);
+    return (en_lin){i, i + 1, (x - xs[i]) / (xs[i + 1] - xs[i])};
 }
 
 double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double air_flow,
@@ -400,19 +411,11 @@ static int step(const ts_engine *e, double *x, double t, double h, stage_load *s
     return rk4(e, x, t, h, sl, work);
 }
 
-/* Error-controlled multirate step of the crank-angle model: Bogacki-Shampine
- * 3(2) (FSAL) on every state but the walls, walls frozen over the step; every
- * BS_WALL_EVERY accepted steps (and at the end of the call) each wall stack by
- * one Crank-Nicolson step with the mean heat flux of those steps (each step's
- * flux with the scheme's own weights: the heat the gas lost is the heat the
- * walls receive). The step adapts in crank angle between
- * /engine/ca_step / 4 and 8 ca_step (fine through the premixed burn and the
- * valve events, coarse through compression and expansion). tol: relative
- * tolerance on the engine's state scales (ts_engine_atol). */
 static void carry_head(const ts_engine *e, const ts_engine_inputs *in, double *h)
 {
     memset(h, 0, sizeof(double) * CARRY_HEAD);
     h[0] = CARRY_MAGIC;
+    _Static_assert(sizeof e <= sizeof(double), "the engine's address fits one double");
     memcpy(h + 1, &e, sizeof e);
     h[2] = in->rack;
     h[3] = in->fuel_per_cycle;
@@ -448,6 +451,15 @@ static void carry_put(const ts_engine *e, const double *x, const ts_engine_input
     carry_head(e, in, carry);
 }
 
+/* Error-controlled multirate step of the crank-angle model: Bogacki-Shampine
+ * 3(2) (FSAL) on every state but the walls, walls frozen over the step; every
+ * BS_WALL_EVERY accepted steps (and at the end of the call) each wall stack by
+ * one Crank-Nicolson step with the mean heat flux of those steps (each step's
+ * flux with the scheme's own weights: the heat the gas lost is the heat the
+ * walls receive). The step adapts in crank angle between
+ * /engine/ca_step / 4 and 8 ca_step (fine through the premixed burn and the
+ * valve events, coarse through compression and expansion). tol: relative
+ * tolerance on the engine's state scales (ts_engine_atol). */
 /* BS_TOL: relative tolerance. 3e-3 (1e-3 until the speed-up of issue 6's 20x
  * goal): the Table 2 point-mass figures moved < 0.03 % and the lug transient
  * of test_engine_regression.c < 0.05 %; against tol 1e-4 the Table 2 figures

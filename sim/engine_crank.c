@@ -91,6 +91,15 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
  * and the crankshaft. en_crank_refresh re-runs wall_part alone (same
  * operations, same result) after a wall step or a change of load. */
 
+/* Local angle of cylinder i in [0, 4 pi) at the wrapped crank angle th_w;
+ * *nw: wraps added (0 or 1), the phase index of valve_lift. */
+static inline double local_angle(const ts_engine *e, int i, double th_w, int *nw)
+{
+    double thl = th_w - e->cyl_offset[i];
+    *nw = thl < 0;
+    return thl < 0 ? thl + EN_CYCLE : thl;
+}
+
 /* en_valve_lift of valve v (0 intake, 1 exhaust) of cylinder i at local angle
  * thl = th_w - offset + 4 pi nw: the same (1 - cos(k d)) / 2 profile, with
  * cos(k d) = cos(k th_w - phase) = C cos(phase) + S sin(phase) from the
@@ -158,12 +167,8 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double *dc = xdot + e->off_cyl + i * EN_CYL_NX;
         en_cyl_part *cp_ = &pc->cyl[i];
         int b = e->cyl_bank[i];
-        double thl = th_w - e->cyl_offset[i];
-        int nw = 0;
-        if (thl < 0) {
-            thl += EN_CYCLE;
-            nw = 1;
-        }
+        int nw;
+        double thl = local_angle(e, i, th_w, &nw);
         en_kin kin; /* sin, cos of th - offset by rotation */
         en_kinematics_sc(geo, s_th * e->cyl_cos[i] - c_th * e->cyl_sin[i],
                          c_th * e->cyl_cos[i] + s_th * e->cyl_sin[i], &kin);
@@ -389,6 +394,19 @@ void en_crank_refresh(const ts_engine *e, const double *x, const ts_engine_input
                       const en_crank_part *pc, double *xdot, double *q_wall)
 {
     wall_part(e, x, in, pc, xdot, NULL, q_wall);
+}
+
+double en_crank_valve_lift(const ts_engine *e, int v, int i, double th)
+{
+    const ts_engine_config *c = &e->c;
+    double th_w = wrap(th);
+    int nw;
+    double thl = local_angle(e, i, th_w, &nw);
+    double k = e->valve_k[v];
+    return v ? valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, cos(k * th_w),
+                          sin(k * th_w))
+             : valve_lift(e, 0, i, thl, nw, c->ivo, c->ivc, c->intake_max_lift, cos(k * th_w),
+                          sin(k * th_w));
 }
 
 double en_crank_next_switch(const ts_engine *e, const double *x, const double *xdot,

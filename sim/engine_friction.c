@@ -4,7 +4,7 @@
  *   fmep = a (r_c - 4) + b N + c S_p^2,   N [rpm], S_p = 2 stroke N / 60 [m/s].
  * Constants in engine.json (a literature; b, c provisional, parameters.md 3.5).
  * The friction torque fmep V_d / (4 pi) fades to zero below a few rad/s
- * (tanh(w / 5 rad/s), a numerical smoothing so the engine does not drive
+ * (tanh(w / EN_FRICTION_FADE), 5 rad/s, a numerical smoothing so the engine does not drive
  * itself backwards at rest). The crank-angle-varying inertia is in
  * engine_crank.c (it needs the piston kinematics of every cylinder).
  */
@@ -21,5 +21,5 @@ double en_fmep(const ts_engine_config *c, double omega)
 
 double en_friction_torque(const ts_engine *e, double omega)
 {
-    return en_fmep(&e->c, omega) * e->geom.vd * EN_NCYL / EN_CYCLE * tanh(omega / 5.0);
+    return en_fmep(&e->c, omega) * e->geom.vd * EN_NCYL / EN_CYCLE * tanh(omega / EN_FRICTION_FADE);
 }

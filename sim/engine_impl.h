@@ -33,6 +33,7 @@
 #define EN_RPM   (30.0 / EN_PI) /* rpm per rad/s */
 #define EN_T0    298.15         /* reference temperature of sensible enthalpy [K] */
 #define EN_SIGMA 5.670374e-8    /* Stefan-Boltzmann [W/m^2/K^4] */
+#define EN_FRICTION_FADE 5.0  /* friction torque x tanh(w / this) [rad/s]: smoothing at rest */
 
 /* ---- gas (engine_gas.c) --------------------------------------------------- */
 typedef struct en_gas {
@@ -260,7 +261,15 @@ typedef struct en_lin {
     int i0, i1; /* bracketing nodes (equal when clamped) */
     double f;   /* weight of i1 */
 } en_lin;
-en_lin en_map_at(const ts_engine *e, double omega);
+/* Index i in [0, n - 2] of the interval [xs[i], xs[i + 1]] that holds x
+ * (xs increasing, n >= 2; the end intervals below and above the table). */
+int en_bracket(const double *xs, int n, double x);
+/* Linear weights of x in the increasing abscissae xs[0..n), clamped at the ends. */
+en_lin en_lin_at(const double *xs, int n, double x);
+static inline en_lin en_map_at(const ts_engine *e, double omega)
+{
+    return en_lin_at(e->c.map_speed, e->c.map_speed_n, omega);
+}
 static inline double en_lin_eval(const en_lin *l, const double *y)
 {
     return y[l->i0] + l->f * (y[l->i1] - y[l->i0]);
@@ -332,6 +341,11 @@ void en_crank_refresh(const ts_engine *e, const double *x, const ts_engine_input
  * next ignition (Livengood-Wu integral reaching 1, from xdot). For the
  * error-controlled stepper, which ends steps on these switches. */
 double en_crank_next_switch(const ts_engine *e, const double *x, const double *xdot, double *ign);
+/* Lift [m] of valve v (0 intake, 1 exhaust) of cylinder i at crank angle th
+ * [rad] as the crank-angle right-hand side evaluates it (by rotation of the
+ * precomputed valve phases); equals en_valve_lift at the cylinder's local
+ * angle to rounding (tests/sim/test_engine_stepper.c). */
+double en_crank_valve_lift(const ts_engine *e, int v, int i, double th);
 /* Advance every wall stack over h [s] with the gas-side flux q (EN_NCYL x
  * EN_NSURF, as from en_crank_eval) held and the sinks at the coolant and oil
  * temperatures in x: Crank-Nicolson (A-stable, second order; the conduction

@@ -44,7 +44,7 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
     /* en_friction_torque with fmep x (12 V_d): the other association moves the
      * map runs by rounding, which clutch and shift events amplify to 1e-5 */
     double vd_total = e->geom.vd * EN_NCYL;
-    double t_fric = en_fmep(c, w) * vd_total / EN_CYCLE * tanh(w / 5.0);
+    double t_fric = en_fmep(c, w) * vd_total / EN_CYCLE * tanh(w / EN_FRICTION_FADE);
     double boost = in->p_amb + z * (boost_fl - in->p_amb);
     double avail = en_pb_interp(e, mt->pb_torque, w, boost / boost_fl);
     double f;
@@ -84,12 +84,6 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
 
 double en_spool_lag(const ts_engine *e, double omega)
 {
-    const ts_engine_config *c = &e->c;
-    int n = c->spool_speed_n;
-    const double *ws = c->spool_speed, *y = c->spool_lag;
-    if (n < 2 || omega <= ws[0]) return y[0];
-    if (omega >= ws[n - 1]) return y[n - 1];
-    int i = 0;
-    while (i < n - 2 && omega > ws[i + 1]) i++;
-    return y[i] + (omega - ws[i]) / (ws[i + 1] - ws[i]) * (y[i + 1] - y[i]);
+    en_lin l = en_lin_at(e->c.spool_speed, e->c.spool_speed_n, omega);
+    return en_lin_eval(&l, e->c.spool_lag);
 }

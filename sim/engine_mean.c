@@ -118,10 +118,10 @@ en_bilin en_pb_at(const ts_engine *e, double omega, double ratio)
     int i = 0, j = 0;
     double fw = 0, fr = 0;
     if (ns > 1) {
-        while (i < ns - 2 && omega > ws[i + 1]) i++;
+        i = en_bracket(ws, ns, omega);
         fw = fmin(fmax((omega - ws[i]) / (ws[i + 1] - ws[i]), 0.0), 1.0);
     }
-    while (j < nr - 2 && ratio > rs[j + 1]) j++;
+    j = en_bracket(rs, nr, ratio);
     fr = fmin(fmax((ratio - rs[j]) / (rs[j + 1] - rs[j]), 0.0), 1.0);
     return (en_bilin){i * nr, ns > 1 ? (i + 1) * nr : i * nr, j, fw, fr};
 }

@@ -52,6 +52,9 @@ COLUMNS = {"torque": ("torque", 1), "boost": ("boost", 0), "fuel": ("fuel_flow",
            "eta_v": ("eta_v", 4), "eta_i": ("eta_i", 4), "q_wall": ("q_wall", 4)}
 SPOOL_RATIO = [0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1.0]
 SPOOL_DR = 0.125
+# part-boost table key -> spool CSV column
+SPOOL_COLUMNS = {"eta_v": "eta_v", "eta_i": "eta_i", "q_wall": "q_wall",
+                 "torque": "indicated_torque"}
 
 
 def read_csv(path):
@@ -74,7 +77,6 @@ def part_boost(sweep, spool):
     """pb tables (row-major speed x ratio), spool speeds [rad/s], t63 list."""
     ws = [r["speed"] for r in sweep]
     full = {k: [r[k] for r in sweep] for k in ("boost", "eta_v", "eta_i", "q_wall")}
-    full["t_ind"] = [r["torque"] + 0.0 for r in sweep]  # friction added below
     speeds = sorted({r["speed"] for r in spool})
     tables = {"eta_v": [], "eta_i": [], "q_wall": [], "torque": []}
     t63 = []
@@ -84,14 +86,13 @@ def part_boost(sweep, spool):
         fric = cyc[0]["friction_torque"]  # friction depends on speed only
         ref = {"eta_v": interp(ws, full["eta_v"], w), "eta_i": interp(ws, full["eta_i"], w),
                "q_wall": interp(ws, full["q_wall"], w),
-               "torque": interp(ws, full["t_ind"], w) + fric}
-        col = {"eta_v": "eta_v", "eta_i": "eta_i", "q_wall": "q_wall", "torque": "indicated_torque"}
+               "torque": interp(ws, [r["torque"] for r in sweep], w) + fric}  # indicated
         bins = []
         for rj in SPOOL_RATIO:
             sel = [r for r in cyc if abs(r["boost"] / p_fl - rj) <= SPOOL_DR / 2 or
                    (rj == SPOOL_RATIO[-1] and r["boost"] / p_fl > rj)]
-            bins.append({k: statistics.mean(r[c] for r in sel) / ref[k] for k, c in col.items()}
-                        if sel else None)
+            bins.append({k: statistics.mean(r[c] for r in sel) / ref[k]
+                         for k, c in SPOOL_COLUMNS.items()} if sel else None)
         filled = [j for j, b in enumerate(bins) if b]
         if not filled:
             sys.exit("spool-up at %.1f rad/s fills no ratio bin" % w)
@@ -214,15 +215,12 @@ def main():
     doc = json.load(open(path))  # _sources are kept as they are
     t63 = {}
     for v in VARIANTS:
-        rows = list(csv.reader(open("sim/data/engine_maps/%s.csv" % v)))
-        head = [h.split(" ")[0] for h in rows[0]]
-        speeds = [round(float(r[head.index("speed")]), 3) for r in rows[1:]]
-        if speeds != doc["map_speed"]:
+        sweep = read_csv("sim/data/engine_maps/%s.csv" % v)
+        if [round(r["speed"], 3) for r in sweep] != doc["map_speed"]:
             sys.exit("%s: speeds differ from /engine/map_speed" % v)
         for key, (col, nd) in COLUMNS.items():
-            vals = [round(float(r[head.index(col)]), nd) for r in rows[1:]]
+            vals = [round(r[col], nd) for r in sweep]
             doc["map_%s_%s" % (key, v)] = [int(x) if nd == 0 else x for x in vals]
-        sweep = read_csv("sim/data/engine_maps/%s.csv" % v)
         spool = read_csv("sim/data/engine_maps/%s_spool.csv" % v)
         tables, sp, t = part_boost(sweep, spool)
         doc["spool_speed"] = sp
@@ -231,7 +229,6 @@ def main():
             doc["pb_%s_%s" % (k, v)] = vals
         t63[v] = t
         print("%s: boost 63 %% times %s s" % (v, ", ".join("%.2f" % x for x in t)))
-    doc.pop("boost_lag", None)
     doc["spool_lag"] = [round(statistics.median(t63[v][i] for v in VARIANTS), 3)
                         for i in range(len(doc["spool_speed"]))]
     print("spool_lag %s s" % doc["spool_lag"])

@@ -12,10 +12,16 @@ def run(*args):
     return subprocess.run([TANKSIM, *args], capture_output=True, text=True, timeout=300)
 
 
-def test_engine_map_mean_value_sweep(tmp_path):
+def mean_value_dyno(tmp_path):
+    """A full-rack engine_dyno config at the mean-value fidelity (fast)."""
     cfg = tmp_path / "cfg.json"
     cfg.write_text(json.dumps({"run": {"kind": "engine_dyno"},
                                "engine": {"fidelity": "mean_value"}, "control": {"rack": 1.0}}))
+    return cfg
+
+
+def test_engine_map_mean_value_sweep(tmp_path):
+    cfg = mean_value_dyno(tmp_path)
     out = run("engine-map", str(cfg), "--out", str(tmp_path / "map.csv"))
     assert out.returncode == 0, out.stderr
     rows = list(csv.reader(open(tmp_path / "map.csv")))
@@ -58,9 +64,7 @@ def test_engine_map_spool_rows(tmp_path):
     cycle, 800-2200 rpm in 200-rpm steps, 6 s each; boost rises from about
     ambient. The mean-value fidelity keeps this fast (the tables in engine.json
     come from crank-angle spool-ups, tools/engine_maps.py)."""
-    cfg = tmp_path / "cfg.json"
-    cfg.write_text(json.dumps({"run": {"kind": "engine_dyno"},
-                               "engine": {"fidelity": "mean_value"}, "control": {"rack": 1.0}}))
+    cfg = mean_value_dyno(tmp_path)
     out = run("engine-map", str(cfg), "--spool", str(tmp_path / "spool.csv"))
     assert out.returncode == 0, out.stderr
     rows = list(csv.reader(open(tmp_path / "spool.csv")))

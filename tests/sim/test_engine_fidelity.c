@@ -62,15 +62,14 @@ static void map_boost_lag_closed_form(void **state)
 
 /* EVIDENCE: crankshaft dynamics J dw/dt = T_brake(w) - T_load (Newton): with a
  * constant load of 5400 N*m at full rack the map engine settles where its
- * full-load torque equals the load (inverse interpolation of the table, on
- * the falling side above peak torque: ~1850 rpm; full-load torque = the
- * table's times the spool-up factor at full boost, engine_map.c, found by
- * bisection); tolerance 0.5 %. (5000 N*m until issue 5: the rated torque is now 5036 N*m, so 5000
- * no longer crosses the table.) */
+ * full-load torque equals the load (on the falling side above peak torque:
+ * ~1850 rpm; full-load torque = the table's times the spool-up factor at full
+ * boost, engine_map.c, its crossing found by bisection on the right-hand
+ * side at held speed); tolerance 0.5 %. (5000 N*m until issue 5: the rated
+ * torque is now 5036 N*m, so 5000 no longer crosses the table.) */
 static void map_crank_dynamics_settle_on_load(void **state)
 {
     (void)state;
-    ts_config c = et_defaults();
     ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_MAP);
     double x[3], work[15];
     ts_engine_init_state(e, ET_RPM(1700), 101325, 298, x);
@@ -91,7 +90,6 @@ static void map_crank_dynamics_settle_on_load(void **state)
         if (o.brake_torque > 5400) lo = mid; else hi = mid;
         want = 0.5 * (lo + hi);
     }
-    (void)c;
     assert_close(x[0], want, 0.005, 0);
     ts_engine_free(e);
 }

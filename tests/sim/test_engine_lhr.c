@@ -100,6 +100,7 @@ typedef struct split {
     double p_turbine;        /* turbine power, both banks [W] */
     double wg_share;         /* wastegate share of the exhaust mass flow [1] */
     double fuel_e;           /* fuel energy rate [W] */
+    double q_wall;           /* the steady cycle's ledger: wall heat / fuel energy [1] */
     double boost, air, eta_v, eta_i, power;
 } split;
 
@@ -128,6 +129,7 @@ static split energy_split(int variant)
                0,
                0,
                c.mean.fuel_flow * cc->lhv,
+               c.q_wall,
                c.mean.boost,
                c.mean.air_flow,
                c.eta_v,
@@ -193,11 +195,7 @@ static void lhr_rated_energy_split(void **state)
                   100 * c.wg_share, 100 * l.wg_share, c.boost / 1e5, l.boost / 1e5, c.air, l.air);
     print_message("      eta_v %.4f -> %.4f, eta_i %.4f -> %.4f, power %.1f -> %.1f kW\n", c.eta_v,
                   l.eta_v, c.eta_i, l.eta_i, c.power / 1e3, l.power / 1e3);
-    ts_engine *e;
-    ts_engine_cycle cy;
-    free(et_steady(TS_ENGINE_CONVENTIONAL, TS_ENGINE_CRANK_ANGLE, 2100, &e, &cy));
-    ts_engine_free(e);
-    assert_close(c.q[0] + c.q[1] + c.q[2], cy.q_wall * c.fuel_e, 0.01, 0);
+    assert_close(c.q[0] + c.q[1] + c.q[2], c.q_wall * c.fuel_e, 0.01, 0);
     for (int sf = EN_PISTON; sf <= EN_HEAD; sf++) {
         assert_true(l.q[sf] < 0.65 * c.q[sf]);
         assert_true(l.t_surf[sf] > c.t_surf[sf] + 100);
