@@ -747,9 +747,10 @@ static void span_velocity_terms(const vm *v, const double *q, const span_base *s
  *   dT/dtheta = p . S' q_d = x_d p_z - z_d p_x,
  *   (dMs/dtheta) q_d = S'^T p + Ms S' q_d.
  * Adds dT/dtheta - theta_d (dMs/dtheta) q_d (q_d with the spin rates zeroed,
- * sb->qdv) to Q. tests/sim/test_vehicle_energy.c does NOT resolve this part
- * (its energy drift is 0.18 % without it, 0.12 % with, tolerance 0.5 %); it
- * does resolve the road-arm part (span_velocity_terms). */
+ * sb->qdv) to Q. The energy tests do not resolve this part (drift 0.18 %
+ * without it, 0.12 % with, tolerance 0.5 %); tests/sim/test_vehicle_energy.c
+ * pitch_velocity_terms_are_lagrangian checks it against the numerical
+ * derivative of vm_mass. */
 static void span_pitch_terms(const span_base *sb, const cset *cs,
                              double Mc[][8 + 2 * TS_SPAN_MAX_MODES], int s, double *Q)
 {
