@@ -275,7 +275,7 @@ static void add_point_mass(const vm *v, double *M, double *Q, double m, const jc
 {
     int nq = v->nq;
     for (int r = 0; r < j->n; r++) {
-        if (M) /* NULL: M known (vm_rhs's factor cache), Q only */
+        if (M) /* NULL: Q only */
             for (int c = 0; c < j->n; c++)
                 M[j->idx[r] * nq + j->idx[c]] +=
                     m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
@@ -410,7 +410,7 @@ typedef struct span_base {
  * the velocity terms when sb is non-NULL). Defined with the spans. */
 static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
                          int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         int inertia, vm_diag *diag, span_base *sb);
+                         vm_diag *diag, span_base *sb);
 
 static span_base *span_base_init(const vm *v, const double *qd, span_base *sb);
 static void span_velocity_terms(const vm *v, const double *q, const span_base *sb, double *Q);
@@ -428,27 +428,21 @@ static double quasi_static_tension(const vm *v, double g, double tau)
     return t > 0 ? t : 0;
 }
 
-/* Generalised forces Q (and M if inertia and M is non-NULL; inertia with M
- * NULL: the inertial velocity terms in Q without assembling M) at (t, q, qd). */
+/* Generalised forces Q at (t, q, qd), the inertial velocity terms included
+ * (none when qd is NULL: the static residual), and the mass matrix M unless
+ * M is NULL (vm_rhs's factor cache, the equilibrium, the geometry). */
 static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
-                   double *Q, int inertia, int drive_on, vm_diag *diag)
+                   double *Q, int drive_on, vm_diag *diag)
 {
     int nq = v->nq;
     kin k;
     kinematics(v, q, qd, &k);
     memset(Q, 0, (size_t)nq * sizeof *Q);
-    if (inertia) {
-        if (M) memset(M, 0, (size_t)nq * nq * sizeof *M);
-        rigid_inertia(v, &k, qd, M, Q);
-    } else {
-        /* gravity only (static residual): M goes to scratch */
-        memset(w->M, 0, (size_t)nq * nq * sizeof *w->M);
-        rigid_inertia(v, &k, qd, w->M, Q);
-        M = w->M;
-    }
+    if (M) memset(M, 0, (size_t)nq * nq * sizeof *M);
+    rigid_inertia(v, &k, qd, M, Q);
     /* track elements */
     span_base sb_store;
-    span_base *sb = inertia && qd && v->dynamic ? span_base_init(v, qd, &sb_store) : NULL;
+    span_base *sb = qd && v->dynamic ? span_base_init(v, qd, &sb_store) : NULL;
     double fr[VM_NB][2];
     memset(fr, 0, sizeof fr);
     double rr_force[2] = {0, 0};
@@ -460,7 +454,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         loop_stretch += (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi;
         const span_el *se = v->span_of[el];
         if (se) {
-            span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, inertia, diag, sb);
+            span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, diag, sb);
             if (diag && (a == VM_REAR_ROLLER || b == VM_REAR_ROLLER)) {
                 /* end force of the span on the rear roller (chord axes -> world) */
                 ts_span_end_forces ef;
@@ -772,7 +766,7 @@ static void span_pitch_terms(const span_base *sb, const cset *cs,
 
 static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
                          int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         int inertia, vm_diag *diag, span_base *sb)
+                         vm_diag *diag, span_base *sb)
 {
     const ts_span *sp = se->sp;
     int n = sp->n, nq = v->nq;
@@ -840,7 +834,7 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
         s += m * gx * rx[c] + 0.5 * m * gy * (ry0[c] + ry1[c]);
         Q[cs.idx[c]] += s;
     }
-    if (inertia && (M || sb)) {
+    if (M || sb) {
         /* block B^T Ms B + B^T C + C^T B + frame terms, C = alpha rx + beta0
          * ry0 + beta1 ry1 (n x nc); Y = Ms B + C. Symmetric: the upper
          * triangle of compact columns is computed and mirrored. */
@@ -994,7 +988,7 @@ static void eq_residual(vm *v, vm_work *w, const double *u, double *q, double *r
 {
     eq_apply(v, u, q);
     vm_diag dg;
-    forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, 0, &dg);
+    forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, &dg);
     int p = 0;
     r[p++] = w->Q[QX];
     r[p++] = w->Q[QZ];
@@ -1068,7 +1062,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
     eq_apply(v, u, q);
     {
         vm_diag dg;
-        forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, 0, &dg);
+        forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, &dg);
         v->t_static = dg.tension_end1[0];
         v->g_eq = dg.loop_stretch;
     }
@@ -1340,13 +1334,13 @@ int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_
     int nq = v->nq;
     size_t qsz = (size_t)nq * sizeof(double);
     if (w->qf_ok && memcmp(w->qf, y, qsz) == 0) {
-        forces(v, w, t, y, y + nq, NULL, w->Q, 1, 1, diag);
+        forces(v, w, t, y, y + nq, NULL, w->Q, 1, diag);
         memcpy(ydot, y + nq, qsz);
         memcpy(ydot + nq, w->Q, qsz);
         chol_resolve(w, ydot + nq, nq);
         return 0;
     }
-    forces(v, w, t, y, y + nq, w->M, w->Q, 1, 1, diag);
+    forces(v, w, t, y, y + nq, w->M, w->Q, 1, diag);
     int rc = first_order(v, w, y, ydot);
     if (rc == 0) {
         memcpy(w->qf, y, qsz);
@@ -1360,7 +1354,7 @@ int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double spr
 {
     int nq = v->nq;
     const double *q = y, *qd = y + nq;
-    forces(v, w, t, q, qd, w->M, w->Q, 1, 0, diag);
+    forces(v, w, t, q, qd, w->M, w->Q, 0, diag);
     /* the caller's torque on the sprocket spin, its reaction on the hull (as the drive in forces)
      */
     w->Q[QS0 + VM_SPROCKET] += sprocket_torque;
@@ -1382,7 +1376,7 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
 {
     int nq = v->nq;
     const double *q = y, *qd = y + nq;
-    forces(v, w, 0.0, q, qd, w->M, w->Q, 1, 0, NULL);
+    forces(v, w, 0.0, q, qd, w->M, w->Q, 0, NULL);
     double ke = 0;
     for (int i = 0; i < nq; i++)
         for (int j = 0; j < nq; j++)
@@ -1469,7 +1463,7 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
     memset(g, 0, sizeof *g);
     vm_diag dg;
     memset(&dg, 0, sizeof dg);
-    forces(v, w, t, q, qd, w->M, w->Q, 0, 1, &dg);
+    forces(v, w, t, q, qd, NULL, w->Q, 1, &dg); /* the diagnostics only */
     kin k;
     kinematics(v, q, qd, &k);
     g->t = t;
@@ -1554,12 +1548,12 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
 
 void vm_forces(const vm *v, vm_work *w, double t, const double *y, int drive_on, double *Q)
 {
-    forces(v, w, t, y, y + v->nq, w->M, w->Q, 1, drive_on, NULL);
+    forces(v, w, t, y, y + v->nq, w->M, w->Q, drive_on, NULL);
     memcpy(Q, w->Q, (size_t)v->nq * sizeof(double));
 }
 
 void vm_mass(const vm *v, vm_work *w, const double *y, double *M)
 {
-    forces(v, w, 0.0, y, y + v->nq, w->M, w->Q, 1, 0, NULL);
+    forces(v, w, 0.0, y, y + v->nq, w->M, w->Q, 0, NULL);
     memcpy(M, w->M, (size_t)v->nq * (size_t)v->nq * sizeof(double));
 }
