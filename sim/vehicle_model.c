@@ -166,7 +166,7 @@ typedef struct kin {
 } kin;
 
 typedef struct elem {
-    double u[2], n[2], ell, dpsi, s, sd, t;
+    double u[2], n[2], ell, dpsi;
 } elem;
 
 /* ---- small helpers -------------------------------------------------------- */
@@ -389,16 +389,16 @@ static void chol_resolve(vm_work *w, double *b, int n)
 
 /* ---- forces ----------------------------------------------------------------- */
 
-/* The spans' kinetic energy t and momentum p (compact columns cols) at the
- * current q, with the spin rates qdv (= q_d with the spins zeroed): the base
- * point of the span velocity terms' differences, taken from the maps that
- * span_element builds anyway. */
 /* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
  * spins of a and b, the modal coordinates. */
 typedef struct cset {
     int n;
     int idx[8 + 2 * TS_SPAN_MAX_MODES];
 } cset;
+/* The spans' kinetic energy t and momentum p (compact columns cols) at the
+ * current q, with the spin rates qdv (= q_d with the spins zeroed): the base
+ * point of the span velocity terms' differences, taken from the maps that
+ * span_element builds anyway. */
 typedef struct span_base {
     double qdv[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
     double t[VM_NSPAN];
@@ -451,7 +451,9 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         int a = el, b = (el + 1) % VM_NB;
         elem e;
         tangent(v, &k, el, &e);
-        loop_stretch += (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi;
+        /* geometric stretch: the chord's and the wraps' (the spins come below) */
+        double g_el = (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi;
+        loop_stretch += g_el;
         const span_el *se = v->span_of[el];
         if (se) {
             span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, diag, sb);
@@ -467,20 +469,19 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
             continue;
         }
         double vrel = (k.v[b][0] - k.v[a][0]) * e.u[0] + (k.v[b][1] - k.v[a][1]) * e.u[1];
-        e.s = (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi +
-              v->rho_b[b] * q[QS0 + b] - v->rho_b[a] * q[QS0 + a];
-        e.sd = vrel + (qd ? v->rho_b[b] * qd[QS0 + b] - v->rho_b[a] * qd[QS0 + a] : 0);
+        double s = g_el + v->rho_b[b] * q[QS0 + b] - v->rho_b[a] * q[QS0 + a];
+        double sd = vrel + (qd ? v->rho_b[b] * qd[QS0 + b] - v->rho_b[a] * qd[QS0 + a] : 0);
         double kel = v->k_el[el];
-        e.t = v->p0 + kel * e.s + v->dscale * kel * v->tau_d * e.sd;
-        if (e.t < 0) e.t = 0;
-        double f[2] = {e.t * e.u[0], e.t * e.u[1]};
+        double tn = v->p0 + kel * s + v->dscale * kel * v->tau_d * sd;
+        if (tn < 0) tn = 0;
+        double f[2] = {tn * e.u[0], tn * e.u[1]};
         fr[a][0] += f[0], fr[a][1] += f[1];
         fr[b][0] -= f[0], fr[b][1] -= f[1];
-        Q[QS0 + a] += e.t * v->rho_b[a];
-        Q[QS0 + b] -= e.t * v->rho_b[b];
+        Q[QS0 + a] += tn * v->rho_b[a];
+        Q[QS0 + b] -= tn * v->rho_b[b];
         if (b == VM_REAR_ROLLER) rr_force[0] -= f[0], rr_force[1] -= f[1];
         if (a == VM_REAR_ROLLER) rr_force[0] += f[0], rr_force[1] += f[1];
-        if (diag) diag->tension[el] = diag->tension_end0[el] = diag->tension_end1[el] = e.t;
+        if (diag) diag->tension[el] = diag->tension_end0[el] = diag->tension_end1[el] = tn;
     }
     for (int b = 0; b < VM_NB; b++)
         add_force(Q, &k.j[b], fr[b]);
@@ -749,12 +750,9 @@ static void span_pitch_terms(const span_base *sb, const cset *cs,
                              double Mc[][8 + 2 * TS_SPAN_MAX_MODES], int s, double *Q)
 {
     const double *qd = sb->qdv, *p = sb->p[s];
-    int cx = -1, cz = -1;
-    for (int c = 0; c < cs->n; c++) {
-        if (cs->idx[c] == QX) cx = c;
-        if (cs->idx[c] == QZ) cz = c;
-    }
-    if (cx < 0 || cz < 0) return; /* the hull columns are always in a span's set */
+    /* span_map_build adds end a's Jacobian columns first, and every body's
+     * Jacobian begins with x, z (kinematics_of): compact columns 0 and 1 */
+    const int cx = 0, cz = 1;
     double xd = qd[QX], zd = qd[QZ], thd = qd[QT];
     Q[QT] += xd * p[cz] - zd * p[cx];
     if (thd == 0) return;
