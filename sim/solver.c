@@ -136,7 +136,7 @@ static int schur_form(schur_ls *c, double gamma)
         for (int j = 0; j < n; j++)
             for (int i = 0; i < n; i++)
                 c->F[(size_t)j * n + i] = -gamma * J[(size_t)j * n + i] + (i == j ? 1.0 : 0.0);
-        info = ts_lu_factor(c->F, n, n, c->piv);
+        info = ts_lu_factor(c->F, n, c->piv);
     } else {
         for (int j = 0; j < h; j++)
             for (int i = 0; i < h; i++) {
@@ -144,7 +144,7 @@ static int schur_form(schur_ls *c, double gamma)
                 double mbl = -gamma * J[(size_t)j * n + h + i];
                 c->S[(size_t)j * h + i] = mbr - mbl * c->d[j];
             }
-        info = ts_lu_factor(c->S, h, h, c->piv);
+        info = ts_lu_factor(c->S, h, c->piv);
     }
     c->last_flag = info;
     return info;
@@ -158,7 +158,7 @@ static int schur_setup(SUNLinearSolver ls, SUNMatrix A)
     /* plain LU of CVODE's A (column-major, leading dimension n) */
     int n = c->n;
     memcpy(c->F, SUNDenseMatrix_Data(A), sizeof(double) * (size_t)n * (size_t)n);
-    int info = ts_lu_factor(c->F, n, n, c->piv);
+    int info = ts_lu_factor(c->F, n, c->piv);
     c->last_flag = info;
     return info > 0 ? SUNLS_LUFACT_FAIL : SUNLS_SUCCESS;
 }
@@ -171,7 +171,7 @@ static int schur_solve(SUNLinearSolver ls, SUNMatrix A, N_Vector xv, N_Vector bv
     N_VScale(1.0, bv, xv);
     double *x = N_VGetArrayPointer(xv);
     if (c->full) {
-        ts_lu_solve(c->F, n, n, c->piv, x);
+        ts_lu_solve(c->F, n, c->piv, x);
     } else {
         for (int i = 0; i < h; i++)
             c->r[i] = x[h + i];
@@ -181,7 +181,7 @@ static int schur_solve(SUNLinearSolver ls, SUNMatrix A, N_Vector xv, N_Vector bv
             for (int i = 0; i < h; i++)
                 c->r[i] -= (mg * col[i]) * b1;
         }
-        ts_lu_solve(c->S, h, h, c->piv, c->r);
+        ts_lu_solve(c->S, h, c->piv, c->r);
         for (int i = 0; i < h; i++) {
             x[i] -= c->d[i] * c->r[i];
             x[h + i] = c->r[i];

@@ -369,8 +369,8 @@ static int chol_solve(vm_work *w, const double *M, double *b, int n)
             pi[j] = mi[-j];
         pb[i] = b[n - 1 - i];
     }
-    if (ts_chol_factor_pattern(P, n, w->pat) != 0) return 1;
-    ts_chol_solve_pattern(P, n, w->pat, pb);
+    if (ts_chol_factor(P, n, w->pat) != 0) return 1;
+    ts_chol_solve(P, n, w->pat, pb);
     for (int i = 0; i < n; i++)
         b[n - 1 - i] = pb[i];
     return 0;
@@ -382,7 +382,7 @@ static void chol_resolve(vm_work *w, double *b, int n)
     double *pb = w->pb;
     for (int i = 0; i < n; i++)
         pb[i] = b[n - 1 - i];
-    ts_chol_solve_pattern(w->P, n, w->pat, pb);
+    ts_chol_solve(w->P, n, w->pat, pb);
     for (int i = 0; i < n; i++)
         b[n - 1 - i] = pb[i];
 }
