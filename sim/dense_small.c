@@ -12,11 +12,11 @@
 #include <math.h>
 #include <stddef.h>
 
-int ts_lu_factor(double *a, int n, int lda, int *piv)
+int ts_lu_factor(double *a, int n, int *piv)
 {
     int bad = 0;
     for (int k = 0; k < n; k++) {
-        double *ck = a + (long)k * lda;
+        double *ck = a + (long)k * n;
         int p = k;
         double amax = fabs(ck[k]);
         for (int i = k + 1; i < n; i++)
@@ -24,7 +24,7 @@ int ts_lu_factor(double *a, int n, int lda, int *piv)
         piv[k] = p;
         if (p != k)
             for (int j = 0; j < n; j++) {
-                double *cj = a + (long)j * lda, t = cj[k];
+                double *cj = a + (long)j * n, t = cj[k];
                 cj[k] = cj[p];
                 cj[p] = t;
             }
@@ -36,7 +36,7 @@ int ts_lu_factor(double *a, int n, int lda, int *piv)
         for (int i = k + 1; i < n; i++)
             ck[i] *= inv;
         for (int j = k + 1; j < n; j++) {
-            double *cj = a + (long)j * lda, f = cj[k];
+            double *cj = a + (long)j * n, f = cj[k];
             if (f == 0.0) continue;
             for (int i = k + 1; i < n; i++)
                 cj[i] -= f * ck[i];
@@ -45,7 +45,7 @@ int ts_lu_factor(double *a, int n, int lda, int *piv)
     return bad;
 }
 
-void ts_lu_solve(const double *a, int n, int lda, const int *piv, double *b)
+void ts_lu_solve(const double *a, int n, const int *piv, double *b)
 {
     for (int k = 0; k < n; k++)
         if (piv[k] != k) {
@@ -54,14 +54,14 @@ void ts_lu_solve(const double *a, int n, int lda, const int *piv, double *b)
             b[piv[k]] = t;
         }
     for (int j = 0; j < n; j++) { /* L y = P b, unit diagonal, column sweep */
-        const double *cj = a + (long)j * lda;
+        const double *cj = a + (long)j * n;
         double bj = b[j];
         if (bj != 0.0)
             for (int i = j + 1; i < n; i++)
                 b[i] -= bj * cj[i];
     }
     for (int j = n - 1; j >= 0; j--) { /* U x = y */
-        const double *cj = a + (long)j * lda;
+        const double *cj = a + (long)j * n;
         b[j] /= cj[j];
         double bj = b[j];
         if (bj != 0.0)
@@ -70,16 +70,13 @@ void ts_lu_solve(const double *a, int n, int lda, const int *piv, double *b)
     }
 }
 
-/* The factorisation; with pat non-NULL (n <= TS_CHOL_NZ_MAX) the row pattern of
- * each column of L below the diagonal is recorded for ts_chol_solve_pattern. */
-static int chol_factor(double *a, int n, int *pat)
+int ts_chol_factor(double *a, int n, int *pat)
 {
     /* right-looking, column-major lower: column j is scaled, then each trailing
      * column k with L_kj != 0 gets L_ij L_kj subtracted on the rows i >= k
      * where L_ij != 0. The rows are gathered per column (nz), so a sparse
      * matrix ordered for little fill costs ~sum over j of nnz_j^2; the skipped
      * terms are exact zeros, so the result is that of the dense loop. */
-    int nzl[TS_CHOL_NZ_MAX];
     for (int j = 0; j < n; j++) {
         double *cj = a + (long)j * n;
         double d = cj[j];
@@ -87,27 +84,14 @@ static int chol_factor(double *a, int n, int *pat)
         d = sqrt(d);
         cj[j] = d;
         double inv = 1.0 / d;
-        if (n > TS_CHOL_NZ_MAX) { /* dense fallback (contiguous axpys) */
-            for (int i = j + 1; i < n; i++)
-                cj[i] *= inv;
-            for (int k = j + 1; k < n; k++) {
-                double *ck = a + (long)k * n, f = cj[k];
-                if (f == 0.0) continue;
-                for (int i = k; i < n; i++)
-                    ck[i] -= f * cj[i];
-            }
-            continue;
-        }
-        /* nzl is this loop's output when no pattern is kept: written before read */
-        /* cppcheck-suppress legacyUninitvar */
-        int *nz = pat ? pat + (long)j * (n + 1) + 1 : nzl;
+        int *nz = pat + (long)j * (n + 1) + 1;
         int m = 0;
         for (int i = j + 1; i < n; i++)
             if (cj[i] != 0.0) {
                 cj[i] *= inv;
                 nz[m++] = i;
             }
-        if (pat) nz[-1] = m;
+        nz[-1] = m;
         for (int r = 0; r < m; r++) {
             int k = nz[r];
             double *ck = a + (long)k * n, f = cj[k];
@@ -118,44 +102,10 @@ static int chol_factor(double *a, int n, int *pat)
     return 0;
 }
 
-int ts_chol_factor(double *a, int n)
+void ts_chol_solve(const double *a, int n, const int *pat, double *b)
 {
-    return chol_factor(a, n, NULL);
-}
-
-int ts_chol_factor_pattern(double *a, int n, int *pat)
-{
-    return chol_factor(a, n, n <= TS_CHOL_NZ_MAX ? pat : NULL);
-}
-
-void ts_chol_solve(const double *a, int n, double *b)
-{
-    for (int j = 0; j < n; j++) { /* L y = b, column sweep */
-        const double *cj = a + (long)j * n;
-        b[j] /= cj[j];
-        double bj = b[j];
-        if (bj != 0.0)
-            for (int i = j + 1; i < n; i++)
-                b[i] -= bj * cj[i];
-    }
-    for (int i = n - 1; i >= 0; i--) { /* L^T x = y: column i of L is row i of L^T */
-        const double *ci = a + (long)i * n;
-        double s = b[i];
-        for (int k = i + 1; k < n; k++)
-            s -= ci[k] * b[k];
-        b[i] = s / ci[i];
-    }
-}
-
-void ts_chol_solve_pattern(const double *a, int n, const int *pat, double *b)
-{
-    if (n > TS_CHOL_NZ_MAX) {
-        ts_chol_solve(a, n, b);
-        return;
-    }
-    /* the sweeps of ts_chol_solve over each column's nonzero rows only: the
-     * skipped terms are exact zeros, the result is the same */
-    for (int j = 0; j < n; j++) {
+    /* the column sweeps over each column's nonzero rows only */
+    for (int j = 0; j < n; j++) { /* L y = b */
         const double *cj = a + (long)j * n;
         const int *nz = pat + (long)j * (n + 1);
         b[j] /= cj[j];
@@ -164,7 +114,7 @@ void ts_chol_solve_pattern(const double *a, int n, const int *pat, double *b)
             for (int r = 1; r <= nz[0]; r++)
                 b[nz[r]] -= bj * cj[nz[r]];
     }
-    for (int i = n - 1; i >= 0; i--) {
+    for (int i = n - 1; i >= 0; i--) { /* L^T x = y: column i of L is row i of L^T */
         const double *ci = a + (long)i * n;
         const int *nz = pat + (long)i * (n + 1);
         double s = b[i];

@@ -9,34 +9,29 @@
  * single-threaded, allocation-free and deterministic. Numerical methods only,
  * no physics (Golub & Van Loan, Alg. 3.4.1 and 4.2.2).
  *
- * Storage: COLUMN-major, a[i + j*lda]. ts_chol_* read only the lower
+ * Storage: COLUMN-major n x n, a[i + j*n]. ts_chol_* read only the lower
  * triangle (i >= j) and overwrite it by L; a symmetric row-major matrix may
  * be passed as it is (its upper triangle is read).
  */
 #ifndef TS_DENSE_SMALL_H
 #define TS_DENSE_SMALL_H
 
-/* LU with partial pivoting of the n x n column-major a (leading dimension
- * lda), in place: P a = L U, piv[k] = row swapped with k at step k.
- * Returns 0, or k + 1 when the pivot of column k is exactly zero. */
-int ts_lu_factor(double *a, int n, int lda, int *piv);
+/* LU with partial pivoting of the n x n column-major a, in place: P a = L U,
+ * piv[k] = row swapped with k at step k. Returns 0, or k + 1 when the pivot of
+ * column k is exactly zero. */
+int ts_lu_factor(double *a, int n, int *piv);
 /* Solve (L U) x = P b in place in b with the output of ts_lu_factor. */
-void ts_lu_solve(const double *a, int n, int lda, const int *piv, double *b);
+void ts_lu_solve(const double *a, int n, const int *piv, double *b);
 
 /* Cholesky a = L L^T of the symmetric positive-definite n x n column-major a
- * (leading dimension n; lower triangle read and overwritten by L). Returns 0, or j + 1 when the
- * leading minor of order j + 1 is not positive. */
-int ts_chol_factor(double *a, int n);
-/* Solve L L^T x = b in place in b with the output of ts_chol_factor. */
-void ts_chol_solve(const double *a, int n, double *b);
-
-/* The same pair for sparse factors: ts_chol_factor_pattern also records the
- * nonzero rows of each column of L below the diagonal in pat (n (n + 1) ints:
- * pat[j (n + 1)] = count, then the rows), and ts_chol_solve_pattern sweeps only
- * those (same result as ts_chol_solve; the skipped terms are exact zeros).
- * Above TS_CHOL_NZ_MAX no pattern is kept and both fall back to the dense loops. */
-#define TS_CHOL_NZ_MAX 256
-int ts_chol_factor_pattern(double *a, int n, int *pat);
-void ts_chol_solve_pattern(const double *a, int n, const int *pat, double *b);
+ * (lower triangle read and overwritten by L), skipping zeros: it records the
+ * nonzero rows of each column of L below the diagonal in pat (n (n + 1) ints,
+ * caller's: pat[j (n + 1)] = count, then the rows). The skipped terms are
+ * exact zeros, so L is that of the dense right-looking loop bit for bit.
+ * Returns 0, or j + 1 when the leading minor of order j + 1 is not positive. */
+int ts_chol_factor(double *a, int n, int *pat);
+/* Solve L L^T x = b in place in b with the output of ts_chol_factor, sweeping
+ * only the recorded rows (again the dense sweeps' result). */
+void ts_chol_solve(const double *a, int n, const int *pat, double *b);
 
 #endif

@@ -65,20 +65,23 @@ static void stats_add(ts_ode_stats *a, const ts_ode_stats *b)
  * diagonal (-gamma times the difference quotient of v by v). Eliminating the
  * first half, (Mbr - Mbl D) x2 = b2 - Mbl b1 and x1 = b1 - D x2: one h x h LU
  * instead of an n x n one (8x fewer flops; dense_small.h, no BLAS threads), the same solution up to
- * round-off. setup() checks the structure exactly on each matrix and falls back to the full n x n
- * LU when it does not hold, so the solver is correct for any f.
+ * round-off.
  *
- * With opts.second_order the Newton matrix is formed by schur_linsys (CVODE's
- * linear-system hook) instead of CVODE's dense path: the same difference-
- * quotient Jacobian J (cvLsDenseDQJac's increments and arithmetic), kept in the solver's own
+ * The Newton matrix is formed by schur_linsys (CVODE's linear-system hook)
+ * instead of CVODE's dense path: the same difference-quotient Jacobian J
+ * (cvLsDenseDQJac's increments and arithmetic), kept in the solver's own
  * n x n array, and only the h x h Schur complement of I - gamma J formed from
  * it, so the n x n SUNDIALS matrix is never copied nor scaled (CVODE's
- * savedJ -> A copy and A = I - gamma J were ~10 % of a vehicle run). The
- * structure check and the full-LU fallback are the same, on J. */
+ * savedJ -> A copy and A = I - gamma J were ~10 % of a vehicle run).
+ * schur_form checks the structure exactly on each J and falls back to the
+ * full n x n LU when it does not hold, so the solver is correct for any f.
+ *
+ * Without the hook (opts.small_dense alone, or an odd n) the same solver
+ * object is a plain n x n LU of CVODE's A (dense_small.h instead of
+ * SUNDIALS' dense LU). */
 typedef struct schur_ls {
-    int n, h, full;
-    int always_full; /* plain n x n LU (opts.small_dense without the second-order form) */
-    int ext;         /* the system was formed by schur_linsys (A is not read) */
+    int n, h, full; /* full: the n x n LU in F (always when !ext) */
+    int ext;        /* the system is formed by schur_linsys (A is not read) */
     double *S, *F, *d, *r;
     double *J;    /* ext: the Jacobian (column-major n x n) */
     double gamma; /* ext: of the current factorisation */
@@ -104,14 +107,14 @@ static int schur_initialize(SUNLinearSolver ls)
     return SUNLS_SUCCESS;
 }
 
-/* Factor I - gamma J from the solver's own J (ext mode): the same blocks
- * schur_setup reads from A, A = I - gamma J. */
+/* Factor I - gamma J from the solver's own J (ext mode): its Schur
+ * complement when J = [0 I'; J21 J22] with I' diagonal, else the full LU. */
 static int schur_form(schur_ls *c, double gamma)
 {
     const double *J = c->J;
     int n = c->n, h = c->h;
     c->gamma = gamma;
-    c->full = c->always_full;
+    c->full = 0;
     for (int j = 0; j < h && !c->full; j++) /* top-left block of J == 0 */
         for (int i = 0; i < h; i++)
             if (J[(size_t)j * n + i] != 0.0) {
@@ -133,7 +136,7 @@ static int schur_form(schur_ls *c, double gamma)
         for (int j = 0; j < n; j++)
             for (int i = 0; i < n; i++)
                 c->F[(size_t)j * n + i] = -gamma * J[(size_t)j * n + i] + (i == j ? 1.0 : 0.0);
-        info = ts_lu_factor(c->F, n, n, c->piv);
+        info = ts_lu_factor(c->F, n, c->piv);
     } else {
         for (int j = 0; j < h; j++)
             for (int i = 0; i < h; i++) {
@@ -141,7 +144,7 @@ static int schur_form(schur_ls *c, double gamma)
                 double mbl = -gamma * J[(size_t)j * n + h + i];
                 c->S[(size_t)j * h + i] = mbr - mbl * c->d[j];
             }
-        info = ts_lu_factor(c->S, h, h, c->piv);
+        info = ts_lu_factor(c->S, h, c->piv);
     }
     c->last_flag = info;
     return info;
@@ -152,69 +155,33 @@ static int schur_setup(SUNLinearSolver ls, SUNMatrix A)
     schur_ls *c = ls->content;
     if (c->ext) /* factored by schur_linsys */
         return c->last_flag > 0 ? SUNLS_LUFACT_FAIL : SUNLS_SUCCESS;
-    const double *a = SUNDenseMatrix_Data(A); /* column-major, leading dimension n */
-    int n = c->n, h = c->h;
-    c->full = c->always_full;
-    for (int j = 0; j < h && !c->full; j++) /* top-left block == I */
-        for (int i = 0; i < h; i++)
-            if (a[(size_t)j * n + i] != (i == j ? 1.0 : 0.0)) {
-                c->full = 1;
-                break;
-            }
-    for (int j = 0; j < h && !c->full; j++) /* top-right block diagonal */
-        for (int i = 0; i < h; i++) {
-            double e = a[(size_t)(h + j) * n + i];
-            if (i == j)
-                c->d[j] = e;
-            else if (e != 0.0) {
-                c->full = 1;
-                break;
-            }
-        }
-    int info;
-    if (c->full) {
-        memcpy(c->F, a, sizeof(double) * (size_t)n * (size_t)n);
-        info = ts_lu_factor(c->F, n, n, c->piv);
-    } else {
-        for (int j = 0; j < h; j++)
-            for (int i = 0; i < h; i++)
-                c->S[(size_t)j * h + i] =
-                    a[(size_t)(h + j) * n + h + i] - a[(size_t)j * n + h + i] * c->d[j];
-        info = ts_lu_factor(c->S, h, h, c->piv);
-    }
+    /* plain LU of CVODE's A (column-major, leading dimension n) */
+    int n = c->n;
+    memcpy(c->F, SUNDenseMatrix_Data(A), sizeof(double) * (size_t)n * (size_t)n);
+    int info = ts_lu_factor(c->F, n, c->piv);
     c->last_flag = info;
     return info > 0 ? SUNLS_LUFACT_FAIL : SUNLS_SUCCESS;
 }
 
 static int schur_solve(SUNLinearSolver ls, SUNMatrix A, N_Vector xv, N_Vector bv, sunrealtype tol)
 {
-    (void)tol;
+    (void)tol, (void)A;
     schur_ls *c = ls->content;
     int n = c->n, h = c->h;
     N_VScale(1.0, bv, xv);
     double *x = N_VGetArrayPointer(xv);
     if (c->full) {
-        ts_lu_solve(c->F, n, n, c->piv, x);
+        ts_lu_solve(c->F, n, c->piv, x);
     } else {
         for (int i = 0; i < h; i++)
             c->r[i] = x[h + i];
-        if (c->ext) { /* Mbl = -gamma J21, rounded as CVODE's A = I - gamma J */
-            for (int j = 0; j < h; j++) {
-                double b1 = x[j], mg = -c->gamma;
-                const double *col = c->J + (size_t)j * n + h;
-                for (int i = 0; i < h; i++)
-                    c->r[i] -= (mg * col[i]) * b1;
-            }
-        } else {
-            const double *a = SUNDenseMatrix_Data(A);
-            for (int j = 0; j < h; j++) {
-                double b1 = x[j];
-                const double *col = a + (size_t)j * n + h;
-                for (int i = 0; i < h; i++)
-                    c->r[i] -= col[i] * b1;
-            }
+        for (int j = 0; j < h; j++) { /* Mbl = -gamma J21, rounded as CVODE's A = I - gamma J */
+            double b1 = x[j], mg = -c->gamma;
+            const double *col = c->J + (size_t)j * n + h;
+            for (int i = 0; i < h; i++)
+                c->r[i] -= (mg * col[i]) * b1;
         }
-        ts_lu_solve(c->S, h, h, c->piv, c->r);
+        ts_lu_solve(c->S, h, c->piv, c->r);
         for (int i = 0; i < h; i++) {
             x[i] -= c->d[i] * c->r[i];
             x[h + i] = c->r[i];
@@ -242,7 +209,8 @@ static int schur_free(SUNLinearSolver ls)
     return SUNLS_SUCCESS;
 }
 
-static SUNLinearSolver schur_make(int n, int always_full, int ext, SUNContext ctx)
+/* ext: the Schur solver fed by schur_linsys (n even); otherwise a plain LU. */
+static SUNLinearSolver schur_make(int n, int ext, SUNContext ctx)
 {
     SUNLinearSolver ls = SUNLinSolNewEmpty(ctx);
     if (!ls) return NULL;
@@ -260,15 +228,17 @@ static SUNLinearSolver schur_make(int n, int always_full, int ext, SUNContext ct
         return NULL;
     }
     c->n = n, c->h = n / 2;
-    c->always_full = always_full || n % 2 != 0;
     c->ext = ext;
+    c->full = !ext;
     c->J = ext ? malloc(sizeof(double) * (size_t)n * (size_t)n) : NULL;
-    c->S = malloc(sizeof(double) * (size_t)c->h * (size_t)c->h);
     c->F = malloc(sizeof(double) * (size_t)n * (size_t)n);
-    c->d = malloc(sizeof(double) * (size_t)c->h);
-    c->r = malloc(sizeof(double) * (size_t)c->h);
     c->piv = malloc(sizeof(int) * (size_t)n);
-    if (!c->S || !c->F || !c->d || !c->r || !c->piv || (ext && !c->J)) {
+    if (ext) {
+        c->S = malloc(sizeof(double) * (size_t)c->h * (size_t)c->h);
+        c->d = malloc(sizeof(double) * (size_t)c->h);
+        c->r = malloc(sizeof(double) * (size_t)c->h);
+    }
+    if (!c->F || !c->piv || (ext && (!c->J || !c->S || !c->d || !c->r))) {
         schur_free(ls);
         return NULL;
     }
@@ -398,9 +368,8 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
     o->A = SUNDenseMatrix(n, n, o->ctx);
     if (!o->A) goto nomem;
     int ext = opts->second_order && n % 2 == 0;
-    o->LS = ext                 ? schur_make(n, 0, 1, o->ctx)
-            : opts->small_dense ? schur_make(n, 1, 0, o->ctx)
-                                : SUNLinSol_Dense(o->y, o->A, o->ctx);
+    o->LS = ext || opts->small_dense ? schur_make(n, ext, o->ctx)
+                                     : SUNLinSol_Dense(o->y, o->A, o->ctx);
     if (!o->LS) goto nomem;
     if (check(o, CVodeSetLinearSolver(o->mem, o->LS, o->A), "CVodeSetLinearSolver", err)) goto fail;
     if (ext) {

@@ -10,8 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define TWO_PI  6.28318530717958647692
 #include "constants.h"
+#define TWO_PI  (2.0 * TS_PI) /* the same double as the 2 pi literal: doubling is exact */
 #define GRAVITY TS_GRAVITY
 
 const char *const ts_circuit_support_names[TS_CIRCUIT_NSUPPORTS] = {

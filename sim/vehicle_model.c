@@ -166,7 +166,7 @@ typedef struct kin {
 } kin;
 
 typedef struct elem {
-    double u[2], n[2], ell, dpsi, s, sd, t;
+    double u[2], n[2], ell, dpsi;
 } elem;
 
 /* ---- small helpers -------------------------------------------------------- */
@@ -275,7 +275,7 @@ static void add_point_mass(const vm *v, double *M, double *Q, double m, const jc
 {
     int nq = v->nq;
     for (int r = 0; r < j->n; r++) {
-        if (M) /* NULL: M known (vm_rhs's factor cache), Q only */
+        if (M) /* NULL: Q only */
             for (int c = 0; c < j->n; c++)
                 M[j->idx[r] * nq + j->idx[c]] +=
                     m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
@@ -369,8 +369,8 @@ static int chol_solve(vm_work *w, const double *M, double *b, int n)
             pi[j] = mi[-j];
         pb[i] = b[n - 1 - i];
     }
-    if (ts_chol_factor_pattern(P, n, w->pat) != 0) return 1;
-    ts_chol_solve_pattern(P, n, w->pat, pb);
+    if (ts_chol_factor(P, n, w->pat) != 0) return 1;
+    ts_chol_solve(P, n, w->pat, pb);
     for (int i = 0; i < n; i++)
         b[n - 1 - i] = pb[i];
     return 0;
@@ -382,23 +382,23 @@ static void chol_resolve(vm_work *w, double *b, int n)
     double *pb = w->pb;
     for (int i = 0; i < n; i++)
         pb[i] = b[n - 1 - i];
-    ts_chol_solve_pattern(w->P, n, w->pat, pb);
+    ts_chol_solve(w->P, n, w->pat, pb);
     for (int i = 0; i < n; i++)
         b[n - 1 - i] = pb[i];
 }
 
 /* ---- forces ----------------------------------------------------------------- */
 
-/* The spans' kinetic energy t and momentum p (compact columns cols) at the
- * current q, with the spin rates qdv (= q_d with the spins zeroed): the base
- * point of the span velocity terms' differences, taken from the maps that
- * span_element builds anyway. */
 /* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
  * spins of a and b, the modal coordinates. */
 typedef struct cset {
     int n;
     int idx[8 + 2 * TS_SPAN_MAX_MODES];
 } cset;
+/* The spans' kinetic energy t and momentum p (compact columns cols) at the
+ * current q, with the spin rates qdv (= q_d with the spins zeroed): the base
+ * point of the span velocity terms' differences, taken from the maps that
+ * span_element builds anyway. */
 typedef struct span_base {
     double qdv[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
     double t[VM_NSPAN];
@@ -410,7 +410,7 @@ typedef struct span_base {
  * the velocity terms when sb is non-NULL). Defined with the spans. */
 static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
                          int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         int inertia, vm_diag *diag, span_base *sb);
+                         vm_diag *diag, span_base *sb);
 
 static span_base *span_base_init(const vm *v, const double *qd, span_base *sb);
 static void span_velocity_terms(const vm *v, const double *q, const span_base *sb, double *Q);
@@ -428,27 +428,21 @@ static double quasi_static_tension(const vm *v, double g, double tau)
     return t > 0 ? t : 0;
 }
 
-/* Generalised forces Q (and M if inertia and M is non-NULL; inertia with M
- * NULL: the inertial velocity terms in Q without assembling M) at (t, q, qd). */
+/* Generalised forces Q at (t, q, qd), the inertial velocity terms included
+ * (none when qd is NULL: the static residual), and the mass matrix M unless
+ * M is NULL (vm_rhs's factor cache, the equilibrium, the geometry). */
 static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
-                   double *Q, int inertia, int drive_on, vm_diag *diag)
+                   double *Q, int drive_on, vm_diag *diag)
 {
     int nq = v->nq;
     kin k;
     kinematics(v, q, qd, &k);
     memset(Q, 0, (size_t)nq * sizeof *Q);
-    if (inertia) {
-        if (M) memset(M, 0, (size_t)nq * nq * sizeof *M);
-        rigid_inertia(v, &k, qd, M, Q);
-    } else {
-        /* gravity only (static residual): M goes to scratch */
-        memset(w->M, 0, (size_t)nq * nq * sizeof *w->M);
-        rigid_inertia(v, &k, qd, w->M, Q);
-        M = w->M;
-    }
+    if (M) memset(M, 0, (size_t)nq * nq * sizeof *M);
+    rigid_inertia(v, &k, qd, M, Q);
     /* track elements */
     span_base sb_store;
-    span_base *sb = inertia && qd && v->dynamic ? span_base_init(v, qd, &sb_store) : NULL;
+    span_base *sb = qd && v->dynamic ? span_base_init(v, qd, &sb_store) : NULL;
     double fr[VM_NB][2];
     memset(fr, 0, sizeof fr);
     double rr_force[2] = {0, 0};
@@ -457,10 +451,12 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         int a = el, b = (el + 1) % VM_NB;
         elem e;
         tangent(v, &k, el, &e);
-        loop_stretch += (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi;
+        /* geometric stretch: the chord's and the wraps' (the spins come below) */
+        double g_el = (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi;
+        loop_stretch += g_el;
         const span_el *se = v->span_of[el];
         if (se) {
-            span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, inertia, diag, sb);
+            span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, diag, sb);
             if (diag && (a == VM_REAR_ROLLER || b == VM_REAR_ROLLER)) {
                 /* end force of the span on the rear roller (chord axes -> world) */
                 ts_span_end_forces ef;
@@ -473,20 +469,19 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
             continue;
         }
         double vrel = (k.v[b][0] - k.v[a][0]) * e.u[0] + (k.v[b][1] - k.v[a][1]) * e.u[1];
-        e.s = (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi +
-              v->rho_b[b] * q[QS0 + b] - v->rho_b[a] * q[QS0 + a];
-        e.sd = vrel + (qd ? v->rho_b[b] * qd[QS0 + b] - v->rho_b[a] * qd[QS0 + a] : 0);
+        double s = g_el + v->rho_b[b] * q[QS0 + b] - v->rho_b[a] * q[QS0 + a];
+        double sd = vrel + (qd ? v->rho_b[b] * qd[QS0 + b] - v->rho_b[a] * qd[QS0 + a] : 0);
         double kel = v->k_el[el];
-        e.t = v->p0 + kel * e.s + v->dscale * kel * v->tau_d * e.sd;
-        if (e.t < 0) e.t = 0;
-        double f[2] = {e.t * e.u[0], e.t * e.u[1]};
+        double tn = v->p0 + kel * s + v->dscale * kel * v->tau_d * sd;
+        if (tn < 0) tn = 0;
+        double f[2] = {tn * e.u[0], tn * e.u[1]};
         fr[a][0] += f[0], fr[a][1] += f[1];
         fr[b][0] -= f[0], fr[b][1] -= f[1];
-        Q[QS0 + a] += e.t * v->rho_b[a];
-        Q[QS0 + b] -= e.t * v->rho_b[b];
+        Q[QS0 + a] += tn * v->rho_b[a];
+        Q[QS0 + b] -= tn * v->rho_b[b];
         if (b == VM_REAR_ROLLER) rr_force[0] -= f[0], rr_force[1] -= f[1];
         if (a == VM_REAR_ROLLER) rr_force[0] += f[0], rr_force[1] += f[1];
-        if (diag) diag->tension[el] = diag->tension_end0[el] = diag->tension_end1[el] = e.t;
+        if (diag) diag->tension[el] = diag->tension_end0[el] = diag->tension_end1[el] = tn;
     }
     for (int b = 0; b < VM_NB; b++)
         add_force(Q, &k.j[b], fr[b]);
@@ -747,19 +742,17 @@ static void span_velocity_terms(const vm *v, const double *q, const span_base *s
  *   dT/dtheta = p . S' q_d = x_d p_z - z_d p_x,
  *   (dMs/dtheta) q_d = S'^T p + Ms S' q_d.
  * Adds dT/dtheta - theta_d (dMs/dtheta) q_d (q_d with the spin rates zeroed,
- * sb->qdv) to Q. tests/sim/test_vehicle_energy.c does NOT resolve this part
- * (its energy drift is 0.18 % without it, 0.12 % with, tolerance 0.5 %); it
- * does resolve the road-arm part (span_velocity_terms). */
+ * sb->qdv) to Q. The energy tests do not resolve this part (drift 0.18 %
+ * without it, 0.12 % with, tolerance 0.5 %); tests/sim/test_vehicle_energy.c
+ * pitch_velocity_terms_are_lagrangian checks it against the numerical
+ * derivative of vm_mass. */
 static void span_pitch_terms(const span_base *sb, const cset *cs,
                              double Mc[][8 + 2 * TS_SPAN_MAX_MODES], int s, double *Q)
 {
     const double *qd = sb->qdv, *p = sb->p[s];
-    int cx = -1, cz = -1;
-    for (int c = 0; c < cs->n; c++) {
-        if (cs->idx[c] == QX) cx = c;
-        if (cs->idx[c] == QZ) cz = c;
-    }
-    if (cx < 0 || cz < 0) return; /* the hull columns are always in a span's set */
+    /* span_map_build adds end a's Jacobian columns first, and every body's
+     * Jacobian begins with x, z (kinematics_of): compact columns 0 and 1 */
+    const int cx = 0, cz = 1;
     double xd = qd[QX], zd = qd[QZ], thd = qd[QT];
     Q[QT] += xd * p[cz] - zd * p[cx];
     if (thd == 0) return;
@@ -771,7 +764,7 @@ static void span_pitch_terms(const span_base *sb, const cset *cs,
 
 static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
                          int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         int inertia, vm_diag *diag, span_base *sb)
+                         vm_diag *diag, span_base *sb)
 {
     const ts_span *sp = se->sp;
     int n = sp->n, nq = v->nq;
@@ -839,7 +832,7 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
         s += m * gx * rx[c] + 0.5 * m * gy * (ry0[c] + ry1[c]);
         Q[cs.idx[c]] += s;
     }
-    if (inertia && (M || sb)) {
+    if (M || sb) {
         /* block B^T Ms B + B^T C + C^T B + frame terms, C = alpha rx + beta0
          * ry0 + beta1 ry1 (n x nc); Y = Ms B + C. Symmetric: the upper
          * triangle of compact columns is computed and mirrored. */
@@ -993,7 +986,7 @@ static void eq_residual(vm *v, vm_work *w, const double *u, double *q, double *r
 {
     eq_apply(v, u, q);
     vm_diag dg;
-    forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, 0, &dg);
+    forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, &dg);
     int p = 0;
     r[p++] = w->Q[QX];
     r[p++] = w->Q[QZ];
@@ -1067,7 +1060,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
     eq_apply(v, u, q);
     {
         vm_diag dg;
-        forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, 0, &dg);
+        forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, &dg);
         v->t_static = dg.tension_end1[0];
         v->g_eq = dg.loop_stretch;
     }
@@ -1339,13 +1332,13 @@ int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_
     int nq = v->nq;
     size_t qsz = (size_t)nq * sizeof(double);
     if (w->qf_ok && memcmp(w->qf, y, qsz) == 0) {
-        forces(v, w, t, y, y + nq, NULL, w->Q, 1, 1, diag);
+        forces(v, w, t, y, y + nq, NULL, w->Q, 1, diag);
         memcpy(ydot, y + nq, qsz);
         memcpy(ydot + nq, w->Q, qsz);
         chol_resolve(w, ydot + nq, nq);
         return 0;
     }
-    forces(v, w, t, y, y + nq, w->M, w->Q, 1, 1, diag);
+    forces(v, w, t, y, y + nq, w->M, w->Q, 1, diag);
     int rc = first_order(v, w, y, ydot);
     if (rc == 0) {
         memcpy(w->qf, y, qsz);
@@ -1359,7 +1352,7 @@ int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double spr
 {
     int nq = v->nq;
     const double *q = y, *qd = y + nq;
-    forces(v, w, t, q, qd, w->M, w->Q, 1, 0, diag);
+    forces(v, w, t, q, qd, w->M, w->Q, 0, diag);
     /* the caller's torque on the sprocket spin, its reaction on the hull (as the drive in forces)
      */
     w->Q[QS0 + VM_SPROCKET] += sprocket_torque;
@@ -1381,7 +1374,7 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
 {
     int nq = v->nq;
     const double *q = y, *qd = y + nq;
-    forces(v, w, 0.0, q, qd, w->M, w->Q, 1, 0, NULL);
+    forces(v, w, 0.0, q, qd, w->M, w->Q, 0, NULL);
     double ke = 0;
     for (int i = 0; i < nq; i++)
         for (int j = 0; j < nq; j++)
@@ -1468,7 +1461,7 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
     memset(g, 0, sizeof *g);
     vm_diag dg;
     memset(&dg, 0, sizeof dg);
-    forces(v, w, t, q, qd, w->M, w->Q, 0, 1, &dg);
+    forces(v, w, t, q, qd, NULL, w->Q, 1, &dg); /* the diagnostics only */
     kin k;
     kinematics(v, q, qd, &k);
     g->t = t;
@@ -1553,12 +1546,12 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
 
 void vm_forces(const vm *v, vm_work *w, double t, const double *y, int drive_on, double *Q)
 {
-    forces(v, w, t, y, y + v->nq, w->M, w->Q, 1, drive_on, NULL);
+    forces(v, w, t, y, y + v->nq, w->M, w->Q, drive_on, NULL);
     memcpy(Q, w->Q, (size_t)v->nq * sizeof(double));
 }
 
 void vm_mass(const vm *v, vm_work *w, const double *y, double *M)
 {
-    forces(v, w, 0.0, y, y + v->nq, w->M, w->Q, 1, 0, NULL);
+    forces(v, w, 0.0, y, y + v->nq, w->M, w->Q, 0, NULL);
     memcpy(M, w->M, (size_t)v->nq * (size_t)v->nq * sizeof(double));
 }
