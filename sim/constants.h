@@ -8,5 +8,7 @@
 
 #define TS_PI      3.14159265358979323846 /* pi */
 #define TS_GRAVITY 9.80665                /* standard gravity [m/s^2] (ISO 80000-3) */
+#define TS_MPH     0.44704                /* m/s per mile per hour (exact) */
+#define TS_LBF     4.44822                /* N per pound-force, for display only */
 
 #endif

@@ -21,12 +21,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "constants.h"
 #include "coupled_system.h"
 #include "scenario.h"
 #include "vehicle_channels.h"
 
-#define MPH 0.44704 /* m/s per mph */
-#define LBF 4.44822 /* N per lbf */
 
 enum {
     CH_V0 = 1, /* the vehicle channel block (vehicle_channels.h), after "t" */
@@ -168,13 +167,13 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     }
     const double *last = rows + (nrows - 1) * nc;
     n = ts_metric_add(out, n, max, "dof", "1", m->dof, "vehicle mechanical degrees of freedom");
-    n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / MPH, "predicted top speed");
-    n = ts_metric_add(out, n, max, "final_speed_mph", "mph", last[CH_SPEED] / MPH,
+    n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / TS_MPH, "predicted top speed");
+    n = ts_metric_add(out, n, max, "final_speed_mph", "mph", last[CH_SPEED] / TS_MPH,
                       "predicted speed at the end of the run");
     n = ts_metric_add(out, n, max, "static_tension", "N", vm_static_tension(ts_coupled_vehicle(c)),
                       "static rear-roller tension (tensioner setting)");
     n = ts_metric_add(out, n, max, "peak_tension", "N", tmax, "predicted peak rear-roller tension");
-    n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / LBF, "the same in lbf");
+    n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / TS_LBF, "the same in lbf");
     n = ts_metric_add(out, n, max, "peak_sprocket_torque", "N*m", tq_max,
                       "predicted peak torque at each sprocket (Fig. 28 converter multiplication)");
     char name[64], desc[160];
@@ -209,9 +208,9 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
             rl = fmax(rl, rows[i * nc + CH_RACK_DEMAND]);
         n = ts_metric_add(out, n, max, "rack_at_launch", "1", rl,
                           "largest rack demand in the first second (Fig. 33: 1.0)");
-        n = ts_metric_add(out, n, max, "mean_speed_error_mph", "mph", k ? se / k / MPH : NAN,
+        n = ts_metric_add(out, n, max, "mean_speed_error_mph", "mph", k ? se / k / TS_MPH : NAN,
                           "mean (speed - target) after first reaching the target");
-        n = ts_metric_add(out, n, max, "mean_abs_speed_error_mph", "mph", k ? sa / k / MPH : NAN,
+        n = ts_metric_add(out, n, max, "mean_abs_speed_error_mph", "mph", k ? sa / k / TS_MPH : NAN,
                           "mean |speed - target| after first reaching the target");
         n = ts_metric_add(out, n, max, "rack_min", "1", k ? rmin : NAN,
                           "smallest rack demand after reaching the target (Fig. 33: ~0.1)");

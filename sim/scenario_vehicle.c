@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "constants.h"
 #include "drive.h"
 #include "fft.h"
 #include "scenario.h"
@@ -26,8 +27,6 @@
 #include "solver.h"
 #include "vehicle_model.h"
 
-#define MPH           0.44704 /* m/s per mph */
-#define LBF           4.44822 /* N per lbf */
 #define VELOCITY_TIME 0.01    /* s: velocity tolerance = atol / this (numerical choice) */
 /* Steps between Jacobian evaluations (CVODE's default is 51). A difference-
  * quotient Jacobian costs 2 nq right-hand sides; the model's Jacobian changes
@@ -248,17 +247,17 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     double t0 = vm_static_tension(vmm->v);
     n = ts_metric_add(out, n, max, "dof", "1", m->dof,
                       "mechanical degrees of freedom (paper: 21/26/31)");
-    n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / MPH,
+    n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / TS_MPH,
                       "highest speed, here the speed at the end of the run (paper II.D: ~25 mph; the "
                       "prescribed torque is calibrated to it [C II.D])");
     n = ts_metric_add(out, n, max, "static_tension", "N", t0,
                       "static track tension at the rear roller (tensioner setting P0)");
     n = ts_metric_add(out, n, max, "peak_tension", "N", tmax,
                       "predicted peak rear-roller tension (paper Fig. 12: ~30,000 lb = 133 kN)");
-    n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / LBF, "the same in lbf");
+    n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / TS_LBF, "the same in lbf");
     n = ts_metric_add(out, n, max, "tension_amplification", "1", t0 > 0 ? tmax / t0 : NAN,
                       "predicted peak over static tension (paper: nearly 2)");
-    n = ts_metric_add(out, n, max, "quasi_static_peak_tension_lb", "lbf", qsmax / LBF,
+    n = ts_metric_add(out, n, max, "quasi_static_peak_tension_lb", "lbf", qsmax / TS_LBF,
                       "peak of track.tension.quasi_static: what the suspension travel alone "
                       "(loop-length change, massless track) gives");
     n = ts_metric_add(out, n, max, "dynamic_amplification_max", "1",
