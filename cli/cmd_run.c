@@ -18,26 +18,15 @@
 /* Rows go to the CSV as they come and are kept for the run's metrics. */
 typedef struct {
     FILE *csv;
-    double *rows;
-    long nrows, cap;
+    ts_rows rows;
 } run_sink;
 
 static int write_row(void *ud, long index, double t, const double *v, int n)
 {
-    (void)index;
-    (void)t;
     run_sink *s = ud;
     for (int i = 0; i < n; i++) fprintf(s->csv, i ? ",%.9g" : "%.9g", v[i]);
     fputc('\n', s->csv);
-    if (s->nrows == s->cap) {
-        long cap = s->cap ? 2 * s->cap : 4096;
-        double *nr = realloc(s->rows, (size_t)cap * (size_t)n * sizeof *nr);
-        if (!nr) return 1;
-        s->rows = nr;
-        s->cap = cap;
-    }
-    memcpy(s->rows + (size_t)s->nrows * (size_t)n, v, (size_t)n * sizeof *v);
-    s->nrows++;
+    if (ts_rows_append(&s->rows, index, t, v, n) != 0) return 1;
     return ferror(s->csv) ? 1 : 0;
 }
 
@@ -104,7 +93,7 @@ int tsc_cmd_run(int argc, char **argv)
                                                   c->unit, "description", c->description));
     }
     ts_metric metrics[32];
-    int nmetric = ts_model_metrics(m, sink.rows, sink.nrows, metrics, 32);
+    int nmetric = ts_model_metrics(m, sink.rows.v, sink.rows.n, metrics, 32);
     json_t *mj = json_object();
     for (int i = 0; i < nmetric; i++)
         json_object_set_new(mj, metrics[i].name,
@@ -132,7 +121,7 @@ int tsc_cmd_run(int argc, char **argv)
     status = TSC_EXIT_OK;
 done:
     if (csv) fclose(csv);
-    free(sink.rows);
+    ts_rows_free(&sink.rows);
     ts_data_free(d);
     ts_model_free(m);
     json_decref(resolved);

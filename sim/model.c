@@ -236,6 +236,28 @@ long ts_sample_index(const ts_data *d) { return d->index; }
 const double *ts_latest(const ts_data *d) { return d->latest; }
 double ts_wall_seconds(const ts_data *d) { return d->wall; }
 
+int ts_rows_append(void *ud, long index, double t, const double *values, int n)
+{
+    (void)index, (void)t;
+    ts_rows *r = ud;
+    if (r->n == r->cap) {
+        long cap = r->cap ? 2 * r->cap : 4096;
+        double *p = realloc(r->v, (size_t)cap * (size_t)n * sizeof *p);
+        if (!p) return 1;
+        r->v = p;
+        r->cap = cap;
+    }
+    memcpy(r->v + (size_t)r->n * (size_t)n, values, (size_t)n * sizeof *values);
+    r->n++;
+    return 0;
+}
+
+void ts_rows_free(ts_rows *r)
+{
+    free(r->v);
+    *r = (ts_rows){0};
+}
+
 int ts_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
 {
     if (!m->ops->metrics || !rows || nrows <= 0 || max <= 0) return 0;

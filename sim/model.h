@@ -83,6 +83,16 @@ typedef struct ts_metric {
     char description[160]; /* one line, says "predicted" or "calibrated to" where it matters */
 } ts_metric;
 
+/* A growing copy of a run's sample rows, for ts_model_metrics: pass
+ * ts_rows_append as ts_advance's fn with a zeroed ts_rows as ud. Owns v;
+ * ts_rows_free releases it. */
+typedef struct ts_rows {
+    double *v; /* n rows of the sample width, row-major */
+    long n, cap;
+} ts_rows;
+int ts_rows_append(void *ud, long index, double t, const double *values, int n);
+void ts_rows_free(ts_rows *r);
+
 /* Scenario-specific figures computed from a run's sample rows (nrows rows of
  * ts_model_nchannel values, row-major, as ts_advance produced them), e.g. the
  * Table 2 acceleration times. Writes at most max metrics; returns the count. */

@@ -15,29 +15,6 @@
 #include "api/config_json.h"
 #include "sim/tanksim.h"
 
-typedef struct {
-    double *rows;
-    long n, cap;
-    int nc;
-} sink;
-
-static int keep(void *ud, long i, double t, const double *v, int n)
-{
-    (void)i;
-    (void)t;
-    sink *s = ud;
-    if (s->n == s->cap) {
-        long cap = s->cap ? 2 * s->cap : 4096;
-        double *r = realloc(s->rows, (size_t)cap * (size_t)n * sizeof *r);
-        if (!r) return 1;
-        s->rows = r;
-        s->cap = cap;
-    }
-    memcpy(s->rows + (size_t)s->n * (size_t)n, v, (size_t)n * sizeof *v);
-    s->n++;
-    return 0;
-}
-
 static const char *const variants[] = {"conventional", "lhr05", "lhr10"};
 static const char *const fidelities[] = {"crank_angle", "mean_value", "map"};
 /* Table 2 [P]: speed after 20 s [km/h], 0-60 km/h [s], 20-60 km/h [s] */
@@ -67,24 +44,25 @@ static result run_one(const char *variant, const char *fidelity)
         ts_model_free(m);
         return res;
     }
-    sink s = {NULL, 0, 0, ts_model_nchannel(m)};
+    ts_rows s = {0};
+    int nc = ts_model_nchannel(m);
     rc = ts_reset(m, d, &err);
     if (rc == TS_OK) {
-        keep(&s, 0, 0, ts_latest(d), s.nc);
-        rc = ts_advance(m, d, c.run.duration, keep, &s, &err);
+        ts_rows_append(&s, 0, 0, ts_latest(d), nc);
+        rc = ts_advance(m, d, c.run.duration, ts_rows_append, &s, &err);
     }
     if (rc != TS_OK) {
         printf("%-12s %-12s run failed: %s\n", variant, fidelity, err.msg);
     } else {
         ts_metric mt[16];
-        int nm = ts_model_metrics(m, s.rows, s.n, mt, 16);
+        int nm = ts_model_metrics(m, s.v, s.n, mt, 16);
         res.ok = nm >= 3;
         res.wall = ts_wall_seconds(d);
         res.rtf = c.run.duration / res.wall;
         for (int k = 0; k < 3 && k < nm; k++) res.m[k] = mt[k].value;
         int iv = ts_model_channel_index(m, "vehicle.speed");
         long i2 = (long)(2.0 * c.run.sample_rate + 0.5);
-        res.v2 = i2 < s.n ? 3.6 * s.rows[i2 * s.nc + iv] : NAN;
+        res.v2 = i2 < s.n ? 3.6 * s.v[i2 * nc + iv] : NAN;
         res.v20 = res.m[0];
         printf("%-12s %-12s wall %7.2f s  real-time x %8.2f | %6.2f km/h (paper %.2f)  0-60 %6.2f s "
                "(%.2f)  20-60 %6.2f s (%.2f) |",
@@ -94,7 +72,7 @@ static result run_one(const char *variant, const char *fidelity)
         for (int k = 3; k < nm; k++) printf(" %s %.2f", mt[k].name, mt[k].value);
         printf("\n");
     }
-    free(s.rows);
+    ts_rows_free(&s);
     ts_data_free(d);
     ts_model_free(m);
     fflush(stdout);

@@ -16,28 +16,6 @@
 #include "api/config_json.h"
 #include "sim/tanksim.h"
 
-typedef struct sink {
-    int nc;
-    long n, cap;
-    double *rows;
-} sink;
-
-static int keep(void *ud, long index, double t, const double *v, int n)
-{
-    (void)index, (void)t;
-    sink *s = ud;
-    if (s->n == s->cap) {
-        long cap = s->cap ? 2 * s->cap : 8192;
-        double *r = realloc(s->rows, sizeof(double) * (size_t)(cap * n));
-        if (!r) return 1;
-        s->rows = r;
-        s->cap = cap;
-    }
-    memcpy(s->rows + s->n * n, v, sizeof(double) * (size_t)n);
-    s->n++;
-    return 0;
-}
-
 static double cpu_now(void)
 {
     struct timespec ts;
@@ -130,20 +108,20 @@ static int run(const char *preset)
         return 1;
     }
     ts_data *d = ts_data_make(m, &err);
-    sink s = {ts_model_nchannel(m), 0, 0, NULL};
+    ts_rows s = {0};
     double c0 = cpu_now();
     if (!d || ts_reset(m, d, &err) != TS_OK) {
         printf("%s: %s\n", preset, err.msg);
         return 1;
     }
-    keep(&s, 0, 0, ts_latest(d), s.nc);
-    if (ts_advance(m, d, c.run.duration, keep, &s, &err) != TS_OK) {
+    ts_rows_append(&s, 0, 0, ts_latest(d), ts_model_nchannel(m));
+    if (ts_advance(m, d, c.run.duration, ts_rows_append, &s, &err) != TS_OK) {
         printf("%s: %s\n", preset, err.msg);
         return 1;
     }
     double cpu = cpu_now() - c0, wall = ts_wall_seconds(d);
     ts_metric mt[32];
-    int nm = ts_model_metrics(m, s.rows, s.n, mt, 32);
+    int nm = ts_model_metrics(m, s.v, s.n, mt, 32);
     if (strstr(preset, "coupled")) printf("\n(goal for the coupled run: >= 500x real time)");
     printf("\n%s: %d DOF, %.0f s simulated in %.2f s wall / %.2f s CPU: "
            "real-time factor %.0fx (wall), %.0fx (CPU)\n",
@@ -185,7 +163,7 @@ static int run(const char *preset)
         printf("  %-34s %12.*f   %s\n", fig[i].label, fig[i].prec,
                metric(mt, nm, fig[i].metric) * fig[i].scale, fig[i].paper);
     int bad = check_pins(preset, ts_model_dof(m), mt, nm);
-    free(s.rows);
+    ts_rows_free(&s);
     ts_data_free(d);
     ts_model_free(m);
     return bad;

@@ -20,29 +20,9 @@
 #define RPM (3.14159265358979323846 / 30.0)
 
 typedef struct {
-    double *rows;
-    long n, cap;
-    int nc;
-} sink;
-
-static int keep(void *ud, long i, double t, const double *v, int n)
-{
-    (void)i;
-    (void)t;
-    sink *s = ud;
-    if (s->n == s->cap) {
-        s->cap = s->cap ? 2 * s->cap : 4096;
-        s->rows = realloc(s->rows, (size_t)s->cap * (size_t)n * sizeof *s->rows);
-        assert_non_null(s->rows);
-    }
-    memcpy(s->rows + (size_t)s->n * (size_t)n, v, (size_t)n * sizeof *v);
-    s->n++;
-    return 0;
-}
-
-typedef struct {
     ts_model *m;
-    sink s;
+    ts_rows s;
+    int nc;
     ts_metric mt[16];
     int nm;
 } run_result;
@@ -69,18 +49,18 @@ static run_result run_preset(const char *preset, const char *fidelity, double du
     if (!r.m) fail_msg("model: %s", err.msg);
     ts_data *d = ts_data_make(r.m, &err);
     assert_non_null(d);
-    r.s.nc = ts_model_nchannel(r.m);
+    r.nc = ts_model_nchannel(r.m);
     assert_int_equal(ts_reset(r.m, d, &err), TS_OK);
-    keep(&r.s, 0, 0, ts_latest(d), r.s.nc);
-    if (ts_advance(r.m, d, duration, keep, &r.s, &err) != TS_OK) fail_msg("run: %s", err.msg);
-    r.nm = ts_model_metrics(r.m, r.s.rows, r.s.n, r.mt, 16);
+    assert_int_equal(ts_rows_append(&r.s, 0, 0, ts_latest(d), r.nc), 0);
+    if (ts_advance(r.m, d, duration, ts_rows_append, &r.s, &err) != TS_OK) fail_msg("run: %s", err.msg);
+    r.nm = ts_model_metrics(r.m, r.s.v, r.s.n, r.mt, 16);
     ts_data_free(d);
     return r;
 }
 
 static void done(run_result *r)
 {
-    free(r->s.rows);
+    ts_rows_free(&r->s);
     ts_model_free(r->m);
 }
 
@@ -90,7 +70,7 @@ static double at(const run_result *r, const char *ch, double t)
     assert_true(k >= 0);
     long i = (long)(t / ts_model_sample_period(r->m) + 0.5);
     assert_true(i >= 0 && i < r->s.n);
-    return r->s.rows[i * r->s.nc + k];
+    return r->s.v[i * r->nc + k];
 }
 
 static double metric(const run_result *r, const char *name)

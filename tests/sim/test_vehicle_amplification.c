@@ -13,30 +13,8 @@
 #include "api/config_json.h"
 #include "sim/tanksim.h"
 
-typedef struct rows {
-    int nc;
-    long n, cap;
-    double *v;
-} rows;
-
-static int keep(void *ud, long index, double t, const double *v, int n)
-{
-    (void)index, (void)t;
-    rows *r = ud;
-    if (r->n == r->cap) {
-        long cap = r->cap ? 2 * r->cap : 4096;
-        double *p = realloc(r->v, sizeof(double) * (size_t)(cap * n));
-        if (!p) return 1;
-        r->v = p;
-        r->cap = cap;
-    }
-    memcpy(r->v + r->n * n, v, sizeof(double) * (size_t)n);
-    r->n++;
-    return 0;
-}
-
 /* Run preset for duration seconds; rows in *r, the model in *m (caller frees). */
-static void run(const char *preset, double duration, ts_model **m, rows *r)
+static void run(const char *preset, double duration, ts_model **m, ts_rows *r)
 {
     ts_config c;
     ts_err err;
@@ -47,15 +25,15 @@ static void run(const char *preset, double duration, ts_model **m, rows *r)
     assert_non_null(*m);
     ts_data *d = ts_data_make(*m, &err);
     assert_non_null(d);
-    memset(r, 0, sizeof *r);
-    r->nc = ts_model_nchannel(*m);
+    *r = (ts_rows){0};
+    int nc = ts_model_nchannel(*m);
     assert_int_equal(ts_reset(*m, d, &err), TS_OK);
-    assert_int_equal(keep(r, 0, 0, ts_latest(d), r->nc), 0);
-    assert_int_equal(ts_advance(*m, d, duration, keep, r, &err), TS_OK);
+    assert_int_equal(ts_rows_append(r, 0, 0, ts_latest(d), nc), 0);
+    assert_int_equal(ts_advance(*m, d, duration, ts_rows_append, r, &err), TS_OK);
     ts_data_free(d);
 }
 
-static double metric(const ts_model *m, const rows *r, const char *name)
+static double metric(const ts_model *m, const ts_rows *r, const char *name)
 {
     ts_metric mt[32];
     int n = ts_model_metrics(m, r->v, r->n, mt, 32);
@@ -77,18 +55,19 @@ static void quasi_static_tension_matches_static_model_on_flat(void **state)
 {
     (void)state;
     ts_model *m;
-    rows r;
+    ts_rows r;
     run("bump-prescribed-static", 5.0, &m, &r);
     int it = ts_model_channel_index(m, "track.tension.rear_roller");
     int iq = ts_model_channel_index(m, "track.tension.quasi_static");
     assert_true(it >= 0 && iq >= 0);
+    int nc = ts_model_nchannel(m);
     double t0 = metric(m, &r, "static_tension");
     double worst = 0, mean_drop = 0;
     int n = 0;
     for (long i = 0; i < r.n; i++) {
-        double t = r.v[i * r.nc];
+        double t = r.v[i * nc];
         if (t < 2.0) continue;
-        const double *row = r.v + i * r.nc;
+        const double *row = r.v + i * nc;
         worst = fmax(worst, fabs(row[it] - row[iq]));
         mean_drop += t0 - row[iq];
         n++;
@@ -98,7 +77,7 @@ static void quasi_static_tension_matches_static_model_on_flat(void **state)
            mean_drop, 100 * mean_drop / t0);
     assert_true(mean_drop > 0.05 * t0); /* the torque term is exercised */
     assert_true(worst <= 0.002 * t0);
-    free(r.v);
+    ts_rows_free(&r);
     ts_model_free(m);
 }
 
@@ -119,7 +98,7 @@ static void static_model_shows_no_dynamic_amplification(void **state)
 {
     (void)state;
     ts_model *ms, *mc;
-    rows rs, rc;
+    ts_rows rs, rc;
     run("bump-prescribed-static", 9.0, &ms, &rs);
     run("bump-prescribed-coupled", 9.0, &mc, &rc);
     double s_max = metric(ms, &rs, "dynamic_amplification_max");
@@ -138,8 +117,8 @@ static void static_model_shows_no_dynamic_amplification(void **state)
     assert_close(s_peak, s_qs, 0.05, 0);
     assert_true(c_max >= 0.1 && c_max >= 2 * s_max);
     assert_true(c_rms >= 5 * s_rms);
-    free(rs.v);
-    free(rc.v);
+    ts_rows_free(&rs);
+    ts_rows_free(&rc);
     ts_model_free(ms);
     ts_model_free(mc);
 }
