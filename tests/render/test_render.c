@@ -57,16 +57,25 @@ static tsr_scene *scene_or_fail(const ts_geom *g, const tsr_view *v)
     return sc;
 }
 
-/* Render g with v into a malloc'd copy of the RGBA pixels. */
-static unsigned char *render_copy(tsr_ctx *c, const ts_geom *g, const tsr_view *v, tsr_image *img)
+/* Render scene sc with v into a malloc'd copy of the RGBA pixels (img->rgba). */
+static unsigned char *render_scene_copy(tsr_ctx *c, const tsr_scene *sc, const tsr_view *v,
+                                        tsr_image *img)
 {
     ts_err err;
-    tsr_scene *sc = scene_or_fail(g, v);
     assert_int_equal(tsr_render(c, sc, v, img, &err), TS_OK);
     size_t n = img->stride * (size_t)img->height;
     unsigned char *copy = malloc(n);
+    assert_non_null(copy);
     memcpy(copy, img->rgba, n);
     img->rgba = copy;
+    return copy;
+}
+
+/* Render g with v into a malloc'd copy of the RGBA pixels. */
+static unsigned char *render_copy(tsr_ctx *c, const ts_geom *g, const tsr_view *v, tsr_image *img)
+{
+    tsr_scene *sc = scene_or_fail(g, v);
+    unsigned char *copy = render_scene_copy(c, sc, v, img);
     tsr_scene_free(sc);
     return copy;
 }
@@ -130,7 +139,7 @@ static shot shot_take(const ts_geom *g, const tsr_view *v)
     shot sh;
     sh.c = ctx_or_fail();
     sh.sc = scene_or_fail(g, v);
-    sh.px = render_copy(sh.c, g, v, &sh.img);
+    sh.px = render_scene_copy(sh.c, sh.sc, v, &sh.img);
     return sh;
 }
 
