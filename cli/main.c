@@ -16,7 +16,8 @@ static const tsc_command commands[] = {
      "track span and upper-circuit eigenanalysis (Table 1, Fig. 5) as JSON"},
     {"render", tsc_cmd_render,
      "(CONFIG.json | --preset NAME) --out FILE.png [--t T] [--width W] [--height H] "
-     "[--view side|three_quarter] [--exaggeration E] [--color tension|plain] [--text S] [--antialias]",
+     "[--view side|three_quarter] [--exaggeration E] [--color tension|plain] [--text S] [--antialias] "
+     "[--span S] [--no-overlay]",
      "run to time T and draw the tank and its deformed track into a PNG"},
     {"engine-map", tsc_cmd_engine_map, "(CONFIG.json | --preset NAME) (--out FILE.csv | --spool FILE.csv)",
      "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18), or with --spool the rack-step spool-ups at held speed that the faster fidelities derive their part-boost tables from"},

@@ -368,7 +368,8 @@ static void draw_overlay(const tsr_scene *s, const tsr_view *v, unsigned char *p
     if (v->overlay) {
         int n = snprintf(line[0], sizeof line[0], "t %.2f s   v %.1f km/h (%.1f mph)", s->t,
                          s->speed * 3.6, s->speed / 0.44704);
-        if (s->gear != 0) snprintf(line[0] + n, sizeof line[0] - (size_t)n, "   gear %d", s->gear);
+        if (s->gear != 0 && n >= 0 && (size_t)n < sizeof line[0]) /* not truncated already */
+            snprintf(line[0] + n, sizeof line[0] - (size_t)n, "   gear %d", s->gear);
         nl = 1;
         if (v->text[0]) snprintf(line[nl++], sizeof line[0], "%s", v->text);
     }

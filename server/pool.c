@@ -4,6 +4,8 @@
  * The list is kept in submission order; a worker scans it for the first job
  * whose not_before has passed (O(jobs), fine for the hundreds a daemon has)
  * and otherwise waits until the earliest due time or a new submission.
+ * Also the two small helpers the daemon's modules share: the monotonic clock
+ * (tsd_now) and random ids of sessions and operations (tsd_random_id).
  */
 #define _GNU_SOURCE
 #include "pool.h"
@@ -155,7 +157,6 @@ int tsd_pool_submit(tsd_pool *p, tsd_job_fn fn, void *arg, double not_before)
     pthread_mutex_unlock(&p->mu);
     return 0;
 }
-
 
 int tsd_pool_pending(tsd_pool *p)
 {

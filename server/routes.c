@@ -537,12 +537,19 @@ static enum MHD_Result get_stream(tsd_request *r)
     long since = -1;
     const char *last_id = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Last-Event-ID");
     if (q_integer(r, "since", -1, 1L << 62, &since, &ret) < 0) return ret;
-    if (last_id && *last_id && parse_integer(last_id, -1, 1L << 62, &since) != 0)
-        return bad_param(r, "Last-Event-ID", "sample index", last_id);
+    if (last_id && *last_id && parse_integer(last_id, -1, 1L << 62, &since) != 0) {
+        ts_err e; /* a header, not a query parameter: bad_param's wording does not fit */
+        ts_err_set(&e, TS_ERR_PARAM, "/Last-Event-ID",
+                   "header Last-Event-ID: sample index in [-1, %ld] expected, got '%.100s'",
+                   1L << 62, last_id);
+        return tsd_reply_err(r, &e, NULL);
+    }
     const char *accept = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Accept");
     const char *format = tsd_arg(r, "format");
-    int ndjson = (accept && strstr(accept, "application/x-ndjson")) ||
-                 (format && strcmp(format, "ndjson") == 0);
+    if (format && strcmp(format, "sse") != 0 && strcmp(format, "ndjson") != 0)
+        return bad_param(r, "format", "sse or ndjson expected", format);
+    int ndjson = format ? strcmp(format, "ndjson") == 0
+                        : accept && strstr(accept, "application/x-ndjson") != NULL;
     return tsd_stream_reply(r, s, q.idx, q.n, since, ndjson);
 }
 

@@ -71,8 +71,11 @@ def test_out_of_range_values_all_reported(daemon, sid):
                400, "/format")
     is_problem(requests.get(f"{daemon.url}/v1/sessions/{sid}/series",
                             params={"channels": "vehicle.speed,bogus"}), 404, "/channels")
-    is_problem(requests.get(f"{daemon.url}/v1/sessions/{sid}/stream",
-                            headers={"Last-Event-ID": "abc"}), 400, "/Last-Event-ID")
+    p = is_problem(requests.get(f"{daemon.url}/v1/sessions/{sid}/stream",
+                                headers={"Last-Event-ID": "abc"}), 400, "/Last-Event-ID")
+    assert p["detail"].startswith("header Last-Event-ID:"), p
+    is_problem(requests.get(f"{daemon.url}/v1/sessions/{sid}/stream", params={"format": "xml"}),
+               400, "/format")
     is_problem(requests.get(daemon.url + "/v1/sessions", params={"page_size": 0}), 400,
                "/page_size")
 

@@ -248,6 +248,15 @@ def test_ndjson_stream(daemon):
         rows = [json.loads(l) for l in r.iter_lines() if l]
     assert [x["index"] for x in rows] == list(range(501))
     assert all(x["values"]["sprocket.torque"] == 6000.0 for x in rows)
+    # format= (api/openapi.yaml: sse | ndjson) chooses over the Accept header
+    url = daemon.url + s["links"]["stream"]
+    with requests.get(url, params={"format": "ndjson", "since": 499}, stream=True,
+                      headers={"Accept": "text/event-stream"}, timeout=30) as r:
+        assert r.headers["Content-Type"] == "application/x-ndjson"
+        assert [json.loads(l)["index"] for l in r.iter_lines() if l] == [500]
+    with requests.get(url, params={"format": "sse", "since": 499}, stream=True,
+                      headers={"Accept": "application/x-ndjson"}, timeout=30) as r:
+        assert r.headers["Content-Type"] == "text/event-stream"
 
 
 def test_fft_amplitude_spectrum(daemon):

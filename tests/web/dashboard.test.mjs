@@ -271,6 +271,17 @@ async function main() {
       assert(/created|paused/.test(row), `list row status: ${row}`);
     });
 
+    await check('step: a synchronous step stores its rows, the session pauses', async () => {
+      const rate = await page.evaluate(() => window.tanksimDebug.state.session.config.run.sample_rate);
+      await page.locator('#step-duration').fill('0.2');
+      await page.click('#step-btn');
+      const want = Math.round(0.2 * rate) + 1;
+      await waitFor(async () => (await sampleCount(page)) === want, `${want} samples after the step`, 20000);
+      await waitFor(async () => (await page.locator('#session-status').innerText()) === 'paused', 'status paused', 15000);
+      const t = await page.evaluate(() => window.tanksimDebug.state.session.t);
+      assert(Math.abs(t - 0.2) < 1e-9, `session t after the step: ${t}`);
+    });
+
     await check('run to end: progress reaches 100 %, plot data grows over the stream', async () => {
       const dur = await page.evaluate(() => window.tanksimDebug.state.session.config.run.duration);
       const rate = await page.evaluate(() => window.tanksimDebug.state.session.config.run.sample_rate);

@@ -354,9 +354,8 @@ async function onStep() {
   hideError($('session-error'));
   const duration = Number($('step-duration').value);
   try {
-    const r = await api.step(s.id, duration);
-    if (r && typeof r.done === 'boolean' && !r.done) pollOperation(r.id);
-    else await refreshSession();
+    await api.step(s.id, duration); /* synchronous: the answer is the session's new state */
+    await refreshSession();
     startStream(); /* fetch the new rows (the stream ends when they are sent) */
     refreshSessions();
   } catch (e) {
@@ -402,8 +401,7 @@ function pollOperation(id, first) {
       return;
     }
     const m = op.metadata || {};
-    let p = typeof m.progress === 'number' ? m.progress : 0;
-    if (p > 1.0001) p /= 100;
+    const p = typeof m.progress === 'number' ? m.progress : 0; /* [0, 1] (api/openapi.yaml) */
     if (op.done) {
       stopOpPolling();
       const cancelled = op.error && isCancelled(op.error);
@@ -420,7 +418,7 @@ function pollOperation(id, first) {
     $('session-meta').dataset.t = String(m.t ?? '');
     state.op.timer = setTimeout(() => tick(), 300);
   };
-  tick(first && first.done !== undefined ? first : undefined);
+  tick(first); /* POST run answers with the operation itself */
 }
 
 async function onCancel() {
