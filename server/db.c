@@ -307,6 +307,40 @@ out:
     return rc;
 }
 
+int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row, int nchannel)
+{
+    sqlite3_stmt *st = NULL;
+    int rc = -1;
+    *idx = -1;
+    *t = 0.0;
+    pthread_mutex_lock(&db->rmu);
+    if (sqlite3_prepare_v2(db->r,
+                           "SELECT idx, vals FROM samples WHERE seq=? ORDER BY idx DESC LIMIT 1",
+                           -1, &st, NULL) != SQLITE_OK)
+        goto out;
+    sqlite3_bind_int64(st, 1, seq);
+    int s = sqlite3_step(st);
+    if (s == SQLITE_ROW) {
+        *idx = (long)sqlite3_column_int64(st, 0);
+        const void *b = sqlite3_column_blob(st, 1);
+        size_t nb = (size_t)sqlite3_column_bytes(st, 1);
+        if (b && nb >= sizeof(double)) memcpy(t, b, sizeof(double));
+        if (row) {
+            size_t rowbytes = sizeof(double) * (size_t)nchannel;
+            memset(row, 0, rowbytes);
+            if (b) memcpy(row, b, nb < rowbytes ? nb : rowbytes);
+        }
+        rc = 0;
+    } else {
+        rc = s == SQLITE_DONE ? 0 : -1;
+    }
+out:
+    if (rc) log_err(db->r, "read last sample");
+    sqlite3_finalize(st);
+    pthread_mutex_unlock(&db->rmu);
+    return rc;
+}
+
 long tsd_db_rows(tsd_db *db, long seq, long from, long to, long every, long max, int nchannel,
                  long *index, double *rows, int *more)
 {

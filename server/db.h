@@ -57,6 +57,11 @@ int tsd_db_state(tsd_db *db, long seq, void **blob, size_t *size, long *idx);
 /* The latest snapshot with index <= at (same contract as tsd_db_state). */
 int tsd_db_snapshot_at(tsd_db *db, long seq, long at, void **blob, size_t *size, long *idx);
 
+/* The stored row with the highest index of a session: *idx (-1 when it has
+ * none), *t its first value (the time channel), and, when row is not NULL,
+ * its nchannel values. */
+int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row, int nchannel);
+
 /* Drop samples and snapshots after idx (rows a crash left beyond the last snapshot). */
 int tsd_db_truncate(tsd_db *db, long seq, long idx);
 

@@ -103,6 +103,9 @@ static void frames_free(void *cls)
 static ts_rc state_at(frames_ctx *f, long k)
 {
     const ts_model *m = f->s->m;
+    if (f->s->unrestored) /* its snapshots do not fit this build (session.c) */
+        return ts_err_set(&f->err, TS_ERR_STATE, NULL, "session %s has no frames here: %s",
+                          f->s->id, f->s->error);
     if (!f->d && !(f->d = ts_data_make(m, &f->err))) return f->err.code;
     void *blob = NULL;
     size_t n = 0;
@@ -198,7 +201,9 @@ static int queue_draw(frames_ctx *f)
     MHD_suspend_connection(f->conn);
     if (tsd_pool_submit(f->srv->pool, draw_job, f, 0) != 0) {
         f->pending = 0;
-        f->rc = ts_err_set(&f->err, TS_ERR_STATE, NULL, "the daemon is shutting down");
+        f->rc = atomic_load(&f->srv->stopping)
+                    ? tsd_err_shutdown(&f->err)
+                    : ts_err_set(&f->err, TS_ERR_NOMEM, NULL, "out of memory queueing a frame");
         MHD_resume_connection(f->conn);
         return -1;
     }

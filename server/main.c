@@ -7,10 +7,14 @@
  * global flag are needed: the main thread simply waits for one.
  *
  * Shutdown order: mark stopping (running jobs stop at their next sample and
- * store what they have; their sessions become "interrupted"), wake streams,
- * drain and join the pool (deferred step replies are resumed by their jobs),
- * wake streams again, stop libmicrohttpd (no connection is left suspended),
- * then free sessions and close the database.
+ * store what they have; their sessions become "interrupted"; from here new
+ * work — create, step, run, frames, modes — is answered 503 "shutting down"
+ * with Retry-After, and /v1/health answers 503 "stopping"), wake streams,
+ * drain and join the pool (deferred step replies are resumed by their jobs;
+ * the pool stays allocated, refusing submissions, while HTTP threads run),
+ * wake streams again, keep serving reads for --drain seconds (a second
+ * signal ends that at once), stop libmicrohttpd (no connection is left
+ * suspended), then free the pool and sessions and close the database.
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -21,6 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "../sim/version.h"
@@ -48,6 +53,9 @@ static void usage(FILE *f)
                "  --max-sessions N sessions kept at once (default 1000; more -> 429)\n"
                "  --max-samples N  sample rows per series/FFT response (default 100000)\n"
                "  --max-step S     longest synchronous step in simulated seconds (default 10)\n"
+               "  --drain S        after SIGTERM/SIGINT keep answering S seconds (reads served,\n"
+               "                   new work 503 with Retry-After) before closing; a second\n"
+               "                   signal closes at once (default 0)\n"
                "  --routes         print the routing table and exit\n"
                "  --help           this text\n"
                "  --version        print the version\n");
@@ -145,6 +153,14 @@ int main(int argc, char **argv)
                 return 2;
             }
             o->max_step = x;
+        } else if (strcmp(a, "--drain") == 0) {
+            char *end;
+            double x = strtod(v, &end);
+            if (*end || !(x >= 0) || x > 86400) {
+                fprintf(stderr, "tanksimd: %s: seconds in [0, 86400] expected, got '%s'\n", a, v);
+                return 2;
+            }
+            o->drain = x;
         } else if (strcmp(a, "--token") == 0) {
             snprintf(o->token, sizeof o->token, "%s", v);
         } else if (strcmp(a, "--web-root") == 0) {
@@ -188,7 +204,7 @@ int main(int argc, char **argv)
     srv.pool = tsd_pool_start(o->threads);
     if (!srv.pool || tsd_server_start(&srv, err, sizeof err) != 0) {
         fprintf(stderr, "tanksimd: %s\n", srv.pool ? err : "cannot start worker threads");
-        tsd_pool_stop(srv.pool);
+        tsd_pool_free(srv.pool);
         tsd_renderers_free(&srv);
         tsd_sessions_free(&srv);
         tsd_ops_free(&srv);
@@ -207,10 +223,19 @@ int main(int argc, char **argv)
     fprintf(stderr, "tanksimd: %s received, shutting down\n", sig == SIGINT ? "SIGINT" : "SIGTERM");
     atomic_store(&srv.stopping, 1);
     tsd_sessions_wake_all(&srv);
-    tsd_pool_stop(srv.pool);
-    srv.pool = NULL;
+    tsd_pool_stop(srv.pool); /* still allocated: handlers may call it until MHD stops */
     tsd_sessions_wake_all(&srv);
+    if (o->drain > 0) {
+        fprintf(stderr, "tanksimd: draining for %g s (a second signal stops at once)\n",
+                o->drain);
+        struct timespec ts = {(time_t)o->drain,
+                              (long)((o->drain - (double)(time_t)o->drain) * 1e9)};
+        while (sigtimedwait(&stop, NULL, &ts) < 0 && errno == EINTR)
+            ;
+    }
     tsd_server_stop(&srv);
+    tsd_pool_free(srv.pool);
+    srv.pool = NULL;
     tsd_renderers_free(&srv);
     tsd_sessions_free(&srv);
     tsd_ops_free(&srv);

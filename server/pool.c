@@ -30,6 +30,7 @@ struct tsd_pool {
     pthread_cond_t cv;
     job *head, *tail;
     int stopping;
+    int joined;  /* tsd_pool_stop has run (it joins once) */
     int njobs;   /* queued */
     int running; /* being run */
     int nthreads;
@@ -170,11 +171,20 @@ void tsd_pool_stop(tsd_pool *p)
 {
     if (!p) return;
     pthread_mutex_lock(&p->mu);
+    int joined = p->joined;
     p->stopping = 1;
+    p->joined = 1;
     pthread_cond_broadcast(&p->cv);
     pthread_mutex_unlock(&p->mu);
+    if (joined) return;
     for (int i = 0; i < p->nthreads; i++)
         pthread_join(p->threads[i], NULL);
+}
+
+void tsd_pool_free(tsd_pool *p)
+{
+    if (!p) return;
+    tsd_pool_stop(p);
     pthread_mutex_destroy(&p->mu);
     pthread_cond_destroy(&p->cv);
     free(p->threads);

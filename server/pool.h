@@ -11,7 +11,10 @@
  *
  * Shutdown (tsd_pool_stop): no new jobs are accepted, every queued job is
  * still run (jobs see tsd_server.stopping, set before, and finish quickly),
- * then the threads are joined. Jobs own their argument.
+ * then the threads are joined. The pool itself stays valid until
+ * tsd_pool_free — HTTP threads keep serving during shutdown and may still
+ * call tsd_pool_submit (refused, -1) or tsd_pool_pending (0), so it is freed
+ * only after libmicrohttpd has stopped. Jobs own their argument.
  */
 #ifndef TSD_POOL_H
 #define TSD_POOL_H
@@ -31,8 +34,12 @@ int tsd_pool_submit(tsd_pool *p, tsd_job_fn fn, void *arg, double not_before);
 /* Jobs queued or running (for /metrics). */
 int tsd_pool_pending(tsd_pool *p);
 
-/* Drain (run every queued job, ignoring not_before), join, free. NULL is a no-op. */
+/* Drain (run every queued job, ignoring not_before) and join; later submits
+ * are refused. NULL is a no-op; calling it twice is harmless. */
 void tsd_pool_stop(tsd_pool *p);
+
+/* Free a pool (stopping it first if needed). NULL is a no-op. */
+void tsd_pool_free(tsd_pool *p);
 
 /* Monotonic clock [s]. */
 double tsd_now(void);

@@ -10,6 +10,9 @@
  *            RF_SESSION the first parameter is a session id: the session is
  *                       looked up (404 problem if unknown) into r->session
  *                       before the handler runs, released after the response
+ *            RF_WORK    starts work on the worker pool: once shutdown has
+ *                       begun it is answered 503 /problems/shutting-down
+ *                       with Retry-After (reads are still served)
  *   summary  one line, the same as the operation summary in api/openapi.yaml
  * Rows are tried in order; a path that matches no row gets 404, a path that
  * matches with another method 405. Every error body is
@@ -46,7 +49,7 @@
 
 typedef enum MHD_Result (*tsd_handler)(tsd_request *r);
 
-enum { RF_PUBLIC = 1, RF_SESSION = 2 };
+enum { RF_PUBLIC = 1, RF_SESSION = 2, RF_WORK = 4 };
 
 typedef struct tsd_route_row {
     const char *method;
@@ -193,7 +196,11 @@ static enum MHD_Result defer_body_job(tsd_request *r, int optional, tsd_job_fn j
     r->async_status = status;
     tsd_request_defer(r, reply_async);
     if (tsd_pool_submit(r->srv->pool, job, r, 0) != 0) {
-        ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "the daemon is shutting down");
+        /* refused only by a stopped pool (or no memory for the job record) */
+        if (atomic_load(&r->srv->stopping))
+            tsd_err_shutdown(&r->async_err);
+        else
+            ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "out of memory queueing the job");
         tsd_request_resume(r);
     }
     return MHD_YES;
@@ -201,10 +208,15 @@ static enum MHD_Result defer_body_job(tsd_request *r, int optional, tsd_job_fn j
 
 /* ---- service --------------------------------------------------------------------- */
 
+/* 200 {"status": "ok"}; 503 {"status": "stopping"} once shutdown has begun,
+ * so that a load balancer or a client stops sending new work. */
 static enum MHD_Result get_health(tsd_request *r)
 {
-    return tsd_reply_json(r, MHD_HTTP_OK,
-                          json_pack("{s:s,s:s}", "status", "ok", "version", TS_VERSION));
+    int stopping = atomic_load(&r->srv->stopping);
+    if (stopping) r->retry_after = TSD_RETRY_AFTER_S;
+    return tsd_reply_json(r, stopping ? MHD_HTTP_SERVICE_UNAVAILABLE : MHD_HTTP_OK,
+                          json_pack("{s:s,s:s}", "status", stopping ? "stopping" : "ok",
+                                    "version", TS_VERSION));
 }
 
 static enum MHD_Result get_openapi(tsd_request *r)
@@ -794,18 +806,18 @@ static const tsd_route_row routes[] = {
     {"GET", "/v1/presets", get_presets, 0, "List shipped presets"},
     {"GET", "/v1/presets/{name}", get_preset, 0, "One preset, as shipped and resolved"},
     {"GET", "/v1/schema", get_schema, 0, "JSON Schema of a run config"},
-    {"POST", "/v1/sessions", post_sessions, 0, "Create a session from a preset and overrides"},
+    {"POST", "/v1/sessions", post_sessions, RF_WORK, "Create a session from a preset and overrides"},
     {"GET", "/v1/sessions", get_sessions, 0, "List sessions (paged)"},
     {"GET", "/v1/sessions/{id}", get_session, RF_SESSION, "One session"},
     {"DELETE", "/v1/sessions/{id}", delete_session, RF_SESSION, "Delete a session and its data"},
-    {"POST", "/v1/sessions/{id}/step", post_step, RF_SESSION, "Advance synchronously (bounded)"},
-    {"POST", "/v1/sessions/{id}/run", post_run, RF_SESSION, "Start an asynchronous run"},
+    {"POST", "/v1/sessions/{id}/step", post_step, RF_SESSION | RF_WORK, "Advance synchronously (bounded)"},
+    {"POST", "/v1/sessions/{id}/run", post_run, RF_SESSION | RF_WORK, "Start an asynchronous run"},
     {"GET", "/v1/sessions/{id}/series", get_series, RF_SESSION, "Stored samples (JSON or CSV)"},
     {"GET", "/v1/sessions/{id}/stream", get_stream, RF_SESSION, "Live samples (SSE or NDJSON)"},
     {"GET", "/v1/sessions/{id}/fft", get_fft, RF_SESSION, "Amplitude spectrum of a channel"},
-    {"GET", "/v1/sessions/{id}/frame.png", get_frame, RF_SESSION, "One rendered frame (PNG)"},
-    {"GET", "/v1/sessions/{id}/frames", get_frames, RF_SESSION, "Animation of stored frames"},
-    {"POST", "/v1/modes", post_modes, 0, "Track eigenanalysis (tanksim modes)"},
+    {"GET", "/v1/sessions/{id}/frame.png", get_frame, RF_SESSION | RF_WORK, "One rendered frame (PNG)"},
+    {"GET", "/v1/sessions/{id}/frames", get_frames, RF_SESSION | RF_WORK, "Animation of stored frames"},
+    {"POST", "/v1/modes", post_modes, RF_WORK, "Track eigenanalysis (tanksim modes)"},
     {"GET", "/v1/operations/{id}", get_operation, 0, "State of a run operation"},
     {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "Cancel a run operation"},
     {"GET", "/", tsd_static_index, RF_PUBLIC, "The browser dashboard (web_static/index.html)"},
@@ -878,6 +890,11 @@ enum MHD_Result tsd_route(tsd_request *r)
                                  "this daemon needs 'Authorization: Bearer TOKEN' (--token)", NULL);
     }
     if (row) {
+        /* A check ahead of the handler for a clear answer; a submission that
+         * races with the start of shutdown is refused by the stopped pool and
+         * answered the same way (TSD_ERR_SHUTDOWN). */
+        if ((row->flags & RF_WORK) && atomic_load(&r->srv->stopping))
+            return tsd_reply_shutting_down(r, NULL);
         if (row->flags & RF_SESSION) {
             r->session = tsd_session_get(r->srv, r->params[0]);
             if (!r->session) {

@@ -31,6 +31,11 @@ static enum MHD_Result queue(tsd_request *r, unsigned status, struct MHD_Respons
     }
     if (r->location[0]) MHD_add_response_header(resp, MHD_HTTP_HEADER_LOCATION, r->location);
     if (r->next_token[0]) MHD_add_response_header(resp, "X-Next-Page-Token", r->next_token);
+    if (r->retry_after > 0) {
+        char ra[16];
+        snprintf(ra, sizeof ra, "%d", r->retry_after);
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER, ra);
+    }
     if (r->www_authenticate)
         MHD_add_response_header(resp, MHD_HTTP_HEADER_WWW_AUTHENTICATE,
                                 "Bearer realm=\"tanksimd\"");
@@ -78,8 +83,21 @@ enum MHD_Result tsd_reply_problem_json(tsd_request *r, unsigned status, json_t *
     return reply_dump(r, status, p, "application/problem+json");
 }
 
+ts_rc tsd_err_shutdown(ts_err *err)
+{
+    return ts_err_set(err, TSD_ERR_SHUTDOWN, NULL, "%s", TSD_SHUTDOWN_MSG);
+}
+
+enum MHD_Result tsd_reply_shutting_down(tsd_request *r, const char *detail)
+{
+    r->retry_after = TSD_RETRY_AFTER_S;
+    return tsd_reply_problem(r, MHD_HTTP_SERVICE_UNAVAILABLE, "/problems/shutting-down",
+                             "Shutting down", detail ? detail : TSD_SHUTDOWN_MSG, NULL);
+}
+
 enum MHD_Result tsd_reply_err(tsd_request *r, const ts_err *err, json_t *errors)
 {
+    if (err->code == TSD_ERR_SHUTDOWN) return tsd_reply_shutting_down(r, err->msg);
     json_t *p = tsa_problem_from_err(err, errors);
     return reply_dump(r, (unsigned)tsa_http_status(err->code), p, "application/problem+json");
 }

@@ -40,7 +40,20 @@ typedef struct tsd_options {
     long max_samples;      /* sample rows per series/FFT response (page past it) */
     double max_step;       /* longest synchronous step [s simulated] (longer -> 422) */
     char web_root[512];    /* dashboard files served at / (static_files.c) */
+    double drain;          /* after SIGTERM/SIGINT, keep answering this long [s] (main.c) */
 } tsd_options;
+
+/* The daemon's own result code beside sim's ts_rc values: work refused (or a
+ * step cut short) because shutdown has begun. tsd_reply_err answers it with
+ * 503 /problems/shutting-down and Retry-After: TSD_RETRY_AFTER_S — never with
+ * the "Out of memory" of TS_ERR_NOMEM, which is what a refused submission to
+ * the stopped worker pool used to be reported as. */
+#define TSD_ERR_SHUTDOWN ((ts_rc)(TS_NRC + 1))
+#define TSD_RETRY_AFTER_S 5 /* [s] a restart under systemd (RestartSec) takes about this */
+#define TSD_SHUTDOWN_MSG "the daemon is shutting down; retry once it is back"
+
+/* Fill err with TSD_ERR_SHUTDOWN and TSD_SHUTDOWN_MSG; returns the code. */
+ts_rc tsd_err_shutdown(ts_err *err);
 
 typedef struct tsd_server {
     tsd_options opt;
@@ -84,6 +97,7 @@ typedef struct tsd_request {
     char next_token[32];           /* X-Next-Page-Token header of the reply ("" = none) */
     char etag[96];   /* ETag of a cacheable response (frames of stored times) */
     int www_authenticate;          /* add WWW-Authenticate: Bearer (401) */
+    int retry_after;               /* add Retry-After: N seconds (0 = none) */
 } tsd_request;
 
 /* Start listening as configured; 0 on success, -1 with a message in err. */
@@ -102,11 +116,15 @@ enum MHD_Result tsd_reply_owned(tsd_request *r, unsigned status, const char *con
                                 char *text, size_t len);
 /* Reply with a ready problem document (steals p). */
 enum MHD_Result tsd_reply_problem_json(tsd_request *r, unsigned status, json_t *p);
-/* Problem from a ts_err (status from api/problem.h); errors may be NULL (not stolen). */
+/* Problem from a ts_err (status from api/problem.h; TSD_ERR_SHUTDOWN -> 503
+ * shutting-down with Retry-After); errors may be NULL (not stolen). */
 enum MHD_Result tsd_reply_err(tsd_request *r, const ts_err *err, json_t *errors);
 /* Suspend r until a worker calls tsd_request_resume; on_resume then replies. */
 void tsd_request_defer(tsd_request *r, enum MHD_Result (*on_resume)(tsd_request *r));
 void tsd_request_resume(tsd_request *r);
+
+/* 503 /problems/shutting-down with Retry-After (detail NULL: TSD_SHUTDOWN_MSG). */
+enum MHD_Result tsd_reply_shutting_down(tsd_request *r, const char *detail);
 
 /* Route the request (routes.c). */
 enum MHD_Result tsd_route(tsd_request *r);

@@ -66,6 +66,7 @@ typedef struct tsd_registry {
     pthread_mutex_t mu;
     tsd_session **v; /* in seq order */
     int n, cap;
+    int reserved; /* places taken by creates in progress (n + reserved <= --max-sessions) */
     long next_seq;
 } tsd_registry;
 
@@ -174,14 +175,86 @@ static int registry_add(tsd_registry *g, tsd_session *s)
         g->v = nv;
         g->cap = cap;
     }
-    g->v[g->n++] = s;
+    /* Keep seq order (listing pages on seq): concurrent creates draw their
+     * seq before storing and may get here in another order. */
+    int i = g->n;
+    while (i > 0 && g->v[i - 1]->seq > s->seq)
+        i--;
+    memmove(&g->v[i + 1], &g->v[i], sizeof g->v[0] * (size_t)(g->n - i));
+    g->v[i] = s;
+    g->n++;
     return 0;
 }
 
-/* Recovery of one stored session (tsd_db_sessions callback). */
+/* Store row 0 and the state at it (a new session, or a stored one whose
+ * creation was cut between its record and its first row). 0 on success. */
+static int store_first_row(tsd_session *s)
+{
+    ts_err err;
+    if (ts_state_save(s->m, s->d, s->snapshot, s->snapshot_size, &err) != TS_OK) {
+        fprintf(stderr, "tanksimd: session %s: cannot save its state: %s\n", s->id, err.msg);
+        return -1;
+    }
+    return tsd_db_append(s->srv->db, s->seq, 0, 1, s->nch, ts_latest(s->d), s->snapshot,
+                         s->snapshot_size, ts_time(s->d), 0, tsd_status_name(s->status));
+}
+
+/* Bring a loaded session to its last stored row: restore the latest state
+ * snapshot (invariant 2: it is the state at the last stored row). 0 on
+ * success. -1 with the reason in why when it cannot: then NOTHING is deleted
+ * (the snapshot may be from a build with another state layout, and a build
+ * that reads it may come back), d is left unusable, and t, index and latest
+ * describe the last stored row, so the rows stay readable. */
+static int restore_stored(tsd_session *s, char *why, size_t n)
+{
+    tsd_db *db = s->srv->db;
+    ts_err err;
+    void *blob = NULL;
+    size_t size = 0;
+    long sidx = -1, last = -1;
+    double t_last = 0.0;
+    int rc = -1;
+    if (tsd_db_last_row(db, s->seq, &last, &t_last, s->latest, s->nch) != 0 ||
+        tsd_db_state(db, s->seq, &blob, &size, &sidx) != 0)
+        snprintf(why, n, "its stored rows or state cannot be read (see the daemon log)");
+    else if (ts_reset(s->m, s->d, &err) != TS_OK)
+        snprintf(why, n, "its model cannot be reset: %.300s", err.msg);
+    else if (!blob && last > 0)
+        snprintf(why, n, "no stored state for its %ld stored rows", last + 1);
+    else if (blob && ts_state_restore(s->m, s->d, blob, size, &err) != TS_OK)
+        snprintf(why, n, "its stored state cannot be restored: %.300s", err.msg);
+    else if (!blob && last < 0 && store_first_row(s) != 0)
+        snprintf(why, n, "its first row cannot be stored (see the daemon log)");
+    else if (last >= 0 ? ts_sample_index(s->d) > last : blob != NULL)
+        snprintf(why, n, "its stored state is at row %ld but its stored rows end at %ld",
+                 ts_sample_index(s->d), last);
+    else
+        rc = 0;
+    free(blob);
+    if (rc != 0) {
+        s->index = last;
+        s->t = t_last;
+        return -1;
+    }
+    if (last > ts_sample_index(s->d)) { /* a crash left rows past the state (invariant 2: none) */
+        fprintf(stderr, "tanksimd: session %s: rows %ld..%ld lie past its stored state; dropped\n",
+                s->id, ts_sample_index(s->d) + 1, last);
+        tsd_db_truncate(db, s->seq, ts_sample_index(s->d));
+    }
+    s->t = ts_time(s->d);
+    s->index = ts_sample_index(s->d);
+    memcpy(s->latest, ts_latest(s->d), sizeof(double) * (size_t)s->nch);
+    return 0;
+}
+
+/* Recovery of one stored session (tsd_db_sessions callback). A session that
+ * cannot be brought back (config no longer builds a model, state cannot be
+ * restored) is listed as failed with the reason, in memory only: its stored
+ * rows, state and status are left as they are, so nothing is lost and a
+ * build that can read them continues it. */
 typedef struct {
     tsd_server *srv;
-    int loaded, interrupted;
+    int loaded, interrupted, unrestored;
 } load_ctx;
 
 static void load_session(void *ud, long seq, const char *id, double created, const char *preset,
@@ -192,8 +265,13 @@ static void load_session(void *ud, long seq, const char *id, double created, con
     json_error_t je;
     json_t *resolved = json_loads(config_json, 0, &je);
     ts_err err;
+    ts_err_clear(&err);
     tsd_session *s = session_alloc(srv, resolved ? resolved : json_object(), NULL, &err);
-    if (!s) return;
+    if (!s) {
+        fprintf(stderr, "tanksimd: session %s not loaded: %s (its stored data are kept)\n", id,
+                err.msg);
+        return;
+    }
     snprintf(s->id, sizeof s->id, "%s", id);
     snprintf(s->preset, sizeof s->preset, "%s", preset);
     s->seq = seq;
@@ -203,30 +281,35 @@ static void load_session(void *ud, long seq, const char *id, double created, con
     if (s->status == TSD_RUNNING) {
         s->status = TSD_INTERRUPTED; /* the daemon died during the run */
         lc->interrupted++;
+        tsd_db_session_status(srv->db, seq, tsd_status_name(s->status), s->error);
     }
+    char why[TS_ERR_MSG_LEN];
+    int ok;
     if (!s->m) {
-        s->status = TSD_FAILED;
-        snprintf(s->error, sizeof s->error, "model cannot be rebuilt: %.300s", err.msg);
-    } else {
-        void *blob = NULL;
-        size_t n = 0;
-        long sidx = 0;
-        ts_rc rc = ts_reset(s->m, s->d, &err);
-        if (rc == TS_OK && tsd_db_state(srv->db, seq, &blob, &n, &sidx) == 0 && blob)
-            rc = ts_state_restore(s->m, s->d, blob, n, &err);
-        free(blob);
-        if (rc != TS_OK) {
-            s->status = TSD_FAILED;
-            snprintf(s->error, sizeof s->error, "state cannot be restored: %.300s", err.msg);
+        snprintf(why, sizeof why, "its model cannot be rebuilt: %.300s",
+                 resolved ? err.msg : "the stored config is not JSON");
+        long last = -1;
+        double t_last = 0.0;
+        ok = 0;
+        if (tsd_db_last_row(srv->db, seq, &last, &t_last, NULL, 0) == 0) {
+            s->index = last;
+            s->t = t_last;
         }
-        /* Rows beyond the snapshot cannot exist (invariant 2); drop any anyway. */
-        tsd_db_truncate(srv->db, seq, ts_sample_index(s->d));
-        s->t = ts_time(s->d);
-        s->index = ts_sample_index(s->d);
-        memcpy(s->latest, ts_latest(s->d), sizeof(double) * (size_t)s->nch);
+    } else {
+        ok = restore_stored(s, why, sizeof why) == 0;
     }
-    tsd_db_session_status(srv->db, seq, tsd_status_name(s->status), s->error);
+    if (!ok) {
+        s->status = TSD_FAILED;
+        s->unrestored = 1;
+        snprintf(s->error, sizeof s->error, "%s", why);
+        lc->unrestored++;
+        fprintf(stderr,
+                "tanksimd: session %s cannot be advanced: %s; its %ld stored rows are kept\n", id,
+                why, s->index + 1);
+    }
     if (registry_add(srv->reg, s) != 0) {
+        fprintf(stderr, "tanksimd: session %s not loaded: out of memory (its stored data are "
+                        "kept)\n", id);
         session_free(s);
         return;
     }
@@ -243,14 +326,16 @@ int tsd_sessions_init(tsd_server *srv, char *err, size_t errlen)
     }
     pthread_mutex_init(&srv->reg->mu, NULL);
     srv->reg->next_seq = 1;
-    load_ctx lc = {srv, 0, 0};
+    load_ctx lc = {srv, 0, 0, 0};
     if (tsd_db_sessions(srv->db, load_session, &lc) != 0) {
         snprintf(err, errlen, "cannot read stored sessions");
         return -1;
     }
     if (lc.loaded)
-        fprintf(stderr, "tanksimd: %d stored sessions loaded, %d interrupted runs\n", lc.loaded,
-                lc.interrupted);
+        fprintf(stderr,
+                "tanksimd: %d stored sessions loaded, %d interrupted runs, %d cannot be "
+                "advanced\n",
+                lc.loaded, lc.interrupted, lc.unrestored);
     return 0;
 }
 
@@ -360,25 +445,14 @@ void tsd_session_unwait(tsd_session *s, tsd_waiter *w)
 
 /* ---- create / delete / describe ------------------------------------------------ */
 
-ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, json_t *errors,
-                         ts_err *err)
+/* The part of tsd_session_create after a registry place was reserved: build,
+ * store row 0, and add to the registry (taking the reservation over). */
+static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolved,
+                             const ts_config *cfg, tsd_session **out, ts_err *err)
 {
-    *out = NULL;
-    ts_config cfg;
-    json_t *resolved = NULL;
-    ts_rc rc = tsa_config_load(doc, &cfg, &resolved, errors, err);
-    if (rc != TS_OK) return rc;
-    pthread_mutex_lock(&srv->reg->mu);
-    int full = srv->reg->n >= srv->opt.max_sessions;
-    pthread_mutex_unlock(&srv->reg->mu);
-    if (full) {
-        json_decref(resolved);
-        return ts_err_set(err, TS_ERR_LIMIT, NULL,
-                          "%d sessions exist (--max-sessions); delete some first",
-                          srv->opt.max_sessions);
-    }
-    tsd_session *s = session_alloc(srv, resolved, &cfg, err);
+    tsd_session *s = session_alloc(srv, resolved, cfg, err);
     if (!s) return err->code;
+    ts_rc rc;
     if (!s->m) {
         rc = err->code != TS_OK ? err->code : TS_ERR_INTERNAL;
         session_free(s);
@@ -407,13 +481,7 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
                                                 cfg_text, s->nch, "created")
                         : -1;
     free(cfg_text);
-    if (dbrc == 0) {
-        ts_err e2;
-        dbrc = ts_state_save(s->m, s->d, s->snapshot, s->snapshot_size, &e2) == TS_OK ? 0 : -1;
-        if (dbrc == 0)
-            dbrc = tsd_db_append(srv->db, s->seq, 0, 1, s->nch, ts_latest(s->d), s->snapshot,
-                                 s->snapshot_size, 0.0, 0, "created");
-    }
+    if (dbrc == 0) dbrc = store_first_row(s);
     if (dbrc != 0) {
         tsd_db_session_delete(srv->db, s->seq);
         session_free(s);
@@ -421,6 +489,7 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
     }
     pthread_mutex_lock(&srv->reg->mu);
     int ok = registry_add(srv->reg, s) == 0;
+    if (ok) srv->reg->reserved--; /* the place is taken now */
     pthread_mutex_unlock(&srv->reg->mu);
     if (!ok) {
         tsd_db_session_delete(srv->db, s->seq);
@@ -432,6 +501,37 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
     ref(s);
     *out = s;
     return TS_OK;
+}
+
+ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, json_t *errors,
+                         ts_err *err)
+{
+    *out = NULL;
+    ts_config cfg;
+    json_t *resolved = NULL;
+    ts_rc rc = tsa_config_load(doc, &cfg, &resolved, errors, err);
+    if (rc != TS_OK) return rc;
+    /* Check the cap and reserve a place in one lock section: creates in
+     * progress count, so concurrent creates cannot pass the cap together. */
+    tsd_registry *g = srv->reg;
+    pthread_mutex_lock(&g->mu);
+    int full = g->n + g->reserved >= srv->opt.max_sessions;
+    if (!full) g->reserved++;
+    pthread_mutex_unlock(&g->mu);
+    if (full) {
+        json_decref(resolved);
+        return ts_err_set(err, TS_ERR_LIMIT, NULL,
+                          "the daemon holds its limit of %d sessions (--max-sessions, counting "
+                          "creates in progress); delete some first",
+                          srv->opt.max_sessions);
+    }
+    rc = create_reserved(srv, doc, resolved, &cfg, out, err);
+    if (rc != TS_OK) {
+        pthread_mutex_lock(&g->mu);
+        g->reserved--;
+        pthread_mutex_unlock(&g->mu);
+    }
+    return rc;
 }
 
 ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
@@ -466,8 +566,8 @@ static json_t *json_locked(tsd_session *s, int summary)
         .preset = s->preset,
         .created = s->created,
         .t = s->t,
-        .index = s->index,
-        .persisted = s->m ? s->index + 1 : 0,
+        .index = s->index > 0 ? s->index : 0,
+        .persisted = s->index + 1, /* -1: a stored session without rows */
         .config = s->config,
         .m = s->m,
         .latest = s->m ? s->latest : NULL,
@@ -605,12 +705,25 @@ static void add_sim_time(tsd_server *srv, double dt_sim, double dt_wall)
     atomic_fetch_add(&srv->metrics.wall_microseconds, (long long)llround(dt_wall * 1e6));
 }
 
-/* Release busy with the new status; store it; wake streams; delete if asked. */
+/* Give busy back when nothing was advanced (a refused run): status, error
+ * and the database are left as they were. */
+static void unbusy(tsd_session *s)
+{
+    pthread_mutex_lock(&s->mu);
+    s->busy = 0;
+    int deleted = s->deleted;
+    wake_locked(s);
+    pthread_mutex_unlock(&s->mu);
+    if (deleted) tsd_db_session_delete(s->srv->db, s->seq); /* invariant 5 */
+}
+
+/* Release busy with the new status and error (NULL: none — the stored error
+ * column is cleared the same way); store it; wake streams; delete if asked. */
 static void release(tsd_session *s, tsd_status st, const char *error)
 {
     pthread_mutex_lock(&s->mu);
     s->status = st;
-    if (error) snprintf(s->error, sizeof s->error, "%s", error);
+    snprintf(s->error, sizeof s->error, "%s", error ? error : "");
     s->busy = 0;
     int deleted = s->deleted;
     wake_locked(s);
@@ -649,6 +762,16 @@ static void step_job(void *arg)
         rc = ts_err_set(&err, TS_ERR_IO, NULL, "cannot store samples (see the daemon log)");
     tsd_status st = rc == TS_OK ? (at_end(s, ts_time(s->d)) ? TSD_DONE : TSD_PAUSED) : TSD_FAILED;
     release(s, st, rc == TS_OK ? NULL : err.msg);
+    /* A step cut short is not a success: the reply says where it stopped
+     * (the session itself is fine: paused there, rows up to it stored). */
+    if (rc == TS_OK && a.reason == ADV_STOP)
+        rc = ts_err_set(&err, TSD_ERR_SHUTDOWN, NULL,
+                        "the daemon began shutting down during the step: session %s stopped at "
+                        "t = %g s (rows up to it are stored); step again once it is back",
+                        s->id, ts_time(s->d));
+    else if (rc == TS_OK && a.reason == ADV_CANCEL)
+        rc = ts_err_set(&err, TS_ERR_NOTFOUND, NULL, "session %s was deleted during the step",
+                        s->id);
     if (rc == TS_OK) {
         pthread_mutex_lock(&s->mu);
         *j->result = json_pack("{s:s,s:s,s:f,s:I,s:o}", "id", s->id, "status",
@@ -666,8 +789,11 @@ static void step_job(void *arg)
 /* Take busy for a step or run: 409 unless created | paused | interrupted. */
 static ts_rc acquire(tsd_session *s, ts_err *err)
 {
-    if (!s->m)
-        return ts_err_set(err, TS_ERR_STATE, NULL, "session %s has no model: %s", s->id, s->error);
+    if (s->unrestored) /* immutable after start-up: no lock needed */
+        return ts_err_set(err, TS_ERR_STATE, NULL,
+                          "session %s cannot be advanced by this daemon: %s (its stored rows "
+                          "are kept and can be read)",
+                          s->id, s->error);
     pthread_mutex_lock(&s->mu);
     ts_rc rc = TS_OK;
     if (s->busy || s->deleted)
@@ -695,18 +821,18 @@ ts_rc tsd_session_step(tsd_session *s, double duration, json_t **result, ts_err 
     if (rc != TS_OK) return rc;
     step_job_arg *j = calloc(1, sizeof *j);
     if (!j) {
-        release(s, s->status, NULL);
+        unbusy(s);
         return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     }
     ref(s);
     *j = (step_job_arg){s, duration, result, err, done, ud};
     if (tsd_pool_submit(s->srv->pool, step_job, j, 0) != 0) {
         free(j);
-        pthread_mutex_lock(&s->mu);
-        s->busy = 0;
-        pthread_mutex_unlock(&s->mu);
+        unbusy(s);
         tsd_session_put(s);
-        return ts_err_set(err, TS_ERR_STATE, NULL, "the daemon is shutting down");
+        return atomic_load(&s->srv->stopping)
+                   ? tsd_err_shutdown(err)
+                   : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory queueing the step");
     }
     return TS_OK;
 }
@@ -727,6 +853,7 @@ static void run_finish(run_job_arg *j, tsd_status st, ts_rc rc, const ts_err *er
 {
     tsd_session *s = j->s;
     tsd_server *srv = s->srv;
+    double t = ts_time(s->d); /* read while busy is still held (invariant 1) */
     release(s, st, rc == TS_OK || rc == TS_ERR_CANCELLED ? NULL : err->msg);
     json_t *error = NULL, *response = NULL;
     if (rc != TS_OK) {
@@ -742,7 +869,7 @@ static void run_finish(run_job_arg *j, tsd_status st, ts_rc rc, const ts_err *er
             : st == TSD_FAILED ? 3
                                : 4;
     atomic_fetch_add(&srv->metrics.runs_ended[r], 1);
-    tsd_op_progress(srv, j->op, ts_time(s->d));
+    tsd_op_progress(srv, j->op, t);
     tsd_op_finish(srv, j->op, response, error);
     tsd_session_put(s);
     free(j);
@@ -810,7 +937,7 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
     if (rc != TS_OK) return rc;
     double t0 = ts_time(s->d);
     if (until < t0) {
-        release(s, s->status, NULL);
+        unbusy(s);
         return ts_err_set(err, TS_ERR_RANGE, "/until",
                           "/until: the session is already at t = %g s, got %g", t0, until);
     }
@@ -818,8 +945,9 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
     tsd_op *op = j ? tsd_op_new(s->srv, s->id, t0, until) : NULL;
     if (!op) {
         free(j);
-        release(s, s->status, NULL);
-        return ts_err_set(err, TS_ERR_LIMIT, NULL, "too many operations in progress");
+        unbusy(s);
+        return j ? ts_err_set(err, TS_ERR_LIMIT, NULL, "too many operations in progress")
+                 : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     }
     ref(s);
     *j = (run_job_arg){s, op, until, rtf, t0, tsd_now()};
@@ -832,10 +960,17 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
     tsd_db_session_status(s->srv->db, s->seq, "running", NULL);
     *opdoc = tsd_op_json_of(s->srv, op);
     if (tsd_pool_submit(s->srv->pool, run_slice, j, 0) != 0) {
+        /* Nothing ran: the session goes back as it was, the operation ends
+         * cancelled, and the caller gets the reason (not a 202). */
+        ts_rc why = atomic_load(&s->srv->stopping)
+                        ? tsd_err_shutdown(err)
+                        : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory queueing the run");
         ts_err e2;
-        ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "the daemon is shutting down");
+        ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "%s", err->msg);
         run_finish(j, before, TS_ERR_CANCELLED, &e2);
-        return TS_OK; /* the operation reports it */
+        json_decref(*opdoc);
+        *opdoc = NULL;
+        return why;
     }
     atomic_fetch_add(&s->srv->metrics.runs_started, 1);
     return TS_OK;

@@ -56,6 +56,9 @@ typedef struct tsd_session {
     long batch_n, batch_cap, batch_first;
     void *snapshot; /* ts_state_size bytes (busy holder) */
     size_t snapshot_size;
+    int unrestored;   /* loaded at start-up but its model or stored state could not be
+                         rebuilt (reason in error): rows readable, no step or run;
+                         set before the session is shared, then immutable */
     atomic_int cancel; /* set by cancel/delete/shutdown; read by the running job */
     pthread_mutex_t mu;
     int refs;            /* (mu) */
@@ -63,7 +66,7 @@ typedef struct tsd_session {
     int busy;            /* (mu) a worker owns d */
     int deleted;         /* (mu) removed from the registry */
     double t;            /* (mu) time of the last stored row [s] */
-    long index;          /* (mu) index of the last stored row */
+    long index;          /* (mu) index of the last stored row (-1: none, unrestored only) */
     double *latest;      /* (mu) last stored row, nch values */
     char error[384];     /* (mu) message of the failure (failed) */
     char op_id[24];      /* (mu) the run operation in progress or last run */

@@ -1,0 +1,129 @@
+"""tanksimd start-up recovery when a stored session cannot be brought back
+(project rule: nothing stored is lost). A session whose stored state snapshot
+cannot be restored (written by a build with another state layout, or
+corrupt), or whose stored config no longer builds a model, must keep every
+stored sample row: the session is listed as failed with the reason, its
+rows stay readable where the model exists, stepping and running it are
+refused with a 409 problem naming why, and the "failed" is not written back
+to the store — a build that can read the snapshot again (here: the blob put
+back) continues the session where it was."""
+import sqlite3
+
+import requests
+
+from conftest import BASE_PRESET, Daemon, is_problem
+
+
+def stored(data_dir, sql, *args):
+    with sqlite3.connect(f"{data_dir}/tanksimd.db") as c:
+        return c.execute(sql, args).fetchall()
+
+
+def stored_rows(data_dir, seq=1):
+    return stored(data_dir, "SELECT idx, vals FROM samples WHERE seq=? ORDER BY idx", seq)
+
+
+def make_stepped_session(data_dir):
+    """One session stepped 0.5 s (rows 0..250 at 500 Hz); returns (id, series)."""
+    d = Daemon(data_dir=data_dir)
+    try:
+        sid = requests.post(d.url + "/v1/sessions", json={"preset": BASE_PRESET}).json()["id"]
+        r = requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.5})
+        assert r.status_code == 200, r.text
+        ser = requests.get(f"{d.url}/v1/sessions/{sid}/series").json()
+        assert ser["index"] == list(range(251))
+    finally:
+        assert d.stop() == 0
+    return sid, ser
+
+
+def test_corrupt_snapshot_keeps_rows_and_refuses_steps(tmp_path):
+    data = str(tmp_path)
+    sid, before = make_stepped_session(data)
+    rows_before = stored_rows(data)
+    assert len(rows_before) == 251
+    (good_blob,) = stored(data, "SELECT blob FROM snapshots WHERE seq=1 ORDER BY idx DESC LIMIT 1")[0]
+    # an older build's (shorter) state layout
+    stored(data, "UPDATE snapshots SET blob=? WHERE seq=1", good_blob[:-8])
+
+    d = Daemon(data_dir=data)
+    try:
+        assert stored_rows(data) == rows_before  # start-up deleted nothing
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "failed"
+        assert "state cannot be restored" in s["error"], s
+        assert s["index"] == 250 and s["samples"] == 251
+        assert s["t"] == before["channels"][0]["values"][-1]
+        after = requests.get(f"{d.url}/v1/sessions/{sid}/series").json()
+        assert after == before  # every stored row is served, unchanged
+        for path, body in (("step", {"duration": 0.1}), ("run", {})):
+            p = is_problem(requests.post(f"{d.url}/v1/sessions/{sid}/{path}", json=body), 409)
+            assert "state cannot be restored" in p["detail"], p
+        assert stored_rows(data) == rows_before
+    finally:
+        assert d.stop() == 0
+    # the failure was not written over the stored status
+    assert stored(data, "SELECT status FROM sessions WHERE seq=1") == [("paused",)]
+    assert stored_rows(data) == rows_before
+
+    # a build that reads the snapshot again continues the session
+    stored(data, "UPDATE snapshots SET blob=? WHERE seq=1", good_blob)
+    d = Daemon(data_dir=data)
+    try:
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "paused" and s["index"] == 250 and "error" not in s
+        r = requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1})
+        assert r.status_code == 200 and r.json()["index"] == 300, r.text
+        ser = requests.get(f"{d.url}/v1/sessions/{sid}/series").json()
+        assert ser["index"] == list(range(301))
+        assert ser["channels"][1]["values"][:251] == before["channels"][1]["values"]
+    finally:
+        d.stop()
+
+
+def test_unbuildable_config_keeps_rows_and_status(tmp_path):
+    data = str(tmp_path)
+    sid, before = make_stepped_session(data)
+    rows_before = stored_rows(data)
+    ((config,),) = stored(data, "SELECT config FROM sessions WHERE seq=1")
+    stored(data, "UPDATE sessions SET config=? WHERE seq=1", '{"run": {"kind": "no-such-kind"}}')
+
+    d = Daemon(data_dir=data)
+    try:
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "failed" and "model cannot be rebuilt" in s["error"], s
+        p = is_problem(requests.post(f"{d.url}/v1/sessions/{sid}/step",
+                                     json={"duration": 0.1}), 409)
+        assert "model cannot be rebuilt" in p["detail"], p
+    finally:
+        assert d.stop() == 0
+    assert stored_rows(data) == rows_before
+    assert stored(data, "SELECT status FROM sessions WHERE seq=1") == [("paused",)]
+
+    stored(data, "UPDATE sessions SET config=? WHERE seq=1", config)
+    d = Daemon(data_dir=data)
+    try:
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "paused" and s["index"] == 250
+        assert requests.get(f"{d.url}/v1/sessions/{sid}/series").json() == before
+        r = requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1})
+        assert r.status_code == 200 and r.json()["index"] == 300, r.text
+    finally:
+        d.stop()
+
+
+def test_rows_without_a_snapshot_are_kept(tmp_path):
+    """Rows stored but no snapshot at all (a store edited by hand, or a bug):
+    the rows are kept and the session is failed, not reset to row 0."""
+    data = str(tmp_path)
+    sid, before = make_stepped_session(data)
+    rows_before = stored_rows(data)
+    stored(data, "DELETE FROM snapshots WHERE seq=1")
+    d = Daemon(data_dir=data)
+    try:
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "failed" and "no stored state" in s["error"], s
+        assert requests.get(f"{d.url}/v1/sessions/{sid}/series").json() == before
+    finally:
+        assert d.stop() == 0
+    assert stored_rows(data) == rows_before

@@ -1,0 +1,94 @@
+"""tanksimd answers during shutdown. Once SIGTERM has arrived, work the daemon
+can no longer do — create, step, run, frames, modes — is refused with 503
+application/problem+json of type /problems/shutting-down, a detail saying so
+and Retry-After (it used to be a 503 titled "Out of memory": a refused
+submission to the stopped worker pool was reported as TS_ERR_NOMEM), while
+reads are still served and /v1/health says "stopping".
+
+Deterministic, not a race against the exit: --drain 60 keeps the daemon in
+the shutting-down state (reads served, new work refused) until the test
+sends the second signal, and the test waits for /v1/health to report the
+state before probing."""
+import signal
+import time
+
+import requests
+
+from conftest import BASE_PRESET, Daemon, is_problem, wait_op
+
+
+def wait_stopping(d, timeout=20):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        r = requests.get(d.url + "/v1/health", timeout=5)
+        if r.status_code == 503:
+            return r
+        time.sleep(0.02)
+    raise AssertionError("health never reported stopping after SIGTERM")
+
+
+def test_new_work_during_shutdown_is_503_shutting_down(tmp_path):
+    d = Daemon("--drain", "60", data_dir=str(tmp_path))
+    try:
+        sid = requests.post(d.url + "/v1/sessions", json={"preset": BASE_PRESET}).json()["id"]
+        assert requests.post(f"{d.url}/v1/sessions/{sid}/step",
+                             json={"duration": 0.2}).status_code == 200
+        op = requests.post(f"{d.url}/v1/sessions/{sid}/run",
+                           json={"real_time_factor": 1}).json()
+        assert requests.get(d.url + "/v1/health").json()["status"] == "ok"
+
+        d.proc.send_signal(signal.SIGTERM)
+        h = wait_stopping(d)
+        assert h.json()["status"] == "stopping" and h.headers["Retry-After"] == "5"
+
+        for method, path, body in [
+                ("POST", "/v1/sessions", {"preset": BASE_PRESET}),
+                ("POST", f"/v1/sessions/{sid}/step", {"duration": 0.1}),
+                ("POST", f"/v1/sessions/{sid}/run", {}),
+                ("POST", "/v1/modes", {"preset": BASE_PRESET}),
+                ("GET", f"/v1/sessions/{sid}/frame.png", None)]:
+            r = requests.request(method, d.url + path, json=body)
+            p = is_problem(r, 503)
+            assert p["type"] == "/problems/shutting-down", (path, p)
+            assert p["title"] == "Shutting down" and "shutting down" in p["detail"], (path, p)
+            assert "memory" not in r.text.lower(), (path, p)
+            assert r.headers["Retry-After"] == "5", (path, r.headers)
+
+        # reads are served; the run was stopped and everything it made is stored
+        final = wait_op(d.url, op["id"])
+        assert final["done"] and "shut down" in final["error"]["message"]
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "interrupted" and s["t"] >= 0.2
+        ser = requests.get(f"{d.url}/v1/sessions/{sid}/series",
+                           params={"channels": "vehicle.speed"}).json()
+        assert ser["index"] == list(range(s["index"] + 1))
+        assert d.proc.poll() is None  # still draining until the second signal
+
+        t0 = time.time()
+        assert d.stop(sig=signal.SIGTERM) == 0
+        assert time.time() - t0 < 10
+    finally:
+        d.stop()
+    d2 = Daemon(data_dir=str(tmp_path))
+    try:
+        s2 = requests.get(f"{d2.url}/v1/sessions/{sid}").json()
+        assert s2["status"] == "interrupted" and s2["index"] == s["index"]
+    finally:
+        d2.stop()
+
+
+def test_drain_ends_by_itself(tmp_path):
+    d = Daemon("--drain", "0.5", data_dir=str(tmp_path))
+    t0 = time.time()
+    d.proc.send_signal(signal.SIGTERM)
+    assert d.proc.wait(timeout=20) == 0
+    assert time.time() - t0 >= 0.5
+    assert "draining for 0.5 s" in d.stderr()
+
+
+def test_bad_drain_value_is_refused(tmp_path):
+    import subprocess
+    from conftest import TANKSIMD
+    p = subprocess.run([TANKSIMD, "--drain", "-1", "--data-dir", str(tmp_path)],
+                       capture_output=True, text=True, timeout=20)
+    assert p.returncode == 2 and "--drain" in p.stderr
