@@ -44,3 +44,40 @@ def test_concurrent_creates_respect_the_cap(tmp_path):
                 assert requests.delete(f"{d.url}/v1/sessions/{s['id']}").status_code == 204
     finally:
         d.stop()
+
+
+def test_paging_after_concurrent_creates_lists_each_session_once(tmp_path):
+    """Concurrent creates draw their sequence numbers before storing and may
+    reach the registry in another order; listing pages on the sequence number
+    (page_token = last seq), so a registry out of seq order would skip
+    sessions on later pages. Every created id must appear exactly once when
+    paging one session per page."""
+    d = Daemon("--threads", "8", data_dir=str(tmp_path))
+    try:
+        barrier = threading.Barrier(CLIENTS)
+        ids = []
+
+        def create():
+            with requests.Session() as http:
+                barrier.wait()
+                r = http.post(d.url + "/v1/sessions", json={"preset": BASE_PRESET})
+                assert r.status_code == 201, r.text
+                ids.append(r.json()["id"])
+
+        threads = [threading.Thread(target=create) for _ in range(CLIENTS)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(60)
+        assert len(ids) == CLIENTS
+        seen, token = [], None
+        for _ in range(2 * CLIENTS):
+            params = {"page_size": 1, **({"page_token": token} if token else {})}
+            page = requests.get(d.url + "/v1/sessions", params=params).json()
+            seen += [s["id"] for s in page["sessions"]]
+            token = page.get("next_page_token")
+            if not token:
+                break
+        assert sorted(seen) == sorted(ids)
+    finally:
+        d.stop()

@@ -10,11 +10,13 @@ the shutting-down state (reads served, new work refused) until the test
 sends the second signal, and the test waits for /v1/health to report the
 state before probing."""
 import signal
+import subprocess
+import threading
 import time
 
 import requests
 
-from conftest import BASE_PRESET, Daemon, is_problem, wait_op
+from conftest import BASE_PRESET, TANKSIMD, Daemon, is_problem, wait_op
 
 
 def wait_stopping(d, timeout=20):
@@ -87,8 +89,49 @@ def test_drain_ends_by_itself(tmp_path):
 
 
 def test_bad_drain_value_is_refused(tmp_path):
-    import subprocess
-    from conftest import TANKSIMD
     p = subprocess.run([TANKSIMD, "--drain", "-1", "--data-dir", str(tmp_path)],
                        capture_output=True, text=True, timeout=20)
     assert p.returncode == 2 and "--drain" in p.stderr
+
+
+def test_step_cut_short_by_shutdown_is_not_a_success(tmp_path):
+    """A synchronous step that shutdown stops part-way must not answer 200 as
+    if it had advanced the whole duration (it used to: the cut was treated as
+    success). Invariant checked: a 200 reports the full step; otherwise the
+    answer is the 503 shutting-down problem saying where the session stopped,
+    and the rows up to there are stored. The step is long (a coupled-track
+    preset, ~5 s wall) and SIGTERM is sent once its first batch is stored."""
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        sid = requests.post(d.url + "/v1/sessions",
+                            json={"preset": "bump-coupled-ivs5mph"}).json()["id"]
+        rate = requests.get(f"{d.url}/v1/sessions/{sid}").json()["config"]["run"]["sample_rate"]
+        out = {}
+        th = threading.Thread(target=lambda: out.setdefault("r", requests.post(
+            f"{d.url}/v1/sessions/{sid}/step", json={"duration": 10.0}, timeout=120)))
+        th.start()
+        deadline = time.time() + 60
+        while time.time() < deadline and th.is_alive():
+            if requests.get(f"{d.url}/v1/sessions/{sid}").json()["index"] > 0:
+                break
+            time.sleep(0.01)
+        d.proc.send_signal(signal.SIGTERM)
+        th.join(120)
+        r = out["r"]
+        if r.status_code == 200:  # finished before the signal landed: must be whole
+            assert r.json()["index"] == round(10.0 * rate), r.text
+        else:
+            p = is_problem(r, 503)
+            assert p["type"] == "/problems/shutting-down" and "stopped at t =" in p["detail"], p
+        assert d.proc.wait(timeout=20) == 0
+    finally:
+        d.stop()
+    d2 = Daemon(data_dir=str(tmp_path))
+    try:
+        s = requests.get(f"{d2.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "paused" and s["index"] > 0
+        ser = requests.get(f"{d2.url}/v1/sessions/{sid}/series",
+                           params={"channels": "t"}).json()
+        assert ser["index"] == list(range(s["index"] + 1))
+    finally:
+        d2.stop()
