@@ -262,6 +262,9 @@ static void load_session(void *ud, long seq, const char *id, double created, con
 {
     load_ctx *lc = ud;
     tsd_server *srv = lc->srv;
+    /* First: even a session that is not loaded keeps its seq, so a new
+     * session can never be stored under it (nor clean up "its" rows). */
+    if (seq >= srv->reg->next_seq) srv->reg->next_seq = seq + 1;
     json_error_t je;
     json_t *resolved = json_loads(config_json, 0, &je);
     ts_err err;
@@ -313,7 +316,6 @@ static void load_session(void *ud, long seq, const char *id, double created, con
         session_free(s);
         return;
     }
-    if (seq >= srv->reg->next_seq) srv->reg->next_seq = seq + 1;
     lc->loaded++;
 }
 
@@ -481,9 +483,10 @@ static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolve
                                                 cfg_text, s->nch, "created")
                         : -1;
     free(cfg_text);
+    int inserted = dbrc == 0;
     if (dbrc == 0) dbrc = store_first_row(s);
     if (dbrc != 0) {
-        tsd_db_session_delete(srv->db, s->seq);
+        if (inserted) tsd_db_session_delete(srv->db, s->seq); /* only what this create stored */
         session_free(s);
         return ts_err_set(err, TS_ERR_IO, NULL, "cannot store the session (see the daemon log)");
     }
@@ -913,9 +916,15 @@ static void run_slice(void *arg)
     }
     if (a.reason == ADV_STOP || (a.reason == ADV_NONE && atomic_load(&srv->stopping) &&
                                  ts_time(s->d) < j->until - 0.5 * ts_model_sample_period(s->m))) {
-        ts_err_set(&err, TS_ERR_CANCELLED, NULL,
-                   "the daemon shut down at t = %g s; run the session again to continue",
-                   ts_time(s->d));
+        if (atomic_load(&srv->stopping))
+            ts_err_set(&err, TS_ERR_CANCELLED, NULL,
+                       "the daemon shut down at t = %g s; run the session again to continue",
+                       ts_time(s->d));
+        else /* the next slice could not be queued: only a failed allocation does that */
+            ts_err_set(&err, TS_ERR_CANCELLED, NULL,
+                       "out of memory queueing the run's next slice at t = %g s; run the "
+                       "session again to continue",
+                       ts_time(s->d));
         run_finish(j, TSD_INTERRUPTED, TS_ERR_CANCELLED, &err);
         return;
     }

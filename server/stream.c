@@ -22,6 +22,7 @@ typedef struct stream_ctx {
     long next; /* index of the next row to send */
     int ndjson;
     int ended;
+    int failed; /* a database read failed: cut the stream */
     tsa_buf buf; /* formatted text not yet handed to MHD */
     size_t off;
     long index[CHUNK_ROWS];
@@ -34,7 +35,12 @@ static void refill(stream_ctx *c)
     int more;
     long got = tsd_db_rows(c->srv->db, s->seq, c->next, c->next + CHUNK_ROWS - 1, 1, CHUNK_ROWS,
                            s->nch, c->index, c->rows, &more);
-    if (got <= 0) { /* database error or rows deleted under us: end */
+    if (got < 0) { /* database error: cut the stream, so that the client sees it is
+                      incomplete (a clean end would claim every row was sent) */
+        c->failed = 1;
+        return;
+    }
+    if (got == 0) { /* rows deleted under us (session deleted): end */
         c->ended = 1;
         return;
     }
@@ -80,7 +86,7 @@ static ssize_t reader(void *cls, uint64_t pos, char *out, size_t max)
             refill(c);
         else
             finish(c);
-        if (c->buf.oom) return MHD_CONTENT_READER_END_WITH_ERROR;
+        if (c->buf.oom || c->failed) return MHD_CONTENT_READER_END_WITH_ERROR;
         if (c->buf.n == 0) return c->ended ? MHD_CONTENT_READER_END_OF_STREAM : 0;
     }
     size_t k = c->buf.n - c->off;

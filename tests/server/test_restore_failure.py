@@ -59,6 +59,10 @@ def test_corrupt_snapshot_keeps_rows_and_refuses_steps(tmp_path):
         for path, body in (("step", {"duration": 0.1}), ("run", {})):
             p = is_problem(requests.post(f"{d.url}/v1/sessions/{sid}/{path}", json=body), 409)
             assert "state cannot be restored" in p["detail"], p
+        # frames are rebuilt from the snapshots this build cannot read: 409 with
+        # the reason (not a 400 blaming the request)
+        p = is_problem(requests.get(f"{d.url}/v1/sessions/{sid}/frame.png"), 409)
+        assert "state cannot be restored" in p["detail"], p
         assert stored_rows(data) == rows_before
     finally:
         assert d.stop() == 0
