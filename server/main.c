@@ -13,8 +13,11 @@
  * drain and join the pool (deferred step replies are resumed by their jobs;
  * the pool stays allocated, refusing submissions, while HTTP threads run),
  * wake streams again, keep serving reads for --drain seconds (a second
- * signal ends that at once), stop libmicrohttpd (no connection is left
- * suspended), then free the pool and sessions and close the database.
+ * signal ends that at once), wait (at most SETTLE_S) for requests in flight
+ * to complete — a step reply resumed by its job is only queued by the next
+ * MHD call, and stopping MHD first lost it — stop libmicrohttpd (no
+ * connection is left suspended), then free the pool and sessions and close
+ * the database.
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -36,6 +39,8 @@
 #include "server.h"
 #include "session.h"
 #include "static_files.h"
+
+#define SETTLE_S 5.0 /* [s] at most, for requests in flight to complete at shutdown */
 
 static void usage(FILE *f)
 {
@@ -233,6 +238,7 @@ int main(int argc, char **argv)
         while (sigtimedwait(&stop, NULL, &ts) < 0 && errno == EINTR)
             ;
     }
+    tsd_server_settle(&srv, SETTLE_S); /* resumed replies go out before MHD stops */
     tsd_server_stop(&srv);
     tsd_pool_free(srv.pool);
     srv.pool = NULL;

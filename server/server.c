@@ -144,6 +144,7 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         r->url = url;
         r->t_start = tsd_now();
         *con_cls = r;
+        atomic_fetch_add(&s->inflight, 1);
         return MHD_YES;
     }
     if (*upload_data_size > 0) { /* body chunk */
@@ -201,6 +202,7 @@ static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     free(r->body);
     free(r);
     *con_cls = NULL;
+    atomic_fetch_sub(&s->inflight, 1);
 }
 
 int tsd_server_start(tsd_server *s, char *err, size_t errlen)
@@ -235,6 +237,15 @@ int tsd_server_start(tsd_server *s, char *err, size_t errlen)
         return -1;
     }
     return 0;
+}
+
+void tsd_server_settle(tsd_server *s, double timeout)
+{
+    double until = tsd_now() + timeout;
+    while (atomic_load(&s->inflight) > 0 && tsd_now() < until) {
+        struct timespec ts = {0, 10 * 1000 * 1000};
+        nanosleep(&ts, NULL);
+    }
 }
 
 void tsd_server_stop(tsd_server *s)

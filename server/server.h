@@ -66,6 +66,8 @@ typedef struct tsd_server {
     tsd_metrics metrics;             /* counters for /metrics (metrics.h) */
     pthread_mutex_t fft_lock;        /* FFTW's planner is not thread-safe */
     atomic_int stopping;             /* set once shutdown begins */
+    atomic_int inflight;             /* requests between arrival and completion (shutdown
+                                        waits for them, bounded, before stopping MHD) */
 } tsd_server;
 
 typedef struct tsd_request {
@@ -103,6 +105,10 @@ typedef struct tsd_request {
 /* Start listening as configured; 0 on success, -1 with a message in err. */
 int tsd_server_start(tsd_server *s, char *err, size_t errlen);
 void tsd_server_stop(tsd_server *s);
+/* Wait (at most timeout seconds, polling) until no request is in flight — at
+ * shutdown, so that replies of deferred requests that workers resumed (a step
+ * cut short, a create) are sent before libmicrohttpd closes the connections. */
+void tsd_server_settle(tsd_server *s, double timeout);
 
 /* Responses: each queues exactly one response and returns MHD's result. */
 enum MHD_Result tsd_reply_json(tsd_request *r, unsigned status, json_t *body); /* steals body */

@@ -764,15 +764,17 @@ static void step_job(void *arg)
     if (io && rc == TS_OK)
         rc = ts_err_set(&err, TS_ERR_IO, NULL, "cannot store samples (see the daemon log)");
     tsd_status st = rc == TS_OK ? (at_end(s, ts_time(s->d)) ? TSD_DONE : TSD_PAUSED) : TSD_FAILED;
+    double t = ts_time(s->d); /* while busy is held (invariant 1) */
+    int cut = t < t0 + j->duration - 0.5 * ts_model_sample_period(s->m);
     release(s, st, rc == TS_OK ? NULL : err.msg);
     /* A step cut short is not a success: the reply says where it stopped
      * (the session itself is fine: paused there, rows up to it stored). */
-    if (rc == TS_OK && a.reason == ADV_STOP)
+    if (rc == TS_OK && cut && a.reason == ADV_STOP)
         rc = ts_err_set(&err, TSD_ERR_SHUTDOWN, NULL,
                         "the daemon began shutting down during the step: session %s stopped at "
                         "t = %g s (rows up to it are stored); step again once it is back",
-                        s->id, ts_time(s->d));
-    else if (rc == TS_OK && a.reason == ADV_CANCEL)
+                        s->id, t);
+    else if (rc == TS_OK && cut && a.reason == ADV_CANCEL)
         rc = ts_err_set(&err, TS_ERR_NOTFOUND, NULL, "session %s was deleted during the step",
                         s->id);
     if (rc == TS_OK) {
