@@ -35,10 +35,11 @@
  */
 #include <math.h>
 
+#include "constants.h"
 #include "engine_impl.h"
 
-#define CP_AIR_TURBO 1005.0 /* cp of air in the compressor [J/kg/K] */
-#define GAMMA_AIR 1.4
+#define CP_AIR_TURBO TS_CP_AIR_MAP /* map convention, constants.h */
+#define GAMMA_AIR TS_GAMMA_AIR_MAP
 
 void en_compressor(const en_turbo *t, double w, double p01, double T01, double p02,
                    en_comp_out *o)
