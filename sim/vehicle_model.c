@@ -64,7 +64,6 @@
  */
 #include "vehicle_model.h"
 
-#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -142,6 +141,7 @@ struct vm {
     int dynamic;
     /* equilibrium */
     double *y_eq;
+    double *rate; /* per coordinate: sqrt(K_ii / M_ii) at the equilibrium, 0 when K_ii <= 0 */
     double t_static;
     double g_eq;           /* loop geometric stretch at the equilibrium [m] */
     double c_loop, c_tail; /* compliance of the loop and of anchor wheel -> sprocket [m/N] */
@@ -887,6 +887,7 @@ void vm_free(vm *v)
     for (int s = 0; s < VM_NSPAN; s++)
         ts_span_free(v->span[s].sp);
     free(v->y_eq);
+    free(v->rate);
     free(v);
 }
 
@@ -906,6 +907,11 @@ const double *vm_equilibrium(const vm *v)
 {
     return v->y_eq;
 }
+const double *vm_rates(const vm *v)
+{
+    return v->rate;
+}
+
 double vm_static_tension(const vm *v)
 {
     return v->t_static;
@@ -1008,7 +1014,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
            *r2 = calloc((size_t)nu, sizeof(double)),
            *J = calloc((size_t)nu * (size_t)nu, sizeof(double)),
            *q = calloc((size_t)nq, sizeof(double));
-    lapack_int *piv = calloc((size_t)nu, sizeof(lapack_int));
+    int *piv = calloc((size_t)nu, sizeof(int));
     ts_rc rc = TS_OK;
     if (!w || !u || !r || !r2 || !J || !q || !piv) {
         rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
@@ -1039,16 +1045,19 @@ static ts_rc equilibrium(vm *v, ts_err *err)
             u[j] = keep + h;
             eq_residual(v, w, u, q, r2);
             u[j] = keep;
-            for (int i = 0; i < nu; i++)
-                J[i * nu + j] = (r2[i] - r[i]) / h;
+            for (int i = 0; i < nu; i++) /* column-major (dense_small.h) */
+                J[(size_t)j * nu + i] = (r2[i] - r[i]) / h;
         }
         for (int i = 0; i < nu; i++)
             r[i] = -r[i];
-        if (LAPACKE_dgesv(LAPACK_ROW_MAJOR, nu, 1, J, nu, piv, r, 1) != 0) {
+        /* dense_small.h's LU, not LAPACK: a threaded BLAS's workers would
+         * spin for the rest of the run after this one tiny solve */
+        if (ts_lu_factor(J, nu, piv) != 0) {
             rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
                             "static equilibrium: singular Jacobian (check the layout)");
             goto done;
         }
+        ts_lu_solve(J, nu, piv, r);
         for (int i = 0; i < nu; i++)
             u[i] += r[i];
     }
@@ -1065,6 +1074,24 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         v->g_eq = dg.loop_stretch;
     }
     memcpy(v->y_eq, q, (size_t)nq * sizeof(double));
+    /* each coordinate's own rate sqrt(K_ii / M_ii) (the others held) at the
+     * equilibrium: K_ii = -dQ_i/dq_i by a forward difference of the static
+     * forces (h: a numerical step, far below every geometric length), M_ii
+     * from the mass matrix */
+    {
+        const double h = 1e-7; /* [m or rad] */
+        double *Q0 = r; /* scratch: nu == nq (the unknowns are the coordinates, the idler
+                         * setting replacing the sprocket spin) */
+        forces(v, w, 0.0, q, NULL, w->M, Q0, 0, NULL);
+        for (int i = 0; i < nq; i++) {
+            double keep = q[i], mii = w->M[(size_t)i * nq + i];
+            q[i] = keep + h;
+            forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, NULL);
+            q[i] = keep;
+            double kii = -(w->Q[i] - Q0[i]) / h;
+            v->rate[i] = kii > 0 && mii > 0 ? sqrt(kii / mii) : 0.0;
+        }
+    }
 done:
     vm_work_free(w);
     free(u);
@@ -1301,7 +1328,8 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     v->nq = VM_NQ_RIGID + v->nmodal;
     v->ny = 2 * v->nq;
     v->y_eq = calloc((size_t)v->ny, sizeof(double));
-    if (!v->y_eq) {
+    v->rate = calloc((size_t)v->nq, sizeof(double));
+    if (!v->y_eq || !v->rate) {
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         goto fail;
     }
