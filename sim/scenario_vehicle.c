@@ -34,6 +34,16 @@
  * fails to converge with a stale one. 1000: Jacobians 374 -> ~70 per 30-s
  * bump run, steps and results unchanged within the bench pins (numerical). */
 #define JAC_EVAL_STEPS 1000
+/* Highest BDF order. Orders 4 and 5 are stable in a narrower wedge about the
+ * negative real axis (A(alpha) stability, alpha = 73 and 52 degrees, against
+ * 86 for order 3), and the model's lightly damped modes (transverse span
+ * modes, hull bounce and pitch: damping ratios 0.03-0.05) lie near the
+ * imaginary axis: at orders 4-5 CVODE's steps over the bump course are limited
+ * by them. Measured on the coupled 30-s bump run (rtol 0.9e-3, 1e-3,
+ * 1.1e-3): 12,800-17,800 steps at order 5, 12,200-12,400 at order 3; static
+ * and longitudinal runs 2-4 % fewer (numerical choice; figures against the
+ * rtol 1e-6 reference in tests/bench/bench_vehicle.c). */
+#define MAX_BDF_ORDER 3
 
 enum {
     CH_V0 = 1, /* the vehicle channel block (vehicle_channels.h), after "t" */
@@ -140,6 +150,7 @@ static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
                      .max_step = m->cfg.run.max_step,
                      .max_steps = 500000,
                      .second_order = 1,
+                     .max_order = MAX_BDF_ORDER,
                      .jac_eval_frequency = JAC_EVAL_STEPS};
     p->ode = ts_ode_make(ny, rhs, d, &o, err);
     if (!p->ode) {

@@ -254,16 +254,18 @@ static void tangent(const vm *v, const kin *k, int el, elem *e)
 {
     int a = el, b = (el + 1) % VM_NB;
     double dx = k->c[b][0] - k->c[a][0], dz = k->c[b][1] - k->c[a][1];
-    double D = hypot(dx, dz), cr = v->rho_b[a] - v->rho_b[b];
-    double ratio = cr / D;
+    /* sqrt, not hypot: the centre distances are metres, far from overflow */
+    double D2 = dx * dx + dz * dz, cr = v->rho_b[a] - v->rho_b[b];
+    double inv = 1.0 / sqrt(D2);
+    double ratio = cr * inv;
     if (ratio > 0.999) ratio = 0.999;
     if (ratio < -0.999) ratio = -0.999;
-    double ca = sqrt(1.0 - ratio * ratio), cx = dx / D, cz = dz / D;
+    double ca = sqrt(1.0 - ratio * ratio), cx = dx * inv, cz = dz * inv;
     e->u[0] = cx * ca + cz * ratio;
     e->u[1] = cz * ca - cx * ratio;
     e->n[0] = -e->u[1];
     e->n[1] = e->u[0];
-    e->ell = sqrt(D * D - cr * cr);
+    e->ell = sqrt(D2 - cr * cr);
     const double *u0 = v->u0[el];
     e->dpsi = atan2(u0[0] * e->u[1] - u0[1] * e->u[0], u0[0] * e->u[0] + u0[1] * e->u[1]);
 }
