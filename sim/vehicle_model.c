@@ -277,10 +277,12 @@ static void add_point_mass(const vm *v, double *M, double *Q, double m, const jc
 {
     int nq = v->nq;
     for (int r = 0; r < j->n; r++) {
-        if (M) /* NULL: Q only */
-            for (int c = 0; c < j->n; c++)
-                M[j->idx[r] * nq + j->idx[c]] +=
-                    m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
+        if (M) /* NULL: Q only; the symmetric block's upper triangle, mirrored */
+            for (int c = r; c < j->n; c++) {
+                double e = m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
+                M[j->idx[r] * nq + j->idx[c]] += e;
+                if (c != r) M[j->idx[c] * nq + j->idx[r]] += e;
+            }
         /* -m J^T (bias) + gravity */
         Q[j->idx[r]] -= m * (j->v[r][0] * bias[0] + j->v[r][1] * bias[1]);
         Q[j->idx[r]] -= g_on * m * GRAVITY * j->v[r][1];
@@ -851,14 +853,22 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
             }
         }
         double Mc[8 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES]; /* the block */
+        /* the frame terms m rx rx' + m/3 (ry0 ry0' + ry1 ry1') + m/6 (ry0 ry1' + ry1 ry0')
+         * as rx . fx' + ry0 . f0' + ry1 . f1' (three products per entry instead of eight) */
+        double fxm[8 + 2 * TS_SPAN_MAX_MODES], f0m[8 + 2 * TS_SPAN_MAX_MODES],
+            f1m[8 + 2 * TS_SPAN_MAX_MODES];
+        for (int c = 0; c < cs.n; c++) {
+            fxm[c] = m * rx[c];
+            f0m[c] = m / 3.0 * ry0[c] + m / 6.0 * ry1[c];
+            f1m[c] = m / 3.0 * ry1[c] + m / 6.0 * ry0[c];
+        }
         for (int c1 = 0; c1 < cs.n; c1++)
             for (int c2 = c1; c2 < cs.n; c2++) {
                 double s = B[0][c1] * Y[0][c2] + B[1][c1] * Y[1][c2] + Cm[0][c1] * B[0][c2] +
                            Cm[1][c1] * B[1][c2];
                 if (c1 >= cm0) s += Y[2 + c1 - cm0][c2];
                 if (c2 >= cm0) s += Cm[2 + c2 - cm0][c1];
-                s += m * rx[c1] * rx[c2] + m / 3.0 * (ry0[c1] * ry0[c2] + ry1[c1] * ry1[c2]) +
-                     m / 6.0 * (ry0[c1] * ry1[c2] + ry1[c1] * ry0[c2]);
+                s += rx[c1] * fxm[c2] + ry0[c1] * f0m[c2] + ry1[c1] * f1m[c2];
                 Mc[c1][c2] = Mc[c2][c1] = s;
                 if (!M) continue; /* the velocity terms need Mc only */
                 M[cs.idx[c1] * nq + cs.idx[c2]] += s;
