@@ -376,6 +376,9 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
         o->sls = o->LS->content;
         if (check(o, CVodeSetLinSysFn(o->mem, schur_linsys), "CVodeSetLinSysFn", err)) goto fail;
     }
+    if (opts->max_order > 0 &&
+        check(o, CVodeSetMaxOrd(o->mem, opts->max_order), "CVodeSetMaxOrd", err))
+        goto fail;
     if (opts->jac_eval_frequency > 0 &&
         check(o, CVodeSetJacEvalFrequency(o->mem, opts->jac_eval_frequency),
               "CVodeSetJacEvalFrequency", err))

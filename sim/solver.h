@@ -41,6 +41,7 @@ typedef struct ts_ode_opts {
     int small_dense;         /* non-zero: the full n x n Newton systems by dense_small.h's LU
                               * (single-threaded, skips zeros; for small sparse-ish systems,
                               * e.g. a powertrain) instead of SUNDIALS' dense LU */
+    int max_order;           /* highest BDF order (CVODE maxord, 1..5); 0 = CVODE's default (5) */
     long jac_eval_frequency; /* max steps between Jacobian evaluations (CVODE msbj);
                               * 0 = CVODE's default (51). CVODE still re-evaluates
                               * on a convergence failure with a stale Jacobian. */

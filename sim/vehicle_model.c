@@ -64,7 +64,6 @@
  */
 #include "vehicle_model.h"
 
-#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -142,6 +141,7 @@ struct vm {
     int dynamic;
     /* equilibrium */
     double *y_eq;
+    double *rate; /* per coordinate: sqrt(K_ii / M_ii) at the equilibrium, 0 when K_ii <= 0 */
     double t_static;
     double g_eq;           /* loop geometric stretch at the equilibrium [m] */
     double c_loop, c_tail; /* compliance of the loop and of anchor wheel -> sprocket [m/N] */
@@ -254,16 +254,18 @@ static void tangent(const vm *v, const kin *k, int el, elem *e)
 {
     int a = el, b = (el + 1) % VM_NB;
     double dx = k->c[b][0] - k->c[a][0], dz = k->c[b][1] - k->c[a][1];
-    double D = hypot(dx, dz), cr = v->rho_b[a] - v->rho_b[b];
-    double ratio = cr / D;
+    /* sqrt, not hypot: the centre distances are metres, far from overflow */
+    double D2 = dx * dx + dz * dz, cr = v->rho_b[a] - v->rho_b[b];
+    double inv = 1.0 / sqrt(D2);
+    double ratio = cr * inv;
     if (ratio > 0.999) ratio = 0.999;
     if (ratio < -0.999) ratio = -0.999;
-    double ca = sqrt(1.0 - ratio * ratio), cx = dx / D, cz = dz / D;
+    double ca = sqrt(1.0 - ratio * ratio), cx = dx * inv, cz = dz * inv;
     e->u[0] = cx * ca + cz * ratio;
     e->u[1] = cz * ca - cx * ratio;
     e->n[0] = -e->u[1];
     e->n[1] = e->u[0];
-    e->ell = sqrt(D * D - cr * cr);
+    e->ell = sqrt(D2 - cr * cr);
     const double *u0 = v->u0[el];
     e->dpsi = atan2(u0[0] * e->u[1] - u0[1] * e->u[0], u0[0] * e->u[0] + u0[1] * e->u[1]);
 }
@@ -275,10 +277,12 @@ static void add_point_mass(const vm *v, double *M, double *Q, double m, const jc
 {
     int nq = v->nq;
     for (int r = 0; r < j->n; r++) {
-        if (M) /* NULL: Q only */
-            for (int c = 0; c < j->n; c++)
-                M[j->idx[r] * nq + j->idx[c]] +=
-                    m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
+        if (M) /* NULL: Q only; the symmetric block's upper triangle, mirrored */
+            for (int c = r; c < j->n; c++) {
+                double e = m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
+                M[j->idx[r] * nq + j->idx[c]] += e;
+                if (c != r) M[j->idx[c] * nq + j->idx[r]] += e;
+            }
         /* -m J^T (bias) + gravity */
         Q[j->idx[r]] -= m * (j->v[r][0] * bias[0] + j->v[r][1] * bias[1]);
         Q[j->idx[r]] -= g_on * m * GRAVITY * j->v[r][1];
@@ -849,14 +853,22 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
             }
         }
         double Mc[8 + 2 * TS_SPAN_MAX_MODES][8 + 2 * TS_SPAN_MAX_MODES]; /* the block */
+        /* the frame terms m rx rx' + m/3 (ry0 ry0' + ry1 ry1') + m/6 (ry0 ry1' + ry1 ry0')
+         * as rx . fx' + ry0 . f0' + ry1 . f1' (three products per entry instead of eight) */
+        double fxm[8 + 2 * TS_SPAN_MAX_MODES], f0m[8 + 2 * TS_SPAN_MAX_MODES],
+            f1m[8 + 2 * TS_SPAN_MAX_MODES];
+        for (int c = 0; c < cs.n; c++) {
+            fxm[c] = m * rx[c];
+            f0m[c] = m / 3.0 * ry0[c] + m / 6.0 * ry1[c];
+            f1m[c] = m / 3.0 * ry1[c] + m / 6.0 * ry0[c];
+        }
         for (int c1 = 0; c1 < cs.n; c1++)
             for (int c2 = c1; c2 < cs.n; c2++) {
                 double s = B[0][c1] * Y[0][c2] + B[1][c1] * Y[1][c2] + Cm[0][c1] * B[0][c2] +
                            Cm[1][c1] * B[1][c2];
                 if (c1 >= cm0) s += Y[2 + c1 - cm0][c2];
                 if (c2 >= cm0) s += Cm[2 + c2 - cm0][c1];
-                s += m * rx[c1] * rx[c2] + m / 3.0 * (ry0[c1] * ry0[c2] + ry1[c1] * ry1[c2]) +
-                     m / 6.0 * (ry0[c1] * ry1[c2] + ry1[c1] * ry0[c2]);
+                s += rx[c1] * fxm[c2] + ry0[c1] * f0m[c2] + ry1[c1] * f1m[c2];
                 Mc[c1][c2] = Mc[c2][c1] = s;
                 if (!M) continue; /* the velocity terms need Mc only */
                 M[cs.idx[c1] * nq + cs.idx[c2]] += s;
@@ -887,6 +899,7 @@ void vm_free(vm *v)
     for (int s = 0; s < VM_NSPAN; s++)
         ts_span_free(v->span[s].sp);
     free(v->y_eq);
+    free(v->rate);
     free(v);
 }
 
@@ -906,6 +919,11 @@ const double *vm_equilibrium(const vm *v)
 {
     return v->y_eq;
 }
+const double *vm_rates(const vm *v)
+{
+    return v->rate;
+}
+
 double vm_static_tension(const vm *v)
 {
     return v->t_static;
@@ -1008,7 +1026,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
            *r2 = calloc((size_t)nu, sizeof(double)),
            *J = calloc((size_t)nu * (size_t)nu, sizeof(double)),
            *q = calloc((size_t)nq, sizeof(double));
-    lapack_int *piv = calloc((size_t)nu, sizeof(lapack_int));
+    int *piv = calloc((size_t)nu, sizeof(int));
     ts_rc rc = TS_OK;
     if (!w || !u || !r || !r2 || !J || !q || !piv) {
         rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
@@ -1039,16 +1057,19 @@ static ts_rc equilibrium(vm *v, ts_err *err)
             u[j] = keep + h;
             eq_residual(v, w, u, q, r2);
             u[j] = keep;
-            for (int i = 0; i < nu; i++)
-                J[i * nu + j] = (r2[i] - r[i]) / h;
+            for (int i = 0; i < nu; i++) /* column-major (dense_small.h) */
+                J[(size_t)j * nu + i] = (r2[i] - r[i]) / h;
         }
         for (int i = 0; i < nu; i++)
             r[i] = -r[i];
-        if (LAPACKE_dgesv(LAPACK_ROW_MAJOR, nu, 1, J, nu, piv, r, 1) != 0) {
+        /* dense_small.h's LU, not LAPACK: a threaded BLAS's workers would
+         * spin for the rest of the run after this one tiny solve */
+        if (ts_lu_factor(J, nu, piv) != 0) {
             rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
                             "static equilibrium: singular Jacobian (check the layout)");
             goto done;
         }
+        ts_lu_solve(J, nu, piv, r);
         for (int i = 0; i < nu; i++)
             u[i] += r[i];
     }
@@ -1065,6 +1086,24 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         v->g_eq = dg.loop_stretch;
     }
     memcpy(v->y_eq, q, (size_t)nq * sizeof(double));
+    /* each coordinate's own rate sqrt(K_ii / M_ii) (the others held) at the
+     * equilibrium: K_ii = -dQ_i/dq_i by a forward difference of the static
+     * forces (h: a numerical step, far below every geometric length), M_ii
+     * from the mass matrix */
+    {
+        const double h = 1e-7; /* [m or rad] */
+        double *Q0 = r; /* scratch: nu == nq (the unknowns are the coordinates, the idler
+                         * setting replacing the sprocket spin) */
+        forces(v, w, 0.0, q, NULL, w->M, Q0, 0, NULL);
+        for (int i = 0; i < nq; i++) {
+            double keep = q[i], mii = w->M[(size_t)i * nq + i];
+            q[i] = keep + h;
+            forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, NULL);
+            q[i] = keep;
+            double kii = -(w->Q[i] - Q0[i]) / h;
+            v->rate[i] = kii > 0 && mii > 0 ? sqrt(kii / mii) : 0.0;
+        }
+    }
 done:
     vm_work_free(w);
     free(u);
@@ -1301,7 +1340,8 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     v->nq = VM_NQ_RIGID + v->nmodal;
     v->ny = 2 * v->nq;
     v->y_eq = calloc((size_t)v->ny, sizeof(double));
-    if (!v->y_eq) {
+    v->rate = calloc((size_t)v->nq, sizeof(double));
+    if (!v->y_eq || !v->rate) {
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         goto fail;
     }

@@ -99,6 +99,12 @@ int vm_dof(const vm *v); /* = nq */
 
 /* Static-equilibrium state (velocities zero), ny values. */
 const double *vm_equilibrium(const vm *v);
+/* Each coordinate's own rate sqrt(K_ii / M_ii) at the static equilibrium [1/s]
+ * (nq values; K_ii = -dQ_i/dq_i with the other coordinates held, M_ii the mass
+ * matrix's diagonal), 0 where K_ii <= 0: the scale that relates a velocity
+ * error to a coordinate error of the same energy (scenario_vehicle.c's
+ * absolute tolerances). */
+const double *vm_rates(const vm *v);
 /* Static quantities found by the equilibrium solve. */
 double vm_static_tension(const vm *v);   /* rear-roller tension at rest [N] */
 double vm_preload(const vm *v, int arm); /* torsion-bar torque at the design angle [N*m] */
