@@ -21,6 +21,7 @@
 #include <stdatomic.h>
 
 #include "../sim/model.h"
+#include "channels.h"
 #include "server.h"
 
 typedef enum tsd_status {
@@ -51,7 +52,11 @@ typedef struct tsd_session {
     json_t *config;   /* resolved config document (immutable) */
     ts_model *m;      /* NULL when the model could not be rebuilt after a restart */
     ts_data *d;       /* owned by the busy holder */
-    int nch;          /* channels per row */
+    int nch;          /* channels per row (= ch.n; 0: no table, rows unreadable) */
+    tsd_channels ch;  /* names, units and sample period of the stored rows: the
+                         model's, or the list stored with the session when this
+                         build's model cannot be made or has other channels
+                         (channels.h); immutable once shared */
     double *batch;    /* rows not yet stored, batch_cap x nch (busy holder) */
     long batch_n, batch_cap, batch_first;
     void *snapshot; /* ts_state_size bytes (busy holder) */
