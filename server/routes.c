@@ -805,7 +805,7 @@ static enum MHD_Result cancel_operation(tsd_request *r)
     if (!done) {
         tsd_session *s = tsd_session_get(r->srv, sid);
         if (s) {
-            tsd_session_cancel(s);
+            tsd_session_cancel(s, r->params[0]);
             tsd_session_put(s);
         }
     }

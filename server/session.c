@@ -1012,15 +1012,19 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
     run_job_arg *j = calloc(1, sizeof *j);
     tsd_op *op = j ? tsd_op_new(s->srv, s->id, t0, until) : NULL;
     if (!op) {
+        int nomem = !j; /* (j is not read once freed) */
         free(j);
         unbusy(s);
-        return j ? ts_err_set(err, TS_ERR_LIMIT, NULL, "too many operations in progress")
-                 : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return nomem ? ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory")
+                     : ts_err_set(err, TS_ERR_LIMIT, NULL, "too many operations in progress");
     }
     ref(s);
     *j = (run_job_arg){s, op, until, rtf, t0, tsd_now()};
     pthread_mutex_lock(&s->mu);
     tsd_status before = s->status;
+    char before_error[sizeof s->error], before_op[sizeof s->op_id];
+    memcpy(before_error, s->error, sizeof before_error);
+    memcpy(before_op, s->op_id, sizeof before_op);
     s->status = TSD_RUNNING; /* created | paused | interrupted -> running */
     s->error[0] = '\0';
     snprintf(s->op_id, sizeof s->op_id, "%s", tsd_op_id(op));
@@ -1033,9 +1037,23 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
         ts_rc why = atomic_load(&s->srv->stopping)
                         ? tsd_err_shutdown(err)
                         : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory queueing the run");
+        /* Not run_finish: that would count a run ended that never started
+         * and store the session without its previous error and operation. */
         ts_err e2;
         ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "%s", err->msg);
-        run_finish(j, before, TS_ERR_CANCELLED, &e2);
+        json_t *error = tsa_problem_from_err(&e2, NULL);
+        json_object_set_new(error, "code", json_integer(1));
+        json_object_set_new(error, "message", json_string(e2.msg));
+        tsd_op_finish(s->srv, op, NULL, error);
+        pthread_mutex_lock(&s->mu);
+        s->status = before;
+        memcpy(s->error, before_error, sizeof before_error);
+        memcpy(s->op_id, before_op, sizeof before_op);
+        pthread_mutex_unlock(&s->mu);
+        tsd_db_session_status(s->srv->db, s->seq, tsd_status_name(before), before_error);
+        unbusy(s);
+        tsd_session_put(s); /* the job's reference */
+        free(j);
         json_decref(*opdoc);
         *opdoc = NULL;
         return why;
@@ -1044,7 +1062,12 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
     return TS_OK;
 }
 
-void tsd_session_cancel(tsd_session *s)
+void tsd_session_cancel(tsd_session *s, const char *op_id)
 {
-    atomic_store(&s->cancel, 1);
+    /* Under mu: status and op_id change together in tsd_session_run and
+     * release, and acquire clears cancel under mu, so a later step or run
+     * never sees this request. */
+    pthread_mutex_lock(&s->mu);
+    if (s->status == TSD_RUNNING && strcmp(s->op_id, op_id) == 0) atomic_store(&s->cancel, 1);
+    pthread_mutex_unlock(&s->mu);
 }

@@ -109,8 +109,11 @@ ts_rc tsd_session_step(tsd_session *s, double duration, json_t **result, ts_err 
  * rtf > 0. Returns the operation document (new reference). */
 ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **op, ts_err *err);
 
-/* Ask the running job to stop (run -> paused). */
-void tsd_session_cancel(tsd_session *s);
+/* Ask the run of operation op_id to stop (run -> paused). A no-op unless
+ * that run is the one in progress: a cancel that arrives after its run ended
+ * must not stop whatever the session does next (a step would be cut short
+ * and reported as if the session had been deleted). */
+void tsd_session_cancel(tsd_session *s, const char *op_id);
 
 /* Streams: 1 when rows with index >= next are stored; 0 when none are yet
  * and the caller's connection has been suspended and queued in w (it is
