@@ -198,3 +198,22 @@ def test_wait_for_requests_in_flight_is_bounded(tmp_path):
         c.close()
     finally:
         d.stop()
+
+
+def test_second_signal_ends_the_wait_for_requests_in_flight(tmp_path):
+    """As for --drain, a second signal closes at once: an operator's second
+    Ctrl-C is not held up by a client that never completes its request."""
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        c = _partial_post(d, "/v1/sessions", b'{"preset": "x"}', 3)
+        time.sleep(0.3)
+        d.proc.send_signal(signal.SIGTERM)
+        time.sleep(0.3)
+        assert d.proc.poll() is None  # waiting for the request in flight
+        t0 = time.time()
+        d.proc.send_signal(signal.SIGINT)
+        assert d.proc.wait(timeout=20) == 0
+        assert time.time() - t0 < 2.0, time.time() - t0
+        c.close()
+    finally:
+        d.stop()
