@@ -25,7 +25,7 @@ static const char schema[] =
     "PRAGMA synchronous=NORMAL;"
     "CREATE TABLE IF NOT EXISTS sessions(seq INTEGER PRIMARY KEY, id TEXT UNIQUE NOT NULL,"
     " created REAL, preset TEXT, config TEXT, nchannel INTEGER, status TEXT, t REAL,"
-    " idx INTEGER, error TEXT);"
+    " idx INTEGER, error TEXT, channels TEXT);"
     "CREATE TABLE IF NOT EXISTS samples(seq INTEGER, idx INTEGER, vals BLOB,"
     " PRIMARY KEY(seq, idx)) WITHOUT ROWID;"
     "CREATE TABLE IF NOT EXISTS snapshots(seq INTEGER, idx INTEGER, t REAL, blob BLOB,"
@@ -34,6 +34,12 @@ static const char schema[] =
 static void log_err(sqlite3 *c, const char *what)
 {
     fprintf(stderr, "tanksimd: sqlite: %s: %s\n", what, sqlite3_errmsg(c));
+}
+
+static const char *col_text(sqlite3_stmt *st, int i)
+{
+    const unsigned char *s = sqlite3_column_text(st, i);
+    return s ? (const char *)s : "";
 }
 
 static sqlite3 *open_conn(const char *path, char *err, size_t errlen)
@@ -47,6 +53,35 @@ static sqlite3 *open_conn(const char *path, char *err, size_t errlen)
     }
     sqlite3_busy_timeout(c, 5000);
     return c;
+}
+
+/* Bring a store written by an older build up to this schema. Stores made
+ * before the channels column (sessions.channels) get it, NULL for their
+ * sessions: those derive their channels from the model, as before. */
+static int migrate(sqlite3 *c, char *err, size_t errlen)
+{
+    sqlite3_stmt *st = NULL;
+    int has = 0, s;
+    if (sqlite3_prepare_v2(c, "PRAGMA table_info(sessions)", -1, &st, NULL) != SQLITE_OK) {
+        snprintf(err, errlen, "schema: %s", sqlite3_errmsg(c));
+        return -1;
+    }
+    while ((s = sqlite3_step(st)) == SQLITE_ROW)
+        has |= strcmp(col_text(st, 1), "channels") == 0;
+    sqlite3_finalize(st);
+    if (s != SQLITE_DONE) {
+        snprintf(err, errlen, "schema: %s", sqlite3_errmsg(c));
+        return -1;
+    }
+    if (has) return 0;
+    char *msg = NULL;
+    if (sqlite3_exec(c, "ALTER TABLE sessions ADD COLUMN channels TEXT", NULL, NULL, &msg) !=
+        SQLITE_OK) {
+        snprintf(err, errlen, "schema: adding sessions.channels: %s", msg ? msg : "failed");
+        sqlite3_free(msg);
+        return -1;
+    }
+    return 0;
 }
 
 tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
@@ -66,6 +101,7 @@ tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
         sqlite3_free(msg);
         goto fail;
     }
+    if (migrate(db->w, err, errlen) != 0) goto fail;
     db->r = open_conn(path, err, errlen);
     if (!db->r) goto fail;
     pthread_mutex_init(&db->wmu, NULL);
@@ -121,12 +157,14 @@ out:
 }
 
 int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created, const char *preset,
-                          const char *config_json, int nchannel, const char *status)
+                          const char *config_json, int nchannel, const char *channels_json,
+                          const char *status)
 {
     return exec_w(db,
-                  "INSERT INTO sessions(seq,id,created,preset,config,nchannel,status,t,idx,error)"
-                  " VALUES(?,?,?,?,?,?,?,0,0,NULL)",
-                  "isdssis", seq, id, created, preset, config_json, (long)nchannel, status);
+                  "INSERT INTO sessions(seq,id,created,preset,config,nchannel,channels,status,t,"
+                  "idx,error) VALUES(?,?,?,?,?,?,?,?,0,0,NULL)",
+                  "isdssiss", seq, id, created, preset, config_json, (long)nchannel,
+                  channels_json, status);
 }
 
 int tsd_db_session_status(tsd_db *db, long seq, const char *status, const char *error)
@@ -207,16 +245,10 @@ out:
     return rc;
 }
 
-static const char *col_text(sqlite3_stmt *st, int i)
-{
-    const unsigned char *s = sqlite3_column_text(st, i);
-    return s ? (const char *)s : "";
-}
-
 typedef struct stored_session {
     long seq;
     double created;
-    char *id, *preset, *config, *status, *error;
+    char *id, *preset, *config, *status, *error, *channels;
 } stored_session;
 
 int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
@@ -228,7 +260,7 @@ int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
     int rc = -1;
     pthread_mutex_lock(&db->rmu);
     if (sqlite3_prepare_v2(db->r,
-                           "SELECT seq,id,created,preset,config,status,error"
+                           "SELECT seq,id,created,preset,config,status,error,channels"
                            " FROM sessions ORDER BY seq",
                            -1, &st, NULL) != SQLITE_OK)
         goto out;
@@ -248,6 +280,7 @@ int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
         x->config = strdup(col_text(st, 4));
         x->status = strdup(col_text(st, 5));
         x->error = strdup(col_text(st, 6));
+        x->channels = strdup(col_text(st, 7));
     }
     rc = s == SQLITE_DONE ? 0 : -1;
 out:
@@ -256,13 +289,15 @@ out:
     pthread_mutex_unlock(&db->rmu);
     for (long i = 0; i < n; i++) {
         stored_session *x = &v[i];
-        if (rc == 0 && x->id && x->preset && x->config && x->status && x->error)
-            fn(ud, x->seq, x->id, x->created, x->preset, x->config, x->status, x->error);
+        if (rc == 0 && x->id && x->preset && x->config && x->status && x->error && x->channels)
+            fn(ud, x->seq, x->id, x->created, x->preset, x->config, x->status, x->error,
+               x->channels);
         free(x->id);
         free(x->preset);
         free(x->config);
         free(x->status);
         free(x->error);
+        free(x->channels);
     }
     free(v);
     return rc;
@@ -372,7 +407,7 @@ long tsd_db_rows(tsd_db *db, long seq, long from, long to, long every, long max,
         size_t nb = (size_t)sqlite3_column_bytes(st, 1);
         double *dst = rows + (size_t)n * (size_t)nchannel;
         memset(dst, 0, rowbytes);
-        memcpy(dst, b, nb < rowbytes ? nb : rowbytes);
+        if (b) memcpy(dst, b, nb < rowbytes ? nb : rowbytes);
         n++;
     }
     if (s != SQLITE_ROW && s != SQLITE_DONE) n = -1;

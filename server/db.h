@@ -3,7 +3,13 @@
  *
  * Tables:
  *   sessions(seq PK, id UNIQUE, created, preset, config JSON, nchannel, status,
- *            t, idx, error)         one row per session, updated on each batch
+ *            t, idx, error, channels JSON)  one row per session, updated on each
+ *                                    batch; channels = {"sample_rate", "channels":
+ *                                    [{name, unit, description}]} of its rows,
+ *                                    stored at creation so that the rows stay
+ *                                    readable when the model cannot be rebuilt
+ *                                    (NULL in stores older than the column,
+ *                                    which tsd_db_open adds)
  *   samples(seq, idx, vals BLOB)     one row per sample row: nchannel float64
  *                                    in channel order (native byte order)
  *   snapshots(seq, idx, t, blob)     ts_state_save snapshots, one per batch: the
@@ -32,7 +38,8 @@ tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen);
 void tsd_db_close(tsd_db *db); /* NULL is a no-op */
 
 int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created, const char *preset,
-                          const char *config_json, int nchannel, const char *status);
+                          const char *config_json, int nchannel, const char *channels_json,
+                          const char *status);
 int tsd_db_session_status(tsd_db *db, long seq, const char *status, const char *error);
 int tsd_db_session_delete(tsd_db *db, long seq);
 
@@ -47,7 +54,8 @@ int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, co
  * restarts from; the columns keep them for inspection of the file. */
 typedef void (*tsd_db_session_fn)(void *ud, long seq, const char *id, double created,
                                   const char *preset, const char *config_json,
-                                  const char *status, const char *error);
+                                  const char *status, const char *error,
+                                  const char *channels_json /* "" when none stored */);
 int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud);
 
 /* The stored state snapshot: *blob malloc'd (caller frees), *idx its index;

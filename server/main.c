@@ -13,9 +13,10 @@
  * drain and join the pool (deferred step replies are resumed by their jobs;
  * the pool stays allocated, refusing submissions, while HTTP threads run),
  * wake streams again, keep serving reads for --drain seconds (a second
- * signal ends that at once), wait (at most SETTLE_S) for requests in flight
- * to complete — a step reply resumed by its job is only queued by the next
- * MHD call, and stopping MHD first lost it — stop libmicrohttpd (no
+ * signal ends that at once), wait (at most SETTLE_S, or until a further
+ * signal) for requests in flight to complete — a step reply resumed by its
+ * job is only queued by the next MHD call, and stopping MHD first lost it —
+ * stop libmicrohttpd (no
  * connection is left suspended), then free the pool and sessions and close
  * the database.
  */
@@ -238,7 +239,8 @@ int main(int argc, char **argv)
         while (sigtimedwait(&stop, NULL, &ts) < 0 && errno == EINTR)
             ;
     }
-    tsd_server_settle(&srv, SETTLE_S); /* resumed replies go out before MHD stops */
+    /* resumed replies go out before MHD stops; a further signal cuts it short */
+    tsd_server_settle(&srv, SETTLE_S, &stop);
     tsd_server_stop(&srv);
     tsd_pool_free(srv.pool);
     srv.pool = NULL;

@@ -453,16 +453,19 @@ static int parse_range(tsd_request *r, tsd_session *s, const char *channels, ran
                        enum MHD_Result *ret)
 {
     ts_err e;
-    if (!s->m) {
-        ts_err_set(&e, TS_ERR_STATE, NULL, "session %s has no model: %s", s->id, s->error);
+    if (s->nch == 0) { /* stored before channel lists were, and no model: names unknown */
+        ts_err_set(&e, TS_ERR_STATE, NULL,
+                   "session %s: the names and units of its stored rows are unknown (no model "
+                   "and no stored channel list): %s",
+                   s->id, s->error);
         *ret = tsd_reply_err(r, &e, NULL);
         return -1;
     }
-    if (tsa_channel_select(s->m, channels, q->idx, MAX_CHANNELS_SELECT, &q->n, &e) != TS_OK) {
+    if (tsd_channels_select(&s->ch, channels, q->idx, MAX_CHANNELS_SELECT, &q->n, &e) != TS_OK) {
         *ret = tsd_reply_err(r, &e, NULL);
         return -1;
     }
-    double rate = 1.0 / ts_model_sample_period(s->m);
+    double rate = 1.0 / s->ch.period;
     double from = 0, to = 1e300;
     if (q_number(r, "from", 0, 1e12, &from, ret) < 0) return -1;
     if (q_number(r, "to", 0, 1e12, &to, ret) < 0) return -1;
@@ -523,11 +526,12 @@ static enum MHD_Result get_series(tsd_request *r)
     if (more && n > 0) snprintf(next, sizeof next, "%ld", index[n - 1] + every);
     tsa_buf b = {0};
     if (csv) {
-        tsa_csv_header(&b, s->m, q.idx, q.n);
+        tsd_channels_csv_header(&b, &s->ch, q.idx, q.n);
         for (long k = 0; k < n; k++)
             tsa_csv_row(&b, rows + (size_t)k * (size_t)s->nch, q.idx, q.n);
     } else {
-        tsa_series_json(&b, s->id, s->m, q.idx, q.n, index, rows, n, every, next[0] ? next : NULL);
+        tsd_channels_series_json(&b, s->id, &s->ch, q.idx, q.n, index, rows, n, every,
+                                 next[0] ? next : NULL);
     }
     free(index);
     free(rows);
@@ -608,7 +612,7 @@ static enum MHD_Result get_fft(tsd_request *r)
         for (long k = 0; k < n; k++)
             x[k] = rows[(size_t)k * (size_t)s->nch + (size_t)c];
         pthread_mutex_lock(&r->srv->fft_lock);
-        rc = tsa_amplitude_spectrum(x, n, 1.0 / ts_model_sample_period(s->m), 1, freq, amp, &e);
+        rc = tsa_amplitude_spectrum(x, n, 1.0 / s->ch.period, 1, freq, amp, &e);
         pthread_mutex_unlock(&r->srv->fft_lock);
     }
     json_t *out = NULL;
@@ -618,12 +622,11 @@ static enum MHD_Result get_fft(tsd_request *r)
             json_array_append_new(fa, json_real(freq[k]));
             json_array_append_new(aa, json_real(amp[k]));
         }
-        const ts_channel *chn = ts_model_channel(s->m, c);
+        const ts_channel *chn = &s->ch.v[c];
         out = json_pack("{s:s,s:s,s:s,s:f,s:f,s:I,s:f,s:s,s:o,s:o}", "session", s->id, "channel",
-                        chn->name, "unit", chn->unit, "from",
-                        (double)q.from * ts_model_sample_period(s->m), "to",
-                        (double)q.to * ts_model_sample_period(s->m), "n", (json_int_t)n, "df",
-                        1.0 / ((double)n * ts_model_sample_period(s->m)), "detrend", "mean removed",
+                        chn->name, "unit", chn->unit, "from", (double)q.from * s->ch.period,
+                        "to", (double)q.to * s->ch.period, "n", (json_int_t)n, "df",
+                        1.0 / ((double)n * s->ch.period), "detrend", "mean removed",
                         "frequency", fa, "amplitude", aa);
     }
     free(index);
@@ -679,15 +682,26 @@ static int parse_view(tsd_request *r, tsr_view *v, enum MHD_Result *ret)
     return 0;
 }
 
+/* Frames are drawn from stored state snapshots and the model: a session that
+ * could not be restored (session.c) has none this build can use — 409 with
+ * the reason, before anything reads its model (which may not exist). */
+static enum MHD_Result reply_no_frames(tsd_request *r, tsd_session *s)
+{
+    ts_err e;
+    ts_err_set(&e, TS_ERR_STATE, NULL, "session %s has no frames here: %s", s->id, s->error);
+    return tsd_reply_err(r, &e, NULL);
+}
+
 static enum MHD_Result get_frame(tsd_request *r)
 {
     tsd_session *s = r->session;
     enum MHD_Result ret = MHD_NO;
+    if (s->unrestored) return reply_no_frames(r, s);
     range_q q;
     if (parse_range(r, s, "t", &q, &ret) < 0) return ret;
     tsr_view v;
     if (parse_view(r, &v, &ret) < 0) return ret;
-    double rate = 1.0 / ts_model_sample_period(s->m), t = (double)q.to / rate;
+    double rate = 1.0 / s->ch.period, t = (double)q.to / rate;
     if (q_number(r, "t", 0, 1e12, &t, &ret) < 0) return ret;
     if (t * rate > (double)q.to + 0.5) {
         char msg[160];
@@ -720,13 +734,14 @@ static enum MHD_Result get_frames(tsd_request *r)
 {
     tsd_session *s = r->session;
     enum MHD_Result ret = MHD_NO;
+    if (s->unrestored) return reply_no_frames(r, s);
     range_q q;
     if (parse_range(r, s, "t", &q, &ret) < 0) return ret;
     tsr_view v;
     if (parse_view(r, &v, &ret) < 0) return ret;
     double fps = 25;
     if (q_number(r, "fps", 0.01, 1000, &fps, &ret) < 0) return ret;
-    double rate = 1.0 / ts_model_sample_period(s->m);
+    double rate = 1.0 / s->ch.period;
     long n = q.to >= q.from ? (long)floor((double)(q.to - q.from) / rate * fps + 1e-9) + 1 : 0;
     ts_err e;
     if (n < 1) {
@@ -790,7 +805,7 @@ static enum MHD_Result cancel_operation(tsd_request *r)
     if (!done) {
         tsd_session *s = tsd_session_get(r->srv, sid);
         if (s) {
-            tsd_session_cancel(s);
+            tsd_session_cancel(s, r->params[0]);
             tsd_session_put(s);
         }
     }

@@ -12,6 +12,7 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -239,12 +240,15 @@ int tsd_server_start(tsd_server *s, char *err, size_t errlen)
     return 0;
 }
 
-void tsd_server_settle(tsd_server *s, double timeout)
+void tsd_server_settle(tsd_server *s, double timeout, const sigset_t *stop)
 {
     double until = tsd_now() + timeout;
     while (atomic_load(&s->inflight) > 0 && tsd_now() < until) {
         struct timespec ts = {0, 10 * 1000 * 1000};
-        nanosleep(&ts, NULL);
+        if (!stop)
+            nanosleep(&ts, NULL);
+        else if (sigtimedwait(stop, NULL, &ts) > 0)
+            return; /* another stop signal: close now */
     }
 }
 

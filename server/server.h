@@ -13,6 +13,7 @@
 #include <jansson.h>
 #include <microhttpd.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stddef.h>
 
@@ -107,8 +108,9 @@ int tsd_server_start(tsd_server *s, char *err, size_t errlen);
 void tsd_server_stop(tsd_server *s);
 /* Wait (at most timeout seconds, polling) until no request is in flight — at
  * shutdown, so that replies of deferred requests that workers resumed (a step
- * cut short, a create) are sent before libmicrohttpd closes the connections. */
-void tsd_server_settle(tsd_server *s, double timeout);
+ * cut short, a create) are sent before libmicrohttpd closes the connections.
+ * stop (blocked signals; may be NULL): one of them arriving ends the wait. */
+void tsd_server_settle(tsd_server *s, double timeout, const sigset_t *stop);
 
 /* Responses: each queues exactly one response and returns MHD's result. */
 enum MHD_Result tsd_reply_json(tsd_request *r, unsigned status, json_t *body); /* steals body */

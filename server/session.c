@@ -102,6 +102,7 @@ static void session_free(tsd_session *s)
     free(s->batch);
     free(s->snapshot);
     free(s->latest);
+    tsd_channels_free(&s->ch);
     pthread_mutex_destroy(&s->mu);
     free(s);
 }
@@ -154,12 +155,15 @@ static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, const ts_co
     s->latest = calloc((size_t)s->nch, sizeof *s->latest);
     s->snapshot_size = ts_state_size(s->m);
     s->snapshot = malloc(s->snapshot_size ? s->snapshot_size : 1);
-    if (!s->d || !s->batch || !s->latest || !s->snapshot) {
+    int chok = tsd_channels_from_model(&s->ch, s->m) == 0;
+    if (!s->d || !s->batch || !s->latest || !s->snapshot || !chok) {
         if (s->d) ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         ts_data_free(s->d);
         s->d = NULL;
         ts_model_free(s->m);
         s->m = NULL;
+        tsd_channels_free(&s->ch);
+        s->nch = 0;
     }
     return s;
 }
@@ -257,8 +261,30 @@ typedef struct {
     int loaded, interrupted, unrestored;
 } load_ctx;
 
+/* Serve s's rows with the channel table stored with it (steals c) in place of
+ * its model's: s is unrestored, so it is never advanced and its batch (laid
+ * out for the model) is never used. Then read its last row. */
+static void adopt_stored_channels(tsd_session *s, tsd_channels *c)
+{
+    double *latest = calloc((size_t)c->n, sizeof *latest);
+    if (!latest) {
+        fprintf(stderr, "tanksimd: session %s: out of memory for its channels\n", s->id);
+        tsd_channels_free(c);
+        tsd_channels_free(&s->ch);
+        s->nch = 0;
+        return;
+    }
+    free(s->latest);
+    s->latest = latest;
+    tsd_channels_free(&s->ch);
+    s->ch = *c;
+    memset(c, 0, sizeof *c);
+    s->nch = s->ch.n;
+}
+
 static void load_session(void *ud, long seq, const char *id, double created, const char *preset,
-                         const char *config_json, const char *status, const char *error)
+                         const char *config_json, const char *status, const char *error,
+                         const char *channels_json)
 {
     load_ctx *lc = ud;
     tsd_server *srv = lc->srv;
@@ -288,19 +314,35 @@ static void load_session(void *ud, long seq, const char *id, double created, con
     }
     char why[TS_ERR_MSG_LEN];
     int ok;
-    if (!s->m) {
-        snprintf(why, sizeof why, "its model cannot be rebuilt: %.300s",
-                 resolved ? err.msg : "the stored config is not JSON");
+    /* The channel list stored with it (none: a store older than that column;
+     * then the model's, as before). */
+    tsd_channels stored = {0};
+    char cwhy[160] = "";
+    int have = channels_json[0] && tsd_channels_parse(&stored, channels_json, cwhy, sizeof cwhy) == 0;
+    if (channels_json[0] && !have)
+        fprintf(stderr, "tanksimd: session %s: %s; its model's channels are used\n", id, cwhy);
+    if (!s->m || (have && !tsd_channels_match(&stored, s->m))) {
+        if (!s->m)
+            snprintf(why, sizeof why, "its model cannot be rebuilt: %.300s",
+                     resolved ? err.msg : "the stored config is not JSON");
+        else
+            snprintf(why, sizeof why,
+                     "its stored rows have other channels than this build's model (%d stored, "
+                     "%d in the model, or other names, units or sample rate)",
+                     stored.n, ts_model_nchannel(s->m));
+        if (have) adopt_stored_channels(s, &stored); /* rows readable without the model */
         long last = -1;
         double t_last = 0.0;
         ok = 0;
-        if (tsd_db_last_row(srv->db, seq, &last, &t_last, NULL, 0) == 0) {
+        if (tsd_db_last_row(srv->db, seq, &last, &t_last, s->nch ? s->latest : NULL, s->nch) ==
+            0) {
             s->index = last;
             s->t = t_last;
         }
     } else {
         ok = restore_stored(s, why, sizeof why) == 0;
     }
+    tsd_channels_free(&stored);
     if (!ok) {
         s->status = TSD_FAILED;
         s->unrestored = 1;
@@ -479,10 +521,13 @@ static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolve
     s->seq = srv->reg->next_seq++;
     pthread_mutex_unlock(&srv->reg->mu);
     char *cfg_text = json_dumps(resolved, JSON_COMPACT | JSON_REAL_PRECISION(17));
-    int dbrc = cfg_text ? tsd_db_session_insert(srv->db, s->seq, s->id, s->created, s->preset,
-                                                cfg_text, s->nch, "created")
-                        : -1;
+    char *ch_text = tsd_channels_dump(s->m);
+    int dbrc = cfg_text && ch_text ? tsd_db_session_insert(srv->db, s->seq, s->id, s->created,
+                                                           s->preset, cfg_text, s->nch, ch_text,
+                                                           "created")
+                                   : -1;
     free(cfg_text);
+    free(ch_text);
     int inserted = dbrc == 0;
     if (dbrc == 0) dbrc = store_first_row(s);
     if (dbrc != 0) {
@@ -563,6 +608,9 @@ ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
 
 static json_t *json_locked(tsd_session *s, int summary)
 {
+    /* A table adopted from the store (channels.h) describes the rows, the
+     * model (if any) does not: channels, latest and sample_rate from it. */
+    int stored_table = s->ch.doc != NULL;
     tsa_session_view v = {
         .id = s->id,
         .status = tsd_status_name(s->status),
@@ -572,12 +620,21 @@ static json_t *json_locked(tsd_session *s, int summary)
         .index = s->index > 0 ? s->index : 0,
         .persisted = s->index + 1, /* -1: a stored session without rows */
         .config = s->config,
-        .m = s->m,
-        .latest = s->m ? s->latest : NULL,
+        .m = stored_table ? NULL : s->m,
+        .latest = s->m && !stored_table ? s->latest : NULL,
         .error = s->error,
         .operation = s->op_id,
     };
-    return tsa_session_json(&v, summary);
+    json_t *o = tsa_session_json(&v, summary);
+    if (o && stored_table) {
+        json_object_set_new(o, "sample_rate", json_real(1.0 / s->ch.period));
+        if (!summary) {
+            json_object_set_new(o, "channels", tsd_channels_json(&s->ch));
+            if (s->index >= 0)
+                json_object_set_new(o, "latest", tsd_channels_values_json(&s->ch, s->latest));
+        }
+    }
+    return o;
 }
 
 json_t *tsd_session_json(tsd_session *s, int summary)
@@ -955,15 +1012,19 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
     run_job_arg *j = calloc(1, sizeof *j);
     tsd_op *op = j ? tsd_op_new(s->srv, s->id, t0, until) : NULL;
     if (!op) {
+        int nomem = !j; /* (j is not read once freed) */
         free(j);
         unbusy(s);
-        return j ? ts_err_set(err, TS_ERR_LIMIT, NULL, "too many operations in progress")
-                 : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return nomem ? ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory")
+                     : ts_err_set(err, TS_ERR_LIMIT, NULL, "too many operations in progress");
     }
     ref(s);
     *j = (run_job_arg){s, op, until, rtf, t0, tsd_now()};
     pthread_mutex_lock(&s->mu);
     tsd_status before = s->status;
+    char before_error[sizeof s->error], before_op[sizeof s->op_id];
+    memcpy(before_error, s->error, sizeof before_error);
+    memcpy(before_op, s->op_id, sizeof before_op);
     s->status = TSD_RUNNING; /* created | paused | interrupted -> running */
     s->error[0] = '\0';
     snprintf(s->op_id, sizeof s->op_id, "%s", tsd_op_id(op));
@@ -976,9 +1037,23 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
         ts_rc why = atomic_load(&s->srv->stopping)
                         ? tsd_err_shutdown(err)
                         : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory queueing the run");
+        /* Not run_finish: that would count a run ended that never started
+         * and store the session without its previous error and operation. */
         ts_err e2;
         ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "%s", err->msg);
-        run_finish(j, before, TS_ERR_CANCELLED, &e2);
+        json_t *error = tsa_problem_from_err(&e2, NULL);
+        json_object_set_new(error, "code", json_integer(1));
+        json_object_set_new(error, "message", json_string(e2.msg));
+        tsd_op_finish(s->srv, op, NULL, error);
+        pthread_mutex_lock(&s->mu);
+        s->status = before;
+        memcpy(s->error, before_error, sizeof before_error);
+        memcpy(s->op_id, before_op, sizeof before_op);
+        pthread_mutex_unlock(&s->mu);
+        tsd_db_session_status(s->srv->db, s->seq, tsd_status_name(before), before_error);
+        unbusy(s);
+        tsd_session_put(s); /* the job's reference */
+        free(j);
         json_decref(*opdoc);
         *opdoc = NULL;
         return why;
@@ -987,7 +1062,12 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
     return TS_OK;
 }
 
-void tsd_session_cancel(tsd_session *s)
+void tsd_session_cancel(tsd_session *s, const char *op_id)
 {
-    atomic_store(&s->cancel, 1);
+    /* Under mu: status and op_id change together in tsd_session_run and
+     * release, and acquire clears cancel under mu, so a later step or run
+     * never sees this request. */
+    pthread_mutex_lock(&s->mu);
+    if (s->status == TSD_RUNNING && strcmp(s->op_id, op_id) == 0) atomic_store(&s->cancel, 1);
+    pthread_mutex_unlock(&s->mu);
 }

@@ -21,6 +21,7 @@
 #include <stdatomic.h>
 
 #include "../sim/model.h"
+#include "channels.h"
 #include "server.h"
 
 typedef enum tsd_status {
@@ -51,7 +52,11 @@ typedef struct tsd_session {
     json_t *config;   /* resolved config document (immutable) */
     ts_model *m;      /* NULL when the model could not be rebuilt after a restart */
     ts_data *d;       /* owned by the busy holder */
-    int nch;          /* channels per row */
+    int nch;          /* channels per row (= ch.n; 0: no table, rows unreadable) */
+    tsd_channels ch;  /* names, units and sample period of the stored rows: the
+                         model's, or the list stored with the session when this
+                         build's model cannot be made or has other channels
+                         (channels.h); immutable once shared */
     double *batch;    /* rows not yet stored, batch_cap x nch (busy holder) */
     long batch_n, batch_cap, batch_first;
     void *snapshot; /* ts_state_size bytes (busy holder) */
@@ -104,8 +109,11 @@ ts_rc tsd_session_step(tsd_session *s, double duration, json_t **result, ts_err 
  * rtf > 0. Returns the operation document (new reference). */
 ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **op, ts_err *err);
 
-/* Ask the running job to stop (run -> paused). */
-void tsd_session_cancel(tsd_session *s);
+/* Ask the run of operation op_id to stop (run -> paused). A no-op unless
+ * that run is the one in progress: a cancel that arrives after its run ended
+ * must not stop whatever the session does next (a step would be cut short
+ * and reported as if the session had been deleted). */
+void tsd_session_cancel(tsd_session *s, const char *op_id);
 
 /* Streams: 1 when rows with index >= next are stored; 0 when none are yet
  * and the caller's connection has been suspended and queued in w (it is

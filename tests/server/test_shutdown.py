@@ -9,6 +9,7 @@ Deterministic, not a race against the exit: --drain 60 keeps the daemon in
 the shutting-down state (reads served, new work refused) until the test
 sends the second signal, and the test waits for /v1/health to report the
 state before probing."""
+import json
 import signal
 import subprocess
 import threading
@@ -135,3 +136,84 @@ def test_step_cut_short_by_shutdown_is_not_a_success(tmp_path):
         assert ser["index"] == list(range(s["index"] + 1))
     finally:
         d2.stop()
+
+
+def _partial_post(d, path, body, sent):
+    """Open a raw connection and send the headers of POST path and the first
+    `sent` bytes of body (the daemon has the request in flight)."""
+    import socket
+    c = socket.create_connection(("127.0.0.1", d.port), timeout=20)
+    c.sendall((f"POST {path} HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+               f"Content-Length: {len(body)}\r\nConnection: close\r\n\r\n").encode() + body[:sent])
+    return c
+
+
+def _read_all(c):
+    out = b""
+    try:
+        while True:
+            b = c.recv(65536)
+            if not b:
+                break
+            out += b
+    except (ConnectionResetError, TimeoutError):
+        pass
+    return out
+
+
+def test_request_in_flight_at_shutdown_is_answered(tmp_path):
+    """A request that arrived before SIGTERM but completes after it (a slow
+    upload here) still gets its answer — the 503 shutting-down problem, as new
+    work — before the daemon closes its connections (tsd_server_settle): with
+    MHD stopped at once the client saw the connection dropped, no answer."""
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        body = json.dumps({"preset": BASE_PRESET}).encode()
+        c = _partial_post(d, "/v1/sessions", body, 5)
+        time.sleep(0.3)  # headers parsed: the request is in flight
+        d.proc.send_signal(signal.SIGTERM)
+        time.sleep(0.5)  # shutdown has begun and is waiting for the request
+        assert d.proc.poll() is None
+        c.sendall(body[5:])
+        reply = _read_all(c).decode(errors="replace")
+        c.close()
+        assert reply.startswith("HTTP/1.1 503"), reply[:200]
+        assert "/problems/shutting-down" in reply and "Retry-After: 5" in reply, reply
+        assert d.proc.wait(timeout=20) == 0
+    finally:
+        d.stop()
+
+
+def test_wait_for_requests_in_flight_is_bounded(tmp_path):
+    """A client that never completes its request does not hold the daemon:
+    it exits within the settle bound (5 s) plus a margin."""
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        c = _partial_post(d, "/v1/sessions", b'{"preset": "x"}', 3)
+        time.sleep(0.3)
+        t0 = time.time()
+        d.proc.send_signal(signal.SIGTERM)
+        assert d.proc.wait(timeout=20) == 0
+        assert time.time() - t0 < 9
+        c.close()
+    finally:
+        d.stop()
+
+
+def test_second_signal_ends_the_wait_for_requests_in_flight(tmp_path):
+    """As for --drain, a second signal closes at once: an operator's second
+    Ctrl-C is not held up by a client that never completes its request."""
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        c = _partial_post(d, "/v1/sessions", b'{"preset": "x"}', 3)
+        time.sleep(0.3)
+        d.proc.send_signal(signal.SIGTERM)
+        time.sleep(0.3)
+        assert d.proc.poll() is None  # waiting for the request in flight
+        t0 = time.time()
+        d.proc.send_signal(signal.SIGINT)
+        assert d.proc.wait(timeout=20) == 0
+        assert time.time() - t0 < 2.0, time.time() - t0
+        c.close()
+    finally:
+        d.stop()
