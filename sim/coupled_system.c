@@ -415,12 +415,17 @@ static void lead_rhs_driveline(ts_coupled_run *r, double t, const double *y, dou
  * step the engine advances itself with the rack of the step start, then RK4
  * sub-steps of the turbine and the IVS integral with the engine held; the
  * shift state machine at every sub-step end. */
+static int lead_rhs_held(double t, const double *y, double *ydot, void *ud)
+{
+    lead_rhs_driveline(ud, t, y, ydot);
+    return 0;
+}
+
 static ts_rc lead_cosim(ts_coupled_run *r, double t_to, ts_err *err)
 {
     const ts_coupled *c = r->c;
-    double *y = r->yp, *yd = r->rk, y0[2], k[4][2];
+    double *y = r->yp, *yd = r->rk, work[10];
     const int idx[2] = {c->npt - 1, c->npt}; /* turbine, IVS integral */
-    static const double cs[4] = {0.0, 0.5, 0.5, 1.0}; /* RK4 stage times */
     while (r->lead_t < t_to - 1e-12 * (1.0 + fabs(t_to))) {
         double t_end = r->lead_t + ts_powertrain_macro_step(c->pt);
         if (t_end > t_to - 1e-12 * (1.0 + fabs(t_to))) t_end = t_to;
@@ -431,18 +436,9 @@ static ts_rc lead_cosim(ts_coupled_run *r, double t_to, ts_err *err)
         while (r->lead_t < t_end - 1e-12 * (1.0 + fabs(t_end))) {
             double h = ts_powertrain_explicit_step(c->pt, y), t0 = r->lead_t;
             if (t0 + h > t_end) h = t_end - t0;
-            for (int j = 0; j < 2; j++) y0[j] = y[idx[j]];
-            for (int s = 0; s < 4; s++) {
-                for (int j = 0; s > 0 && j < 2; j++) y[idx[j]] = y0[j] + cs[s] * h * k[s - 1][j];
-                lead_rhs_driveline(r, t0 + cs[s] * h, y, yd);
-                for (int j = 0; j < 2; j++) k[s][j] = yd[idx[j]];
-            }
-            for (int j = 0; j < 2; j++) {
-                y[idx[j]] = y0[j] + h / 6.0 * (k[0][j] + 2 * k[1][j] + 2 * k[2][j] + k[3][j]);
-                if (!isfinite(y[idx[j]]))
-                    return ts_err_set(err, TS_ERR_DIVERGED, NULL,
-                                      "powertrain state left its domain at t = %.6f s", t0);
-            }
+            if (ts_rk4_step_subset(2, idx, lead_rhs_held, r, t0, h, y, yd, work))
+                return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                                  "powertrain state left its domain at t = %.6f s", t0);
             r->lead_t = t0 + h;
             settle(r, r->lead_t, y, lead_w(r, r->lead_t));
         }

@@ -535,36 +535,30 @@ static ts_rc sim_advance_explicit(ts_powertrain_sim *s, double t_to, ts_err *err
     return TS_OK;
 }
 
+/* The driveline's right-hand side with the engine held (ts_rk4_step_subset). */
+static int sim_rhs_driveline(double t, const double *y, double *ydot, void *ud)
+{
+    ts_powertrain_sim *s = ud;
+    ts_powertrain_rhs_driveline(s->pt, &s->ps, t, y, sim_w(s, t), s->rack, ydot, NULL);
+    return 0;
+}
+
 /* Co-simulation path (powertrain.h): per macro step the engine advances
  * itself, then RK4 sub-steps of the turbine with the engine speed held. */
 static ts_rc sim_advance_cosim(ts_powertrain_sim *s, double t_to, ts_err *err)
 {
     const ts_powertrain *pt = s->pt;
-    int it = pt->nstate - 1; /* turbine */
-    double *y = s->y, *yd = s->tmp, k[4];
+    const int it = pt->nstate - 1; /* turbine */
+    double *y = s->y, work[5];
     while (s->t < t_to - 1e-12 * (1.0 + fabs(t_to))) {
         double t_end = s->t + pt->macro_step;
         if (t_end > t_to - 1e-12 * (1.0 + fabs(t_to))) t_end = t_to;
         ts_rc rc = ts_powertrain_engine_advance(pt, s->t, t_end - s->t, y, s->rack, s->work, err);
         if (rc != TS_OK) return rc;
         while (s->t < t_end - 1e-12 * (1.0 + fabs(t_end))) {
-            double h = ts_powertrain_explicit_step(pt, y), t = s->t, w0 = y[it];
+            double h = ts_powertrain_explicit_step(pt, y), t = s->t;
             if (t + h > t_end) h = t_end - t;
-            ts_powertrain_rhs_driveline(pt, &s->ps, t, y, sim_w(s, t), s->rack, yd, NULL);
-            k[0] = yd[it];
-            y[it] = w0 + 0.5 * h * k[0];
-            ts_powertrain_rhs_driveline(pt, &s->ps, t + 0.5 * h, y, sim_w(s, t + 0.5 * h), s->rack,
-                                        yd, NULL);
-            k[1] = yd[it];
-            y[it] = w0 + 0.5 * h * k[1];
-            ts_powertrain_rhs_driveline(pt, &s->ps, t + 0.5 * h, y, sim_w(s, t + 0.5 * h), s->rack,
-                                        yd, NULL);
-            k[2] = yd[it];
-            y[it] = w0 + h * k[2];
-            ts_powertrain_rhs_driveline(pt, &s->ps, t + h, y, sim_w(s, t + h), s->rack, yd, NULL);
-            k[3] = yd[it];
-            y[it] = w0 + h / 6.0 * (k[0] + 2 * k[1] + 2 * k[2] + k[3]);
-            if (!isfinite(y[it]))
+            if (ts_rk4_step_subset(1, &it, sim_rhs_driveline, s, t, h, y, s->tmp, work))
                 return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                                   "turbine speed not finite at t = %.6f s", t);
             s->t = t + h;

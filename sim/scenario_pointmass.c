@@ -267,6 +267,19 @@ static void derivs_driveline(const ts_model *m, const pm_data *p, double t, cons
     ydot[V] = (2.0 * o.sprocket_torque / vc->sprocket_radius - resistance(vc, y[V])) / pm->mass_eff;
 }
 
+/* derivs_driveline as a ts_rhs_fn (ts_rk4_step_subset). */
+typedef struct {
+    const ts_model *m;
+    const pm_data *p;
+} held_ctx;
+
+static int rhs_held(double t, const double *y, double *ydot, void *ud)
+{
+    const held_ctx *h = ud;
+    derivs_driveline(h->m, h->p, t, y, ydot);
+    return 0;
+}
+
 /* Co-simulation path: macro steps of the engine, RK4 sub-steps of x, v and
  * the turbine (the last state) with the engine held; shifts at sub-step ends. */
 static ts_rc step_to_cosim(const ts_model *m, pm_data *p, double t, ts_err *err)
@@ -274,7 +287,8 @@ static ts_rc step_to_cosim(const ts_model *m, pm_data *p, double t, ts_err *err)
     const pm_model *pm = m->impl;
     const double r_s = m->cfg.vehicle.sprocket_radius, rack = m->cfg.control.rack;
     const int idx[3] = {X, V, p->n - 1}; /* the states the RK4 integrates */
-    double *y = p->y, *yd = p->ydot, y0[3], k[4][3];
+    double *y = p->y, work[15];
+    held_ctx ctx = {m, p};
     while (p->t_int < t - 1e-12 * (1.0 + t)) {
         double t_end = p->t_int + ts_powertrain_macro_step(pm->pt);
         if (t_end > t - 1e-12 * (1.0 + t)) t_end = t;
@@ -284,22 +298,9 @@ static ts_rc step_to_cosim(const ts_model *m, pm_data *p, double t, ts_err *err)
         while (p->t_int < t_end - 1e-12 * (1.0 + t_end)) {
             double h = ts_powertrain_explicit_step(pm->pt, y + NVEH), t0 = p->t_int;
             if (t0 + h > t_end) h = t_end - t0;
-            static const double c[4] = {0.0, 0.5, 0.5, 1.0}; /* RK4 stage times */
-            for (int j = 0; j < 3; j++)
-                y0[j] = y[idx[j]];
-            for (int s = 0; s < 4; s++) {
-                for (int j = 0; s > 0 && j < 3; j++)
-                    y[idx[j]] = y0[j] + c[s] * h * k[s - 1][j];
-                derivs_driveline(m, p, t0 + c[s] * h, y, yd);
-                for (int j = 0; j < 3; j++)
-                    k[s][j] = yd[idx[j]];
-            }
-            for (int j = 0; j < 3; j++) {
-                y[idx[j]] = y0[j] + h / 6.0 * (k[0][j] + 2 * k[1][j] + 2 * k[2][j] + k[3][j]);
-                if (!isfinite(y[idx[j]]))
-                    return ts_err_set(err, TS_ERR_DIVERGED, NULL,
-                                      "driveline state left its domain at t = %.6f s", t0);
-            }
+            if (ts_rk4_step_subset(3, idx, rhs_held, &ctx, t0, h, y, p->ydot, work))
+                return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                                  "driveline state left its domain at t = %.6f s", t0);
             p->t_int = t0 + h;
             ts_powertrain_update(pm->pt, &p->ps, p->t_int, y + NVEH, y[V] / r_s);
         }

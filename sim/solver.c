@@ -490,3 +490,25 @@ int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y, dou
     }
     return bad;
 }
+
+int ts_rk4_step_subset(int m, const int *idx, ts_rhs_fn f, void *ud, double t, double h,
+                       double *y, double *ydot, double *work)
+{
+    static const double cs[4] = {0.0, 0.5, 0.5, 1.0}; /* stage times */
+    double *y0 = work, *k = work + m;                /* k[s m + j]: stage s, state j */
+    for (int j = 0; j < m; j++)
+        y0[j] = y[idx[j]];
+    for (int s = 0; s < 4; s++) {
+        for (int j = 0; s > 0 && j < m; j++)
+            y[idx[j]] = y0[j] + cs[s] * h * k[(s - 1) * m + j];
+        if (f(t + cs[s] * h, y, ydot, ud)) return 1;
+        for (int j = 0; j < m; j++)
+            k[s * m + j] = ydot[idx[j]];
+    }
+    int bad = 0;
+    for (int j = 0; j < m; j++) {
+        y[idx[j]] = y0[j] + h / 6.0 * (k[j] + 2 * k[m + j] + 2 * k[2 * m + j] + k[3 * m + j]);
+        if (!isfinite(y[idx[j]])) bad = 1;
+    }
+    return bad;
+}

@@ -83,4 +83,13 @@ void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s);
  * (y is then unspecified). */
 int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y, double *work);
 
+/* The same step for the m states y[idx[0..m-1]] only, every other state of y
+ * held (the macro-stepped engine's driveline sub-steps: the engine's states
+ * frozen within a macro step). f evaluates the whole right-hand side into
+ * ydot (n doubles, scratch); work holds 5 m doubles. Same arithmetic as
+ * ts_rk4_step on those states. Returns 0, or non-zero if f failed or one of
+ * those states left the finite numbers. */
+int ts_rk4_step_subset(int m, const int *idx, ts_rhs_fn f, void *ud, double t, double h,
+                       double *y, double *ydot, double *work);
+
 #endif
