@@ -206,34 +206,52 @@ ts_rc tsa_read_numbers(const json_t *obj, const tsa_num_field *f, int nf, json_t
 
 /* ---- channels --------------------------------------------------------------- */
 
-json_t *tsa_channels_json(const ts_model *m)
+ts_rc tsa_channels_from_model(tsa_channels *c, ts_channel *store, int cap, const ts_model *m,
+                              ts_err *err)
+{
+    const int n = ts_model_nchannel(m);
+    *c = (tsa_channels){NULL, 0, 0.0};
+    if (n > cap)
+        return ts_err_set(err, TS_ERR_LIMIT, NULL, "the model has %d channels, room for %d", n,
+                          cap);
+    for (int i = 0; i < n; i++)
+        store[i] = *ts_model_channel(m, i);
+    *c = (tsa_channels){store, n, ts_model_sample_period(m)};
+    return TS_OK;
+}
+
+int tsa_channel_index(const tsa_channels *c, const char *name)
+{
+    for (int i = 0; i < c->n; i++)
+        if (strcmp(c->v[i].name, name) == 0) return i;
+    return -1;
+}
+
+json_t *tsa_channels_json(const tsa_channels *c)
 {
     json_t *a = json_array();
-    for (int i = 0; i < ts_model_nchannel(m); i++) {
-        const ts_channel *c = ts_model_channel(m, i);
-        json_array_append_new(a, json_pack("{s:s,s:s,s:s}", "name", c->name, "unit", c->unit,
-                                           "description", c->description));
-    }
+    for (int i = 0; i < c->n; i++)
+        json_array_append_new(a, json_pack("{s:s,s:s,s:s}", "name", c->v[i].name, "unit",
+                                           c->v[i].unit, "description", c->v[i].description));
     return a;
 }
 
-json_t *tsa_values_json(const ts_model *m, const double *row)
+json_t *tsa_values_json(const tsa_channels *c, const double *row)
 {
     json_t *o = json_object();
-    for (int i = 0; i < ts_model_nchannel(m); i++)
-        json_object_set_new(o, ts_model_channel(m, i)->name,
-                            isfinite(row[i]) ? json_real(row[i]) : json_null());
+    for (int i = 0; i < c->n; i++)
+        json_object_set_new(o, c->v[i].name, isfinite(row[i]) ? json_real(row[i]) : json_null());
     return o;
 }
 
-ts_rc tsa_channel_select(const ts_model *m, const char *list, int *idx, int max, int *n,
+ts_rc tsa_channel_select(const tsa_channels *c, const char *list, int *idx, int max, int *n,
                          ts_err *err)
 {
     int k = 0;
     if (max < 1) return ts_err_set(err, TS_ERR_INTERNAL, NULL, "no room for channels");
     idx[k++] = 0;
     if (!list || !*list) {
-        for (int i = 1; i < ts_model_nchannel(m) && k < max; i++)
+        for (int i = 1; i < c->n && k < max; i++)
             idx[k++] = i;
         *n = k;
         return TS_OK;
@@ -248,18 +266,18 @@ ts_rc tsa_channel_select(const ts_model *m, const char *list, int *idx, int max,
         memcpy(name, p, len);
         name[len] = '\0';
         if (len > 0) {
-            int c = ts_model_channel_index(m, name);
-            if (c < 0)
+            int ci = tsa_channel_index(c, name);
+            if (ci < 0)
                 return ts_err_set(err, TS_ERR_NOTFOUND, "/channels",
                                   "channels: no channel named '%s' (see the session's channels)",
                                   name);
             int dup = 0;
             for (int i = 0; i < k; i++)
-                dup |= idx[i] == c;
+                dup |= idx[i] == ci;
             if (!dup) {
                 if (k >= max)
                     return ts_err_set(err, TS_ERR_LIMIT, "/channels", "channels: too many");
-                idx[k++] = c;
+                idx[k++] = ci;
             }
         }
         p += len;
@@ -271,12 +289,10 @@ ts_rc tsa_channel_select(const ts_model *m, const char *list, int *idx, int max,
 
 /* ---- rows as text ----------------------------------------------------------- */
 
-void tsa_csv_header(tsa_buf *b, const ts_model *m, const int *idx, int n)
+void tsa_csv_header(tsa_buf *b, const tsa_channels *c, const int *idx, int n)
 {
-    for (int i = 0; i < n; i++) {
-        const ts_channel *c = ts_model_channel(m, idx[i]);
-        tsa_buf_printf(b, "%s%s [%s]", i ? "," : "", c->name, c->unit);
-    }
+    for (int i = 0; i < n; i++)
+        tsa_buf_printf(b, "%s%s [%s]", i ? "," : "", c->v[idx[i]].name, c->v[idx[i]].unit);
     tsa_buf_put(b, "\n", 1);
 }
 
@@ -289,7 +305,7 @@ void tsa_csv_row(tsa_buf *b, const double *row, const int *idx, int n)
     tsa_buf_put(b, "\n", 1);
 }
 
-void tsa_row_json(tsa_buf *b, const ts_model *m, long index, const double *row, const int *idx,
+void tsa_row_json(tsa_buf *b, const tsa_channels *c, long index, const double *row, const int *idx,
                   int n)
 {
     tsa_buf_printf(b, "{\"index\":%ld,\"t\":", index);
@@ -300,35 +316,34 @@ void tsa_row_json(tsa_buf *b, const ts_model *m, long index, const double *row, 
         if (idx[i] == 0) continue;
         if (!first) tsa_buf_put(b, ",", 1);
         first = 0;
-        put_str(b, ts_model_channel(m, idx[i])->name);
+        put_str(b, c->v[idx[i]].name);
         tsa_buf_put(b, ":", 1);
         put_num(b, row[idx[i]], 0);
     }
     tsa_buf_put(b, "}}", 2);
 }
 
-void tsa_series_json(tsa_buf *b, const char *session, const ts_model *m, const int *idx, int n,
+void tsa_series_json(tsa_buf *b, const char *session, const tsa_channels *c, const int *idx, int n,
                      const long *index, const double *rows, long nrows, long every,
                      const char *next_token)
 {
-    const int nch = ts_model_nchannel(m);
     tsa_buf_put(b, "{\"session\":", 11);
     put_str(b, session);
     tsa_buf_printf(b, ",\"sample_rate\":%.12g,\"every\":%ld,\"count\":%ld,\"index\":[",
-                   1.0 / ts_model_sample_period(m), every, nrows);
+                   1.0 / c->period, every, nrows);
     for (long r = 0; r < nrows; r++)
         tsa_buf_printf(b, r ? ",%ld" : "%ld", index[r]);
     tsa_buf_put(b, "],\"channels\":[", 14);
     for (int i = 0; i < n; i++) {
-        const ts_channel *c = ts_model_channel(m, idx[i]);
+        const ts_channel *ch = &c->v[idx[i]];
         tsa_buf_put(b, i ? ",{\"name\":" : "{\"name\":", i ? 9 : 8);
-        put_str(b, c->name);
+        put_str(b, ch->name);
         tsa_buf_put(b, ",\"unit\":", 8);
-        put_str(b, c->unit);
+        put_str(b, ch->unit);
         tsa_buf_put(b, ",\"values\":[", 11);
         for (long r = 0; r < nrows; r++) {
             if (r) tsa_buf_put(b, ",", 1);
-            put_num(b, rows[(size_t)r * (size_t)nch + (size_t)idx[i]], idx[i] == 0);
+            put_num(b, rows[(size_t)r * (size_t)c->n + (size_t)idx[i]], idx[i] == 0);
         }
         tsa_buf_put(b, "]}", 2);
     }
@@ -369,16 +384,16 @@ json_t *tsa_session_json(const tsa_session_view *v, int summary)
     if (v->m) {
         json_object_set_new(o, "kind", json_string(ts_model_kind(v->m)));
         json_object_set_new(o, "duration", json_real(ts_model_config(v->m)->run.duration));
-        json_object_set_new(o, "sample_rate", json_real(1.0 / ts_model_sample_period(v->m)));
     }
+    if (v->ch) json_object_set_new(o, "sample_rate", json_real(1.0 / v->ch->period));
     if (v->error && v->error[0]) json_object_set_new(o, "error", json_string(v->error));
     if (v->operation && v->operation[0])
         json_object_set_new(o, "operation", json_string(v->operation));
     if (!summary) {
         if (v->config) json_object_set(o, "config", (json_t *)v->config);
-        if (v->m) {
-            json_object_set_new(o, "channels", tsa_channels_json(v->m));
-            if (v->latest) json_object_set_new(o, "latest", tsa_values_json(v->m, v->latest));
+        if (v->ch) {
+            json_object_set_new(o, "channels", tsa_channels_json(v->ch));
+            if (v->latest) json_object_set_new(o, "latest", tsa_values_json(v->ch, v->latest));
         }
     }
     json_object_set_new(o, "links", links);

@@ -10,7 +10,8 @@
  *
  * Ownership: json_t* results are NEW references (caller json_decref);
  * tsa_buf memory is the caller's (tsa_buf_free). All numbers are SI, with the
- * unit of every channel given beside it (model.h channel registry).
+ * unit of every channel given beside it (a tsa_channels table: the model.h
+ * channel registry or a list stored with the rows).
  */
 #ifndef TSA_SESSION_JSON_H
 #define TSA_SESSION_JSON_H
@@ -56,37 +57,61 @@ typedef struct tsa_num_field {
 ts_rc tsa_read_numbers(const json_t *obj, const tsa_num_field *f, int nf, json_t *errors,
                        ts_err *err);
 
-/* ---- channels and values ------------------------------------------------- */
+/* ---- channel tables ------------------------------------------------------- */
+
+/* The channel table of a series of rows: entry i names and gives the SI unit
+ * of column i of every row (v[0] is time "t" [s]); period is the sample period
+ * [s] (1 / run.sample_rate). Every text and JSON shape below takes one, so the
+ * same shapes serve a live model (tsa_channels_from_model) and rows stored
+ * with a list of their own (the daemon's store, server/channels.h) alike.
+ *
+ * Ownership: a view, nothing is owned. v and the strings it points to are the
+ * filler's and must outlive every use of the view. */
+typedef struct tsa_channels {
+    const ts_channel *v; /* n entries */
+    int n;
+    double period; /* sample period [s] */
+} tsa_channels;
+
+/* Fill c with m's table: the n = ts_model_nchannel(m) entries are copied into
+ * store (cap entries, the caller's), their strings stay m's. So c is valid
+ * while both store and m live. TS_ERR_LIMIT when m has more than cap channels
+ * (c is then left empty). */
+ts_rc tsa_channels_from_model(tsa_channels *c, ts_channel *store, int cap, const ts_model *m,
+                              ts_err *err);
+
+/* Column of the channel named name, -1 when c has none. */
+int tsa_channel_index(const tsa_channels *c, const char *name);
 
 /* [{"name","unit","description"}] of every channel. */
-json_t *tsa_channels_json(const ts_model *m);
+json_t *tsa_channels_json(const tsa_channels *c);
 
-/* {"name": value, ...} of one row of ts_model_nchannel values. */
-json_t *tsa_values_json(const ts_model *m, const double *row);
+/* {"name": value, ...} of one row of c->n values. */
+json_t *tsa_values_json(const tsa_channels *c, const double *row);
 
 /* Parse a comma-separated channel list ("vehicle.speed,sprocket.torque") into
  * channel indexes; "t" (index 0) is always first and never repeated. NULL or ""
  * selects every channel. Unknown names -> TS_ERR_NOTFOUND with pointer
  * "/channels". Writes at most max indexes to idx, the count to *n. */
-ts_rc tsa_channel_select(const ts_model *m, const char *list, int *idx, int max, int *n,
+ts_rc tsa_channel_select(const tsa_channels *c, const char *list, int *idx, int max, int *n,
                          ts_err *err);
 
 /* ---- sample rows as text --------------------------------------------------- */
 
 /* "name [unit],..." header line for the selected channels. */
-void tsa_csv_header(tsa_buf *b, const ts_model *m, const int *idx, int n);
+void tsa_csv_header(tsa_buf *b, const tsa_channels *c, const int *idx, int n);
 /* One CSV line of the selected values of a full row. */
 void tsa_csv_row(tsa_buf *b, const double *row, const int *idx, int n);
 /* One JSON object {"index":k,"t":t,"values":{name:value}} without newline. */
-void tsa_row_json(tsa_buf *b, const ts_model *m, long index, const double *row, const int *idx,
+void tsa_row_json(tsa_buf *b, const tsa_channels *c, long index, const double *row, const int *idx,
                   int n);
 
 /* The columnar series document:
  * {"session","sample_rate","every","count","channels":[{"name","unit","values":[...]}],
- *  "index":[...], "next_page_token"?: "K"} — rows are full rows (nchannel
- * values each), index[k] the sample index of row k; next_token NULL when this
- * page is the last. */
-void tsa_series_json(tsa_buf *b, const char *session, const ts_model *m, const int *idx, int n,
+ *  "index":[...], "next_page_token"?: "K"} — rows are full rows (c->n values
+ * each), index[k] the sample index of row k; next_token NULL when this page is
+ * the last. */
+void tsa_series_json(tsa_buf *b, const char *session, const tsa_channels *c, const int *idx, int n,
                      const long *index, const double *rows, long nrows, long every,
                      const char *next_token);
 
@@ -94,17 +119,18 @@ void tsa_series_json(tsa_buf *b, const char *session, const ts_model *m, const i
 
 typedef struct tsa_session_view {
     const char *id;
-    const char *status;    /* created | running | paused | done | failed | interrupted */
-    const char *preset;    /* "" when none */
-    double created;        /* Unix time [s] */
-    double t;              /* time of the latest sample [s] */
-    long index;            /* index of the latest sample */
-    long persisted;        /* samples stored (index of the last stored row + 1) */
-    const json_t *config;  /* resolved config document (may be NULL in summaries) */
-    const ts_model *m;     /* channels, duration (may be NULL: no model could be built) */
-    const double *latest;  /* latest row (may be NULL) */
-    const char *error;     /* message of a failed run ("" or NULL when none) */
-    const char *operation; /* id of the run in progress ("" or NULL) */
+    const char *status;     /* created | running | paused | done | failed | interrupted */
+    const char *preset;     /* "" when none */
+    double created;         /* Unix time [s] */
+    double t;               /* time of the latest sample [s] */
+    long index;             /* index of the latest sample */
+    long persisted;         /* samples stored (index of the last stored row + 1) */
+    const json_t *config;   /* resolved config document (may be NULL in summaries) */
+    const ts_model *m;      /* kind, duration (may be NULL: no model, or not the rows') */
+    const tsa_channels *ch; /* channels and sample_rate of the rows (may be NULL: unknown) */
+    const double *latest;   /* latest row, ch->n values (may be NULL; ignored without ch) */
+    const char *error;      /* message of a failed run ("" or NULL when none) */
+    const char *operation;  /* id of the run in progress ("" or NULL) */
 } tsa_session_view;
 
 /* The session object with links; summary = 1 leaves out config and channels. */

@@ -461,11 +461,12 @@ static int parse_range(tsd_request *r, tsd_session *s, const char *channels, ran
         *ret = tsd_reply_err(r, &e, NULL);
         return -1;
     }
-    if (tsd_channels_select(&s->ch, channels, q->idx, MAX_CHANNELS_SELECT, &q->n, &e) != TS_OK) {
+    if (tsa_channel_select(&s->ch.view, channels, q->idx, MAX_CHANNELS_SELECT, &q->n, &e) !=
+        TS_OK) {
         *ret = tsd_reply_err(r, &e, NULL);
         return -1;
     }
-    double rate = 1.0 / s->ch.period;
+    double rate = 1.0 / s->ch.view.period;
     double from = 0, to = 1e300;
     if (q_number(r, "from", 0, 1e12, &from, ret) < 0) return -1;
     if (q_number(r, "to", 0, 1e12, &to, ret) < 0) return -1;
@@ -526,12 +527,12 @@ static enum MHD_Result get_series(tsd_request *r)
     if (more && n > 0) snprintf(next, sizeof next, "%ld", index[n - 1] + every);
     tsa_buf b = {0};
     if (csv) {
-        tsd_channels_csv_header(&b, &s->ch, q.idx, q.n);
+        tsa_csv_header(&b, &s->ch.view, q.idx, q.n);
         for (long k = 0; k < n; k++)
             tsa_csv_row(&b, rows + (size_t)k * (size_t)s->nch, q.idx, q.n);
     } else {
-        tsd_channels_series_json(&b, s->id, &s->ch, q.idx, q.n, index, rows, n, every,
-                                 next[0] ? next : NULL);
+        tsa_series_json(&b, s->id, &s->ch.view, q.idx, q.n, index, rows, n, every,
+                        next[0] ? next : NULL);
     }
     free(index);
     free(rows);
@@ -612,7 +613,7 @@ static enum MHD_Result get_fft(tsd_request *r)
         for (long k = 0; k < n; k++)
             x[k] = rows[(size_t)k * (size_t)s->nch + (size_t)c];
         pthread_mutex_lock(&r->srv->fft_lock);
-        rc = tsa_amplitude_spectrum(x, n, 1.0 / s->ch.period, 1, freq, amp, &e);
+        rc = tsa_amplitude_spectrum(x, n, 1.0 / s->ch.view.period, 1, freq, amp, &e);
         pthread_mutex_unlock(&r->srv->fft_lock);
     }
     json_t *out = NULL;
@@ -622,11 +623,11 @@ static enum MHD_Result get_fft(tsd_request *r)
             json_array_append_new(fa, json_real(freq[k]));
             json_array_append_new(aa, json_real(amp[k]));
         }
-        const ts_channel *chn = &s->ch.v[c];
+        const ts_channel *chn = &s->ch.view.v[c];
         out = json_pack("{s:s,s:s,s:s,s:f,s:f,s:I,s:f,s:s,s:o,s:o}", "session", s->id, "channel",
-                        chn->name, "unit", chn->unit, "from", (double)q.from * s->ch.period,
-                        "to", (double)q.to * s->ch.period, "n", (json_int_t)n, "df",
-                        1.0 / ((double)n * s->ch.period), "detrend", "mean removed",
+                        chn->name, "unit", chn->unit, "from", (double)q.from * s->ch.view.period,
+                        "to", (double)q.to * s->ch.view.period, "n", (json_int_t)n, "df",
+                        1.0 / ((double)n * s->ch.view.period), "detrend", "mean removed",
                         "frequency", fa, "amplitude", aa);
     }
     free(index);
@@ -701,7 +702,7 @@ static enum MHD_Result get_frame(tsd_request *r)
     if (parse_range(r, s, "t", &q, &ret) < 0) return ret;
     tsr_view v;
     if (parse_view(r, &v, &ret) < 0) return ret;
-    double rate = 1.0 / s->ch.period, t = (double)q.to / rate;
+    double rate = 1.0 / s->ch.view.period, t = (double)q.to / rate;
     if (q_number(r, "t", 0, 1e12, &t, &ret) < 0) return ret;
     if (t * rate > (double)q.to + 0.5) {
         char msg[160];
@@ -741,7 +742,7 @@ static enum MHD_Result get_frames(tsd_request *r)
     if (parse_view(r, &v, &ret) < 0) return ret;
     double fps = 25;
     if (q_number(r, "fps", 0.01, 1000, &fps, &ret) < 0) return ret;
-    double rate = 1.0 / s->ch.period;
+    double rate = 1.0 / s->ch.view.period;
     long n = q.to >= q.from ? (long)floor((double)(q.to - q.from) / rate * fps + 1e-9) + 1 : 0;
     ts_err e;
     if (n < 1) {

@@ -266,7 +266,7 @@ typedef struct {
  * out for the model) is never used. Then read its last row. */
 static void adopt_stored_channels(tsd_session *s, tsd_channels *c)
 {
-    double *latest = calloc((size_t)c->n, sizeof *latest);
+    double *latest = calloc((size_t)c->view.n, sizeof *latest);
     if (!latest) {
         fprintf(stderr, "tanksimd: session %s: out of memory for its channels\n", s->id);
         tsd_channels_free(c);
@@ -279,7 +279,7 @@ static void adopt_stored_channels(tsd_session *s, tsd_channels *c)
     tsd_channels_free(&s->ch);
     s->ch = *c;
     memset(c, 0, sizeof *c);
-    s->nch = s->ch.n;
+    s->nch = s->ch.view.n;
 }
 
 static void load_session(void *ud, long seq, const char *id, double created, const char *preset,
@@ -329,7 +329,7 @@ static void load_session(void *ud, long seq, const char *id, double created, con
             snprintf(why, sizeof why,
                      "its stored rows have other channels than this build's model (%d stored, "
                      "%d in the model, or other names, units or sample rate)",
-                     stored.n, ts_model_nchannel(s->m));
+                     stored.view.n, ts_model_nchannel(s->m));
         if (have) adopt_stored_channels(s, &stored); /* rows readable without the model */
         long last = -1;
         double t_last = 0.0;
@@ -521,7 +521,7 @@ static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolve
     s->seq = srv->reg->next_seq++;
     pthread_mutex_unlock(&srv->reg->mu);
     char *cfg_text = json_dumps(resolved, JSON_COMPACT | JSON_REAL_PRECISION(17));
-    char *ch_text = tsd_channels_dump(s->m);
+    char *ch_text = tsd_channels_dump(&s->ch.view);
     int dbrc = cfg_text && ch_text ? tsd_db_session_insert(srv->db, s->seq, s->id, s->created,
                                                            s->preset, cfg_text, s->nch, ch_text,
                                                            "created")
@@ -608,8 +608,9 @@ ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
 
 static json_t *json_locked(tsd_session *s, int summary)
 {
-    /* A table adopted from the store (channels.h) describes the rows, the
-     * model (if any) does not: channels, latest and sample_rate from it. */
+    /* The rows' table (channels.h) gives channels, latest and sample_rate;
+     * one adopted from the store means the model (if any) is not the rows'
+     * (no kind or duration then). */
     int stored_table = s->ch.doc != NULL;
     tsa_session_view v = {
         .id = s->id,
@@ -621,20 +622,12 @@ static json_t *json_locked(tsd_session *s, int summary)
         .persisted = s->index + 1, /* -1: a stored session without rows */
         .config = s->config,
         .m = stored_table ? NULL : s->m,
-        .latest = s->m && !stored_table ? s->latest : NULL,
+        .ch = s->nch ? &s->ch.view : NULL,
+        .latest = (stored_table ? s->index >= 0 : s->m != NULL) ? s->latest : NULL,
         .error = s->error,
         .operation = s->op_id,
     };
-    json_t *o = tsa_session_json(&v, summary);
-    if (o && stored_table) {
-        json_object_set_new(o, "sample_rate", json_real(1.0 / s->ch.period));
-        if (!summary) {
-            json_object_set_new(o, "channels", tsd_channels_json(&s->ch));
-            if (s->index >= 0)
-                json_object_set_new(o, "latest", tsd_channels_values_json(&s->ch, s->latest));
-        }
-    }
-    return o;
+    return tsa_session_json(&v, summary);
 }
 
 json_t *tsd_session_json(tsd_session *s, int summary)
@@ -838,7 +831,7 @@ static void step_job(void *arg)
         pthread_mutex_lock(&s->mu);
         *j->result = json_pack("{s:s,s:s,s:f,s:I,s:o}", "id", s->id, "status",
                                tsd_status_name(s->status), "t", s->t, "index", (json_int_t)s->index,
-                               "values", tsa_values_json(s->m, s->latest));
+                               "values", tsa_values_json(&s->ch.view, s->latest));
         pthread_mutex_unlock(&s->mu);
     } else {
         *j->err = err;

@@ -52,7 +52,7 @@ typedef struct tsd_session {
     json_t *config;   /* resolved config document (immutable) */
     ts_model *m;      /* NULL when the model could not be rebuilt after a restart */
     ts_data *d;       /* owned by the busy holder */
-    int nch;          /* channels per row (= ch.n; 0: no table, rows unreadable) */
+    int nch;          /* channels per row (= ch.view.n; 0: no table, rows unreadable) */
     tsd_channels ch;  /* names, units and sample period of the stored rows: the
                          model's, or the list stored with the session when this
                          build's model cannot be made or has other channels

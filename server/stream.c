@@ -47,11 +47,11 @@ static void refill(stream_ctx *c)
     for (long k = 0; k < got; k++) {
         const double *row = c->rows + (size_t)k * (size_t)s->nch;
         if (c->ndjson) {
-            tsd_channels_row_json(&c->buf, &s->ch, c->index[k], row, c->idx, c->n);
+            tsa_row_json(&c->buf, &s->ch.view, c->index[k], row, c->idx, c->n);
             tsa_buf_put(&c->buf, "\n", 1);
         } else {
             tsa_buf_printf(&c->buf, "id: %ld\nevent: sample\ndata: ", c->index[k]);
-            tsd_channels_row_json(&c->buf, &s->ch, c->index[k], row, c->idx, c->n);
+            tsa_row_json(&c->buf, &s->ch.view, c->index[k], row, c->idx, c->n);
             tsa_buf_put(&c->buf, "\n\n", 2);
         }
     }

@@ -4,6 +4,7 @@
  */
 #include "test_util.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -93,15 +94,20 @@ static void channels_rows_and_series(void **state)
     (void)state;
     ts_model *m = pointmass();
     ts_err err;
+    ts_channel store[16];
+    tsa_channels cv;
+    assert_int_equal(tsa_channels_from_model(&cv, store, 16, m, &err), TS_OK);
+    assert_int_equal(cv.n, ts_model_nchannel(m));
+    assert_close(cv.period, ts_model_sample_period(m), 0, 0);
     int idx[16], n;
-    assert_int_equal(tsa_channel_select(m, "vehicle.speed,t,vehicle.speed", idx, 16, &n, &err),
+    assert_int_equal(tsa_channel_select(&cv, "vehicle.speed,t,vehicle.speed", idx, 16, &n, &err),
                      TS_OK);
     assert_int_equal(n, 2);
     assert_int_equal(idx[0], 0);
     assert_int_equal(idx[1], ts_model_channel_index(m, "vehicle.speed"));
-    assert_int_equal(tsa_channel_select(m, "nope", idx, 16, &n, &err), TS_ERR_NOTFOUND);
+    assert_int_equal(tsa_channel_select(&cv, "nope", idx, 16, &n, &err), TS_ERR_NOTFOUND);
     assert_string_equal(err.pointer, "/channels");
-    assert_int_equal(tsa_channel_select(m, NULL, idx, 16, &n, &err), TS_OK);
+    assert_int_equal(tsa_channel_select(&cv, NULL, idx, 16, &n, &err), TS_OK);
     assert_int_equal(n, ts_model_nchannel(m));
 
     const int nch = ts_model_nchannel(m);
@@ -112,7 +118,7 @@ static void channels_rows_and_series(void **state)
             rows[r * nch + c] = r * 100 + c + 0.25;
     tsa_buf b = {0};
     int sel[2] = {0, 2};
-    tsa_series_json(&b, "s1", m, sel, 2, index, rows, 3, 2, "10");
+    tsa_series_json(&b, "s1", &cv, sel, 2, index, rows, 3, 2, "10");
     json_error_t je;
     json_t *j = json_loads(b.p, 0, &je);
     assert_non_null(j);
@@ -127,7 +133,7 @@ static void channels_rows_and_series(void **state)
     json_decref(j);
     tsa_buf_free(&b);
 
-    tsa_csv_header(&b, m, sel, 2);
+    tsa_csv_header(&b, &cv, sel, 2);
     tsa_csv_row(&b, rows + nch, sel, 2);
     char want[256];
     snprintf(want, sizeof want, "t [s],%s [%s]\n100.25,102.25\n", ts_model_channel(m, 2)->name,
@@ -135,7 +141,7 @@ static void channels_rows_and_series(void **state)
     assert_string_equal(b.p, want);
     tsa_buf_free(&b);
 
-    tsa_row_json(&b, m, 6, rows + nch, sel, 2);
+    tsa_row_json(&b, &cv, 6, rows + nch, sel, 2);
     j = json_loads(b.p, 0, &je);
     assert_non_null(j);
     assert_int_equal(json_integer_value(json_object_get(j, "index")), 6);
@@ -143,6 +149,105 @@ static void channels_rows_and_series(void **state)
     assert_int_equal(json_object_size(json_object_get(j, "values")), 1);
     json_decref(j);
     tsa_buf_free(&b);
+    ts_model_free(m);
+}
+
+/* A table that is not a model's (the daemon's stored channel list, channels.h):
+ * every shape is built from the plain array alone, byte for byte as written
+ * out here by hand (%.12g for time, %.9g otherwise, null or an empty CSV
+ * field when not finite, names escaped as JSON strings). */
+static void shapes_from_a_plain_channel_array(void **state)
+{
+    (void)state;
+    const ts_channel v[] = {{"t", "s", "simulated time"},
+                            {"hull.pitch", "rad", "nose-down positive"},
+                            {"odd\"name\\", "1", ""}};
+    const tsa_channels c = {v, 3, 0.01};
+    ts_err err;
+    int idx[8], n;
+    assert_int_equal(tsa_channel_index(&c, "hull.pitch"), 1);
+    assert_int_equal(tsa_channel_index(&c, "nope"), -1);
+    assert_int_equal(tsa_channel_select(&c, "odd\"name\\,,hull.pitch", idx, 8, &n, &err), TS_OK);
+    assert_int_equal(n, 3);
+    assert_int_equal(idx[0], 0);
+    assert_int_equal(idx[1], 2);
+    assert_int_equal(idx[2], 1);
+    assert_int_equal(tsa_channel_select(&c, "t,vehicle.speed", idx, 8, &n, &err), TS_ERR_NOTFOUND);
+    assert_string_equal(err.pointer, "/channels");
+    assert_int_equal(tsa_channel_select(&c, "hull.pitch", idx, 1, &n, &err), TS_ERR_LIMIT);
+    assert_int_equal(tsa_channel_select(&c, "", idx, 8, &n, &err), TS_OK);
+    assert_int_equal(n, 3);
+
+    const double rows[] = {0.0, 0.125, 1.0 / 3.0, 0.01, NAN, -2.5e-7};
+    const long index[] = {0, 1};
+    const int sel[] = {0, 2, 1};
+    tsa_buf b = {0};
+    tsa_series_json(&b, "s\"1", &c, sel, 3, index, rows, 2, 1, NULL);
+    assert_string_equal(b.p,
+                        "{\"session\":\"s\\\"1\",\"sample_rate\":100,\"every\":1,\"count\":2,"
+                        "\"index\":[0,1],\"channels\":["
+                        "{\"name\":\"t\",\"unit\":\"s\",\"values\":[0,0.01]},"
+                        "{\"name\":\"odd\\\"name\\\\\",\"unit\":\"1\",\"values\":[0.333333333,"
+                        "-2.5e-07]},"
+                        "{\"name\":\"hull.pitch\",\"unit\":\"rad\",\"values\":[0.125,null]}]}");
+    tsa_buf_free(&b);
+
+    tsa_csv_header(&b, &c, sel, 3);
+    tsa_csv_row(&b, rows + 3, sel, 3);
+    assert_string_equal(b.p, "t [s],odd\"name\\ [1],hull.pitch [rad]\n0.01,-2.5e-07,\n");
+    tsa_buf_free(&b);
+
+    tsa_row_json(&b, &c, 1, rows + 3, sel, 3);
+    assert_string_equal(b.p, "{\"index\":1,\"t\":0.01,\"values\":{\"odd\\\"name\\\\\":-2.5e-07,"
+                             "\"hull.pitch\":null}}");
+    tsa_buf_free(&b);
+
+    /* the session object of rows without a model: channels, latest and
+     * sample_rate from the table, no kind or duration */
+    tsa_session_view sv = {.id = "s1",
+                           .status = "failed",
+                           .ch = &c,
+                           .latest = rows + 3,
+                           .persisted = 2,
+                           .index = 1,
+                           .t = 0.01};
+    json_t *o = tsa_session_json(&sv, 0);
+    assert_non_null(o);
+    assert_null(json_object_get(o, "kind"));
+    assert_null(json_object_get(o, "duration"));
+    assert_close(json_number_value(json_object_get(o, "sample_rate")), 100.0, 1e-15, 0);
+    json_t *chs = json_object_get(o, "channels");
+    assert_int_equal(json_array_size(chs), 3);
+    json_t *c1 = json_array_get(chs, 1);
+    assert_string_equal(json_string_value(json_object_get(c1, "name")), "hull.pitch");
+    assert_string_equal(json_string_value(json_object_get(c1, "unit")), "rad");
+    assert_string_equal(json_string_value(json_object_get(c1, "description")),
+                        "nose-down positive");
+    json_t *latest = json_object_get(o, "latest");
+    assert_int_equal(json_object_size(latest), 3);
+    assert_true(json_is_null(json_object_get(latest, "hull.pitch")));
+    assert_close(json_number_value(json_object_get(latest, "odd\"name\\")), -2.5e-7, 0, 0);
+    json_decref(o);
+    sv.ch = NULL; /* rows that cannot be labelled: neither channels nor latest */
+    o = tsa_session_json(&sv, 0);
+    assert_null(json_object_get(o, "channels"));
+    assert_null(json_object_get(o, "latest"));
+    assert_null(json_object_get(o, "sample_rate"));
+    json_decref(o);
+}
+
+/* A model's table that does not fit the caller's store is refused, not cut. */
+static void model_table_larger_than_store_is_refused(void **state)
+{
+    (void)state;
+    ts_model *m = pointmass();
+    ts_err err;
+    ts_channel store[2];
+    tsa_channels cv = {store, 5, 1.0};
+    assert_true(ts_model_nchannel(m) > 2);
+    assert_int_equal(tsa_channels_from_model(&cv, store, 2, m, &err), TS_ERR_LIMIT);
+    assert_null(cv.v);
+    assert_int_equal(cv.n, 0);
     ts_model_free(m);
 }
 
@@ -167,6 +272,8 @@ int main(void)
         cmocka_unit_test(spectrum_of_two_sines),
         cmocka_unit_test(numbers_report_every_field),
         cmocka_unit_test(channels_rows_and_series),
+        cmocka_unit_test(shapes_from_a_plain_channel_array),
+        cmocka_unit_test(model_table_larger_than_store_is_refused),
         cmocka_unit_test(buffer_grows_past_first_block),
     };
     return cmocka_run_group_tests_name("api/session_json", tests, NULL, NULL);
