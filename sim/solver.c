@@ -376,7 +376,7 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
         o->sls = o->LS->content;
         if (check(o, CVodeSetLinSysFn(o->mem, schur_linsys), "CVodeSetLinSysFn", err)) goto fail;
     }
-    if (opts->max_order > 0 &&
+    if (opts->max_order != 0 && /* CVODE refuses orders outside 1..5 */
         check(o, CVodeSetMaxOrd(o->mem, opts->max_order), "CVodeSetMaxOrd", err))
         goto fail;
     if (opts->jac_eval_frequency > 0 &&

@@ -41,7 +41,8 @@ typedef struct ts_ode_opts {
     int small_dense;         /* non-zero: the full n x n Newton systems by dense_small.h's LU
                               * (single-threaded, skips zeros; for small sparse-ish systems,
                               * e.g. a powertrain) instead of SUNDIALS' dense LU */
-    int max_order;           /* highest BDF order (CVODE maxord, 1..5); 0 = CVODE's default (5) */
+    int max_order;           /* highest BDF order (CVODE maxord, 1..5); 0 = CVODE's default (5);
+                              * any other value: ts_ode_make fails (TS_ERR_SOLVER) */
     long jac_eval_frequency; /* max steps between Jacobian evaluations (CVODE msbj);
                               * 0 = CVODE's default (51). CVODE still re-evaluates
                               * on a convergence failure with a stale Jacobian. */
@@ -88,7 +89,7 @@ int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y, dou
  * frozen within a macro step). f evaluates the whole right-hand side into
  * ydot (n doubles, scratch); work holds 5 m doubles. Same arithmetic as
  * ts_rk4_step on those states. Returns 0, or non-zero if f failed or one of
- * those states left the finite numbers. */
+ * those states left the finite numbers (those states are then unspecified). */
 int ts_rk4_step_subset(int m, const int *idx, ts_rhs_fn f, void *ud, double t, double h,
                        double *y, double *ydot, double *work);
 

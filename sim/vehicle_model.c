@@ -1092,8 +1092,12 @@ static ts_rc equilibrium(vm *v, ts_err *err)
      * from the mass matrix */
     {
         const double h = 1e-7; /* [m or rad] */
-        double *Q0 = r; /* scratch: nu == nq (the unknowns are the coordinates, the idler
-                         * setting replacing the sprocket spin) */
+        /* scratch of nq values: r2 holds nu, and nu == nq because the
+         * unknowns trade coordinates one for one (the arm angles for the bar
+         * preloads, the anchor wheel's spin for the idler link setting) */
+        _Static_assert(3 + VM_NB - 1 + VM_NRW + 1 == VM_NQ_RIGID,
+                       "equilibrium unknowns: one per rigid coordinate");
+        double *Q0 = r2;
         forces(v, w, 0.0, q, NULL, w->M, Q0, 0, NULL);
         for (int i = 0; i < nq; i++) {
             double keep = q[i], mii = w->M[(size_t)i * nq + i];

@@ -3,10 +3,13 @@
  * sprocket torque on flat ground: static equilibrium (tensioner setting, wheel
  * loads, design arm angles), DOF counts of the six fidelities, the thrust
  * path sprocket -> track -> no-slip anchor against the work-energy balance
- * with the running-gear rolling resistance, and the drag's closed form.
+ * with the running-gear rolling resistance, the drag's closed form, and the
+ * per-coordinate rates behind the run's tolerances (vm_rates).
  */
 #include "test_util.h"
 
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "api/config_json.h"
@@ -15,6 +18,7 @@
 #include "sim/vehicle_model.h"
 
 #define G 9.80665
+#define PI 3.14159265358979323846
 
 static ts_config config(const char *fidelity)
 {
@@ -123,6 +127,72 @@ static void dof_counts_match_the_paper(void **state)
     assert_non_null(m);
     assert_int_equal(ts_model_dof(m), 21 + 5 * 5);
     ts_model_free(m);
+}
+
+/* EVIDENCE: vm_rates, the per-coordinate rates sqrt(K_ii / M_ii) that scale
+ * the vehicle run's rate tolerances (scenario_vehicle.c). [D] closed forms of
+ * track_span.h for the rear-roller -> front-roller span (both rollers on the
+ * hull at one height, so the chord is front_roller_x - rear_roller_x at
+ * every hull pitch), its sine modes with the span's ends held:
+ *   longitudinal  omega = (pi / L) sqrt(EA / rho)
+ *   transverse    omega = sqrt((P0 (pi / L)^2 + EA kappa^2) / rho),
+ *                 kappa = rho g / P0 (Eq. 9; the static pitch, ~1e-3 rad,
+ *                 moves g_y by ~1e-6)
+ * to 1e-4 relative. Every coordinate of the six fidelities: the rate equals
+ * sqrt(K_ii / M_ii) from a central difference of vm_forces and vm_mass's
+ * diagonal (independent of the forward difference inside vm_make; 1e-3
+ * relative, the forward difference's O(h) term), and is positive, so no
+ * coordinate falls back to the fixed velocity tolerance. Nothing calibrated. */
+static void rates_are_each_coordinates_own_frequency(void **state)
+{
+    (void)state;
+    static const char *fid[] = {"static",       "lumped",     "quasi_static",
+                                "longitudinal", "transverse", "coupled"};
+    for (int f = 0; f < 6; f++) {
+        ts_config c = config(fid[f]);
+        ts_err err;
+        vm *v = vm_make(&c, &err);
+        assert_non_null(v);
+        vm_work *w = vm_work_make(v);
+        int n = vm_nq(v), ny = vm_ny(v);
+        double *y = malloc(sizeof(double) * (size_t)ny);
+        double *M = malloc(sizeof(double) * (size_t)n * (size_t)n);
+        double *q1 = malloc(sizeof(double) * (size_t)n), *q2 = malloc(sizeof(double) * (size_t)n);
+        assert_true(w && y && M && q1 && q2);
+        memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+        vm_mass(v, w, y, M);
+        const double *rate = vm_rates(v);
+        for (int i = 0; i < n; i++) {
+            double h = 1e-6, keep = y[i];
+            y[i] = keep + h;
+            vm_forces(v, w, 0, y, 0, q1);
+            y[i] = keep - h;
+            vm_forces(v, w, 0, y, 0, q2);
+            y[i] = keep;
+            double kii = -(q1[i] - q2[i]) / (2 * h);
+            assert_true(kii > 0 && M[i * n + i] > 0);
+            assert_true(rate[i] > 0);
+            assert_close(rate[i], sqrt(kii / M[i * n + i]), 1e-3, 0);
+        }
+        if (strcmp(fid[f], "coupled") == 0) {
+            const ts_vehicle_config *vc = &c.vehicle;
+            assert_close(vc->front_roller_z, vc->rear_roller_z, 0, 1e-12);
+            double L = vc->front_roller_x - vc->rear_roller_x, rho = c.track.mass_per_length,
+                   ea = c.track.ea, p0 = c.track.tension, kappa = rho * G / p0;
+            int span = 1, nm = c.track.n_long + c.track.n_trans; /* rear -> front roller */
+            assert_int_equal(vm_span_element[span], 1);
+            int il = VM_NQ_RIGID + span * nm, it = il + c.track.n_long;
+            assert_close(rate[il], PI / L * sqrt(ea / rho), 1e-4, 0);
+            assert_close(rate[it], sqrt((p0 * (PI / L) * (PI / L) + ea * kappa * kappa) / rho),
+                         1e-4, 0);
+        }
+        free(y);
+        free(M);
+        free(q1);
+        free(q2);
+        vm_work_free(w);
+        vm_free(v);
+    }
 }
 
 /* Effective mass of one side of the static model rolling without slip: half
@@ -325,6 +395,7 @@ int main(void)
         cmocka_unit_test(tension_at_rest_is_the_tensioner_setting),
         cmocka_unit_test(wheel_loads_carry_the_weight),
         cmocka_unit_test(dof_counts_match_the_paper),
+        cmocka_unit_test(rates_are_each_coordinates_own_frequency),
         cmocka_unit_test(sprocket_torque_accelerates_by_energy_balance),
         cmocka_unit_test(drag_decelerates_by_its_closed_form),
         cmocka_unit_test(rolling_resistance_acts_along_the_grade),
