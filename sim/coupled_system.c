@@ -20,8 +20,9 @@
  * published torque is a continuous piecewise-linear function of time, final
  * once published; the follower's integrator never steps past the last sample
  * (stop time). Both vehicle-side integrators use the standalone vehicle's
- * solver settings (VELOCITY_TIME, JAC_EVAL_STEPS; docs/coupled.md, Real-time
- * factors).
+ * solver settings as they were before session 4 (VELOCITY_TIME,
+ * JAC_EVAL_STEPS; docs/coupled.md, Real-time factors): not its per-coordinate
+ * rate tolerances (vm_rates) nor its BDF order cap (scenario_vehicle.c).
  * Second order in the macro step needs the interface terms of publish() and
  * the consistent start of ts_coupled_run_reset (coupled_system.h,
  * docs/coupled.md).
@@ -40,7 +41,7 @@
 
 #define SPIN_SPROCKET (10 + VM_SPROCKET) /* q index of the sprocket spin (vehicle_model.h) */
 #define Q_THETA       2                  /* q index of the hull pitch */
-/* Vehicle-side integrator settings, the standalone vehicle's
+/* Vehicle-side integrator settings, the standalone vehicle's before session 4
  * (scenario_vehicle.c; numerical choices, not physics): velocity tolerance =
  * run.atol / VELOCITY_TIME (a position error of atol accrued over 10 ms), and
  * at most JAC_EVAL_STEPS steps between Jacobian evaluations (CVODE's default

@@ -128,11 +128,13 @@ static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
      * M_ii) at the equilibrium (vm_rates): a velocity error omega_i atol
      * carries the same energy, M_ii (omega_i atol)^2 = K_ii atol^2, as the
      * coordinate error atol, so no state is held tighter than the others in
-     * the energy norm. omega_i runs from ~25 1/s (transverse span modes) and
-     * ~40-60 1/s (hull) to ~300-600 1/s (road arms) and ~500-2,300 1/s (spins,
-     * longitudinal span modes). A coordinate without a restoring stiffness
-     * (none in the present layouts) falls back to 1 / VELOCITY_TIME (a
-     * position error of atol accrued over 10 ms). */
+     * the energy norm. omega_i with the default layout (one mode per span
+     * and family): 25-85 1/s (transverse span modes), 38-61 1/s (hull x, z,
+     * pitch), 320-620 1/s (road arms), 320-2,300 1/s (spins), 490-1,800 1/s
+     * (longitudinal span modes); higher modes scale with their number. A
+     * coordinate without a restoring stiffness (none in the six fidelities:
+     * test_vehicle_static.c) falls back to 1 / VELOCITY_TIME (a position
+     * error of atol accrued over 10 ms). */
     p->atol = calloc((size_t)ny, sizeof(double));
     if (!p->atol) {
         data_fini(m, d);

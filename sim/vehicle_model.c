@@ -1018,6 +1018,13 @@ static void eq_residual(vm *v, vm_work *w, const double *u, double *q, double *r
         r[p++] = w->Q[VM_NQ_RIGID + m];
 }
 
+static int has_nonfinite(const double *x, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(x[i])) return 1;
+    return 0;
+}
+
 static ts_rc equilibrium(vm *v, ts_err *err)
 {
     int nu = 3 + VM_NB - 1 + VM_NRW + 1 + v->nmodal, nq = v->nq;
@@ -1049,7 +1056,14 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         eq_residual(v, w, u, q, r);
         double rn = 0;
         for (int i = 0; i < nu; i++)
-            rn = fmax(rn, fabs(r[i]));
+            rn = fmax(rn, fabs(r[i])); /* fmax drops a NaN: checked next */
+        if (!isfinite(rn) || has_nonfinite(r, nu)) {
+            rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
+                            "static equilibrium: residual not finite at Newton step %d "
+                            "(check the layout)",
+                            it);
+            goto done;
+        }
         if (rn < 1e-7 * scale_f) break;
         for (int j = 0; j < nu; j++) {
             double h = 1e-7 * fmax(1.0, fabs(u[j]));

@@ -195,6 +195,24 @@ static void rates_are_each_coordinates_own_frequency(void **state)
     }
 }
 
+/* A layout whose two support rollers coincide has no tangent between them.
+ * The dynamic fidelities refuse the zero-length span; the static one reaches
+ * the equilibrium solve, which reports the non-finite residual at once
+ * (TS_ERR_SOLVER, /vehicle, "not finite") instead of iterating on NaN (it ran
+ * its 40 Newton steps on NaN and then reported non-convergence). */
+static void coincident_rollers_are_reported(void **state)
+{
+    (void)state;
+    ts_config c = config("static");
+    c.vehicle.front_roller_x = c.vehicle.rear_roller_x;
+    c.vehicle.front_roller_z = c.vehicle.rear_roller_z;
+    ts_err err = {0};
+    assert_null(vm_make(&c, &err));
+    assert_int_equal(err.code, TS_ERR_SOLVER);
+    assert_string_equal(err.pointer, "/vehicle");
+    assert_non_null(strstr(err.msg, "not finite"));
+}
+
 /* Effective mass of one side of the static model rolling without slip: half
  * the vehicle less its massless track, plus every spin inertia J_b / rho_b^2. */
 static double rolling_mass(const ts_config *c)
@@ -396,6 +414,7 @@ int main(void)
         cmocka_unit_test(wheel_loads_carry_the_weight),
         cmocka_unit_test(dof_counts_match_the_paper),
         cmocka_unit_test(rates_are_each_coordinates_own_frequency),
+        cmocka_unit_test(coincident_rollers_are_reported),
         cmocka_unit_test(sprocket_torque_accelerates_by_energy_balance),
         cmocka_unit_test(drag_decelerates_by_its_closed_form),
         cmocka_unit_test(rolling_resistance_acts_along_the_grade),
