@@ -61,7 +61,8 @@ ts_rc tsa_read_numbers(const json_t *obj, const tsa_num_field *f, int nf, json_t
 
 /* The channel table of a series of rows: entry i names and gives the SI unit
  * of column i of every row (v[0] is time "t" [s]); period is the sample period
- * [s] (1 / run.sample_rate). Every text and JSON shape below takes one, so the
+ * [s] (1 / run.sample_rate; > 0 and finite: the shapes print 1 / period as
+ * the sample_rate, and a non-finite one is not JSON). Every text and JSON shape below takes one, so the
  * same shapes serve a live model (tsa_channels_from_model) and rows stored
  * with a list of their own (the daemon's store, server/channels.h) alike.
  *
