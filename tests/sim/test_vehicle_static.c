@@ -133,9 +133,10 @@ static void dof_counts_match_the_paper(void **state)
  * the vehicle run's rate tolerances (scenario_vehicle.c). [D] closed forms of
  * track_span.h for the rear-roller -> front-roller span (both rollers on the
  * hull at one height, so the chord is front_roller_x - rear_roller_x at
- * every hull pitch), its sine modes with the span's ends held:
- *   longitudinal  omega = (pi / L) sqrt(EA / rho)
- *   transverse    omega = sqrt((P0 (pi / L)^2 + EA kappa^2) / rho),
+ * every hull pitch), its sine mode k with the span's ends held, coupled
+ * fidelity with 1 + 1 and 2 + 3 modes per span:
+ *   longitudinal  omega = (k pi / L) sqrt(EA / rho)
+ *   transverse    omega = sqrt((P0 (k pi / L)^2 + EA kappa^2) / rho),
  *                 kappa = rho g / P0 (Eq. 9; the static pitch, ~1e-3 rad,
  *                 moves g_y by ~1e-6)
  * to 1e-4 relative. Every coordinate of the six fidelities: the rate equals
@@ -174,23 +175,38 @@ static void rates_are_each_coordinates_own_frequency(void **state)
             assert_true(rate[i] > 0);
             assert_close(rate[i], sqrt(kii / M[i * n + i]), 1e-3, 0);
         }
-        if (strcmp(fid[f], "coupled") == 0) {
-            const ts_vehicle_config *vc = &c.vehicle;
-            assert_close(vc->front_roller_z, vc->rear_roller_z, 0, 1e-12);
-            double L = vc->front_roller_x - vc->rear_roller_x, rho = c.track.mass_per_length,
-                   ea = c.track.ea, p0 = c.track.tension, kappa = rho * G / p0;
-            int span = 1, nm = c.track.n_long + c.track.n_trans; /* rear -> front roller */
-            assert_int_equal(vm_span_element[span], 1);
-            int il = VM_NQ_RIGID + span * nm, it = il + c.track.n_long;
-            assert_close(rate[il], PI / L * sqrt(ea / rho), 1e-4, 0);
-            assert_close(rate[it], sqrt((p0 * (PI / L) * (PI / L) + ea * kappa * kappa) / rho),
-                         1e-4, 0);
-        }
         free(y);
         free(M);
         free(q1);
         free(q2);
         vm_work_free(w);
+        vm_free(v);
+    }
+    /* the closed forms, sine mode k of the rear -> front roller span, for
+     * one and for several modes per span and family */
+    static const int modes[2][2] = {{1, 1}, {2, 3}};
+    for (int mc = 0; mc < 2; mc++) {
+        ts_config c = config("coupled");
+        c.track.n_long = modes[mc][0];
+        c.track.n_trans = modes[mc][1];
+        ts_err err;
+        vm *v = vm_make(&c, &err);
+        assert_non_null(v);
+        const double *rate = vm_rates(v);
+        const ts_vehicle_config *vc = &c.vehicle;
+        assert_close(vc->front_roller_z, vc->rear_roller_z, 0, 1e-12);
+        double L = vc->front_roller_x - vc->rear_roller_x, rho = c.track.mass_per_length,
+               ea = c.track.ea, p0 = c.track.tension, kappa = rho * G / p0;
+        int span = 1, nm = c.track.n_long + c.track.n_trans; /* rear -> front roller */
+        assert_int_equal(vm_span_element[span], 1);
+        int il = VM_NQ_RIGID + span * nm, it = il + c.track.n_long;
+        for (int k = 1; k <= c.track.n_long; k++)
+            assert_close(rate[il + k - 1], k * PI / L * sqrt(ea / rho), 1e-4, 0);
+        for (int k = 1; k <= c.track.n_trans; k++) {
+            double wk = k * PI / L;
+            assert_close(rate[it + k - 1], sqrt((p0 * wk * wk + ea * kappa * kappa) / rho), 1e-4,
+                         0);
+        }
         vm_free(v);
     }
 }
