@@ -124,7 +124,7 @@ def match_table(argv):
     dl = json.load(open("sim/data/defaults/driveline.json"))
     pa, ta = dl["ambient_pressure"], dl["ambient_temperature"]
     sweep = read_csv("sim/data/engine_maps/%s.csv" % variant)
-    g, r_air, cp = 1.4, c["r_air"], 1005.0  # the compressor's constants (engine_turbo.c)
+    g, r_air, cp = 1.4, c["r_air"], 1005.0  # the compressor map's constants (constants.h)
     s = c["turbo_flow_scale"]
     d_c, d_t = c["comp_diameter_ref"] * math.sqrt(s), c["turb_diameter_ref"] * math.sqrt(s)
     a_t = c["turb_area_ref"] * s
