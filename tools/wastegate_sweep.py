@@ -84,19 +84,28 @@ CAL = "wg_area"  # the /engine key calibrated on the conventional rated point
 
 
 def rated_kw(ov, tmp):
-    """Conventional rated power [kW]: the lug-down's first point, then stop."""
+    """Conventional rated power [kW]: the lug-down's first point, then stop.
+    None when tanksim printed something else first (a config error: the
+    message goes to stderr)."""
     p = start("conventional", ov, tmp)
     line = p.stderr.readline()
     p.kill()
     p.wait()
-    return float(line.split()[-2])
+    f = line.split()
+    if len(f) < 2 or f[-1] != "kW":
+        sys.stderr.write("tanksim engine-map: " + line)
+        return None
+    return float(f[-2])
 
 
 def calibrate(ov, tmp):
     xs, ys, a = [], [], 0.00116 if CAL == "wg_area" else 0.0015
     for _ in range(14):
+        kw = rated_kw(dict(ov, **{CAL: a}), tmp)
+        if kw is None:
+            return None
         xs.append(math.log(a))
-        ys.append(rated_kw(dict(ov, **{CAL: a}), tmp) - TARGET)
+        ys.append(kw - TARGET)
         if abs(ys[-1]) < 0.5:
             return a
         if len(xs) == 1:
