@@ -23,7 +23,8 @@ const char *tsc_option(int argc, char **argv, const char *name)
 void tsc_print_err(const char *what, const ts_err *err)
 {
     /* the field at fault first, as cli.h promises: a user fixes the config by its pointer */
-    if (err->pointer[0])
+    size_t np = strlen(err->pointer);
+    if (np && strncmp(err->msg, err->pointer, np) != 0) /* many messages start with it */
         fprintf(stderr, "tanksim: %s: %s: %s (%s)\n", what, err->pointer, err->msg,
                 ts_rc_name(err->code));
     else

@@ -92,6 +92,12 @@ static ts_rc check_tables(const ts_engine_config *c, int v, ts_err *err)
                         err);
 }
 
+/* Temperatures over which the cp polynomials must give cv > 0 [K]: below the
+ * lowest /driveline/ambient_temperature (220 K) to above the adiabatic flame
+ * temperature of the leanest-to-stoichiometric diesel burn (~2700 K) [E]. */
+#define GAS_T_CHECK_LO 200.0
+#define GAS_T_CHECK_HI 3000.0
+
 ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
 {
     ts_err_clear(err);
@@ -106,6 +112,24 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
     if (c->cp_air_n != 4 || c->cp_burned_n != 4) {
         ts_err_set(err, TS_ERR_PARAM, "/engine/cp_air", "/engine/cp_air, cp_burned: 4 coefficients each");
         return NULL;
+    }
+    /* cv = cp - R must stay positive where the gas can be (ambient to flame
+     * temperature): with cp <= R the energy equation divides by cv <= 0 and the
+     * integrators fail with no field named (fuzz finding: cp_air reversed) */
+    for (int g = 0; g < 2; g++) {
+        const double *cp = g ? c->cp_burned : c->cp_air;
+        double r = g ? c->r_burned : c->r_air;
+        for (double T = GAS_T_CHECK_LO; T <= GAS_T_CHECK_HI; T += 50.0) {
+            double t = T * 1e-3, v = cp[0] + t * (cp[1] + t * (cp[2] + t * cp[3]));
+            if (!(v > r)) {
+                const char *ptr = g ? "/engine/cp_burned" : "/engine/cp_air";
+                ts_err_set(err, TS_ERR_PARAM, ptr,
+                           "%s: cp(%.0f K) = %.4g J/kg/K is not above the gas constant %g "
+                           "(cv must be > 0 from %.0f to %.0f K)",
+                           ptr, T, v, r, GAS_T_CHECK_LO, GAS_T_CHECK_HI);
+                return NULL;
+            }
+        }
     }
     if (c->rod_length <= c->stroke / 2) {
         ts_err_set(err, TS_ERR_PARAM, "/engine/rod_length",

@@ -1132,9 +1132,12 @@ static ts_rc build_spans(vm *v, ts_err *err)
     default:
         return TS_OK;
     }
-    if (nl + nt == 0)
-        return ts_err_set(err, TS_ERR_PARAM, "/track/n_long",
-                          "/track/n_long: a dynamic track fidelity needs span modes");
+    if (nl + nt == 0) {
+        /* name the count this fidelity reads: the transverse fidelity only n_trans */
+        const char *ptr = tc->fidelity == TS_TRACK_TRANSVERSE ? "/track/n_trans" : "/track/n_long";
+        return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: the %s track fidelity needs span modes",
+                          ptr, ts_track_fidelity_names[tc->fidelity]);
+    }
     int q0 = VM_NQ_RIGID;
     for (int s = 0; s < VM_NSPAN; s++) {
         span_el *se = &v->span[s];
@@ -1151,7 +1154,10 @@ static ts_rc build_spans(vm *v, ts_err *err)
                             .n_trans = nt,
                             .damping_ratio = tc->damping_ratio * v->dscale};
         se->sp = ts_span_make(&p, err);
-        if (!se->sp) return err ? err->code : TS_ERR_PARAM;
+        if (!se->sp) {
+            ts_span_err_to_config(err, "/vehicle"); /* lengths and slopes: the layout */
+            return err ? err->code : TS_ERR_PARAM;
+        }
         se->elem = el;
         se->q0 = q0;
         se->nm = nl + nt;

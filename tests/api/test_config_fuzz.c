@@ -155,6 +155,44 @@ static void tiny_max_step_is_refused(void **state)
               0.01);
 }
 
+/* Finding: fidelity transverse with n_trans = 0 was refused at /track/n_long, a count
+ * that fidelity does not read; the error names n_trans now (n_long for the others). */
+static void missing_modes_name_the_count_read(void **state)
+{
+    (void)state;
+    expect_field_error("{\"preset\":\"bump-prescribed-static\",\"run\":{\"duration\":0.01},"
+                       "\"track\":{\"fidelity\":\"transverse\",\"n_long\":16,\"n_trans\":0}}",
+                       0.01, "/track/n_trans");
+    expect_field_error("{\"preset\":\"bump-prescribed-static\",\"run\":{\"duration\":0.01},"
+                       "\"track\":{\"fidelity\":\"longitudinal\",\"n_long\":0,\"n_trans\":16}}",
+                       0.01, "/track/n_long");
+}
+
+/* Finding: /engine/cp_air with its four (in-range) coefficients reversed gave cp below
+ * the gas constant, so cv < 0, and CVODE failed at t = 0 (h = 8e-17) naming no field.
+ * The polynomial is checked for cv > 0 from 200 to 3000 K. */
+static void cp_below_gas_constant_names_the_field(void **state)
+{
+    (void)state;
+    expect_field_error("{\"preset\":\"bump-coupled-rack90\",\"run\":{\"duration\":0.01},"
+                       "\"engine\":{\"cp_air\":[-7.66,-17.11,228.53,939.43]}}",
+                       0.01, "/engine/cp_air");
+    expect_field_error("{\"preset\":\"engine-map-conventional\",\"run\":{\"duration\":0.01},"
+                       "\"engine\":{\"cp_burned\":[100,0,0,0]}}",
+                       0.01, "/engine/cp_burned");
+}
+
+/* Finding: /track/tension = 100 N (its minimum) on a dynamic-track vehicle was refused
+ * as "/span/tension: shallow-sag condition violated", the pointer of an internal
+ * parameter struct; the error names /track/tension now. */
+static void span_errors_name_the_track_field(void **state)
+{
+    (void)state;
+    expect_field_error("{\"preset\":\"bump-prescribed-coupled\",\"run\":{\"duration\":0.01},"
+                       "\"track\":{\"tension\":100}}",
+                       0.01, "/track/tension");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -164,6 +202,9 @@ int main(void)
         cmocka_unit_test(profile_csv_must_be_a_regular_file),
         cmocka_unit_test(degenerate_layout_names_the_field),
         cmocka_unit_test(tiny_max_step_is_refused),
+        cmocka_unit_test(missing_modes_name_the_count_read),
+        cmocka_unit_test(cp_below_gas_constant_names_the_field),
+        cmocka_unit_test(span_errors_name_the_track_field),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
