@@ -99,6 +99,27 @@ json_t *tsa_preset_get(const char *name, ts_err *err)
     return tsa_store_json(path, err);
 }
 
+static const char *json_type_word(const json_t *j)
+{
+    switch (json_typeof(j)) {
+    case JSON_OBJECT:
+        return "object";
+    case JSON_ARRAY:
+        return "array";
+    case JSON_STRING:
+        return "string";
+    case JSON_INTEGER:
+        return "integer";
+    case JSON_REAL:
+        return "number";
+    case JSON_TRUE:
+    case JSON_FALSE:
+        return "boolean";
+    default:
+        return "null";
+    }
+}
+
 /* Merge a document (and, first, the preset chain it names) into merged. */
 static ts_rc merge_document(json_t *merged, const json_t *doc, int depth, ts_err *err)
 {
@@ -122,6 +143,14 @@ static ts_rc merge_document(json_t *merged, const json_t *doc, int depth, ts_err
         if (strcmp(key, "preset") == 0 || strcmp(key, "description") == 0) continue;
         if (key[0] == '_') continue;
         json_t *cur = json_object_get(merged, key);
+        if (json_is_object(cur) && !json_is_object(val)) {
+            /* a section given as a scalar or array would replace the whole section and
+             * every one of its fields would then be reported missing: name the section */
+            char ptr[TS_ERR_POINTER_LEN];
+            snprintf(ptr, sizeof ptr, "/%s", key);
+            return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: object expected, got %s", ptr,
+                              json_type_word(val));
+        }
         if (json_is_object(cur) && json_is_object(val))
             deep_merge(cur, val);
         else
@@ -160,27 +189,6 @@ static void add_error(json_t *errors, ts_err *first, int *count, ts_rc code, con
     if (errors)
         json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", pointer, "message", msg));
     (*count)++;
-}
-
-static const char *json_type_word(const json_t *j)
-{
-    switch (json_typeof(j)) {
-    case JSON_OBJECT:
-        return "object";
-    case JSON_ARRAY:
-        return "array";
-    case JSON_STRING:
-        return "string";
-    case JSON_INTEGER:
-        return "integer";
-    case JSON_REAL:
-        return "number";
-    case JSON_TRUE:
-    case JSON_FALSE:
-        return "boolean";
-    default:
-        return "null";
-    }
 }
 
 /* Read one field; returns 0 on success or after recording an error. */

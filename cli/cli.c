@@ -22,7 +22,13 @@ const char *tsc_option(int argc, char **argv, const char *name)
 
 void tsc_print_err(const char *what, const ts_err *err)
 {
-    fprintf(stderr, "tanksim: %s: %s (%s)\n", what, err->msg, ts_rc_name(err->code));
+    /* the field at fault first, as cli.h promises: a user fixes the config by its pointer */
+    size_t np = strlen(err->pointer);
+    if (np && strncmp(err->msg, err->pointer, np) != 0) /* many messages start with it */
+        fprintf(stderr, "tanksim: %s: %s: %s (%s)\n", what, err->pointer, err->msg,
+                ts_rc_name(err->code));
+    else
+        fprintf(stderr, "tanksim: %s: %s (%s)\n", what, err->msg, ts_rc_name(err->code));
 }
 
 int tsc_model_start(const ts_config *cfg, ts_model **m, ts_data **d)

@@ -42,5 +42,6 @@ int tsc_cmd_modes(int argc, char **argv);
 int tsc_cmd_render(int argc, char **argv);
 int tsc_cmd_engine_map(int argc, char **argv);
 int tsc_cmd_tune(int argc, char **argv);
+int tsc_cmd_schema(int argc, char **argv);
 
 #endif

@@ -23,6 +23,8 @@ static const tsc_command commands[] = {
      "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18), or with --spool the rack-step spool-ups at held speed that the faster fidelities derive their part-boost tables from"},
     {"tune", tsc_cmd_tune, "(CONFIG.json | --preset NAME) [--schedule-mass M,.. | --schedule-grade G,..]",
      "Ziegler-Nichols IVS gains from a simulated rack step (Eqs. 11-12, Figs. 26-27) as JSON"},
+    {"schema", tsc_cmd_schema, "",
+     "print the JSON Schema of a run config (every field: type, unit, range, default)"},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

@@ -3,7 +3,8 @@
  *
  * Invariants: t_F <= t_L <= t_F + lead (+ rounding); the sample buffer always
  * covers [t_F, t_L]; samples older than t_F are dropped. The buffer is sized at
- * make time from lead / leader_step, so advancing never allocates.
+ * make time from lead / min(leader_step, follower_step), so advancing does not
+ * allocate unless calls end many times inside one lead window (then it doubles).
  */
 #include "cosim.h"
 
@@ -93,7 +94,12 @@ ts_cosim *ts_cosim_make_sample(const ts_cosim_opts *o, ts_cosim_leader leader,
     c->t_l = c->t_f = t0;
     c->last = initial;
     c->last.t = t0;
-    c->cap = (int)ceil(o->lead / o->leader_step) + 2 + (int)ceil(o->follower_step / o->leader_step);
+    /* samples in the window [t_F, t_L]: the leader's steps are leader_step long, but
+     * while it waits at the horizon t_F + lead it moves up with every follower step,
+     * so the spacing can be as small as follower_step (fuzz finding: follower_step
+     * 1e-6 s overflowed a buffer sized by leader_step alone) */
+    double spacing = fmin(o->leader_step, o->follower_step);
+    c->cap = (int)ceil((o->lead + o->follower_step) / spacing) + 4;
     c->buf = calloc((size_t)c->cap, sizeof *c->buf);
     if (!c->buf) goto nomem;
     c->buf[0] = sample0;
@@ -124,6 +130,18 @@ static void trim(ts_cosim *c)
     }
 }
 
+/* Double the sample buffer. Only reached when calls end (t_end) many times inside
+ * one lead window (output periods shorter than the lead), each cutting a leader
+ * step short; the make-time size covers the steps themselves. */
+static int grow(ts_cosim *c)
+{
+    ts_cosim_sample *nb = realloc(c->buf, (size_t)c->cap * 2 * sizeof *c->buf);
+    if (!nb) return -1;
+    c->buf = nb;
+    c->cap *= 2;
+    return 0;
+}
+
 ts_rc ts_cosim_advance(ts_cosim *c, double t_end, ts_err *err)
 {
     const double eps = 1e-12 * (1 + fabs(t_end));
@@ -134,8 +152,8 @@ ts_rc ts_cosim_advance(ts_cosim *c, double t_end, ts_err *err)
         while (c->t_l < horizon - eps || c->t_l < need - eps) {
             double t_to = fmin(c->t_l + c->o.leader_step, fmax(horizon, need));
             if (c->n >= c->cap) trim(c);
-            if (c->n >= c->cap)
-                return ts_err_set(err, TS_ERR_INTERNAL, NULL, "co-simulation buffer full");
+            if (c->n >= c->cap && grow(c) != 0)
+                return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory for co-simulation samples");
             ts_cosim_sample s = {0, 0, 0};
             ts_rc rc = c->leader.advance(c->leader.ud, t_to, &c->last, c->o.predictor_order, &s, err);
             if (rc != TS_OK) return rc;

@@ -92,6 +92,12 @@ static ts_rc check_tables(const ts_engine_config *c, int v, ts_err *err)
                         err);
 }
 
+/* Temperatures over which the cp polynomials must give cv > 0 [K]: below the
+ * lowest /driveline/ambient_temperature (220 K) to above the adiabatic flame
+ * temperature of the leanest-to-stoichiometric diesel burn (~2700 K) [E]. */
+#define GAS_T_CHECK_LO 200.0
+#define GAS_T_CHECK_HI 3000.0
+
 ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
 {
     ts_err_clear(err);
@@ -106,6 +112,24 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
     if (c->cp_air_n != 4 || c->cp_burned_n != 4) {
         ts_err_set(err, TS_ERR_PARAM, "/engine/cp_air", "/engine/cp_air, cp_burned: 4 coefficients each");
         return NULL;
+    }
+    /* cv = cp - R must stay positive where the gas can be (ambient to flame
+     * temperature): with cp <= R the energy equation divides by cv <= 0 and the
+     * integrators fail with no field named (fuzz finding: cp_air reversed) */
+    for (int g = 0; g < 2; g++) {
+        const double *cp = g ? c->cp_burned : c->cp_air;
+        double r = g ? c->r_burned : c->r_air;
+        for (double T = GAS_T_CHECK_LO; T <= GAS_T_CHECK_HI; T += 50.0) {
+            double t = T * 1e-3, v = cp[0] + t * (cp[1] + t * (cp[2] + t * cp[3]));
+            if (!(v > r)) {
+                const char *ptr = g ? "/engine/cp_burned" : "/engine/cp_air";
+                ts_err_set(err, TS_ERR_PARAM, ptr,
+                           "%s: cp(%.0f K) = %.4g J/kg/K is not above the gas constant %g "
+                           "(cv must be > 0 from %.0f to %.0f K)",
+                           ptr, T, v, r, GAS_T_CHECK_LO, GAS_T_CHECK_HI);
+                return NULL;
+            }
+        }
     }
     if (c->rod_length <= c->stroke / 2) {
         ts_err_set(err, TS_ERR_PARAM, "/engine/rod_length",
@@ -336,6 +360,14 @@ static double step_size(const ts_engine *e, const double *x)
     return e->c.ca_step / w;
 }
 
+/* Field to name when a fixed-step integration leaves the state's domain: the
+ * crank-angle model's step is the user's /engine/ca_step (a coarser step than
+ * the gas dynamics tolerate diverges); the other fidelities' step is MV_STEP. */
+static const char *step_pointer(const ts_engine *e)
+{
+    return e->c.fidelity == TS_ENGINE_CRANK_ANGLE ? "/engine/ca_step" : "/engine";
+}
+
 /* Load torque on the crankshaft as a function of (t, speed) at every stage. */
 typedef struct stage_load {
     ts_engine_load_fn fn; /* NULL: in->load_torque held */
@@ -548,8 +580,15 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
             }
         if (bad || !(en <= 1.0)) {
             if (dth <= BS_MIN * e->c.ca_step * 1.0000001) {
-                /* at the smallest step: accept (the fixed-step scheme would) unless broken */
-                if (bad) goto diverged;
+                /* at the smallest step: accept (the fixed-step scheme would) unless broken;
+                 * broken there means the step floor, set by /engine/ca_step, is too coarse
+                 * for this engine state: name that field so the user can act on it */
+                if (bad)
+                    return ts_err_set(err, TS_ERR_DIVERGED, "/engine/ca_step",
+                                      "engine state left its domain at t = %.6f s even at the "
+                                      "smallest crank-angle step (ca_step / %g = %.4g rad); "
+                                      "a smaller ca_step may resolve it",
+                                      t, 1.0 / BS_MIN, BS_MIN * e->c.ca_step);
             } else {
                 double f = bad || !isfinite(en) ? 0.25 : fmax(0.25, 0.9 * cbrt(1.0 / en));
                 dth = fmax(dth * f, BS_MIN * e->c.ca_step);
@@ -662,7 +701,10 @@ static ts_rc cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in
         double left = (th0 + EN_CYCLE - x[TS_ENGINE_X_ANGLE]) / w;
         if (h > left) h = left;
         if (ts_engine_rhs(e, t, x, in, xdot, &o))
-            return ts_err_set(err, TS_ERR_DIVERGED, "/engine", "engine state left its domain");
+            return ts_err_set(err, TS_ERR_DIVERGED, step_pointer(e),
+                              "engine state left its domain at t = %.6f s of a cycle (fixed step "
+                              "%.3g s)",
+                              t, h);
         const double *ov = (const double *)&o;
         for (size_t k = 0; k < OUT_NFIELDS; k++) sum[k] += ov[k] * h;
         if (o.cyl_pressure > peak) peak = o.cyl_pressure;
@@ -670,8 +712,10 @@ static ts_rc cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in
             for (int i = 0; i < nw; i++) wmean[i] += x[e->off_wall + i] * h;
         stage_load sl = {NULL, NULL, *in};
         if (step(e, x, t, h, &sl, work))
-            return ts_err_set(err, TS_ERR_DIVERGED, "/engine",
-                              "engine state left its domain at t = %.6f s", t);
+            return ts_err_set(err, TS_ERR_DIVERGED, step_pointer(e),
+                              "engine state left its domain at t = %.6f s of a cycle (fixed step "
+                              "%.3g s)",
+                              t, h);
         t += h;
         span += h;
     }

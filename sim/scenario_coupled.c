@@ -87,7 +87,12 @@ static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
     if (!p) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     d->impl = p;
     p->r = ts_coupled_run_make(m->impl, m->cfg.coupling.method, err);
-    return p->r ? TS_OK : (err ? err->code : TS_ERR_INTERNAL);
+    if (p->r) return TS_OK;
+    /* like the other scenarios, data_init undoes its own allocations on failure
+     * (ts_data_make does not call data_fini then) */
+    free(p);
+    d->impl = NULL;
+    return err ? err->code : TS_ERR_INTERNAL;
 }
 
 static void data_fini(const ts_model *m, ts_data *d)

@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "constants.h"
 #define PI TS_PI
@@ -40,7 +41,14 @@ static int alloc_arrays(ts_terrain *t, int n)
     return t->a && t->b && t->c;
 }
 
-/* Read a whole file into a NUL-terminated buffer (caller frees). */
+/* Largest terrain file read (a resource limit, not physics): 64 MiB holds ~3
+ * million "x,z" profile rows of ~20 bytes, a 30 km course at 1 cm spacing.
+ * Without it a config naming /dev/zero or a growing file never returned. */
+#define TERRAIN_FILE_MAX ((size_t)64 << 20)
+
+/* Read a whole regular file into a NUL-terminated buffer (caller frees).
+ * Refuses directories, devices and pipes (a config may name any path) and
+ * files over TERRAIN_FILE_MAX; read errors are reported, not taken as EOF. */
 static char *slurp(const char *path, const char *pointer, ts_err *err)
 {
     FILE *f = fopen(path, "rb");
@@ -49,12 +57,25 @@ static char *slurp(const char *path, const char *pointer, ts_err *err)
                    strerror(errno));
         return NULL;
     }
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(f);
+        ts_err_set(err, TS_ERR_PARAM, pointer, "%s: '%s' is not a regular file", pointer, path);
+        return NULL;
+    }
     size_t cap = 4096, n = 0;
     char *buf = malloc(cap);
     while (buf) {
         size_t r = fread(buf + n, 1, cap - n - 1, f);
         n += r;
         if (r == 0) break;
+        if (n > TERRAIN_FILE_MAX) {
+            free(buf);
+            fclose(f);
+            ts_err_set(err, TS_ERR_LIMIT, pointer, "%s: '%s' is larger than %zu MiB", pointer, path,
+                       TERRAIN_FILE_MAX >> 20);
+            return NULL;
+        }
         if (n + 1 >= cap) {
             char *nb = realloc(buf, cap * 2);
             if (!nb) {
@@ -66,7 +87,13 @@ static char *slurp(const char *path, const char *pointer, ts_err *err)
             cap *= 2;
         }
     }
+    int failed = ferror(f);
     fclose(f);
+    if (buf && failed) {
+        free(buf);
+        ts_err_set(err, TS_ERR_IO, pointer, "%s: cannot read '%s'", pointer, path);
+        return NULL;
+    }
     if (!buf) {
         ts_err_set(err, TS_ERR_NOMEM, pointer, "out of memory reading '%s'", path);
         return NULL;

@@ -67,6 +67,7 @@ ts_circuit *ts_circuit_make(const ts_circuit_params *p, ts_err *err)
         };
         c->span[i] = ts_span_make(&sp, err);
         if (!c->span[i]) {
+            ts_span_err_to_config(err, "/vehicle"); /* the circuit's spans: the layout */
             ts_circuit_free(c);
             return NULL;
         }

@@ -16,6 +16,7 @@
 #include "track_span.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -155,6 +156,25 @@ static ts_rc check_params(const ts_span_params *p, ts_err *err)
     }
 #undef REQ
     return TS_OK;
+}
+
+void ts_span_err_to_config(ts_err *err, const char *layout)
+{
+    static const char *const map[][2] = {
+        {"/span/rho", "/track/mass_per_length"},
+        {"/span/ea", "/track/ea"},
+        {"/span/tension", "/track/tension"},
+        {"/span/speed", "/track/modes_speed"},
+        {"/span/n_long", "/track/n_long"},
+        {"/span/n_trans", "/track/n_trans"},
+        {"/span/quasi_static_stretch", "/track/n_long"},
+        {"/span/damping_ratio", "/track/damping_ratio"},
+    };
+    if (!err || strncmp(err->pointer, "/span/", 6) != 0) return;
+    const char *to = layout; /* /span/length, /span/g_y */
+    for (size_t i = 0; i < sizeof map / sizeof map[0]; i++)
+        if (strcmp(err->pointer, map[i][0]) == 0) to = map[i][1];
+    snprintf(err->pointer, sizeof err->pointer, "%s", to);
 }
 
 void ts_span_free(ts_span *sp)

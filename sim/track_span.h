@@ -192,6 +192,13 @@ double ts_span_gravity_normal(double theta, double g);
 ts_span *ts_span_make(const ts_span_params *p, ts_err *err);
 void ts_span_free(ts_span *sp);
 
+/* Rewrite a ts_span_make error's "/span/<field>" pointer as the run-config
+ * field the span parameter comes from (/track/tension, /track/ea, ...), so a
+ * caller building spans from a ts_config reports a field the user can change.
+ * layout: the pointer for the geometry-derived fields (length, g_y), e.g.
+ * "/vehicle" or "/track/span_length". Other pointers are left alone. */
+void ts_span_err_to_config(ts_err *err, const char *layout);
+
 /* Generalised forces f[n] on all coordinates (everything but -M x_dd):
  *   f = -P0 [-1, 1, 0..] - K x - (C + G) x_d + 2 theta_d W x_d
  *       - a0x ax - a0y ay + theta_d^2 sx - theta_dd sy + (g_y - p.g_y) ay

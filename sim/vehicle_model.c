@@ -1150,9 +1150,12 @@ static ts_rc build_spans(vm *v, ts_err *err)
     default:
         return TS_OK;
     }
-    if (nl + nt == 0)
-        return ts_err_set(err, TS_ERR_PARAM, "/track/n_long",
-                          "/track/n_long: a dynamic track fidelity needs span modes");
+    if (nl + nt == 0) {
+        /* name the count this fidelity reads: the transverse fidelity only n_trans */
+        const char *ptr = tc->fidelity == TS_TRACK_TRANSVERSE ? "/track/n_trans" : "/track/n_long";
+        return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: the %s track fidelity needs span modes",
+                          ptr, ts_track_fidelity_names[tc->fidelity]);
+    }
     int q0 = VM_NQ_RIGID;
     for (int s = 0; s < VM_NSPAN; s++) {
         span_el *se = &v->span[s];
@@ -1169,7 +1172,10 @@ static ts_rc build_spans(vm *v, ts_err *err)
                             .n_trans = nt,
                             .damping_ratio = tc->damping_ratio * v->dscale};
         se->sp = ts_span_make(&p, err);
-        if (!se->sp) return err ? err->code : TS_ERR_PARAM;
+        if (!se->sp) {
+            ts_span_err_to_config(err, "/vehicle"); /* lengths and slopes: the layout */
+            return err ? err->code : TS_ERR_PARAM;
+        }
         se->elem = el;
         se->q0 = q0;
         se->nm = nl + nt;
@@ -1194,6 +1200,28 @@ static ts_rc build_spans(vm *v, ts_err *err)
         if (a >= VM_RW1 || b >= VM_RW1) v->arm_span_bodies |= 1u << a | 1u << b;
     }
     return TS_OK;
+}
+
+/* Smallest free length of a track element in the design layout [m]: a
+ * numerical floor (1 mm, far below any real span or wheel gap), not physics;
+ * the tangent's direction is undefined as the free length goes to zero. */
+#define LAYOUT_MIN_GAP 1e-3
+
+/* Config field that places body b (for layout errors). */
+static const char *layout_pointer(int b)
+{
+    switch (b) {
+    case VM_SPROCKET:
+        return "/vehicle/sprocket_x";
+    case VM_REAR_ROLLER:
+        return "/vehicle/rear_roller_x";
+    case VM_FRONT_ROLLER:
+        return "/vehicle/front_roller_x";
+    case VM_IDLER:
+        return "/vehicle/idler_x";
+    default:
+        return "/vehicle/road_wheel_x";
+    }
 }
 
 vm *vm_make(const ts_config *cfg, ts_err *err)
@@ -1292,6 +1320,21 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     kinematics(v, q, NULL, &k);
     v->x_anchor0 = k.c[VM_RW1 + v->anchor][0];
     double loop = 0, psi0[VM_NB], len_el[VM_NB];
+    /* every track element needs a tangent between its two bodies: centre
+     * distance above the difference of the wrap radii (coincident or nested
+     * bodies, e.g. two road wheels at one x, left tangent() with 0/0 = NaN) */
+    for (int el = 0; el < VM_NB; el++) {
+        int a = el, b = (el + 1) % VM_NB;
+        double dx = k.c[b][0] - k.c[a][0], dz = k.c[b][1] - k.c[a][1];
+        double d = sqrt(dx * dx + dz * dz), cr = fabs(v->rho_b[a] - v->rho_b[b]);
+        if (!(d > cr && sqrt(d * d - cr * cr) > LAYOUT_MIN_GAP)) {
+            ts_err_set(err, TS_ERR_PARAM, layout_pointer(b),
+                       "%s: the %s and %s centres are %.4g m apart; the track between them "
+                       "needs more than the difference of their radii (%.4g m) plus a free length",
+                       layout_pointer(b), vm_body_names[a], vm_body_names[b], d, cr);
+            goto fail;
+        }
+    }
     for (int el = 0; el < VM_NB; el++) {
         elem e;
         tangent(v, &k, el, &e); /* v->u0 still zero: e.dpsi meaningless here */
