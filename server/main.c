@@ -62,6 +62,9 @@ static void usage(FILE *f)
                "  --drain S        after SIGTERM/SIGINT keep answering S seconds (reads served,\n"
                "                   new work 503 with Retry-After) before closing; a second\n"
                "                   signal closes at once (default 0)\n"
+               "  --client-files yes|no  let run configs name files on this machine for the daemon\n"
+               "                   to read (/terrain/profile_csv, a course outside the shipped\n"
+               "                   ones); default no: such configs get 400 naming the field\n"
                "  --routes         print the routing table and exit\n"
                "  --help           this text\n"
                "  --version        print the version\n");
@@ -167,6 +170,12 @@ int main(int argc, char **argv)
                 return 2;
             }
             o->drain = x;
+        } else if (strcmp(a, "--client-files") == 0) {
+            if (strcmp(v, "yes") != 0 && strcmp(v, "no") != 0) {
+                fprintf(stderr, "tanksimd: %s: 'yes' or 'no' expected, got '%s'\n", a, v);
+                return 2;
+            }
+            o->client_files = strcmp(v, "yes") == 0;
         } else if (strcmp(a, "--token") == 0) {
             snprintf(o->token, sizeof o->token, "%s", v);
         } else if (strcmp(a, "--web-root") == 0) {

@@ -551,6 +551,36 @@ static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolve
     return TS_OK;
 }
 
+/* Unless started with --client-files yes, the daemon opens no file a client
+ * names: a profile terrain (/terrain/profile_csv) and a bump course that is
+ * not one of the shipped ones embedded in the binary (which tsa_config_load
+ * has already turned into inline bumps) would make sim/terrain.c read a path
+ * of the client's choosing on this machine. */
+static ts_rc refuse_client_files(const ts_config *cfg, json_t *errors, ts_err *err)
+{
+    const ts_terrain_config *t = &cfg->terrain;
+    const char *ptr = NULL;
+    char msg[TS_ERR_MSG_LEN];
+    if (t->kind == TS_TERRAIN_PROFILE) {
+        ptr = "/terrain/profile_csv";
+        snprintf(msg, sizeof msg,
+                 "%s: this daemon reads no file named by a client (started without "
+                 "--client-files yes); give the ground inline as bumps (/terrain/bump_start, "
+                 "/terrain/bump_height, /terrain/bump_length) or use a shipped course",
+                 ptr);
+    } else if (t->kind == TS_TERRAIN_BUMPS && t->bump_n == 0) {
+        ptr = "/terrain/course";
+        snprintf(msg, sizeof msg,
+                 "%s: no shipped course named '%.64s', and this daemon reads no course file "
+                 "named by a client (started without --client-files yes); give the bumps inline "
+                 "(/terrain/bump_start, /terrain/bump_height, /terrain/bump_length)",
+                 ptr, t->course);
+    }
+    if (!ptr) return TS_OK;
+    if (errors) json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", ptr, "message", msg));
+    return ts_err_set(err, TS_ERR_PARAM, ptr, "%s", msg);
+}
+
 ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, json_t *errors,
                          ts_err *err)
 {
@@ -558,7 +588,11 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
     ts_config cfg;
     json_t *resolved = NULL;
     ts_rc rc = tsa_config_load(doc, &cfg, &resolved, errors, err);
-    if (rc != TS_OK) return rc;
+    if (rc == TS_OK && !srv->opt.client_files) rc = refuse_client_files(&cfg, errors, err);
+    if (rc != TS_OK) {
+        json_decref(resolved);
+        return rc;
+    }
     /* Check the cap and reserve a place in one lock section: creates in
      * progress count, so concurrent creates cannot pass the cap together. */
     tsd_registry *g = srv->reg;
