@@ -31,6 +31,15 @@ void tsc_print_err(const char *what, const ts_err *err)
         fprintf(stderr, "tanksim: %s: %s (%s)\n", what, err->msg, ts_rc_name(err->code));
 }
 
+void tsc_print_config_err(const char *pointer, const char *msg)
+{
+    size_t np = pointer ? strlen(pointer) : 0;
+    if (np && strncmp(msg, pointer, np) != 0) /* most messages already start with it */
+        fprintf(stderr, "tanksim: config error at %s: %s\n", pointer, msg);
+    else
+        fprintf(stderr, "tanksim: config error: %s\n", msg);
+}
+
 int tsc_model_start(const ts_config *cfg, ts_model **m, ts_data **d)
 {
     ts_err err;
@@ -82,9 +91,8 @@ int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
             size_t i;
             json_t *e;
             json_array_foreach(errors, i, e)
-                fprintf(stderr, "tanksim: config error at %s: %s\n",
-                        json_string_value(json_object_get(e, "pointer")),
-                        json_string_value(json_object_get(e, "message")));
+                tsc_print_config_err(json_string_value(json_object_get(e, "pointer")),
+                                     json_string_value(json_object_get(e, "message")));
         } else {
             tsc_print_err(preset ? preset : path, &err);
         }

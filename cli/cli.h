@@ -31,6 +31,9 @@ const char *tsc_option(int argc, char **argv, const char *name);
 
 /* Print a ts_err as "tanksim: <pointer>: message" to stderr. */
 void tsc_print_err(const char *what, const ts_err *err);
+/* "tanksim: config error at POINTER: MSG" on stderr, the pointer left out
+ * when MSG already starts with it (pointer may be NULL or ""). */
+void tsc_print_config_err(const char *pointer, const char *msg);
 
 /* Build the model and its data for cfg and reset it (sample row 0). On failure prints the
  * error, leaves *m / *d as far as they were built (the caller frees them) and returns -1. */

@@ -28,7 +28,7 @@ int tsc_cmd_modes(int argc, char **argv)
     json_t *doc = tsa_modes_json(&cfg, &err);
     if (!doc) {
         if (err.pointer[0])
-            fprintf(stderr, "tanksim: config error at %s: %s\n", err.pointer, err.msg);
+            tsc_print_config_err(err.pointer, err.msg);
         else
             tsc_print_err("modes", &err);
         return TSC_EXIT_FAIL;

@@ -294,7 +294,7 @@ def make_cases(fields, presets, tier, only_fields):
 NUM_RE = re.compile(r"(?i)(?<![a-z_])(nan|-?inf(inity)?)(?![a-z_])")
 # a config pointer, the root-document error, or a JSON parse error (file:line:col)
 PTR_RE = re.compile(r"/(run|track|vehicle|terrain|drive|engine|driveline|control|coupling|preset)\b|"
-                    r"config error at :|\.json:\d+:\d+: ")
+                    r"config error( at)?: |\.json:\d+:\d+: ")
 
 
 def classify(rc, stderr, outdir):
