@@ -62,6 +62,8 @@ static void usage(FILE *f)
                "  --drain S        after SIGTERM/SIGINT keep answering S seconds (reads served,\n"
                "                   new work 503 with Retry-After) before closing; a second\n"
                "                   signal closes at once (default 0)\n"
+               "  --max-run-wall S wall-clock budget of one run operation: past it the run pauses\n"
+               "                   with an error naming this flag (default 0: none)\n"
                "  --client-files yes|no  let run configs name files on this machine for the daemon\n"
                "                   to read (/terrain/profile_csv, a course outside the shipped\n"
                "                   ones); default no: such configs get 400 naming the field\n"
@@ -170,6 +172,14 @@ int main(int argc, char **argv)
                 return 2;
             }
             o->drain = x;
+        } else if (strcmp(a, "--max-run-wall") == 0) {
+            char *end;
+            double x = strtod(v, &end);
+            if (*end || !(x >= 0) || x > 1e7) {
+                fprintf(stderr, "tanksimd: %s: seconds in [0, 1e7] expected, got '%s'\n", a, v);
+                return 2;
+            }
+            o->max_run_wall = x;
         } else if (strcmp(a, "--client-files") == 0) {
             if (strcmp(v, "yes") != 0 && strcmp(v, "no") != 0) {
                 fprintf(stderr, "tanksimd: %s: 'yes' or 'no' expected, got '%s'\n", a, v);

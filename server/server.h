@@ -42,6 +42,7 @@ typedef struct tsd_options {
     double max_step;       /* longest synchronous step [s simulated] (longer -> 422) */
     char web_root[512];    /* dashboard files served at / (static_files.c) */
     double drain;          /* after SIGTERM/SIGINT, keep answering this long [s] (main.c) */
+    double max_run_wall;   /* wall-clock budget of one run operation [s]; 0 = none (session.c) */
     int client_files;      /* 1: configs may name files the daemon opens (/terrain/profile_csv,
                             * a course outside the embedded store); 0 (default): refused */
 } tsd_options;

@@ -948,7 +948,9 @@ static void run_finish(run_job_arg *j, tsd_status st, ts_rc rc, const ts_err *er
     if (rc != TS_OK) {
         error = tsa_problem_from_err(err, NULL);
         /* AIP-151 google.rpc.Status style code beside the problem fields */
-        json_object_set_new(error, "code", json_integer(rc == TS_ERR_CANCELLED ? 1 : 13));
+        json_object_set_new(error, "code", json_integer(rc == TS_ERR_CANCELLED ? 1
+                                                        : rc == TS_ERR_LIMIT   ? 8
+                                                                               : 13));
         json_object_set_new(error, "message", json_string(err->msg));
     } else {
         response = tsd_session_json(s, 1);
@@ -993,6 +995,15 @@ static void run_slice(void *arg)
     }
     if (rc != TS_OK && rc != TS_ERR_CANCELLED) {
         run_finish(j, TSD_FAILED, rc, &err);
+        return;
+    }
+    if ((a.reason == ADV_YIELD || a.reason == ADV_PACE) && srv->opt.max_run_wall > 0 &&
+        tsd_now() - j->wall_start >= srv->opt.max_run_wall) {
+        ts_err_set(&err, TS_ERR_LIMIT, NULL,
+                   "the run used its wall-clock budget of %g s (--max-run-wall) at t = %g s; run "
+                   "the session again to continue",
+                   srv->opt.max_run_wall, ts_time(s->d));
+        run_finish(j, TSD_PAUSED, TS_ERR_LIMIT, &err);
         return;
     }
     if (a.reason == ADV_YIELD || a.reason == ADV_PACE) {
