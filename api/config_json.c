@@ -200,6 +200,7 @@ static void read_field(const ts_param *p, const json_t *v, char *base, json_t *e
     ts_err_clear(&e);
     switch (p->type) {
     case TS_PT_DOUBLE:
+    case TS_PT_DOUBLE_OFF:
     case TS_PT_INT: {
         if (!json_is_number(v)) {
             add_error(errors, first, count, TS_ERR_PARAM, p->pointer, "%s: %s expected, got %s",
@@ -426,6 +427,7 @@ static json_t *field_to_json(const ts_param *p, const char *base)
     const char *at = base + p->offset;
     switch (p->type) {
     case TS_PT_DOUBLE:
+    case TS_PT_DOUBLE_OFF:
         return json_real(ts_param_get_double(base, p, 0));
     case TS_PT_INT:
         return json_integer(ts_param_get_int(base, p->offset));
@@ -488,6 +490,11 @@ json_t *tsa_config_schema(void)
             case TS_PT_INT:
                 json_object_set_new(f, "minimum", json_real(p->min));
                 json_object_set_new(f, "maximum", json_real(p->max));
+                break;
+            case TS_PT_DOUBLE_OFF: /* 0 (off), or in [min, max] */
+                json_object_set_new(f, "anyOf",
+                                    json_pack("[{s:i},{s:f,s:f}]", "const", 0, "minimum", p->min,
+                                              "maximum", p->max));
                 break;
             case TS_PT_ENUM: {
                 json_t *en = json_array();

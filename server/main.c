@@ -72,6 +72,22 @@ static void usage(FILE *f)
                "  --version        print the version\n");
 }
 
+/* Seconds in [lo, hi], or (lo, hi] when lo_open: 0 and *out set, else -1 with
+ * a message naming the flag. */
+static int parse_seconds(const char *flag, const char *s, double lo, int lo_open, double hi,
+                         double *out)
+{
+    char *end;
+    double x = strtod(s, &end);
+    if (*end || !(lo_open ? x > lo : x >= lo) || !(x <= hi)) {
+        fprintf(stderr, "tanksimd: %s: seconds in %c%g, %g] expected, got '%s'\n", flag,
+                lo_open ? '(' : '[', lo, hi, s);
+        return -1;
+    }
+    *out = x;
+    return 0;
+}
+
 static int parse_int(const char *flag, const char *s, long lo, long hi, long *out)
 {
     char *end;
@@ -157,29 +173,11 @@ int main(int argc, char **argv)
             if (parse_int(a, v, 10, 100000000, &n)) return 2;
             o->max_samples = n;
         } else if (strcmp(a, "--max-step") == 0) {
-            char *end;
-            double x = strtod(v, &end);
-            if (*end || !(x > 0) || x > 1e6) {
-                fprintf(stderr, "tanksimd: %s: seconds in (0, 1e6] expected, got '%s'\n", a, v);
-                return 2;
-            }
-            o->max_step = x;
+            if (parse_seconds(a, v, 0, 1, 1e6, &o->max_step)) return 2;
         } else if (strcmp(a, "--drain") == 0) {
-            char *end;
-            double x = strtod(v, &end);
-            if (*end || !(x >= 0) || x > 86400) {
-                fprintf(stderr, "tanksimd: %s: seconds in [0, 86400] expected, got '%s'\n", a, v);
-                return 2;
-            }
-            o->drain = x;
+            if (parse_seconds(a, v, 0, 0, 86400, &o->drain)) return 2;
         } else if (strcmp(a, "--max-run-wall") == 0) {
-            char *end;
-            double x = strtod(v, &end);
-            if (*end || !(x >= 0) || x > 1e7) {
-                fprintf(stderr, "tanksimd: %s: seconds in [0, 1e7] expected, got '%s'\n", a, v);
-                return 2;
-            }
-            o->max_run_wall = x;
+            if (parse_seconds(a, v, 0, 0, 1e7, &o->max_run_wall)) return 2;
         } else if (strcmp(a, "--client-files") == 0) {
             if (strcmp(v, "yes") != 0 && strcmp(v, "no") != 0) {
                 fprintf(stderr, "tanksimd: %s: 'yes' or 'no' expected, got '%s'\n", a, v);

@@ -19,11 +19,11 @@ static const ts_param rows[] = {
      "integrator relative tolerance"},
     {"/run/atol", TS_PT_DOUBLE, F(atol), "1", 1e-14, 1e-2, NULL, 0, 0,
      "integrator absolute tolerance (states are scaled to order one)"},
-    {"/run/max_step", TS_PT_DOUBLE, F(max_step), "s", 0, 1, NULL, 0, 0,
-     "largest integrator step; 0 lets the integrator choose; a positive value must be at "
-     "least 1e-6 s (checked by ts_model_make: the models' fastest dynamics, crank-angle steps "
-     "of ~4e-5 s at 2100 rpm and kHz track modes, are resolved 40x over at 1 us; below it a "
-     "cap only multiplies the steps, and near 1e-300 CVODE fails at t = 0)"},
+    {"/run/max_step", TS_PT_DOUBLE_OFF, F(max_step), "s", 1e-6, 1, NULL, 0, 0,
+     "largest integrator step; 0 lets the integrator choose; a cap is at least 1e-6 s (the "
+     "models' fastest dynamics, crank-angle steps of ~4e-5 s at 2100 rpm and kHz track modes, "
+     "are resolved 40x over at 1 us; below it a cap only multiplies the steps, and near 1e-300 "
+     "CVODE fails at t = 0)"},
 };
 #undef F
 

@@ -5,9 +5,6 @@
 #ifndef TS_CFG_RUN_H
 #define TS_CFG_RUN_H
 
-/* Smallest positive /run/max_step [s] (reason in its row in cfg_run.c). */
-#define TS_RUN_MAX_STEP_FLOOR 1e-6
-
 /* Scenario kinds (names in ts_run_kind_names, same order). */
 typedef enum ts_run_kind {
     TS_RUN_POINTMASS,   /* point-mass vehicle on flat/graded ground (Section III.C) */
@@ -25,7 +22,7 @@ typedef struct ts_run_config {
     double sample_rate;  /* output rows per simulated second [Hz] */
     double rtol;         /* integrator relative tolerance [1] */
     double atol;         /* integrator absolute tolerance, scaled per state [1] */
-    double max_step;     /* largest integrator step, 0 = unlimited [s]; >= TS_RUN_MAX_STEP_FLOOR if > 0 */
+    double max_step;     /* largest integrator step, 0 = unlimited [s] (range in cfg_run.c) */
 } ts_run_config;
 
 #endif

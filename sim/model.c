@@ -82,14 +82,6 @@ ts_model *ts_model_make(const ts_config *cfg, ts_err *err)
         return NULL;
     }
     if (ts_param_validate(cfg, err) != TS_OK) return NULL;
-    /* 0 = no cap; a positive cap has a floor the table's [min, max] cannot express
-     * (reason in the /run/max_step row of cfg_run.c) */
-    if (cfg->run.max_step > 0 && cfg->run.max_step < TS_RUN_MAX_STEP_FLOOR) {
-        ts_err_set(err, TS_ERR_RANGE, "/run/max_step",
-                   "/run/max_step: %g s is below the smallest cap %g s (0 means no cap)",
-                   cfg->run.max_step, TS_RUN_MAX_STEP_FLOOR);
-        return NULL;
-    }
     const ts_scenario_ops *ops = scenarios[cfg->run.kind];
     if (!ops) {
         ts_err_set(err, TS_ERR_UNSUPPORTED, "/run/kind",

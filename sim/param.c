@@ -41,6 +41,7 @@ const char *ts_param_type_name(ts_param_type t)
 {
     switch (t) {
     case TS_PT_DOUBLE:
+    case TS_PT_DOUBLE_OFF:
         return "number";
     case TS_PT_INT:
         return "integer";
@@ -61,7 +62,12 @@ ts_rc ts_param_check_number(const ts_param *p, double v, ts_err *err)
 {
     if (!isfinite(v))
         return ts_err_set(err, TS_ERR_RANGE, p->pointer, "%s: must be a finite number", p->pointer);
+    if (p->type == TS_PT_DOUBLE_OFF && v == 0) return TS_OK;
     if (v < p->min || v > p->max) {
+        if (p->type == TS_PT_DOUBLE_OFF)
+            return ts_err_set(err, TS_ERR_RANGE, p->pointer,
+                              "%s: 0 (off) or a number in [%g, %g] %s, got %g", p->pointer, p->min,
+                              p->max, p->unit ? p->unit : "", v);
         if (p->type == TS_PT_INT)
             return ts_err_set(err, TS_ERR_RANGE, p->pointer, "%s: integer in [%g, %g], got %g",
                               p->pointer, p->min, p->max, v);
@@ -133,6 +139,7 @@ ts_rc ts_param_validate(const void *cfg, ts_err *err)
             ts_rc rc = TS_OK;
             switch (p->type) {
             case TS_PT_DOUBLE:
+            case TS_PT_DOUBLE_OFF:
                 rc = ts_param_check_number(p, get_double(at, 0), err);
                 break;
             case TS_PT_INT:

@@ -30,6 +30,7 @@
 
 typedef enum ts_param_type {
     TS_PT_DOUBLE, /* double */
+    TS_PT_DOUBLE_OFF, /* double in [min, max], or exactly 0 = off (e.g. a step cap) */
     TS_PT_INT,    /* int */
     TS_PT_BOOL,   /* int, 0 or 1 */
     TS_PT_ENUM,   /* int index into enum_names; JSON string */

@@ -500,21 +500,23 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
             double dd = slope * k.v[b][0] - k.v[b][1];
             nload = v->kf * d + v->kf3 * d * d * d + v->dscale * v->cf * dd;
             if (nload < 0) nload = 0;
-            double s = 1.0 / sqrt(1.0 + slope * slope);
-            double f[2] = {-slope * nload * s, nload * s};
-            add_force(Q, &k.j[b], f);
-        }
-        if (nload > 0 && qd) {
-            /* running-gear rolling resistance: f N against the wheel centre's
-             * velocity along the terrain, from the ground (the hysteresis
-             * moment N e of the tyre on the track is balanced by a contact
-             * force N e / r; the track under the wheel grips the ground, so
-             * the force goes to the ground, not along the track to the anchor) */
+            /* terrain tangent (tx, tz); the normal force acts along (-tz, tx) */
             double tx = 1.0 / sqrt(1.0 + slope * slope), tz = slope * tx;
-            double vt = k.v[b][0] * tx + k.v[b][1] * tz;
-            double f_roll = v->dscale * (v->rr0 + v->rr1 * fabs(vt)) * nload * tanh(vt / v->rr_v0);
-            double f[2] = {-f_roll * tx, -f_roll * tz};
+            double f[2] = {-slope * nload * tx, nload * tx};
             add_force(Q, &k.j[b], f);
+            if (nload > 0 && qd) {
+                /* running-gear rolling resistance: f N against the wheel
+                 * centre's velocity along the terrain, from the ground (the
+                 * hysteresis moment N e of the tyre on the track is balanced
+                 * by a contact force N e / r; the track under the wheel grips
+                 * the ground, so the force goes to the ground, not along the
+                 * track to the anchor) */
+                double vt = k.v[b][0] * tx + k.v[b][1] * tz;
+                double f_roll =
+                    v->dscale * (v->rr0 + v->rr1 * fabs(vt)) * nload * tanh(vt / v->rr_v0);
+                double fr_t[2] = {-f_roll * tx, -f_roll * tz};
+                add_force(Q, &k.j[b], fr_t);
+            }
         }
         if (diag) {
             diag->wheel_load[i] = nload;
@@ -1057,7 +1059,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         double rn = 0;
         for (int i = 0; i < nu; i++)
             rn = fmax(rn, fabs(r[i])); /* fmax drops a NaN: checked next */
-        if (!isfinite(rn) || has_nonfinite(r, nu)) {
+        if (has_nonfinite(r, nu)) {
             rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
                             "static equilibrium: residual not finite at Newton step %d "
                             "(check the layout)",
@@ -1334,8 +1336,6 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
                        layout_pointer(b), vm_body_names[a], vm_body_names[b], d, cr);
             goto fail;
         }
-    }
-    for (int el = 0; el < VM_NB; el++) {
         elem e;
         tangent(v, &k, el, &e); /* v->u0 still zero: e.dpsi meaningless here */
         v->ell0[el] = e.ell;

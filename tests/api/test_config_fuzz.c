@@ -143,7 +143,7 @@ static void degenerate_layout_names_the_field(void **state)
 }
 
 /* Finding: /run/max_step = 1e-300 (in [0, 1]) made CVODE fail at t = 0 with h = 4e-306
- * and no field named; a positive cap below 1e-6 s is refused, 0 still means no cap. */
+ * and no field named; the row is now TS_PT_DOUBLE_OFF: 0 (no cap) or [1e-6, 1] s. */
 static void tiny_max_step_is_refused(void **state)
 {
     (void)state;
@@ -153,6 +153,20 @@ static void tiny_max_step_is_refused(void **state)
     expect_ok("{\"preset\":\"pointmass-prescribed\",\"run\":{\"duration\":0.01,"
               "\"max_step\":1e-6}}",
               0.01);
+    expect_ok("{\"preset\":\"pointmass-prescribed\",\"run\":{\"duration\":0.01,"
+              "\"max_step\":0}}",
+              0.01);
+    /* the schema says the same: 0 (off) or [1e-6, 1] s (TS_PT_DOUBLE_OFF) */
+    json_t *schema = tsa_config_schema();
+    json_t *ms = json_object_get(
+        json_object_get(json_object_get(json_object_get(schema, "properties"), "run"),
+                        "properties"),
+        "max_step");
+    json_t *any = json_object_get(ms, "anyOf");
+    assert_int_equal(json_array_size(any), 2);
+    assert_int_equal(json_integer_value(json_object_get(json_array_get(any, 0), "const")), 0);
+    assert_true(json_real_value(json_object_get(json_array_get(any, 1), "minimum")) == 1e-6);
+    json_decref(schema);
 }
 
 /* Finding: fidelity transverse with n_trans = 0 was refused at /track/n_long, a count

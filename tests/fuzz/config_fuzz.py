@@ -30,7 +30,6 @@ stderr, outputs) only for cases that are not OK/ERROR. Prints counts per class.
 import argparse
 import concurrent.futures as cf
 import json
-import math
 import os
 import re
 import shutil
@@ -76,8 +75,10 @@ def inside(lo, hi, frac):
 
 
 def number_values(f, is_int):
-    lo, hi = f["minimum"], f["maximum"]
-    vals = [("min", lo), ("max", hi)]
+    off = "anyOf" in f  # 0 (off) or a number in [minimum, maximum]
+    rng = f["anyOf"][1] if off else f
+    lo, hi = rng["minimum"], rng["maximum"]
+    vals = [("min", lo), ("max", hi)] + ([("off", 0.0), ("tiny", 1e-300)] if off else [])
     if is_int:
         if hi - lo >= 2:
             vals += [("min+1", lo + 1), ("max-1", hi - 1)]
@@ -94,7 +95,8 @@ def number_values(f, is_int):
         vals.append(("tiny", 1e-300 if hi > 1e-300 else hi))
     if lo > 0:
         vals.append(("tiny_in_range", lo * 1.0000001))
-    vals += [("below_min", lo - max(abs(lo), 1) * 1e-6), ("above_max", hi + max(abs(hi), 1) * 1e-6)]
+    below = 0.5 * lo if off else lo - max(abs(lo), 1) * 1e-6  # (0 itself is valid when off)
+    vals += [("below_min", below), ("above_max", hi + max(abs(hi), 1) * 1e-6)]
     return vals
 
 
@@ -239,7 +241,6 @@ def make_cases(fields, presets, tier, only_fields):
     cases = []
     for p in presets:
         resolved = resolve_chain(p)
-        kind = resolved.get("run", {}).get("kind", "pointmass")
         dur = resolved.get("run", {}).get("duration", 20.0)
         cap = {"run": {"duration": min(dur, DURATION_CAP)}}
 

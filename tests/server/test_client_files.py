@@ -51,11 +51,3 @@ def test_client_files_yes_reads_the_profile(tmp_path):
     finally:
         d.stop()
 
-
-def test_client_files_flag_is_checked():
-    import subprocess
-
-    from conftest import TANKSIMD
-    out = subprocess.run([TANKSIMD, "--client-files", "maybe"], capture_output=True, text=True,
-                         timeout=10)
-    assert out.returncode == 2 and "--client-files" in out.stderr

@@ -2,11 +2,9 @@
 inside every range can keep a worker busy for hours): a run operation that has
 used S wall seconds pauses with an error naming the flag; its rows are stored
 and a further run continues from there. Without the flag runs are unbounded."""
-import subprocess
-
 import requests
 
-from conftest import BASE_PRESET, TANKSIMD, Daemon, wait_op
+from conftest import BASE_PRESET, Daemon, wait_op
 
 
 def test_run_pauses_at_its_wall_budget_and_continues():
@@ -33,8 +31,3 @@ def test_run_pauses_at_its_wall_budget_and_continues():
     finally:
         d.stop()
 
-
-def test_max_run_wall_is_checked():
-    out = subprocess.run([TANKSIMD, "--max-run-wall", "-1"], capture_output=True, text=True,
-                         timeout=10)
-    assert out.returncode == 2 and "--max-run-wall" in out.stderr
