@@ -14,6 +14,7 @@
 #include "sim/fft.h"
 #include "sim/tanksim.h"
 #include "sim/vehicle_model.h"
+#include "vm_fd.h"
 
 #define PI 3.14159265358979323846
 
@@ -44,16 +45,13 @@ static int modes(const ts_config *c, double *freq)
            *M = malloc(sizeof(double) * (size_t)(n * n));
     double *q1 = malloc(sizeof(double) * (size_t)n), *q2 = malloc(sizeof(double) * (size_t)n);
     memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    double *col = malloc(sizeof(double) * (size_t)n);
     for (int j = 0; j < n; j++) {
-        double h = 1e-7, keep = y[j];
-        y[j] = keep + h;
-        vm_forces(v, w, 0, y, 0, q1);
-        y[j] = keep - h;
-        vm_forces(v, w, 0, y, 0, q2);
-        y[j] = keep;
+        vm_fd_stiffness_column(v, w, y, j, 1e-7, q1, q2, col);
         for (int i = 0; i < n; i++)
-            K[i * n + j] = -(q1[i] - q2[i]) / (2 * h);
+            K[i * n + j] = col[i];
     }
+    free(col);
     for (int i = 0; i < n; i++)
         for (int j = 0; j < i; j++)
             K[i * n + j] = K[j * n + i] = 0.5 * (K[i * n + j] + K[j * n + i]);
