@@ -20,9 +20,8 @@
  * published torque is a continuous piecewise-linear function of time, final
  * once published; the follower's integrator never steps past the last sample
  * (stop time). Both vehicle-side integrators use the standalone vehicle's
- * solver settings as they were before session 4 (VELOCITY_TIME,
- * JAC_EVAL_STEPS; docs/coupled.md, Real-time factors): not its per-coordinate
- * rate tolerances (vm_rates) nor its BDF order cap (scenario_vehicle.c).
+ * solver settings (vehicle_model.h: vm_abs_tolerances, VM_BDF_MAX_ORDER,
+ * VM_JAC_EVAL_STEPS).
  * Second order in the macro step needs the interface terms of publish() and
  * the consistent start of ts_coupled_run_reset (coupled_system.h,
  * docs/coupled.md).
@@ -41,15 +40,6 @@
 
 #define SPIN_SPROCKET (10 + VM_SPROCKET) /* q index of the sprocket spin (vehicle_model.h) */
 #define Q_THETA       2                  /* q index of the hull pitch */
-/* Vehicle-side integrator settings, the standalone vehicle's before session 4
- * (scenario_vehicle.c; numerical choices, not physics): velocity tolerance =
- * run.atol / VELOCITY_TIME (a position error of atol accrued over 10 ms), and
- * at most JAC_EVAL_STEPS steps between Jacobian evaluations (CVODE's default
- * 51; a difference-quotient Jacobian costs one right-hand side per state and
- * was ~60 % of the follower's right-hand sides; CVODE re-evaluates anyway
- * when Newton fails with a stale one). */
-#define VELOCITY_TIME  0.01
-#define JAC_EVAL_STEPS 1000
 
 struct ts_coupled {
     ts_config cfg;
@@ -605,8 +595,7 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
     r->rk = r->ylead_scratch + c->np;
     r->ja_scratch = r->rk + 5 * c->np;
     const ts_run_config *rc = &c->cfg.run;
-    for (int i = 0; i < c->nv; i++)
-        atol[i] = i < c->nq ? rc->atol : rc->atol / VELOCITY_TIME;
+    vm_abs_tolerances(c->v, rc->atol, atol);
     ts_powertrain_scale(c->pt, atol + c->nv);
     for (int i = 0; i < c->npt; i++)
         atol[c->nv + i] *= rc->atol;
@@ -619,7 +608,8 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
                          .max_steps = 1000000,
                          .nroots = ts_powertrain_nroots(c->pt),
                          .roots = mono_roots,
-                         .jac_eval_frequency = JAC_EVAL_STEPS};
+                         .max_order = VM_BDF_MAX_ORDER,
+                         .jac_eval_frequency = VM_JAC_EVAL_STEPS};
         r->mono = ts_ode_make(n, mono_rhs, r, &o, err);
         if (!r->mono) goto fail;
     } else if (method == TS_COUPLING_LEADING_FOLLOWING) {
@@ -639,7 +629,8 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
                           .max_step = rc->max_step,
                           .max_steps = 1000000,
                           .second_order = 1, /* y = [q, qd]: half-size Schur solves */
-                          .jac_eval_frequency = JAC_EVAL_STEPS};
+                          .max_order = VM_BDF_MAX_ORDER,
+                          .jac_eval_frequency = VM_JAC_EVAL_STEPS};
         r->follow_ode = ts_ode_make(c->nv, follow_rhs, r, &fo, err);
         if (!r->follow_ode) goto fail;
         ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead,

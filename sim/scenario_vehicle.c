@@ -27,29 +27,6 @@
 #include "solver.h"
 #include "vehicle_model.h"
 
-#define VELOCITY_TIME 0.01    /* s: fallback velocity tolerance = atol / this (numerical choice) */
-/* Steps between Jacobian evaluations (CVODE's default is 51). A difference-
- * quotient Jacobian costs 2 nq right-hand sides; the model's Jacobian changes
- * slowly between contact events, and CVODE re-evaluates it anyway when Newton
- * fails to converge with a stale one. 1000: Jacobians 374 -> ~70 per 30-s
- * bump run, steps and results unchanged within the bench pins (numerical). */
-#define JAC_EVAL_STEPS 1000
-/* Highest BDF order. Orders 4 and 5 are stable in a narrower wedge about the
- * negative real axis (A(alpha) stability, alpha = 73 and 52 degrees, against
- * 86 for order 3), and the model's lightly damped modes (transverse span
- * modes, hull bounce and pitch: damping ratios 0.03-0.05) lie near the
- * imaginary axis: at orders 4-5 CVODE's steps over the bump course are limited
- * by them. Measured on the coupled 30-s bump run (rtol 0.9e-3, 1e-3,
- * 1.1e-3) when the cap was set: 12,800-17,800 steps at order 5, 12,200-12,400
- * at order 3. Re-measured after the span mass-block rounding change (the
- * step sequence over the bumps is chaotic, so the gain moves with rounding):
- * coupled 12,600-13,900 at order 5 against 12,200-12,300 at order 3 (3-13 %
- * fewer), static 8,000-9,200 against 8,000-8,600, longitudinal
- * 12,000-12,400 against 11,600-11,800 (0-7 % fewer); the rate tolerances
- * above do most of the step reduction (coupled 17,200 -> 12,600 at order 5,
- * rtol 1e-3). Numerical choice; figures against the rtol 1e-6 reference in
- * tests/bench/bench_vehicle.c. */
-#define MAX_BDF_ORDER 3
 
 enum {
     CH_V0 = 1, /* the vehicle channel block (vehicle_channels.h), after "t" */
@@ -129,37 +106,19 @@ static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
         data_fini(m, d);
         return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     }
-    /* Absolute tolerances: run.atol for the coordinates (m, rad), and for each
-     * rate run.atol times that coordinate's own rate omega_i = sqrt(K_ii /
-     * M_ii) at the equilibrium (vm_rates): a velocity error omega_i atol
-     * carries the same energy, M_ii (omega_i atol)^2 = K_ii atol^2, as the
-     * coordinate error atol, so no state is held tighter than the others in
-     * the energy norm. omega_i with the default layout (one mode per span
-     * and family): 25-85 1/s (transverse span modes), 38-61 1/s (hull x, z,
-     * pitch), 320-620 1/s (road arms), 320-2,300 1/s (spins), 490-1,800 1/s
-     * (longitudinal span modes); higher modes scale with their number. A
-     * coordinate without a restoring stiffness (none in the six fidelities:
-     * test_vehicle_static.c) falls back to 1 / VELOCITY_TIME (a position
-     * error of atol accrued over 10 ms). */
     p->atol = calloc((size_t)ny, sizeof(double));
     if (!p->atol) {
         data_fini(m, d);
         return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     }
-    for (int i = 0; i < ny; i++)
-        if (i < ny / 2)
-            p->atol[i] = m->cfg.run.atol;
-        else {
-            double w = vm_rates(vmm->v)[i - ny / 2];
-            p->atol[i] = m->cfg.run.atol * (w > 0 ? w : 1.0 / VELOCITY_TIME);
-        }
+    vm_abs_tolerances(vmm->v, m->cfg.run.atol, p->atol);
     ts_ode_opts o = {.rtol = m->cfg.run.rtol,
                      .atol_v = p->atol,
                      .max_step = m->cfg.run.max_step,
                      .max_steps = 500000,
                      .second_order = 1,
-                     .max_order = MAX_BDF_ORDER,
-                     .jac_eval_frequency = JAC_EVAL_STEPS};
+                     .max_order = VM_BDF_MAX_ORDER,
+                     .jac_eval_frequency = VM_JAC_EVAL_STEPS};
     p->ode = ts_ode_make(ny, rhs, d, &o, err);
     if (!p->ode) {
         data_fini(m, d);

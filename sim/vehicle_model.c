@@ -926,6 +926,48 @@ const double *vm_rates(const vm *v)
     return v->rate;
 }
 
+/* Absolute tolerances: atol for the coordinates (m, rad), and for each rate
+ * atol times that coordinate's own rate omega_i = sqrt(K_ii / M_ii) at the
+ * equilibrium (vm_rates): a velocity error omega_i atol carries the same
+ * energy, M_ii (omega_i atol)^2 = K_ii atol^2, as the coordinate error atol,
+ * so no state is held tighter than the others in the energy norm. omega_i
+ * with the default layout (one mode per span and family): 25-85 1/s
+ * (transverse span modes), 38-61 1/s (hull x, z, pitch), 320-620 1/s (road
+ * arms), 320-2,300 1/s (spins), 490-1,800 1/s (longitudinal span modes);
+ * higher modes scale with their number. A coordinate without a restoring
+ * stiffness (none in the six fidelities: test_vehicle_static.c) falls back to
+ * a position error of atol accrued over FALLBACK_TIME.
+ *
+ * VM_JAC_EVAL_STEPS (CVODE's default is 51): a difference-quotient Jacobian
+ * costs 2 nq right-hand sides; the model's Jacobian changes slowly between
+ * contact events, and CVODE re-evaluates it anyway when Newton fails to
+ * converge with a stale one. 1000: Jacobians 374 -> ~70 per 30-s bump run,
+ * steps and results unchanged within the bench pins.
+ *
+ * VM_BDF_MAX_ORDER: orders 4 and 5 are stable in a narrower wedge about the
+ * negative real axis (A(alpha) stability, alpha = 73 and 52 degrees, against
+ * 86 for order 3), and the model's lightly damped modes (transverse span
+ * modes, hull bounce and pitch: damping ratios 0.03-0.05) lie near the
+ * imaginary axis: at orders 4-5 CVODE's steps over the bump course are
+ * limited by them. Measured on the coupled 30-s bump run (rtol 0.9e-3, 1e-3,
+ * 1.1e-3) when the cap was set: 12,800-17,800 steps at order 5,
+ * 12,200-12,400 at order 3. Re-measured after the span mass-block rounding
+ * change (the step sequence over the bumps is chaotic, so the gain moves with
+ * rounding): coupled 12,600-13,900 at order 5 against 12,200-12,300 at order
+ * 3 (3-13 % fewer), static 8,000-9,200 against 8,000-8,600, longitudinal
+ * 12,000-12,400 against 11,600-11,800 (0-7 % fewer); the rate tolerances do
+ * most of the step reduction (coupled 17,200 -> 12,600 at order 5, rtol
+ * 1e-3). Figures against the rtol 1e-6 reference in
+ * tests/bench/bench_vehicle.c; the coupled runs' in docs/coupled.md. */
+#define FALLBACK_TIME 0.01 /* s (numerical choice) */
+void vm_abs_tolerances(const vm *v, double atol, double *out)
+{
+    for (int i = 0; i < v->nq; i++) {
+        out[i] = atol;
+        out[v->nq + i] = atol * (v->rate[i] > 0 ? v->rate[i] : 1.0 / FALLBACK_TIME);
+    }
+}
+
 double vm_static_tension(const vm *v)
 {
     return v->t_static;

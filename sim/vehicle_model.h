@@ -105,6 +105,17 @@ const double *vm_equilibrium(const vm *v);
  * error to a coordinate error of the same energy (scenario_vehicle.c's
  * absolute tolerances). */
 const double *vm_rates(const vm *v);
+
+/* Integrator settings for the vehicle's states, shared by the standalone
+ * vehicle (scenario_vehicle.c) and the coupled runs (coupled_system.c).
+ * Numerical choices, not physics; measured in vehicle_model.c (above
+ * vm_abs_tolerances) against rtol 1e-6 reference runs. */
+#define VM_BDF_MAX_ORDER  3    /* highest BDF order */
+#define VM_JAC_EVAL_STEPS 1000 /* most steps between Jacobian evaluations */
+/* Absolute tolerances of the ny states into out: atol for each coordinate
+ * (m, rad), atol omega_i (vm_rates) for its rate, atol / 0.01 s for the rate
+ * of a coordinate without a restoring stiffness. */
+void vm_abs_tolerances(const vm *v, double atol, double *out);
 /* Static quantities found by the equilibrium solve. */
 double vm_static_tension(const vm *v);   /* rear-roller tension at rest [N] */
 double vm_preload(const vm *v, int arm); /* torsion-bar torque at the design angle [N*m] */
