@@ -131,7 +131,8 @@ static void dof_counts_match_the_paper(void **state)
 }
 
 /* EVIDENCE: vm_rates, the per-coordinate rates sqrt(K_ii / M_ii) that scale
- * the vehicle run's rate tolerances (scenario_vehicle.c). [D] closed forms of
+ * the vehicle integrators' rate tolerances (vm_abs_tolerances: atol on each
+ * coordinate, atol omega_i on its rate). [D] closed forms of
  * track_span.h for the rear-roller -> front-roller span (both rollers on the
  * hull at one height, so the chord is front_roller_x - rear_roller_x at
  * every hull pitch), its sine mode k with the span's ends held, coupled
@@ -163,13 +164,20 @@ static void rates_are_each_coordinates_own_frequency(void **state)
         memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
         vm_mass(v, w, y, M);
         const double *rate = vm_rates(v);
+        double *atol = malloc(sizeof(double) * (size_t)ny);
+        assert_non_null(atol);
+        vm_abs_tolerances(v, 2e-5, atol);
         for (int i = 0; i < n; i++) {
             vm_fd_stiffness_column(v, w, y, i, 1e-6, q1, q2, col);
             double kii = col[i];
             assert_true(kii > 0 && M[i * n + i] > 0);
             assert_true(rate[i] > 0);
             assert_close(rate[i], sqrt(kii / M[i * n + i]), 1e-3, 0);
+            /* the integrators' weights: atol on q_i, atol omega_i on its rate */
+            assert_close(atol[i], 2e-5, 0, 0);
+            assert_close(atol[n + i], 2e-5 * rate[i], 1e-15, 0);
         }
+        free(atol);
         free(y);
         free(M);
         free(q1);
