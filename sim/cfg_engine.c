@@ -133,6 +133,17 @@ static const ts_param engine_rows[] = {
     D(comp_mach_width, "1", 0.1, 100.0,
       "tip Mach number span over which the efficiency falls to zero (quadratic)"),
     D(turb_area_ref, "m^2", 1e-5, 1e-2, "reference turbine effective nozzle area"),
+    A(turb_sched_speed, TS_ENGINE_MAP_MAX, "rad/s", 0, 500,
+      "engine speeds of the open-loop turbine geometry schedule (empty: fixed nozzle, "
+      "boost-sensing wastegate alone)"),
+    A(turb_sched_nozzle, TS_ENGINE_MAP_MAX, "1", 0.05, 5,
+      "variable-geometry turbine: nozzle-area factor on turb_area_ref at turb_sched_speed"),
+    A(turb_sched_gate, TS_ENGINE_MAP_MAX, "1", 0, 1,
+      "factor on the wastegate actuator's boost-sensing opening at turb_sched_speed (1 as built, "
+      "0 overridden)"),
+    A(turb_sched_bypass, TS_ENGINE_MAP_MAX, "m^2", 0, 0.05,
+      "turbine bypass effective area held open (engine-speed feed-forward) at turb_sched_speed, "
+      "per bank"),
     D(turb_eta_max, "1", 0.4, 0.9, "turbine peak total-to-static efficiency"),
     D(turb_bsr_opt, "1", 0.4, 1, "blade-speed ratio of peak turbine efficiency"),
     D(turbo_inertia_ref, "kg*m^2", 1e-5, 1e-2, "reference rotor polar inertia"),

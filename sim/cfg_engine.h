@@ -108,6 +108,20 @@ typedef struct ts_engine_config {
     double comp_eta_max, comp_phi_opt, comp_phi_width, comp_eta_min;
     double comp_mach_opt, comp_mach_width; /* efficiency fall-off with tip Mach number [1] */
     double turb_area_ref;                         /* effective nozzle area [m^2] */
+    /* turbine geometry scheduled OPEN LOOP in engine speed (full-load
+     * feed-forward; linear between the nodes, held beyond; empty tables = the
+     * fixed nozzle and the boost-sensing wastegate alone): at
+     * turb_sched_speed the nozzle area is x turb_sched_nozzle, the wastegate
+     * actuator's opening x turb_sched_gate, and a bypass of turb_sched_bypass
+     * is held open beside it */
+    double turb_sched_speed[TS_ENGINE_MAP_MAX]; /* [rad/s] */
+    int turb_sched_speed_n;
+    double turb_sched_nozzle[TS_ENGINE_MAP_MAX]; /* nozzle-area factor [1] */
+    int turb_sched_nozzle_n;
+    double turb_sched_gate[TS_ENGINE_MAP_MAX]; /* wastegate actuator authority [1] */
+    int turb_sched_gate_n;
+    double turb_sched_bypass[TS_ENGINE_MAP_MAX]; /* open-loop bypass area [m^2] */
+    int turb_sched_bypass_n;
     double turb_eta_max, turb_bsr_opt;            /* peak efficiency, blade-speed ratio */
     double turbo_inertia_ref;                     /* [kg*m^2] */
     double turbo_mech_eff;                        /* [1] */

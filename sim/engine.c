@@ -92,6 +92,27 @@ static ts_rc check_tables(const ts_engine_config *c, int v, ts_err *err)
                         err);
 }
 
+/* The turbine schedule (/engine/turb_sched_*): none, or >= 2 increasing
+ * speeds and one nozzle factor, gate factor and bypass area per speed. */
+static ts_rc check_schedule(const ts_engine_config *c, ts_err *err)
+{
+    int n = c->turb_sched_speed_n;
+    if (n == 1)
+        return ts_err_set(err, TS_ERR_PARAM, "/engine/turb_sched_speed",
+                          "/engine/turb_sched_speed: none or at least 2 speeds, got 1");
+    const int counts[] = {c->turb_sched_nozzle_n, c->turb_sched_gate_n, c->turb_sched_bypass_n};
+    static const char *const names[] = {"nozzle", "gate", "bypass"};
+    for (int k = 0; k < 3; k++)
+        if (counts[k] != n) {
+            char ptr[64];
+            snprintf(ptr, sizeof ptr, "/engine/turb_sched_%s", names[k]);
+            return ts_err_set(err, TS_ERR_PARAM, ptr,
+                              "%s: %d values expected (one per turb_sched_speed), got %d", ptr, n,
+                              counts[k]);
+        }
+    return check_increasing(c->turb_sched_speed, n, "/engine/turb_sched_speed", "speeds", err);
+}
+
 /* Temperatures over which the cp polynomials must give cv > 0 [K]: below the
  * lowest /driveline/ambient_temperature (220 K) to above the adiabatic flame
  * temperature of the leanest-to-stoichiometric diesel burn (~2700 K) [E]. */
@@ -103,6 +124,7 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
     ts_err_clear(err);
     const ts_engine_config *c = &cfg->engine;
     if (check_tables(c, c->variant, err) != TS_OK) return NULL;
+    if (check_schedule(c, err) != TS_OK) return NULL;
     if (c->wg_area > 0 && !(c->wg_full > c->wg_crack)) {
         ts_err_set(err, TS_ERR_PARAM, "/engine/wg_full",
                    "/engine/wg_full (%g Pa) must exceed /engine/wg_crack (%g Pa)", c->wg_full,

@@ -28,7 +28,9 @@
  * linear in boost between crack and full): the turbine is sized for
  * low-speed boost and the wastegate, calibrated at the rated point, bypasses
  * exhaust at high speed (not in the paper; it also absorbs most of the LHR
- * engines' extra exhaust energy, see engine.json wg_area). No governor: a
+ * engines' extra exhaust energy, see engine.json wg_area). A schedule in
+ * engine speed (/engine/turb_sched_*) can open the nozzle (variable
+ * geometry), override the gate and hold a bypass open. No governor: a
  * free-running engine at full rack with too little load overspeeds; speed
  * limiting belongs to the control layer.
  *

@@ -140,6 +140,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
               xb[BX_EMT] > 100 && xb[BX_ICT] > 100))
             return 1;
         double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
+        bf[b].omega = w;
         bf[b].have_co = 1;
         en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &bf[b].co);
         air += bf[b].co.mdot;

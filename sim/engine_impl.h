@@ -204,9 +204,19 @@ typedef struct en_turb_out {
 } en_turb_out;
 /* Compressor from p01, T01 to p02 at rotor speed w [rad/s]. */
 void en_compressor(const en_turbo *t, double w, double p01, double T01, double p02, en_comp_out *o);
-/* Turbine from p03, T03 (gas R, cp) to p4 at rotor speed w. */
-void en_turbine(const en_turbo *t, double w, double p03, double T03, double R, double cp, double p4,
-                en_turb_out *o);
+/* Turbine of effective nozzle area a_t [m^2] from p03, T03 (gas R, cp) to
+ * p4 at rotor speed w. */
+void en_turbine(const en_turbo *t, double a_t, double w, double p03, double T03, double R,
+                double cp, double p4, en_turb_out *o);
+/* Turbine geometry at crank speed omega [rad/s] from the open-loop schedule
+ * (/engine/turb_sched_*, linear, held beyond the ends): nozzle effective
+ * area [m^2] (turbo.a_t x turb_sched_nozzle), factor on the wastegate
+ * actuator's opening, open-loop bypass area [m^2]. No schedule: turbo.a_t,
+ * 1, 0. */
+typedef struct en_turb_geometry {
+    double a_t, gate, bypass;
+} en_turb_geometry;
+en_turb_geometry en_turb_schedule(const ts_engine *e, double omega);
 /* Intercooler heat removal [W]: effectiveness form, eps = 1 - exp(-UA/(m cp)). */
 double en_intercooler_heat(double ua, double mdot, double cp, double T_in, double T_wall);
 
@@ -363,6 +373,7 @@ typedef struct en_bank_flows {
     double m_in, h_in,
         mf_in; /* cylinders <- intake manifold: mass [kg/s], enthalpy [W], burned [kg/s] */
     double m_ex, h_ex, mf_ex; /* cylinders -> exhaust manifold */
+    double omega;             /* crank speed [rad/s] (the turbine's vane schedule) */
     int have_co;              /* co holds the compressor at this state (else computed) */
     en_comp_out co;
     int have_gas; /* s_im, s_em hold the manifolds' gas at this state and the
@@ -379,9 +390,10 @@ void en_bank_outputs(const en_bank_out *bo, ts_engine_outputs *out);
 void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o);
 /* Open fraction of the wastegate [0, 1] at intake manifold pressure p_boost [Pa]. */
 double en_wastegate_open(const ts_engine_config *c, double p_boost);
-/* Outflows of the exhaust manifold at the bank state o (gas state s_em): the
- * turbine's (flow, power) and the wastegate bypass flow m_wg >= 0 [kg/s]. */
-void en_exhaust_outflow(const ts_engine *e, double w_tc, const en_bank_out *o,
+/* Outflows of the exhaust manifold at the bank state o (gas state s_em) and
+ * crank speed omega: the turbine's (flow, power) and the wastegate bypass
+ * flow m_wg >= 0 [kg/s]. */
+void en_exhaust_outflow(const ts_engine *e, double omega, double w_tc, const en_bank_out *o,
                         const en_gas_state *s_em, double p_amb, double T_amb, en_turb_out *to,
                         double *m_wg);
 void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, double p_amb,

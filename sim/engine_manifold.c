@@ -10,7 +10,9 @@
  * valves -> [exhaust manifold, small heat loss] -> turbine (|| wastegate,
  * /engine/wg_area; 0 = none) -> ambient. The wastegate's pneumatic actuator
  * (en_wastegate_open) opens it linearly in boost between /engine/wg_crack
- * and /engine/wg_full (diaphragm force against a preloaded linear spring).
+ * and /engine/wg_full (diaphragm force against a preloaded linear spring);
+ * the open-loop schedule in engine speed (en_turb_schedule) scales that
+ * opening and the nozzle and adds a bypass held open.
  * Leaves out pipe wave dynamics (0-D volumes) and the air filter / exhaust
  * back pressure (turbine exhausts to ambient).
  */
@@ -92,19 +94,22 @@ void en_bank_outputs(const en_bank_out *bo, ts_engine_outputs *out)
     out->turbo_speed = 0.5 * (bo[0].turbo_speed + bo[1].turbo_speed);
 }
 
-/* Outflows of the exhaust manifold: the turbine, and the boost-sensing
- * wastegate bypass around it (a check valve: no reverse flow). */
-void en_exhaust_outflow(const ts_engine *e, double w_tc, const en_bank_out *o,
+/* Outflows of the exhaust manifold: the turbine (nozzle as scheduled), and
+ * the bypass around it: the boost-sensing wastegate (its opening x the
+ * scheduled authority) + the scheduled open bypass, one orifice (a check
+ * valve: no reverse flow). */
+void en_exhaust_outflow(const ts_engine *e, double omega, double w_tc, const en_bank_out *o,
                         const en_gas_state *s_em, double p_amb, double T_amb, en_turb_out *to,
                         double *m_wg)
 {
     const ts_engine_config *c = &e->c;
     double R_em = s_em->R, cp_em = s_em->cp;
-    en_turbine(&e->turbo, w_tc, o->p_em, o->T_em, R_em, cp_em, p_amb, to);
-    double open = en_wastegate_open(c, o->p_im);
+    en_turb_geometry tg = en_turb_schedule(e, omega);
+    en_turbine(&e->turbo, tg.a_t, w_tc, o->p_em, o->T_em, R_em, cp_em, p_amb, to);
+    double area = tg.gate * en_wastegate_open(c, o->p_im) * c->wg_area + tg.bypass;
     double g_em = cp_em / (cp_em - R_em);
     double m =
-        en_orifice(open * c->wg_area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R_em, g_em);
+        en_orifice(area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R_em, g_em);
     *m_wg = m > 0 ? m : 0;
 }
 
@@ -154,7 +159,7 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     /* exhaust manifold -> turbine -> ambient */
     en_turb_out to;
     double m_wg;
-    en_exhaust_outflow(e, xb[BX_TC], o, &s_em, p_amb, T_amb, &to, &m_wg);
+    en_exhaust_outflow(e, f->omega, xb[BX_TC], o, &s_em, p_amb, T_amb, &to, &m_wg);
     double m_out = to.mdot + m_wg;
     double m_em = xb[BX_EMM];
     double dm_em = f->m_ex - m_out;

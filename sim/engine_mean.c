@@ -74,7 +74,7 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         double F_out = m_out > 0 ? fmin((m_cyl * o->F_im + m_f * (1 + c->afr_stoich)) / m_out, 1.0) : o->F_em;
         en_bank_flows f = {.m_in = m_cyl, .h_in = h_in, .mf_in = m_cyl * o->F_im,
                            .m_ex = m_out, .h_ex = h_out, .mf_ex = m_out * F_out,
-                           .have_co = 1, .co = co[b]};
+                           .omega = wp, .have_co = 1, .co = co[b]};
         en_bank_rhs(e, xb, &f, in->p_amb, in->T_amb, xdot + e->off_bank + b * EN_BANK_NX, o);
         t_ind += wp > 1 ? eta_i * q_fuel / wp : 0.0;
         fuel_rate += m_f;

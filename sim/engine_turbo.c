@@ -30,8 +30,14 @@
  *  Scaling (engine.c): D x sqrt(s), A_eff x s, J x s^2.5 for s = 1.6, so flow
  *  x 1.6 at equal PR and efficiency and speed x 0.79 (paper: "lower shaft
  *  speeds and higher polar moment of inertia").
- * Leaves out: surge dynamics (no Greitzer model), variable geometry. The
- * boost-sensing wastegate is in engine_manifold.c.
+ *  Geometry scheduled OPEN LOOP in engine speed (en_turb_schedule,
+ *  /engine/turb_sched_*; a full-load feed-forward map as on production VGT
+ *  and electronic-wastegate diesels): a variable nozzle (area factor, the
+ *  efficiency law unchanged), the authority of the boost-sensing wastegate
+ *  actuator, and a bypass held open; used in engine_manifold.c.
+ * Leaves out: surge dynamics (no Greitzer model), vane-position effects on
+ * turbine efficiency, closed-loop vane control. The boost-sensing wastegate
+ * is in engine_manifold.c.
  */
 #include <math.h>
 
@@ -73,12 +79,12 @@ void en_compressor(const en_turbo *t, double w, double p01, double T01, double p
     }
 }
 
-void en_turbine(const en_turbo *t, double w, double p03, double T03, double R, double cp,
-                double p4, en_turb_out *o)
+void en_turbine(const en_turbo *t, double a_t, double w, double p03, double T03, double R,
+                double cp, double p4, en_turb_out *o)
 {
     double g = cp / (cp - R);
     double pr = p4 / p03; /* <= 1 for forward flow */
-    o->mdot = en_orifice(t->a_t, p03, T03, R, g, p4, T03, R, g);
+    o->mdot = en_orifice(a_t, p03, T03, R, g, p4, T03, R, g);
     if (pr >= 1.0 || o->mdot <= 0) {
         o->power = 0.0;
         o->eta = 0.0;
@@ -91,6 +97,16 @@ void en_turbine(const en_turbo *t, double w, double p03, double T03, double R, d
     if (eta < 0) eta = 0;
     o->eta = eta;
     o->power = o->mdot * eta * dh;
+}
+
+en_turb_geometry en_turb_schedule(const ts_engine *e, double omega)
+{
+    const ts_engine_config *c = &e->c;
+    if (c->turb_sched_speed_n < 2) return (en_turb_geometry){e->turbo.a_t, 1.0, 0.0};
+    en_lin l = en_lin_at(c->turb_sched_speed, c->turb_sched_speed_n, omega);
+    return (en_turb_geometry){e->turbo.a_t * en_lin_eval(&l, c->turb_sched_nozzle),
+                              en_lin_eval(&l, c->turb_sched_gate),
+                              en_lin_eval(&l, c->turb_sched_bypass)};
 }
 
 double en_intercooler_heat(double ua, double mdot, double cp, double T_in, double T_wall)

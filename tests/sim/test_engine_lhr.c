@@ -152,7 +152,7 @@ static split energy_split(int variant)
             en_gas_eval(&e->gas, bo.T_em, bo.F_em, &se);
             en_turb_out to;
             double mw;
-            en_exhaust_outflow(e, xb[BX_TC], &bo, &se, in.p_amb, in.T_amb, &to, &mw);
+            en_exhaust_outflow(e, w, xb[BX_TC], &bo, &se, in.p_amb, in.T_amb, &to, &mw);
             s.p_turbine += to.power / N;
             s.h_exhaust += (to.mdot + mw) * se.h / N;
             m_t += to.mdot / N;
