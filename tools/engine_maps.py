@@ -198,19 +198,25 @@ def match_table(argv):
         print("%4d rpm  %s" % (rpm, "  ".join(cells)))
 
 
+PARALLEL = 2
+
+
 def main():
     if "--match" in sys.argv:
         match_table(sys.argv[1:])
         return
     if "--no-run" not in sys.argv:
-        procs = []
+        jobs = []
         for v in VARIANTS:
-            procs.append(subprocess.Popen(["build/tanksim", "engine-map", "--preset", "engine-map-" + v,
-                                           "--out", "sim/data/engine_maps/%s.csv" % v]))
-            procs.append(subprocess.Popen(["build/tanksim", "engine-map", "--preset", "engine-map-" + v,
-                                           "--spool", "sim/data/engine_maps/%s_spool.csv" % v]))
-        if any(p.wait() for p in procs):
-            sys.exit("engine-map failed")
+            jobs.append(["build/tanksim", "engine-map", "--preset", "engine-map-" + v,
+                         "--out", "sim/data/engine_maps/%s.csv" % v])
+            jobs.append(["build/tanksim", "engine-map", "--preset", "engine-map-" + v,
+                         "--spool", "sim/data/engine_maps/%s_spool.csv" % v])
+        # at most PARALLEL processes at once (the 2-core machines this runs on)
+        for i in range(0, len(jobs), PARALLEL):
+            procs = [subprocess.Popen(j) for j in jobs[i:i + PARALLEL]]
+            if any(p.wait() for p in procs):
+                sys.exit("engine-map failed")
     path = "sim/data/defaults/engine.json"
     doc = json.load(open(path))  # _sources are kept as they are
     t63 = {}
