@@ -64,6 +64,9 @@ SANITIZER = re.compile(r"ERROR: (Address|Leak)Sanitizer|runtime error:|SUMMARY: 
 DEFECTS = ("CRASH", "SANITIZER", "HANG", "BADBODY", "5XX", "NOPTR", "NOALLOW", "UNEXPECTED",
            "RESTART")
 CHEAP_CONFIG = {"preset": PRESET, "run": {"duration": 1.0, "sample_rate": 50}}
+# a session with geometry, so that frame.png and frames really draw (small images)
+GEOMETRY_CONFIG = {"preset": "bump-prescribed-static", "run": {"duration": 0.2, "sample_rate": 50}}
+SMALL_VIEW = "width=32&height=24"
 
 
 # ---- the daemon ------------------------------------------------------------------
@@ -393,14 +396,21 @@ def gen_cases(rng, rts, ids, subset):
         close_ok=1)
 
     # 3. query parameters (one bad parameter at a time; duplicates)
-    for route, params in QUERY_PARAMS.items():
-        base = "/v1/sessions" if route == "sessions" else f"/v1/sessions/{rsid}/{route}"
+    targets = [(r, rsid, "") for r in QUERY_PARAMS]
+    targets += [(r, ids["gsid"], "g") for r in ("frame.png", "frames")]  # drawn for real
+    for route, on, tag in targets:
+        params = QUERY_PARAMS[route]
+        base = "/v1/sessions" if route == "sessions" else f"/v1/sessions/{on}/{route}"
         for prm in params:
             vals = BAD_NUMBERS if not subset else BAD_NUMBERS[:: 5]
             for v in vals:
                 q = f"{base}?{prm}={v}"
                 if route == "fft" and prm != "channel":
                     q += "&channel=vehicle.speed"
+                if tag and prm not in ("width", "height"):
+                    q += "&" + SMALL_VIEW
+                elif tag:
+                    q += "&width=32" if prm == "height" else "&height=24"
                 expect = "any"
                 # a value no reading accepts: must be refused, naming the parameter
                 # ("%00" reads as an empty value, i.e. absent; strtod takes "0x10")
@@ -410,13 +420,13 @@ def gen_cases(rng, rts, ids, subset):
                     expect = "4xx"
                 if prm in ("channels", "channel") and v not in ("", "%00"):
                     expect = "4xx"  # no channel has such a name
-                add("query", f"{route}_{prm}={v[:24]}", "GET", build("GET", q), expect,
+                add("query", f"{tag}{route}_{prm}={v[:24]}", "GET", build("GET", q), expect,
                     param=prm if prm in READ else None)
             if not subset:
-                add("query", f"{route}_{prm}_dup", "GET",
+                add("query", f"{tag}{route}_{prm}_dup", "GET",
                     build("GET", f"{base}?{prm}=1&{prm}=zz&{prm}=%ff"), "any")
         if not subset:
-            add("query", f"{route}_all_bad", "GET",
+            add("query", f"{tag}{route}_all_bad", "GET",
                 build("GET", base + "?" + "&".join(f"{p}=NaN" for p in params)), "4xx")
     add("query", "stream_last_event_id_bad", "GET",
         build("GET", f"/v1/sessions/{rsid}/stream", headers=[("Last-Event-ID", "\xff\xfe")]), "4xx",
@@ -424,6 +434,21 @@ def gen_cases(rng, rts, ids, subset):
     add("query", "stream_last_event_id_huge", "GET",
         build("GET", f"/v1/sessions/{rsid}/stream", headers=[("Last-Event-ID", "9" * 30)]), "4xx",
         param="Last-Event-ID")
+    g = ids["gsid"]
+    for name, q in [("text_control", "text=%01%02"), ("text_bad_utf8", "text=%ff%fe"),
+                    ("text_95", "text=" + "x" * 95), ("text_96", "text=" + "x" * 96),
+                    ("text_3000", "text=" + "x" * 3000), ("view_three_quarter", "view=three_quarter"),
+                    ("overlay_all", "overlay=1&antialias=1&color=tension&text=hi&exaggeration=1000"),
+                    ("t_past_end", "t=0.3"), ("t_between", "t=0.0101"), ("from_after_to", "from=0.2&to=0.1"),
+                    ("huge_width", "width=4096&height=16"), ("tiny", "width=16&height=16")]:
+        add("query", f"gframe.png_{name}", "GET", build("GET", f"/v1/sessions/{g}/frame.png?{SMALL_VIEW}&{q}"
+                                                        if "width" not in q else f"/v1/sessions/{g}/frame.png?{q}"), "any")
+    for name, q in [("fps_1000_multipart", "fps=1000&format=multipart"), ("fps_1000_apng", "fps=1000"),
+                    ("fps_min", "fps=0.01"), ("one_frame", "from=0.1&to=0.1"),
+                    ("from_after_to", "from=0.2&to=0.1"), ("format_bad", "format=gif")]:
+        add("query", f"gframes_{name}", "GET", build("GET", f"/v1/sessions/{g}/frames?{SMALL_VIEW}&{q}"), "any")
+    add("query", "frame_etag_roundtrip_wrong", "GET",
+        build("GET", f"/v1/sessions/{g}/frame.png?{SMALL_VIEW}", headers=[("If-None-Match", '"x"')]), "2xx")
     add("query", "frame_if_none_match_long", "GET",
         build("GET", f"/v1/sessions/{rsid}/frame.png", headers=[("If-None-Match", "x" * 6000)]),
         "any")
@@ -543,6 +568,59 @@ def gen_cases(rng, rts, ids, subset):
     ]
     for name, raw, exp, kw in framing:
         add("framing", name, "POST" if b"POST" in raw[:5] else "GET", raw, exp, **kw)
+
+    # 6. random combinations: 1-4 parameters, valid and bad values mixed, on any GET route
+    good = {"from": ["0", "0.1", "0.25"], "to": ["0.2", "0.5", "1"], "every": ["1", "2", "7"],
+            "channels": ["vehicle.speed", "t,vehicle.x", "vehicle.speed,vehicle.speed,t", ",,"],
+            "channel": ["vehicle.speed", "t"], "format": ["json", "csv", "sse", "ndjson", "apng",
+                                                          "multipart"],
+            "page_size": ["1", "3", "2000"], "page_token": ["0", "5", "99"], "since": ["-1", "3", "50"],
+            "t": ["0", "0.1", "0.2"], "fps": ["1", "25"], "view": ["side", "three_quarter"],
+            "color": ["tension", "plain"], "overlay": ["0", "1"], "antialias": ["0", "1"],
+            "exaggeration": ["0", "5"], "text": ["hi", ""]}
+    gets = [(r, rsid) for r in ("series", "stream", "fft", "sessions")] + \
+           [(r, ids["gsid"]) for r in ("frame.png", "frames")]
+    for i in range(60 if subset else 1500):
+        route, on = rng.choice(gets)
+        base = "/v1/sessions" if route == "sessions" else f"/v1/sessions/{on}/{route}"
+        params = QUERY_PARAMS[route]
+        q = []
+        for prm in rng.sample(params, rng.randint(1, min(4, len(params)))):
+            pool = good.get(prm, ["1"])
+            v = rng.choice(pool) if rng.random() < 0.6 else rng.choice(BAD_NUMBERS)
+            q.append(f"{prm}={v}")
+        if route in ("frame.png", "frames"):
+            q.append(SMALL_VIEW)
+        if route == "fft" and not any(x.startswith("channel=") for x in q):
+            q.append("channel=vehicle.speed")
+        hdr = [("Accept", rng.choice(["text/csv", "application/x-ndjson", "*/*"]))]
+        add("combo", f"{i}_{route}", "GET", build("GET", base + "?" + "&".join(q), headers=hdr),
+            "any", timeout=30)
+
+    # 7. mutated bodies: byte flips, cuts, duplications and insertions of valid documents
+    seeds = [(f"/v1/sessions/{ids['bsid']}/step", b'{"duration": 0.05}'),
+             (f"/v1/sessions/{ids['bsid']}/run", b'{"until": 0.1, "real_time_factor": 50}'),
+             ("/v1/modes", b'{"preset": "table1-span"}'),
+             ("/v1/sessions", jbody({"preset": PRESET, "run": {"duration": 0.1, "sample_rate": 20},
+                                     "drive": {"kind": "constant", "torque": 100.0}}))]
+    inserts = [b"\x00", b"\xff", b"\\u0000", b"\\ud800", b"[", b"{", b"\"", b",", b"1e999", b"-",
+               b"\xc3", b"null", b"NaN", b" " * 100]
+    for i in range(40 if subset else 600):
+        path, b = rng.choice(seeds)
+        b = bytearray(b)
+        for _ in range(rng.randint(1, 4)):
+            op = rng.randrange(4)
+            at = rng.randrange(len(b) + 1)
+            if op == 0 and b:
+                b[min(at, len(b) - 1)] = rng.randrange(256)
+            elif op == 1:
+                b = b[:at]
+            elif op == 2:
+                b[at:at] = rng.choice(inserts)
+            else:
+                b = b[:at] + b[at // 2:]
+        add("mutate", f"{i}_{path.split('/')[-1]}", "POST", build("POST", path, bytes(b)), "any",
+            timeout=30)
     return cases
 
 
@@ -648,6 +726,44 @@ def slow_cases(port, rng, results, log, subset):
         status=r.status, error=r.error)
 
 
+def keepalive_cases(port, rng, ids, results, log, subset):
+    """Many requests on one kept-alive connection, errors among them (a 413 whose
+    body is skipped, deferred replies, a 405): each answered in turn."""
+    sid, rsid = ids["bsid"], ids["rsid"]
+    ka = [("Connection", "keep-alive")]
+    seq = [("GET", "/v1/health", None, "2xx"), ("GET", "/nope", None, "4xx"),
+           ("PUT", "/v1/health", b"{}", "4xx"),
+           ("POST", "/v1/modes", b'{"x":"' + b"a" * (2 * MAX_BODY) + b'"}', "4xx"),
+           ("POST", f"/v1/sessions/{sid}/step", b'{"duration":0.02}', "any"),
+           ("GET", f"/v1/sessions/{rsid}/series?format=csv&every=5", None, "2xx"),
+           ("GET", f"/v1/sessions/{rsid}/series?from=NaN", None, "4xx"),
+           ("POST", "/v1/modes", b"{", "4xx"), ("POST", "/v1/modes", b"{}", "2xx"),
+           ("GET", f"/v1/sessions/{rsid}/fft?channel=vehicle.speed", None, "2xx"),
+           ("POST", "/v1/sessions", b'{"preset":"nope"}', "4xx"),
+           ("GET", f"/v1/sessions/{ids['gsid']}/frame.png?{SMALL_VIEW}", None, "2xx"),
+           ("DELETE", "/v1/sessions/nope", None, "4xx")]
+    for k in range(2 if subset else 10):
+        order = seq[:]
+        rng.shuffle(order)
+        sock = socket.create_connection(("127.0.0.1", port), timeout=20)
+        for i, (m, p, b, exp) in enumerate(order):
+            try:
+                sock.sendall(build(m, p, b, headers=ka))
+                r = _read_response(sock, time.time() + 20)
+            except OSError:
+                r = Resp()
+                r.error = "reset"
+            v = classify({"method": m, "expect": exp}, r)
+            if r.headers.get("connection", "").lower() == "close" and i < len(order) - 1:
+                v = "OK" if v == "OK" else v
+                rec_resp(results, log, "keepalive", f"k{k}_{i}_{m}_{p[:40]}", {"method": m, "expect": exp}, r, v)
+                sock.close()
+                sock = socket.create_connection(("127.0.0.1", port), timeout=20)
+                continue
+            rec_resp(results, log, "keepalive", f"k{k}_{i}_{m}_{p[:40]}", {"method": m, "expect": exp}, r, v)
+        sock.close()
+
+
 def abort_cases(port, rng, ids, results, log, subset):
     """Requests the client abandons: closed right after sending (RST), for every
     kind of handler including the deferred ones (create, step, modes, frames)."""
@@ -659,6 +775,9 @@ def abort_cases(port, rng, ids, results, log, subset):
             build("GET", f"/v1/sessions/{ids['rsid']}/stream"),
             build("GET", f"/v1/sessions/{ids['rsid']}/fft?channel=vehicle.speed"),
             build("GET", f"/v1/sessions/{ids['rsid']}/frame.png"),
+            build("GET", f"/v1/sessions/{ids['gsid']}/frame.png?{SMALL_VIEW}"),
+            build("GET", f"/v1/sessions/{ids['gsid']}/frames?{SMALL_VIEW}&fps=200"),
+            build("GET", f"/v1/sessions/{ids['gsid']}/frames?{SMALL_VIEW}&fps=500&format=multipart"),
             build("GET", "/v1/presets"), build("GET", "/v1/schema"),
             build("POST", "/v1/modes", headers=[("Content-Length", "10")]) + b"{",
             build("POST", "/v1/modes", headers=[("Transfer-Encoding", "chunked")]) + b"5\r\n{"]
@@ -668,6 +787,12 @@ def abort_cases(port, rng, ids, results, log, subset):
             send_raw(port, q, abort_after_send=True)
             if k == 0:
                 rec(results, log, "abort", f"req{i}", "OK")
+    # multipart animations read in part, then dropped
+    for k in range(2 if subset else 6):
+        r = send_raw(port, build("GET", f"/v1/sessions/{ids['gsid']}/frames?{SMALL_VIEW}&fps=500&format=multipart"),
+                     timeout=20, stream_bytes=200 * (k + 1))
+        rec(results, log, "abort", f"multipart_cut_{k}", "HANG" if r.error == "timeout" else "OK",
+            status=r.status, error=r.error)
     time.sleep(1.0)
     rec(results, log, "abort", "health_after", "OK" if health_ok(port) else "HANG")
     # sessions created by aborted requests are real sessions: delete them all but the fixtures
@@ -675,7 +800,7 @@ def abort_cases(port, rng, ids, results, log, subset):
 
 
 def cleanup(port, ids):
-    keep = {ids["sid"], ids["rsid"], ids["bsid"]}
+    keep = {ids["sid"], ids["rsid"], ids["bsid"], ids["gsid"]}
     r = request(port, "GET", "/v1/sessions?page_size=1000")
     for s in r.json()["sessions"] if r.status == 200 else []:
         if s["id"] not in keep:
@@ -715,7 +840,7 @@ def stream_cases(port, rng, ids, results, log, subset):
 
 def race_cases(port, rng, results, log, subset):
     """Concurrent create/step/run/cancel/delete/read on the same session."""
-    rounds = 3 if subset else 12
+    rounds = 3 if subset else 40
     for k in range(rounds):
         sid = create(port)
         ops = []
@@ -742,6 +867,8 @@ def race_cases(port, rng, results, log, subset):
         kinds = ["step", "step", "run", "cancel", "series", "stream", "fft", "get", "create"]
         if k % 3 != 2:
             kinds.append("delete")
+        if k % 4 == 1:
+            kinds += ["delete", "run", "cancel", "stream"]  # double delete, run vs run
         rng.shuffle(kinds)
         out = {}
         def worker(i, kind):
@@ -762,6 +889,23 @@ def race_cases(port, rng, results, log, subset):
         for i, (kind, rr) in out.items():
             if kind == "create" and rr.status == 201:
                 request(port, "DELETE", f"/v1/sessions/{rr.json()['id']}")
+    # creates racing for the last places under --max-sessions: 429, never more sessions
+    cap = int(DAEMON_FLAGS[DAEMON_FLAGS.index("--max-sessions") + 1])
+    got = []
+    def mk():
+        got.append(request(port, "POST", "/v1/sessions", jbody(CHEAP_CONFIG), timeout=60))
+    ts = [threading.Thread(target=mk) for _ in range(cap + 4)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join(90)
+    for i, rr in enumerate(got):
+        rec_resp(results, log, "race", f"cap_create_{i}", {"method": "POST", "expect": "any"}, rr)
+    n = len(session_ids(port))
+    rec(results, log, "race", f"cap_{n}_of_{cap}", "OK" if n <= cap else "UNEXPECTED")
+    for rr in got:
+        if rr.status == 201:
+            request(port, "DELETE", f"/v1/sessions/{rr.json()['id']}")
     rec(results, log, "race", "health_after", "OK" if health_ok(port) else "HANG")
 
 
@@ -854,8 +998,10 @@ def main():
     log = open(os.path.join(out, "results.jsonl"), "w", buffering=1)
     try:
         ids = {"sid": create(d.port), "bsid": create(d.port),
-               "rsid": create(d.port, {"preset": PRESET, "run": {"duration": 1.0, "sample_rate": 100}})}
+               "rsid": create(d.port, {"preset": PRESET, "run": {"duration": 1.0, "sample_rate": 100}}),
+               "gsid": create(d.port, GEOMETRY_CONFIG)}
         request(d.port, "POST", f"/v1/sessions/{ids['rsid']}/step", b'{"duration":0.5}', timeout=60)
+        request(d.port, "POST", f"/v1/sessions/{ids['gsid']}/step", b'{"duration":0.2}', timeout=60)
         r = request(d.port, "POST", f"/v1/sessions/{ids['sid']}/run", b'{"until":0.2}')
         ids["op"] = r.json()["id"].split("/")[-1] if r.status == 202 else "opnone"
         time.sleep(0.5)
@@ -873,6 +1019,9 @@ def main():
         if want("slow"):
             slow_cases(d.port, rng, results, log, a.subset)
             phase('slow_cases')
+        if want("keepalive"):
+            keepalive_cases(d.port, rng, ids, results, log, a.subset)
+            phase("keepalive")
         if want("abort"):
             abort_cases(d.port, rng, ids, results, log, a.subset)
             phase('abort_cases')
