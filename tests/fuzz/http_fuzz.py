@@ -842,7 +842,8 @@ def race_cases(port, rng, results, log, subset):
     """Concurrent create/step/run/cancel/delete/read on the same session."""
     rounds = 3 if subset else 40
     for k in range(rounds):
-        sid = create(port)
+        geometry = k % 2 == 1  # odd rounds: a session with frames to draw
+        sid = create(port, GEOMETRY_CONFIG if geometry else None)
         ops = []
         def op(kind):
             if kind == "step":
@@ -863,12 +864,19 @@ def race_cases(port, rng, results, log, subset):
                 return request(port, "GET", f"/v1/sessions/{sid}/fft?channel=vehicle.speed", timeout=30)
             if kind == "create":
                 return request(port, "POST", "/v1/sessions", jbody(CHEAP_CONFIG), timeout=60)
+            if kind == "frame":
+                return request(port, "GET", f"/v1/sessions/{sid}/frame.png?{SMALL_VIEW}", timeout=30)
+            if kind == "frames":
+                return send_raw(port, build("GET", f"/v1/sessions/{sid}/frames?{SMALL_VIEW}&fps=100&format=multipart"),
+                                timeout=30)
             return request(port, "GET", f"/v1/sessions/{sid}", timeout=30)
         kinds = ["step", "step", "run", "cancel", "series", "stream", "fft", "get", "create"]
         if k % 3 != 2:
             kinds.append("delete")
         if k % 4 == 1:
             kinds += ["delete", "run", "cancel", "stream"]  # double delete, run vs run
+        if geometry:
+            kinds += ["frame", "frames", "frames"]
         rng.shuffle(kinds)
         out = {}
         def worker(i, kind):
@@ -932,6 +940,9 @@ def shutdown_case(d, rng, ids, results, log, subset):
             r = request(port, "POST", "/v1/modes", b"{}", timeout=20)
         elif kind == "series":
             r = request(port, "GET", f"/v1/sessions/{sid}/series?every=7", timeout=20)
+        elif kind == "frames":
+            r = send_raw(port, build("GET", f"/v1/sessions/{ids['gsid']}/frames?{SMALL_VIEW}&fps=200&format=multipart"),
+                         timeout=20)
         else:
             r = request(port, "GET", "/v1/health", timeout=20)
         with lock:
@@ -939,7 +950,7 @@ def shutdown_case(d, rng, ids, results, log, subset):
         time.sleep(0.05)
         return not r.error.startswith("connect")  # stop once the daemon is gone
     reps = 10 if subset else 40
-    kinds = ["stream", "step", "create", "modes", "series", "health"] * (1 if subset else 3)
+    kinds = ["stream", "step", "create", "modes", "series", "frames", "health"] * (1 if subset else 3)
     ts = [threading.Thread(target=worker, args=(kd, i)) for i, kd in enumerate(kinds)]
     for t in ts:
         t.start()
