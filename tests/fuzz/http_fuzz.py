@@ -31,7 +31,7 @@ row in server/routes.c is fuzzed without touching this script.
 
 Usage:
   tests/fuzz/http_fuzz.py --bin build-asan/tanksimd [--seed 1] [--out DIR]
-      [--budget 240] [--subset] [--only CLASS,...] [--list]
+      [--subset] [--only CLASS,...] [--list]
 Writes OUT/results.jsonl (one line per request: id, class, status, verdict)
 and OUT/daemon*.log; prints a table of verdicts per class and exits 1 when
 any verdict is a defect. --subset runs the short deterministic selection
