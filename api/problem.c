@@ -1,7 +1,17 @@
 /*
  * problem.c — ts_rc -> HTTP status and RFC 9457 problem documents (problem.h).
+ *
+ * Problem texts often quote what the client sent (a query value, a path
+ * segment, a preset name). Those bytes need not be UTF-8, and jansson refuses
+ * to build a string that is not: the problem would then be NULL and the
+ * client got a 500 "could not build the response" for its own mistake (found
+ * by tests/fuzz/http_fuzz.py). So every text goes in through utf8_string,
+ * which replaces each byte of an invalid sequence with U+FFFD.
  */
 #include "problem.h"
+
+#include <stdlib.h>
+#include <string.h>
 
 static const struct {
     int status;
@@ -23,6 +33,53 @@ static const struct {
     [TS_ERR_INTERNAL] = {500, "/problems/internal", "Internal error"},
 };
 
+/* Length of the valid UTF-8 sequence at s (RFC 3629: no overlong forms, no
+ * surrogates, at most U+10FFFF), 0 when the bytes there are not one. */
+static size_t utf8_seq(const unsigned char *s)
+{
+    unsigned c = s[0];
+    if (c < 0x80) return 1;
+    size_t n = c >= 0xC2 && c <= 0xDF   ? 2
+               : c >= 0xE0 && c <= 0xEF ? 3
+               : c >= 0xF0 && c <= 0xF4 ? 4
+                                        : 0; /* 0x80-0xC1: continuation or overlong lead */
+    if (n == 0) return 0;
+    for (size_t i = 1; i < n; i++)
+        if ((s[i] & 0xC0) != 0x80) return 0;
+    if (c == 0xE0 && s[1] < 0xA0) return 0; /* overlong */
+    if (c == 0xED && s[1] > 0x9F) return 0; /* surrogate */
+    if (c == 0xF0 && s[1] < 0x90) return 0; /* overlong */
+    if (c == 0xF4 && s[1] > 0x8F) return 0; /* above U+10FFFF */
+    return n;
+}
+
+/* json_string of s with every byte of an invalid sequence replaced by U+FFFD. */
+static json_t *utf8_string(const char *s)
+{
+    json_t *j = json_string(s);
+    if (j) return j;
+    size_t len = strlen(s);
+    char *out = malloc(3 * len + 1);
+    if (!out) return NULL;
+    size_t o = 0;
+    for (const unsigned char *p = (const unsigned char *)s; *p;) {
+        size_t n = utf8_seq(p);
+        if (n) {
+            memcpy(out + o, p, n);
+            o += n;
+            p += n;
+        } else {
+            memcpy(out + o, "\xEF\xBF\xBD", 3);
+            o += 3;
+            p++;
+        }
+    }
+    out[o] = '\0';
+    j = json_string(out);
+    free(out);
+    return j;
+}
+
 int tsa_http_status(ts_rc rc)
 {
     if ((int)rc < 0 || rc >= TS_NRC) return 500;
@@ -38,8 +95,9 @@ const char *tsa_problem_type(ts_rc rc)
 json_t *tsa_problem(int status, const char *type, const char *title, const char *detail,
                     json_t *errors)
 {
-    json_t *p = json_pack("{s:s,s:s,s:i,s:s}", "type", type ? type : "about:blank", "title",
-                          title ? title : "", "status", status, "detail", detail ? detail : "");
+    json_t *p = json_pack("{s:s,s:s,s:i,s:o}", "type", type ? type : "about:blank", "title",
+                          title ? title : "", "status", status, "detail",
+                          utf8_string(detail ? detail : ""));
     if (p && errors) json_object_set(p, "errors", errors);
     return p;
 }
@@ -50,7 +108,8 @@ json_t *tsa_problem_from_err(const ts_err *err, json_t *errors)
     if ((int)rc < 0 || rc >= TS_NRC) rc = TS_ERR_INTERNAL;
     json_t *own = NULL;
     if (!errors && err->pointer[0]) {
-        own = json_pack("[{s:s,s:s}]", "pointer", err->pointer, "message", err->msg);
+        own = json_pack("[{s:o,s:o}]", "pointer", utf8_string(err->pointer), "message",
+                        utf8_string(err->msg));
         errors = own;
     }
     json_t *p = tsa_problem(map[rc].status, map[rc].type, map[rc].title, err->msg, errors);

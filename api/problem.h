@@ -19,7 +19,9 @@ int tsa_http_status(ts_rc rc);
 const char *tsa_problem_type(ts_rc rc);
 
 /* {"type","title","status","detail"[,"errors"]} — new reference. errors may be
- * NULL or an array (a reference is taken). */
+ * NULL or an array (a reference is taken). detail (and, below, err's pointer
+ * and message) may quote request bytes that are not UTF-8: each byte of an
+ * invalid sequence becomes U+FFFD, so the document is always built. */
 json_t *tsa_problem(int status, const char *type, const char *title, const char *detail,
                     json_t *errors);
 

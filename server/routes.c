@@ -581,6 +581,13 @@ static enum MHD_Result get_fft(tsd_request *r)
         return tsd_reply_err(r, &e, NULL);
     }
     if (strchr(ch, ',')) return bad_param(r, "channel", "exactly one channel name", ch);
+    if (s->nch > 0 && tsa_channel_index(&s->ch.view, ch) < 0) { /* parse_range: "/channels" */
+        ts_err_set(&e, TS_ERR_NOTFOUND, "/channel",
+                   "query parameter channel: no channel named '%.128s' (see the session's "
+                   "channels)",
+                   ch);
+        return tsd_reply_err(r, &e, NULL);
+    }
     range_q q;
     if (parse_range(r, s, ch, &q, &ret) < 0) return ret;
     long want = q.to - q.from + 1;
@@ -888,6 +895,16 @@ static int authorized(tsd_request *r)
     return diff == 0;
 }
 
+/* Add method to the Allow list of a 405 (r->allow, comma-separated, once each). */
+static void allow_method(tsd_request *r, const char *method)
+{
+    size_t n = strlen(r->allow), m = strlen(method);
+    for (const char *p = r->allow; (p = strstr(p, method)) != NULL; p += m)
+        if ((p == r->allow || p[-1] == ' ') && (p[m] == ',' || p[m] == '\0')) return;
+    if (n + m + 3 > sizeof r->allow) return; /* the table has at most a few per path */
+    snprintf(r->allow + n, sizeof r->allow - n, "%s%s", n ? ", " : "", method);
+}
+
 enum MHD_Result tsd_route(tsd_request *r)
 {
     int path_matched = 0;
@@ -899,6 +916,7 @@ enum MHD_Result tsd_route(tsd_request *r)
             row = &routes[i];
             break;
         }
+        allow_method(r, routes[i].method);
     }
     if (!(row && (row->flags & RF_PUBLIC)) && !authorized(r)) {
         r->www_authenticate = 1;

@@ -37,6 +37,8 @@ static enum MHD_Result queue(tsd_request *r, unsigned status, struct MHD_Respons
         snprintf(ra, sizeof ra, "%d", r->retry_after);
         MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER, ra);
     }
+    if (r->allow[0] && status == 405) /* RFC 9110 §15.5.6: a 405 lists what is allowed */
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_ALLOW, r->allow);
     if (r->www_authenticate)
         MHD_add_response_header(resp, MHD_HTTP_HEADER_WWW_AUTHENTICATE,
                                 "Bearer realm=\"tanksimd\"");
@@ -122,10 +124,9 @@ enum MHD_Result tsd_reply_json(tsd_request *r, unsigned status, json_t *body)
 enum MHD_Result tsd_reply_problem(tsd_request *r, unsigned status, const char *type,
                                   const char *title, const char *detail, json_t *errors)
 {
-    json_t *p = json_pack("{s:s,s:s,s:i,s:s}", "type", type, "title", title, "status", status,
-                          "detail", detail ? detail : "");
-    if (p && errors) json_object_set(p, "errors", errors);
-    return reply_dump(r, status, p, "application/problem+json");
+    /* tsa_problem: detail often quotes the request, which need not be UTF-8 */
+    return reply_dump(r, status, tsa_problem((int)status, type, title, detail, errors),
+                      "application/problem+json");
 }
 
 static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, const char *url,

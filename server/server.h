@@ -102,6 +102,7 @@ typedef struct tsd_request {
     char location[96];             /* Location header of the reply ("" = none) */
     char next_token[32];           /* X-Next-Page-Token header of the reply ("" = none) */
     char etag[96];   /* ETag of a cacheable response (frames of stored times) */
+    char allow[64];                /* Allow header of a 405: the path's methods ("" = none) */
     int www_authenticate;          /* add WWW-Authenticate: Bearer (401) */
     int retry_after;               /* add Retry-After: N seconds (0 = none) */
 } tsd_request;

@@ -274,8 +274,9 @@ def test_fft_amplitude_spectrum(daemon):
     a = f["amplitude"]
     assert a[0] == pytest.approx(0, abs=1e-12)  # mean removed
     assert a[1] > a[2] > a[4] > a[8]
+    # the fft route's parameter is "channel" (http_fuzz finding; it named "/channels")
     is_problem(requests.get(daemon.url + s["links"]["fft"], params={"channel": "nope"}), 404,
-               "/channels")
+               "/channel")
     is_problem(requests.get(daemon.url + s["links"]["fft"]), 400, "/channel")
 
 
