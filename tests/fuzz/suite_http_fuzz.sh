@@ -5,14 +5,15 @@
 # odd paths, every fifth bad query value per parameter, bad bodies and
 # framing, idle and trickled connections, abandoned requests and streams,
 # races on one session, requests during SIGTERM, then a restart on the same
-# store. Every check must pass the oracle described in tests/fuzz/README.md.
+# store. Every check must pass the oracle described in tests/fuzz/README.md;
+# the summary counts one test per request class (~1,140 checks in 14 classes).
 # About 15 s under ASan; the full pass stays outside make test.
 set -u
 cd "$(dirname "$0")/../.."
 BIN=${TANKSIM_BUILD:-build}/tanksimd
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
-timeout 120 /usr/bin/python3 tests/fuzz/http_fuzz.py --bin "$BIN" --seed 1 --subset --out "$OUT" \
+timeout 120 /usr/bin/python3 tests/fuzz/http_fuzz.py --bin "$BIN" --seed 1 --subset --per-class --out "$OUT" \
   >"$OUT/log" 2>&1
 rc=$?
 grep -v '^  ' "$OUT/log" | grep -v '^[0-9]* passed' | tail -n 40
