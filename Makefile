@@ -19,7 +19,8 @@ LDFLAGS := $(SAN)
 # Debian packages the build, the tests and `make run` need.
 DEB_PACKAGES := build-essential pkg-config libmicrohttpd-dev libjansson-dev libosmesa6-dev \
   libsundials-dev libpng-dev zlib1g-dev liblapacke-dev liblapack-dev libblas-dev libfftw3-dev \
-  libsqlite3-dev libcmocka-dev cppcheck python3 python3-pytest python3-requests curl nodejs chromium
+  libsqlite3-dev libcmocka-dev cppcheck python3 python3-pytest python3-requests python3-yaml \
+  curl nodejs chromium
 
 LIBS_SIM := -lsundials_cvode -lsundials_kinsol -lsundials_nvecserial \
   -lsundials_sunlinsoldense -lsundials_sunmatrixdense -llapacke -llapack -lblas -lfftw3 -lm
@@ -146,6 +147,7 @@ check-layers:
 
 C_FILES = $(shell git ls-files '*.c' '*.h' 2>/dev/null || find sim api cli server render tests -name '*.[ch]')
 format: | deps
+	@./deploy/install-deps.sh clang-format
 	clang-format -i $(C_FILES)
 lint: | deps
 	cppcheck --quiet --error-exitcode=1 --std=c11 --enable=warning,portability,performance \

@@ -1,7 +1,8 @@
 /*
  * main.c — tanksim, the command-line runner: one table of sub-commands, each
  * taking a CONFIG.json path or --preset NAME (a JSON file shipped under
- * sim/data/presets/). The table is the only list of commands; --help prints it.
+ * sim/data/presets/). The table is the only list of commands; --help prints it,
+ * and `tanksim COMMAND --help` (or -h) prints that command's row.
  */
 #include <stdio.h>
 #include <string.h>
@@ -52,8 +53,16 @@ int main(int argc, char **argv)
         printf("tanksim %s\n", TS_VERSION);
         return TSC_EXIT_OK;
     }
-    for (size_t i = 0; i < NCOMMANDS; i++)
-        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
+    for (size_t i = 0; i < NCOMMANDS; i++) {
+        if (strcmp(argv[1], commands[i].name) != 0) continue;
+        for (int a = 2; a < argc; a++)
+            if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) {
+                printf("usage: tanksim %s%s%s\n  %s\n", commands[i].name,
+                       commands[i].usage[0] ? " " : "", commands[i].usage, commands[i].help);
+                return TSC_EXIT_OK;
+            }
+        return commands[i].run(argc - 1, argv + 1);
+    }
     fprintf(stderr, "tanksim: unknown command '%s' (see tanksim --help)\n", argv[1]);
     return TSC_EXIT_USAGE;
 }

@@ -1,6 +1,6 @@
 #!/bin/sh
 # install-deps.sh PACKAGE... — install the Debian packages that are missing.
-# Silent and fast when everything is present (one dpkg-query call); otherwise
+# Silent and fast when everything is present (dpkg-query only, no apt); otherwise
 # runs apt-get update once and installs only the missing ones. Needs root (or
 # sudo) only when something is missing.
 set -eu

@@ -19,6 +19,18 @@ def test_help_lists_commands_and_version():
     assert out.returncode == 0 and out.stdout.startswith("tanksim ")
 
 
+def test_each_command_has_help():
+    # `tanksim COMMAND --help` prints that command's usage line and exits 0 (it
+    # was read as a missing CONFIG.json / --out and exited 2).
+    for cmd in ("run", "modes", "render", "engine-map", "tune", "schema"):
+        for flag in ("--help", "-h"):
+            out = run(cmd, flag)
+            assert out.returncode == 0, (cmd, flag, out.stderr)
+            assert out.stdout.startswith("usage: tanksim " + cmd), (cmd, out.stdout)
+    assert "--schedule-mass" in run("tune", "--help").stdout
+    assert "--preset NAME" in run("run", "--preset", "m1", "--help").stdout
+
+
 def test_unknown_command():
     out = run("frobnicate")
     assert out.returncode == 2 and "unknown command 'frobnicate'" in out.stderr
