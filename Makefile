@@ -52,7 +52,7 @@ LIB_RENDER := $(BUILD)/libtanksim_render.a
 LIB_API := $(BUILD)/libtanksim_api.a
 LIBS_OWN := $(LIB_API) $(LIB_RENDER) $(LIB_SIM)
 
-.PHONY: all deps web run test asan bench format lint check-layers clean
+.PHONY: all deps web run test asan tsan bench format lint check-layers clean
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/tanksimd $(BUILD)/tanksim $(LIB_SIM) web | deps
@@ -138,6 +138,27 @@ asan:
 	$(MAKE) BUILD=build-asan OPT=-O1 \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" test
 
+# `make tsan`: the concurrency-relevant suites under ThreadSanitizer (see
+# tests/tsan.supp for the third-party false positives it suppresses). TSAN_T
+# selects the suites: tests/sim/test_threads (C threads over one shared model),
+# every daemon suite (tests/server: worker pool, streams, cancel, persist) and
+# the HTTP fuzz subset. The remaining single-threaded suites gain nothing from
+# TSan and would take several times longer.
+TSAN_T ?= test_threads tests/server/ suite_http_fuzz
+tsan:
+	$(MAKE) BUILD=build-tsan OPT=-O1 SAN="-fsanitize=thread -fno-omit-frame-pointer" all
+	$(MAKE) BUILD=build-tsan OPT=-O1 SAN="-fsanitize=thread -fno-omit-frame-pointer" \
+	  build-tsan/tests/sim/test_threads
+	@rm -f build-tsan/tsan.log build-tsan/tsan-report.*
+	@export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 \
+	  suppressions=$(CURDIR)/tests/tsan.supp log_path=$(CURDIR)/build-tsan/tsan-report"; fail=0; \
+	  for t in $(TSAN_T); do ./tests/run_all.sh build-tsan "$$t" | tee -a build-tsan/tsan.log; \
+	    [ "$${PIPESTATUS[0]}" -eq 0 ] || fail=1; done; \
+	  for r in build-tsan/tsan-report.*; do [ -e "$$r" ] || continue; fail=1; \
+	    echo "== ThreadSanitizer report $$r"; cat "$$r"; done; \
+	  echo "tsan: $$(grep -E '^[0-9]+ passed' build-tsan/tsan.log | awk '{p+=$$1; f+=$$3} END {print p+0 " passed, " f+0 " failed"}')"; \
+	  exit $$fail
+
 bench: all $(BENCH_BIN)
 	@set -e; for b in $(BENCH_BIN); do echo "== $$b"; $$b; done; \
 	  [ -n "$(BENCH_BIN)" ] || echo "no benchmarks yet"
@@ -155,6 +176,6 @@ lint: | deps
 	  --library=tests/lint/jansson.cfg sim api cli server render
 
 clean:
-	rm -rf build build-asan web_static/app.* web_static/index.html
+	rm -rf build build-asan build-tsan web_static/app.* web_static/index.html
 
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
