@@ -95,7 +95,11 @@ void ts_rows_free(ts_rows *r);
 
 /* Scenario-specific figures computed from a run's sample rows (nrows rows of
  * ts_model_nchannel values, row-major, as ts_advance produced them), e.g. the
- * Table 2 acceleration times. Writes at most max metrics; returns the count. */
+ * Table 2 acceleration times. Writes at most max metrics; returns the count.
+ * The one call on a shared model that is NOT safe on several threads at once:
+ * the vehicle kind's spectrum figures plan FFTs (fft.h: FFTW's planner is not
+ * thread-safe), so serialise it with every other FFT user (tanksimd does not
+ * call it; its /fft route holds tsd_server.fft_lock). */
 int ts_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max);
 
 /* ---- state snapshots (persistence, re-rendering past times) --------------- */
