@@ -233,7 +233,9 @@ async function main() {
       /* the preset's own values are shown (preset doc over schema defaults) */
       const pdoc = await (await fetch(`${d.url}/v1/presets/${preset}`)).json();
       const pd = (pdoc.config || pdoc).run?.duration;
-      if (pd !== undefined) assert(Number(await page.locator('#schema-form [data-pointer="/run/duration"] input').inputValue()) === pd, 'preset duration not shown');
+      /* the preset document is fetched after the select changes: wait for it rather than a fixed delay (300 ms was too short once on a loaded machine) */
+      if (pd !== undefined)
+        await waitFor(async () => Number(await page.locator('#schema-form [data-pointer="/run/duration"] input').inputValue()) === pd, `the preset's duration ${pd} s in the form`, 5000);
       await shot(page, '01-form');
       await page.click('#schema-form .all-params summary');
       await shot(page, '01b-all-parameters');
