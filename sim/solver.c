@@ -470,45 +470,41 @@ void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s)
     stats_add(s, &o->acc);
 }
 
-int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y, double *work)
+/* Classical RK4 on the m states y[idx[j]] (idx NULL: y[0..m-1], all of y),
+ * every other state held. y itself carries each stage's state; y0 and the
+ * stage slopes k live in work (5 m). With idx, f writes the whole n-vector
+ * into ydot and the chosen slopes are copied out; without, f writes its
+ * stage's slopes straight into k. */
+static int rk4(int m, const int *idx, ts_rhs_fn f, void *ud, double t, double h, double *y,
+               double *ydot, double *work)
 {
-    double *k1 = work, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *yt = k4 + n;
-    if (f(t, y, k1, ud)) return 1;
-    for (int i = 0; i < n; i++)
-        yt[i] = y[i] + 0.5 * h * k1[i];
-    if (f(t + 0.5 * h, yt, k2, ud)) return 1;
-    for (int i = 0; i < n; i++)
-        yt[i] = y[i] + 0.5 * h * k2[i];
-    if (f(t + 0.5 * h, yt, k3, ud)) return 1;
-    for (int i = 0; i < n; i++)
-        yt[i] = y[i] + h * k3[i];
-    if (f(t + h, yt, k4, ud)) return 1;
+    static const double cs[4] = {0.0, 0.5, 0.5, 1.0}; /* stage times */
+    double *y0 = work, *k = work + m;                /* k[s m + j]: stage s, state j */
+    for (int j = 0; j < m; j++)
+        y0[j] = y[idx ? idx[j] : j];
+    for (int s = 0; s < 4; s++) {
+        for (int j = 0; s > 0 && j < m; j++)
+            y[idx ? idx[j] : j] = y0[j] + cs[s] * h * k[(s - 1) * m + j];
+        if (f(t + cs[s] * h, y, idx ? ydot : k + s * m, ud)) return 1;
+        for (int j = 0; idx && j < m; j++)
+            k[s * m + j] = ydot[idx[j]];
+    }
     int bad = 0;
-    for (int i = 0; i < n; i++) {
-        y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
-        if (!isfinite(y[i])) bad = 1;
+    for (int j = 0; j < m; j++) {
+        double *yj = &y[idx ? idx[j] : j];
+        *yj = y0[j] + h / 6.0 * (k[j] + 2 * k[m + j] + 2 * k[2 * m + j] + k[3 * m + j]);
+        if (!isfinite(*yj)) bad = 1;
     }
     return bad;
+}
+
+int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y, double *work)
+{
+    return rk4(n, NULL, f, ud, t, h, y, NULL, work);
 }
 
 int ts_rk4_step_subset(int m, const int *idx, ts_rhs_fn f, void *ud, double t, double h,
                        double *y, double *ydot, double *work)
 {
-    static const double cs[4] = {0.0, 0.5, 0.5, 1.0}; /* stage times */
-    double *y0 = work, *k = work + m;                /* k[s m + j]: stage s, state j */
-    for (int j = 0; j < m; j++)
-        y0[j] = y[idx[j]];
-    for (int s = 0; s < 4; s++) {
-        for (int j = 0; s > 0 && j < m; j++)
-            y[idx[j]] = y0[j] + cs[s] * h * k[(s - 1) * m + j];
-        if (f(t + cs[s] * h, y, ydot, ud)) return 1;
-        for (int j = 0; j < m; j++)
-            k[s * m + j] = ydot[idx[j]];
-    }
-    int bad = 0;
-    for (int j = 0; j < m; j++) {
-        y[idx[j]] = y0[j] + h / 6.0 * (k[j] + 2 * k[m + j] + 2 * k[2 * m + j] + k[3 * m + j]);
-        if (!isfinite(y[idx[j]])) bad = 1;
-    }
-    return bad;
+    return rk4(m, idx, f, ud, t, h, y, ydot, work);
 }
