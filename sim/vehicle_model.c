@@ -1364,22 +1364,21 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     kinematics(v, q, NULL, &k);
     v->x_anchor0 = k.c[VM_RW1 + v->anchor][0];
     double loop = 0, psi0[VM_NB], len_el[VM_NB];
-    /* every track element needs a tangent between its two bodies: centre
-     * distance above the difference of the wrap radii (coincident or nested
-     * bodies, e.g. two road wheels at one x, left tangent() with 0/0 = NaN) */
     for (int el = 0; el < VM_NB; el++) {
-        int a = el, b = (el + 1) % VM_NB;
-        double dx = k.c[b][0] - k.c[a][0], dz = k.c[b][1] - k.c[a][1];
-        double d = sqrt(dx * dx + dz * dz), cr = fabs(v->rho_b[a] - v->rho_b[b]);
-        if (!(d > cr && sqrt(d * d - cr * cr) > LAYOUT_MIN_GAP)) {
+        elem e;
+        tangent(v, &k, el, &e); /* v->u0 still zero: e.dpsi meaningless here */
+        /* every track element needs a free length: tangent() gives NaN for
+         * coincident or nested bodies (e.g. two road wheels at one x) */
+        if (!(e.ell > LAYOUT_MIN_GAP)) {
+            int a = el, b = (el + 1) % VM_NB;
             ts_err_set(err, TS_ERR_PARAM, layout_pointer(b),
                        "%s: the %s and %s centres are %.4g m apart; the track between them "
                        "needs more than the difference of their radii (%.4g m) plus a free length",
-                       layout_pointer(b), vm_body_names[a], vm_body_names[b], d, cr);
+                       layout_pointer(b), vm_body_names[a], vm_body_names[b],
+                       hypot(k.c[b][0] - k.c[a][0], k.c[b][1] - k.c[a][1]),
+                       fabs(v->rho_b[a] - v->rho_b[b]));
             goto fail;
         }
-        elem e;
-        tangent(v, &k, el, &e); /* v->u0 still zero: e.dpsi meaningless here */
         v->ell0[el] = e.ell;
         v->u0[el][0] = e.u[0];
         v->u0[el][1] = e.u[1];
