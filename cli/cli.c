@@ -20,24 +20,25 @@ const char *tsc_option(int argc, char **argv, const char *name)
     return NULL;
 }
 
+/* "tanksim: LEAD: POINTER: MSG (CODE)" on stderr: the field at fault first, as
+ * cli.h promises (a user fixes the config by its pointer), left out when MSG
+ * already starts with it, as many messages do; no CODE when code is NULL. */
+static void print_line(const char *lead, const char *pointer, const char *msg, const char *code)
+{
+    size_t np = pointer ? strlen(pointer) : 0;
+    int with_ptr = np && strncmp(msg, pointer, np) != 0;
+    fprintf(stderr, "tanksim: %s: %s%s%s%s%s%s\n", lead, with_ptr ? pointer : "",
+            with_ptr ? ": " : "", msg, code ? " (" : "", code ? code : "", code ? ")" : "");
+}
+
 void tsc_print_err(const char *what, const ts_err *err)
 {
-    /* the field at fault first, as cli.h promises: a user fixes the config by its pointer */
-    size_t np = strlen(err->pointer);
-    if (np && strncmp(err->msg, err->pointer, np) != 0) /* many messages start with it */
-        fprintf(stderr, "tanksim: %s: %s: %s (%s)\n", what, err->pointer, err->msg,
-                ts_rc_name(err->code));
-    else
-        fprintf(stderr, "tanksim: %s: %s (%s)\n", what, err->msg, ts_rc_name(err->code));
+    print_line(what, err->pointer, err->msg, ts_rc_name(err->code));
 }
 
 void tsc_print_config_err(const char *pointer, const char *msg)
 {
-    size_t np = pointer ? strlen(pointer) : 0;
-    if (np && strncmp(msg, pointer, np) != 0) /* most messages already start with it */
-        fprintf(stderr, "tanksim: config error at %s: %s\n", pointer, msg);
-    else
-        fprintf(stderr, "tanksim: config error: %s\n", msg);
+    print_line("config error", pointer, msg, NULL);
 }
 
 int tsc_model_start(const ts_config *cfg, ts_model **m, ts_data **d)

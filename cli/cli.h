@@ -31,7 +31,7 @@ const char *tsc_option(int argc, char **argv, const char *name);
 
 /* Print a ts_err as "tanksim: <pointer>: message" to stderr. */
 void tsc_print_err(const char *what, const ts_err *err);
-/* "tanksim: config error at POINTER: MSG" on stderr, the pointer left out
+/* "tanksim: config error: POINTER: MSG" on stderr, the pointer left out
  * when MSG already starts with it (pointer may be NULL or ""). */
 void tsc_print_config_err(const char *pointer, const char *msg);
 
