@@ -997,16 +997,15 @@ static void run_slice(void *arg)
         run_finish(j, TSD_FAILED, rc, &err);
         return;
     }
-    if ((a.reason == ADV_YIELD || a.reason == ADV_PACE) && srv->opt.max_run_wall > 0 &&
-        tsd_now() - j->wall_start >= srv->opt.max_run_wall) {
-        ts_err_set(&err, TS_ERR_LIMIT, NULL,
-                   "the run used its wall-clock budget of %g s (--max-run-wall) at t = %g s; run "
-                   "the session again to continue",
-                   srv->opt.max_run_wall, ts_time(s->d));
-        run_finish(j, TSD_PAUSED, TS_ERR_LIMIT, &err);
-        return;
-    }
     if (a.reason == ADV_YIELD || a.reason == ADV_PACE) {
+        if (srv->opt.max_run_wall > 0 && tsd_now() - j->wall_start >= srv->opt.max_run_wall) {
+            ts_err_set(&err, TS_ERR_LIMIT, NULL,
+                       "the run used its wall-clock budget of %g s (--max-run-wall) at t = %g s; "
+                       "run the session again to continue",
+                       srv->opt.max_run_wall, ts_time(s->d));
+            run_finish(j, TSD_PAUSED, TS_ERR_LIMIT, &err);
+            return;
+        }
         double due = a.reason == ADV_PACE ? a.resume_at : 0;
         if (tsd_pool_submit(srv->pool, run_slice, j, due) == 0) return;
         a.reason = ADV_STOP;
