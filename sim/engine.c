@@ -50,15 +50,16 @@ static ts_rc check_increasing(const double *a, int n, const char *ptr, const cha
     return TS_OK;
 }
 
-/* TS_ERR_PARAM unless every /engine/<prefix><names[k]>_<variant> has want values. */
+/* TS_ERR_PARAM unless every /engine/<prefix><names[k]>[_<variant>] has want
+ * values (variant NULL: fields without a per-variant suffix). */
 static ts_rc check_counts(const int *counts, const char *const *names, int k_n, const char *prefix,
-                          int v, int want, const char *what, ts_err *err)
+                          const char *variant, int want, const char *what, ts_err *err)
 {
     for (int k = 0; k < k_n; k++)
         if (counts[k] != want) {
             char ptr[64];
-            snprintf(ptr, sizeof ptr, "/engine/%s%s_%s", prefix, names[k],
-                     ts_engine_variant_names[v]);
+            snprintf(ptr, sizeof ptr, "/engine/%s%s%s%s", prefix, names[k], variant ? "_" : "",
+                     variant ? variant : "");
             return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: %d values expected (%s), got %d", ptr,
                               want, what, counts[k]);
         }
@@ -76,7 +77,8 @@ static ts_rc check_tables(const ts_engine_config *c, int v, ts_err *err)
     if (rc != TS_OK) return rc;
     const int counts[] = {t->torque_n, t->boost_n, t->fuel_n, t->eta_v_n, t->eta_i_n, t->q_wall_n};
     static const char *const names[] = {"torque", "boost", "fuel", "eta_v", "eta_i", "q_wall"};
-    rc = check_counts(counts, names, 6, "map_", v, n, "one per map_speed", err);
+    rc = check_counts(counts, names, 6, "map_", ts_engine_variant_names[v], n, "one per map_speed",
+                      err);
     if (rc != TS_OK) return rc;
     int ns = c->spool_speed_n, nr = c->spool_ratio_n;
     if (ns < 1 || nr < 2 || c->spool_lag_n != ns)
@@ -88,8 +90,8 @@ static ts_rc check_tables(const ts_engine_config *c, int v, ts_err *err)
     if (rc != TS_OK) return rc;
     const int pb_counts[] = {t->pb_eta_v_n, t->pb_eta_i_n, t->pb_q_wall_n, t->pb_torque_n};
     static const char *const pb_names[] = {"eta_v", "eta_i", "q_wall", "torque"};
-    return check_counts(pb_counts, pb_names, 4, "pb_", v, ns * nr, "spool_speed x spool_ratio",
-                        err);
+    return check_counts(pb_counts, pb_names, 4, "pb_", ts_engine_variant_names[v], ns * nr,
+                        "spool_speed x spool_ratio", err);
 }
 
 /* The turbine schedule (/engine/turb_sched_*): none, or >= 2 increasing
@@ -102,14 +104,9 @@ static ts_rc check_schedule(const ts_engine_config *c, ts_err *err)
                           "/engine/turb_sched_speed: none or at least 2 speeds, got 1");
     const int counts[] = {c->turb_sched_nozzle_n, c->turb_sched_gate_n, c->turb_sched_bypass_n};
     static const char *const names[] = {"nozzle", "gate", "bypass"};
-    for (int k = 0; k < 3; k++)
-        if (counts[k] != n) {
-            char ptr[64];
-            snprintf(ptr, sizeof ptr, "/engine/turb_sched_%s", names[k]);
-            return ts_err_set(err, TS_ERR_PARAM, ptr,
-                              "%s: %d values expected (one per turb_sched_speed), got %d", ptr, n,
-                              counts[k]);
-        }
+    ts_rc rc =
+        check_counts(counts, names, 3, "turb_sched_", NULL, n, "one per turb_sched_speed", err);
+    if (rc != TS_OK) return rc;
     return check_increasing(c->turb_sched_speed, n, "/engine/turb_sched_speed", "speeds", err);
 }
 
