@@ -387,6 +387,14 @@ static const char *step_pointer(const ts_engine *e)
     return e->c.fidelity == TS_ENGINE_CRANK_ANGLE ? "/engine/ca_step" : "/engine";
 }
 
+/* The error of a cycle_run whose fixed step h at t left the state's domain. */
+static ts_rc cycle_diverged(const ts_engine *e, double t, double h, ts_err *err)
+{
+    return ts_err_set(err, TS_ERR_DIVERGED, step_pointer(e),
+                      "engine state left its domain at t = %.6f s of a cycle (fixed step %.3g s)",
+                      t, h);
+}
+
 /* Load torque on the crankshaft as a function of (t, speed) at every stage. */
 typedef struct stage_load {
     ts_engine_load_fn fn; /* NULL: in->load_torque held */
@@ -720,10 +728,7 @@ static ts_rc cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in
         double left = (th0 + EN_CYCLE - x[TS_ENGINE_X_ANGLE]) / w;
         if (h > left) h = left;
         if (ts_engine_rhs(e, t, x, in, xdot, &o))
-            return ts_err_set(err, TS_ERR_DIVERGED, step_pointer(e),
-                              "engine state left its domain at t = %.6f s of a cycle (fixed step "
-                              "%.3g s)",
-                              t, h);
+            return cycle_diverged(e, t, h, err);
         const double *ov = (const double *)&o;
         for (size_t k = 0; k < OUT_NFIELDS; k++) sum[k] += ov[k] * h;
         if (o.cyl_pressure > peak) peak = o.cyl_pressure;
@@ -731,10 +736,7 @@ static ts_rc cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in
             for (int i = 0; i < nw; i++) wmean[i] += x[e->off_wall + i] * h;
         stage_load sl = {NULL, NULL, *in};
         if (step(e, x, t, h, &sl, work))
-            return ts_err_set(err, TS_ERR_DIVERGED, step_pointer(e),
-                              "engine state left its domain at t = %.6f s of a cycle (fixed step "
-                              "%.3g s)",
-                              t, h);
+            return cycle_diverged(e, t, h, err);
         t += h;
         span += h;
     }
