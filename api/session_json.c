@@ -244,9 +244,11 @@ json_t *tsa_values_json(const tsa_channels *c, const double *row)
     return o;
 }
 
-ts_rc tsa_channel_select(const tsa_channels *c, const char *list, int *idx, int max, int *n,
-                         ts_err *err)
+ts_rc tsa_channel_select(const tsa_channels *c, const char *param, const char *list, int *idx,
+                         int max, int *n, ts_err *err)
 {
+    char ptr[TS_ERR_POINTER_LEN];
+    snprintf(ptr, sizeof ptr, "/%s", param);
     int k = 0;
     if (max < 1) return ts_err_set(err, TS_ERR_INTERNAL, NULL, "no room for channels");
     idx[k++] = 0;
@@ -262,21 +264,21 @@ ts_rc tsa_channel_select(const tsa_channels *c, const char *list, int *idx, int 
         size_t len = e ? (size_t)(e - p) : strlen(p);
         char name[128];
         if (len >= sizeof name)
-            return ts_err_set(err, TS_ERR_PARAM, "/channels", "channels: name too long");
+            return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: name too long", param);
         memcpy(name, p, len);
         name[len] = '\0';
         if (len > 0) {
             int ci = tsa_channel_index(c, name);
             if (ci < 0)
-                return ts_err_set(err, TS_ERR_NOTFOUND, "/channels",
-                                  "channels: no channel named '%s' (see the session's channels)",
+                return ts_err_set(err, TS_ERR_NOTFOUND, ptr,
+                                  "%s: no channel named '%s' (see the session's channels)", param,
                                   name);
             int dup = 0;
             for (int i = 0; i < k; i++)
                 dup |= idx[i] == ci;
             if (!dup) {
                 if (k >= max)
-                    return ts_err_set(err, TS_ERR_LIMIT, "/channels", "channels: too many");
+                    return ts_err_set(err, TS_ERR_LIMIT, ptr, "%s: too many", param);
                 idx[k++] = ci;
             }
         }

@@ -92,10 +92,12 @@ json_t *tsa_values_json(const tsa_channels *c, const double *row);
 
 /* Parse a comma-separated channel list ("vehicle.speed,sprocket.torque") into
  * channel indexes; "t" (index 0) is always first and never repeated. NULL or ""
- * selects every channel. Unknown names -> TS_ERR_NOTFOUND with pointer
- * "/channels". Writes at most max indexes to idx, the count to *n. */
-ts_rc tsa_channel_select(const tsa_channels *c, const char *list, int *idx, int max, int *n,
-                         ts_err *err);
+ * selects every channel. param names where the list came from (the query
+ * parameter, e.g. "channels"): errors carry pointer "/<param>" and name it.
+ * Unknown names -> TS_ERR_NOTFOUND. Writes at most max indexes to idx, the
+ * count to *n. */
+ts_rc tsa_channel_select(const tsa_channels *c, const char *param, const char *list, int *idx,
+                         int max, int *n, ts_err *err);
 
 /* ---- sample rows as text --------------------------------------------------- */
 

@@ -442,15 +442,16 @@ static enum MHD_Result post_run(tsd_request *r)
     return tsd_reply_json(r, MHD_HTTP_ACCEPTED, op);
 }
 
-/* Parse channels=, from=, to= against a session; -1 when a reply was queued. */
+/* Parse a channel list (from query parameter param, which its errors name),
+ * from= and to= against a session; -1 when a reply was queued. */
 typedef struct range_q {
     int idx[MAX_CHANNELS_SELECT];
     int n;
     long from, to; /* sample indexes, inclusive */
 } range_q;
 
-static int parse_range(tsd_request *r, tsd_session *s, const char *channels, range_q *q,
-                       enum MHD_Result *ret)
+static int parse_range(tsd_request *r, tsd_session *s, const char *param, const char *channels,
+                       range_q *q, enum MHD_Result *ret)
 {
     ts_err e;
     if (s->nch == 0) { /* stored before channel lists were, and no model: names unknown */
@@ -461,8 +462,8 @@ static int parse_range(tsd_request *r, tsd_session *s, const char *channels, ran
         *ret = tsd_reply_err(r, &e, NULL);
         return -1;
     }
-    if (tsa_channel_select(&s->ch.view, channels, q->idx, MAX_CHANNELS_SELECT, &q->n, &e) !=
-        TS_OK) {
+    if (tsa_channel_select(&s->ch.view, param, channels, q->idx, MAX_CHANNELS_SELECT, &q->n,
+                           &e) != TS_OK) {
         *ret = tsd_reply_err(r, &e, NULL);
         return -1;
     }
@@ -502,7 +503,7 @@ static enum MHD_Result get_series(tsd_request *r)
     tsd_session *s = r->session;
     enum MHD_Result ret = MHD_NO;
     range_q q;
-    if (parse_range(r, s, tsd_arg(r, "channels"), &q, &ret) < 0) return ret;
+    if (parse_range(r, s, "channels", tsd_arg(r, "channels"), &q, &ret) < 0) return ret;
     long every = 1, page_size = r->srv->opt.max_samples, token = -1;
     if (q_integer(r, "every", 1, 1L << 40, &every, &ret) < 0) return ret;
     if (q_integer(r, "page_size", 1, r->srv->opt.max_samples, &page_size, &ret) < 0) return ret;
@@ -550,7 +551,7 @@ static enum MHD_Result get_stream(tsd_request *r)
     tsd_session *s = r->session;
     enum MHD_Result ret = MHD_NO;
     range_q q;
-    if (parse_range(r, s, tsd_arg(r, "channels"), &q, &ret) < 0) return ret;
+    if (parse_range(r, s, "channels", tsd_arg(r, "channels"), &q, &ret) < 0) return ret;
     long since = -1;
     const char *last_id = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Last-Event-ID");
     if (q_integer(r, "since", -1, 1L << 62, &since, &ret) < 0) return ret;
@@ -581,15 +582,8 @@ static enum MHD_Result get_fft(tsd_request *r)
         return tsd_reply_err(r, &e, NULL);
     }
     if (strchr(ch, ',')) return bad_param(r, "channel", "exactly one channel name", ch);
-    if (s->nch > 0 && tsa_channel_index(&s->ch.view, ch) < 0) { /* parse_range: "/channels" */
-        ts_err_set(&e, TS_ERR_NOTFOUND, "/channel",
-                   "query parameter channel: no channel named '%.128s' (see the session's "
-                   "channels)",
-                   ch);
-        return tsd_reply_err(r, &e, NULL);
-    }
     range_q q;
-    if (parse_range(r, s, ch, &q, &ret) < 0) return ret;
+    if (parse_range(r, s, "channel", ch, &q, &ret) < 0) return ret;
     long want = q.to - q.from + 1;
     if (want > r->srv->opt.max_samples) {
         ts_err_set(&e, TS_ERR_LIMIT, "/to",
@@ -706,7 +700,7 @@ static enum MHD_Result get_frame(tsd_request *r)
     enum MHD_Result ret = MHD_NO;
     if (s->unrestored) return reply_no_frames(r, s);
     range_q q;
-    if (parse_range(r, s, "t", &q, &ret) < 0) return ret;
+    if (parse_range(r, s, "channels", "t", &q, &ret) < 0) return ret;
     tsr_view v;
     if (parse_view(r, &v, &ret) < 0) return ret;
     double rate = 1.0 / s->ch.view.period, t = (double)q.to / rate;
@@ -744,7 +738,7 @@ static enum MHD_Result get_frames(tsd_request *r)
     enum MHD_Result ret = MHD_NO;
     if (s->unrestored) return reply_no_frames(r, s);
     range_q q;
-    if (parse_range(r, s, "t", &q, &ret) < 0) return ret;
+    if (parse_range(r, s, "channels", "t", &q, &ret) < 0) return ret;
     tsr_view v;
     if (parse_view(r, &v, &ret) < 0) return ret;
     double fps = 25;

@@ -100,14 +100,14 @@ static void channels_rows_and_series(void **state)
     assert_int_equal(cv.n, ts_model_nchannel(m));
     assert_close(cv.period, ts_model_sample_period(m), 0, 0);
     int idx[16], n;
-    assert_int_equal(tsa_channel_select(&cv, "vehicle.speed,t,vehicle.speed", idx, 16, &n, &err),
+    assert_int_equal(tsa_channel_select(&cv, "channels", "vehicle.speed,t,vehicle.speed", idx, 16, &n, &err),
                      TS_OK);
     assert_int_equal(n, 2);
     assert_int_equal(idx[0], 0);
     assert_int_equal(idx[1], ts_model_channel_index(m, "vehicle.speed"));
-    assert_int_equal(tsa_channel_select(&cv, "nope", idx, 16, &n, &err), TS_ERR_NOTFOUND);
+    assert_int_equal(tsa_channel_select(&cv, "channels", "nope", idx, 16, &n, &err), TS_ERR_NOTFOUND);
     assert_string_equal(err.pointer, "/channels");
-    assert_int_equal(tsa_channel_select(&cv, NULL, idx, 16, &n, &err), TS_OK);
+    assert_int_equal(tsa_channel_select(&cv, "channels", NULL, idx, 16, &n, &err), TS_OK);
     assert_int_equal(n, ts_model_nchannel(m));
 
     const int nch = ts_model_nchannel(m);
@@ -167,15 +167,15 @@ static void shapes_from_a_plain_channel_array(void **state)
     int idx[8], n;
     assert_int_equal(tsa_channel_index(&c, "hull.pitch"), 1);
     assert_int_equal(tsa_channel_index(&c, "nope"), -1);
-    assert_int_equal(tsa_channel_select(&c, "odd\"name\\,,hull.pitch", idx, 8, &n, &err), TS_OK);
+    assert_int_equal(tsa_channel_select(&c, "channels", "odd\"name\\,,hull.pitch", idx, 8, &n, &err), TS_OK);
     assert_int_equal(n, 3);
     assert_int_equal(idx[0], 0);
     assert_int_equal(idx[1], 2);
     assert_int_equal(idx[2], 1);
-    assert_int_equal(tsa_channel_select(&c, "t,vehicle.speed", idx, 8, &n, &err), TS_ERR_NOTFOUND);
+    assert_int_equal(tsa_channel_select(&c, "channels", "t,vehicle.speed", idx, 8, &n, &err), TS_ERR_NOTFOUND);
     assert_string_equal(err.pointer, "/channels");
-    assert_int_equal(tsa_channel_select(&c, "hull.pitch", idx, 1, &n, &err), TS_ERR_LIMIT);
-    assert_int_equal(tsa_channel_select(&c, "", idx, 8, &n, &err), TS_OK);
+    assert_int_equal(tsa_channel_select(&c, "channels", "hull.pitch", idx, 1, &n, &err), TS_ERR_LIMIT);
+    assert_int_equal(tsa_channel_select(&c, "channels", "", idx, 8, &n, &err), TS_OK);
     assert_int_equal(n, 3);
 
     const double rows[] = {0.0, 0.125, 1.0 / 3.0, 0.01, NAN, -2.5e-7};
