@@ -100,13 +100,18 @@ static void channels_rows_and_series(void **state)
     assert_int_equal(cv.n, ts_model_nchannel(m));
     assert_close(cv.period, ts_model_sample_period(m), 0, 0);
     int idx[16], n;
-    assert_int_equal(tsa_channel_select(&cv, "channels", "vehicle.speed,t,vehicle.speed", idx, 16, &n, &err),
-                     TS_OK);
+    assert_int_equal(
+        tsa_channel_select(&cv, "channels", "vehicle.speed,t,vehicle.speed", idx, 16, &n, &err),
+        TS_OK);
     assert_int_equal(n, 2);
     assert_int_equal(idx[0], 0);
     assert_int_equal(idx[1], ts_model_channel_index(m, "vehicle.speed"));
     assert_int_equal(tsa_channel_select(&cv, "channels", "nope", idx, 16, &n, &err), TS_ERR_NOTFOUND);
     assert_string_equal(err.pointer, "/channels");
+    /* the error names the parameter the list came from (fft's single "channel") */
+    assert_int_equal(tsa_channel_select(&cv, "channel", "nope", idx, 16, &n, &err), TS_ERR_NOTFOUND);
+    assert_string_equal(err.pointer, "/channel");
+    assert_non_null(strstr(err.msg, "channel: no channel named 'nope'"));
     assert_int_equal(tsa_channel_select(&cv, "channels", NULL, idx, 16, &n, &err), TS_OK);
     assert_int_equal(n, ts_model_nchannel(m));
 
