@@ -106,10 +106,12 @@ static void channels_rows_and_series(void **state)
     assert_int_equal(n, 2);
     assert_int_equal(idx[0], 0);
     assert_int_equal(idx[1], ts_model_channel_index(m, "vehicle.speed"));
-    assert_int_equal(tsa_channel_select(&cv, "channels", "nope", idx, 16, &n, &err), TS_ERR_NOTFOUND);
+    assert_int_equal(tsa_channel_select(&cv, "channels", "nope", idx, 16, &n, &err),
+                     TS_ERR_NOTFOUND);
     assert_string_equal(err.pointer, "/channels");
     /* the error names the parameter the list came from (fft's single "channel") */
-    assert_int_equal(tsa_channel_select(&cv, "channel", "nope", idx, 16, &n, &err), TS_ERR_NOTFOUND);
+    assert_int_equal(tsa_channel_select(&cv, "channel", "nope", idx, 16, &n, &err),
+                     TS_ERR_NOTFOUND);
     assert_string_equal(err.pointer, "/channel");
     assert_non_null(strstr(err.msg, "channel: no channel named 'nope'"));
     assert_int_equal(tsa_channel_select(&cv, "channels", NULL, idx, 16, &n, &err), TS_OK);
@@ -172,14 +174,17 @@ static void shapes_from_a_plain_channel_array(void **state)
     int idx[8], n;
     assert_int_equal(tsa_channel_index(&c, "hull.pitch"), 1);
     assert_int_equal(tsa_channel_index(&c, "nope"), -1);
-    assert_int_equal(tsa_channel_select(&c, "channels", "odd\"name\\,,hull.pitch", idx, 8, &n, &err), TS_OK);
+    assert_int_equal(
+        tsa_channel_select(&c, "channels", "odd\"name\\,,hull.pitch", idx, 8, &n, &err), TS_OK);
     assert_int_equal(n, 3);
     assert_int_equal(idx[0], 0);
     assert_int_equal(idx[1], 2);
     assert_int_equal(idx[2], 1);
-    assert_int_equal(tsa_channel_select(&c, "channels", "t,vehicle.speed", idx, 8, &n, &err), TS_ERR_NOTFOUND);
+    assert_int_equal(tsa_channel_select(&c, "channels", "t,vehicle.speed", idx, 8, &n, &err),
+                     TS_ERR_NOTFOUND);
     assert_string_equal(err.pointer, "/channels");
-    assert_int_equal(tsa_channel_select(&c, "channels", "hull.pitch", idx, 1, &n, &err), TS_ERR_LIMIT);
+    assert_int_equal(tsa_channel_select(&c, "channels", "hull.pitch", idx, 1, &n, &err),
+                     TS_ERR_LIMIT);
     assert_int_equal(tsa_channel_select(&c, "channels", "", idx, 8, &n, &err), TS_OK);
     assert_int_equal(n, 3);
 
