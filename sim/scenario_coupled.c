@@ -181,6 +181,7 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / TS_LBF, "the same in lbf");
     n = ts_metric_add(out, n, max, "peak_sprocket_torque", "N*m", tq_max,
                       "predicted peak torque at each sprocket (Fig. 28 converter multiplication)");
+    n = vm_channels_span_metrics(rows, nrows, nc, CH_V0, out, n, max);
     char name[64], desc[160];
     for (int g = 1; g <= 3; g++) {
         snprintf(name, sizeof name, "shift_%d_%d_time", g, g + 1);

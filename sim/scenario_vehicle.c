@@ -278,6 +278,7 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     n = ts_metric_add(out, n, max, "roller_force_peak_4.6_7hz", "Hz", f,
                       "predicted roller-force spectrum peak in 4.6-7 Hz (paper Fig. 14b: 5.5 Hz)");
     n = ts_metric_add(out, n, max, "roller_force_peak_4.6_7hz_amp", "N", a, "its amplitude");
+    n = vm_channels_span_metrics(rows, nrows, nc, CH_V0, out, n, max);
     return n;
 }
 

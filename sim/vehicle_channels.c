@@ -3,6 +3,7 @@
  */
 #include "vehicle_channels.h"
 
+#include <math.h>
 #include <stdio.h>
 
 static ts_rc add(ts_model *m, const char *name, const char *unit, const char *desc, ts_err *err)
@@ -85,4 +86,27 @@ void vm_channels_fill(const vm *v, const double *y, const double *ydot, const vm
         out[VM_CH_SPAN_V0 + s] = dg->span_mid_deflection[s];
     }
     out[VM_CH_T_QS] = dg->tension_quasi_static;
+}
+
+int vm_channels_span_metrics(const double *rows, long nrows, int nc, int first, ts_metric *out,
+                             int n, int max)
+{
+    double tmin = INFINITY;
+    long slack = 0;
+    for (long i = 0; i < nrows; i++) {
+        const double *r = rows + i * nc + first + VM_CH_SPAN_T0;
+        double ri = INFINITY;
+        for (int k = 0; k < VM_NSPAN; k++) ri = fmin(ri, r[k]);
+        tmin = fmin(tmin, ri);
+        slack += ri < 0;
+    }
+    n = ts_metric_add(out, n, max, "span_tension_min", "N", nrows > 0 ? tmin : NAN,
+                      "least mid-span tension of any free span (a massless static-fidelity "
+                      "element goes slack at 0; a modal span has no slack law, so below zero it "
+                      "is outside its range: a track cannot push)");
+    n = ts_metric_add(out, n, max, "span_compression_fraction", "1",
+                      nrows > 0 ? (double)slack / (double)nrows : NAN,
+                      "share of output rows in which some free span's mid-span tension is below "
+                      "zero (model outside its range there)");
+    return n;
 }

@@ -43,4 +43,15 @@ ts_rc vm_channels_declare(ts_model *m, ts_err *err);
 void vm_channels_fill(const vm *v, const double *y, const double *ydot, const vm_diag *dg,
                       double *out);
 
+/* Range-of-validity metrics over a finished run's rows (nrows rows of nc
+ * values; the block starts at column first): "span_tension_min" [N], the
+ * least mid-span tension of any free span, and "span_compression_fraction"
+ * [1], the share of rows in which some span's is below zero. A track cannot
+ * push: a massless (static-fidelity) element goes slack at zero tension, but
+ * the modal spans are linear about a taut, sagging equilibrium (track_span.h)
+ * and have no slack law, so rows with a negative span tension are outside the
+ * model's range. Appends to out[n..] (ts_metric_add); returns the new count. */
+int vm_channels_span_metrics(const double *rows, long nrows, int nc, int first, ts_metric *out,
+                             int n, int max);
+
 #endif

@@ -164,6 +164,9 @@ static int run(const char *preset)
         {"roller force FFT peak 4.6-7 Hz", "roller_force_peak_4.6_7hz", 1, 2,
          "5.5 (coupled, Fig. 14b)"},
         {"  its amplitude [N]", "roller_force_peak_4.6_7hz_amp", 1, 0, "static: null"},
+        {"least mid-span tension [kN]", "span_tension_min", 1e-3, 1,
+         "(< 0: a modal span outside its range)"},
+        {"share of rows with a span < 0", "span_compression_fraction", 1, 3, "(no slack law)"},
     };
     printf("  %-34s %12s   %s\n", "figure", "model", "paper");
     for (size_t i = 0; i < sizeof fig / sizeof fig[0]; i++)

@@ -12,6 +12,7 @@
 
 #include "api/config_json.h"
 #include "sim/tanksim.h"
+#include "sim/vehicle_channels.h"
 
 /* Run preset for duration seconds; rows in *r, the model in *m (caller frees). */
 static void run(const char *preset, double duration, ts_model **m, ts_rows *r)
@@ -123,11 +124,67 @@ static void static_model_shows_no_dynamic_amplification(void **state)
     ts_model_free(mc);
 }
 
+/* EVIDENCE: definition (vehicle_channels.h): span_tension_min is the least
+ * value of the five span.<name>.tension columns over all rows and
+ * span_compression_fraction the share of rows in which one is below zero.
+ * Synthetic rows with known answers (3 of 8 rows with a negative span, the
+ * least -1234.5 N in the last span of row 5), a row of exact zeros (a slack
+ * massless element: not compression), the empty run (NAN); then the metric
+ * of a real 9-s coupled run against the columns it summarises. */
+static void span_metrics_flag_compressed_rows(void **state)
+{
+    (void)state;
+    enum { NR = 8, NC = 1 + VM_NCH };
+    double rows[NR * NC];
+    for (int i = 0; i < NR; i++)
+        for (int j = 0; j < NC; j++) rows[i * NC + j] = 1000.0 + i + j;
+    double *span = rows + 1 + VM_CH_SPAN_T0;
+    span[1 * NC + 0] = -1.0;
+    span[5 * NC + VM_NSPAN - 1] = -1234.5;
+    span[5 * NC + 2] = -3.0;
+    span[6 * NC + 3] = -0.5;
+    for (int k = 0; k < VM_NSPAN; k++) span[7 * NC + k] = 0.0;
+    rows[2 * NC + 1 + VM_CH_T_RR] = -9999.0; /* not a span column: ignored */
+    ts_metric mt[4];
+    int n = vm_channels_span_metrics(rows, NR, NC, 1, mt, 0, 4);
+    assert_int_equal(n, 2);
+    assert_string_equal(mt[0].name, "span_tension_min");
+    assert_string_equal(mt[0].unit, "N");
+    assert_close(mt[0].value, -1234.5, 0, 1e-12);
+    assert_string_equal(mt[1].name, "span_compression_fraction");
+    assert_close(mt[1].value, 3.0 / 8.0, 0, 1e-15);
+    n = vm_channels_span_metrics(rows, 0, NC, 1, mt, 0, 4);
+    assert_int_equal(n, 2);
+    assert_true(isnan(mt[0].value) && isnan(mt[1].value));
+
+    ts_model *m;
+    ts_rows r;
+    run("bump-prescribed-coupled", 9.0, &m, &r);
+    int i0 = ts_model_channel_index(m, "span.sprocket_rear_roller.tension");
+    assert_true(i0 >= 0);
+    int nc = ts_model_nchannel(m);
+    double tmin = INFINITY;
+    long neg = 0;
+    for (long i = 0; i < r.n; i++) {
+        double ri = INFINITY;
+        for (int k = 0; k < VM_NSPAN; k++) ri = fmin(ri, r.v[i * nc + i0 + k]);
+        tmin = fmin(tmin, ri);
+        neg += ri < 0;
+    }
+    printf("# first 9 s, coupled: least mid-span tension %.0f N, %ld of %ld rows < 0\n", tmin, neg,
+           r.n);
+    assert_close(metric(m, &r, "span_tension_min"), tmin, 0, 1e-9);
+    assert_close(metric(m, &r, "span_compression_fraction"), (double)neg / (double)r.n, 0, 1e-15);
+    ts_rows_free(&r);
+    ts_model_free(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(quasi_static_tension_matches_static_model_on_flat),
         cmocka_unit_test(static_model_shows_no_dynamic_amplification),
+        cmocka_unit_test(span_metrics_flag_compressed_rows),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
