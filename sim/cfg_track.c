@@ -27,6 +27,8 @@ static const ts_param rows[] = {
      "modal damping ratio of the span modes"},
     {"/track/translation_terms", TS_PT_BOOL, F(translation_terms), "", 0, 1, NULL, 0, 0,
      "keep the track translation-speed terms of Eqs. 1-2"},
+    {"/track/no_compression", TS_PT_BOOL, F(no_compression), "", 0, 1, NULL, 0, 0,
+     "modal spans carry no compression (slack law, as the massless elements); off: linear spans"},
     {"/track/pitch_line_offset", TS_PT_DOUBLE, F(pitch_line_offset), "m", 0, 0.2, NULL, 0, 0,
      "track pitch line above the rims of road wheels, idler and rollers"},
     {"/track/idler_inertia", TS_PT_DOUBLE, F(idler_inertia), "kg*m^2", 0, 1000, NULL, 0, 0,

@@ -29,6 +29,7 @@ typedef struct ts_track_config {
     double tension;           /* static track tension P0 [N] */
     double damping_ratio;     /* modal damping ratio of span modes [1] */
     int translation_terms;    /* keep the track-speed terms of Eqs. 1-2 [bool] */
+    int no_compression;       /* modal spans go slack instead of pushing [bool] */
     double pitch_line_offset; /* pitch line above the road-wheel/idler/roller rim [m] */
     double idler_inertia;     /* idler spin inertia [kg m^2] */
     double roller_inertia;    /* support-roller spin inertia, each [kg m^2] */

@@ -376,6 +376,108 @@ void ts_span_eval(const ts_span *sp, const double *x, double s, double *U, doubl
     }
 }
 
+/* The strain basis de/dx_i at s (n values): e = U_x + kappa V, or the uniform
+ * Irvine stretch (u1 - u0 + kappa \int V) / L with quasi_static_stretch. */
+static void strain_basis(const ts_span *sp, double s, double *b)
+{
+    double L = sp->p.length;
+    int nl = sp->p.n_long, nt = sp->p.n_trans;
+    if (sp->p.quasi_static_stretch) {
+        b[0] = -1.0 / L;
+        b[1] = 1.0 / L;
+        for (int k = 0; k < nt; k++)
+            b[sp->i_trans + k] = sp->kappa * (1.0 - cos((k + 1) * PI)) / ((k + 1) * PI);
+        return;
+    }
+    for (int i = 0; i < 2 + nl; i++) {
+        double N, dN;
+        long_shape(i, s, L, &N, &dN);
+        b[i] = dN;
+    }
+    for (int k = 0; k < nt; k++) {
+        double N, dN;
+        trans_shape(k + 1, s, L, &N, &dN);
+        b[sp->i_trans + k] = sp->kappa * N;
+    }
+}
+
+/* Point q of the slack rule: 2-point Gauss-Legendre on TS_SPAN_SLACK_POINTS / 2
+ * equal sub-intervals (method constants). */
+static void slack_point(const ts_span *sp, int q, double *s, double *w)
+{
+    static const double g2 = 0.5773502691896258; /* 1/sqrt(3) */
+    double h = sp->p.length / (TS_SPAN_SLACK_POINTS / 2);
+    *s = h * ((q / 2) + 0.5 + 0.5 * (q % 2 ? g2 : -g2));
+    *w = 0.5 * h;
+}
+
+/* Lower bound of the axial stress over the span (the triangle inequality on the
+ * basis: |de/dx_i| <= 1/L, j pi/L, |kappa|). */
+static double stress_lower_bound(const ts_span *sp, const double *x, const double *xd, double t_kv)
+{
+    double L = sp->p.length, ea = sp->p.ea;
+    double bmax[2 + 2 * TS_SPAN_MAX_MODES];
+    int n = sp->n;
+    bmax[0] = bmax[1] = 1.0 / L;
+    for (int i = 2; i < sp->i_trans; i++)
+        bmax[i] = (i - 1) * PI / L;
+    for (int i = sp->i_trans; i < n; i++)
+        bmax[i] = fabs(sp->kappa); /* >= |kappa (1 - cos k pi) / (k pi)| too */
+    double e = (x[1] - x[0]) / L, r = 0, rd = 0;
+    for (int i = 2; i < n; i++)
+        r += bmax[i] * fabs(x[i]);
+    if (xd && t_kv > 0) {
+        rd = fabs(xd[1] - xd[0]) / L;
+        for (int i = 2; i < n; i++)
+            rd += bmax[i] * fabs(xd[i]);
+    }
+    return sp->p.tension + ea * (e - r - t_kv * rd);
+}
+
+int ts_span_slack_force(const ts_span *sp, const double *x, const double *xd, double t_kv,
+                        double *f)
+{
+    if (stress_lower_bound(sp, x, xd, t_kv) >= 0) return 0;
+    int n = sp->n, slack = 0;
+    double ea = sp->p.ea, P0 = sp->p.tension;
+    double b[2 + 2 * TS_SPAN_MAX_MODES];
+    for (int q = 0; q < TS_SPAN_SLACK_POINTS; q++) {
+        double s, w;
+        slack_point(sp, q, &s, &w);
+        strain_basis(sp, s, b);
+        double e = 0, ed = 0;
+        for (int i = 0; i < n; i++) {
+            e += b[i] * x[i];
+            if (xd && t_kv > 0) ed += b[i] * xd[i];
+        }
+        double sigma = P0 + ea * (e + t_kv * ed);
+        if (sigma >= 0) continue;
+        slack = 1;
+        for (int i = 0; i < n; i++)
+            f[i] += w * sigma * b[i];
+    }
+    return slack;
+}
+
+double ts_span_slack_energy(const ts_span *sp, const double *x)
+{
+    if (stress_lower_bound(sp, x, NULL, 0) >= 0) return 0;
+    int n = sp->n;
+    double ea = sp->p.ea, P0 = sp->p.tension, energy = 0;
+    double b[2 + 2 * TS_SPAN_MAX_MODES];
+    for (int q = 0; q < TS_SPAN_SLACK_POINTS; q++) {
+        double s, w;
+        slack_point(sp, q, &s, &w);
+        strain_basis(sp, s, b);
+        double e = 0;
+        for (int i = 0; i < n; i++)
+            e += b[i] * x[i];
+        double sigma = P0 + ea * e;
+        if (sigma < 0) energy += w * sigma * sigma / (2.0 * ea);
+    }
+    return energy;
+}
+
 double ts_span_sag(const ts_span *sp, double s)
 {
     return 0.5 * sp->kappa * s * (sp->p.length - s);

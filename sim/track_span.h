@@ -217,6 +217,29 @@ void ts_span_end_forces_eval(const ts_span *sp, const double *x, ts_span_end_for
  * The static sag is ts_span_sag(sp, s). */
 void ts_span_eval(const ts_span *sp, const double *x, double s, double *U, double *V, double *tau);
 
+/* No-compression (slack) law: a track cannot push. The span's axial stress
+ * field is sigma(s) = P0 + EA (e(s) + t_kv e_d(s)), e = U_x + kappa V (the
+ * uniform Irvine stretch with quasi_static_stretch), t_kv a Kelvin-Voigt
+ * retardation time [s] (0: elastic only; xd may then be NULL). The linear span
+ * of ts_span_force carries every sigma, compression included; this adds to
+ * f[n] the generalised forces that take the compressive part out:
+ *     f_i += \int_0^L min(sigma, 0) de/dx_i ds
+ * i.e. the forces of the strain energy density P0 e + EA e^2/2 made flat
+ * below sigma = 0. The transverse geometric stiffness keeps P0 (left out: the
+ * slack span's string stiffness). The integral is a fixed composite
+ * Gauss-Legendre rule (TS_SPAN_SLACK_POINTS points), the same as
+ * ts_span_slack_energy's, so the two are an exact gradient pair. Returns 1
+ * when some point of the span is slack, 0 when none is (f untouched; a
+ * cheap bound skips the quadrature for a span far from slack). */
+#define TS_SPAN_SLACK_POINTS 48
+int ts_span_slack_force(const ts_span *sp, const double *x, const double *xd, double t_kv,
+                        double *f);
+
+/* The strain energy the slack law removes from the linear span's at x:
+ * \int_{sigma < 0} sigma^2 / (2 EA) ds with sigma = P0 + EA e (elastic) [J],
+ * on the same points as ts_span_slack_force. */
+double ts_span_slack_energy(const ts_span *sp, const double *x);
+
 /* Equilibrium sag Y0(s) along e_y [m]. */
 double ts_span_sag(const ts_span *sp, double s);
 

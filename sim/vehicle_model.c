@@ -130,6 +130,7 @@ struct vm {
     double x_anchor0;
     double x0, z0; /* design CG world position */
     double dscale;
+    int no_compression; /* /track/no_compression: slack law on the modal spans */
     /* fidelity extras */
     int npm;
     double pm_m[8], pm_l[8][2]; /* point masses on the hull (hull frame offsets) */
@@ -467,6 +468,8 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
                 ts_span_end_forces_eval(se->sp, w->sx, &ef);
                 double fx = b == VM_REAR_ROLLER ? ef.f1x : ef.f0x;
                 double fy = b == VM_REAR_ROLLER ? ef.f1y : ef.f0y;
+                double te = b == VM_REAR_ROLLER ? ef.tension1 : ef.tension0;
+                if (v->no_compression && te < 0) fx = fy = 0; /* slack at the roller */
                 rr_force[0] += fx * e.u[0] + fy * e.n[0];
                 rr_force[1] += fx * e.u[1] + fy * e.n[1];
             }
@@ -830,6 +833,9 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
      * carry mass here, so keeping it would make the track creep round. */
     for (int r = 2; r < n; r++)
         f[r] += gx * se->alpha[r];
+    /* a track cannot push: the compressive part of the axial stress out (elastic
+     * and Kelvin-Voigt together, so a span unloading fast goes slack too) */
+    if (v->no_compression) ts_span_slack_force(sp, x, qd ? xd : NULL, kv, f);
     /* generalised forces: B^T f + frame gravity */
     double m = se->rho * se->len;
     for (int c = 0; c < cs.n; c++) {
@@ -881,14 +887,17 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
     if (diag) {
         ts_span_end_forces ef;
         ts_span_end_forces_eval(sp, x, &ef);
-        diag->tension_end0[se->elem] = ef.tension0;
-        diag->tension_end1[se->elem] = ef.tension1;
-        diag->tension[se->elem] = 0.5 * (ef.tension0 + ef.tension1);
+        double t0 = ef.tension0, t1 = ef.tension1;
         int s = (int)(se - v->span);
         double U, V, tau;
         ts_span_eval(sp, x, 0.5 * sp->p.length, &U, &V, &tau);
+        double tm = v->p0 + tau;
+        if (v->no_compression) t0 = fmax(t0, 0), t1 = fmax(t1, 0), tm = fmax(tm, 0);
+        diag->tension_end0[se->elem] = t0;
+        diag->tension_end1[se->elem] = t1;
+        diag->tension[se->elem] = 0.5 * (t0 + t1);
         diag->span_mid_deflection[s] = V;
-        diag->span_mid_tension[s] = v->p0 + tau;
+        diag->span_mid_tension[s] = tm;
     }
 }
 
@@ -1293,6 +1302,7 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     v->terrain = ts_terrain_make(&cfg->terrain, err);
     if (!v->terrain) goto fail;
     v->dscale = vc->damping_scale;
+    v->no_compression = cfg->track.no_compression;
     /* masses per side: sprocket, idler and rollers ride in the hull body */
     v->m_w = vc->road_wheel_mass;
     v->m_arm = vc->road_arm_mass;
@@ -1578,6 +1588,7 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
             ay += sp->ay[2 + m] * x[2 + m];
         }
         double m = se->rho * se->len;
+        if (v->no_compression) xk -= ts_span_slack_energy(sp, x);
         pe += v->p0 * x[1] + xk - (gy - sp->p.g_y) * ay;
         pe += m * GRAVITY * k.c[a][1] - 0.5 * m * se->len * gx - gx * ax;
     }

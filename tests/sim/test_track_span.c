@@ -2,7 +2,7 @@
  * test_track_span.c — the span continuum (track_span.h): geometry of the
  * common tangent, matrix properties, the taut-string and bar limits, Irvine's
  * shallow-sag cable theory, convergence, the axially moving string, the end
- * forces, and the paper's Table 1 test span.
+ * forces, the no-compression (slack) law, and the paper's Table 1 test span.
  */
 #include "test_util.h"
 
@@ -383,6 +383,78 @@ static void track_span_end_forces_static(void **state)
     ts_span_free(sp);
 }
 
+static void track_span_slack_law(void **state)
+{
+    (void)state;
+    ts_err err;
+    const double L = 1.5;
+    /* EVIDENCE: closed form. A straight span (g_y = 0, kappa = 0) with one
+     * longitudinal mode: sigma(s) = a + c cos(pi s / L), a = P0 + EA x1 / L,
+     * c = EA q pi / L. Where sigma < 0 (cos < -a/c, s > L th0 / pi, th0 =
+     * acos(-a/c)) the law adds int min(sigma, 0) de/dx1 ds with de/dx1 = 1/L:
+     *   (a (pi - th0) - c sin th0) / pi.
+     * The 48-point rule integrates across the kink; tolerance 2e-4 of P0. */
+    ts_span_params p = base(L, 0.0, 1, 1);
+    ts_span *sp = ts_span_make(&p, &err);
+    assert_non_null(sp);
+    double x[4] = {0, -0.5 * P0 / EA * L, 0.9 * P0 / EA * L / PI, 0}, f[4] = {0};
+    double a = P0 + EA * x[1] / L, c = EA * x[2] * PI / L, th0 = acos(-a / c);
+    assert_int_equal(ts_span_slack_force(sp, x, NULL, 0, f), 1);
+    double want = (a * (PI - th0) - c * sin(th0)) / PI;
+    printf("# half-slack span: end-1 force correction %.2f N, closed form %.2f N\n", f[1], want);
+    assert_close(f[1], want, 0, 2e-4 * P0);
+    assert_close(f[0], -want, 0, 2e-4 * P0); /* de/dx0 = -1/L */
+    /* the force is the gradient of ts_span_slack_energy (same points): central
+     * differences on every coordinate, kinked field included; 1e-6 relative */
+    ts_span_params pc = base(L, G0, 2, 2);
+    ts_span *sc = ts_span_make(&pc, &err);
+    assert_non_null(sc);
+    double y[6] = {0, -0.3 * P0 / EA * L, 0.8 * P0 / EA * L / PI, -0.1 * P0 / EA * L / PI, 0.02,
+                   -0.01};
+    double g[6] = {0};
+    assert_int_equal(ts_span_slack_force(sc, y, NULL, 0, g), 1);
+    for (int i = 0; i < 6; i++) {
+        double h = 1e-9, yp[6], ym[6];
+        memcpy(yp, y, sizeof y);
+        memcpy(ym, y, sizeof y);
+        yp[i] += h;
+        ym[i] -= h;
+        double d = (ts_span_slack_energy(sc, yp) - ts_span_slack_energy(sc, ym)) / (2 * h);
+        assert_close(g[i], d, 1e-6, 1e-6 * P0);
+    }
+    /* the whole span slack (uniform compression): with the linear forces the end
+     * rows carry no force at all; a taut span is left alone */
+    double z[4] = {0, -2.0 * P0 / EA * L, 0, 0}, fl[4], zd[4] = {0};
+    ts_span_force(sp, NULL, z, zd, fl);
+    assert_int_equal(ts_span_slack_force(sp, z, NULL, 0, fl), 1);
+    assert_close(fl[0], 0, 0, 1e-9 * P0);
+    assert_close(fl[1], 0, 0, 1e-9 * P0);
+    assert_close(ts_span_slack_energy(sp, z), L * (P0 - 2.0 * P0) * (P0 - 2.0 * P0) / (2 * EA),
+                 1e-12, 0);
+    double t[4] = {0, 0.1 * P0 / EA * L, 0.2 * P0 / EA * L / PI, 0}, ft[4] = {1, 2, 3, 4};
+    assert_int_equal(ts_span_slack_force(sp, t, NULL, 0, ft), 0);
+    assert_true(ft[0] == 1 && ft[1] == 2 && ft[2] == 3 && ft[3] == 4);
+    assert_true(ts_span_slack_energy(sp, t) == 0);
+    /* a Kelvin-Voigt rate unloading the span fast makes it slack too */
+    double r[4] = {0, -0.5 * L / 0.002, 0, 0};
+    memset(ft, 0, sizeof ft);
+    assert_int_equal(ts_span_slack_force(sp, t, r, 0.002, ft), 1);
+    /* the uniform-tension (Irvine) variant: one stress for the whole span */
+    ts_span_params pq = base(L, G0, 0, 2);
+    pq.quasi_static_stretch = 1;
+    ts_span *sq = ts_span_make(&pq, &err);
+    assert_non_null(sq);
+    double u[4] = {0, -2.0 * P0 / EA * L, 0, 0}, fu[4], ud[4] = {0};
+    assert_close(ts_span_slack_energy(sq, u), L * P0 * P0 / (2 * EA), 1e-12, 0);
+    ts_span_force(sq, NULL, u, ud, fu);
+    assert_int_equal(ts_span_slack_force(sq, u, NULL, 0, fu), 1);
+    assert_close(fu[0], 0, 0, 1e-9 * P0);
+    assert_close(fu[1], 0, 0, 1e-9 * P0);
+    ts_span_free(sq);
+    ts_span_free(sc);
+    ts_span_free(sp);
+}
+
 /* Static response of the fixed-end span to the loads of a motion: solve
  * K_qq q = f_q (q = modal block), return the state x (u0 = u1 = 0). */
 static void static_response(const ts_span *sp, const ts_span_motion *mo, double *x)
@@ -535,6 +607,7 @@ int main(void)
         cmocka_unit_test(track_span_convergence_monotone),
         cmocka_unit_test(track_span_moving_string),
         cmocka_unit_test(track_span_end_forces_static),
+        cmocka_unit_test(track_span_slack_law),
         cmocka_unit_test(track_span_support_motion_loads),
         cmocka_unit_test(track_span_chord_kinematics),
         cmocka_unit_test(track_span_table1_test_span),
