@@ -23,6 +23,7 @@
  * (session_json.h, config_json.h) and sessions through session.h.
  */
 #define _GNU_SOURCE
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -77,6 +78,28 @@ static enum MHD_Result bad_param(tsd_request *r, const char *name, const char *f
     return tsd_reply_err(r, &e, NULL);
 }
 
+/* A plain decimal numeral: [+-] digits [. digits] [(e|E) [+-] digits], with a
+ * digit before or after the point (no exponent or point when integer). What
+ * strtod also takes -- leading blanks, hexadecimal ("0x10" = 16), "inf",
+ * "nan" -- is refused: a query value means what it reads in decimal. */
+static int is_decimal(const char *v, int integer)
+{
+    const char *s = v;
+    if (*s == '+' || *s == '-') s++;
+    int digits = 0;
+    while (isdigit((unsigned char)*s)) s++, digits++;
+    if (!integer && *s == '.')
+        for (s++; isdigit((unsigned char)*s); s++) digits++;
+    if (!digits) return 0;
+    if (!integer && (*s == 'e' || *s == 'E')) {
+        s++;
+        if (*s == '+' || *s == '-') s++;
+        if (!isdigit((unsigned char)*s)) return 0;
+        while (isdigit((unsigned char)*s)) s++;
+    }
+    return *s == '\0';
+}
+
 /* Optional query number in [lo, hi]: 1 present, 0 absent, -1 replied 400. */
 static int q_number(tsd_request *r, const char *name, double lo, double hi, double *out,
                     enum MHD_Result *ret)
@@ -85,8 +108,8 @@ static int q_number(tsd_request *r, const char *name, double lo, double hi, doub
     if (!v || !*v) return 0;
     char *end;
     errno = 0;
-    double x = strtod(v, &end);
-    if (errno || *end || !isfinite(x) || x < lo || x > hi) {
+    double x = is_decimal(v, 0) ? strtod(v, &end) : NAN;
+    if (!isfinite(x) || errno || *end || x < lo || x > hi) {
         char what[96];
         snprintf(what, sizeof what, "number in [%g, %g] expected", lo, hi);
         *ret = bad_param(r, name, what, v);
@@ -101,6 +124,7 @@ static int parse_integer(const char *v, long lo, long hi, long *out)
 {
     char *end;
     errno = 0;
+    if (!is_decimal(v, 1)) return -1;
     long x = strtol(v, &end, 10);
     if (errno || end == v || *end || x < lo || x > hi) return -1;
     *out = x;
@@ -594,7 +618,9 @@ static enum MHD_Result get_fft(tsd_request *r)
     }
     if (want < 2) {
         ts_err_set(&e, TS_ERR_PARAM, "/from",
-                   "the range holds %ld stored samples; a spectrum needs at least 2", want);
+                   "/from: the range holds %ld stored samples (from past the stored end or "
+                   "after to); a spectrum needs at least 2",
+                   want > 0 ? want : 0);
         return tsd_reply_err(r, &e, NULL);
     }
     long *index;

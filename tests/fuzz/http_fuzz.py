@@ -413,9 +413,10 @@ def gen_cases(rng, rts, ids, subset):
                     q += "&width=32" if prm == "height" else "&height=24"
                 expect = "any"
                 # a value no reading accepts: must be refused, naming the parameter
-                # ("%00" reads as an empty value, i.e. absent; strtod takes "0x10")
+                # ("%00" reads as an empty value, i.e. absent; numbers are plain decimal,
+                # so "0x10" is refused too)
                 if prm in READ and prm not in TEXT_OK and v in ("NaN", "nan", "inf", "-inf",
-                                                               "Infinity", "1e309", "%ff",
+                                                               "Infinity", "1e309", "%ff", "0x10",
                                                                "%ff%fe", "%C0%AF", "a" * 3000):
                     expect = "4xx"
                 if prm in ("channels", "channel") and v not in ("", "%00"):
