@@ -270,6 +270,10 @@ static enum MHD_Result first_frame_ready(tsd_request *r)
         frames_free(f);
         return tsd_reply_owned(r, MHD_HTTP_OK, type, (char *)png, len);
     }
+    if (tsd_request_is_head(r)) { /* headers only (tsd_request_is_head) */
+        frames_free(f);
+        return tsd_reply_text(r, MHD_HTTP_OK, "multipart/x-mixed-replace; boundary=frame", "", 0);
+    }
     struct MHD_Response *resp =
         MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 1 << 16, reader, f, frames_free);
     if (!resp) {

@@ -929,14 +929,18 @@ enum MHD_Result tsd_route(tsd_request *r)
 {
     int path_matched = 0;
     const tsd_route_row *row = NULL;
+    /* HEAD is GET without the body (RFC 9110 9.3.2; libmicrohttpd sends the
+     * headers only), so every GET row answers it */
+    const char *method = strcmp(r->method, "HEAD") == 0 ? "GET" : r->method;
     for (size_t i = 0; i < NROUTES; i++) {
         if (!match(routes[i].pattern, r->url, r)) continue;
         path_matched = 1;
-        if (strcmp(routes[i].method, r->method) == 0) {
+        if (strcmp(routes[i].method, method) == 0) {
             row = &routes[i];
             break;
         }
         allow_method(r, routes[i].method);
+        if (strcmp(routes[i].method, "GET") == 0) allow_method(r, "HEAD");
     }
     if (!(row && (row->flags & RF_PUBLIC)) && !authorized(r)) {
         r->www_authenticate = 1;

@@ -49,6 +49,11 @@ static enum MHD_Result queue(tsd_request *r, unsigned status, struct MHD_Respons
     return ret;
 }
 
+int tsd_request_is_head(const tsd_request *r)
+{
+    return strcmp(r->method, "HEAD") == 0;
+}
+
 enum MHD_Result tsd_reply_text(tsd_request *r, unsigned status, const char *content_type,
                                const char *text, size_t len)
 {

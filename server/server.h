@@ -144,5 +144,11 @@ enum MHD_Result tsd_route(tsd_request *r);
 void tsd_routes_print(void);
 /* Query argument or NULL. */
 const char *tsd_arg(tsd_request *r, const char *name);
+/* Non-zero for a HEAD request (routed as GET). A reply whose body is made as
+ * it goes (chunked: stream, multipart frames) answers HEAD with
+ * tsd_reply_text(r, 200, type, "", 0) instead: libmicrohttpd 0.9.75 still
+ * sends the last chunk "0\r\n\r\n" after a HEAD's headers, which a keep-alive
+ * client would read as the start of its next response. */
+int tsd_request_is_head(const tsd_request *r);
 
 #endif

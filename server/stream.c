@@ -109,6 +109,8 @@ static void release(void *cls)
 enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx, int n, long since,
                                  int ndjson)
 {
+    const char *type = ndjson ? "application/x-ndjson" : "text/event-stream";
+    if (tsd_request_is_head(r)) return tsd_reply_text(r, MHD_HTTP_OK, type, "", 0);
     stream_ctx *c = calloc(1, sizeof *c);
     if (!c) return MHD_NO;
     c->rows = calloc((size_t)CHUNK_ROWS * (size_t)s->nch, sizeof *c->rows);
@@ -133,8 +135,7 @@ enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx,
         release(c);
         return MHD_NO;
     }
-    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE,
-                            ndjson ? "application/x-ndjson" : "text/event-stream");
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, type);
     MHD_add_response_header(resp, "Cache-Control", "no-store");
     MHD_add_response_header(resp, "X-Accel-Buffering", "no");
     r->status = MHD_HTTP_OK;

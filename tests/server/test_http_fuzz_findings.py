@@ -68,13 +68,13 @@ def test_last_event_id_not_utf8_is_400(daemon, sid):
 
 
 @pytest.mark.parametrize("method,path,allow", [
-    ("DELETE", "/v1/health", {"GET"}),
-    ("PUT", "/v1/sessions", {"GET", "POST"}),
-    ("PATCH", "/v1/sessions/{sid}", {"GET", "DELETE"}),
+    ("DELETE", "/v1/health", {"GET", "HEAD"}),
+    ("PUT", "/v1/sessions", {"GET", "HEAD", "POST"}),
+    ("PATCH", "/v1/sessions/{sid}", {"GET", "HEAD", "DELETE"}),
     ("GET", "/v1/sessions/{sid}/step", {"POST"}),
     ("POST", "/v1/operations/op0:cancel/", None),  # no such path: 404, no Allow
     ("DELETE", "/v1/operations/op0:cancel", {"POST"}),
-    ("FOO", "/", {"GET"}),
+    ("FOO", "/", {"GET", "HEAD"}),
 ])
 def test_405_lists_the_allowed_methods(daemon, sid, method, path, allow):
     r = requests.request(method, daemon.url + path.format(sid=sid))
