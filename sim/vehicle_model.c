@@ -78,6 +78,13 @@
 #define PI      TS_PI
 
 enum { QX, QZ, QT, QA0, QS0 = QA0 + VM_NRW };
+/* The coordinates the ASSEMBLED mass matrix depends on, bit for bit: theta
+ * and the road-arm angles (the body Jacobians, the tangent lines), and x, z
+ * (the tangent lines take differences of world body centres, so their
+ * rounding depends on x, z, though M does not mathematically); not the spins
+ * nor the span modes (M's span blocks are built from the tangent geometry and
+ * the spans' constant chord-frame matrices). */
+#define VM_NQ_MASS QS0
 
 const int vm_span_element[VM_NSPAN] = {0, 1, 2, 3, 10};
 const char *const vm_span_names[VM_NSPAN] = {"sprocket_rear_roller", "rear_roller_front_roller",
@@ -151,8 +158,8 @@ struct vm_work {
     double *M, *Q;
     double *P, *pb; /* nq x nq, nq: the mass matrix reordered for its Cholesky factor */
     int *pat;       /* nq (nq + 1): the factor's column patterns (dense_small.h) */
-    double *qf;     /* the coordinates of vm_rhs's factor in P ... */
-    int qf_ok;      /* ... when set (cleared by every other factorisation) */
+    double qf[VM_NQ_MASS + 1]; /* the mass coordinates and extra inertia of the factor in P */
+    int qf_ok;                 /* ... when set (cleared by every other factorisation) */
     double sx[2 + 2 * TS_SPAN_MAX_MODES], sxd[2 + 2 * TS_SPAN_MAX_MODES],
         sf[2 + 2 * TS_SPAN_MAX_MODES];
 };
@@ -1001,8 +1008,7 @@ vm_work *vm_work_make(const vm *v)
     w->P = calloc(nq * nq, sizeof(double));
     w->pb = calloc(nq, sizeof(double));
     w->pat = calloc(nq * (nq + 1), sizeof(int));
-    w->qf = calloc(nq, sizeof(double));
-    if (!w->M || !w->Q || !w->P || !w->pb || !w->pat || !w->qf) {
+    if (!w->M || !w->Q || !w->P || !w->pb || !w->pat) {
         vm_work_free(w);
         return NULL;
     }
@@ -1017,7 +1023,6 @@ void vm_work_free(vm_work *w)
     free(w->P);
     free(w->pb);
     free(w->pat);
-    free(w->qf);
     free(w);
 }
 
@@ -1466,50 +1471,65 @@ static int first_order(const vm *v, vm_work *w, const double *y, double *ydot)
     return chol_solve(w, w->M, ydot + nq, nq);
 }
 
-/* M depends on q alone: when q is bit for bit that of the factor left by the
- * previous vm_rhs (a difference-quotient Jacobian's velocity columns), M is
- * neither assembled nor factored again; the result is the same to the bit. */
-int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_diag *diag)
+/* The right-hand side with the mass matrix's factor cache: M depends on the
+ * VM_NQ_MASS coordinates alone (and the extra sprocket inertia), so when they
+ * are bit for bit those of the factor left by the previous call (a
+ * difference-quotient Jacobian's columns of the spins, span modes and every
+ * velocity), M is neither assembled nor factored again; the result is the
+ * same to the bit. drive_on: the prescribed /drive (vm_rhs); otherwise the
+ * caller's sprocket torque and inertia (vm_rhs_torque). */
+static int rhs_cached(const vm *v, vm_work *w, double t, const double *y, int drive_on,
+                      double sprocket_torque, double sprocket_inertia, double *ydot,
+                      vm_diag *diag)
 {
     int nq = v->nq;
-    size_t qsz = (size_t)nq * sizeof(double);
-    if (w->qf_ok && memcmp(w->qf, y, qsz) == 0) {
-        forces(v, w, t, y, y + nq, NULL, w->Q, 1, diag);
+    size_t qsz = (size_t)nq * sizeof(double), msz = VM_NQ_MASS * sizeof(double);
+    int hit = w->qf_ok && memcmp(w->qf, y, msz) == 0 && w->qf[VM_NQ_MASS] == sprocket_inertia;
+    forces(v, w, t, y, y + nq, hit ? NULL : w->M, w->Q, drive_on, diag);
+    if (!drive_on) {
+        /* the caller's torque on the sprocket spin, its reaction on the hull
+         * (as the drive in forces) */
+        w->Q[QS0 + VM_SPROCKET] += sprocket_torque;
+        w->Q[QT] -= sprocket_torque;
+        if (diag) {
+            diag->drive_torque = sprocket_torque;
+            diag->tension_quasi_static =
+                quasi_static_tension(v, diag->loop_stretch, sprocket_torque);
+        }
+    }
+    if (hit) {
         memcpy(ydot, y + nq, qsz);
         memcpy(ydot + nq, w->Q, qsz);
         chol_resolve(w, ydot + nq, nq);
         return 0;
     }
-    forces(v, w, t, y, y + nq, w->M, w->Q, 1, diag);
+    if (!drive_on) {
+        /* hull-mounted inertia turning with the sprocket: kinetic energy
+         * J/2 (Phi_s' - theta')^2 */
+        int is = QS0 + VM_SPROCKET;
+        w->M[is * nq + is] += sprocket_inertia;
+        w->M[QT * nq + QT] += sprocket_inertia;
+        w->M[is * nq + QT] -= sprocket_inertia;
+        w->M[QT * nq + is] -= sprocket_inertia;
+    }
     int rc = first_order(v, w, y, ydot);
     if (rc == 0) {
-        memcpy(w->qf, y, qsz);
+        memcpy(w->qf, y, msz);
+        w->qf[VM_NQ_MASS] = sprocket_inertia;
         w->qf_ok = 1;
     }
     return rc;
 }
 
+int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_diag *diag)
+{
+    return rhs_cached(v, w, t, y, 1, 0.0, 0.0, ydot, diag);
+}
+
 int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double sprocket_torque,
                   double sprocket_inertia, double *ydot, vm_diag *diag)
 {
-    int nq = v->nq;
-    const double *q = y, *qd = y + nq;
-    forces(v, w, t, q, qd, w->M, w->Q, 0, diag);
-    /* the caller's torque on the sprocket spin, its reaction on the hull (as the drive in forces)
-     */
-    w->Q[QS0 + VM_SPROCKET] += sprocket_torque;
-    w->Q[QT] -= sprocket_torque;
-    /* hull-mounted inertia turning with the sprocket: kinetic energy J/2 (Phi_s' - theta')^2 */
-    int is = QS0 + VM_SPROCKET;
-    w->M[is * nq + is] += sprocket_inertia;
-    w->M[QT * nq + QT] += sprocket_inertia;
-    w->M[is * nq + QT] -= sprocket_inertia;
-    w->M[QT * nq + is] -= sprocket_inertia;
-    if (diag) {
-        diag->drive_torque = sprocket_torque;
-        diag->tension_quasi_static = quasi_static_tension(v, diag->loop_stretch, sprocket_torque);
-    }
-    return first_order(v, w, y, ydot);
+    return rhs_cached(v, w, t, y, 0, sprocket_torque, sprocket_inertia, ydot, diag);
 }
 
 double vm_energy(const vm *v, vm_work *w, const double *y)
