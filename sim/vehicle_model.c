@@ -871,17 +871,30 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
             f0m[c] = m / 3.0 * ry0[c] + m / 6.0 * ry1[c];
             f1m[c] = m / 3.0 * ry1[c] + m / 6.0 * ry0[c];
         }
-        for (int c1 = 0; c1 < cs.n; c1++)
+        /* Without M only Mc's columns x, z (compact 0, 1) are needed, i.e.
+         * its upper triangle's rows 0 and 1. The row's own factors are held
+         * in locals and M is added to after the block is complete (the loop
+         * stored through M, so every factor was loaded again). */
+        int nrow = M ? cs.n : 2;
+        for (int c1 = 0; c1 < nrow; c1++) {
+            const double b0 = B[0][c1], b1 = B[1][c1], k0 = Cm[0][c1], k1 = Cm[1][c1];
+            const double x1 = rx[c1], y01 = ry0[c1], y11 = ry1[c1];
+            const double *ym = c1 >= cm0 ? Y[2 + c1 - cm0] : NULL;
             for (int c2 = c1; c2 < cs.n; c2++) {
-                double s = B[0][c1] * Y[0][c2] + B[1][c1] * Y[1][c2] + Cm[0][c1] * B[0][c2] +
-                           Cm[1][c1] * B[1][c2];
-                if (c1 >= cm0) s += Y[2 + c1 - cm0][c2];
+                double s = b0 * Y[0][c2] + b1 * Y[1][c2] + k0 * B[0][c2] + k1 * B[1][c2];
+                if (ym) s += ym[c2];
                 if (c2 >= cm0) s += Cm[2 + c2 - cm0][c1];
-                s += rx[c1] * fxm[c2] + ry0[c1] * f0m[c2] + ry1[c1] * f1m[c2];
+                s += x1 * fxm[c2] + y01 * f0m[c2] + y11 * f1m[c2];
                 Mc[c1][c2] = Mc[c2][c1] = s;
-                if (!M) continue; /* the velocity terms need Mc only */
-                M[cs.idx[c1] * nq + cs.idx[c2]] += s;
-                if (c2 != c1) M[cs.idx[c2] * nq + cs.idx[c1]] += s;
+            }
+        }
+        if (M) /* each entry of M gets one term from this span: the order is free */
+            for (int c1 = 0; c1 < cs.n; c1++) {
+                double *mr = M + (size_t)cs.idx[c1] * (size_t)nq;
+                for (int c2 = c1; c2 < cs.n; c2++) {
+                    mr[cs.idx[c2]] += Mc[c1][c2];
+                    if (c2 != c1) M[(size_t)cs.idx[c2] * (size_t)nq + (size_t)cs.idx[c1]] += Mc[c1][c2];
+                }
             }
         if (sb) span_pitch_terms(sb, &cs, Mc, (int)(se - v->span), Q);
     }
