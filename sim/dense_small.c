@@ -70,7 +70,12 @@ void ts_lu_solve(const double *a, int n, const int *piv, double *b)
     }
 }
 
-int ts_chol_factor(double *a, int n, int *pat)
+/* The Cholesky loops over a matrix seen through a stride: element k of the
+ * column-major array is a0[sg k], sg = +1 (the array itself) or -1 (a0 the
+ * array's LAST element: the matrix with its rows and columns in reverse
+ * order, J A J, without a copy). Inlined with a constant sg, so each entry
+ * gets the same operations in the same order either way. */
+static inline int chol_factor_s(double *a0, long sg, int n, int *pat)
 {
     /* right-looking, column-major lower: column j is scaled, then each trailing
      * column k with L_kj != 0 gets L_ij L_kj subtracted on the rows i >= k
@@ -78,48 +83,69 @@ int ts_chol_factor(double *a, int n, int *pat)
      * matrix ordered for little fill costs ~sum over j of nnz_j^2; the skipped
      * terms are exact zeros, so the result is that of the dense loop. */
     for (int j = 0; j < n; j++) {
-        double *cj = a + (long)j * n;
-        double d = cj[j];
+        double *cj = a0 + sg * (long)j * n;
+        double d = cj[sg * j];
         if (!(d > 0.0)) return j + 1;
         d = sqrt(d);
-        cj[j] = d;
+        cj[sg * j] = d;
         double inv = 1.0 / d;
         int *nz = pat + (long)j * (n + 1) + 1;
         int m = 0;
         for (int i = j + 1; i < n; i++)
-            if (cj[i] != 0.0) {
-                cj[i] *= inv;
+            if (cj[sg * i] != 0.0) {
+                cj[sg * i] *= inv;
                 nz[m++] = i;
             }
         nz[-1] = m;
         for (int r = 0; r < m; r++) {
             int k = nz[r];
-            double *ck = a + (long)k * n, f = cj[k];
+            double *ck = a0 + sg * (long)k * n, f = cj[sg * k];
             for (int t = r; t < m; t++)
-                ck[nz[t]] -= f * cj[nz[t]];
+                ck[sg * nz[t]] -= f * cj[sg * nz[t]];
         }
     }
     return 0;
 }
 
-void ts_chol_solve(const double *a, int n, const int *pat, double *b)
+/* b is seen through the same stride as a (b0 its last element when sg = -1). */
+static inline void chol_solve_s(const double *a0, long sg, int n, const int *pat, double *b0)
 {
     /* the column sweeps over each column's nonzero rows only */
     for (int j = 0; j < n; j++) { /* L y = b */
-        const double *cj = a + (long)j * n;
+        const double *cj = a0 + sg * (long)j * n;
         const int *nz = pat + (long)j * (n + 1);
-        b[j] /= cj[j];
-        double bj = b[j];
+        b0[sg * j] /= cj[sg * j];
+        double bj = b0[sg * j];
         if (bj != 0.0)
             for (int r = 1; r <= nz[0]; r++)
-                b[nz[r]] -= bj * cj[nz[r]];
+                b0[sg * nz[r]] -= bj * cj[sg * nz[r]];
     }
     for (int i = n - 1; i >= 0; i--) { /* L^T x = y: column i of L is row i of L^T */
-        const double *ci = a + (long)i * n;
+        const double *ci = a0 + sg * (long)i * n;
         const int *nz = pat + (long)i * (n + 1);
-        double s = b[i];
+        double s = b0[sg * i];
         for (int r = 1; r <= nz[0]; r++)
-            s -= ci[nz[r]] * b[nz[r]];
-        b[i] = s / ci[i];
+            s -= ci[sg * nz[r]] * b0[sg * nz[r]];
+        b0[sg * i] = s / ci[sg * i];
     }
+}
+
+int ts_chol_factor(double *a, int n, int *pat)
+{
+    return chol_factor_s(a, 1, n, pat);
+}
+
+void ts_chol_solve(const double *a, int n, const int *pat, double *b)
+{
+    chol_solve_s(a, 1, n, pat, b);
+}
+
+int ts_chol_factor_rev(double *a, int n, int *pat)
+{
+    return chol_factor_s(a + (long)n * n - 1, -1, n, pat);
+}
+
+void ts_chol_solve_rev(const double *a, int n, const int *pat, double *b)
+{
+    chol_solve_s(a + (long)n * n - 1, -1, n, pat, b + n - 1);
 }

@@ -156,7 +156,7 @@ struct vm {
 
 struct vm_work {
     double *M, *Q;
-    double *P, *pb; /* nq x nq, nq: the mass matrix reordered for its Cholesky factor */
+    double *P;      /* nq x nq: vm_rhs's mass matrix, then its Cholesky factor (chol_solve) */
     int *pat;       /* nq (nq + 1): the factor's column patterns (dense_small.h) */
     double qf[VM_NQ_MASS + 1]; /* the mass coordinates and extra inertia of the factor in P */
     int qf_ok;                 /* ... when set (cleared by every other factorisation) */
@@ -369,33 +369,20 @@ static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M
  * hull last: an arrowhead ordering) the factor fills in only along the spans'
  * couplings, and the zero-skipping factorisation does a fraction of the
  * dense work; the factor's column patterns are kept (w->pat) so the two
- * triangular sweeps skip its zeros too (same result). Uses w->P, w->pb, w->pat. */
-static int chol_solve(vm_work *w, const double *M, double *b, int n)
+ * triangular sweeps skip its zeros too (same result). The reversal is
+ * ts_chol_factor_rev's view of M, no copy: M (in w->P) is overwritten by its
+ * factor. Uses w->P, w->pat. */
+static int chol_solve(vm_work *w, double *b, int n)
 {
-    double *P = w->P, *pb = w->pb;
-    for (int i = 0; i < n; i++) {
-        const double *mi = M + (size_t)(n - 1 - i) * (size_t)n + (n - 1);
-        double *pi = P + (size_t)i * (size_t)n;
-        for (int j = i; j < n; j++) /* the lower triangle (column-major) is all it reads */
-            pi[j] = mi[-j];
-        pb[i] = b[n - 1 - i];
-    }
-    if (ts_chol_factor(P, n, w->pat) != 0) return 1;
-    ts_chol_solve(P, n, w->pat, pb);
-    for (int i = 0; i < n; i++)
-        b[n - 1 - i] = pb[i];
+    if (ts_chol_factor_rev(w->P, n, w->pat) != 0) return 1;
+    ts_chol_solve_rev(w->P, n, w->pat, b);
     return 0;
 }
 
 /* Solve with the factor chol_solve left in w->P (same reordering). */
 static void chol_resolve(vm_work *w, double *b, int n)
 {
-    double *pb = w->pb;
-    for (int i = 0; i < n; i++)
-        pb[i] = b[n - 1 - i];
-    ts_chol_solve(w->P, n, w->pat, pb);
-    for (int i = 0; i < n; i++)
-        b[n - 1 - i] = pb[i];
+    ts_chol_solve_rev(w->P, n, w->pat, b);
 }
 
 /* ---- forces ----------------------------------------------------------------- */
@@ -1019,9 +1006,8 @@ vm_work *vm_work_make(const vm *v)
     w->M = calloc(nq * nq, sizeof(double));
     w->Q = calloc(nq, sizeof(double));
     w->P = calloc(nq * nq, sizeof(double));
-    w->pb = calloc(nq, sizeof(double));
     w->pat = calloc(nq * (nq + 1), sizeof(int));
-    if (!w->M || !w->Q || !w->P || !w->pb || !w->pat) {
+    if (!w->M || !w->Q || !w->P || !w->pat) {
         vm_work_free(w);
         return NULL;
     }
@@ -1034,7 +1020,6 @@ void vm_work_free(vm_work *w)
     free(w->M);
     free(w->Q);
     free(w->P);
-    free(w->pb);
     free(w->pat);
     free(w);
 }
@@ -1474,14 +1459,14 @@ fail:
 
 /* ---- evaluation ------------------------------------------------------------ */
 
-/* ydot = [q_d, M^-1 Q] from the w->M, w->Q that forces() left. */
+/* ydot = [q_d, M^-1 Q] from the M (in w->P) and w->Q that forces() left. */
 static int first_order(const vm *v, vm_work *w, const double *y, double *ydot)
 {
     int nq = v->nq;
     w->qf_ok = 0;
     memcpy(ydot, y + nq, (size_t)nq * sizeof(double));
     memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
-    return chol_solve(w, w->M, ydot + nq, nq);
+    return chol_solve(w, ydot + nq, nq);
 }
 
 /* The right-hand side with the mass matrix's factor cache: M depends on the
@@ -1498,7 +1483,9 @@ static int rhs_cached(const vm *v, vm_work *w, double t, const double *y, int dr
     int nq = v->nq;
     size_t qsz = (size_t)nq * sizeof(double), msz = VM_NQ_MASS * sizeof(double);
     int hit = w->qf_ok && memcmp(w->qf, y, msz) == 0 && w->qf[VM_NQ_MASS] == sprocket_inertia;
-    forces(v, w, t, y, y + nq, hit ? NULL : w->M, w->Q, drive_on, diag);
+    /* M is assembled straight into w->P, where it is factored in place */
+    double *M = hit ? NULL : w->P;
+    forces(v, w, t, y, y + nq, M, w->Q, drive_on, diag);
     if (!drive_on) {
         /* the caller's torque on the sprocket spin, its reaction on the hull
          * (as the drive in forces) */
@@ -1520,10 +1507,10 @@ static int rhs_cached(const vm *v, vm_work *w, double t, const double *y, int dr
         /* hull-mounted inertia turning with the sprocket: kinetic energy
          * J/2 (Phi_s' - theta')^2 */
         int is = QS0 + VM_SPROCKET;
-        w->M[is * nq + is] += sprocket_inertia;
-        w->M[QT * nq + QT] += sprocket_inertia;
-        w->M[is * nq + QT] -= sprocket_inertia;
-        w->M[QT * nq + is] -= sprocket_inertia;
+        M[is * nq + is] += sprocket_inertia;
+        M[QT * nq + QT] += sprocket_inertia;
+        M[is * nq + QT] -= sprocket_inertia;
+        M[QT * nq + is] -= sprocket_inertia;
     }
     int rc = first_order(v, w, y, ydot);
     if (rc == 0) {
