@@ -45,6 +45,25 @@ int ts_lu_factor(double *a, int n, int *piv)
     return bad;
 }
 
+/* b[i] -= bk ck[i] for the rows i in [i0, i1), for the columns k of a block
+ * of four, in column order (k = 0..3) as the column-at-a-time sweep; the
+ * columns whose multiplier is zero are skipped, as there. One pass over b when
+ * all four are nonzero. */
+static void sweep4(double *b, int i0, int i1, const double *c[4], const double bk[4])
+{
+    if (bk[0] != 0.0 && bk[1] != 0.0 && bk[2] != 0.0 && bk[3] != 0.0) {
+        const double *c0 = c[0], *c1 = c[1], *c2 = c[2], *c3 = c[3];
+        double b0 = bk[0], b1 = bk[1], b2 = bk[2], b3 = bk[3];
+        for (int i = i0; i < i1; i++)
+            b[i] = b[i] - b0 * c0[i] - b1 * c1[i] - b2 * c2[i] - b3 * c3[i];
+        return;
+    }
+    for (int k = 0; k < 4; k++)
+        if (bk[k] != 0.0)
+            for (int i = i0; i < i1; i++)
+                b[i] -= bk[k] * c[k][i];
+}
+
 void ts_lu_solve(const double *a, int n, const int *piv, double *b)
 {
     for (int k = 0; k < n; k++)
@@ -53,14 +72,47 @@ void ts_lu_solve(const double *a, int n, const int *piv, double *b)
             b[k] = b[piv[k]];
             b[piv[k]] = t;
         }
-    for (int j = 0; j < n; j++) { /* L y = P b, unit diagonal, column sweep */
+    /* L y = P b, unit diagonal, column sweep; columns in blocks of four: the
+     * block's own 4 x 4 triangle first, column by column, then the rows below
+     * it in one pass (sweep4): every b[i] gets the subtractions of the
+     * column-at-a-time loop in the same order */
+    int j = 0;
+    for (; j + 4 <= n; j += 4) {
+        const double *c[4];
+        double bk[4];
+        for (int k = 0; k < 4; k++) {
+            c[k] = a + (long)(j + k) * n;
+            bk[k] = b[j + k];
+            if (bk[k] != 0.0)
+                for (int i = j + k + 1; i < j + 4; i++)
+                    b[i] -= bk[k] * c[k][i];
+        }
+        sweep4(b, j + 4, n, c, bk);
+    }
+    for (; j < n; j++) {
         const double *cj = a + (long)j * n;
         double bj = b[j];
         if (bj != 0.0)
             for (int i = j + 1; i < n; i++)
                 b[i] -= bj * cj[i];
     }
-    for (int j = n - 1; j >= 0; j--) { /* U x = y */
+    /* U x = y, from the last column; the same blocking (rows above the block) */
+    j = n - 1;
+    for (; j - 3 >= 0; j -= 4) {
+        const double *c[4];
+        double bk[4];
+        for (int k = 0; k < 4; k++) {
+            int jk = j - k;
+            c[k] = a + (long)jk * n;
+            b[jk] /= c[k][jk];
+            bk[k] = b[jk];
+            if (bk[k] != 0.0)
+                for (int i = j - 3; i < jk; i++)
+                    b[i] -= bk[k] * c[k][i];
+        }
+        sweep4(b, 0, j - 3, c, bk);
+    }
+    for (; j >= 0; j--) {
         const double *cj = a + (long)j * n;
         b[j] /= cj[j];
         double bj = b[j];

@@ -177,11 +177,24 @@ static int schur_solve(SUNLinearSolver ls, SUNMatrix A, N_Vector xv, N_Vector bv
     } else {
         for (int i = 0; i < h; i++)
             c->r[i] = x[h + i];
-        for (int j = 0; j < h; j++) { /* Mbl = -gamma J21, rounded as CVODE's A = I - gamma J */
-            double b1 = x[j];
-            const double *col = c->Mbl + (size_t)j * h;
+        /* r -= Mbl b1 (Mbl = -gamma J21, rounded as CVODE's A = I - gamma J),
+         * column by column; four columns per pass over r (each r[i] gets the
+         * same subtractions in the same order, one load and store of r[i]
+         * instead of four) */
+        double *r = c->r;
+        const double *mb = c->Mbl;
+        int j = 0;
+        for (; j + 4 <= h; j += 4) {
+            const double *c0 = mb + (size_t)j * h, *c1 = c0 + h, *c2 = c1 + h, *c3 = c2 + h;
+            double b0 = x[j], b1 = x[j + 1], b2 = x[j + 2], b3 = x[j + 3];
             for (int i = 0; i < h; i++)
-                c->r[i] -= col[i] * b1;
+                r[i] = r[i] - c0[i] * b0 - c1[i] * b1 - c2[i] * b2 - c3[i] * b3;
+        }
+        for (; j < h; j++) {
+            const double *c0 = mb + (size_t)j * h;
+            double b0 = x[j];
+            for (int i = 0; i < h; i++)
+                r[i] -= c0[i] * b0;
         }
         ts_lu_solve(c->S, h, c->piv, c->r);
         for (int i = 0; i < h; i++) {
