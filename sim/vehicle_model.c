@@ -100,8 +100,18 @@ typedef struct jcol {
     double v[4][2];
 } jcol;
 
+/* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
+ * spins of a and b, the modal coordinates. */
+typedef struct cset {
+    int n;
+    int idx[8 + 2 * TS_SPAN_MAX_MODES];
+} cset;
+
 typedef struct span_el {
     ts_span *sp;                             /* NULL when the element is a massless spring */
+    cset cs;       /* the span's compact columns (span_map_build), fixed by its end bodies */
+    int ci[2][4];  /* compact column of each Jacobian column of ends a (0) and b (1) */
+    int ci_spin[2]; /* compact columns of the spins of a and b */
     int elem;                                /* element index */
     int q0;                                  /* first modal coordinate in q */
     int nm;                                  /* modal coordinates */
@@ -387,12 +397,6 @@ static void chol_resolve(vm_work *w, double *b, int n)
 
 /* ---- forces ----------------------------------------------------------------- */
 
-/* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
- * spins of a and b, the modal coordinates. */
-typedef struct cset {
-    int n;
-    int idx[8 + 2 * TS_SPAN_MAX_MODES];
-} cset;
 /* The spans' kinetic energy t and momentum p (compact columns cols) at the
  * current q, with the spin rates qdv (= q_d with the spins zeroed): the base
  * point of the span velocity terms' differences, taken from the maps that
@@ -573,8 +577,6 @@ typedef struct span_map {
 static void span_map_build(const vm *v, const kin *k, const span_el *se, const elem *e, int a,
                            int b, span_map *mp)
 {
-    cset cs;
-    cs.n = 0;
     /* mp is this function's output: nothing in it is read before it is written */
     /* cppcheck-suppress ctuuninitvar */
     double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp->B;
@@ -588,7 +590,7 @@ static void span_map_build(const vm *v, const kin *k, const span_el *se, const e
         const jcol *j = side ? &k->j[b] : &k->j[a];
         double sg = side ? 1.0 : -1.0;
         for (int c = 0; c < j->n; c++) {
-            int ci = cset_add(&cs, j->idx[c]);
+            int ci = se->ci[side][c];
             double dpsi = sg * (e->n[0] * j->v[c][0] + e->n[1] * j->v[c][1]) / ell;
             /* dl/dc_b = u + (rho_a - rho_b)/l n (d = l u + (rho_a - rho_b) n) */
             double cr = (v->rho_b[a] - v->rho_b[b]) / ell;
@@ -604,18 +606,38 @@ static void span_map_build(const vm *v, const kin *k, const span_el *se, const e
             }
         }
     }
-    B[0][cset_add(&cs, QS0 + a)] += v->rho_b[a];
-    B[1][cset_add(&cs, QS0 + b)] += v->rho_b[b];
-    for (int m = 0; m < se->nm; m++) /* unique to this span: no search */
-        cs.idx[cs.n++] = se->q0 + m;
-    mp->cs = cs;
+    B[0][se->ci_spin[0]] += v->rho_b[a];
+    B[1][se->ci_spin[1]] += v->rho_b[b];
+    mp->cs = se->cs;
+}
+
+/* The compact columns of span se (ends a, b): end a's Jacobian columns, end
+ * b's not already there, the two spins, the modes; and where each Jacobian
+ * column lands (span_map_build). Fixed by the bodies, found once. */
+static void span_columns(const vm *v, span_el *se)
+{
+    int a = se->elem, b = (se->elem + 1) % VM_NB;
+    double q0[VM_NQ_RIGID] = {0};
+    kin k;
+    kinematics_of(v, q0, NULL, 1u << a | 1u << b, &k); /* only the column indices are read */
+    cset *cs = &se->cs;
+    cs->n = 0;
+    for (int side = 0; side < 2; side++) {
+        const jcol *j = side ? &k.j[b] : &k.j[a];
+        for (int c = 0; c < j->n; c++)
+            se->ci[side][c] = cset_add(cs, j->idx[c]);
+    }
+    se->ci_spin[0] = cset_add(cs, QS0 + a);
+    se->ci_spin[1] = cset_add(cs, QS0 + b);
+    for (int m = 0; m < se->nm; m++) /* unique to this span */
+        cs->idx[cs->n++] = se->q0 + m;
 }
 
 /* Kinetic energy of a span (its own motion in the chord frame, the frame's,
- * and their cross terms) and its momentum p_c = dT/d(q_d) on the compact
- * columns (p may be NULL). Consistent with the mass-matrix block assembled in
- * span_element: p = M_span q_d. */
-static double span_ke(const span_el *se, const span_map *mp, const double *qd, double *p)
+ * and their cross terms) and its momentum p_c = dT/d(q_d) on the first np
+ * compact columns (p may be NULL; np = mp->cs.n: all). Consistent with the
+ * mass-matrix block assembled in span_element: p = M_span q_d. */
+static double span_ke(const span_el *se, const span_map *mp, const double *qd, double *p, int np)
 {
     const ts_span *sp = se->sp;
     int n = sp->n, nc = mp->cs.n;
@@ -647,7 +669,7 @@ static double span_ke(const span_el *se, const span_map *mp, const double *qd, d
     }
     t += 0.5 * m * fx * fx + m / 6.0 * (fy0 * fy0 + fy0 * fy1 + fy1 * fy1);
     if (p)
-        for (int c = 0; c < nc; c++) {
+        for (int c = 0; c < np; c++) {
             double s = 0;
             for (int r = 0; r < 2 && r < n; r++)
                 s += mp->B[r][c] * mx[r];
@@ -677,7 +699,7 @@ static void arm_spans_at(const vm *v, const double *qs, const double *qd, double
         span_map mp;
         tangent(v, &k, se->elem, &e);
         span_map_build(v, &k, se, &e, a, b, &mp);
-        t[s] = span_ke(se, &mp, qd, p[s]);
+        t[s] = span_ke(se, &mp, qd, p[s], mp.cs.n);
     }
 }
 
@@ -772,7 +794,10 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
     span_map_build(v, k, se, e, a, b, &mp);
     if (sb) {
         int s = (int)(se - v->span);
-        sb->t[s] = span_ke(se, &mp, sb->qdv, sb->p[s]);
+        /* the spans between hull-mounted bodies enter only the pitch terms,
+         * which read p on the x, z columns (compact 0, 1) alone */
+        int np = a < VM_RW1 && b < VM_RW1 ? 2 : mp.cs.n;
+        sb->t[s] = span_ke(se, &mp, sb->qdv, sb->p[s], np);
         sb->cols[s] = mp.cs;
     }
     const cset cs = mp.cs;
@@ -1230,6 +1255,7 @@ static ts_rc build_spans(vm *v, ts_err *err)
         se->len = v->ell0[el];
         q0 += se->nm;
         v->span_of[el] = se;
+        span_columns(v, se);
         /* frame-coupling integrals from the span's load vectors: rho int N_i
          * (longitudinal rows) and, for the transverse frame velocity
          * interpolated between the ends, rho int (1 - s/L) phi_k = ay - sy/L and
