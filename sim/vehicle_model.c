@@ -887,8 +887,7 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
          * its upper triangle's rows 0 and 1. The row's own factors are held
          * in locals and M is added to after the block is complete (the loop
          * stored through M, so every factor was loaded again). */
-        int nrow = M ? cs.n : 2;
-        for (int c1 = 0; c1 < nrow; c1++) {
+        for (int c1 = 0; c1 < cs.n && (M || c1 < 2); c1++) {
             const double b0 = B[0][c1], b1 = B[1][c1], k0 = Cm[0][c1], k1 = Cm[1][c1];
             const double x1 = rx[c1], y01 = ry0[c1], y11 = ry1[c1];
             const double *ym = c1 >= cm0 ? Y[2 + c1 - cm0] : NULL;
