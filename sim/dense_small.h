@@ -34,4 +34,15 @@ int ts_chol_factor(double *a, int n, int *pat);
  * only the recorded rows (again the dense sweeps' result). */
 void ts_chol_solve(const double *a, int n, const int *pat, double *b);
 
+/* The same two in REVERSED order, in place and without a copy: factor J a J
+ * (J the exchange matrix: rows and columns n-1..0) as ts_chol_factor would
+ * factor that reordered copy, leaving its L at the reversed positions (the
+ * copy's element k at a[n n - 1 - k]; so its lower triangle is a's upper
+ * one, column-major), and solve a x = b with it, b and x in a's own order.
+ * Bit for bit the results of reversing, calling ts_chol_factor /
+ * ts_chol_solve and reversing back. For a matrix whose dense rows come first
+ * (e.g. a vehicle's hull coordinates): eliminated last, they fill in little. */
+int ts_chol_factor_rev(double *a, int n, int *pat);
+void ts_chol_solve_rev(const double *a, int n, const int *pat, double *b);
+
 #endif

@@ -78,6 +78,13 @@
 #define PI      TS_PI
 
 enum { QX, QZ, QT, QA0, QS0 = QA0 + VM_NRW };
+/* The coordinates the ASSEMBLED mass matrix depends on, bit for bit: theta
+ * and the road-arm angles (the body Jacobians, the tangent lines), and x, z
+ * (the tangent lines take differences of world body centres, so their
+ * rounding depends on x, z, though M does not mathematically); not the spins
+ * nor the span modes (M's span blocks are built from the tangent geometry and
+ * the spans' constant chord-frame matrices). */
+#define VM_NQ_MASS QS0
 
 const int vm_span_element[VM_NSPAN] = {0, 1, 2, 3, 10};
 const char *const vm_span_names[VM_NSPAN] = {"sprocket_rear_roller", "rear_roller_front_roller",
@@ -93,8 +100,18 @@ typedef struct jcol {
     double v[4][2];
 } jcol;
 
+/* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
+ * spins of a and b, the modal coordinates. */
+typedef struct cset {
+    int n;
+    int idx[8 + 2 * TS_SPAN_MAX_MODES];
+} cset;
+
 typedef struct span_el {
     ts_span *sp;                             /* NULL when the element is a massless spring */
+    cset cs;       /* the span's compact columns (span_map_build), fixed by its end bodies */
+    int ci[2][4];  /* compact column of each Jacobian column of ends a (0) and b (1) */
+    int ci_spin[2]; /* compact columns of the spins of a and b */
     int elem;                                /* element index */
     int q0;                                  /* first modal coordinate in q */
     int nm;                                  /* modal coordinates */
@@ -150,10 +167,10 @@ struct vm {
 
 struct vm_work {
     double *M, *Q;
-    double *P, *pb; /* nq x nq, nq: the mass matrix reordered for its Cholesky factor */
+    double *P;      /* nq x nq: vm_rhs's mass matrix, then its Cholesky factor (chol_solve) */
     int *pat;       /* nq (nq + 1): the factor's column patterns (dense_small.h) */
-    double *qf;     /* the coordinates of vm_rhs's factor in P ... */
-    int qf_ok;      /* ... when set (cleared by every other factorisation) */
+    double qf[VM_NQ_MASS + 1]; /* the mass coordinates and extra inertia of the factor in P */
+    int qf_ok;                 /* ... when set (cleared by every other factorisation) */
     double sx[2 + 2 * TS_SPAN_MAX_MODES], sxd[2 + 2 * TS_SPAN_MAX_MODES],
         sf[2 + 2 * TS_SPAN_MAX_MODES];
 };
@@ -363,43 +380,24 @@ static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M
  * hull last: an arrowhead ordering) the factor fills in only along the spans'
  * couplings, and the zero-skipping factorisation does a fraction of the
  * dense work; the factor's column patterns are kept (w->pat) so the two
- * triangular sweeps skip its zeros too (same result). Uses w->P, w->pb, w->pat. */
-static int chol_solve(vm_work *w, const double *M, double *b, int n)
+ * triangular sweeps skip its zeros too (same result). The reversal is
+ * ts_chol_factor_rev's view of M, no copy: M (in w->P) is overwritten by its
+ * factor. Uses w->P, w->pat. */
+static int chol_solve(vm_work *w, double *b, int n)
 {
-    double *P = w->P, *pb = w->pb;
-    for (int i = 0; i < n; i++) {
-        const double *mi = M + (size_t)(n - 1 - i) * (size_t)n + (n - 1);
-        double *pi = P + (size_t)i * (size_t)n;
-        for (int j = i; j < n; j++) /* the lower triangle (column-major) is all it reads */
-            pi[j] = mi[-j];
-        pb[i] = b[n - 1 - i];
-    }
-    if (ts_chol_factor(P, n, w->pat) != 0) return 1;
-    ts_chol_solve(P, n, w->pat, pb);
-    for (int i = 0; i < n; i++)
-        b[n - 1 - i] = pb[i];
+    if (ts_chol_factor_rev(w->P, n, w->pat) != 0) return 1;
+    ts_chol_solve_rev(w->P, n, w->pat, b);
     return 0;
 }
 
 /* Solve with the factor chol_solve left in w->P (same reordering). */
 static void chol_resolve(vm_work *w, double *b, int n)
 {
-    double *pb = w->pb;
-    for (int i = 0; i < n; i++)
-        pb[i] = b[n - 1 - i];
-    ts_chol_solve(w->P, n, w->pat, pb);
-    for (int i = 0; i < n; i++)
-        b[n - 1 - i] = pb[i];
+    ts_chol_solve_rev(w->P, n, w->pat, b);
 }
 
 /* ---- forces ----------------------------------------------------------------- */
 
-/* Compact column set of one span: hull (x, z, theta), the arms of a and b, the
- * spins of a and b, the modal coordinates. */
-typedef struct cset {
-    int n;
-    int idx[8 + 2 * TS_SPAN_MAX_MODES];
-} cset;
 /* The spans' kinetic energy t and momentum p (compact columns cols) at the
  * current q, with the spin rates qdv (= q_d with the spins zeroed): the base
  * point of the span velocity terms' differences, taken from the maps that
@@ -582,8 +580,6 @@ typedef struct span_map {
 static void span_map_build(const vm *v, const kin *k, const span_el *se, const elem *e, int a,
                            int b, span_map *mp)
 {
-    cset cs;
-    cs.n = 0;
     /* mp is this function's output: nothing in it is read before it is written */
     /* cppcheck-suppress ctuuninitvar */
     double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp->B;
@@ -597,7 +593,7 @@ static void span_map_build(const vm *v, const kin *k, const span_el *se, const e
         const jcol *j = side ? &k->j[b] : &k->j[a];
         double sg = side ? 1.0 : -1.0;
         for (int c = 0; c < j->n; c++) {
-            int ci = cset_add(&cs, j->idx[c]);
+            int ci = se->ci[side][c];
             double dpsi = sg * (e->n[0] * j->v[c][0] + e->n[1] * j->v[c][1]) / ell;
             /* dl/dc_b = u + (rho_a - rho_b)/l n (d = l u + (rho_a - rho_b) n) */
             double cr = (v->rho_b[a] - v->rho_b[b]) / ell;
@@ -613,18 +609,38 @@ static void span_map_build(const vm *v, const kin *k, const span_el *se, const e
             }
         }
     }
-    B[0][cset_add(&cs, QS0 + a)] += v->rho_b[a];
-    B[1][cset_add(&cs, QS0 + b)] += v->rho_b[b];
-    for (int m = 0; m < se->nm; m++) /* unique to this span: no search */
-        cs.idx[cs.n++] = se->q0 + m;
-    mp->cs = cs;
+    B[0][se->ci_spin[0]] += v->rho_b[a];
+    B[1][se->ci_spin[1]] += v->rho_b[b];
+    mp->cs = se->cs;
+}
+
+/* The compact columns of span se (ends a, b): end a's Jacobian columns, end
+ * b's not already there, the two spins, the modes; and where each Jacobian
+ * column lands (span_map_build). Fixed by the bodies, found once. */
+static void span_columns(const vm *v, span_el *se)
+{
+    int a = se->elem, b = (se->elem + 1) % VM_NB;
+    double q0[VM_NQ_RIGID] = {0};
+    kin k;
+    kinematics_of(v, q0, NULL, 1u << a | 1u << b, &k); /* only the column indices are read */
+    cset *cs = &se->cs;
+    cs->n = 0;
+    for (int side = 0; side < 2; side++) {
+        const jcol *j = side ? &k.j[b] : &k.j[a];
+        for (int c = 0; c < j->n; c++)
+            se->ci[side][c] = cset_add(cs, j->idx[c]);
+    }
+    se->ci_spin[0] = cset_add(cs, QS0 + a);
+    se->ci_spin[1] = cset_add(cs, QS0 + b);
+    for (int m = 0; m < se->nm; m++) /* unique to this span */
+        cs->idx[cs->n++] = se->q0 + m;
 }
 
 /* Kinetic energy of a span (its own motion in the chord frame, the frame's,
- * and their cross terms) and its momentum p_c = dT/d(q_d) on the compact
- * columns (p may be NULL). Consistent with the mass-matrix block assembled in
- * span_element: p = M_span q_d. */
-static double span_ke(const span_el *se, const span_map *mp, const double *qd, double *p)
+ * and their cross terms) and its momentum p_c = dT/d(q_d) on the first np
+ * compact columns (p may be NULL; np = mp->cs.n: all). Consistent with the
+ * mass-matrix block assembled in span_element: p = M_span q_d. */
+static double span_ke(const span_el *se, const span_map *mp, const double *qd, double *p, int np)
 {
     const ts_span *sp = se->sp;
     int n = sp->n, nc = mp->cs.n;
@@ -656,7 +672,7 @@ static double span_ke(const span_el *se, const span_map *mp, const double *qd, d
     }
     t += 0.5 * m * fx * fx + m / 6.0 * (fy0 * fy0 + fy0 * fy1 + fy1 * fy1);
     if (p)
-        for (int c = 0; c < nc; c++) {
+        for (int c = 0; c < np; c++) {
             double s = 0;
             for (int r = 0; r < 2 && r < n; r++)
                 s += mp->B[r][c] * mx[r];
@@ -686,7 +702,7 @@ static void arm_spans_at(const vm *v, const double *qs, const double *qd, double
         span_map mp;
         tangent(v, &k, se->elem, &e);
         span_map_build(v, &k, se, &e, a, b, &mp);
-        t[s] = span_ke(se, &mp, qd, p[s]);
+        t[s] = span_ke(se, &mp, qd, p[s], mp.cs.n);
     }
 }
 
@@ -781,7 +797,10 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
     span_map_build(v, k, se, e, a, b, &mp);
     if (sb) {
         int s = (int)(se - v->span);
-        sb->t[s] = span_ke(se, &mp, sb->qdv, sb->p[s]);
+        /* the spans between hull-mounted bodies enter only the pitch terms,
+         * which read p on the x, z columns (compact 0, 1) alone */
+        int np = a < VM_RW1 && b < VM_RW1 ? 2 : mp.cs.n;
+        sb->t[s] = span_ke(se, &mp, sb->qdv, sb->p[s], np);
         sb->cols[s] = mp.cs;
     }
     const cset cs = mp.cs;
@@ -870,17 +889,29 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
             f0m[c] = m / 3.0 * ry0[c] + m / 6.0 * ry1[c];
             f1m[c] = m / 3.0 * ry1[c] + m / 6.0 * ry0[c];
         }
-        for (int c1 = 0; c1 < cs.n; c1++)
+        /* Without M only Mc's columns x, z (compact 0, 1) are needed, i.e.
+         * its upper triangle's rows 0 and 1. The row's own factors are held
+         * in locals and M is added to after the block is complete (the loop
+         * stored through M, so every factor was loaded again). */
+        for (int c1 = 0; c1 < cs.n && (M || c1 < 2); c1++) {
+            const double b0 = B[0][c1], b1 = B[1][c1], k0 = Cm[0][c1], k1 = Cm[1][c1];
+            const double x1 = rx[c1], y01 = ry0[c1], y11 = ry1[c1];
+            const double *ym = c1 >= cm0 ? Y[2 + c1 - cm0] : NULL;
             for (int c2 = c1; c2 < cs.n; c2++) {
-                double s = B[0][c1] * Y[0][c2] + B[1][c1] * Y[1][c2] + Cm[0][c1] * B[0][c2] +
-                           Cm[1][c1] * B[1][c2];
-                if (c1 >= cm0) s += Y[2 + c1 - cm0][c2];
+                double s = b0 * Y[0][c2] + b1 * Y[1][c2] + k0 * B[0][c2] + k1 * B[1][c2];
+                if (ym) s += ym[c2];
                 if (c2 >= cm0) s += Cm[2 + c2 - cm0][c1];
-                s += rx[c1] * fxm[c2] + ry0[c1] * f0m[c2] + ry1[c1] * f1m[c2];
+                s += x1 * fxm[c2] + y01 * f0m[c2] + y11 * f1m[c2];
                 Mc[c1][c2] = Mc[c2][c1] = s;
-                if (!M) continue; /* the velocity terms need Mc only */
-                M[cs.idx[c1] * nq + cs.idx[c2]] += s;
-                if (c2 != c1) M[cs.idx[c2] * nq + cs.idx[c1]] += s;
+            }
+        }
+        if (M) /* each entry of M gets one term from this span: the order is free */
+            for (int c1 = 0; c1 < cs.n; c1++) {
+                double *mr = M + (size_t)cs.idx[c1] * (size_t)nq;
+                for (int c2 = c1; c2 < cs.n; c2++) {
+                    mr[cs.idx[c2]] += Mc[c1][c2];
+                    if (c2 != c1) M[(size_t)cs.idx[c2] * (size_t)nq + (size_t)cs.idx[c1]] += Mc[c1][c2];
+                }
             }
         if (sb) span_pitch_terms(sb, &cs, Mc, (int)(se - v->span), Q);
     }
@@ -1008,10 +1039,8 @@ vm_work *vm_work_make(const vm *v)
     w->M = calloc(nq * nq, sizeof(double));
     w->Q = calloc(nq, sizeof(double));
     w->P = calloc(nq * nq, sizeof(double));
-    w->pb = calloc(nq, sizeof(double));
     w->pat = calloc(nq * (nq + 1), sizeof(int));
-    w->qf = calloc(nq, sizeof(double));
-    if (!w->M || !w->Q || !w->P || !w->pb || !w->pat || !w->qf) {
+    if (!w->M || !w->Q || !w->P || !w->pat) {
         vm_work_free(w);
         return NULL;
     }
@@ -1024,9 +1053,7 @@ void vm_work_free(vm_work *w)
     free(w->M);
     free(w->Q);
     free(w->P);
-    free(w->pb);
     free(w->pat);
-    free(w->qf);
     free(w);
 }
 
@@ -1236,6 +1263,7 @@ static ts_rc build_spans(vm *v, ts_err *err)
         se->len = v->ell0[el];
         q0 += se->nm;
         v->span_of[el] = se;
+        span_columns(v, se);
         /* frame-coupling integrals from the span's load vectors: rho int N_i
          * (longitudinal rows) and, for the transverse frame velocity
          * interpolated between the ends, rho int (1 - s/L) phi_k = ay - sy/L and
@@ -1466,60 +1494,77 @@ fail:
 
 /* ---- evaluation ------------------------------------------------------------ */
 
-/* ydot = [q_d, M^-1 Q] from the w->M, w->Q that forces() left. */
+/* ydot = [q_d, M^-1 Q] from the M (in w->P) and w->Q that forces() left. */
 static int first_order(const vm *v, vm_work *w, const double *y, double *ydot)
 {
     int nq = v->nq;
     w->qf_ok = 0;
     memcpy(ydot, y + nq, (size_t)nq * sizeof(double));
     memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
-    return chol_solve(w, w->M, ydot + nq, nq);
+    return chol_solve(w, ydot + nq, nq);
 }
 
-/* M depends on q alone: when q is bit for bit that of the factor left by the
- * previous vm_rhs (a difference-quotient Jacobian's velocity columns), M is
- * neither assembled nor factored again; the result is the same to the bit. */
-int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_diag *diag)
+/* The right-hand side with the mass matrix's factor cache: M depends on the
+ * VM_NQ_MASS coordinates alone (and the extra sprocket inertia), so when they
+ * are bit for bit those of the factor left by the previous call (a
+ * difference-quotient Jacobian's columns of the spins, span modes and every
+ * velocity), M is neither assembled nor factored again; the result is the
+ * same to the bit. drive_on: the prescribed /drive (vm_rhs); otherwise the
+ * caller's sprocket torque and inertia (vm_rhs_torque). */
+static int rhs_cached(const vm *v, vm_work *w, double t, const double *y, int drive_on,
+                      double sprocket_torque, double sprocket_inertia, double *ydot,
+                      vm_diag *diag)
 {
     int nq = v->nq;
-    size_t qsz = (size_t)nq * sizeof(double);
-    if (w->qf_ok && memcmp(w->qf, y, qsz) == 0) {
-        forces(v, w, t, y, y + nq, NULL, w->Q, 1, diag);
+    size_t qsz = (size_t)nq * sizeof(double), msz = VM_NQ_MASS * sizeof(double);
+    int hit = w->qf_ok && memcmp(w->qf, y, msz) == 0 && w->qf[VM_NQ_MASS] == sprocket_inertia;
+    /* M is assembled straight into w->P, where it is factored in place */
+    double *M = hit ? NULL : w->P;
+    forces(v, w, t, y, y + nq, M, w->Q, drive_on, diag);
+    if (!drive_on) {
+        /* the caller's torque on the sprocket spin, its reaction on the hull
+         * (as the drive in forces) */
+        w->Q[QS0 + VM_SPROCKET] += sprocket_torque;
+        w->Q[QT] -= sprocket_torque;
+        if (diag) {
+            diag->drive_torque = sprocket_torque;
+            diag->tension_quasi_static =
+                quasi_static_tension(v, diag->loop_stretch, sprocket_torque);
+        }
+    }
+    if (hit) {
         memcpy(ydot, y + nq, qsz);
         memcpy(ydot + nq, w->Q, qsz);
         chol_resolve(w, ydot + nq, nq);
         return 0;
     }
-    forces(v, w, t, y, y + nq, w->M, w->Q, 1, diag);
+    if (!drive_on) {
+        /* hull-mounted inertia turning with the sprocket: kinetic energy
+         * J/2 (Phi_s' - theta')^2 */
+        int is = QS0 + VM_SPROCKET;
+        M[is * nq + is] += sprocket_inertia;
+        M[QT * nq + QT] += sprocket_inertia;
+        M[is * nq + QT] -= sprocket_inertia;
+        M[QT * nq + is] -= sprocket_inertia;
+    }
     int rc = first_order(v, w, y, ydot);
     if (rc == 0) {
-        memcpy(w->qf, y, qsz);
+        memcpy(w->qf, y, msz);
+        w->qf[VM_NQ_MASS] = sprocket_inertia;
         w->qf_ok = 1;
     }
     return rc;
 }
 
+int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_diag *diag)
+{
+    return rhs_cached(v, w, t, y, 1, 0.0, 0.0, ydot, diag);
+}
+
 int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double sprocket_torque,
                   double sprocket_inertia, double *ydot, vm_diag *diag)
 {
-    int nq = v->nq;
-    const double *q = y, *qd = y + nq;
-    forces(v, w, t, q, qd, w->M, w->Q, 0, diag);
-    /* the caller's torque on the sprocket spin, its reaction on the hull (as the drive in forces)
-     */
-    w->Q[QS0 + VM_SPROCKET] += sprocket_torque;
-    w->Q[QT] -= sprocket_torque;
-    /* hull-mounted inertia turning with the sprocket: kinetic energy J/2 (Phi_s' - theta')^2 */
-    int is = QS0 + VM_SPROCKET;
-    w->M[is * nq + is] += sprocket_inertia;
-    w->M[QT * nq + QT] += sprocket_inertia;
-    w->M[is * nq + QT] -= sprocket_inertia;
-    w->M[QT * nq + is] -= sprocket_inertia;
-    if (diag) {
-        diag->drive_torque = sprocket_torque;
-        diag->tension_quasi_static = quasi_static_tension(v, diag->loop_stretch, sprocket_torque);
-    }
-    return first_order(v, w, y, ydot);
+    return rhs_cached(v, w, t, y, 0, sprocket_torque, sprocket_inertia, ydot, diag);
 }
 
 double vm_energy(const vm *v, vm_work *w, const double *y)

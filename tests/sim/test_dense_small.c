@@ -57,6 +57,56 @@ static void lu_solves_random_systems(void **state)
     }
 }
 
+/* The column-at-a-time LU sweeps (Golub & Van Loan Alg. 3.4.1's solve): the
+ * reference the blocked ts_lu_solve must reproduce bit for bit. */
+static void plain_lu_solve(const double *a, int n, const int *piv, double *b)
+{
+    for (int k = 0; k < n; k++)
+        if (piv[k] != k) {
+            double t = b[k];
+            b[k] = b[piv[k]];
+            b[piv[k]] = t;
+        }
+    for (int j = 0; j < n; j++) {
+        double bj = b[j];
+        if (bj != 0.0)
+            for (int i = j + 1; i < n; i++)
+                b[i] -= bj * a[i + j * n];
+    }
+    for (int j = n - 1; j >= 0; j--) {
+        b[j] /= a[j + j * n];
+        double bj = b[j];
+        if (bj != 0.0)
+            for (int i = 0; i < j; i++)
+                b[i] -= bj * a[i + j * n];
+    }
+}
+
+/* ts_lu_solve (blocked four columns at a time) gives the column-at-a-time
+ * sweeps' bits, for every n up to NMAX (every remainder of the blocking), with
+ * right-hand sides that have zeros (the skipped columns) and without. */
+static void lu_solve_blocked_is_the_plain_sweep(void **state)
+{
+    (void)state;
+    unsigned seed = 5;
+    for (int n = 1; n <= NMAX; n++)
+        for (int zeros = 0; zeros < 2; zeros++) {
+            double F[NMAX * NMAX], x[NMAX], xr[NMAX];
+            int piv[NMAX];
+            for (int i = 0; i < n * n; i++)
+                F[i] = urand(&seed);
+            for (int i = 0; i < n; i++)
+                F[i + i * n] += 2.0;
+            assert_int_equal(ts_lu_factor(F, n, piv), 0);
+            for (int i = 0; i < n; i++)
+                x[i] = zeros && (i < n / 2 || i % 3 == 1) ? 0.0 : urand(&seed);
+            memcpy(xr, x, sizeof(double) * (size_t)n);
+            ts_lu_solve(F, n, piv, x);
+            plain_lu_solve(F, n, piv, xr);
+            assert_memory_equal(x, xr, sizeof(double) * (size_t)n);
+        }
+}
+
 /* EVIDENCE: a singular matrix (two equal columns) reports the failing pivot. */
 static void lu_reports_singular(void **state)
 {
@@ -160,12 +210,62 @@ static void cholesky_solves_spd_and_refuses_indefinite(void **state)
     assert_int_equal(ts_chol_factor(A, 2, pat), 2);
 }
 
+/* ts_chol_factor_rev / ts_chol_solve_rev are ts_chol_factor / ts_chol_solve
+ * of the reversed copy (J A J, b reversed), bit for bit: the factor at the
+ * reversed positions, the same column patterns, the same solution; on an
+ * arrowhead with its dense rows FIRST (last after the reversal) and on a
+ * dense SPD matrix. */
+static void reversed_cholesky_is_the_reversed_copys(void **state)
+{
+    (void)state;
+    unsigned seed = 11;
+    for (int pass = 0; pass < 2; pass++)
+        for (int n = 1; n <= NMAX; n += 2) {
+            double A[NMAX * NMAX], R[NMAX * NMAX], b[NMAX], x[NMAX], xr[NMAX];
+            int nn = n * n;
+            memset(A, 0, sizeof A);
+            for (int i = 0; i < n; i++)
+                A[i + i * n] = 4.0 + urand(&seed);
+            for (int h = 0; h < (pass ? n : (n < 3 ? n : 3)); h++) /* dense rows 0..2 */
+                for (int i = 0; i < n; i++)
+                    if (i != h) {
+                        double c = 0.3 * urand(&seed) / sqrt((double)n);
+                        A[i + h * n] = A[h + i * n] = c;
+                    }
+            for (int k = 0; k < nn; k++)
+                R[k] = A[nn - 1 - k];
+            for (int i = 0; i < n; i++)
+                b[i] = urand(&seed);
+            for (int i = 0; i < n; i++)
+                xr[i] = b[n - 1 - i];
+            int pat[NMAX * (NMAX + 1)], patr[NMAX * (NMAX + 1)];
+            assert_int_equal(ts_chol_factor(R, n, patr), 0);
+            ts_chol_solve(R, n, patr, xr);
+            memcpy(x, b, sizeof(double) * (size_t)n);
+            assert_int_equal(ts_chol_factor_rev(A, n, pat), 0);
+            ts_chol_solve_rev(A, n, pat, x);
+            for (int i = 0; i < n; i++)
+                assert_true(x[i] == xr[n - 1 - i]);
+            for (int j = 0; j < n; j++) {
+                assert_memory_equal(pat + j * (n + 1), patr + j * (n + 1),
+                                    sizeof(int) * (size_t)(patr[j * (n + 1)] + 1));
+                for (int i = j; i < n; i++) /* the copy's L, at the reversed positions */
+                    assert_true(A[nn - 1 - (i + j * n)] == R[i + j * n]);
+            }
+        }
+    double A[4] = {1, 2, 2, 1};
+    int pat[2 * 3];
+    assert_int_equal(ts_chol_factor_rev(A, 2, pat), 2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(lu_solves_random_systems),
         cmocka_unit_test(lu_reports_singular),
+        cmocka_unit_test(lu_solve_blocked_is_the_plain_sweep),
         cmocka_unit_test(cholesky_solves_spd_and_refuses_indefinite),
+        cmocka_unit_test(reversed_cholesky_is_the_reversed_copys),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
