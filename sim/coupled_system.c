@@ -608,6 +608,7 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
                          .max_steps = 1000000,
                          .nroots = ts_powertrain_nroots(c->pt),
                          .roots = mono_roots,
+                         .small_dense = 1,
                          .max_order = VM_BDF_MAX_ORDER,
                          .jac_eval_frequency = VM_JAC_EVAL_STEPS};
         r->mono = ts_ode_make(n, mono_rhs, r, &o, err);
