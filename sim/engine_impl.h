@@ -90,6 +90,13 @@ static inline double en_gas_dTdt_s(const en_gas_state *s, double m, double dEdt,
  * linearised within 1 % of equal pressures. gamma from the upstream side. */
 double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2, double T2,
                   double R2, double g2);
+/* Two orifices between the same sides (areas cda_a, cda_b; downstream
+ * temperatures T2a, T2b used only for reverse flow): *m_a, *m_b as en_orifice
+ * gives each (bitwise), with one evaluation of the pressure-ratio function
+ * for forward flow (the turbine nozzle and the wastegate bypass). */
+void en_orifice_pair(double cda_a, double cda_b, double p1, double T1, double R1, double g1,
+                     double p2, double T2a, double T2b, double R2, double g2, double *m_a,
+                     double *m_b);
 
 /* ---- cylinder kinematics and valves (engine_cylinder.c) ------------------- */
 typedef struct en_geom {
@@ -208,6 +215,10 @@ void en_compressor(const en_turbo *t, double w, double p01, double T01, double p
  * p4 at rotor speed w. */
 void en_turbine(const en_turbo *t, double a_t, double w, double p03, double T03, double R,
                 double cp, double p4, en_turb_out *o);
+/* en_turbine given its nozzle flow mdot [kg/s] (en_orifice at a_t, the same
+ * sides; en_exhaust_outflow computes it with the wastegate's). */
+void en_turbine_flow(const en_turbo *t, double mdot, double w, double p03, double T03, double R,
+                     double cp, double p4, en_turb_out *o);
 /* Turbine geometry at crank speed omega [rad/s] from the open-loop schedule
  * (/engine/turb_sched_*, linear, held beyond the ends): nozzle effective
  * area [m^2] (turbo.a_t x turb_sched_nozzle), factor on the wastegate

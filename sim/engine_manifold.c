@@ -38,13 +38,35 @@ static double psi(double pr, double g)
     return sqrt(v > 0 ? v : 0);
 }
 
+/* Forward flow through area cda = upstream factor pu / sqrt(Ru Tu) x cda x
+ * the ratio factor of pr = pd / pu (psi, or its linearisation near 1). The
+ * ratio factor depends on (pr, gu) alone: flow_ratio computes it once,
+ * flow_area applies it to one area (en_exhaust_pair: two orifices, one psi). */
+typedef struct flow_ratio {
+    double pr, psi; /* psi(pr, gu), or psi(LIN_RATIO, gu) when linearised */
+    int lin;        /* pr > LIN_RATIO */
+} flow_ratio;
+
+static flow_ratio ratio_of(double pu, double gu, double pd)
+{
+    flow_ratio r;
+    r.pr = pd / pu;
+    r.lin = r.pr > LIN_RATIO; /* linear through zero: no infinite slope at equal pressures */
+    r.psi = psi(r.lin ? LIN_RATIO : r.pr, gu);
+    return r;
+}
+
+static double flow_area(const flow_ratio *r, double cda, double pu, double sRT)
+{
+    double base = cda * pu / sRT;
+    if (r->lin) return base * r->psi * (1.0 - r->pr) / (1.0 - LIN_RATIO);
+    return base * r->psi;
+}
+
 static double flow1(double cda, double pu, double Tu, double Ru, double gu, double pd)
 {
-    double pr = pd / pu;
-    double base = cda * pu / sqrt(Ru * Tu);
-    if (pr > LIN_RATIO) /* linear through zero: no infinite slope at equal pressures */
-        return base * psi(LIN_RATIO, gu) * (1.0 - pr) / (1.0 - LIN_RATIO);
-    return base * psi(pr, gu);
+    flow_ratio r = ratio_of(pu, gu, pd);
+    return flow_area(&r, cda, pu, sqrt(Ru * Tu));
 }
 
 double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2, double T2,
@@ -53,6 +75,21 @@ double en_orifice(double cda, double p1, double T1, double R1, double g1, double
     if (cda <= 0) return 0.0;
     if (p1 >= p2) return flow1(cda, p1, T1, R1, g1, p2);
     return -flow1(cda, p2, T2, R2, g2, p1);
+}
+
+void en_orifice_pair(double cda_a, double cda_b, double p1, double T1, double R1, double g1,
+                     double p2, double T2a, double T2b, double R2, double g2, double *m_a,
+                     double *m_b)
+{
+    if (p1 < p2 || cda_a <= 0 || cda_b <= 0) { /* reverse (downstream T differs) or one shut */
+        *m_a = en_orifice(cda_a, p1, T1, R1, g1, p2, T2a, R2, g2);
+        *m_b = en_orifice(cda_b, p1, T1, R1, g1, p2, T2b, R2, g2);
+        return;
+    }
+    flow_ratio r = ratio_of(p1, g1, p2);
+    double sRT = sqrt(R1 * T1);
+    *m_a = flow_area(&r, cda_a, p1, sRT);
+    *m_b = flow_area(&r, cda_b, p1, sRT);
 }
 
 /* Pneumatic actuator: boost on the diaphragm against the spring preload
@@ -105,11 +142,15 @@ void en_exhaust_outflow(const ts_engine *e, double omega, double w_tc, const en_
     const ts_engine_config *c = &e->c;
     double R_em = s_em->R, cp_em = s_em->cp;
     en_turb_geometry tg = en_turb_schedule(e, omega);
-    en_turbine(&e->turbo, tg.a_t, w_tc, o->p_em, o->T_em, R_em, cp_em, p_amb, to);
     double area = tg.gate * en_wastegate_open(c, o->p_im) * c->wg_area + tg.bypass;
-    double g_em = cp_em / (cp_em - R_em);
-    double m =
-        en_orifice(area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R_em, g_em);
+    double g_em = cp_em / (cp_em - R_em); /* en_turbine's gamma (the same operations) */
+    /* turbine nozzle and bypass see the same upstream gas and pressure ratio:
+     * one psi for both (the values en_orifice gives each; the turbine's reverse
+     * flow carries the manifold temperature, the bypass's the ambient one) */
+    double m_t, m;
+    en_orifice_pair(tg.a_t, area, o->p_em, o->T_em, R_em, g_em, p_amb, o->T_em, T_amb, R_em, g_em,
+                    &m_t, &m);
+    en_turbine_flow(&e->turbo, m_t, w_tc, o->p_em, o->T_em, R_em, cp_em, p_amb, to);
     *m_wg = m > 0 ? m : 0;
 }
 

@@ -83,8 +83,15 @@ void en_turbine(const en_turbo *t, double a_t, double w, double p03, double T03,
                 double cp, double p4, en_turb_out *o)
 {
     double g = cp / (cp - R);
+    en_turbine_flow(t, en_orifice(a_t, p03, T03, R, g, p4, T03, R, g), w, p03, T03, R, cp, p4, o);
+}
+
+void en_turbine_flow(const en_turbo *t, double mdot, double w, double p03, double T03, double R,
+                     double cp, double p4, en_turb_out *o)
+{
+    double g = cp / (cp - R);
     double pr = p4 / p03; /* <= 1 for forward flow */
-    o->mdot = en_orifice(a_t, p03, T03, R, g, p4, T03, R, g);
+    o->mdot = mdot;
     if (pr >= 1.0 || o->mdot <= 0) {
         o->power = 0.0;
         o->eta = 0.0;
