@@ -244,6 +244,10 @@ enum { CX_M, CX_T, CX_MB, CX_IGN, CX_BURN, CX_KMEAN, CX_KTURB, EN_CYL_NX };
 enum { BX_ICM, BX_ICT, BX_IMM, BX_IMT, BX_IMF, BX_EMM, BX_EMT, BX_EMF, BX_TC, EN_BANK_NX };
 /* Ledger (cumulative integrals), order of ts_engine_ledger's first fields. */
 enum { LX_FUEL_E, LX_WORK, LX_WALL, LX_HIN, LX_HOUT, LX_MIN, LX_MOUT, LX_MFUEL, EN_LEDGER_NX };
+/* crank_angle: states before the walls (off_wall) and wall nodes: compile-time
+ * sizes of the stepper's vector loops (constant trip counts vectorise) */
+#define EN_CRANK_NGAS (2 + EN_NBANK * EN_BANK_NX + EN_LEDGER_NX + 2 + EN_NCYL * EN_CYL_NX)
+#define EN_CRANK_NWALLX (EN_NCYL * EN_NSURF * EN_WALL_NODES)
 
 struct ts_engine {
     ts_engine_config c; /* copy of the section */
@@ -264,6 +268,9 @@ struct ts_engine {
      * - 4 pi n) for n = 0, 1, 2 wraps of the local angle; cos and sin */
     double valve_k[2], valve_cos[2][EN_NCYL][3], valve_sin[2][EN_NCYL][3];
     int cyl_bank[EN_NCYL];
+    /* crank_angle: the error-controlled stepper's scale of each non-wall state
+     * (ts_engine_atol at 1; the ledger's infinite: not controlled), built once */
+    double bs_scale[EN_CRANK_NGAS];
     double turbo_inertia_scale; /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
     double thermal_scale;       /* 1, shrunk by ts_engine_steady (coolant, oil capacities) */
 };
