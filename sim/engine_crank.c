@@ -130,8 +130,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     double sp_half = c->stroke * wp / EN_PI / 2.0; /* half the mean piston speed */
     en_bank_out bo[EN_NBANK];
     /* the manifolds' gas (handed on to en_bank_rhs with the compressor) */
-    en_bank_flows bf[EN_NBANK];
-    memset(bf, 0, sizeof bf);
+    en_bank_flows bf[EN_NBANK]; /* every field set below (no memset: a rep stos per call) */
     double g_im[EN_NBANK], g_em[EN_NBANK], rho_im[EN_NBANK];
     double air = 0;
     for (int b = 0; b < EN_NBANK; b++) {
@@ -140,6 +139,8 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
               xb[BX_EMT] > 100 && xb[BX_ICT] > 100))
             return 1;
         double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
+        bf[b].m_in = bf[b].h_in = bf[b].mf_in = 0.0; /* the cylinders' sums */
+        bf[b].m_ex = bf[b].h_ex = bf[b].mf_ex = 0.0;
         bf[b].omega = w;
         bf[b].have_co = 1;
         en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &bf[b].co);
@@ -180,7 +181,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         F = F < 0.0 ? 0.0 : F > 1.0 ? 1.0 : F;
         en_gas_state gs;
         en_gas_eval(g, T, F, &gs);
-        double R = gs.R, cp = gs.cp, gam = cp / gs.cv;
+        double R = gs.R, cp = gs.cp;
         double p = m * R * T * iV;
         double rho = m * iV;
         /* valves */
@@ -193,6 +194,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         const en_bank_out *o = &bo[b];
         const en_gas_state *si = &bf[b].s_im, *se = &bf[b].s_em;
         double mi = 0, me = 0, hi = 0, fi = 0, he = 0, fe = 0;
+        double gam = a_iv > 0 || a_ev > 0 ? cp / gs.cv : 0.0; /* a division: valves open only */
         if (a_iv > 0) {
             mi = en_orifice(a_iv, o->p_im, o->T_im, si->R, g_im[b], p, T, R, gam);
             hi = mi >= 0 ? mi * si->h : mi * gs.h;
