@@ -125,7 +125,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     const en_gas *g = &e->gas;
     const en_geom *geo = &e->geom;
     double w = x[TS_ENGINE_X_SPEED], th = x[TS_ENGINE_X_ANGLE];
-    double wp = fmax(w, 1.0);
+    double wp = en_atleast(w, 1.0);
     double n_rpm = wp * EN_RPM;
     double sp_half = c->stroke * wp / EN_PI / 2.0; /* half the mean piston speed */
     en_bank_out bo[EN_NBANK];
@@ -221,13 +221,13 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
             ds = w;
             if (s < c->burn_duration && mf_cyc > 0) {
                 double tau = s / c->burn_duration;
-                double tau_id_ms = 1e3 * fmax(a_soi - s, 0.0) / wp;
-                double X, dX, phi = mf_cyc * c->afr_stoich / fmax(m - mb, 1e-9);
+                double tau_id_ms = 1e3 * en_atleast(a_soi - s, 0.0) / wp;
+                double X, dX, phi = mf_cyc * c->afr_stoich / en_atleast(m - mb, 1e-9);
                 en_watson_tau wt;
                 en_watson_pre(&e->watson, tau, tau_id_ms, n_rpm, &wt);
                 en_watson_phi(&e->watson, &wt, phi, &X, &dX);
                 /* overall phi of the cycle: air trapped before burning began */
-                phi = mf_cyc * c->afr_stoich / fmax(m - mb + mf_cyc * X * c->afr_stoich, 1e-9);
+                phi = mf_cyc * c->afr_stoich / en_atleast(m - mb + mf_cyc * X * c->afr_stoich, 1e-9);
                 en_watson_phi(&e->watson, &wt, phi, &X, &dX);
                 mfb = mf_cyc * dX / c->burn_duration * wp;
                 burning = 1;
@@ -366,8 +366,8 @@ static void wall_part(const ts_engine *e, const double *x, const ts_engine_input
     if (out) out->piston_surface_temp = x[e->off_wall + EN_PISTON * EN_WALL_NODES];
     xdot[e->off_ledger + LX_WALL] = led_wall;
     /* coolant and oil: thermostat opens over 4 K around the set point */
-    double open_c = fmin(fmax((T_cool - c->coolant_temp + 2.0) / 4.0, 0.0), 1.0);
-    double open_o = fmin(fmax((T_oil - c->oil_temp + 2.0) / 4.0, 0.0), 1.0);
+    double open_c = en_atmost(en_atleast((T_cool - c->coolant_temp + 2.0) / 4.0, 0.0), 1.0);
+    double open_o = en_atmost(en_atleast((T_oil - c->oil_temp + 2.0) / 4.0, 0.0), 1.0);
     xdot[e->off_coolant] = (q_cool - open_c * c->coolant_ua * (T_cool - in->T_amb)) /
                            (c->coolant_capacity * e->thermal_scale);
     xdot[e->off_coolant + 1] = (q_oil - open_o * c->oil_ua * (T_oil - in->T_amb)) /
@@ -416,7 +416,7 @@ double en_crank_next_switch(const ts_engine *e, const double *x, const double *x
                             double *ign)
 {
     const ts_engine_config *c = &e->c;
-    double th = wrap(x[TS_ENGINE_X_ANGLE]), w = fmax(x[TS_ENGINE_X_SPEED], 1.0);
+    double th = wrap(x[TS_ENGINE_X_ANGLE]), w = en_atleast(x[TS_ENGINE_X_SPEED], 1.0);
     /* local angles where the clocks' right-hand sides switch */
     const double sw[4] = {wrap(EN_CYCLE - c->soi), wrap(LW_WINDOW - c->soi), RESET_START,
                           RESET_END};

@@ -35,6 +35,12 @@
 #define EN_SIGMA 5.670374e-8    /* Stefan-Boltzmann [W/m^2/K^4] */
 #define EN_FRICTION_FADE 5.0  /* friction torque x tanh(w / this) [rad/s]: smoothing at rest */
 
+/* fmax(x, lo) and fmin(x, hi) for a bound lo, hi that is never NaN, inline
+ * (libm's are calls; the right-hand sides take ~15 per evaluation): the same
+ * value, x when it passes the bound, else the bound (also for NaN x). */
+static inline double en_atleast(double x, double lo) { return x > lo ? x : lo; }
+static inline double en_atmost(double x, double hi) { return x < hi ? x : hi; }
+
 /* ---- gas (engine_gas.c) --------------------------------------------------- */
 typedef struct en_gas {
     double cp_a[4], cp_b[4]; /* cp polynomials in t = T/1000 [J/kg/K] */

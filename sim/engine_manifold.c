@@ -100,7 +100,7 @@ void en_orifice_pair(double cda_a, double cda_b, double p1, double T1, double R1
 #define WG_ROUND 0.02
 double en_wastegate_open(const ts_engine_config *c, double p_boost)
 {
-    double t = (p_boost - c->wg_crack) / fmax(c->wg_full - c->wg_crack, 1.0);
+    double t = (p_boost - c->wg_crack) / en_atleast(c->wg_full - c->wg_crack, 1.0);
     const double d = WG_ROUND;
     if (t <= -d) return 0.0;
     if (t < d) return (t + d) * (t + d) / (4.0 * d);
@@ -113,10 +113,10 @@ void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o)
 {
     const en_gas *g = &e->gas;
     o->T_im = xb[BX_IMT];
-    o->F_im = fmin(fmax(xb[BX_IMF], 0), 1);
+    o->F_im = en_atmost(en_atleast(xb[BX_IMF], 0), 1);
     o->p_im = xb[BX_IMM] * en_gas_r(g, o->F_im) * o->T_im / e->c.intake_volume;
     o->T_em = xb[BX_EMT];
-    o->F_em = fmin(fmax(xb[BX_EMF], 0), 1);
+    o->F_em = en_atmost(en_atleast(xb[BX_EMF], 0), 1);
     o->p_em = xb[BX_EMM] * en_gas_r(g, o->F_em) * o->T_em / e->c.exhaust_volume;
     o->turbo_speed = xb[BX_TC];
     o->air_flow = 0;
@@ -214,7 +214,7 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     /* rotor: J dw/dt = (eta_m P_t - P_c) / w (Section III.B.1) */
     double w = xb[BX_TC];
     double J = e->turbo.inertia * e->turbo_inertia_scale;
-    xd[BX_TC] = (e->turbo.mech_eff * to.power - co.power) / (J * fmax(w, 200.0));
+    xd[BX_TC] = (e->turbo.mech_eff * to.power - co.power) / (J * en_atleast(w, 200.0));
     if (w <= 0 && xd[BX_TC] < 0) xd[BX_TC] = 0;
     o->air_flow = co.mdot;
 }

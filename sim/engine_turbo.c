@@ -53,7 +53,7 @@ void en_compressor(const en_turbo *t, double w, double p01, double T01, double p
     double k = (GAMMA_AIR - 1.0) / GAMMA_AIR;
     double pr = p02 / p01;
     double dh = CP_AIR_TURBO * T01 * (pow(pr, k) - 1.0);
-    double U = fmax(w, 0.0) * t->d_c / 2.0;
+    double U = en_atleast(w, 0.0) * t->d_c / 2.0;
     double rho = p01 / (t->r_air * T01);
     double arg = U * U - dh / t->psi0;
     double mdot = arg > 0 ? rho * t->d_c * t->d_c * t->phi_ch * sqrt(arg) : 0.0;
@@ -99,7 +99,7 @@ void en_turbine_flow(const en_turbo *t, double mdot, double w, double p03, doubl
     }
     double dh = cp * T03 * (1.0 - pow(pr, (g - 1.0) / g));
     double cs = sqrt(2.0 * dh);
-    double bsr = fmax(w, 0.0) * t->d_t / 2.0 / fmax(cs, 1e-6) / t->bsr_opt;
+    double bsr = en_atleast(w, 0.0) * t->d_t / 2.0 / en_atleast(cs, 1e-6) / t->bsr_opt;
     double eta = t->eta_t * (2.0 * bsr - bsr * bsr);
     if (eta < 0) eta = 0;
     o->eta = eta;
