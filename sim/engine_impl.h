@@ -179,11 +179,37 @@ typedef struct en_cascade_in {
     double K, k;          /* mean-flow and turbulent kinetic energy [J] */
 } en_cascade_in;
 /* Energy cascade: dK/dt, dk/dt; returns the length scale L_I and u' through
- * pointers. */
-void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, double *dk, double *L,
-                double *u_turb, double *U_mean);
-/* Convective coefficient [W/m^2/K]: Nu = a Re^b on length L with velocity u. */
-double en_htc(double a, double b, double rho, double u, double L, double T, double cp);
+ * pointers. Convective coefficient [W/m^2/K]: Nu = a Re^b on length L with
+ * velocity u. Inline (engine_heat.c describes them): twelve calls each per
+ * crank-angle right-hand side evaluation. */
+#define EN_PRANDTL 0.7 /* gas Prandtl number (engine_heat.c) */
+
+static inline void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, double *dk,
+                double *L, double *u_turb, double *U_mean)
+{
+    double m = c->m;
+    double Lh = c->V / c->area;
+    if (Lh > c->bore / 2) Lh = c->bore / 2;
+    double K = c->K > 0.0 ? c->K : 0.0, k = c->k > 1e-9 ? c->k : 1e-9;
+    double im = 1.0 / m, iL = 1.0 / Lh, skm = sqrt(k * im); /* sqrt(k / m) */
+    double up = sqrt(2.0 / 3.0) * skm;                    /* sqrt(2 k / (3 m)) */
+    double P = 0.3307 * cbeta * (K * iL) * skm;
+    double eps = up * up * up * iL;
+    double out_m = c->mdot_out * im;
+    *dK = 0.5 * c->mdot_in * c->v_in * c->v_in - P - K * out_m;
+    *dk = P - m * eps - k * out_m + rdt * (2.0 / 3.0) * k * c->drho_rho;
+    *L = Lh;
+    *u_turb = up;
+    *U_mean = sqrt(2.0 * K * im);
+}
+
+static inline double en_htc(double a, double b, double rho, double u, double L, double T, double cp)
+{
+    /* h = a Re^b lambda / L with lambda = mu cp / Pr, mu = 3.3e-7 T^0.7:
+     *   h = (a cp / (Pr L)) (rho u L)^b mu^(1 - b), one exp and two logs */
+    double lmu = log(3.3e-7) + 0.7 * log(T > 200.0 ? T : 200.0);
+    return a * cp / (EN_PRANDTL * L) * exp(b * log(rho * u * L) + (1.0 - b) * lmu);
+}
 
 /* ---- walls (engine_wall.c) ------------------------------------------------ */
 #define EN_WALL_NODES 11 /* vertex-centred nodes through one wall, node 0 on the gas side */
