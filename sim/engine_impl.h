@@ -91,11 +91,68 @@ static inline double en_gas_dTdt_s(const en_gas_state *s, double m, double dEdt,
 }
 
 /* ---- orifice flow (engine_manifold.c) ------------------------------------- */
-/* Mass flow [kg/s] from side 1 to side 2 (negative: reverse) through effective
- * area cda, quasi-steady compressible (choked above the critical ratio),
- * linearised within 1 % of equal pressures. gamma from the upstream side. */
-double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2, double T2,
-                  double R2, double g2);
+/* en_orifice: mass flow [kg/s] from side 1 to side 2 (negative: reverse)
+ * through effective area cda, quasi-steady compressible (choked above the
+ * critical ratio), linearised within 1 % of equal pressures. gamma from the
+ * upstream side. Inline with its parts (every open valve of the crank-angle
+ * right-hand side calls it). */
+#define EN_LIN_RATIO 0.99 /* below 1 % pressure difference the flow is linearised */
+
+/* Flow function Psi(pr) with pr = p_down / p_up <= 1:
+ *   Psi^2 = 2 g/(g-1) (pr^(2/g) - pr^((g+1)/g)) = 2 g/(g-1) a (a - pr),  a = pr^(1/g),
+ * clamped at the critical ratio pr_c = (2/(g+1))^(g/(g-1)). In terms of a,
+ * Psi^2 ~ a^2 - a^(g+1) peaks where a^(g-1) = pr / a = 2/(g+1), so the flow is
+ * choked exactly when (g+1) pr < 2 a (no logarithm of the critical ratio), and
+ * there Psi_c = sqrt(2 g/(g+1)) a_c, a_c = (2/(g+1))^(1/(g-1)). One log and one
+ * exp per unchoked call (same value to rounding as the textbook powers). */
+static inline double en_psi(double pr, double g)
+{
+    double a = exp(log(pr) / g);
+    if ((g + 1.0) * pr < 2.0 * a) /* past the critical ratio: choked */
+        return sqrt(2.0 * g / (g + 1.0)) * exp(log(2.0 / (g + 1.0)) / (g - 1.0));
+    double v = 2.0 * g / (g - 1.0) * a * (a - pr);
+    return sqrt(v > 0 ? v : 0);
+}
+
+/* Forward flow through area cda = upstream factor pu / sqrt(Ru Tu) x cda x
+ * the ratio factor of pr = pd / pu (psi, or its linearisation near 1). The
+ * ratio factor depends on (pr, gu) alone: en_ratio_of computes it once,
+ * en_flow_area applies it to one area (en_orifice_pair: two orifices, one psi). */
+typedef struct en_flow_ratio {
+    double pr, psi; /* psi(pr, gu), or psi(EN_LIN_RATIO, gu) when linearised */
+    int lin;        /* pr > EN_LIN_RATIO */
+} en_flow_ratio;
+
+static inline en_flow_ratio en_ratio_of(double pu, double gu, double pd)
+{
+    en_flow_ratio r;
+    r.pr = pd / pu;
+    r.lin = r.pr > EN_LIN_RATIO; /* linear through zero: no infinite slope at equal pressures */
+    r.psi = en_psi(r.lin ? EN_LIN_RATIO : r.pr, gu);
+    return r;
+}
+
+static inline double en_flow_area(const en_flow_ratio *r, double cda, double pu, double sRT)
+{
+    double base = cda * pu / sRT;
+    if (r->lin) return base * r->psi * (1.0 - r->pr) / (1.0 - EN_LIN_RATIO);
+    return base * r->psi;
+}
+
+static inline double en_flow1(double cda, double pu, double Tu, double Ru, double gu, double pd)
+{
+    en_flow_ratio r = en_ratio_of(pu, gu, pd);
+    return en_flow_area(&r, cda, pu, sqrt(Ru * Tu));
+}
+
+static inline double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2, double T2,
+                  double R2, double g2)
+{
+    if (cda <= 0) return 0.0;
+    if (p1 >= p2) return en_flow1(cda, p1, T1, R1, g1, p2);
+    return -en_flow1(cda, p2, T2, R2, g2, p1);
+}
+
 /* Two orifices between the same sides (areas cda_a, cda_b; downstream
  * temperatures T2a, T2b used only for reverse flow): *m_a, *m_b as en_orifice
  * gives each (bitwise), with one evaluation of the pressure-ratio function

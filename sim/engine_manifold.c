@@ -20,62 +20,9 @@
 
 #include "engine_impl.h"
 
-#define LIN_RATIO 0.99 /* below 1 % pressure difference the flow is linearised */
-
-/* Flow function Psi(pr) with pr = p_down / p_up <= 1:
- *   Psi^2 = 2 g/(g-1) (pr^(2/g) - pr^((g+1)/g)) = 2 g/(g-1) a (a - pr),  a = pr^(1/g),
- * clamped at the critical ratio pr_c = (2/(g+1))^(g/(g-1)). In terms of a,
- * Psi^2 ~ a^2 - a^(g+1) peaks where a^(g-1) = pr / a = 2/(g+1), so the flow is
- * choked exactly when (g+1) pr < 2 a (no logarithm of the critical ratio), and
- * there Psi_c = sqrt(2 g/(g+1)) a_c, a_c = (2/(g+1))^(1/(g-1)). One log and one
- * exp per unchoked call (same value to rounding as the textbook powers). */
-static double psi(double pr, double g)
-{
-    double a = exp(log(pr) / g);
-    if ((g + 1.0) * pr < 2.0 * a) /* past the critical ratio: choked */
-        return sqrt(2.0 * g / (g + 1.0)) * exp(log(2.0 / (g + 1.0)) / (g - 1.0));
-    double v = 2.0 * g / (g - 1.0) * a * (a - pr);
-    return sqrt(v > 0 ? v : 0);
-}
-
-/* Forward flow through area cda = upstream factor pu / sqrt(Ru Tu) x cda x
- * the ratio factor of pr = pd / pu (psi, or its linearisation near 1). The
- * ratio factor depends on (pr, gu) alone: flow_ratio computes it once,
- * flow_area applies it to one area (en_exhaust_pair: two orifices, one psi). */
-typedef struct flow_ratio {
-    double pr, psi; /* psi(pr, gu), or psi(LIN_RATIO, gu) when linearised */
-    int lin;        /* pr > LIN_RATIO */
-} flow_ratio;
-
-static flow_ratio ratio_of(double pu, double gu, double pd)
-{
-    flow_ratio r;
-    r.pr = pd / pu;
-    r.lin = r.pr > LIN_RATIO; /* linear through zero: no infinite slope at equal pressures */
-    r.psi = psi(r.lin ? LIN_RATIO : r.pr, gu);
-    return r;
-}
-
-static double flow_area(const flow_ratio *r, double cda, double pu, double sRT)
-{
-    double base = cda * pu / sRT;
-    if (r->lin) return base * r->psi * (1.0 - r->pr) / (1.0 - LIN_RATIO);
-    return base * r->psi;
-}
-
-static double flow1(double cda, double pu, double Tu, double Ru, double gu, double pd)
-{
-    flow_ratio r = ratio_of(pu, gu, pd);
-    return flow_area(&r, cda, pu, sqrt(Ru * Tu));
-}
-
-double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2, double T2,
-                  double R2, double g2)
-{
-    if (cda <= 0) return 0.0;
-    if (p1 >= p2) return flow1(cda, p1, T1, R1, g1, p2);
-    return -flow1(cda, p2, T2, R2, g2, p1);
-}
+/* The orifice equation (psi, en_orifice and their parts) is static inline in
+ * engine_impl.h: the crank-angle right-hand side calls it for every open
+ * valve. */
 
 void en_orifice_pair(double cda_a, double cda_b, double p1, double T1, double R1, double g1,
                      double p2, double T2a, double T2b, double R2, double g2, double *m_a,
@@ -86,10 +33,10 @@ void en_orifice_pair(double cda_a, double cda_b, double p1, double T1, double R1
         *m_b = en_orifice(cda_b, p1, T1, R1, g1, p2, T2b, R2, g2);
         return;
     }
-    flow_ratio r = ratio_of(p1, g1, p2);
+    en_flow_ratio r = en_ratio_of(p1, g1, p2);
     double sRT = sqrt(R1 * T1);
-    *m_a = flow_area(&r, cda_a, p1, sRT);
-    *m_b = flow_area(&r, cda_b, p1, sRT);
+    *m_a = en_flow_area(&r, cda_a, p1, sRT);
+    *m_b = en_flow_area(&r, cda_b, p1, sRT);
 }
 
 /* Pneumatic actuator: boost on the diaphragm against the spring preload
