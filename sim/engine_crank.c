@@ -318,6 +318,15 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     return 0;
 }
 
+/* Gas-side heat flux [W/m^2] into a wall at surface temperature Ts:
+ * convection, and radiation eps sigma (T^4 - Ts^4) while fuel burns. */
+static inline double gas_flux(const en_cyl_part *cp_, double eps_sigma, double Ts)
+{
+    double flux = cp_->h * (cp_->T - Ts);
+    if (cp_->burning) flux += eps_sigma * (cp_->T4 - Ts * Ts * Ts * Ts);
+    return flux;
+}
+
 /* The wall heat fluxes and what depends on them (cylinder temperatures, wall
  * ledger, coolant and oil, walls unless frozen) and the crankshaft (load). */
 static void wall_part(const ts_engine *e, const double *x, const ts_engine_inputs *in,
@@ -328,35 +337,43 @@ static void wall_part(const ts_engine *e, const double *x, const ts_engine_input
     double w = x[TS_ENGINE_X_SPEED];
     double T_cool = x[e->off_coolant], T_oil = x[e->off_coolant + 1];
     double q_cool = 0, q_oil = 0, led_wall = 0;
+    const double eps_sigma = c->emissivity * EN_SIGMA;
+    const double g_back[EN_NSURF] = {e->wall[EN_PISTON].cond[EN_WALL_NODES - 1],
+                                     e->wall[EN_HEAD].cond[EN_WALL_NODES - 1],
+                                     e->wall[EN_LINER].cond[EN_WALL_NODES - 1]};
     for (int i = 0; i < EN_NCYL; i++) {
         const en_cyl_part *cp_ = &pc->cyl[i];
-        double T = cp_->T, h = cp_->h, T4 = cp_->T4;
+        /* the three surfaces written out (the operations of a loop over them):
+         * piston (sink: oil), head and exposed liner (sink: coolant) */
+        int ow = i * EN_NSURF * EN_WALL_NODES;
+        const double *xp = x + e->off_wall + ow, *xh = xp + EN_WALL_NODES,
+                     *xl = xp + 2 * EN_WALL_NODES;
+        double fp = gas_flux(cp_, eps_sigma, xp[0]);
+        double fh = gas_flux(cp_, eps_sigma, xh[0]);
+        double fl = gas_flux(cp_, eps_sigma, xl[0]);
         double q_w = 0;
-        for (int sf = 0; sf < EN_NSURF; sf++) {
-            int ow = (i * EN_NSURF + sf) * EN_WALL_NODES;
-            const double *xw = x + e->off_wall + ow;
-            double Ts = xw[0];
-            double flux = h * (T - Ts);
-            if (cp_->burning) flux += c->emissivity * EN_SIGMA * (T4 - Ts * Ts * Ts * Ts);
-            double area = e->surf_area[sf], share = 1.0;
-            if (sf == EN_LINER) {
-                share = cp_->liner_share;
-                area = cp_->liner_area;
-            }
-            q_w += flux * area;
-            const en_wall *wl = &e->wall[sf];
-            double T_sink = sf == EN_PISTON ? T_oil : T_cool, qb;
-            if (q_wall) { /* frozen wall: its back side only */
-                q_wall[i * EN_NSURF + sf] = flux * share;
-                qb = wl->cond[EN_WALL_NODES - 1] * (xw[EN_WALL_NODES - 1] - T_sink);
-            } else {
-                en_wall_rates(wl, xw, flux * share, T_sink, xdot + e->off_wall + ow, &qb);
-            }
-            if (sf == EN_PISTON)
-                q_oil += qb * e->surf_area[sf];
-            else
-                q_cool += qb * e->surf_area[sf];
+        q_w += fp * e->surf_area[EN_PISTON];
+        q_w += fh * e->surf_area[EN_HEAD];
+        q_w += fl * cp_->liner_area;
+        double qbp, qbh, qbl; /* back-side fluxes [W/m^2] */
+        if (q_wall) {         /* frozen walls: their back sides only */
+            double *qw = q_wall + i * EN_NSURF;
+            qw[EN_PISTON] = fp;
+            qw[EN_HEAD] = fh;
+            qw[EN_LINER] = fl * cp_->liner_share;
+            qbp = g_back[EN_PISTON] * (xp[EN_WALL_NODES - 1] - T_oil);
+            qbh = g_back[EN_HEAD] * (xh[EN_WALL_NODES - 1] - T_cool);
+            qbl = g_back[EN_LINER] * (xl[EN_WALL_NODES - 1] - T_cool);
+        } else {
+            double *dw = xdot + e->off_wall + ow;
+            en_wall_rates(&e->wall[EN_PISTON], xp, fp, T_oil, dw, &qbp);
+            en_wall_rates(&e->wall[EN_HEAD], xh, fh, T_cool, dw + EN_WALL_NODES, &qbh);
+            en_wall_rates(&e->wall[EN_LINER], xl, fl * cp_->liner_share, T_cool,
+                          dw + 2 * EN_WALL_NODES, &qbl);
         }
+        q_oil += qbp * e->surf_area[EN_PISTON];
+        q_cool += qbh * e->surf_area[EN_HEAD];
+        q_cool += qbl * e->surf_area[EN_LINER];
         /* first law */
         double dE = cp_->q_comb - q_w - cp_->pdv + cp_->hi - cp_->he;
         en_gas_state gs = {.u = cp_->u, .cv = cp_->cv, .dudF = cp_->dudF};
