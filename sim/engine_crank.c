@@ -185,16 +185,20 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double p = m * R * T * iV;
         double rho = m * iV;
         /* valves */
-        double a_iv = en_valve_area(
-            valve_lift(e, 0, i, thl, nw, c->ivo, c->ivc, c->intake_max_lift, vC[0], vS[0]),
-            c->intake_valve_diameter, c->n_intake_valves, c->valve_cd);
-        double a_ev = en_valve_area(
-            valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]),
-            c->exhaust_valve_diameter, c->n_exhaust_valves, c->valve_cd);
+        /* areas of open valves only (a shut valve's lift is 0: area 0, no flow) */
+        double l_iv = valve_lift(e, 0, i, thl, nw, c->ivo, c->ivc, c->intake_max_lift, vC[0], vS[0]);
+        double l_ev = valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]);
+        double a_iv = l_iv > 0 ? en_valve_area(l_iv, c->intake_valve_diameter, c->n_intake_valves,
+                                               c->valve_cd)
+                               : 0.0;
+        double a_ev = l_ev > 0 ? en_valve_area(l_ev, c->exhaust_valve_diameter,
+                                               c->n_exhaust_valves, c->valve_cd)
+                               : 0.0;
+        int open = a_iv > 0 || a_ev > 0;
         const en_bank_out *o = &bo[b];
         const en_gas_state *si = &bf[b].s_im, *se = &bf[b].s_em;
         double mi = 0, me = 0, hi = 0, fi = 0, he = 0, fe = 0;
-        double gam = a_iv > 0 || a_ev > 0 ? cp / gs.cv : 0.0; /* a division: valves open only */
+        double gam = open ? cp / gs.cv : 0.0; /* a division: valves open only */
         if (a_iv > 0) {
             mi = en_orifice(a_iv, o->p_im, o->T_im, si->R, g_im[b], p, T, R, gam);
             hi = mi >= 0 ? mi * si->h : mi * gs.h;
@@ -236,9 +240,12 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double q_comb = mfb * c->lhv;
         /* turbulence */
         double dm = mi - me + mfb;
-        double min_ = (mi > 0 ? mi : 0) + (me < 0 ? -me : 0);
-        double mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
-        double v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
+        double min_ = 0.0, mout = 0.0, v_in = 0.0; /* valves shut: mi = me = 0 */
+        if (open) {
+            min_ = (mi > 0 ? mi : 0) + (me < 0 ? -me : 0);
+            mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
+            v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
+        }
         en_cascade_in ci = {.m = m, .V = kin.V, .bore = c->bore, .area = geo->area,
                             .mdot_in = min_, .v_in = v_in, .mdot_out = mout,
                             .drho_rho = dm * im - kin.dVdth * w * iV, .K = xc[CX_KMEAN],
