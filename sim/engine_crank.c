@@ -186,8 +186,10 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double rho = m * iV;
         /* valves */
         /* areas of open valves only (a shut valve's lift is 0: area 0, no flow) */
-        double l_iv = valve_lift(e, 0, i, thl, nw, c->ivo, c->ivc, c->intake_max_lift, vC[0], vS[0]);
-        double l_ev = valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]);
+        double l_iv =
+            valve_lift(e, 0, i, thl, nw, c->ivo, c->ivc, c->intake_max_lift, vC[0], vS[0]);
+        double l_ev =
+            valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]);
         double a_iv = l_iv > 0 ? en_valve_area(l_iv, c->intake_valve_diameter, c->n_intake_valves,
                                                c->valve_cd)
                                : 0.0;
@@ -231,7 +233,8 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
                 en_watson_pre(&e->watson, tau, tau_id_ms, n_rpm, &wt);
                 en_watson_phi(&e->watson, &wt, phi, &X, &dX);
                 /* overall phi of the cycle: air trapped before burning began */
-                phi = mf_cyc * c->afr_stoich / en_atleast(m - mb + mf_cyc * X * c->afr_stoich, 1e-9);
+                phi =
+                    mf_cyc * c->afr_stoich / en_atleast(m - mb + mf_cyc * X * c->afr_stoich, 1e-9);
                 en_watson_phi(&e->watson, &wt, phi, &X, &dX);
                 mfb = mf_cyc * dX / c->burn_duration * wp;
                 burning = 1;

@@ -145,8 +145,8 @@ static inline double en_flow1(double cda, double pu, double Tu, double Ru, doubl
     return en_flow_area(&r, cda, pu, sqrt(Ru * Tu));
 }
 
-static inline double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2, double T2,
-                  double R2, double g2)
+static inline double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2,
+                                double T2, double R2, double g2)
 {
     if (cda <= 0) return 0.0;
     if (p1 >= p2) return en_flow1(cda, p1, T1, R1, g1, p2);
@@ -241,15 +241,15 @@ typedef struct en_cascade_in {
  * crank-angle right-hand side evaluation. */
 #define EN_PRANDTL 0.7 /* gas Prandtl number (engine_heat.c) */
 
-static inline void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, double *dk,
-                double *L, double *u_turb, double *U_mean)
+static inline void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK,
+                              double *dk, double *L, double *u_turb, double *U_mean)
 {
     double m = c->m;
     double Lh = c->V / c->area;
     if (Lh > c->bore / 2) Lh = c->bore / 2;
     double K = c->K > 0.0 ? c->K : 0.0, k = c->k > 1e-9 ? c->k : 1e-9;
     double im = 1.0 / m, iL = 1.0 / Lh, skm = sqrt(k * im); /* sqrt(k / m) */
-    double up = sqrt(2.0 / 3.0) * skm;                    /* sqrt(2 k / (3 m)) */
+    double up = sqrt(2.0 / 3.0) * skm;                      /* sqrt(2 k / (3 m)) */
     double P = 0.3307 * cbeta * (K * iL) * skm;
     double eps = up * up * up * iL;
     double out_m = c->mdot_out * im;
@@ -260,7 +260,8 @@ static inline void en_cascade(const en_cascade_in *c, double cbeta, double rdt, 
     *U_mean = sqrt(2.0 * K * im);
 }
 
-static inline double en_htc(double a, double b, double rho, double u, double L, double T, double cp)
+static inline double en_htc(double a, double b, double rho, double u, double L, double T,
+                            double cp)
 {
     /* h = a Re^b lambda / L with lambda = mu cp / Pr, mu = 3.3e-7 T^0.7:
      *   h = (a cp / (Pr L)) (rho u L)^b mu^(1 - b), one exp and two logs */
