@@ -22,7 +22,9 @@
  *            Issue 6's 20x goal: the last derivative is carried in the work
  *            buffer to the next call (the powertrain's next macro step), where
  *            only its wall- and load-dependent part is re-evaluated
- *            (en_crank_refresh, exact); relative tolerance 3e-3.
+ *            (en_crank_refresh, exact); relative tolerance 3e-3. Its vector
+ *            operations on the non-wall states have compile-time lengths and
+ *            restrict pointers (they vectorise; the same operations).
  *
  * State layout (offsets in struct ts_engine):
  *   x[0] crank speed, x[1] crank angle (all fidelities)

@@ -89,7 +89,13 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
  * depend on the wall temperatures or the load (cached in en_crank_part),
  * wall_part the wall heat fluxes, the cylinders' dT/dt, the coolant and oil
  * and the crankshaft. en_crank_refresh re-runs wall_part alone (same
- * operations, same result) after a wall step or a change of load. */
+ * operations, same result) after a wall step or a change of load.
+ * Later (branch engspeed, bitwise the same results, tests/sim/
+ * test_engine_shortcuts.c): the orifice equation, energy cascade and Nusselt
+ * coefficient inline (engine_impl.h), fmax/fmin against constant bounds
+ * inline, valve areas, gamma and the cascade's in/outflows only while a valve
+ * is open, the turbine and wastegate sharing one pressure-ratio function,
+ * wall_part's three surfaces written out. */
 
 /* Local angle of cylinder i in [0, 4 pi) at the wrapped crank angle th_w;
  * *nw: wraps added (0 or 1), the phase index of valve_lift. */
@@ -196,11 +202,11 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double a_ev = l_ev > 0 ? en_valve_area(l_ev, c->exhaust_valve_diameter,
                                                c->n_exhaust_valves, c->valve_cd)
                                : 0.0;
-        int open = a_iv > 0 || a_ev > 0;
+        int valves_open = a_iv > 0 || a_ev > 0;
         const en_bank_out *o = &bo[b];
         const en_gas_state *si = &bf[b].s_im, *se = &bf[b].s_em;
         double mi = 0, me = 0, hi = 0, fi = 0, he = 0, fe = 0;
-        double gam = open ? cp / gs.cv : 0.0; /* a division: valves open only */
+        double gam = valves_open ? cp / gs.cv : 0.0; /* a division: valves open only */
         if (a_iv > 0) {
             mi = en_orifice(a_iv, o->p_im, o->T_im, si->R, g_im[b], p, T, R, gam);
             hi = mi >= 0 ? mi * si->h : mi * gs.h;
@@ -244,7 +250,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         /* turbulence */
         double dm = mi - me + mfb;
         double min_ = 0.0, mout = 0.0, v_in = 0.0; /* valves shut: mi = me = 0 */
-        if (open) {
+        if (valves_open) {
             min_ = (mi > 0 ? mi : 0) + (me < 0 ? -me : 0);
             mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
             v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
