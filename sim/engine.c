@@ -22,7 +22,9 @@
  *            Issue 6's 20x goal: the last derivative is carried in the work
  *            buffer to the next call (the powertrain's next macro step), where
  *            only its wall- and load-dependent part is re-evaluated
- *            (en_crank_refresh, exact); relative tolerance 3e-3.
+ *            (en_crank_refresh, exact); relative tolerance 3e-3. Its vector
+ *            operations on the non-wall states have compile-time lengths and
+ *            restrict pointers (they vectorise; the same operations).
  *
  * State layout (offsets in struct ts_engine):
  *   x[0] crank speed, x[1] crank angle (all fidelities)
@@ -252,6 +254,15 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
         break;
     }
     e->nx = n;
+    if (e->c.fidelity == TS_ENGINE_CRANK_ANGLE) {
+        _Static_assert(EN_CRANK_NGAS == 2 + EN_NBANK * EN_BANK_NX + EN_LEDGER_NX + 2 +
+                                            EN_NCYL * EN_CYL_NX,
+                       "the layout above");
+        double v[EN_CRANK_NGAS + EN_CRANK_NWALLX];
+        ts_engine_atol(e, 1.0, v);
+        for (int i = 0; i < EN_LEDGER_NX; i++) v[e->off_ledger + i] = INFINITY;
+        memcpy(e->bs_scale, v, sizeof e->bs_scale);
+    }
     return e;
 }
 
@@ -531,16 +542,49 @@ static void carry_put(const ts_engine *e, const double *x, const ts_engine_input
 #define BS_WALL_EVERY 2 /* accepted steps per wall step (the walls' mean flux over them) */
 #define BS_IGNITION 1.0 /* step after an ignition at most this x /engine/ca_step (the
                            premixed burn starts there; a larger step is rejected) */
+/* The stepper's vector operations on the EN_CRANK_NGAS non-wall states, with
+ * restrict pointers (disjoint arrays: state, stages, scratch), which lets the
+ * compiler vectorise them (the same element-wise operations). */
+/* out = x + a k (a: the stage's coefficient x h, formed by the caller) */
+static void bs_stage(double *restrict out, const double *restrict x, double a,
+                     const double *restrict k)
+{
+    for (int i = 0; i < EN_CRANK_NGAS; i++) out[i] = x[i] + a * k[i];
+}
+
+/* y1 = x + h (2/9 k1 + 1/3 k2 + 4/9 k3) */
+static void bs_y1(double *restrict y1, const double *restrict x, double h,
+                  const double *restrict k1, const double *restrict k2, const double *restrict k3)
+{
+    for (int i = 0; i < EN_CRANK_NGAS; i++)
+        y1[i] = x[i] + h * (2.0 / 9.0 * k1[i] + 1.0 / 3.0 * k2[i] + 4.0 / 9.0 * k3[i]);
+}
+
+/* |e_i| of the embedded error estimate and its scale d_i = tol (sc_i + |y1_i|) */
+static void bs_err(double *restrict a, double *restrict d, double h, double tol,
+                   const double *restrict sc, const double *restrict y1,
+                   const double *restrict k1, const double *restrict k2,
+                   const double *restrict k3, const double *restrict k4)
+{
+    for (int i = 0; i < EN_CRANK_NGAS; i++) {
+        double ei = h * (-5.0 / 72.0 * k1[i] + 1.0 / 12.0 * k2[i] + 1.0 / 9.0 * k3[i] -
+                         1.0 / 8.0 * k4[i]);
+        a[i] = fabs(ei);
+        d[i] = tol * (sc[i] + fabs(y1[i]));
+    }
+}
+
 static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, stage_load *sl,
                           double *work, ts_err *err)
 {
-    int n = e->off_wall, nx = e->nx;
+    /* n = off_wall and nx as compile-time constants: the vector loops below
+     * vectorise (element-wise, the same operations) */
+    enum { n = EN_CRANK_NGAS, nx = EN_CRANK_NGAS + EN_CRANK_NWALLX };
     double *k1 = work, *k2 = work + nx, *k3 = work + 2 * nx, *k4 = work + 3 * nx;
-    double *xt = work + 4 * nx, *y1 = work + 5 * nx, *sc = work + 6 * nx;
+    double *xt = work + 4 * nx, *y1 = work + 5 * nx;
+    const double *sc = e->bs_scale; /* the ledger's infinite: not controlled */
     double *q1 = work + 8 * nx, *q2 = q1 + EN_NWALL, *q3 = q2 + EN_NWALL, *q4 = q3 + EN_NWALL;
     const double tol = BS_TOL;
-    ts_engine_atol(e, 1.0, sc);
-    for (int i = 0; i < EN_LEDGER_NX; i++) sc[e->off_ledger + i] = INFINITY; /* not controlled */
     double t_end = t + dt;
     /* first crank-angle step of every call: BS_START x ca_step (the error test
      * corrects it; a function of x only, so results do not depend on how a
@@ -576,10 +620,10 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
             h = t_end - t;
             last = 1;
         }
-        for (int i = 0; i < n; i++) xt[i] = x[i] + 0.5 * h * k1[i];
+        bs_stage(xt, x, 0.5 * h, k1);
         int bad = en_crank_eval(e, xt, at(sl, t + 0.5 * h, xt), k2, NULL, q2);
         if (!bad) {
-            for (int i = 0; i < n; i++) xt[i] = x[i] + 0.75 * h * k2[i];
+            bs_stage(xt, x, 0.75 * h, k2);
             bad = en_crank_eval(e, xt, at(sl, t + 0.75 * h, xt), k3, NULL, q3);
         }
         if (!bad && trunc == 2) /* no ignition before the step's end (I grows monotonically) */
@@ -588,23 +632,22 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
                 if (x[o] < 1.0 && xt[o] >= 1.0) trunc = 0; /* estimate missed: error test */
             }
         if (!bad) {
-            for (int i = 0; i < n; i++)
-                y1[i] = x[i] + h * (2.0 / 9.0 * k1[i] + 1.0 / 3.0 * k2[i] + 4.0 / 9.0 * k3[i]);
+            bs_y1(y1, x, h, k1, k2, k3);
             bad = en_crank_eval_part(e, y1, at(sl, t + h, y1), k4, NULL, q4, &part4);
         }
         double en = 0;
         /* error norm max |e_i| / d_i (0 for the ledger: d = inf), dividing only
          * where the maximum may grow; not needed after a truncated step, whose
          * stages that build y1 lie before the switch */
-        if (!bad && !trunc)
+        if (!bad && !trunc) {
+            double ea[n], ed[n]; /* |e_i|, d_i (vectorised), then the maximum in order */
+            bs_err(ea, ed, h, tol, sc, y1, k1, k2, k3, k4);
             for (int i = 0; i < n; i++) {
-                double ei = h * (-5.0 / 72.0 * k1[i] + 1.0 / 12.0 * k2[i] + 1.0 / 9.0 * k3[i] -
-                                 1.0 / 8.0 * k4[i]);
-                double a = fabs(ei), d = tol * (sc[i] + fabs(y1[i]));
-                if (a <= en * d) continue;
-                double r = a / d;
+                if (ea[i] <= en * ed[i]) continue;
+                double r = ea[i] / ed[i];
                 if (!(r <= en)) en = isnan(r) ? INFINITY : r;
             }
+        }
         if (bad || !(en <= 1.0)) {
             if (dth <= BS_MIN * e->c.ca_step * 1.0000001) {
                 /* at the smallest step: accept (the fixed-step scheme would) unless broken;
@@ -631,9 +674,13 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
         if (++nacc == BS_WALL_EVERY || last) {
             for (int j = 0; j < EN_NWALL; j++) qacc[j] /= hacc;
             en_walls_step(e, x, qacc, hacc);
-            double wsum = 0.0; /* NaN or inf in any wall node makes the sum non-finite */
-            for (int i = n; i < nx; i++) wsum += x[i];
-            if (!isfinite(wsum)) goto diverged;
+            /* NaN or inf in any wall node makes a partial sum non-finite (four
+             * partial sums: independent additions) */
+            double ws[4] = {0.0, 0.0, 0.0, 0.0};
+            _Static_assert((nx - n) % 4 == 0, "wall nodes in fours");
+            for (int i = n; i < nx; i += 4)
+                for (int j = 0; j < 4; j++) ws[j] += x[i + j];
+            if (!isfinite(ws[0] + ws[1] + ws[2] + ws[3])) goto diverged;
             memset(qacc, 0, sizeof(double) * EN_NWALL);
             hacc = 0;
             nacc = 0;

@@ -17,9 +17,9 @@
 
 double en_ignition_delay(double a_ms, double n, double ta, double p, double T)
 {
-    double p_bar = fmax(p / 1e5, 0.1);
+    double p_bar = en_atleast(p / 1e5, 0.1);
     /* p^-n exp(ta / T) as one exp: exp(ta / T - n log p) */
-    return 1e-3 * a_ms * exp(ta / fmax(T, 200.0) - n * log(p_bar));
+    return 1e-3 * a_ms * exp(ta / en_atleast(T, 200.0) - n * log(p_bar));
 }
 
 void en_watson_pre(const en_watson *w, double tau, double tau_id_ms, double n_rpm,
@@ -27,7 +27,7 @@ void en_watson_pre(const en_watson *w, double tau, double tau_id_ms, double n_rp
 {
     p->tau = tau;
     if (tau <= 0 || tau >= 1) return;
-    tau_id_ms = fmax(tau_id_ms, 0.05);
+    tau_id_ms = en_atleast(tau_id_ms, 0.05);
     p->id_c = pow(tau_id_ms, w->c);
     p->ltau = log(tau);
     double c1 = 2.0 + w->c1k * pow(tau_id_ms * n_rpm, w->c1e);
@@ -53,7 +53,7 @@ void en_watson_phi(const en_watson *w, const en_watson_tau *p, double phi, doubl
         *dX = 0;
         return;
     }
-    double lphi = log(fmax(phi, 0.05));
+    double lphi = log(en_atleast(phi, 0.05));
     double beta = 1.0 - w->a * exp(w->b * lphi) / p->id_c;
     beta = beta < 0 ? 0 : beta > 1 ? 1 : beta;
     double c3 = w->c3k * exp(-w->c3e * lphi);

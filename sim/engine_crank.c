@@ -89,7 +89,13 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
  * depend on the wall temperatures or the load (cached in en_crank_part),
  * wall_part the wall heat fluxes, the cylinders' dT/dt, the coolant and oil
  * and the crankshaft. en_crank_refresh re-runs wall_part alone (same
- * operations, same result) after a wall step or a change of load. */
+ * operations, same result) after a wall step or a change of load.
+ * Later (branch engspeed, bitwise the same results, tests/sim/
+ * test_engine_shortcuts.c): the orifice equation, energy cascade and Nusselt
+ * coefficient inline (engine_impl.h), fmax/fmin against constant bounds
+ * inline, valve areas, gamma and the cascade's in/outflows only while a valve
+ * is open, the turbine and wastegate sharing one pressure-ratio function,
+ * wall_part's three surfaces written out. */
 
 /* Local angle of cylinder i in [0, 4 pi) at the wrapped crank angle th_w;
  * *nw: wraps added (0 or 1), the phase index of valve_lift. */
@@ -125,13 +131,12 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     const en_gas *g = &e->gas;
     const en_geom *geo = &e->geom;
     double w = x[TS_ENGINE_X_SPEED], th = x[TS_ENGINE_X_ANGLE];
-    double wp = fmax(w, 1.0);
+    double wp = en_atleast(w, 1.0);
     double n_rpm = wp * EN_RPM;
     double sp_half = c->stroke * wp / EN_PI / 2.0; /* half the mean piston speed */
     en_bank_out bo[EN_NBANK];
     /* the manifolds' gas (handed on to en_bank_rhs with the compressor) */
-    en_bank_flows bf[EN_NBANK];
-    memset(bf, 0, sizeof bf);
+    en_bank_flows bf[EN_NBANK]; /* every field set below (no memset: a rep stos per call) */
     double g_im[EN_NBANK], g_em[EN_NBANK], rho_im[EN_NBANK];
     double air = 0;
     for (int b = 0; b < EN_NBANK; b++) {
@@ -140,6 +145,8 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
               xb[BX_EMT] > 100 && xb[BX_ICT] > 100))
             return 1;
         double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
+        bf[b].m_in = bf[b].h_in = bf[b].mf_in = 0.0; /* the cylinders' sums */
+        bf[b].m_ex = bf[b].h_ex = bf[b].mf_ex = 0.0;
         bf[b].omega = w;
         bf[b].have_co = 1;
         en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &bf[b].co);
@@ -180,19 +187,26 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         F = F < 0.0 ? 0.0 : F > 1.0 ? 1.0 : F;
         en_gas_state gs;
         en_gas_eval(g, T, F, &gs);
-        double R = gs.R, cp = gs.cp, gam = cp / gs.cv;
+        double R = gs.R, cp = gs.cp;
         double p = m * R * T * iV;
         double rho = m * iV;
         /* valves */
-        double a_iv = en_valve_area(
-            valve_lift(e, 0, i, thl, nw, c->ivo, c->ivc, c->intake_max_lift, vC[0], vS[0]),
-            c->intake_valve_diameter, c->n_intake_valves, c->valve_cd);
-        double a_ev = en_valve_area(
-            valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]),
-            c->exhaust_valve_diameter, c->n_exhaust_valves, c->valve_cd);
+        /* areas of open valves only (a shut valve's lift is 0: area 0, no flow) */
+        double l_iv =
+            valve_lift(e, 0, i, thl, nw, c->ivo, c->ivc, c->intake_max_lift, vC[0], vS[0]);
+        double l_ev =
+            valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]);
+        double a_iv = l_iv > 0 ? en_valve_area(l_iv, c->intake_valve_diameter, c->n_intake_valves,
+                                               c->valve_cd)
+                               : 0.0;
+        double a_ev = l_ev > 0 ? en_valve_area(l_ev, c->exhaust_valve_diameter,
+                                               c->n_exhaust_valves, c->valve_cd)
+                               : 0.0;
+        int valves_open = a_iv > 0 || a_ev > 0;
         const en_bank_out *o = &bo[b];
         const en_gas_state *si = &bf[b].s_im, *se = &bf[b].s_em;
         double mi = 0, me = 0, hi = 0, fi = 0, he = 0, fe = 0;
+        double gam = valves_open ? cp / gs.cv : 0.0; /* a division: valves open only */
         if (a_iv > 0) {
             mi = en_orifice(a_iv, o->p_im, o->T_im, si->R, g_im[b], p, T, R, gam);
             hi = mi >= 0 ? mi * si->h : mi * gs.h;
@@ -219,13 +233,14 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
             ds = w;
             if (s < c->burn_duration && mf_cyc > 0) {
                 double tau = s / c->burn_duration;
-                double tau_id_ms = 1e3 * fmax(a_soi - s, 0.0) / wp;
-                double X, dX, phi = mf_cyc * c->afr_stoich / fmax(m - mb, 1e-9);
+                double tau_id_ms = 1e3 * en_atleast(a_soi - s, 0.0) / wp;
+                double X, dX, phi = mf_cyc * c->afr_stoich / en_atleast(m - mb, 1e-9);
                 en_watson_tau wt;
                 en_watson_pre(&e->watson, tau, tau_id_ms, n_rpm, &wt);
                 en_watson_phi(&e->watson, &wt, phi, &X, &dX);
                 /* overall phi of the cycle: air trapped before burning began */
-                phi = mf_cyc * c->afr_stoich / fmax(m - mb + mf_cyc * X * c->afr_stoich, 1e-9);
+                phi =
+                    mf_cyc * c->afr_stoich / en_atleast(m - mb + mf_cyc * X * c->afr_stoich, 1e-9);
                 en_watson_phi(&e->watson, &wt, phi, &X, &dX);
                 mfb = mf_cyc * dX / c->burn_duration * wp;
                 burning = 1;
@@ -234,9 +249,12 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double q_comb = mfb * c->lhv;
         /* turbulence */
         double dm = mi - me + mfb;
-        double min_ = (mi > 0 ? mi : 0) + (me < 0 ? -me : 0);
-        double mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
-        double v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
+        double min_ = 0.0, mout = 0.0, v_in = 0.0; /* valves shut: mi = me = 0 */
+        if (valves_open) {
+            min_ = (mi > 0 ? mi : 0) + (me < 0 ? -me : 0);
+            mout = (me > 0 ? me : 0) + (mi < 0 ? -mi : 0);
+            v_in = mi > 0 && a_iv > 0 ? mi / (rho_im[b] * a_iv) : 0.0;
+        }
         en_cascade_in ci = {.m = m, .V = kin.V, .bore = c->bore, .area = geo->area,
                             .mdot_in = min_, .v_in = v_in, .mdot_out = mout,
                             .drho_rho = dm * im - kin.dVdth * w * iV, .K = xc[CX_KMEAN],
@@ -316,6 +334,15 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     return 0;
 }
 
+/* Gas-side heat flux [W/m^2] into a wall at surface temperature Ts:
+ * convection, and radiation eps sigma (T^4 - Ts^4) while fuel burns. */
+static inline double gas_flux(const en_cyl_part *cp_, double eps_sigma, double Ts)
+{
+    double flux = cp_->h * (cp_->T - Ts);
+    if (cp_->burning) flux += eps_sigma * (cp_->T4 - Ts * Ts * Ts * Ts);
+    return flux;
+}
+
 /* The wall heat fluxes and what depends on them (cylinder temperatures, wall
  * ledger, coolant and oil, walls unless frozen) and the crankshaft (load). */
 static void wall_part(const ts_engine *e, const double *x, const ts_engine_inputs *in,
@@ -326,35 +353,43 @@ static void wall_part(const ts_engine *e, const double *x, const ts_engine_input
     double w = x[TS_ENGINE_X_SPEED];
     double T_cool = x[e->off_coolant], T_oil = x[e->off_coolant + 1];
     double q_cool = 0, q_oil = 0, led_wall = 0;
+    const double eps_sigma = c->emissivity * EN_SIGMA;
+    const double g_back[EN_NSURF] = {e->wall[EN_PISTON].cond[EN_WALL_NODES - 1],
+                                     e->wall[EN_HEAD].cond[EN_WALL_NODES - 1],
+                                     e->wall[EN_LINER].cond[EN_WALL_NODES - 1]};
     for (int i = 0; i < EN_NCYL; i++) {
         const en_cyl_part *cp_ = &pc->cyl[i];
-        double T = cp_->T, h = cp_->h, T4 = cp_->T4;
+        /* the three surfaces written out (the operations of a loop over them):
+         * piston (sink: oil), head and exposed liner (sink: coolant) */
+        int ow = i * EN_NSURF * EN_WALL_NODES;
+        const double *xp = x + e->off_wall + ow, *xh = xp + EN_WALL_NODES,
+                     *xl = xp + 2 * EN_WALL_NODES;
+        double fp = gas_flux(cp_, eps_sigma, xp[0]);
+        double fh = gas_flux(cp_, eps_sigma, xh[0]);
+        double fl = gas_flux(cp_, eps_sigma, xl[0]);
         double q_w = 0;
-        for (int sf = 0; sf < EN_NSURF; sf++) {
-            int ow = (i * EN_NSURF + sf) * EN_WALL_NODES;
-            const double *xw = x + e->off_wall + ow;
-            double Ts = xw[0];
-            double flux = h * (T - Ts);
-            if (cp_->burning) flux += c->emissivity * EN_SIGMA * (T4 - Ts * Ts * Ts * Ts);
-            double area = e->surf_area[sf], share = 1.0;
-            if (sf == EN_LINER) {
-                share = cp_->liner_share;
-                area = cp_->liner_area;
-            }
-            q_w += flux * area;
-            const en_wall *wl = &e->wall[sf];
-            double T_sink = sf == EN_PISTON ? T_oil : T_cool, qb;
-            if (q_wall) { /* frozen wall: its back side only */
-                q_wall[i * EN_NSURF + sf] = flux * share;
-                qb = wl->cond[EN_WALL_NODES - 1] * (xw[EN_WALL_NODES - 1] - T_sink);
-            } else {
-                en_wall_rates(wl, xw, flux * share, T_sink, xdot + e->off_wall + ow, &qb);
-            }
-            if (sf == EN_PISTON)
-                q_oil += qb * e->surf_area[sf];
-            else
-                q_cool += qb * e->surf_area[sf];
+        q_w += fp * e->surf_area[EN_PISTON];
+        q_w += fh * e->surf_area[EN_HEAD];
+        q_w += fl * cp_->liner_area;
+        double qbp, qbh, qbl; /* back-side fluxes [W/m^2] */
+        if (q_wall) {         /* frozen walls: their back sides only */
+            double *qw = q_wall + i * EN_NSURF;
+            qw[EN_PISTON] = fp;
+            qw[EN_HEAD] = fh;
+            qw[EN_LINER] = fl * cp_->liner_share;
+            qbp = g_back[EN_PISTON] * (xp[EN_WALL_NODES - 1] - T_oil);
+            qbh = g_back[EN_HEAD] * (xh[EN_WALL_NODES - 1] - T_cool);
+            qbl = g_back[EN_LINER] * (xl[EN_WALL_NODES - 1] - T_cool);
+        } else {
+            double *dw = xdot + e->off_wall + ow;
+            en_wall_rates(&e->wall[EN_PISTON], xp, fp, T_oil, dw, &qbp);
+            en_wall_rates(&e->wall[EN_HEAD], xh, fh, T_cool, dw + EN_WALL_NODES, &qbh);
+            en_wall_rates(&e->wall[EN_LINER], xl, fl * cp_->liner_share, T_cool,
+                          dw + 2 * EN_WALL_NODES, &qbl);
         }
+        q_oil += qbp * e->surf_area[EN_PISTON];
+        q_cool += qbh * e->surf_area[EN_HEAD];
+        q_cool += qbl * e->surf_area[EN_LINER];
         /* first law */
         double dE = cp_->q_comb - q_w - cp_->pdv + cp_->hi - cp_->he;
         en_gas_state gs = {.u = cp_->u, .cv = cp_->cv, .dudF = cp_->dudF};
@@ -364,8 +399,8 @@ static void wall_part(const ts_engine *e, const double *x, const ts_engine_input
     if (out) out->piston_surface_temp = x[e->off_wall + EN_PISTON * EN_WALL_NODES];
     xdot[e->off_ledger + LX_WALL] = led_wall;
     /* coolant and oil: thermostat opens over 4 K around the set point */
-    double open_c = fmin(fmax((T_cool - c->coolant_temp + 2.0) / 4.0, 0.0), 1.0);
-    double open_o = fmin(fmax((T_oil - c->oil_temp + 2.0) / 4.0, 0.0), 1.0);
+    double open_c = en_atmost(en_atleast((T_cool - c->coolant_temp + 2.0) / 4.0, 0.0), 1.0);
+    double open_o = en_atmost(en_atleast((T_oil - c->oil_temp + 2.0) / 4.0, 0.0), 1.0);
     xdot[e->off_coolant] = (q_cool - open_c * c->coolant_ua * (T_cool - in->T_amb)) /
                            (c->coolant_capacity * e->thermal_scale);
     xdot[e->off_coolant + 1] = (q_oil - open_o * c->oil_ua * (T_oil - in->T_amb)) /
@@ -414,7 +449,7 @@ double en_crank_next_switch(const ts_engine *e, const double *x, const double *x
                             double *ign)
 {
     const ts_engine_config *c = &e->c;
-    double th = wrap(x[TS_ENGINE_X_ANGLE]), w = fmax(x[TS_ENGINE_X_SPEED], 1.0);
+    double th = wrap(x[TS_ENGINE_X_ANGLE]), w = en_atleast(x[TS_ENGINE_X_SPEED], 1.0);
     /* local angles where the clocks' right-hand sides switch */
     const double sw[4] = {wrap(EN_CYCLE - c->soi), wrap(LW_WINDOW - c->soi), RESET_START,
                           RESET_END};

@@ -35,6 +35,12 @@
 #define EN_SIGMA 5.670374e-8    /* Stefan-Boltzmann [W/m^2/K^4] */
 #define EN_FRICTION_FADE 5.0  /* friction torque x tanh(w / this) [rad/s]: smoothing at rest */
 
+/* fmax(x, lo) and fmin(x, hi) for a bound lo, hi that is never NaN, inline
+ * (libm's are calls; the right-hand sides take ~15 per evaluation): the same
+ * value, x when it passes the bound, else the bound (also for NaN x). */
+static inline double en_atleast(double x, double lo) { return x > lo ? x : lo; }
+static inline double en_atmost(double x, double hi) { return x < hi ? x : hi; }
+
 /* ---- gas (engine_gas.c) --------------------------------------------------- */
 typedef struct en_gas {
     double cp_a[4], cp_b[4]; /* cp polynomials in t = T/1000 [J/kg/K] */
@@ -85,11 +91,75 @@ static inline double en_gas_dTdt_s(const en_gas_state *s, double m, double dEdt,
 }
 
 /* ---- orifice flow (engine_manifold.c) ------------------------------------- */
-/* Mass flow [kg/s] from side 1 to side 2 (negative: reverse) through effective
- * area cda, quasi-steady compressible (choked above the critical ratio),
- * linearised within 1 % of equal pressures. gamma from the upstream side. */
-double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2, double T2,
-                  double R2, double g2);
+/* en_orifice: mass flow [kg/s] from side 1 to side 2 (negative: reverse)
+ * through effective area cda, quasi-steady compressible (choked above the
+ * critical ratio), linearised within 1 % of equal pressures. gamma from the
+ * upstream side. Inline with its parts (every open valve of the crank-angle
+ * right-hand side calls it). */
+#define EN_LIN_RATIO 0.99 /* below 1 % pressure difference the flow is linearised */
+
+/* Flow function Psi(pr) with pr = p_down / p_up <= 1:
+ *   Psi^2 = 2 g/(g-1) (pr^(2/g) - pr^((g+1)/g)) = 2 g/(g-1) a (a - pr),  a = pr^(1/g),
+ * clamped at the critical ratio pr_c = (2/(g+1))^(g/(g-1)). In terms of a,
+ * Psi^2 ~ a^2 - a^(g+1) peaks where a^(g-1) = pr / a = 2/(g+1), so the flow is
+ * choked exactly when (g+1) pr < 2 a (no logarithm of the critical ratio), and
+ * there Psi_c = sqrt(2 g/(g+1)) a_c, a_c = (2/(g+1))^(1/(g-1)). One log and one
+ * exp per unchoked call (same value to rounding as the textbook powers). */
+static inline double en_psi(double pr, double g)
+{
+    double a = exp(log(pr) / g);
+    if ((g + 1.0) * pr < 2.0 * a) /* past the critical ratio: choked */
+        return sqrt(2.0 * g / (g + 1.0)) * exp(log(2.0 / (g + 1.0)) / (g - 1.0));
+    double v = 2.0 * g / (g - 1.0) * a * (a - pr);
+    return sqrt(v > 0 ? v : 0);
+}
+
+/* Forward flow through area cda = upstream factor pu / sqrt(Ru Tu) x cda x
+ * the ratio factor of pr = pd / pu (psi, or its linearisation near 1). The
+ * ratio factor depends on (pr, gu) alone: en_ratio_of computes it once,
+ * en_flow_area applies it to one area (en_orifice_pair: two orifices, one psi). */
+typedef struct en_flow_ratio {
+    double pr, psi; /* psi(pr, gu), or psi(EN_LIN_RATIO, gu) when linearised */
+    int lin;        /* pr > EN_LIN_RATIO */
+} en_flow_ratio;
+
+static inline en_flow_ratio en_ratio_of(double pu, double gu, double pd)
+{
+    en_flow_ratio r;
+    r.pr = pd / pu;
+    r.lin = r.pr > EN_LIN_RATIO; /* linear through zero: no infinite slope at equal pressures */
+    r.psi = en_psi(r.lin ? EN_LIN_RATIO : r.pr, gu);
+    return r;
+}
+
+static inline double en_flow_area(const en_flow_ratio *r, double cda, double pu, double sRT)
+{
+    double base = cda * pu / sRT;
+    if (r->lin) return base * r->psi * (1.0 - r->pr) / (1.0 - EN_LIN_RATIO);
+    return base * r->psi;
+}
+
+static inline double en_flow1(double cda, double pu, double Tu, double Ru, double gu, double pd)
+{
+    en_flow_ratio r = en_ratio_of(pu, gu, pd);
+    return en_flow_area(&r, cda, pu, sqrt(Ru * Tu));
+}
+
+static inline double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2,
+                                double T2, double R2, double g2)
+{
+    if (cda <= 0) return 0.0;
+    if (p1 >= p2) return en_flow1(cda, p1, T1, R1, g1, p2);
+    return -en_flow1(cda, p2, T2, R2, g2, p1);
+}
+
+/* Two orifices between the same sides (areas cda_a, cda_b; downstream
+ * temperatures T2a, T2b used only for reverse flow): *m_a, *m_b as en_orifice
+ * gives each (bitwise), with one evaluation of the pressure-ratio function
+ * for forward flow (the turbine nozzle and the wastegate bypass). */
+void en_orifice_pair(double cda_a, double cda_b, double p1, double T1, double R1, double g1,
+                     double p2, double T2a, double T2b, double R2, double g2, double *m_a,
+                     double *m_b);
 
 /* ---- cylinder kinematics and valves (engine_cylinder.c) ------------------- */
 typedef struct en_geom {
@@ -166,11 +236,38 @@ typedef struct en_cascade_in {
     double K, k;          /* mean-flow and turbulent kinetic energy [J] */
 } en_cascade_in;
 /* Energy cascade: dK/dt, dk/dt; returns the length scale L_I and u' through
- * pointers. */
-void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK, double *dk, double *L,
-                double *u_turb, double *U_mean);
-/* Convective coefficient [W/m^2/K]: Nu = a Re^b on length L with velocity u. */
-double en_htc(double a, double b, double rho, double u, double L, double T, double cp);
+ * pointers. Convective coefficient [W/m^2/K]: Nu = a Re^b on length L with
+ * velocity u. Inline (engine_heat.c describes them): twelve calls each per
+ * crank-angle right-hand side evaluation. */
+#define EN_PRANDTL 0.7 /* gas Prandtl number (engine_heat.c) */
+
+static inline void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK,
+                              double *dk, double *L, double *u_turb, double *U_mean)
+{
+    double m = c->m;
+    double Lh = c->V / c->area;
+    if (Lh > c->bore / 2) Lh = c->bore / 2;
+    double K = c->K > 0.0 ? c->K : 0.0, k = c->k > 1e-9 ? c->k : 1e-9;
+    double im = 1.0 / m, iL = 1.0 / Lh, skm = sqrt(k * im); /* sqrt(k / m) */
+    double up = sqrt(2.0 / 3.0) * skm;                      /* sqrt(2 k / (3 m)) */
+    double P = 0.3307 * cbeta * (K * iL) * skm;
+    double eps = up * up * up * iL;
+    double out_m = c->mdot_out * im;
+    *dK = 0.5 * c->mdot_in * c->v_in * c->v_in - P - K * out_m;
+    *dk = P - m * eps - k * out_m + rdt * (2.0 / 3.0) * k * c->drho_rho;
+    *L = Lh;
+    *u_turb = up;
+    *U_mean = sqrt(2.0 * K * im);
+}
+
+static inline double en_htc(double a, double b, double rho, double u, double L, double T,
+                            double cp)
+{
+    /* h = a Re^b lambda / L with lambda = mu cp / Pr, mu = 3.3e-7 T^0.7:
+     *   h = (a cp / (Pr L)) (rho u L)^b mu^(1 - b), one exp and two logs */
+    double lmu = log(3.3e-7) + 0.7 * log(T > 200.0 ? T : 200.0);
+    return a * cp / (EN_PRANDTL * L) * exp(b * log(rho * u * L) + (1.0 - b) * lmu);
+}
 
 /* ---- walls (engine_wall.c) ------------------------------------------------ */
 #define EN_WALL_NODES 11 /* vertex-centred nodes through one wall, node 0 on the gas side */
@@ -208,6 +305,10 @@ void en_compressor(const en_turbo *t, double w, double p01, double T01, double p
  * p4 at rotor speed w. */
 void en_turbine(const en_turbo *t, double a_t, double w, double p03, double T03, double R,
                 double cp, double p4, en_turb_out *o);
+/* en_turbine given its nozzle flow mdot [kg/s] (en_orifice at a_t, the same
+ * sides; en_exhaust_outflow computes it with the wastegate's). */
+void en_turbine_flow(const en_turbo *t, double mdot, double w, double p03, double T03, double R,
+                     double cp, double p4, en_turb_out *o);
 /* Turbine geometry at crank speed omega [rad/s] from the open-loop schedule
  * (/engine/turb_sched_*, linear, held beyond the ends): nozzle effective
  * area [m^2] (turbo.a_t x turb_sched_nozzle), factor on the wastegate
@@ -233,6 +334,10 @@ enum { CX_M, CX_T, CX_MB, CX_IGN, CX_BURN, CX_KMEAN, CX_KTURB, EN_CYL_NX };
 enum { BX_ICM, BX_ICT, BX_IMM, BX_IMT, BX_IMF, BX_EMM, BX_EMT, BX_EMF, BX_TC, EN_BANK_NX };
 /* Ledger (cumulative integrals), order of ts_engine_ledger's first fields. */
 enum { LX_FUEL_E, LX_WORK, LX_WALL, LX_HIN, LX_HOUT, LX_MIN, LX_MOUT, LX_MFUEL, EN_LEDGER_NX };
+/* crank_angle: states before the walls (off_wall) and wall nodes: compile-time
+ * sizes of the stepper's vector loops (constant trip counts vectorise) */
+#define EN_CRANK_NGAS (2 + EN_NBANK * EN_BANK_NX + EN_LEDGER_NX + 2 + EN_NCYL * EN_CYL_NX)
+#define EN_CRANK_NWALLX (EN_NCYL * EN_NSURF * EN_WALL_NODES)
 
 struct ts_engine {
     ts_engine_config c; /* copy of the section */
@@ -253,6 +358,9 @@ struct ts_engine {
      * - 4 pi n) for n = 0, 1, 2 wraps of the local angle; cos and sin */
     double valve_k[2], valve_cos[2][EN_NCYL][3], valve_sin[2][EN_NCYL][3];
     int cyl_bank[EN_NCYL];
+    /* crank_angle: the error-controlled stepper's scale of each non-wall state
+     * (ts_engine_atol at 1; the ledger's infinite: not controlled), built once */
+    double bs_scale[EN_CRANK_NGAS];
     double turbo_inertia_scale; /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
     double thermal_scale;       /* 1, shrunk by ts_engine_steady (coolant, oil capacities) */
 };

@@ -20,39 +20,23 @@
 
 #include "engine_impl.h"
 
-#define LIN_RATIO 0.99 /* below 1 % pressure difference the flow is linearised */
+/* The orifice equation (psi, en_orifice and their parts) is static inline in
+ * engine_impl.h: the crank-angle right-hand side calls it for every open
+ * valve. */
 
-/* Flow function Psi(pr) with pr = p_down / p_up <= 1:
- *   Psi^2 = 2 g/(g-1) (pr^(2/g) - pr^((g+1)/g)) = 2 g/(g-1) a (a - pr),  a = pr^(1/g),
- * clamped at the critical ratio pr_c = (2/(g+1))^(g/(g-1)). In terms of a,
- * Psi^2 ~ a^2 - a^(g+1) peaks where a^(g-1) = pr / a = 2/(g+1), so the flow is
- * choked exactly when (g+1) pr < 2 a (no logarithm of the critical ratio), and
- * there Psi_c = sqrt(2 g/(g+1)) a_c, a_c = (2/(g+1))^(1/(g-1)). One log and one
- * exp per unchoked call (same value to rounding as the textbook powers). */
-static double psi(double pr, double g)
+void en_orifice_pair(double cda_a, double cda_b, double p1, double T1, double R1, double g1,
+                     double p2, double T2a, double T2b, double R2, double g2, double *m_a,
+                     double *m_b)
 {
-    double a = exp(log(pr) / g);
-    if ((g + 1.0) * pr < 2.0 * a) /* past the critical ratio: choked */
-        return sqrt(2.0 * g / (g + 1.0)) * exp(log(2.0 / (g + 1.0)) / (g - 1.0));
-    double v = 2.0 * g / (g - 1.0) * a * (a - pr);
-    return sqrt(v > 0 ? v : 0);
-}
-
-static double flow1(double cda, double pu, double Tu, double Ru, double gu, double pd)
-{
-    double pr = pd / pu;
-    double base = cda * pu / sqrt(Ru * Tu);
-    if (pr > LIN_RATIO) /* linear through zero: no infinite slope at equal pressures */
-        return base * psi(LIN_RATIO, gu) * (1.0 - pr) / (1.0 - LIN_RATIO);
-    return base * psi(pr, gu);
-}
-
-double en_orifice(double cda, double p1, double T1, double R1, double g1, double p2, double T2,
-                  double R2, double g2)
-{
-    if (cda <= 0) return 0.0;
-    if (p1 >= p2) return flow1(cda, p1, T1, R1, g1, p2);
-    return -flow1(cda, p2, T2, R2, g2, p1);
+    if (p1 < p2 || cda_a <= 0 || cda_b <= 0) { /* reverse (downstream T differs) or one shut */
+        *m_a = en_orifice(cda_a, p1, T1, R1, g1, p2, T2a, R2, g2);
+        *m_b = en_orifice(cda_b, p1, T1, R1, g1, p2, T2b, R2, g2);
+        return;
+    }
+    en_flow_ratio r = en_ratio_of(p1, g1, p2);
+    double sRT = sqrt(R1 * T1);
+    *m_a = en_flow_area(&r, cda_a, p1, sRT);
+    *m_b = en_flow_area(&r, cda_b, p1, sRT);
 }
 
 /* Pneumatic actuator: boost on the diaphragm against the spring preload
@@ -63,7 +47,7 @@ double en_orifice(double cda, double p1, double T1, double R1, double g1, double
 #define WG_ROUND 0.02
 double en_wastegate_open(const ts_engine_config *c, double p_boost)
 {
-    double t = (p_boost - c->wg_crack) / fmax(c->wg_full - c->wg_crack, 1.0);
+    double t = (p_boost - c->wg_crack) / en_atleast(c->wg_full - c->wg_crack, 1.0);
     const double d = WG_ROUND;
     if (t <= -d) return 0.0;
     if (t < d) return (t + d) * (t + d) / (4.0 * d);
@@ -76,10 +60,10 @@ void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o)
 {
     const en_gas *g = &e->gas;
     o->T_im = xb[BX_IMT];
-    o->F_im = fmin(fmax(xb[BX_IMF], 0), 1);
+    o->F_im = en_atmost(en_atleast(xb[BX_IMF], 0), 1);
     o->p_im = xb[BX_IMM] * en_gas_r(g, o->F_im) * o->T_im / e->c.intake_volume;
     o->T_em = xb[BX_EMT];
-    o->F_em = fmin(fmax(xb[BX_EMF], 0), 1);
+    o->F_em = en_atmost(en_atleast(xb[BX_EMF], 0), 1);
     o->p_em = xb[BX_EMM] * en_gas_r(g, o->F_em) * o->T_em / e->c.exhaust_volume;
     o->turbo_speed = xb[BX_TC];
     o->air_flow = 0;
@@ -105,11 +89,15 @@ void en_exhaust_outflow(const ts_engine *e, double omega, double w_tc, const en_
     const ts_engine_config *c = &e->c;
     double R_em = s_em->R, cp_em = s_em->cp;
     en_turb_geometry tg = en_turb_schedule(e, omega);
-    en_turbine(&e->turbo, tg.a_t, w_tc, o->p_em, o->T_em, R_em, cp_em, p_amb, to);
     double area = tg.gate * en_wastegate_open(c, o->p_im) * c->wg_area + tg.bypass;
-    double g_em = cp_em / (cp_em - R_em);
-    double m =
-        en_orifice(area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R_em, g_em);
+    double g_em = cp_em / (cp_em - R_em); /* en_turbine's gamma (the same operations) */
+    /* turbine nozzle and bypass see the same upstream gas and pressure ratio:
+     * one psi for both (the values en_orifice gives each; the turbine's reverse
+     * flow carries the manifold temperature, the bypass's the ambient one) */
+    double m_t, m;
+    en_orifice_pair(tg.a_t, area, o->p_em, o->T_em, R_em, g_em, p_amb, o->T_em, T_amb, R_em, g_em,
+                    &m_t, &m);
+    en_turbine_flow(&e->turbo, m_t, w_tc, o->p_em, o->T_em, R_em, cp_em, p_amb, to);
     *m_wg = m > 0 ? m : 0;
 }
 
@@ -173,7 +161,7 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     /* rotor: J dw/dt = (eta_m P_t - P_c) / w (Section III.B.1) */
     double w = xb[BX_TC];
     double J = e->turbo.inertia * e->turbo_inertia_scale;
-    xd[BX_TC] = (e->turbo.mech_eff * to.power - co.power) / (J * fmax(w, 200.0));
+    xd[BX_TC] = (e->turbo.mech_eff * to.power - co.power) / (J * en_atleast(w, 200.0));
     if (w <= 0 && xd[BX_TC] < 0) xd[BX_TC] = 0;
     o->air_flow = co.mdot;
 }

@@ -53,7 +53,7 @@ void en_compressor(const en_turbo *t, double w, double p01, double T01, double p
     double k = (GAMMA_AIR - 1.0) / GAMMA_AIR;
     double pr = p02 / p01;
     double dh = CP_AIR_TURBO * T01 * (pow(pr, k) - 1.0);
-    double U = fmax(w, 0.0) * t->d_c / 2.0;
+    double U = en_atleast(w, 0.0) * t->d_c / 2.0;
     double rho = p01 / (t->r_air * T01);
     double arg = U * U - dh / t->psi0;
     double mdot = arg > 0 ? rho * t->d_c * t->d_c * t->phi_ch * sqrt(arg) : 0.0;
@@ -83,8 +83,15 @@ void en_turbine(const en_turbo *t, double a_t, double w, double p03, double T03,
                 double cp, double p4, en_turb_out *o)
 {
     double g = cp / (cp - R);
+    en_turbine_flow(t, en_orifice(a_t, p03, T03, R, g, p4, T03, R, g), w, p03, T03, R, cp, p4, o);
+}
+
+void en_turbine_flow(const en_turbo *t, double mdot, double w, double p03, double T03, double R,
+                     double cp, double p4, en_turb_out *o)
+{
+    double g = cp / (cp - R);
     double pr = p4 / p03; /* <= 1 for forward flow */
-    o->mdot = en_orifice(a_t, p03, T03, R, g, p4, T03, R, g);
+    o->mdot = mdot;
     if (pr >= 1.0 || o->mdot <= 0) {
         o->power = 0.0;
         o->eta = 0.0;
@@ -92,7 +99,7 @@ void en_turbine(const en_turbo *t, double a_t, double w, double p03, double T03,
     }
     double dh = cp * T03 * (1.0 - pow(pr, (g - 1.0) / g));
     double cs = sqrt(2.0 * dh);
-    double bsr = fmax(w, 0.0) * t->d_t / 2.0 / fmax(cs, 1e-6) / t->bsr_opt;
+    double bsr = en_atleast(w, 0.0) * t->d_t / 2.0 / en_atleast(cs, 1e-6) / t->bsr_opt;
     double eta = t->eta_t * (2.0 * bsr - bsr * bsr);
     if (eta < 0) eta = 0;
     o->eta = eta;

@@ -90,19 +90,19 @@ void en_walls_step(const ts_engine *e, double *x, const double *q, double h)
         double T_sink = sf == EN_PISTON ? T_oil : T_cool;
         double r[N][EN_NCYL];
         double *Ts = T0 + sf * N; /* stack of cylinder c: Ts + c * S */
+        /* right-hand sides down each stack (no recurrence: the node loop runs
+         * inside, the stack's temperatures read once each) */
         for (int c = 0; c < EN_NCYL; c++) {
             const double *T = Ts + c * S;
-            r[0][c] = ch[0] * T[0] + 0.5 * g[0] * (T[1] - T[0]) + q[c * EN_NSURF + sf];
-        }
-        for (int i = 1; i < N - 1; i++) /* C/h T + 1/2 (g_l (T_l - T) + g_r (T_r - T)) */
-            for (int c = 0; c < EN_NCYL; c++) {
-                const double *T = Ts + c * S;
-                r[i][c] = ch[i] * T[i] + 0.5 * (gl[i] * (T[i - 1] - T[i]) + g[i] * (T[i + 1] - T[i]));
+            double Tl = T[0], Tc = T[1];
+            r[0][c] = ch[0] * Tl + 0.5 * g[0] * (Tc - Tl) + q[c * EN_NSURF + sf];
+            for (int i = 1; i < N - 1; i++) { /* C/h T + 1/2 (g_l (T_l - T) + g_r (T_r - T)) */
+                double Tr = T[i + 1];
+                r[i][c] = ch[i] * Tc + 0.5 * (gl[i] * (Tl - Tc) + g[i] * (Tr - Tc));
+                Tl = Tc;
+                Tc = Tr;
             }
-        for (int c = 0; c < EN_NCYL; c++) {
-            const double *T = Ts + c * S;
-            r[N - 1][c] = ch[N - 1] * T[N - 1] +
-                          0.5 * (gl[N - 1] * (T[N - 2] - T[N - 1]) + g[N - 1] * (T_sink - T[N - 1]));
+            r[N - 1][c] = ch[N - 1] * Tc + 0.5 * (gl[N - 1] * (Tl - Tc) + g[N - 1] * (T_sink - Tc));
             r[N - 1][c] += 0.5 * w->cond[N - 1] * T_sink; /* sink half of the implicit side */
         }
         for (int i = 1; i < N; i++)
