@@ -184,13 +184,44 @@ void ts_span_free(ts_span *sp)
     free(sp);
 }
 
+/* The slack law's rule (ts_span_slack_force): 2-point Gauss-Legendre on
+ * TS_SPAN_SLACK_POINTS / 2 equal sub-intervals, equal weights; at each point
+ * the strain basis de/dx_i of e = U_x + kappa V, or of the uniform Irvine
+ * stretch (u1 - u0 + kappa \int V) / L with quasi_static_stretch; and the
+ * largest |de/dx_i| over the points. */
+static void slack_rule(ts_span *sp)
+{
+    static const double g2 = 0.5773502691896258; /* 1/sqrt(3), a method constant */
+    int n = sp->n, nl = sp->p.n_long, nt = sp->p.n_trans;
+    double L = sp->p.length, h = L / (TS_SPAN_SLACK_POINTS / 2);
+    sp->slack_w = 0.5 * h;
+    for (int q = 0; q < TS_SPAN_SLACK_POINTS; q++) {
+        double s = h * ((q / 2) + 0.5 + 0.5 * (q % 2 ? g2 : -g2)), N;
+        double *b = sp->slack_b + q * n;
+        for (int i = 0; i < 2 + nl; i++)
+            long_shape(i, s, L, &N, &b[i]);
+        for (int k = 0; k < nt; k++) {
+            double dN;
+            trans_shape(k + 1, s, L, &N, &dN);
+            b[sp->i_trans + k] =
+                sp->p.quasi_static_stretch
+                    ? sp->kappa * (1.0 - cos((k + 1) * PI)) / ((k + 1) * PI)
+                    : sp->kappa * N;
+        }
+        for (int i = 0; i < n; i++)
+            sp->slack_bmax[i] = fmax(sp->slack_bmax[i], fabs(b[i]));
+    }
+}
+
 ts_span *ts_span_make(const ts_span_params *p, ts_err *err)
 {
     if (check_params(p, err) != TS_OK) return NULL;
     ts_span *sp = calloc(1, sizeof *sp);
     int nl = p->n_long, nt = p->n_trans;
     int n = 2 + nl + nt;
-    double *block = sp ? calloc((size_t)(5 * n * n + 4 * n), sizeof(double)) : NULL;
+    double *block = sp ? calloc((size_t)(5 * n * n + 5 * n + TS_SPAN_SLACK_POINTS * n),
+                                sizeof(double))
+                       : NULL;
     if (!block) {
         free(sp);
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory building a span (n = %d)", n);
@@ -209,6 +240,8 @@ ts_span *ts_span_make(const ts_span_params *p, ts_err *err)
     sp->ay = sp->ax + n;
     sp->sx = sp->ay + n;
     sp->sy = sp->sx + n;
+    sp->slack_bmax = sp->sy + n;
+    sp->slack_b = sp->slack_bmax + n;
 
     double L = p->length, rho = p->rho, EA = p->ea, P0 = p->tension;
     double kappa = rho * p->g_y / P0;
@@ -317,6 +350,7 @@ ts_span *ts_span_make(const ts_span_params *p, ts_err *err)
             double mm = 0.5 * (M[i * n + j] + M[j * n + i]);
             M[i * n + j] = M[j * n + i] = mm;
         }
+    slack_rule(sp);
     return sp;
 }
 
@@ -376,85 +410,48 @@ void ts_span_eval(const ts_span *sp, const double *x, double s, double *U, doubl
     }
 }
 
-/* The strain basis de/dx_i at s (n values): e = U_x + kappa V, or the uniform
- * Irvine stretch (u1 - u0 + kappa \int V) / L with quasi_static_stretch. */
-static void strain_basis(const ts_span *sp, double s, double *b)
-{
-    double L = sp->p.length;
-    int nl = sp->p.n_long, nt = sp->p.n_trans;
-    if (sp->p.quasi_static_stretch) {
-        b[0] = -1.0 / L;
-        b[1] = 1.0 / L;
-        for (int k = 0; k < nt; k++)
-            b[sp->i_trans + k] = sp->kappa * (1.0 - cos((k + 1) * PI)) / ((k + 1) * PI);
-        return;
-    }
-    for (int i = 0; i < 2 + nl; i++) {
-        double N, dN;
-        long_shape(i, s, L, &N, &dN);
-        b[i] = dN;
-    }
-    for (int k = 0; k < nt; k++) {
-        double N, dN;
-        trans_shape(k + 1, s, L, &N, &dN);
-        b[sp->i_trans + k] = sp->kappa * N;
-    }
-}
-
-/* Point q of the slack rule: 2-point Gauss-Legendre on TS_SPAN_SLACK_POINTS / 2
- * equal sub-intervals (method constants). */
-static void slack_point(const ts_span *sp, int q, double *s, double *w)
-{
-    static const double g2 = 0.5773502691896258; /* 1/sqrt(3) */
-    double h = sp->p.length / (TS_SPAN_SLACK_POINTS / 2);
-    *s = h * ((q / 2) + 0.5 + 0.5 * (q % 2 ? g2 : -g2));
-    *w = 0.5 * h;
-}
-
-/* Lower bound of the axial stress over the span (the triangle inequality on the
- * basis: |de/dx_i| <= 1/L, j pi/L, |kappa|). */
+/* Lower bound of the axial stress P0 + EA (e + t_kv e_d) over the rule's points
+ * (the triangle inequality on the tabulated basis; de/dx0, de/dx1 = -+1/L). */
 static double stress_lower_bound(const ts_span *sp, const double *x, const double *xd, double t_kv)
 {
-    double L = sp->p.length, ea = sp->p.ea;
-    double bmax[2 + 2 * TS_SPAN_MAX_MODES];
-    int n = sp->n;
-    bmax[0] = bmax[1] = 1.0 / L;
-    for (int i = 2; i < sp->i_trans; i++)
-        bmax[i] = (i - 1) * PI / L;
-    for (int i = sp->i_trans; i < n; i++)
-        bmax[i] = fabs(sp->kappa); /* >= |kappa (1 - cos k pi) / (k pi)| too */
-    double e = (x[1] - x[0]) / L, r = 0, rd = 0;
-    for (int i = 2; i < n; i++)
+    const double *bmax = sp->slack_bmax;
+    double L = sp->p.length, r = 0, rd = 0;
+    for (int i = 2; i < sp->n; i++)
         r += bmax[i] * fabs(x[i]);
     if (xd && t_kv > 0) {
         rd = fabs(xd[1] - xd[0]) / L;
-        for (int i = 2; i < n; i++)
+        for (int i = 2; i < sp->n; i++)
             rd += bmax[i] * fabs(xd[i]);
     }
-    return sp->p.tension + ea * (e - r - t_kv * rd);
+    return sp->p.tension + sp->p.ea * ((x[1] - x[0]) / L - r - t_kv * rd);
+}
+
+/* Axial stress P0 + EA (e + t_kv e_d) at the rule's point q (xd may be NULL). */
+static double point_stress(const ts_span *sp, int q, const double *x, const double *xd,
+                           double t_kv)
+{
+    const double *b = sp->slack_b + q * sp->n;
+    double e = 0, ed = 0;
+    for (int i = 0; i < sp->n; i++) {
+        e += b[i] * x[i];
+        if (xd) ed += b[i] * xd[i];
+    }
+    return sp->p.tension + sp->p.ea * (e + t_kv * ed);
 }
 
 int ts_span_slack_force(const ts_span *sp, const double *x, const double *xd, double t_kv,
                         double *f)
 {
+    if (!(t_kv > 0)) xd = NULL;
     if (stress_lower_bound(sp, x, xd, t_kv) >= 0) return 0;
-    int n = sp->n, slack = 0;
-    double ea = sp->p.ea, P0 = sp->p.tension;
-    double b[2 + 2 * TS_SPAN_MAX_MODES];
+    int slack = 0;
     for (int q = 0; q < TS_SPAN_SLACK_POINTS; q++) {
-        double s, w;
-        slack_point(sp, q, &s, &w);
-        strain_basis(sp, s, b);
-        double e = 0, ed = 0;
-        for (int i = 0; i < n; i++) {
-            e += b[i] * x[i];
-            if (xd && t_kv > 0) ed += b[i] * xd[i];
-        }
-        double sigma = P0 + ea * (e + t_kv * ed);
+        double sigma = point_stress(sp, q, x, xd, t_kv);
         if (sigma >= 0) continue;
         slack = 1;
-        for (int i = 0; i < n; i++)
-            f[i] += w * sigma * b[i];
+        const double *b = sp->slack_b + q * sp->n;
+        for (int i = 0; i < sp->n; i++)
+            f[i] += sp->slack_w * sigma * b[i];
     }
     return slack;
 }
@@ -462,18 +459,10 @@ int ts_span_slack_force(const ts_span *sp, const double *x, const double *xd, do
 double ts_span_slack_energy(const ts_span *sp, const double *x)
 {
     if (stress_lower_bound(sp, x, NULL, 0) >= 0) return 0;
-    int n = sp->n;
-    double ea = sp->p.ea, P0 = sp->p.tension, energy = 0;
-    double b[2 + 2 * TS_SPAN_MAX_MODES];
+    double energy = 0;
     for (int q = 0; q < TS_SPAN_SLACK_POINTS; q++) {
-        double s, w;
-        slack_point(sp, q, &s, &w);
-        strain_basis(sp, s, b);
-        double e = 0;
-        for (int i = 0; i < n; i++)
-            e += b[i] * x[i];
-        double sigma = P0 + ea * e;
-        if (sigma < 0) energy += w * sigma * sigma / (2.0 * ea);
+        double sigma = point_stress(sp, q, x, NULL, 0);
+        if (sigma < 0) energy += sp->slack_w * sigma * sigma / (2.0 * sp->p.ea);
     }
     return energy;
 }

@@ -96,7 +96,8 @@
 
 #include "errors.h"
 
-#define TS_SPAN_MAX_MODES 16 /* per family (longitudinal, transverse) */
+#define TS_SPAN_MAX_MODES    16 /* per family (longitudinal, transverse) */
+#define TS_SPAN_SLACK_POINTS 48 /* points of the slack law's rule (ts_span_slack_force) */
 
 /* A support circle in the x–z plane (hull or global frame) [m]. */
 typedef struct ts_span_support {
@@ -156,6 +157,10 @@ typedef struct ts_span {
     double *ay;            /* [n] rho \int phi_k (transverse rows), 0 else: load per y0_dd */
     double *sx;            /* [n] rho \int s N_i (longitudinal rows): centripetal load */
     double *sy;            /* [n] rho \int s phi_k (transverse rows): load per theta_dd */
+    /* the slack law's rule: strain basis de/dx_i at its points, their weight */
+    double *slack_b;    /* [TS_SPAN_SLACK_POINTS x n] */
+    double *slack_bmax; /* [n] max over the points of |de/dx_i| (a quick stress bound) */
+    double slack_w;     /* weight of each point [m] */
 } ts_span;
 
 /* Support motion in the chord frame, for ts_span_force(). */
@@ -231,7 +236,6 @@ void ts_span_eval(const ts_span *sp, const double *x, double s, double *U, doubl
  * ts_span_slack_energy's, so the two are an exact gradient pair. Returns 1
  * when some point of the span is slack, 0 when none is (f untouched; a
  * cheap bound skips the quadrature for a span far from slack). */
-#define TS_SPAN_SLACK_POINTS 48
 int ts_span_slack_force(const ts_span *sp, const double *x, const double *xd, double t_kv,
                         double *f);
 

@@ -74,6 +74,24 @@ REPO = os.path.join(os.path.dirname(__file__), "..")
 BASE_PRESET = "pointmass-prescribed"  # the foundation's preset; every build has it
 
 
+def stepped_session(url, preset=BASE_PRESET, step=0.5):
+    """Create a session of preset (1-s run, 50-Hz samples), step it `step` s; its id."""
+    r = requests.post(url + "/v1/sessions",
+                      json={"preset": preset, "run": {"duration": 1.0, "sample_rate": 50}})
+    assert r.status_code == 201, r.text
+    s = r.json()["id"]
+    r = requests.post(f"{url}/v1/sessions/{s}/step", json={"duration": step})
+    assert r.status_code == 200, r.text
+    return s
+
+
+@pytest.fixture(scope="module")
+def sid(daemon):
+    """A point-mass session with 0.5 s of stored samples, shared by a module's tests
+    (a module may define its own `sid` instead)."""
+    return stepped_session(daemon.url)
+
+
 def preset_names():
     """Names of the shipped presets, from the source tree (the daemon embeds the same files)."""
     d = os.path.join(REPO, "sim", "data", "presets")

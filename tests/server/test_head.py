@@ -10,18 +10,7 @@ import socket
 import pytest
 import requests
 
-from conftest import BASE_PRESET
-
-
-@pytest.fixture(scope="module")
-def sid(daemon):
-    r = requests.post(daemon.url + "/v1/sessions",
-                      json={"preset": BASE_PRESET, "run": {"duration": 1.0, "sample_rate": 50}})
-    assert r.status_code == 201, r.text
-    s = r.json()["id"]
-    r = requests.post(f"{daemon.url}/v1/sessions/{s}/step", json={"duration": 0.5})
-    assert r.status_code == 200, r.text
-    return s
+from conftest import stepped_session
 
 
 @pytest.mark.parametrize("path", ["/v1/health", "/v1/presets", "/v1/schema", "/",
@@ -41,14 +30,7 @@ def test_head_has_the_get_headers_and_no_body(daemon, sid, path):
 @pytest.fixture(scope="module")
 def vsid(daemon):
     # a vehicle session: frames need the tank's geometry
-    r = requests.post(daemon.url + "/v1/sessions",
-                      json={"preset": "bump-prescribed-static",
-                            "run": {"duration": 1.0, "sample_rate": 50}})
-    assert r.status_code == 201, r.text
-    s = r.json()["id"]
-    r = requests.post(f"{daemon.url}/v1/sessions/{s}/step", json={"duration": 0.2})
-    assert r.status_code == 200, r.text
-    return s
+    return stepped_session(daemon.url, "bump-prescribed-static", 0.2)
 
 
 @pytest.mark.parametrize("path,ctype", [

@@ -12,20 +12,9 @@ in tanksimd: each failed on the daemon before its fix.
 import pytest
 import requests
 
-from conftest import BASE_PRESET, is_problem
+from conftest import is_problem
 
 REPLACEMENT = "\ufffd"
-
-
-@pytest.fixture(scope="module")
-def sid(daemon):
-    r = requests.post(daemon.url + "/v1/sessions",
-                      json={"preset": BASE_PRESET, "run": {"duration": 1.0, "sample_rate": 50}})
-    assert r.status_code == 201, r.text
-    s = r.json()["id"]
-    r = requests.post(f"{daemon.url}/v1/sessions/{s}/step", json={"duration": 0.5})
-    assert r.status_code == 200, r.text
-    return s
 
 
 # (route under the session, query parameter); "" = /v1/sessions itself

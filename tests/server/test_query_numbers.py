@@ -9,18 +9,7 @@ problem naming the parameter; the decimal spellings must still work.
 import pytest
 import requests
 
-from conftest import BASE_PRESET, is_problem
-
-
-@pytest.fixture(scope="module")
-def sid(daemon):
-    r = requests.post(daemon.url + "/v1/sessions",
-                      json={"preset": BASE_PRESET, "run": {"duration": 1.0, "sample_rate": 50}})
-    assert r.status_code == 201, r.text
-    s = r.json()["id"]
-    r = requests.post(f"{daemon.url}/v1/sessions/{s}/step", json={"duration": 0.5})
-    assert r.status_code == 200, r.text
-    return s
+from conftest import is_problem
 
 
 # (route under the session, parameter, kind) -- kind: number or integer
