@@ -270,23 +270,8 @@ static enum MHD_Result first_frame_ready(tsd_request *r)
         frames_free(f);
         return tsd_reply_owned(r, MHD_HTTP_OK, type, (char *)png, len);
     }
-    if (tsd_request_is_head(r)) { /* headers only (tsd_request_is_head) */
-        frames_free(f);
-        return tsd_reply_text(r, MHD_HTTP_OK, "multipart/x-mixed-replace; boundary=frame", "", 0);
-    }
-    struct MHD_Response *resp =
-        MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 1 << 16, reader, f, frames_free);
-    if (!resp) {
-        frames_free(f);
-        return MHD_NO;
-    }
-    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE,
-                            "multipart/x-mixed-replace; boundary=frame");
-    MHD_add_response_header(resp, "Cache-Control", "no-store");
-    r->status = MHD_HTTP_OK;
-    enum MHD_Result ret = MHD_queue_response(r->conn, MHD_HTTP_OK, resp);
-    MHD_destroy_response(resp);
-    return ret;
+    return tsd_reply_chunked(r, "multipart/x-mixed-replace; boundary=frame", 1 << 16, reader, f,
+                             frames_free);
 }
 
 enum MHD_Result tsd_frames_reply(tsd_request *r, tsd_session *s, const tsr_view *v, double k0,

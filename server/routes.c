@@ -106,10 +106,9 @@ static int q_number(tsd_request *r, const char *name, double lo, double hi, doub
 {
     const char *v = tsd_arg(r, name);
     if (!v || !*v) return 0;
-    char *end;
-    errno = 0;
-    double x = is_decimal(v, 0) ? strtod(v, &end) : NAN;
-    if (!isfinite(x) || errno || *end || x < lo || x > hi) {
+    errno = 0; /* ERANGE: beyond a double, or below its normal range */
+    double x = is_decimal(v, 0) ? strtod(v, NULL) : NAN;
+    if (!isfinite(x) || errno || x < lo || x > hi) {
         char what[96];
         snprintf(what, sizeof what, "number in [%g, %g] expected", lo, hi);
         *ret = bad_param(r, name, what, v);
@@ -122,11 +121,10 @@ static int q_number(tsd_request *r, const char *name, double lo, double hi, doub
 /* Whole decimal string v as an integer in [lo, hi]: 0, or -1 when it is not. */
 static int parse_integer(const char *v, long lo, long hi, long *out)
 {
-    char *end;
-    errno = 0;
     if (!is_decimal(v, 1)) return -1;
-    long x = strtol(v, &end, 10);
-    if (errno || end == v || *end || x < lo || x > hi) return -1;
+    errno = 0;
+    long x = strtol(v, NULL, 10);
+    if (errno || x < lo || x > hi) return -1;
     *out = x;
     return 0;
 }
@@ -931,7 +929,7 @@ enum MHD_Result tsd_route(tsd_request *r)
     const tsd_route_row *row = NULL;
     /* HEAD is GET without the body (RFC 9110 9.3.2; libmicrohttpd sends the
      * headers only), so every GET row answers it */
-    const char *method = strcmp(r->method, "HEAD") == 0 ? "GET" : r->method;
+    const char *method = tsd_request_is_head(r) ? "GET" : r->method;
     for (size_t i = 0; i < NROUTES; i++) {
         if (!match(routes[i].pattern, r->url, r)) continue;
         path_matched = 1;

@@ -54,6 +54,24 @@ int tsd_request_is_head(const tsd_request *r)
     return strcmp(r->method, "HEAD") == 0;
 }
 
+enum MHD_Result tsd_reply_chunked(tsd_request *r, const char *content_type, size_t block,
+                                  MHD_ContentReaderCallback reader, void *ctx,
+                                  MHD_ContentReaderFreeCallback release)
+{
+    if (tsd_request_is_head(r)) {
+        release(ctx);
+        return tsd_reply_text(r, MHD_HTTP_OK, content_type, "", 0);
+    }
+    struct MHD_Response *resp =
+        MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, block, reader, ctx, release);
+    if (!resp) {
+        release(ctx);
+        return MHD_NO;
+    }
+    MHD_add_response_header(resp, "X-Accel-Buffering", "no"); /* proxies: pass it on as made */
+    return queue(r, MHD_HTTP_OK, resp, content_type, 0);
+}
+
 enum MHD_Result tsd_reply_text(tsd_request *r, unsigned status, const char *content_type,
                                const char *text, size_t len)
 {

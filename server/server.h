@@ -144,11 +144,16 @@ enum MHD_Result tsd_route(tsd_request *r);
 void tsd_routes_print(void);
 /* Query argument or NULL. */
 const char *tsd_arg(tsd_request *r, const char *name);
-/* Non-zero for a HEAD request (routed as GET). A reply whose body is made as
- * it goes (chunked: stream, multipart frames) answers HEAD with
- * tsd_reply_text(r, 200, type, "", 0) instead: libmicrohttpd 0.9.75 still
- * sends the last chunk "0\r\n\r\n" after a HEAD's headers, which a keep-alive
- * client would read as the start of its next response. */
+/* Non-zero for a HEAD request (routed as GET). */
 int tsd_request_is_head(const tsd_request *r);
+/* 200 with a body made as it goes (chunked, unknown length: live streams,
+ * multipart frames): reader fills blocks of up to block bytes from ctx,
+ * release(ctx) frees it (also here, on failure or HEAD). A HEAD gets the
+ * headers only: libmicrohttpd 0.9.75 would still send a chunked reply's last
+ * chunk "0\r\n\r\n" after them, which a keep-alive client would read as the
+ * start of its next response. */
+enum MHD_Result tsd_reply_chunked(tsd_request *r, const char *content_type, size_t block,
+                                  MHD_ContentReaderCallback reader, void *ctx,
+                                  MHD_ContentReaderFreeCallback release);
 
 #endif

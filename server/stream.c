@@ -109,8 +109,6 @@ static void release(void *cls)
 enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx, int n, long since,
                                  int ndjson)
 {
-    const char *type = ndjson ? "application/x-ndjson" : "text/event-stream";
-    if (tsd_request_is_head(r)) return tsd_reply_text(r, MHD_HTTP_OK, type, "", 0);
     stream_ctx *c = calloc(1, sizeof *c);
     if (!c) return MHD_NO;
     c->rows = calloc((size_t)CHUNK_ROWS * (size_t)s->nch, sizeof *c->rows);
@@ -129,17 +127,6 @@ enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx,
     s->refs++;
     pthread_mutex_unlock(&s->mu);
     if (!ndjson) tsa_buf_put(&c->buf, "retry: 1000\n\n", 13);
-    struct MHD_Response *resp =
-        MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 16384, reader, c, release);
-    if (!resp) {
-        release(c);
-        return MHD_NO;
-    }
-    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, type);
-    MHD_add_response_header(resp, "Cache-Control", "no-store");
-    MHD_add_response_header(resp, "X-Accel-Buffering", "no");
-    r->status = MHD_HTTP_OK;
-    enum MHD_Result ret = MHD_queue_response(r->conn, MHD_HTTP_OK, resp);
-    MHD_destroy_response(resp);
-    return ret;
+    return tsd_reply_chunked(r, ndjson ? "application/x-ndjson" : "text/event-stream", 16384,
+                             reader, c, release);
 }
