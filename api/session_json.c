@@ -357,6 +357,31 @@ void tsa_series_json(tsa_buf *b, const char *session, const tsa_channels *c, con
     tsa_buf_put(b, "}", 1);
 }
 
+/* ---- integrator work ------------------------------------------------------------ */
+
+static json_t *count_json(long v)
+{
+    return v >= 0 ? json_integer((json_int_t)v) : json_null();
+}
+
+json_t *tsa_integrators_json(const ts_integrator_stats *s, int n)
+{
+    json_t *a = json_array();
+    for (int i = 0; a && i < n; i++) {
+        json_t *o = json_pack("{s:s,s:s}", "integrator", s[i].name, "method", s[i].method);
+        if (!o) break;
+        json_object_set_new(o, "steps", count_json(s[i].steps));
+        json_object_set_new(o, "rhs_evals", count_json(s[i].rhs_evals));
+        json_object_set_new(o, "jac_evals", count_json(s[i].jac_evals));
+        json_object_set_new(o, "lin_setups", count_json(s[i].lin_setups));
+        json_object_set_new(o, "err_test_fails", count_json(s[i].err_test_fails));
+        json_object_set_new(o, "newton_iters", count_json(s[i].newton_iters));
+        json_object_set_new(o, "newton_fails", count_json(s[i].newton_fails));
+        json_array_append_new(a, o);
+    }
+    return a;
+}
+
 /* ---- session ---------------------------------------------------------------- */
 
 json_t *tsa_session_json(const tsa_session_view *v, int summary)
@@ -397,6 +422,9 @@ json_t *tsa_session_json(const tsa_session_view *v, int summary)
             json_object_set_new(o, "channels", tsa_channels_json(v->ch));
             if (v->latest) json_object_set_new(o, "latest", tsa_values_json(v->ch, v->latest));
         }
+        if (v->integrators)
+            json_object_set_new(o, "integrators",
+                                tsa_integrators_json(v->integrators, v->nintegrators));
     }
     json_object_set_new(o, "links", links);
     return o;

@@ -118,6 +118,13 @@ void tsa_series_json(tsa_buf *b, const char *session, const tsa_channels *c, con
                      const long *index, const double *rows, long nrows, long every,
                      const char *next_token);
 
+/* ---- integrator work ------------------------------------------------------- */
+
+/* [{"integrator", "method", "steps", "rhs_evals", "jac_evals", "lin_setups",
+ *   "err_test_fails", "newton_iters", "newton_fails"}], counts as integers,
+ * null where the method has none (ts_integrator_stats: -1). New reference. */
+json_t *tsa_integrators_json(const ts_integrator_stats *s, int n);
+
 /* ---- the session resource ------------------------------------------------ */
 
 typedef struct tsa_session_view {
@@ -134,6 +141,8 @@ typedef struct tsa_session_view {
     const double *latest;   /* latest row, ch->n values (may be NULL; ignored without ch) */
     const char *error;      /* message of a failed run ("" or NULL when none) */
     const char *operation;  /* id of the run in progress ("" or NULL) */
+    const ts_integrator_stats *integrators; /* work counters (NULL: unknown) */
+    int nintegrators;
 } tsa_session_view;
 
 /* The session object with links; summary = 1 leaves out config and channels. */

@@ -2,8 +2,9 @@
  * cmd_run.c — "tanksim run": build the model of a config, run it from rest to
  * run.duration (or --until T) and write DIR/series.csv (header of channel
  * names, one row per sample) and DIR/summary.json (config echo, DOF count,
- * wall time, real-time factor, the unit of every channel, and the scenario's
- * metrics computed from the series, e.g. Table 2's acceleration times).
+ * wall time, real-time factor, the integrators' work counters, the unit of
+ * every channel, and the scenario's metrics computed from the series, e.g.
+ * Table 2's acceleration times).
  */
 #include <errno.h>
 #include <math.h>
@@ -13,6 +14,7 @@
 #include <sys/stat.h>
 
 #include "../api/config_json.h"
+#include "../api/session_json.h"
 #include "cli.h"
 
 /* Rows go to the CSV as they come and are kept for the run's metrics. */
@@ -103,11 +105,14 @@ int tsc_cmd_run(int argc, char **argv)
                                       "unit", metrics[i].unit, "description",
                                       metrics[i].description));
     double wall = ts_wall_seconds(d);
+    ts_integrator_stats ist[TS_MAX_INTEGRATORS];
+    int nist = ts_integrator_stats_get(m, d, ist, TS_MAX_INTEGRATORS);
     json_t *summary = json_pack(
-        "{s:s,s:O,s:i,s:i,s:f,s:I,s:f,s:f,s:o,s:o}", "kind", ts_model_kind(m), "config", resolved,
-        "dof", ts_model_dof(m), "nstate", ts_model_nstate(m), "t_end_s", ts_time(d), "samples",
-        (json_int_t)(ts_sample_index(d) + 1), "wall_time_s", wall, "real_time_factor",
-        wall > 0 ? ts_time(d) / wall : 0.0, "channels", channels, "metrics", mj);
+        "{s:s,s:O,s:i,s:i,s:f,s:I,s:f,s:f,s:o,s:o,s:o}", "kind", ts_model_kind(m), "config",
+        resolved, "dof", ts_model_dof(m), "nstate", ts_model_nstate(m), "t_end_s", ts_time(d),
+        "samples", (json_int_t)(ts_sample_index(d) + 1), "wall_time_s", wall, "real_time_factor",
+        wall > 0 ? ts_time(d) / wall : 0.0, "integrators", tsa_integrators_json(ist, nist),
+        "channels", channels, "metrics", mj);
     snprintf(path, sizeof path, "%s/summary.json", out);
     if (json_dump_file(summary, path, JSON_INDENT(2) | JSON_REAL_PRECISION(10)) != 0) {
         fprintf(stderr, "tanksim: cannot write %s\n", path);
@@ -115,9 +120,13 @@ int tsc_cmd_run(int argc, char **argv)
         goto done;
     }
     json_decref(summary);
-    printf("%s: %s, %d DOF, %.3f s simulated in %.3f s wall (%.0fx real time) -> %s/\n",
-           ts_model_kind(m), ts_model_kind(m), ts_model_dof(m), ts_time(d), wall,
-           wall > 0 ? ts_time(d) / wall : 0.0, out);
+    long steps = 0;
+    for (int i = 0; i < nist; i++)
+        if (ist[i].steps > 0) steps += ist[i].steps;
+    printf("%s, %d DOF, %.3f s simulated in %.3f s wall (%.0fx real time, %ld integrator "
+           "steps) -> %s/\n",
+           ts_model_kind(m), ts_model_dof(m), ts_time(d), wall,
+           wall > 0 ? ts_time(d) / wall : 0.0, steps, out);
     status = TSC_EXIT_OK;
 done:
     if (csv) fclose(csv);

@@ -660,6 +660,8 @@ static json_t *json_locked(tsd_session *s, int summary)
         .latest = (stored_table ? s->index >= 0 : s->m != NULL) ? s->latest : NULL,
         .error = s->error,
         .operation = s->op_id,
+        .integrators = stored_table ? NULL : s->integrators,
+        .nintegrators = stored_table ? 0 : s->nintegrators,
     };
     return tsa_session_json(&v, summary);
 }
@@ -716,6 +718,8 @@ static int flush(tsd_session *s, const char *status)
     const double *last = s->batch + (size_t)(s->batch_n - 1) * (size_t)s->nch;
     long idx = s->batch_first + s->batch_n - 1;
     int rc = ts_state_save(s->m, s->d, s->snapshot, s->snapshot_size, &err) == TS_OK ? 0 : -1;
+    ts_integrator_stats ist[TS_MAX_INTEGRATORS];
+    int nist = ts_integrator_stats_get(s->m, s->d, ist, TS_MAX_INTEGRATORS);
     if (rc == 0)
         rc = tsd_db_append(s->srv->db, s->seq, s->batch_first, s->batch_n, s->nch, s->batch,
                            s->snapshot, s->snapshot_size, last[0], idx, status);
@@ -725,6 +729,8 @@ static int flush(tsd_session *s, const char *status)
         s->t = last[0];
         s->index = idx;
         memcpy(s->latest, last, sizeof(double) * (size_t)s->nch);
+        memcpy(s->integrators, ist, sizeof ist);
+        s->nintegrators = nist;
         wake_locked(s);
         pthread_mutex_unlock(&s->mu);
     }

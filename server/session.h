@@ -73,6 +73,9 @@ typedef struct tsd_session {
     double t;            /* (mu) time of the last stored row [s] */
     long index;          /* (mu) index of the last stored row (-1: none, unrestored only) */
     double *latest;      /* (mu) last stored row, nch values */
+    ts_integrator_stats integrators[TS_MAX_INTEGRATORS]; /* (mu) work counters at the last
+                                                          * stored row, in this process */
+    int nintegrators;                                    /* (mu) entries of integrators */
     char error[384];     /* (mu) message of the failure (failed) */
     char op_id[24];      /* (mu) the run operation in progress or last run */
     tsd_waiter *waiters; /* (mu) suspended streams */

@@ -382,6 +382,7 @@ static ts_rc lead_explicit(ts_coupled_run *r, double t_to, ts_err *err)
         if (ts_rk4_step(c->np, lead_rhs, r, t, h, y, r->rk))
             return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                               "powertrain state left its domain at t = %.6f s", t);
+        r->st.powertrain_rk4_steps++;
         r->lead_t = t + h;
         settle(r, r->lead_t, y, lead_w(r, r->lead_t));
     }
@@ -430,6 +431,7 @@ static ts_rc lead_cosim(ts_coupled_run *r, double t_to, ts_err *err)
             if (ts_rk4_step_subset(2, idx, lead_rhs_held, r, t0, h, y, yd, work))
                 return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                                   "powertrain state left its domain at t = %.6f s", t0);
+            r->st.powertrain_rk4_steps++;
             r->lead_t = t0 + h;
             settle(r, r->lead_t, y, lead_w(r, r->lead_t));
         }
@@ -815,6 +817,41 @@ void ts_coupled_run_stats(const ts_coupled_run *r, ts_coupled_stats *s)
         s->powertrain_setups = os.lin_setups;
     }
     s->powertrain_n = r->c->np;
+}
+
+int ts_coupled_run_integrators(const ts_coupled_run *r, ts_integrator_stats *out, int max)
+{
+    int n = 0;
+    if (max <= 0) return 0;
+    if (r->mono) {
+        ts_integrator_stats_of_ode(r->mono, "vehicle+powertrain",
+                                   "CVODE BDF (order <= 3), Newton, dense LU (monolithic)", out);
+        return 1;
+    }
+    if (r->follow_ode)
+        ts_integrator_stats_of_ode(r->follow_ode, "vehicle",
+                                   "CVODE BDF (order <= 3), Newton, Schur-complement solves "
+                                   "(follower)",
+                                   &out[n++]);
+    if (n < max && r->st.powertrain_rk4_steps > 0) {
+        long k = r->st.powertrain_rk4_steps;
+        out[n++] = (ts_integrator_stats){.name = "powertrain",
+                                         .method = "classical RK4, fixed step (leader)",
+                                         .steps = k,
+                                         .rhs_evals = 4 * k,
+                                         .jac_evals = -1,
+                                         .lin_setups = -1,
+                                         .err_test_fails = -1,
+                                         .newton_iters = -1,
+                                         .newton_fails = -1};
+    }
+    if (n < max && r->lead_ode) {
+        ts_integrator_stats s;
+        ts_integrator_stats_of_ode(r->lead_ode, "powertrain", "CVODE BDF, Newton, dense LU (leader)",
+                                   &s);
+        if (s.steps > 0 || r->st.powertrain_rk4_steps == 0) out[n++] = s;
+    }
+    return n;
 }
 
 /* Saved state: t, rack_fixed, report (t, omega, alpha), published torque and

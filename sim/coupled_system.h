@@ -112,6 +112,7 @@ typedef struct ts_coupled_stats {
     long vehicle_steps, vehicle_jacs, vehicle_err_fails, vehicle_newton, vehicle_newton_fails;
     long powertrain_steps;  /* the leader's CVODE steps (0 for the RK4 / co-simulated leader) */
     long powertrain_setups; /* the leader's Newton-matrix factorisations */
+    long powertrain_rk4_steps; /* the leader's fixed RK4 steps (explicit / co-simulated paths) */
     int powertrain_n;       /* powertrain-side states (powertrain + IVS integral) */
     long leader_inits;      /* leader CVODE (re)starts */
 } ts_coupled_stats;
@@ -133,6 +134,11 @@ ts_rc ts_coupled_run_set_rack(ts_coupled_run *r, double rack, ts_err *err);
 /* Observation at the current time (evaluates both right-hand sides). */
 void ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o);
 void ts_coupled_run_stats(const ts_coupled_run *r, ts_coupled_stats *s);
+/* The run's integrators as ts_integrator_stats entries (model.h): the
+ * monolithic one, or the follower (vehicle) and the leader (powertrain; its
+ * RK4 path and its CVODE path each an entry once used). Returns the count
+ * (at most max). */
+int ts_coupled_run_integrators(const ts_coupled_run *r, ts_integrator_stats *out, int max);
 
 /* Saved-state size (bytes), the same for every run of c. */
 size_t ts_coupled_state_size(const ts_coupled *c);

@@ -236,6 +236,30 @@ long ts_sample_index(const ts_data *d) { return d->index; }
 const double *ts_latest(const ts_data *d) { return d->latest; }
 double ts_wall_seconds(const ts_data *d) { return d->wall; }
 
+void ts_integrator_stats_of_ode(ts_ode *o, const char *name, const char *method,
+                                ts_integrator_stats *out)
+{
+    ts_ode_stats s;
+    ts_ode_get_stats(o, &s);
+    *out = (ts_integrator_stats){.name = name,
+                                 .method = method,
+                                 .steps = s.steps,
+                                 .rhs_evals = s.rhs_evals,
+                                 .jac_evals = s.jac_evals,
+                                 .lin_setups = s.lin_setups,
+                                 .err_test_fails = s.err_test_fails,
+                                 .newton_iters = s.nonlin_iters,
+                                 .newton_fails = s.nonlin_fails};
+}
+
+int ts_integrator_stats_get(const ts_model *m, const ts_data *d, ts_integrator_stats *out,
+                            int max)
+{
+    if (!m->ops->integrator_stats || !d->impl || max <= 0) return 0;
+    int n = m->ops->integrator_stats(m, d, out, max);
+    return n < max ? n : max;
+}
+
 int ts_rows_append(void *ud, long index, double t, const double *values, int n)
 {
     (void)index, (void)t;

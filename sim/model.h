@@ -74,6 +74,32 @@ long ts_sample_index(const ts_data *d);      /* index of the latest sample row *
 const double *ts_latest(const ts_data *d);   /* latest row, ts_model_nchannel values */
 double ts_wall_seconds(const ts_data *d);    /* wall time spent inside ts_advance [s] */
 
+/* ---- integrator work --------------------------------------------------------- */
+
+/* Work counters of one integrator of a run, since ts_data_make (summed over the
+ * integrator's restarts: events, ts_reset, ts_state_restore): what the run
+ * cost beside its wall time. -1 where the method has no such counter. */
+typedef struct ts_integrator_stats {
+    const char *name;    /* the part it carries: "vehicle", "powertrain", ... */
+    const char *method;  /* e.g. "CVODE BDF, Newton" */
+    long steps;          /* accepted steps */
+    long rhs_evals;      /* right-hand sides the integrator asked for (a difference-
+                          * quotient Jacobian's columns not included) */
+    long jac_evals;      /* Jacobian evaluations */
+    long lin_setups;     /* Newton-matrix factorisations */
+    long err_test_fails; /* steps rejected by the local error test */
+    long newton_iters;   /* Newton iterations */
+    long newton_fails;   /* Newton convergence failures */
+} ts_integrator_stats;
+
+#define TS_MAX_INTEGRATORS 4
+
+/* Fill at most max entries for d's integrators; returns how many (0: the
+ * scenario keeps no counters, e.g. the fixed-step engine dynamometer). Not
+ * while another thread advances d. */
+int ts_integrator_stats_get(const ts_model *m, const ts_data *d, ts_integrator_stats *out,
+                            int max);
+
 /* ---- figures of a finished run --------------------------------------------- */
 
 typedef struct ts_metric {

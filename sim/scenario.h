@@ -13,6 +13,7 @@
 #define TS_SCENARIO_H
 
 #include "model.h"
+#include "solver.h"
 
 #define TS_MAX_CHANNELS 256
 
@@ -38,6 +39,9 @@ typedef struct ts_scenario_ops {
     int (*metrics)(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max);
     /* Optional (NULL: TS_ERR_UNSUPPORTED). */
     ts_rc (*geometry)(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err);
+    /* Optional: integrator counters (see ts_integrator_stats_get); returns the count. */
+    int (*integrator_stats)(const ts_model *m, const ts_data *d, ts_integrator_stats *out,
+                            int max);
 } ts_scenario_ops;
 
 struct ts_model {
@@ -84,6 +88,11 @@ double ts_rows_first_crossing(const double *rows, long nrows, int nc, int col, d
 /* Monotonic wall clock [s] (CLOCK_MONOTONIC), for wall-time counters: the
  * model's ts_wall_seconds and the coupled system's per-side timers. */
 double ts_monotonic_seconds(void);
+
+/* A CVODE handle's counters (ts_ode_get_stats) as one ts_integrator_stats entry;
+ * name and method must outlive it (string literals). */
+void ts_integrator_stats_of_ode(ts_ode *o, const char *name, const char *method,
+                                ts_integrator_stats *out);
 
 /* Scenario tables, one per kind (scenario_*.c). */
 extern const ts_scenario_ops ts_scenario_pointmass;

@@ -137,6 +137,14 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     ts_powertrain_channel_values(&o->pt, out + CH_PT0);
 }
 
+static int integrator_stats(const ts_model *m, const ts_data *d, ts_integrator_stats *out,
+                            int max)
+{
+    (void)m;
+    const cpl_data *p = d->impl;
+    return ts_coupled_run_integrators(p->r, out, max);
+}
+
 static size_t state_size(const ts_model *m)
 {
     return ts_coupled_state_size(m->impl);
@@ -258,4 +266,5 @@ const ts_scenario_ops ts_scenario_coupled = {
     .state_restore = state_restore,
     .metrics = metrics,
     .geometry = geometry,
+    .integrator_stats = integrator_stats,
 };

@@ -361,6 +361,21 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     if (pm->pt) ts_powertrain_channel_values(&p->out, out + NCH);
 }
 
+/* The CVODE path only: the explicit and co-simulated powertrain paths step by
+ * RK4 at the engine's own fixed step and keep no counters. */
+static int integrator_stats(const ts_model *m, const ts_data *d, ts_integrator_stats *out,
+                            int max)
+{
+    (void)max;
+    const pm_model *pm = m->impl;
+    const pm_data *p = d->impl;
+    if (pm->pt && (ts_powertrain_macro_step(pm->pt) > 0 ||
+                   ts_powertrain_explicit_step(pm->pt, p->y + NVEH) > 0))
+        return 0;
+    ts_integrator_stats_of_ode(p->ode, "pointmass", "CVODE BDF, Newton, dense LU", out);
+    return 1;
+}
+
 static size_t state_size(const ts_model *m)
 {
     return sizeof(double) * (size_t)m->nstate + sizeof(ts_powertrain_state);
@@ -439,4 +454,5 @@ const ts_scenario_ops ts_scenario_pointmass = {
     .state_restore = state_restore,
     .metrics = metrics,
     .geometry = NULL,
+    .integrator_stats = integrator_stats,
 };

@@ -171,6 +171,16 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     out[CH_SPR_SPEED] = p->y[vm_nq(v) + 10 + VM_SPROCKET] - p->y[vm_nq(v) + 2];
 }
 
+static int integrator_stats(const ts_model *m, const ts_data *d, ts_integrator_stats *out,
+                            int max)
+{
+    (void)m, (void)max;
+    const veh_data *p = d->impl;
+    ts_integrator_stats_of_ode(p->ode, "vehicle",
+                               "CVODE BDF (order <= 3), Newton, Schur-complement solves", out);
+    return 1;
+}
+
 static size_t state_size(const ts_model *m)
 {
     const veh_model *vmm = m->impl;
@@ -320,4 +330,5 @@ const ts_scenario_ops ts_scenario_vehicle = {
     .state_restore = state_restore,
     .metrics = metrics,
     .geometry = geometry,
+    .integrator_stats = integrator_stats,
 };

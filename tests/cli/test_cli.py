@@ -49,6 +49,10 @@ def test_run_preset_writes_series_and_summary(tmp_path):
     units = {c["name"]: c["unit"] for c in summary["channels"]}
     assert units["vehicle.speed"] == "m/s" and units["t"] == "s"
     assert summary["dof"] == 1 and summary["config"]["run"]["kind"] == "pointmass"
+    (work,) = summary["integrators"]  # one CVODE integrator, its counters
+    assert work["integrator"] == "pointmass" and work["steps"] > 0
+    assert work["rhs_evals"] >= work["steps"] and work["newton_iters"] >= work["steps"]
+    assert f"{work['steps']} integrator steps" in out.stdout
     v = [float(r[header.index("vehicle.speed")]) for r in rows[1:]]
     assert v[0] == 0 and all(b >= a - 1e-9 for a, b in zip(v, v[1:]))  # accelerates
 

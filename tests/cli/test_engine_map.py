@@ -57,6 +57,7 @@ def test_dyno_preset_runs_crank_angle_traces(tmp_path):
     assert max(p) > 3e5 and min(p) > 0
     summary = json.load(open(tmp_path / "o" / "summary.json"))
     assert "brake_torque_mean" in summary["metrics"]
+    assert summary["integrators"] == []  # fixed crank-angle steps: no counters kept
 
 
 def test_engine_map_spool_rows(tmp_path):

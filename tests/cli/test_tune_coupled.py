@@ -59,5 +59,9 @@ def test_coupled_run_writes_channels(tmp_path):
         assert name in header, name
     summary = json.load(open(tmp_path / "o" / "summary.json"))
     assert summary["dof"] == 31 and summary["config"]["run"]["kind"] == "coupled"
+    work = {w["integrator"]: w for w in summary["integrators"]}
+    assert sorted(work) == ["powertrain", "vehicle"]  # leading-following: leader + follower
+    assert work["vehicle"]["steps"] > 0 and "follower" in work["vehicle"]["method"]
+    assert work["powertrain"]["steps"] > 0
     rack = [float(r[header.index("rack.demand")]) for r in rows[1:]]
     assert rack[1] == 1.0  # IVS: full rack at launch (Fig. 33)

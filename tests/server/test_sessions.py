@@ -79,11 +79,18 @@ def test_step_advances_time_and_returns_latest_values(daemon):
     assert st["values"]["t"] == pytest.approx(0.5)
     assert st["values"]["sprocket.torque"] == 5000.0
     assert st["values"]["vehicle.speed"] > 0
+    work1 = requests.get(daemon.url + s["links"]["self"]).json()["integrators"]
     r2 = requests.post(daemon.url + s["links"]["step"], json={"duration": 0.25}).json()
     assert r2["t"] == pytest.approx(0.75) and r2["values"]["vehicle.speed"] > st["values"]["vehicle.speed"]
     got = requests.get(daemon.url + s["links"]["self"]).json()
     assert got["t"] == pytest.approx(0.75) and got["samples"] == 376
     assert got["latest"] == r2["values"]
+    # the integrators' work counters grow with the run (openapi IntegratorStats)
+    work2 = got["integrators"]
+    assert [w["integrator"] for w in work2] == [w["integrator"] for w in work1] != []
+    assert 0 < work1[0]["steps"] < work2[0]["steps"]
+    assert work2[0]["rhs_evals"] >= work2[0]["steps"] and "CVODE" in work2[0]["method"]
+    assert "integrators" not in requests.get(daemon.url + "/v1/sessions").json()["sessions"][0]
 
 
 def test_step_longer_than_limit_points_to_run(daemon):

@@ -157,6 +157,17 @@ static void leader_not_restarted_follower_reuses_jacobian(void **state)
     assert_true(st.exchanges >= 999);
     assert_true(st.leader_inits >= 1 && st.leader_inits <= 2);
     assert_true(st.vehicle_steps > 0 && 100 * st.vehicle_jacs <= st.vehicle_steps);
+    /* the same counters as the model API's integrator entries (model.h) */
+    ts_integrator_stats is[TS_MAX_INTEGRATORS];
+    assert_int_equal(ts_coupled_run_integrators(r, is, TS_MAX_INTEGRATORS), 2);
+    assert_string_equal(is[0].name, "vehicle");
+    assert_int_equal(is[0].steps, st.vehicle_steps);
+    assert_int_equal(is[0].jac_evals, st.vehicle_jacs);
+    assert_int_equal(is[0].err_test_fails, st.vehicle_err_fails);
+    assert_string_equal(is[1].name, "powertrain");
+    assert_int_equal(is[1].steps, st.powertrain_steps);
+    assert_int_equal(is[1].lin_setups, st.powertrain_setups);
+    assert_int_equal(ts_coupled_run_integrators(r, is, 1), 1);
     ts_coupled_run_free(r);
     ts_coupled_free(cm);
 }
