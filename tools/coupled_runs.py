@@ -112,7 +112,7 @@ def main():
     print(f"\nIVS with the `tanksim tune` gains (X {tune['x']:.2f} s, kp {kp:.4f}, ti {ti:.2f} s):")
     for k in ["time_to_target", "rack_at_launch", "mean_abs_speed_error_mph", "rack_min",
               "rack_max", "peak_tension"]:
-        print(f"  {k} = {mz[k]:.3f}")
+        print(f"  {k} = " + ("not reached" if mz[k] is None else f"{mz[k]:.3f}"))
     for ter in ("flat", "bumps"):
         c, m = run(f"{ter}-rack90-1950rpm", config={
             "preset": "flat-coupled-rack90", "terrain": {"kind": ter},

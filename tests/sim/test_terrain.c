@@ -22,7 +22,8 @@ static ts_terrain_config base(int kind)
 
 /* EVIDENCE: parameters.md 6.2 / sim/data/terrain/apg4-synth.txt: 26 bumps,
  * the first 1 ft x 25 ft at 50 ft [P II.D: the large obstacle], the last
- * 0.25 ft x 2 ft [P II.D: the small obstacle] at 464.5 ft, course 500 ft.
+ * 0.25 ft x 2 ft [P II.D: the small obstacle] at 490.5 ft, the train's
+ * 10-ft pitch [C Figs. 13a-b] flat between its bumps, course 500 ft.
  * 1-cos shape: full height at the bump middle, zero and flat at its ends.
  * Exact to the file's 4 decimals. */
 static void apg4_synth_course_has_the_papers_obstacles(void **state)
@@ -38,8 +39,10 @@ static void apg4_synth_course_has_the_papers_obstacles(void **state)
     assert_close(slope, 0, 0, 1e-9);
     assert_close(ts_terrain_height(t, 50 * ft, NULL), 0, 0, 1e-12);
     assert_close(ts_terrain_height(t, 40 * ft, NULL), 0, 0, 0);
-    assert_close(ts_terrain_height(t, (464.5 + 1) * ft, NULL), 0.25 * ft, 1e-3, 0);
-    assert_close(ts_terrain_height(t, 480 * ft, NULL), 0, 0, 0);
+    assert_close(ts_terrain_height(t, (490.5 + 1) * ft, NULL), 0.25 * ft, 1e-3, 0);
+    assert_close(ts_terrain_height(t, (480.5 + 1) * ft, NULL), 0.25 * ft, 1e-3, 0);
+    assert_close(ts_terrain_height(t, (480.5 + 6) * ft, NULL), 0, 0, 0);
+    assert_close(ts_terrain_height(t, 495 * ft, NULL), 0, 0, 0);
     /* quarter point of the large bump: h/2, slope pi h / l */
     assert_close(ts_terrain_height(t, (50 + 6.25) * ft, &slope), 0.5 * ft, 1e-4, 0);
     assert_close(slope, 3.14159265 * 1.0 / 25.0, 1e-4, 0);
