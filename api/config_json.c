@@ -142,6 +142,7 @@ static ts_rc merge_document(json_t *merged, const json_t *doc, int depth, ts_err
     {
         if (strcmp(key, "preset") == 0 || strcmp(key, "description") == 0) continue;
         if (key[0] == '_') continue;
+        if (depth > 0 && strcmp(key, "commands") == 0) continue; /* preset metadata */
         json_t *cur = json_object_get(merged, key);
         if (json_is_object(cur) && !json_is_object(val)) {
             /* a section given as a scalar or array would replace the whole section and
@@ -407,6 +408,48 @@ ts_rc tsa_config_load(const json_t *doc, ts_config *cfg, json_t **resolved_out, 
     return rc;
 }
 
+ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err)
+{
+    json_t *owned = NULL;
+    ts_rc rc = TS_OK;
+    for (int depth = 0; depth <= MAX_PRESET_DEPTH && doc; depth++) {
+        if (json_object_get(doc, "run")) break; /* this document says how to run */
+        json_t *name = json_object_get(doc, "preset");
+        if (!json_is_string(name)) break;
+        ts_err perr;
+        json_t *p = tsa_preset_get(json_string_value(name), &perr);
+        if (!p) break; /* the config load reports an unknown preset */
+        json_t *cmds = json_object_get(p, "commands");
+        int serves = !json_is_array(cmds);
+        size_t i;
+        json_t *c;
+        json_array_foreach(cmds, i, c)
+        {
+            if (json_is_string(c) && strcmp(json_string_value(c), command) == 0) serves = 1;
+        }
+        if (!serves) {
+            char list[128] = "";
+            json_array_foreach(cmds, i, c)
+            {
+                if (!json_is_string(c)) continue;
+                size_t k = strlen(list);
+                snprintf(list + k, sizeof list - k, "%s%s", k ? ", " : "", json_string_value(c));
+            }
+            rc = ts_err_set(err, TS_ERR_PARAM, "/preset",
+                            "/preset: '%s' is a preset for %s only (it sets no /run); start a "
+                            "run from another preset (GET /v1/presets) or give /run/kind",
+                            json_string_value(name), list);
+            json_decref(p);
+            break;
+        }
+        json_decref(owned);
+        owned = p;
+        doc = p;
+    }
+    json_decref(owned);
+    return rc;
+}
+
 ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out, json_t *errors,
                            ts_err *err)
 {
@@ -414,7 +457,7 @@ ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_o
     json_t *doc = json_load_file(path, 0, &je);
     if (!doc) {
         if (je.line < 0 || strstr(je.text, "unable to open"))
-            return ts_err_set(err, TS_ERR_IO, NULL, "%s: %s", path, je.text);
+            return ts_err_set(err, TS_ERR_IO, NULL, "%s", je.text); /* names the path */
         return ts_err_set(err, TS_ERR_PARAM, "", "%s:%d:%d: %s", path, je.line, je.column, je.text);
     }
     ts_rc rc = tsa_config_load(doc, cfg, resolved_out, errors, err);
@@ -548,8 +591,11 @@ json_t *tsa_preset_list(void)
         json_error_t je;
         json_t *doc = json_loadb((const char *)f->data, f->size, 0, &je);
         json_t *desc = doc ? json_object_get(doc, "description") : NULL;
-        items[n++] = json_pack("{s:s,s:s}", "name", name, "description",
-                               json_is_string(desc) ? json_string_value(desc) : "");
+        items[n] = json_pack("{s:s,s:s}", "name", name, "description",
+                             json_is_string(desc) ? json_string_value(desc) : "");
+        json_t *cmds = doc ? json_object_get(doc, "commands") : NULL;
+        if (json_is_array(cmds)) json_object_set(items[n], "commands", cmds);
+        n++;
         json_decref(doc);
     }
     qsort(items, (size_t)n, sizeof items[0], cmp_name);

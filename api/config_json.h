@@ -47,11 +47,18 @@ json_t *tsa_config_to_json(const ts_config *cfg);
  * parameter table with defaults from the data files. */
 json_t *tsa_config_schema(void);
 
-/* [{"name", "description"}] of every shipped preset, sorted by name. */
+/* [{"name", "description"[, "commands"]}] of every shipped preset, sorted by
+ * name; "commands" is there when the preset serves only those commands. */
 json_t *tsa_preset_list(void);
 
 /* The preset document as shipped (not resolved). TS_ERR_NOTFOUND if unknown. */
 json_t *tsa_preset_get(const char *name, ts_err *err);
+
+/* May doc be used by command ("run", "render", "tune", "engine-map", "session")?
+ * No (TS_ERR_PARAM, pointer /preset) when its preset chain reaches a preset
+ * whose "commands" list leaves command out (m1 and table1-span are for
+ * "modes" only) before any document of the chain sets /run itself. */
+ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err);
 
 /* Read a config from a file path (a JSON document as above). */
 ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out,

@@ -3,7 +3,10 @@
  */
 #include "cli.h"
 
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "../api/config_json.h"
@@ -18,6 +21,29 @@ const char *tsc_option(int argc, char **argv, const char *name)
         }
     }
     return NULL;
+}
+
+int tsc_flag(int argc, char **argv, const char *name)
+{
+    for (int i = 1; i < argc; i++)
+        if (argv[i] && strcmp(argv[i], name) == 0) {
+            argv[i] = NULL;
+            return 1;
+        }
+    return 0;
+}
+
+int tsc_number(const char *s, const char *name, double lo, double hi, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || end == s || *end || !isfinite(v) || v < lo || v > hi) {
+        fprintf(stderr, "tanksim: %s: number in [%g, %g], got '%s'\n", name, lo, hi, s);
+        return -1;
+    }
+    *out = v;
+    return 0;
 }
 
 /* "tanksim: LEAD: POINTER: MSG (CODE)" on stderr: the field at fault first, as
@@ -73,6 +99,18 @@ int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
             break;
         }
     }
+    /* every option a command knows was consumed before this call: what is
+     * left is a typo ("--untill"), a "--name=value" form, an option given
+     * without its value, or a second CONFIG.json; refuse it, not ignore it */
+    for (int i = 1; i < argc; i++) {
+        if (!argv[i]) continue;
+        fprintf(stderr,
+                "tanksim: %s: unknown argument '%s' (an unknown option, an option without its "
+                "value, \"--name=value\" instead of \"--name value\", or a second config; see "
+                "tanksim %s --help)\n",
+                argv[0], argv[i], argv[0]);
+        return TSC_EXIT_USAGE;
+    }
     if (!!preset == !!path) {
         fprintf(stderr, "tanksim: give either CONFIG.json or --preset NAME\n");
         return TSC_EXIT_USAGE;
@@ -87,6 +125,16 @@ int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
     } else {
         rc = tsa_config_load_path(path, cfg, resolved, errors, &err);
     }
+    /* a preset made for one command only (the eigenanalysis ones) is not run */
+    if (rc == TS_OK && strcmp(argv[0], "modes") != 0) {
+        json_t *doc = preset ? json_pack("{s:s}", "preset", preset) : json_load_file(path, 0, NULL);
+        rc = doc ? tsa_config_runnable(doc, argv[0], &err) : TS_OK;
+        json_decref(doc);
+        if (rc != TS_OK && resolved) {
+            json_decref(*resolved);
+            *resolved = NULL;
+        }
+    }
     if (rc != TS_OK) {
         if (json_array_size(errors) > 0) {
             size_t i;
@@ -95,7 +143,7 @@ int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
                 tsc_print_config_err(json_string_value(json_object_get(e, "pointer")),
                                      json_string_value(json_object_get(e, "message")));
         } else {
-            tsc_print_err(preset ? preset : path, &err);
+            tsc_print_err("config", &err);
         }
     }
     json_decref(errors);

@@ -21,13 +21,21 @@ enum { TSC_EXIT_OK = 0, TSC_EXIT_FAIL = 1, TSC_EXIT_USAGE = 2 };
 
 /* Take the config source from argv: the first non-option argument is a
  * CONFIG.json path, or "--preset NAME" names a shipped preset. Consumed
- * arguments are set to NULL in argv. On failure prints every config error
+ * arguments are set to NULL in argv; any argument left over is a usage error
+ * (TSC_EXIT_USAGE). argv[0] is the command: a preset made only for another
+ * command (tsa_config_runnable) is refused. On failure prints every config error
  * (JSON Pointer + message) to stderr and returns non-zero. resolved (may be
  * NULL) receives the resolved document (caller json_decrefs). */
 int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved);
 
-/* Value of "--name VALUE" in argv (consumed), or NULL. */
+/* Value of "--name VALUE" in argv (consumed), or NULL. Every command takes
+ * its options before tsc_load_config, which refuses whatever is left. */
 const char *tsc_option(int argc, char **argv, const char *name);
+/* 1 if the bare "--name" is in argv (consumed), else 0. */
+int tsc_flag(int argc, char **argv, const char *name);
+/* Parse s as a finite number in [lo, hi] into *out; else print
+ * "tanksim: NAME: number in [lo, hi], got 'S'" and return -1. */
+int tsc_number(const char *s, const char *name, double lo, double hi, double *out);
 
 /* Print a ts_err as "tanksim: <pointer>: message" to stderr. */
 void tsc_print_err(const char *what, const ts_err *err);

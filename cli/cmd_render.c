@@ -16,30 +16,6 @@
 #include "../render/render.h"
 #include "cli.h"
 
-/* "--name" given without a value: consumed, returns 1. */
-static int flag(int argc, char **argv, const char *name)
-{
-    for (int i = 1; i < argc; i++)
-        if (argv[i] && strcmp(argv[i], name) == 0) {
-            argv[i] = NULL;
-            return 1;
-        }
-    return 0;
-}
-
-static int number(const char *s, const char *name, double lo, double hi, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (errno || end == s || *end || !isfinite(v) || v < lo || v > hi) {
-        fprintf(stderr, "tanksim: %s: number in [%g, %g], got '%s'\n", name, lo, hi, s);
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
 int tsc_cmd_render(int argc, char **argv)
 {
     const char *t_s = tsc_option(argc, argv, "--t");
@@ -51,8 +27,8 @@ int tsc_cmd_render(int argc, char **argv)
     const char *color_s = tsc_option(argc, argv, "--color");
     const char *text_s = tsc_option(argc, argv, "--text");
     const char *span_s = tsc_option(argc, argv, "--span");
-    int antialias = flag(argc, argv, "--antialias");
-    int no_overlay = flag(argc, argv, "--no-overlay");
+    int antialias = tsc_flag(argc, argv, "--antialias");
+    int no_overlay = tsc_flag(argc, argv, "--no-overlay");
 
     tsr_view v;
     tsr_view_default(&v);
@@ -61,22 +37,21 @@ int tsc_cmd_render(int argc, char **argv)
         fprintf(stderr, "tanksim: render: --out FILE.png is required\n");
         return TSC_EXIT_USAGE;
     }
-    if (t_s && number(t_s, "--t", 0, 1e6, &t) != 0) return TSC_EXIT_USAGE;
     if (w_s) {
-        if (number(w_s, "--width", TSR_MIN_SIZE, TSR_MAX_SIZE, &x) != 0) return TSC_EXIT_USAGE;
+        if (tsc_number(w_s, "--width", TSR_MIN_SIZE, TSR_MAX_SIZE, &x) != 0) return TSC_EXIT_USAGE;
         v.width = (int)x;
     }
     if (h_s) {
-        if (number(h_s, "--height", TSR_MIN_SIZE, TSR_MAX_SIZE, &x) != 0) return TSC_EXIT_USAGE;
+        if (tsc_number(h_s, "--height", TSR_MIN_SIZE, TSR_MAX_SIZE, &x) != 0) return TSC_EXIT_USAGE;
         v.height = (int)x;
     }
     if (view_s && (v.kind = tsr_view_kind_parse(view_s)) < 0) {
         fprintf(stderr, "tanksim: --view: side or three_quarter, got '%s'\n", view_s);
         return TSC_EXIT_USAGE;
     }
-    if (ex_s && number(ex_s, "--exaggeration", 0, 1000, &v.exaggeration) != 0)
+    if (ex_s && tsc_number(ex_s, "--exaggeration", 0, 1000, &v.exaggeration) != 0)
         return TSC_EXIT_USAGE;
-    if (span_s && number(span_s, "--span", 0, 1000, &v.span) != 0) return TSC_EXIT_USAGE;
+    if (span_s && tsc_number(span_s, "--span", 0, 1000, &v.span) != 0) return TSC_EXIT_USAGE;
     if (color_s) {
         /* the same words as the daemon's color= (api/openapi.yaml); "none" kept as before */
         if (strcmp(color_s, "tension") == 0) v.color_by_tension = 1;
@@ -97,6 +72,7 @@ int tsc_cmd_render(int argc, char **argv)
     ts_config cfg;
     int rc = tsc_load_config(argc, argv, &cfg, NULL);
     if (rc != TSC_EXIT_OK) return rc;
+    if (t_s && tsc_number(t_s, "--t", 0, cfg.run.duration, &t) != 0) return TSC_EXIT_USAGE;
     int status = TSC_EXIT_FAIL;
     ts_model *m = NULL;
     ts_data *d = NULL;

@@ -54,7 +54,11 @@ int tsc_cmd_run(int argc, char **argv)
     int rc = tsc_load_config(argc, argv, &cfg, &resolved);
     if (rc != TSC_EXIT_OK) return rc;
     if (!out) out = "out";
-    double until = until_s ? strtod(until_s, NULL) : cfg.run.duration;
+    double until = cfg.run.duration;
+    if (until_s && tsc_number(until_s, "--until", 0, cfg.run.duration, &until) != 0) {
+        json_decref(resolved);
+        return TSC_EXIT_USAGE;
+    }
 
     ts_err err;
     ts_model *m = NULL;
@@ -123,10 +127,11 @@ int tsc_cmd_run(int argc, char **argv)
     long steps = 0;
     for (int i = 0; i < nist; i++)
         if (ist[i].steps > 0) steps += ist[i].steps;
-    printf("%s, %d DOF, %.3f s simulated in %.3f s wall (%.0fx real time, %ld integrator "
-           "steps) -> %s/\n",
+    char work[64] = ""; /* none for the fixed-step steppers (crank-angle point mass, dyno) */
+    if (nist > 0) snprintf(work, sizeof work, ", %ld integrator steps", steps);
+    printf("%s, %d DOF, %.3f s simulated in %.3f s wall (%.0fx real time%s) -> %s/\n",
            ts_model_kind(m), ts_model_dof(m), ts_time(d), wall,
-           wall > 0 ? ts_time(d) / wall : 0.0, steps, out);
+           wall > 0 ? ts_time(d) / wall : 0.0, work, out);
     status = TSC_EXIT_OK;
 done:
     if (csv) fclose(csv);

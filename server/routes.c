@@ -493,6 +493,12 @@ static int parse_range(tsd_request *r, tsd_session *s, const char *param, const 
     double from = 0, to = 1e300;
     if (q_number(r, "from", 0, 1e12, &from, ret) < 0) return -1;
     if (q_number(r, "to", 0, 1e12, &to, ret) < 0) return -1;
+    if (to < from) { /* both given (to's default is past any time): an empty range by mistake */
+        ts_err_set(&e, TS_ERR_PARAM, "/to", "query parameter to: at least from = %g s, got %g s",
+                   from, to);
+        *ret = tsd_reply_err(r, &e, NULL);
+        return -1;
+    }
     pthread_mutex_lock(&s->mu);
     long last = s->index;
     pthread_mutex_unlock(&s->mu);
@@ -730,9 +736,11 @@ static enum MHD_Result get_frame(tsd_request *r)
     double rate = 1.0 / s->ch.view.period, t = (double)q.to / rate;
     if (q_number(r, "t", 0, 1e12, &t, &ret) < 0) return ret;
     if (t * rate > (double)q.to + 0.5) {
-        char msg[160];
-        snprintf(msg, sizeof msg, "%g s (the last stored sample)", (double)q.to / rate);
-        return bad_param(r, "t", "time at most", msg);
+        ts_err e;
+        ts_err_set(&e, TS_ERR_PARAM, "/t",
+                   "query parameter t: at most %g s (the last stored sample), got '%.100s'",
+                   (double)q.to / rate, tsd_arg(r, "t"));
+        return tsd_reply_err(r, &e, NULL);
     }
     /* A stored sample's frame never changes: a strong ETag over the session,
      * the sample index, the drawing options and the version answers repeat

@@ -588,6 +588,12 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
     ts_config cfg;
     json_t *resolved = NULL;
     ts_rc rc = tsa_config_load(doc, &cfg, &resolved, errors, err);
+    if (rc == TS_OK && tsa_config_runnable(doc, "session", err) != TS_OK) {
+        rc = err->code;
+        if (errors)
+            json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", err->pointer,
+                                                    "message", err->msg));
+    }
     if (rc == TS_OK && !srv->opt.client_files) rc = refuse_client_files(&cfg, errors, err);
     if (rc != TS_OK) {
         json_decref(resolved);

@@ -65,6 +65,7 @@
 #include "vehicle_model.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -146,6 +147,8 @@ struct vm {
     int anchor;             /* road-wheel index 0..6 */
     double x_anchor0;
     double x0, z0; /* design CG world position */
+    double ground_scale; /* terrain heights' factor in the foundation: 1, below 1 only while
+                          * the static equilibrium is continued from flat ground */
     double dscale;
     int no_compression; /* /track/no_compression: slack law on the modal spans */
     /* fidelity extras */
@@ -495,6 +498,7 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     for (int i = 0; i < VM_NRW; i++) {
         int b = VM_RW1 + i;
         double slope, h = ts_terrain_height(v->terrain, k.c[b][0], &slope);
+        h *= v->ground_scale, slope *= v->ground_scale;
         double d = h + v->wheel_ground - k.c[b][1];
         double nload = 0;
         if (d > 0) {
@@ -1105,46 +1109,23 @@ static int has_nonfinite(const double *x, int n)
     return 0;
 }
 
-static ts_rc equilibrium(vm *v, ts_err *err)
+/* Newton on eq_residual from u (updated in place): TS_OK, or TS_ERR_SOLVER
+ * with the reason. J, r, r2 hold nu values (J nu x nu), q nq, piv nu. */
+static ts_rc eq_newton(vm *v, vm_work *w, double *u, double *q, double *r, double *r2, double *J,
+                       int *piv, int nu, ts_err *err)
 {
-    int nu = 3 + VM_NB - 1 + VM_NRW + 1 + v->nmodal, nq = v->nq;
-    vm_work *w = vm_work_make(v);
-    double *u = calloc((size_t)nu, sizeof(double)), *r = calloc((size_t)nu, sizeof(double)),
-           *r2 = calloc((size_t)nu, sizeof(double)),
-           *J = calloc((size_t)nu * (size_t)nu, sizeof(double)),
-           *q = calloc((size_t)nq, sizeof(double));
-    int *piv = calloc((size_t)nu, sizeof(int));
-    ts_rc rc = TS_OK;
-    if (!w || !u || !r || !r2 || !J || !q || !piv) {
-        rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
-        goto done;
-    }
-    for (int i = 0; i < VM_NRW; i++)
-        q[QA0 + i] = v->arm0;
-    double wsup = vm_supported_weight(v);
-    u[0] = v->x0;
-    /* start on the ground under the road wheels, the foundation compressed */
-    double hg = 0;
-    for (int i = 0; i < VM_NRW; i++)
-        hg += ts_terrain_height(v->terrain, v->x0 + v->l_pivot[i][0], NULL) / VM_NRW;
-    u[1] = v->z0 + hg - wsup / VM_NRW / v->kf;
-    for (int i = 0; i < VM_NRW; i++)
-        u[3 + VM_NB - 1 + i] = wsup / VM_NRW * v->arm_len * cos(v->arm0);
-    double scale_f = wsup;
-    int it;
-    for (it = 0; it < 40; it++) {
+    double scale_f = vm_supported_weight(v);
+    for (int it = 0; it < 40; it++) {
         eq_residual(v, w, u, q, r);
         double rn = 0;
         for (int i = 0; i < nu; i++)
             rn = fmax(rn, fabs(r[i])); /* fmax drops a NaN: checked next */
-        if (has_nonfinite(r, nu)) {
-            rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
-                            "static equilibrium: residual not finite at Newton step %d "
-                            "(check the layout)",
-                            it);
-            goto done;
-        }
-        if (rn < 1e-7 * scale_f) break;
+        if (has_nonfinite(r, nu))
+            return ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
+                              "static equilibrium: residual not finite at Newton step %d "
+                              "(check the layout)",
+                              it);
+        if (rn < 1e-7 * scale_f) return TS_OK;
         for (int j = 0; j < nu; j++) {
             double h = 1e-7 * fmax(1.0, fabs(u[j]));
             double keep = u[j];
@@ -1158,20 +1139,84 @@ static ts_rc equilibrium(vm *v, ts_err *err)
             r[i] = -r[i];
         /* dense_small.h's LU, not LAPACK: a threaded BLAS's workers would
          * spin for the rest of the run after this one tiny solve */
-        if (ts_lu_factor(J, nu, piv) != 0) {
-            rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
-                            "static equilibrium: singular Jacobian (check the layout)");
-            goto done;
-        }
+        if (ts_lu_factor(J, nu, piv) != 0)
+            return ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
+                              "static equilibrium: singular Jacobian (check the layout)");
         ts_lu_solve(J, nu, piv, r);
         for (int i = 0; i < nu; i++)
             u[i] += r[i];
     }
-    if (it == 40) {
-        rc = ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
-                        "static equilibrium did not converge in 40 Newton steps");
+    return ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
+                      "static equilibrium did not converge in 40 Newton steps");
+}
+
+/* Newton's start: the hull level at x0, the road arms at their design angle
+ * carrying an equal share of the supported weight, the hull lowered by one
+ * share's foundation compression below ground height hg. */
+static void eq_start(const vm *v, double hg, double *u, int nu)
+{
+    double wsup = vm_supported_weight(v);
+    memset(u, 0, (size_t)nu * sizeof(double));
+    u[0] = v->x0;
+    u[1] = v->z0 + hg - wsup / VM_NRW / v->kf;
+    for (int i = 0; i < VM_NRW; i++)
+        u[3 + VM_NB - 1 + i] = wsup / VM_NRW * v->arm_len * cos(v->arm0);
+}
+
+static ts_rc equilibrium(vm *v, ts_err *err)
+{
+    int nu = 3 + VM_NB - 1 + VM_NRW + 1 + v->nmodal, nq = v->nq;
+    vm_work *w = vm_work_make(v);
+    double *u = calloc((size_t)nu, sizeof(double)), *r = calloc((size_t)nu, sizeof(double)),
+           *r2 = calloc((size_t)nu, sizeof(double)),
+           *J = calloc((size_t)nu * (size_t)nu, sizeof(double)),
+           *q = calloc((size_t)nq, sizeof(double)), *ub = calloc((size_t)nu, sizeof(double));
+    int *piv = calloc((size_t)nu, sizeof(int));
+    ts_rc rc = TS_OK;
+    if (!w || !u || !r || !r2 || !J || !q || !ub || !piv) {
+        rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         goto done;
     }
+    for (int i = 0; i < VM_NRW; i++)
+        q[QA0 + i] = v->arm0;
+    /* start on the ground under the road wheels, the foundation compressed */
+    double hg = 0;
+    for (int i = 0; i < VM_NRW; i++)
+        hg += ts_terrain_height(v->terrain, v->x0 + v->l_pivot[i][0], NULL) / VM_NRW;
+    eq_start(v, hg, u, nu);
+    rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
+    if (rc == TS_ERR_SOLVER) {
+        /* A bump under a wheel can leave every wheel off the ground at that
+         * start (no wheel, no vertical stiffness: a singular Jacobian) or make
+         * Newton cycle on the lift-off kinks. Continue instead from flat
+         * ground, raising the terrain in steps from one equilibrium to the
+         * next, the step halved where Newton fails. */
+        double s = 0, ds = 0.25;
+        v->ground_scale = 0;
+        eq_start(v, 0, u, nu);
+        rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
+        while (rc == TS_OK && s < 1) {
+            double next = fmin(1.0, s + ds);
+            memcpy(ub, u, (size_t)nu * sizeof(double));
+            v->ground_scale = next;
+            rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
+            if (rc == TS_OK) {
+                s = next;
+                ds = fmin(0.5, 2 * ds);
+            } else if (ds > 1.0 / 64) {
+                memcpy(u, ub, (size_t)nu * sizeof(double));
+                ds /= 2;
+                rc = TS_OK;
+            }
+        }
+        v->ground_scale = 1.0;
+        if (rc != TS_OK && err)
+            snprintf(err->msg + strlen(err->msg), sizeof err->msg - strlen(err->msg),
+                     "; also when the terrain was raised from flat in steps: the road wheels "
+                     "find no equilibrium on this ground at t = 0 (start the run before the "
+                     "obstacle: /terrain/start_x)");
+    }
+    if (rc != TS_OK) goto done;
     eq_apply(v, u, q);
     {
         vm_diag dg;
@@ -1209,6 +1254,7 @@ done:
     free(r2);
     free(J);
     free(q);
+    free(ub);
     free(piv);
     return rc;
 }
@@ -1390,6 +1436,7 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     for (int i = 0; i < VM_NRW; i++)
         v->j_b[VM_RW1 + i] = vc->road_wheel_inertia;
     v->x0 = cfg->terrain.start_x + vc->cg_x;
+    v->ground_scale = 1.0;
     v->z0 = vc->cg_z;
     /* design configuration: element reference lengths and angles */
     v->nq = VM_NQ_RIGID;

@@ -68,3 +68,43 @@ def test_config_file_errors_name_the_field(tmp_path):
     assert out.returncode != 0 and "missing.json" in out.stderr
     out = run("run", "--preset", "nope")
     assert out.returncode != 0 and "no preset named 'nope'" in out.stderr
+
+
+def test_run_arguments_are_checked(tmp_path):
+    # --until was read with an unchecked strtod ('abc' ran to 0 s, -3 ran
+    # nothing, 50 was cut to the 30-s duration without a word) and unknown
+    # arguments were ignored: each is now a usage error naming the argument
+    o = str(tmp_path / "o")
+    for bad, said in [(["--until", "-3"], "--until: number in [0, 30]"),
+                      (["--until", "abc"], "got 'abc'"),
+                      (["--until", "50"], "--until: number in [0, 30], got '50'"),
+                      (["--until=5"], "unknown argument '--until=5'"),
+                      (["--bogus", "1"], "unknown argument '--bogus'"),
+                      (["--out"], "unknown argument '--out'"),
+                      (["second.json"], "give either CONFIG.json or --preset NAME")]:
+        out = run("run", "--preset", "pointmass-prescribed", "--out", o, *bad) if bad != ["--out"] \
+            else run("run", "--preset", "pointmass-prescribed", "--out")
+        assert out.returncode == 2, (bad, out.stderr)
+        assert said in out.stderr, (bad, out.stderr)
+    assert not os.path.exists(o)  # nothing was run
+    # a missing or unreadable config names its path once
+    out = run("run", str(tmp_path / "missing.json"))
+    assert out.returncode == 1 and out.stderr.count("missing.json") == 1, out.stderr
+    (tmp_path / "bad.json").write_text("{bad")
+    out = run("run", str(tmp_path / "bad.json"))
+    assert out.returncode == 1 and out.stderr.count("bad.json") == 1, out.stderr
+    assert "bad.json:1:" in out.stderr
+
+
+def test_modes_only_presets_are_not_run(tmp_path):
+    # m1 and table1-span are the eigenanalyses of Fig. 5 and Table 1: they set no
+    # /run, and `run` used to go on with the default point-mass scenario
+    for preset in ("m1", "table1-span"):
+        out = run("run", "--preset", preset, "--out", str(tmp_path / preset))
+        assert out.returncode == 1 and "/preset" in out.stderr and "modes" in out.stderr, out.stderr
+        assert not (tmp_path / preset).exists()
+        assert run("modes", "--preset", preset).returncode == 0
+    cfg = tmp_path / "m1-run.json"  # with its own /run the preset is a starting point like others
+    cfg.write_text(json.dumps({"preset": "m1", "run": {"kind": "pointmass", "duration": 0.1}}))
+    out = run("run", str(cfg), "--out", str(tmp_path / "o"))
+    assert out.returncode == 0, out.stderr

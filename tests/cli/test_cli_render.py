@@ -46,8 +46,12 @@ def test_presets_with_geometry_render(tmp_path):
     for name in sorted(os.listdir(PRESETS)):
         preset = name[:-5]
         out = tmp_path / f"{preset}.png"
-        r = run("render", "--preset", preset, "--t", "0.2", "--width", "320", "--height", "180",
+        r = run("render", "--preset", preset, "--t", "0.05", "--width", "320", "--height", "180",
                 "--out", str(out))
+        if "commands" in json.load(open(os.path.join(PRESETS, name))):
+            # an eigenanalysis-only preset (m1, table1-span) is refused, not drawn
+            assert r.returncode == 1 and "/preset" in r.stderr and not out.exists(), r.stderr
+            continue
         if r.returncode == 1 and "TS_ERR_UNSUPPORTED" in r.stderr:
             continue  # this scenario kind has no running gear
         assert r.returncode == 0, r.stderr
@@ -59,3 +63,12 @@ def test_presets_with_geometry_render(tmp_path):
     # the vehicle and coupled presets have running gear: at least the three
     # Section II.D bump runs must draw (a broken geometry path must not pass as a skip)
     assert rendered >= 3, f"only {rendered} presets rendered"
+
+
+def test_time_past_the_run_is_a_usage_error(tmp_path):
+    # --t past run.duration was cut to the duration without a word (the API's
+    # frame.png?t= says 400): both now name the range
+    r = run("render", "--preset", "bump-prescribed-static", "--t", "99", "--out",
+            str(tmp_path / "f.png"))
+    assert r.returncode == 2 and "--t: number in [0, 30], got '99'" in r.stderr
+    assert not (tmp_path / "f.png").exists()

@@ -58,6 +58,7 @@ def test_dyno_preset_runs_crank_angle_traces(tmp_path):
     summary = json.load(open(tmp_path / "o" / "summary.json"))
     assert "brake_torque_mean" in summary["metrics"]
     assert summary["integrators"] == []  # fixed crank-angle steps: no counters kept
+    assert "integrator steps" not in out.stdout  # was "0 integrator steps"
 
 
 def test_engine_map_spool_rows(tmp_path):

@@ -43,6 +43,10 @@ def test_pointmass_has_no_frames(daemon):
                    ({"exaggeration": 1e6}, "/exaggeration")]:
         is_problem(requests.get(daemon.url + f"/v1/sessions/{s['id']}/frame.png", params=q),
                    400, ptr)
+    p = is_problem(requests.get(daemon.url + f"/v1/sessions/{s['id']}/frame.png",
+                                params={"t": 99}), 400, "/t")
+    # was "time at most, got '0 s (the last stored sample)'": the bound and the value swapped
+    assert "at most 0 s (the last stored sample), got '99'" in p["detail"], p["detail"]
     requests.post(daemon.url + s["links"]["step"], json={"duration": 4.0})
     p = is_problem(requests.get(daemon.url + f"/v1/sessions/{s['id']}/frames",
                                 params={"fps": 1000}), 422, "/fps")

@@ -47,9 +47,29 @@ def test_openapi_is_served(daemon):
     assert r.status_code == 200 and r.text.startswith("openapi: 3.1")
 
 
+def modes_only(preset):
+    doc = json.load(open(os.path.join(os.path.dirname(__file__), "..", "..", "sim", "data",
+                                      "presets", preset + ".json")))
+    return "commands" in doc and "session" not in doc["commands"]
+
+
 @pytest.mark.parametrize("preset", preset_names())
 def test_create_from_each_preset(daemon, preset):
     r = requests.post(daemon.url + "/v1/sessions", json={"preset": preset})
+    if modes_only(preset):
+        # m1 and table1-span set no run (they are the eigenanalyses of Fig. 5 and
+        # Table 1): refused by name, not run as a default point-mass scenario
+        p = is_problem(r, 400)
+        assert p["errors"][0]["pointer"] == "/preset" and "modes" in p["errors"][0]["message"]
+        listed = {x["name"]: x for x in requests.get(daemon.url + "/v1/presets").json()["presets"]}
+        assert listed[preset]["commands"] == ["modes"]
+        # giving /run/kind makes it a run like any other
+        r = requests.post(daemon.url + "/v1/sessions",
+                          json={"preset": preset, "run": {"kind": "pointmass"}})
+        if preset == "m1":
+            assert r.status_code == 201, r.text
+            requests.delete(daemon.url + r.json()["links"]["self"])
+        return
     # every scenario kind is built, so every shipped preset must create
     assert r.status_code == 201, r.text
     s = r.json()
@@ -195,6 +215,10 @@ def test_series_json_csv_units_decimation_and_paging(daemon):
         if not token:
             break
     assert got == list(range(1001))
+    # to before from was a 200 with count 0: a range given backwards is a mistake
+    p = is_problem(requests.get(url, params={"from": 1.5, "to": 0.5}), 400, "/to")
+    assert "at least from = 1.5 s, got 0.5 s" in p["detail"]
+    assert requests.get(url, params={"from": 1.0, "to": 1.0}).json()["count"] == 1
 
 
 def test_series_is_capped_by_max_samples(tmp_path):

@@ -158,6 +158,12 @@ async function initCreateForm() {
     o.value = p.name;
     o.textContent = p.name;
     o.title = p.description || '';
+    /* a preset that serves other commands only (the eigenanalysis ones: POST /v1/modes)
+       stays visible but cannot start a session */
+    if (Array.isArray(p.commands) && !p.commands.includes('session')) {
+      o.disabled = true;
+      o.textContent = `${p.name} (${p.commands.join(', ')} only)`;
+    }
     sel.append(o);
   }
   sel.onchange = () => loadPreset(list);
