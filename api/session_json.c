@@ -411,6 +411,9 @@ json_t *tsa_session_json(const tsa_session_view *v, int summary)
     if (v->m) {
         json_object_set_new(o, "kind", json_string(ts_model_kind(v->m)));
         json_object_set_new(o, "duration", json_real(ts_model_config(v->m)->run.duration));
+    } else if (v->kind) {
+        json_object_set_new(o, "kind", json_string(v->kind));
+        json_object_set_new(o, "duration", json_real(v->duration));
     }
     if (v->ch) json_object_set_new(o, "sample_rate", json_real(1.0 / v->ch->period));
     if (v->error && v->error[0]) json_object_set_new(o, "error", json_string(v->error));

@@ -137,6 +137,8 @@ typedef struct tsa_session_view {
     long persisted;         /* samples stored (index of the last stored row + 1) */
     const json_t *config;   /* resolved config document (may be NULL in summaries) */
     const ts_model *m;      /* kind, duration (may be NULL: no model, or not the rows') */
+    const char *kind;       /* without m: kind and duration from the config (NULL: none) */
+    double duration;
     const tsa_channels *ch; /* channels and sample_rate of the rows (may be NULL: unknown) */
     const double *latest;   /* latest row, ch->n values (may be NULL; ignored without ch) */
     const char *error;      /* message of a failed run ("" or NULL when none) */

@@ -228,6 +228,38 @@ static enum MHD_Result defer_body_job(tsd_request *r, int optional, tsd_job_fn j
     return MHD_YES;
 }
 
+/* A stored session's first use after a restart: build its model and restore
+ * its state on the pool (session.h), then run the route's handler as if the
+ * request had just come in. */
+static void build_job(void *arg)
+{
+    tsd_request *r = arg;
+    tsd_session_build(r->session);
+    tsd_request_resume(r);
+}
+
+static enum MHD_Result run_built(tsd_request *r)
+{
+    enum MHD_Result (*handler)(tsd_request *) = r->built_handler;
+    r->built_handler = NULL;
+    return handler(r);
+}
+
+static enum MHD_Result build_then(tsd_request *r, enum MHD_Result (*handler)(tsd_request *))
+{
+    r->built_handler = handler;
+    tsd_request_defer(r, run_built);
+    if (tsd_pool_submit(r->srv->pool, build_job, r, 0) != 0) {
+        if (atomic_load(&r->srv->stopping))
+            tsd_err_shutdown(&r->async_err);
+        else
+            ts_err_set(&r->async_err, TS_ERR_NOMEM, NULL, "out of memory queueing the job");
+        r->on_resume = reply_async;
+        tsd_request_resume(r);
+    }
+    return MHD_YES;
+}
+
 /* ---- service --------------------------------------------------------------------- */
 
 /* 200 {"status": "ok"}; 503 {"status": "stopping"} once shutdown has begun,
@@ -967,6 +999,7 @@ enum MHD_Result tsd_route(tsd_request *r)
                 return tsd_reply_problem(r, MHD_HTTP_NOT_FOUND, "/problems/not-found", "Not found",
                                          detail, NULL);
             }
+            if (tsd_session_deferred(r->session)) return build_then(r, row->handler);
         }
         return row->handler(r);
     }

@@ -91,6 +91,8 @@ typedef struct tsd_request {
      * connection and sets on_resume; the worker fills async_* and resumes it;
      * the next access-handler call runs on_resume to queue the response. */
     enum MHD_Result (*on_resume)(struct tsd_request *r);
+    /* the route's handler, run once a deferred session is built (routes.c) */
+    enum MHD_Result (*built_handler)(struct tsd_request *r);
     json_t *async_result;          /* owned; set by the worker */
     unsigned async_status;         /* status of a reply with async_result (routes.c) */
     ts_err async_err;              /* set by the worker on failure */

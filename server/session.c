@@ -104,6 +104,7 @@ static void session_free(tsd_session *s)
     free(s->latest);
     tsd_channels_free(&s->ch);
     pthread_mutex_destroy(&s->mu);
+    pthread_mutex_destroy(&s->build_mu);
     free(s);
 }
 
@@ -123,11 +124,8 @@ static void ref(tsd_session *s)
     pthread_mutex_unlock(&s->mu);
 }
 
-/* Allocate a session around a resolved config (steals resolved); builds model
- * and data when it can (m stays NULL and err is filled when it cannot). cfg is
- * resolved already read (NULL: read it here). */
-static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, const ts_config *cfg,
-                                  ts_err *err)
+/* A session around a resolved config (steals resolved), without a model. */
+static tsd_session *session_shell(tsd_server *srv, json_t *resolved, ts_err *err)
 {
     tsd_session *s = calloc(1, sizeof *s);
     if (!s) {
@@ -136,10 +134,22 @@ static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, const ts_co
         return NULL;
     }
     pthread_mutex_init(&s->mu, NULL);
+    pthread_mutex_init(&s->build_mu, NULL);
     s->srv = srv;
     s->refs = 1;
     s->config = resolved;
     s->index = 0;
+    return s;
+}
+
+/* Allocate a session around a resolved config (steals resolved); builds model
+ * and data when it can (m stays NULL and err is filled when it cannot). cfg is
+ * resolved already read (NULL: read it here). */
+static tsd_session *session_alloc(tsd_server *srv, json_t *resolved, const ts_config *cfg,
+                                  ts_err *err)
+{
+    tsd_session *s = session_shell(srv, resolved, err);
+    if (!s) return NULL;
     ts_config own;
     ts_err_clear(err);
     if (!cfg) {
@@ -258,7 +268,7 @@ static int restore_stored(tsd_session *s, char *why, size_t n)
  * build that can read them continues it. */
 typedef struct {
     tsd_server *srv;
-    int loaded, interrupted, unrestored;
+    int loaded, interrupted, unrestored, deferred;
 } load_ctx;
 
 /* Serve s's rows with the channel table stored with it (steals c) in place of
@@ -295,10 +305,24 @@ static void load_session(void *ud, long seq, const char *id, double created, con
     json_t *resolved = json_loads(config_json, 0, &je);
     ts_err err;
     ts_err_clear(&err);
-    tsd_session *s = session_alloc(srv, resolved ? resolved : json_object(), NULL, &err);
+    /* The channel list stored with it (none: a store older than that column;
+     * then the model's, as before). */
+    tsd_channels stored = {0};
+    char cwhy[160] = "";
+    int have = channels_json[0] && tsd_channels_parse(&stored, channels_json, cwhy, sizeof cwhy) == 0;
+    if (channels_json[0] && !have)
+        fprintf(stderr, "tanksimd: session %s: %s; its model's channels are used\n", id, cwhy);
+    /* With its channel table its rows are served without the model: the
+     * model is built and the state restored at its first use (materialize),
+     * so start-up does not grow with the number of stored sessions (a
+     * crank-angle engine's idle search alone takes ~0.4 s). */
+    int defer = resolved && have;
+    tsd_session *s = defer ? session_shell(srv, resolved, &err)
+                           : session_alloc(srv, resolved ? resolved : json_object(), NULL, &err);
     if (!s) {
         fprintf(stderr, "tanksimd: session %s not loaded: %s (its stored data are kept)\n", id,
                 err.msg);
+        tsd_channels_free(&stored);
         return;
     }
     snprintf(s->id, sizeof s->id, "%s", id);
@@ -314,14 +338,18 @@ static void load_session(void *ud, long seq, const char *id, double created, con
     }
     char why[TS_ERR_MSG_LEN];
     int ok;
-    /* The channel list stored with it (none: a store older than that column;
-     * then the model's, as before). */
-    tsd_channels stored = {0};
-    char cwhy[160] = "";
-    int have = channels_json[0] && tsd_channels_parse(&stored, channels_json, cwhy, sizeof cwhy) == 0;
-    if (channels_json[0] && !have)
-        fprintf(stderr, "tanksimd: session %s: %s; its model's channels are used\n", id, cwhy);
-    if (!s->m || (have && !tsd_channels_match(&stored, s->m))) {
+    if (defer) {
+        adopt_stored_channels(s, &stored);
+        long last = -1;
+        double t_last = 0.0;
+        if (s->nch &&
+            tsd_db_last_row(srv->db, seq, &last, &t_last, s->latest, s->nch) == 0) {
+            s->index = last;
+            s->t = t_last;
+        }
+        atomic_store(&s->deferred, 1);
+        ok = 1;
+    } else if (!s->m || (have && !tsd_channels_match(&stored, s->m))) {
         if (!s->m)
             snprintf(why, sizeof why, "its model cannot be rebuilt: %.300s",
                      resolved ? err.msg : "the stored config is not JSON");
@@ -359,6 +387,73 @@ static void load_session(void *ud, long seq, const char *id, double created, con
         return;
     }
     lc->loaded++;
+    if (defer) lc->deferred++;
+}
+
+/* Build a deferred session's model and restore its stored state (the part of
+ * load_session put off to its first use; session.h). The model is built and restored on
+ * a private session t, then moved into s under s->mu, so listings running
+ * meanwhile see the stored table or the model's, never a mix. On failure s
+ * stays on its stored table, unrestored and failed with the reason, as at
+ * start-up. */
+int tsd_session_deferred(tsd_session *s)
+{
+    return atomic_load(&s->deferred);
+}
+
+void tsd_session_build(tsd_session *s)
+{
+    if (!atomic_load(&s->deferred)) return;
+    pthread_mutex_lock(&s->build_mu);
+    if (!atomic_load(&s->deferred)) {
+        pthread_mutex_unlock(&s->build_mu);
+        return;
+    }
+    char why[TS_ERR_MSG_LEN] = "";
+    ts_err err;
+    ts_err_clear(&err);
+    tsd_session *t = session_alloc(s->srv, json_incref(s->config), NULL, &err);
+    int ok = 0;
+    if (!t || !t->m)
+        snprintf(why, sizeof why, "its model cannot be rebuilt: %.300s", err.msg);
+    else if (!tsd_channels_match(&s->ch, t->m))
+        snprintf(why, sizeof why,
+                 "its stored rows have other channels than this build's model (%d stored, %d "
+                 "in the model, or other names, units or sample rate)",
+                 s->ch.view.n, ts_model_nchannel(t->m));
+    else {
+        t->seq = s->seq;
+        memcpy(t->id, s->id, sizeof t->id);
+        ok = restore_stored(t, why, sizeof why) == 0;
+    }
+    pthread_mutex_lock(&s->mu);
+    if (ok) { /* trade places: s gets the model's, t the stored table (freed with t) */
+        tsd_session keep = *s;
+        s->m = t->m, t->m = keep.m;
+        s->d = t->d, t->d = keep.d;
+        s->nch = t->nch, t->nch = keep.nch;
+        s->ch = t->ch, t->ch = keep.ch;
+        s->batch = t->batch, t->batch = keep.batch;
+        s->batch_cap = t->batch_cap, t->batch_cap = keep.batch_cap;
+        s->snapshot = t->snapshot, t->snapshot = keep.snapshot;
+        s->snapshot_size = t->snapshot_size, t->snapshot_size = keep.snapshot_size;
+        s->latest = t->latest, t->latest = keep.latest;
+        s->t = t->t;
+        s->index = t->index;
+    } else {
+        s->status = TSD_FAILED;
+        s->unrestored = 1;
+        snprintf(s->error, sizeof s->error, "%s", why);
+    }
+    long rows = s->index + 1;
+    pthread_mutex_unlock(&s->mu);
+    if (!ok)
+        fprintf(stderr,
+                "tanksimd: session %s cannot be advanced: %s; its %ld stored rows are kept\n",
+                s->id, why, rows);
+    if (t) session_free(t);
+    atomic_store(&s->deferred, 0);
+    pthread_mutex_unlock(&s->build_mu);
 }
 
 int tsd_sessions_init(tsd_server *srv, char *err, size_t errlen)
@@ -370,16 +465,16 @@ int tsd_sessions_init(tsd_server *srv, char *err, size_t errlen)
     }
     pthread_mutex_init(&srv->reg->mu, NULL);
     srv->reg->next_seq = 1;
-    load_ctx lc = {srv, 0, 0, 0};
+    load_ctx lc = {srv, 0, 0, 0, 0};
     if (tsd_db_sessions(srv->db, load_session, &lc) != 0) {
         snprintf(err, errlen, "cannot read stored sessions");
         return -1;
     }
     if (lc.loaded)
         fprintf(stderr,
-                "tanksimd: %d stored sessions loaded, %d interrupted runs, %d cannot be "
-                "advanced\n",
-                lc.loaded, lc.interrupted, lc.unrestored);
+                "tanksimd: %d stored sessions loaded (%d to be rebuilt at first use), %d "
+                "interrupted runs, %d cannot be advanced\n",
+                lc.loaded, lc.deferred, lc.interrupted, lc.unrestored);
     return 0;
 }
 
@@ -669,6 +764,11 @@ static json_t *json_locked(tsd_session *s, int summary)
         .integrators = stored_table ? NULL : s->integrators,
         .nintegrators = stored_table ? 0 : s->nintegrators,
     };
+    if (atomic_load(&s->deferred)) { /* the config's: the model is built at first use */
+        json_t *run = json_object_get(s->config, "run");
+        v.kind = json_string_value(json_object_get(run, "kind"));
+        v.duration = json_number_value(json_object_get(run, "duration"));
+    }
     return tsa_session_json(&v, summary);
 }
 

@@ -63,7 +63,12 @@ typedef struct tsd_session {
     size_t snapshot_size;
     int unrestored;   /* loaded at start-up but its model or stored state could not be
                          rebuilt (reason in error): rows readable, no step or run;
-                         set before the session is shared, then immutable */
+                         set at start-up or by tsd_session_build before any handler
+                         sees the session, then immutable */
+    atomic_int deferred; /* loaded at start-up without its model (rows read through the
+                            stored channel table), built at first use (tsd_session_build,
+                            under build_mu), so start-up does not grow with the store */
+    pthread_mutex_t build_mu;
     atomic_int cancel; /* set by cancel/delete/shutdown; read by the running job */
     pthread_mutex_t mu;
     int refs;            /* (mu) */
@@ -94,6 +99,14 @@ void tsd_sessions_count(tsd_server *srv, long counts[TSD_NSTATUS]);
 ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, json_t *errors,
                          ts_err *err);
 tsd_session *tsd_session_get(tsd_server *srv, const char *id); /* NULL if unknown */
+/* A session loaded at start-up is deferred: listed and its rows served from
+ * the stored channel table, its model not built. tsd_session_build (on the
+ * worker pool: it is physics, up to ~0.4 s) builds the model and restores the
+ * stored state, once, however many callers; a failure leaves the session
+ * unrestored and failed with the reason, as a failure at start-up did. The
+ * router builds a deferred session before any handler sees it. */
+int tsd_session_deferred(tsd_session *s);
+void tsd_session_build(tsd_session *s);
 void tsd_session_put(tsd_session *s);
 ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err);
 

@@ -77,3 +77,41 @@ def test_clean_shutdown_during_run_marks_interrupted(tmp_path):
         assert ser["index"] == list(range(s["index"] + 1))
     finally:
         d2.stop()
+
+
+def test_stored_sessions_are_rebuilt_at_first_use(tmp_path):
+    # Start-up built every stored session's model and restored its state before
+    # answering: with 24 stored sessions (crank-angle engines among them, whose
+    # idle search takes ~0.4 s each) /v1/health came after 5.9 s. Now a stored
+    # session is served from its stored channel table until its first use.
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        ids = []
+        for preset in ("accel-pointmass-lhr05", BASE_PRESET, "bump-prescribed-static"):
+            s = requests.post(d.url + "/v1/sessions", json={"preset": preset}).json()
+            r = requests.post(d.url + s["links"]["step"], json={"duration": 0.1})
+            assert r.status_code == 200, r.text
+            ids.append((s["id"], s["kind"], s["duration"], r.json()["index"]))
+    finally:
+        assert d.stop() == 0
+    d2 = Daemon(data_dir=str(tmp_path))
+    try:
+        assert "3 stored sessions loaded (3 to be rebuilt at first use)" in d2.stderr()
+        # listed before any use: kind and duration from the stored config, rows as stored
+        listed = {s["id"]: s for s in requests.get(d2.url + "/v1/sessions").json()["sessions"]}
+        for sid, kind, duration, index in ids:
+            assert listed[sid]["kind"] == kind and listed[sid]["duration"] == duration
+            assert listed[sid]["index"] == index and listed[sid]["status"] == "paused"
+        # two first uses at once: one build, both answered with the restored session
+        from concurrent.futures import ThreadPoolExecutor
+        sid, kind, _, index = ids[0]
+        with ThreadPoolExecutor(4) as ex:
+            got = list(ex.map(lambda _: requests.get(f"{d2.url}/v1/sessions/{sid}"), range(4)))
+        assert all(g.status_code == 200 and g.json()["index"] == index for g in got)
+        for sid, kind, _, index in ids:  # each goes on from its stored state
+            r = requests.post(f"{d2.url}/v1/sessions/{sid}/step", json={"duration": 0.1})
+            assert r.status_code == 200, r.text
+            assert r.json()["index"] == 2 * index
+            assert series(d2, sid)["index"] == list(range(2 * index + 1))
+    finally:
+        d2.stop()
