@@ -999,7 +999,9 @@ enum MHD_Result tsd_route(tsd_request *r)
                 return tsd_reply_problem(r, MHD_HTTP_NOT_FOUND, "/problems/not-found", "Not found",
                                          detail, NULL);
             }
-            if (tsd_session_deferred(r->session)) return build_then(r, row->handler);
+            /* deleting needs no model: a stored session never used goes as it is */
+            if (tsd_session_deferred(r->session) && row->handler != delete_session)
+                return build_then(r, row->handler);
         }
         return row->handler(r);
     }

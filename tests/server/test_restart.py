@@ -6,6 +6,7 @@ agreeing with an uninterrupted run of the same config to the integrator's
 tolerance (CVODE restarts from the snapshot, so agreement is to ~rtol, not
 bitwise)."""
 import signal
+import sqlite3
 import time
 
 import pytest
@@ -92,13 +93,18 @@ def test_stored_sessions_are_rebuilt_at_first_use(tmp_path):
             r = requests.post(d.url + s["links"]["step"], json={"duration": 0.1})
             assert r.status_code == 200, r.text
             ids.append((s["id"], s["kind"], s["duration"], r.json()["index"]))
+        broken = requests.post(d.url + "/v1/sessions", json={"preset": BASE_PRESET}).json()["id"]
     finally:
         assert d.stop() == 0
+    with sqlite3.connect(f"{tmp_path}/tanksimd.db") as c:  # a config this build cannot make
+        c.execute("UPDATE sessions SET config = replace(config, '\"pointmass\"', "
+                  "'\"nosuchkind\"') WHERE id = ?", (broken,))
     d2 = Daemon(data_dir=str(tmp_path))
     try:
-        assert "3 stored sessions loaded (3 to be rebuilt at first use)" in d2.stderr()
+        assert "4 stored sessions loaded (4 to be rebuilt at first use)" in d2.stderr()
         # listed before any use: kind and duration from the stored config, rows as stored
         listed = {s["id"]: s for s in requests.get(d2.url + "/v1/sessions").json()["sessions"]}
+        assert len(listed) == 4
         for sid, kind, duration, index in ids:
             assert listed[sid]["kind"] == kind and listed[sid]["duration"] == duration
             assert listed[sid]["index"] == index and listed[sid]["status"] == "paused"
@@ -108,6 +114,11 @@ def test_stored_sessions_are_rebuilt_at_first_use(tmp_path):
         with ThreadPoolExecutor(4) as ex:
             got = list(ex.map(lambda _: requests.get(f"{d2.url}/v1/sessions/{sid}"), range(4)))
         assert all(g.status_code == 200 and g.json()["index"] == index for g in got)
+        # deleting a stored session needs no model: none is built for it (the
+        # broken one's build would log that it cannot be advanced)
+        assert requests.delete(f"{d2.url}/v1/sessions/{broken}").status_code == 204
+        assert f"session {broken} cannot be advanced" not in d2.stderr()
+        assert requests.get(f"{d2.url}/v1/sessions/{broken}").status_code == 404
         for sid, kind, _, index in ids:  # each goes on from its stored state
             r = requests.post(f"{d2.url}/v1/sessions/{sid}/step", json={"duration": 0.1})
             assert r.status_code == 200, r.text
