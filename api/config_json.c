@@ -413,7 +413,7 @@ ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err)
     json_t *owned = NULL;
     ts_rc rc = TS_OK;
     for (int depth = 0; depth <= MAX_PRESET_DEPTH && doc; depth++) {
-        if (json_object_get(doc, "run")) break; /* this document says how to run */
+        if (json_object_get(json_object_get(doc, "run"), "kind")) break; /* says what to run */
         json_t *name = json_object_get(doc, "preset");
         if (!json_is_string(name)) break;
         ts_err perr;
@@ -436,8 +436,8 @@ ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err)
                 snprintf(list + k, sizeof list - k, "%s%s", k ? ", " : "", json_string_value(c));
             }
             rc = ts_err_set(err, TS_ERR_PARAM, "/preset",
-                            "/preset: '%s' is a preset for %s only (it sets no /run); start a "
-                            "run from another preset (GET /v1/presets) or give /run/kind",
+                            "/preset: '%s' is a preset for %s only (it sets no /run/kind); "
+                            "start from another preset or give /run/kind",
                             json_string_value(name), list);
             json_decref(p);
             break;

@@ -57,7 +57,7 @@ json_t *tsa_preset_get(const char *name, ts_err *err);
 /* May doc be used by command ("run", "render", "tune", "engine-map", "session")?
  * No (TS_ERR_PARAM, pointer /preset) when its preset chain reaches a preset
  * whose "commands" list leaves command out (m1 and table1-span are for
- * "modes" only) before any document of the chain sets /run itself. */
+ * "modes" only) before any document of the chain sets /run/kind itself. */
 ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err);
 
 /* Read a config from a file path (a JSON document as above). */

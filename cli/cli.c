@@ -38,7 +38,9 @@ int tsc_number(const char *s, const char *name, double lo, double hi, double *ou
     char *end;
     errno = 0;
     double v = strtod(s, &end);
-    if (errno || end == s || *end || !isfinite(v) || v < lo || v > hi) {
+    /* a plain decimal numeral, as the daemon's query numbers: no blanks, no hexadecimal */
+    int plain = strspn(s, "0123456789+-.eE") == strlen(s);
+    if (!plain || errno || end == s || *end || !isfinite(v) || v < lo || v > hi) {
         fprintf(stderr, "tanksim: %s: number in [%g, %g], got '%s'\n", name, lo, hi, s);
         return -1;
     }

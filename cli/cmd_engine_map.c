@@ -110,7 +110,8 @@ int tsc_cmd_engine_map(int argc, char **argv)
     const char *out = tsc_option(argc, argv, "--out");
     const char *spool_out = tsc_option(argc, argv, "--spool");
     ts_config cfg;
-    if (tsc_load_config(argc, argv, &cfg, NULL) != 0) return TSC_EXIT_USAGE;
+    int lrc = tsc_load_config(argc, argv, &cfg, NULL);
+    if (lrc != TSC_EXIT_OK) return lrc;
     if (!out && !spool_out) {
         fprintf(stderr, "tanksim engine-map: --out FILE.csv is required\n");
         return TSC_EXIT_USAGE;

@@ -245,8 +245,17 @@ static enum MHD_Result run_built(tsd_request *r)
     return handler(r);
 }
 
+static enum MHD_Result get_session(tsd_request *r);
+static enum MHD_Result get_series(tsd_request *r);
+static enum MHD_Result get_fft(tsd_request *r);
+
 static enum MHD_Result build_then(tsd_request *r, enum MHD_Result (*handler)(tsd_request *))
 {
+    /* shutting down (the pool takes no jobs): what the stored channel table
+     * serves without a model is still answered, as for a built session */
+    if (atomic_load(&r->srv->stopping) &&
+        (handler == get_session || handler == get_series || handler == get_fft))
+        return handler(r);
     r->built_handler = handler;
     tsd_request_defer(r, run_built);
     if (tsd_pool_submit(r->srv->pool, build_job, r, 0) != 0) {

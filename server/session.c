@@ -409,6 +409,18 @@ void tsd_session_build(tsd_session *s)
         pthread_mutex_unlock(&s->build_mu);
         return;
     }
+    pthread_mutex_lock(&s->mu);
+    int deleted = s->deleted;
+    if (deleted) { /* a request that waited for the build: no model, so no step/frames */
+        s->unrestored = 1;
+        snprintf(s->error, sizeof s->error, "the session was deleted");
+    }
+    pthread_mutex_unlock(&s->mu);
+    if (deleted) { /* its rows are gone: restoring would store a row 0 for nobody */
+        atomic_store(&s->deferred, 0);
+        pthread_mutex_unlock(&s->build_mu);
+        return;
+    }
     char why[TS_ERR_MSG_LEN] = "";
     ts_err err;
     ts_err_clear(&err);
@@ -730,6 +742,9 @@ ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
     }
     pthread_mutex_unlock(&g->mu);
     if (!s) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
+    /* build_mu: a first-use build in progress finishes before the rows go, and
+     * one queued after finds the session deleted and stores nothing */
+    pthread_mutex_lock(&s->build_mu);
     pthread_mutex_lock(&s->mu);
     s->deleted = 1;
     atomic_store(&s->cancel, 1);
@@ -737,6 +752,7 @@ ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
     wake_locked(s);
     pthread_mutex_unlock(&s->mu);
     if (idle) tsd_db_session_delete(srv->db, s->seq); /* invariant 5 */
+    pthread_mutex_unlock(&s->build_mu);
     tsd_session_put(s);                               /* the registry's reference */
     return TS_OK;
 }
@@ -990,7 +1006,7 @@ static void step_job(void *arg)
 /* Take busy for a step or run: 409 unless created | paused | interrupted. */
 static ts_rc acquire(tsd_session *s, ts_err *err)
 {
-    if (s->unrestored) /* immutable after start-up: no lock needed */
+    if (s->unrestored) /* immutable once the session is built: no lock needed */
         return ts_err_set(err, TS_ERR_STATE, NULL,
                           "session %s cannot be advanced by this daemon: %s (its stored rows "
                           "are kept and can be read)",

@@ -1203,7 +1203,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
             if (rc == TS_OK) {
                 s = next;
                 ds = fmin(0.5, 2 * ds);
-            } else if (ds > 1.0 / 64) {
+            } else if (ds > 1.0 / 4096) {
                 memcpy(u, ub, (size_t)nu * sizeof(double));
                 ds /= 2;
                 rc = TS_OK;

@@ -77,6 +77,8 @@ def test_run_arguments_are_checked(tmp_path):
     o = str(tmp_path / "o")
     for bad, said in [(["--until", "-3"], "--until: number in [0, 30]"),
                       (["--until", "abc"], "got 'abc'"),
+                      (["--until", "0x10"], "got '0x10'"),  # plain decimal, as the daemon's
+                      (["--until", " 5"], "got ' 5'"),
                       (["--until", "50"], "--until: number in [0, 30], got '50'"),
                       (["--until=5"], "unknown argument '--until=5'"),
                       (["--bogus", "1"], "unknown argument '--bogus'"),
@@ -104,7 +106,11 @@ def test_modes_only_presets_are_not_run(tmp_path):
         assert out.returncode == 1 and "/preset" in out.stderr and "modes" in out.stderr, out.stderr
         assert not (tmp_path / preset).exists()
         assert run("modes", "--preset", preset).returncode == 0
-    cfg = tmp_path / "m1-run.json"  # with its own /run the preset is a starting point like others
+    half = tmp_path / "m1-half.json"  # a /run without a kind still says nothing of what to run
+    half.write_text(json.dumps({"preset": "m1", "run": {"duration": 0.1}}))
+    out = run("run", str(half), "--out", str(tmp_path / "h"))
+    assert out.returncode == 1 and "/run/kind" in out.stderr, out.stderr
+    cfg = tmp_path / "m1-run.json"  # with its own /run/kind the preset is a starting point
     cfg.write_text(json.dumps({"preset": "m1", "run": {"kind": "pointmass", "duration": 0.1}}))
     out = run("run", str(cfg), "--out", str(tmp_path / "o"))
     assert out.returncode == 0, out.stderr

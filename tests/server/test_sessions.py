@@ -63,6 +63,8 @@ def test_create_from_each_preset(daemon, preset):
         assert p["errors"][0]["pointer"] == "/preset" and "modes" in p["errors"][0]["message"]
         listed = {x["name"]: x for x in requests.get(daemon.url + "/v1/presets").json()["presets"]}
         assert listed[preset]["commands"] == ["modes"]
+        is_problem(requests.post(daemon.url + "/v1/sessions",
+                                 json={"preset": preset, "run": {"duration": 0.2}}), 400, "/preset")
         # giving /run/kind makes it a run like any other
         r = requests.post(daemon.url + "/v1/sessions",
                           json={"preset": preset, "run": {"kind": "pointmass"}})

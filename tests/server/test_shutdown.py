@@ -210,3 +210,32 @@ def test_second_signal_ends_the_wait_for_requests_in_flight(tmp_path):
         c.close()
     finally:
         d.stop()
+
+
+def test_stored_sessions_are_read_during_drain(tmp_path):
+    # A stored session not yet used after a restart is built on the pool at its
+    # first use; during the drain the pool takes no jobs, and GET, series and
+    # fft of such a session answered 503 while a used session's were served.
+    # They need no model: served from the stored channel table.
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        sid = requests.post(d.url + "/v1/sessions", json={"preset": BASE_PRESET}).json()["id"]
+        assert requests.post(f"{d.url}/v1/sessions/{sid}/step",
+                             json={"duration": 0.2}).status_code == 200
+    finally:
+        assert d.stop() == 0
+    d2 = Daemon("--drain", "60", data_dir=str(tmp_path))
+    try:
+        d2.proc.send_signal(signal.SIGTERM)
+        wait_stopping(d2)
+        s = requests.get(f"{d2.url}/v1/sessions/{sid}")
+        assert s.status_code == 200 and s.json()["index"] == 100, s.text
+        ser = requests.get(f"{d2.url}/v1/sessions/{sid}/series",
+                           params={"channels": "vehicle.speed"})
+        assert ser.status_code == 200 and ser.json()["index"] == list(range(101))
+        assert requests.get(f"{d2.url}/v1/sessions/{sid}/fft",
+                            params={"channel": "vehicle.speed"}).status_code == 200
+        is_problem(requests.post(f"{d2.url}/v1/sessions/{sid}/step", json={"duration": 0.1}),
+                   503)
+    finally:
+        d2.stop()

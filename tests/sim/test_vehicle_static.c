@@ -467,6 +467,26 @@ static void equilibrium_with_a_bump_under_a_wheel(void **state)
             ts_model_free(m);
         }
     }
+    /* holes and a 0.64-m bump under the rear wheels (found by a review sweep
+     * of 350 inline courses): the continuation needed steps below 1/64 */
+    ts_config c;
+    ts_err err;
+    json_t *doc = json_pack("{s:{s:s,s:f},s:{s:s},s:{s:s,s:f},s:{s:s,s:[ffff],s:[ffff],s:[ffff]}}",
+                            "run", "kind", "vehicle", "duration", 0.1, "track", "fidelity",
+                            "coupled", "drive", "kind", "constant", "torque", 0.0, "terrain",
+                            "kind", "bumps", "bump_start", 0.744, 1.22, 1.471, 2.083,
+                            "bump_height", -0.17, -0.31, -0.36, 0.64, "bump_length", 0.222,
+                            0.187, 0.106, 1.078);
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    json_decref(doc);
+    ts_model *m = ts_model_make(&c, &err);
+    if (!m) fail_msg("holes and bump: %s", err.msg);
+    ts_data *d = ts_data_make(m, &err);
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_close(channel(m, d, "hull.accel_z"), 0, 0, 1e-3);
+    assert_close(channel(m, d, "track.tension.rear_roller"), c.track.tension, 0.01, 0);
+    ts_data_free(d);
+    ts_model_free(m);
 }
 
 int main(void)
