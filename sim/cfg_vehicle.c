@@ -99,6 +99,9 @@ static const ts_param vehicle_rows[] = {
      "Kelvin-Voigt retardation time of the track elements (damping = EA*time/L)"},
     {"/vehicle/idler_link_angle", TS_PT_DOUBLE, F(idler_link_angle), "rad", -1.6, 1.6, NULL, 0, 0,
      "direction of the track-adjusting link (idler moves forward along it), above hull x"},
+    {"/vehicle/idler_compensation", TS_PT_DOUBLE, F(idler_compensation), "1", 0, 1.5, NULL, 0, 0,
+     "compensating idler: fraction of road arm 1's loop-length change the track-adjusting link "
+     "takes up (0: idler fixed to the hull)"},
     {"/vehicle/foundation_stiffness", TS_PT_DOUBLE, F(foundation_stiffness), "N/m", 1e4, 1e10, NULL,
      0, 0, "track-terrain foundation stiffness under each road wheel"},
     {"/vehicle/foundation_cubic", TS_PT_DOUBLE, F(foundation_cubic), "N/m^3", 0, 1e14, NULL, 0, 0,

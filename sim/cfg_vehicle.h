@@ -57,6 +57,7 @@ typedef struct ts_vehicle_config {
     double track_thickness;      /* rim to ground under a road wheel [m] */
     double track_damping_time;   /* Kelvin-Voigt time of the track elements [s] */
     double idler_link_angle;     /* track-adjusting link direction above hull x [rad] */
+    double idler_compensation;   /* share of arm 1's loop-length change the link takes up */
     double foundation_stiffness; /* track-terrain, per road wheel [N/m] */
     double foundation_cubic;     /* cubic stiffening [N/m^3] */
     double foundation_damping;   /* [N*s/m] */

@@ -27,7 +27,12 @@
  *   - gravity.
  * The idler sits on the track-adjusting link, locked while running (a grease
  * cylinder); its setting is solved with the equilibrium so the static tension
- * at the rear roller is P0 (the tensioner's setting).
+ * at the rear roller is P0 (the tensioner's setting). With
+ * /vehicle/idler_compensation > 0 the idler is the M1's compensating idler:
+ * the link joins it to road arm 1, so its place along the link is a function
+ * of arm 1's angle (compensation_table: the travel that takes up that share of
+ * the loop-length change arm 1 makes); its spans then move with arm 1 like a
+ * road wheel's (span_arm). Its mass still rides in the hull body.
  *
  * Fidelities: static (massless chain); lumped (each upper span's mass on the
  * support rollers, as a point mass on the hull and spin inertia m r^2);
@@ -60,7 +65,8 @@
  * anchor; track–hull impact; rebound stops; the anchor's release when road
  * wheel 4 lifts off (the no-slip spring always acts); a compliant tensioner
  * (the grease link is locked while running, so the static model's tension
- * follows the loop-length change of the suspension travel).
+ * follows the loop-length change of the suspension travel, less arm 1's share
+ * under idler compensation).
  */
 #include "vehicle_model.h"
 
@@ -93,6 +99,11 @@ const char *const vm_span_names[VM_NSPAN] = {"sprocket_rear_roller", "rear_rolle
 const char *const vm_body_names[VM_NB] = {"sprocket", "rear_roller", "front_roller", "idler",
                                           "rw1",      "rw2",         "rw3",          "rw4",
                                           "rw5",      "rw6",         "rw7"};
+
+/* Nodes of the compensating idler's travel table, over +-VM_COMP_RANGE rad
+ * of road arm 1 about its design angle (beyond the bump stop and full droop). */
+#define VM_COMP_N     97
+#define VM_COMP_RANGE 1.2
 
 /* Jacobian of a body centre: up to 4 columns (x, z, theta, alpha_i). */
 typedef struct jcol {
@@ -135,6 +146,13 @@ struct vm {
     double l_body[VM_NB][2];         /* hull-mounted bodies: offset from CG, hull frame */
     double l_pivot[VM_NRW][2];       /* road-arm pivots, hull frame */
     double link_dir[2], d_link;      /* idler link direction and setting */
+    /* compensating idler: its travel along link_dir as a function of road arm
+     * 1's angle, tabulated at VM_COMP_N nodes from comp_a0 in steps comp_da
+     * (travel and slope; cubic Hermite between nodes, constant outside);
+     * comp_on 0: the idler is fixed to the hull */
+    int comp_on;
+    double comp_a0, comp_da;
+    double comp_s[VM_COMP_N], comp_ds[VM_COMP_N];
     double rho_b[VM_NB], j_b[VM_NB]; /* pitch-line radii, spin inertias */
     double wheel_ground;             /* hub to ground-contact surface: r + thickness */
     double ell0[VM_NB];
@@ -207,6 +225,28 @@ static int is_station(const double *list, int n, int station)
 
 /* ---- kinematics ---------------------------------------------------------- */
 
+/* The compensating idler's travel along its link at road-arm-1 angle alpha
+ * [m], and its slope d travel / d alpha in *slope [m/rad]: cubic Hermite on
+ * the table vm_make built (compensation_table), constant beyond it. */
+static double comp_travel(const vm *v, double alpha, double *slope)
+{
+    double x = (alpha - v->comp_a0) / v->comp_da;
+    if (x <= 0 || x >= VM_COMP_N - 1) {
+        *slope = 0;
+        return x <= 0 ? v->comp_s[0] : v->comp_s[VM_COMP_N - 1];
+    }
+    int i = (int)x;
+    double t = x - i, h = v->comp_da;
+    double s0 = v->comp_s[i], s1 = v->comp_s[i + 1];
+    double m0 = v->comp_ds[i] * h, m1 = v->comp_ds[i + 1] * h;
+    double t2 = t * t, t3 = t2 * t;
+    *slope = ((6 * t2 - 6 * t) * s0 + (3 * t2 - 4 * t + 1) * m0 + (6 * t - 6 * t2) * s1 +
+              (3 * t2 - 2 * t) * m1) /
+             h;
+    return (2 * t3 - 3 * t2 + 1) * s0 + (t3 - 2 * t2 + t) * m0 + (3 * t2 - 2 * t3) * s1 +
+           (t3 - t2) * m1;
+}
+
 #define ALL_BODIES ((1u << VM_NB) - 1)
 
 /* Body centres, velocities and Jacobians; only the bodies in mask (bit b =
@@ -229,11 +269,20 @@ static void kinematics_of(const vm *v, const double *q, const double *qd, unsign
         j->v[1][0] = 0, j->v[1][1] = 1;
         if (b < VM_RW1) {
             double l[2] = {v->l_body[b][0], v->l_body[b][1]};
+            double ds = 0;
             if (b == VM_IDLER) {
-                l[0] += v->d_link * v->link_dir[0];
-                l[1] += v->d_link * v->link_dir[1];
+                double d = v->d_link + (v->comp_on ? comp_travel(v, q[QA0], &ds) : 0);
+                l[0] += d * v->link_dir[0];
+                l[1] += d * v->link_dir[1];
             }
             rot(k, l, k->w[b]);
+            if (b == VM_IDLER && v->comp_on) {
+                /* compensating idler: the track-adjusting link ties it to road arm 1 */
+                double g[2] = {ds * v->link_dir[0], ds * v->link_dir[1]};
+                j->n = 4;
+                j->idx[3] = QA0;
+                rot(k, g, j->v[3]);
+            }
         } else {
             int i = b - VM_RW1;
             rot(k, v->l_pivot[i], k->wp[i]);
@@ -689,6 +738,17 @@ static double span_ke(const span_el *se, const span_map *mp, const double *qd, d
     return t;
 }
 
+/* The road-arm coordinate a span between bodies a and b moves with, or -1
+ * when both ends ride on the hull: a road wheel's arm, or arm 1 for the
+ * compensating idler (no span ends on two different arms). */
+static int span_arm(const vm *v, int a, int b)
+{
+    if (a >= VM_RW1) return QA0 + a - VM_RW1;
+    if (b >= VM_RW1) return QA0 + b - VM_RW1;
+    if (v->comp_on && (a == VM_IDLER || b == VM_IDLER)) return QA0;
+    return -1;
+}
+
 /* Evaluate the maps of the spans ending on a road wheel at coordinates qs:
  * kinetic energy t[s] and momentum p[s][c] (only those spans' end bodies are
  * placed). */
@@ -701,7 +761,7 @@ static void arm_spans_at(const vm *v, const double *qs, const double *qd, double
         const span_el *se = &v->span[s];
         if (!se->sp) continue;
         int a = se->elem, b = (se->elem + 1) % VM_NB;
-        if (a < VM_RW1 && b < VM_RW1) continue;
+        if (span_arm(v, a, b) < 0) continue;
         elem e;
         span_map mp;
         tangent(v, &k, se->elem, &e);
@@ -746,8 +806,8 @@ static void span_velocity_terms(const vm *v, const double *q, const span_base *s
     for (int s = 0; s < VM_NSPAN; s++) {
         if (!v->span[s].sp) continue;
         int a = v->span[s].elem, b = (a + 1) % VM_NB;
-        if (a < VM_RW1 && b < VM_RW1) continue;
-        int iq = QA0 + (a >= VM_RW1 ? a : b) - VM_RW1;
+        int iq = span_arm(v, a, b);
+        if (iq < 0) continue;
         Q[iq] += (tp[s] - sb->t[s]) / eps; /* dT/dalpha */
         /* (dM/dalpha alpha_d) q_d = alpha_d dp/dalpha; the compact column sets
          * at q and q + eps e_alpha are the same (span_map_build adds the
@@ -803,7 +863,7 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
         int s = (int)(se - v->span);
         /* the spans between hull-mounted bodies enter only the pitch terms,
          * which read p on the x, z columns (compact 0, 1) alone */
-        int np = a < VM_RW1 && b < VM_RW1 ? 2 : mp.cs.n;
+        int np = span_arm(v, a, b) < 0 ? 2 : mp.cs.n;
         sb->t[s] = span_ke(se, &mp, sb->qdv, sb->p[s], np);
         sb->cols[s] = mp.cs;
     }
@@ -1324,8 +1384,97 @@ static ts_rc build_spans(vm *v, ts_err *err)
     v->dynamic = 1;
     for (int s = 0; s < VM_NSPAN; s++) {
         int a = v->span[s].elem, b = (a + 1) % VM_NB;
-        if (a >= VM_RW1 || b >= VM_RW1) v->arm_span_bodies |= 1u << a | 1u << b;
+        if (span_arm(v, a, b) >= 0) v->arm_span_bodies |= 1u << a | 1u << b;
     }
+    return TS_OK;
+}
+
+/* Length of the track loop's pitch line at coordinates q, less the design
+ * loop's (the spins and modes do not enter): the tangent lengths' change plus
+ * each wrap's, rho_b (dpsi_prev - dpsi_b), as the elements' stretch counts
+ * it (a wrap may go negative: the chain keeps to the wheel). Needs v->ell0,
+ * v->u0. */
+static double loop_length(const vm *v, const double *q)
+{
+    kin k;
+    kinematics(v, q, NULL, &k);
+    double dpsi[VM_NB], L = 0;
+    for (int el = 0; el < VM_NB; el++) {
+        elem e;
+        tangent(v, &k, el, &e);
+        dpsi[el] = e.dpsi;
+        L += e.ell - v->ell0[el];
+    }
+    for (int b = 0; b < VM_NB; b++)
+        L += v->rho_b[b] * (dpsi[(b + VM_NB - 1) % VM_NB] - dpsi[b]);
+    return L;
+}
+
+/* Loop length with the idler moved by travel along its link (the idler
+ * fixed to the hull while the table is built). */
+static double loop_length_at(vm *v, double *q, double travel)
+{
+    double keep = v->d_link;
+    v->d_link = keep + travel;
+    double L = loop_length(v, q);
+    v->d_link = keep;
+    return L;
+}
+
+/* The compensating idler's travel table: at each arm-1 angle the travel that
+ * takes up the given share of the change of the loop's length from the
+ * design configuration q (other arms at their design angle), by Newton from
+ * the neighbouring node; the slope from the implicit function theorem.
+ * TS_ERR_PARAM when the layout leaves no travel that does it. */
+static ts_rc compensation_table(vm *v, double *q, double share, ts_err *err)
+{
+    const double h = 1e-6, keep = q[QA0];
+    double L0 = loop_length(v, q);
+    v->comp_da = 2 * VM_COMP_RANGE / (VM_COMP_N - 1);
+    v->comp_a0 = v->arm0 - VM_COMP_RANGE;
+    int mid = (VM_COMP_N - 1) / 2;
+    for (int dir = -1; dir <= 1; dir += 2) {
+        double s = 0;
+        for (int n = mid; n >= 0 && n < VM_COMP_N; n += dir) {
+            q[QA0] = v->comp_a0 + n * v->comp_da;
+            double La = loop_length_at(v, q, 0), Ls = 0;
+            double target = L0 + (1 - share) * (La - L0);
+            int it;
+            for (it = 0; it < 30; it++) {
+                double r = loop_length_at(v, q, s) - target;
+                Ls = (loop_length_at(v, q, s + h) - loop_length_at(v, q, s - h)) / (2 * h);
+                if (!isfinite(r) || !(fabs(Ls) > 1e-6)) break;
+                double step = r / Ls;
+                s -= step;
+                if (fabs(step) < 1e-12) break;
+            }
+            double Lq = (loop_length_at(v, q, s) - target);
+            if (it == 30 || !isfinite(Lq) || fabs(Lq) > 1e-9) {
+                q[QA0] = keep;
+                return ts_err_set(err, TS_ERR_PARAM, "/vehicle/idler_compensation",
+                                  "/vehicle/idler_compensation: no idler travel along the link "
+                                  "keeps the loop length at road arm 1 angle %.3f rad",
+                                  v->comp_a0 + n * v->comp_da);
+            }
+            double dq = 1e-6;
+            q[QA0] += dq;
+            double La1 = loop_length_at(v, q, s);
+            q[QA0] -= 2 * dq;
+            double La0 = loop_length_at(v, q, s);
+            q[QA0] += dq;
+            /* d/dalpha [L(alpha, s) - target(alpha)] = 0, target' = (1 - share) L_alpha(alpha, 0) */
+            q[QA0] += dq;
+            double T1 = loop_length_at(v, q, 0);
+            q[QA0] -= 2 * dq;
+            double T0 = loop_length_at(v, q, 0);
+            q[QA0] += dq;
+            double dtarget = (1 - share) * (T1 - T0) / (2 * dq);
+            v->comp_s[n] = s;
+            v->comp_ds[n] = -((La1 - La0) / (2 * dq) - dtarget) / Ls;
+        }
+    }
+    q[QA0] = keep;
+    v->comp_on = 1;
     return TS_OK;
 }
 
@@ -1523,6 +1672,9 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
             v->i_extra += m * L * L / 12;
         }
     }
+    if (vc->idler_compensation > 0 &&
+        compensation_table(v, q, vc->idler_compensation, err) != TS_OK)
+        goto fail;
     if (build_spans(v, err) != TS_OK) goto fail;
     v->nq = VM_NQ_RIGID + v->nmodal;
     v->ny = 2 * v->nq;

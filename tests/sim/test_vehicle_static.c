@@ -489,9 +489,64 @@ static void equilibrium_with_a_bump_under_a_wheel(void **state)
     ts_model_free(m);
 }
 
+/* The quasi-static rear-roller tension (vm_diag.tension_quasi_static: the
+ * massless loop's tension for the current support positions) with road arm 1
+ * turned by da from the equilibrium, everything else held; static fidelity,
+ * idler compensation share comp. */
+static double tension_with_arm1_turned(double comp, double da)
+{
+    ts_config c = config("static");
+    c.vehicle.idler_compensation = comp;
+    ts_err err;
+    vm *v = vm_make(&c, &err);
+    assert_non_null(v);
+    vm_work *w = vm_work_make(v);
+    int ny = vm_ny(v);
+    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    y[3] += da;
+    vm_diag dg;
+    assert_int_equal(vm_rhs(v, w, 0.0, y, yd, &dg), 0);
+    free(y), free(yd);
+    vm_work_free(w);
+    vm_free(v);
+    return dg.tension_quasi_static;
+}
+
+/* EVIDENCE: the M1's compensating idler [S TM 9-2350-256-10 track and
+ * suspension: the track-adjusting link joins the compensating idler arm to
+ * road arm 1 so the idler takes up the slack as wheel 1 moves; same mechanism
+ * described for the M88A1, Army ordnance course OD1672]. Closed form of its
+ * purpose: with /vehicle/idler_compensation 1 the loop's length, hence the
+ * massless track's tension, does not change as road arm 1 turns (others
+ * held); with 0.5 half the change is taken up; with 0 (idler fixed to the
+ * hull) it changes by tens of kN. Arm 1 turned -0.4 .. +0.4 rad (jounce past
+ * the bump stop to deep droop). Tolerance 0.2 % of P0 (the travel table's
+ * cubic interpolation); the unconstrained change must exceed 10 % of P0. */
+static void compensating_idler_keeps_the_loop_length(void **state)
+{
+    (void)state;
+    const double da[4] = {-0.4, -0.2, 0.2, 0.4};
+    double t0 = tension_with_arm1_turned(0, 0);
+    double worst_free = 0;
+    for (int i = 0; i < 4; i++) {
+        double free_ = tension_with_arm1_turned(0, da[i]) - t0;
+        double full = tension_with_arm1_turned(1, da[i]) - t0;
+        double half = tension_with_arm1_turned(0.5, da[i]) - t0;
+        printf("# arm 1 %+.1f rad: tension change %+.0f N (idler fixed), %+.0f (half), %+.0f "
+               "(compensated)\n",
+               da[i], free_, half, full);
+        worst_free = fmax(worst_free, fabs(free_));
+        assert_true(fabs(full) < 0.002 * t0);
+        assert_true(fabs(half - 0.5 * free_) < 0.002 * t0);
+    }
+    assert_true(worst_free > 0.1 * t0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(compensating_idler_keeps_the_loop_length),
         cmocka_unit_test(tension_at_rest_is_the_tensioner_setting),
         cmocka_unit_test(wheel_loads_carry_the_weight),
         cmocka_unit_test(dof_counts_match_the_paper),
