@@ -22,8 +22,10 @@ static const struct {
     [TS_ERR_PARAM] = {400, "/problems/invalid-config", "Invalid request"},
     [TS_ERR_RANGE] = {400, "/problems/invalid-config", "Value out of range"},
     [TS_ERR_NOMEM] = {503, "/problems/out-of-memory", "Out of memory"},
-    [TS_ERR_SOLVER] = {500, "/problems/solver-failed", "Solver failed"},
-    [TS_ERR_DIVERGED] = {500, "/problems/diverged", "Simulation diverged"},
+    /* the model could not be solved with the config sent: the request's
+     * content, not a fault of the server (RFC 9110 15.5.21) */
+    [TS_ERR_SOLVER] = {422, "/problems/solver-failed", "Solver failed"},
+    [TS_ERR_DIVERGED] = {422, "/problems/diverged", "Simulation diverged"},
     [TS_ERR_IO] = {500, "/problems/io", "I/O error"},
     [TS_ERR_STATE] = {409, "/problems/conflict", "Not allowed in the current state"},
     [TS_ERR_NOTFOUND] = {404, "/problems/not-found", "Not found"},

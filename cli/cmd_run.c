@@ -12,6 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "../api/config_json.h"
 #include "../api/session_json.h"
@@ -21,7 +23,37 @@
 typedef struct {
     FILE *csv;
     ts_rows rows;
+    double until;       /* the run's end [s], for the progress line */
+    double wall0, next; /* monotonic start and next progress time [s] */
+    int tty;            /* stderr is a terminal: the progress line is redrawn */
+    int shown;          /* a progress line was printed */
 } run_sink;
+
+#define PROGRESS_FIRST 2.0  /* wall seconds before the first progress line */
+#define PROGRESS_EVERY 5.0  /* ... and between lines when stderr is not a terminal */
+
+static double wall_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Long runs say how far they are on stderr (stdout keeps the one summary
+ * line): simulated time, share of the run, real-time factor. Short runs,
+ * done before PROGRESS_FIRST, print nothing. */
+static void progress(run_sink *s, double t)
+{
+    double now = wall_now();
+    if (now < s->next) return;
+    double wall = now - s->wall0;
+    fprintf(stderr, "%stanksim run: t = %.3f of %.3f s (%.1f %%), %.1fx real time%s",
+            s->tty ? "\r" : "", t, s->until, s->until > 0 ? 100.0 * t / s->until : 100.0,
+            wall > 0 ? t / wall : 0.0, s->tty ? "   " : "\n");
+    fflush(stderr);
+    s->shown = 1;
+    s->next = now + (s->tty ? 0.5 : PROGRESS_EVERY);
+}
 
 static int write_row(void *ud, long index, double t, const double *v, int n)
 {
@@ -29,6 +61,7 @@ static int write_row(void *ud, long index, double t, const double *v, int n)
     for (int i = 0; i < n; i++) fprintf(s->csv, i ? ",%.9g" : "%.9g", v[i]);
     fputc('\n', s->csv);
     if (ts_rows_append(&s->rows, index, t, v, n) != 0) return 1;
+    if ((index & 63) == 0) progress(s, t);
     return ferror(s->csv) ? 1 : 0;
 }
 
@@ -83,8 +116,13 @@ int tsc_cmd_run(int argc, char **argv)
         fprintf(csv, i ? ",%s" : "%s", ts_model_channel(m, i)->name);
     fputc('\n', csv);
     sink.csv = csv;
+    sink.until = until;
+    sink.wall0 = wall_now();
+    sink.next = sink.wall0 + PROGRESS_FIRST;
+    sink.tty = isatty(fileno(stderr));
     write_row(&sink, 0, 0.0, ts_latest(d), ts_model_nchannel(m));
     ts_rc arc = ts_advance(m, d, until, write_row, &sink, &err);
+    if (sink.shown && sink.tty) fputc('\n', stderr);
     if (fclose(csv) != 0) arc = TS_ERR_IO;
     csv = NULL;
     if (arc != TS_OK) {

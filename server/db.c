@@ -178,6 +178,14 @@ int tsd_db_session_delete(tsd_db *db, long seq)
     int rc = exec_w(db, "DELETE FROM samples WHERE seq=?", "i", seq);
     rc |= exec_w(db, "DELETE FROM snapshots WHERE seq=?", "i", seq);
     rc |= exec_w(db, "DELETE FROM sessions WHERE seq=?", "i", seq);
+    /* The deletes went through the write-ahead log page by page (a long run's
+     * rows: hundreds of MB); copy them back and truncate the log, so a delete
+     * does not leave the store larger than before it. The freed pages stay in
+     * the database file, where SQLite reuses them for the next rows. Best
+     * effort: a reader in the log's middle only shortens the checkpoint. */
+    pthread_mutex_lock(&db->wmu);
+    sqlite3_wal_checkpoint_v2(db->w, NULL, SQLITE_CHECKPOINT_TRUNCATE, NULL, NULL);
+    pthread_mutex_unlock(&db->wmu);
     return rc;
 }
 

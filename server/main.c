@@ -59,6 +59,9 @@ static void usage(FILE *f)
                "                   build directory of this binary, else ./web_static)\n"
                "  --max-sessions N sessions kept at once (default 1000; more -> 429)\n"
                "  --max-samples N  sample rows per series/FFT response (default 100000)\n"
+               "  --max-rows N     sample rows one session may store: a config whose\n"
+               "                   run.duration x run.sample_rate needs more gets 400\n"
+               "                   (default 1000000, ~0.3 GB for the vehicle runs; 0: none)\n"
                "  --max-step S     longest synchronous step in simulated seconds (default 10)\n"
                "  --drain S        after SIGTERM/SIGINT keep answering S seconds (reads served,\n"
                "                   new work 503 with Retry-After) before closing; a second\n"
@@ -132,6 +135,7 @@ int main(int argc, char **argv)
     o->max_sessions = 1000;
     o->max_samples = 100000;
     o->max_step = 10.0;
+    o->max_rows = 1000000;
     tsd_static_default_root(o->web_root, sizeof o->web_root);
 
     for (int i = 1; i < argc; i++) {
@@ -173,6 +177,9 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--max-samples") == 0) {
             if (parse_int(a, v, 10, 100000000, &n)) return 2;
             o->max_samples = n;
+        } else if (strcmp(a, "--max-rows") == 0) {
+            if (parse_int(a, v, 0, 1L << 40, &n)) return 2;
+            o->max_rows = n;
         } else if (strcmp(a, "--max-step") == 0) {
             if (parse_seconds(a, v, 0, 1, 1e6, &o->max_step)) return 2;
         } else if (strcmp(a, "--drain") == 0) {

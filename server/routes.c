@@ -57,6 +57,7 @@ typedef struct tsd_route_row {
     const char *pattern;
     tsd_handler handler;
     int flags;
+    const char *query; /* accepted query parameters, space-separated; "*": any */
     const char *summary;
 } tsd_route_row;
 
@@ -459,12 +460,34 @@ static void step_done(void *ud)
     tsd_request_resume(ud);
 }
 
+/* Samples are stored at whole multiples of the sample period, and a step or
+ * run stops on one: a duration or end time between them would be rounded
+ * down without a word (0.0015 s at 500 Hz: no step at all). 0, or -1 with a
+ * 400 naming field queued. */
+static int check_on_grid(tsd_request *r, const char *field, double x, enum MHD_Result *ret)
+{
+    double dt = r->session->ch.view.period;
+    if (!(dt > 0)) return 0;
+    double n = x / dt, k = floor(n + 0.5);
+    if (fabs(n - k) <= 1e-6 * (1.0 + fabs(n))) return 0;
+    ts_err e;
+    char ptr[64];
+    snprintf(ptr, sizeof ptr, "/%s", field);
+    ts_err_set(&e, TS_ERR_PARAM, ptr,
+               "%s: a whole number of sample periods expected (samples are %g s apart, "
+               "run.sample_rate %g Hz), got %g s; nearest %g or %g s",
+               ptr, dt, 1.0 / dt, x, floor(n) * dt, (floor(n) + 1) * dt);
+    *ret = tsd_reply_err(r, &e, NULL);
+    return -1;
+}
+
 static enum MHD_Result post_step(tsd_request *r)
 {
     enum MHD_Result ret = MHD_NO;
     double duration = 0;
     tsa_num_field f[] = {{"duration", 1, 0.0, 1e9, &duration, NULL}};
     if (body_numbers(r, 0, f, 1, &ret) < 0) return ret;
+    if (check_on_grid(r, "duration", duration, &ret) < 0) return ret;
     if (duration > r->srv->opt.max_step) {
         char detail[300];
         snprintf(detail, sizeof detail,
@@ -493,10 +516,15 @@ static enum MHD_Result post_run(tsd_request *r)
 {
     enum MHD_Result ret = MHD_NO;
     tsd_session *s = r->session;
-    double until = s->m ? ts_model_config(s->m)->run.duration : 0, rtf = 0;
+    double until = -1, rtf = 0; /* until: absent unless set (its range starts at 0) */
     tsa_num_field f[] = {{"until", 0, 0.0, 1e12, &until, NULL},
                          {"real_time_factor", 0, 1e-3, 1e9, &rtf, NULL}};
     if (body_numbers(r, 1, f, 2, &ret) < 0) return ret;
+    double end = s->m ? ts_model_config(s->m)->run.duration : 0;
+    if (until < 0)
+        until = end;
+    else if (until < end && check_on_grid(r, "until", until, &ret) < 0) /* past it: the end */
+        return ret;
     ts_err e;
     json_t *op = NULL;
     if (tsd_session_run(s, until, rtf, &op, &e) != TS_OK) return tsd_reply_err(r, &e, NULL);
@@ -701,6 +729,10 @@ static enum MHD_Result get_fft(tsd_request *r)
                         "to", (double)q.to * s->ch.view.period, "n", (json_int_t)n, "df",
                         1.0 / ((double)n * s->ch.view.period), "detrend", "mean removed",
                         "frequency", fa, "amplitude", aa);
+        /* units of every number above: "unit" is the amplitude's (the channel's) */
+        json_object_set_new(out, "units",
+                            json_pack("{s:s,s:s,s:s,s:s,s:s}", "frequency", "Hz", "df", "Hz",
+                                      "from", "s", "to", "s", "amplitude", chn->unit));
     }
     free(index);
     free(rows);
@@ -718,17 +750,18 @@ static enum MHD_Result get_fft(tsd_request *r)
 static int parse_view(tsd_request *r, tsr_view *v, enum MHD_Result *ret)
 {
     tsr_view_default(v);
-    double w = v->width, h = v->height, ex = v->exaggeration, ov = v->overlay, aa = v->antialias;
-    if (q_number(r, "width", TSR_MIN_SIZE, TSR_MAX_SIZE, &w, ret) < 0) return -1;
-    if (q_number(r, "height", TSR_MIN_SIZE, TSR_MAX_SIZE, &h, ret) < 0) return -1;
+    long w = v->width, h = v->height, ov = v->overlay, aa = v->antialias;
+    double ex = v->exaggeration;
+    if (q_integer(r, "width", TSR_MIN_SIZE, TSR_MAX_SIZE, &w, ret) < 0) return -1;
+    if (q_integer(r, "height", TSR_MIN_SIZE, TSR_MAX_SIZE, &h, ret) < 0) return -1;
     if (q_number(r, "exaggeration", 0, 1000, &ex, ret) < 0) return -1;
-    if (q_number(r, "overlay", 0, 1, &ov, ret) < 0) return -1;
-    if (q_number(r, "antialias", 0, 1, &aa, ret) < 0) return -1;
+    if (q_integer(r, "overlay", 0, 1, &ov, ret) < 0) return -1;
+    if (q_integer(r, "antialias", 0, 1, &aa, ret) < 0) return -1;
     v->width = (int)w;
     v->height = (int)h;
     v->exaggeration = ex;
-    v->overlay = ov != 0;
-    v->antialias = aa != 0;
+    v->overlay = (int)ov;
+    v->antialias = (int)aa;
     const char *kind = tsd_arg(r, "view");
     if (kind && (v->kind = tsr_view_kind_parse(kind)) < 0) {
         *ret = bad_param(r, "view", "side or three_quarter expected", kind);
@@ -889,36 +922,40 @@ static enum MHD_Result cancel_operation(tsd_request *r)
 
 /* ---- the table ---------------------------------------------------------------------- */
 
+/* The drawing options of parse_view, accepted by both frame routes. */
+#define Q_VIEW "width height view exaggeration color text overlay antialias"
+
 static const tsd_route_row routes[] = {
-    {"GET", "/v1/health", get_health, RF_PUBLIC, "Liveness and version"},
-    {"GET", "/v1/openapi.yaml", get_openapi, 0, "This API description"},
-    {"GET", "/metrics", get_metrics, 0, "Prometheus metrics"},
-    {"GET", "/v1/presets", get_presets, 0, "List shipped presets"},
-    {"GET", "/v1/presets/{name}", get_preset, 0, "One preset, as shipped and resolved"},
-    {"GET", "/v1/schema", get_schema, 0, "JSON Schema of a run config"},
-    {"POST", "/v1/sessions", post_sessions, RF_WORK, "Create a session from a preset and overrides"},
-    {"GET", "/v1/sessions", get_sessions, 0, "List sessions (paged)"},
-    {"GET", "/v1/sessions/{id}", get_session, RF_SESSION, "One session"},
-    {"DELETE", "/v1/sessions/{id}", delete_session, RF_SESSION, "Delete a session and its data"},
-    {"POST", "/v1/sessions/{id}/step", post_step, RF_SESSION | RF_WORK, "Advance synchronously (bounded)"},
-    {"POST", "/v1/sessions/{id}/run", post_run, RF_SESSION | RF_WORK, "Start an asynchronous run"},
-    {"GET", "/v1/sessions/{id}/series", get_series, RF_SESSION, "Stored samples (JSON or CSV)"},
-    {"GET", "/v1/sessions/{id}/stream", get_stream, RF_SESSION, "Live samples (SSE or NDJSON)"},
-    {"GET", "/v1/sessions/{id}/fft", get_fft, RF_SESSION, "Amplitude spectrum of a channel"},
-    {"GET", "/v1/sessions/{id}/frame.png", get_frame, RF_SESSION | RF_WORK, "One rendered frame (PNG)"},
-    {"GET", "/v1/sessions/{id}/frames", get_frames, RF_SESSION | RF_WORK, "Animation of stored frames"},
-    {"POST", "/v1/modes", post_modes, RF_WORK, "Track eigenanalysis (tanksim modes)"},
-    {"GET", "/v1/operations/{id}", get_operation, 0, "State of a run operation"},
-    {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "Cancel a run operation"},
-    {"GET", "/", tsd_static_index, RF_PUBLIC, "The browser dashboard (web_static/index.html)"},
-    {"GET", "/static/{file}", tsd_static_file, RF_PUBLIC, "Dashboard assets (web_static/FILE)"},
+    {"GET", "/v1/health", get_health, RF_PUBLIC, "*", "Liveness and version"},
+    {"GET", "/v1/openapi.yaml", get_openapi, 0, "", "This API description"},
+    {"GET", "/metrics", get_metrics, 0, "", "Prometheus metrics"},
+    {"GET", "/v1/presets", get_presets, 0, "", "List shipped presets"},
+    {"GET", "/v1/presets/{name}", get_preset, 0, "", "One preset, as shipped and resolved"},
+    {"GET", "/v1/schema", get_schema, 0, "", "JSON Schema of a run config"},
+    {"POST", "/v1/sessions", post_sessions, RF_WORK, "", "Create a session from a preset and overrides"},
+    {"GET", "/v1/sessions", get_sessions, 0, "page_size page_token", "List sessions (paged)"},
+    {"GET", "/v1/sessions/{id}", get_session, RF_SESSION, "", "One session"},
+    {"DELETE", "/v1/sessions/{id}", delete_session, RF_SESSION, "", "Delete a session and its data"},
+    {"POST", "/v1/sessions/{id}/step", post_step, RF_SESSION | RF_WORK, "", "Advance synchronously (bounded)"},
+    {"POST", "/v1/sessions/{id}/run", post_run, RF_SESSION | RF_WORK, "", "Start an asynchronous run"},
+    {"GET", "/v1/sessions/{id}/series", get_series, RF_SESSION, "channels from to every page_size page_token format", "Stored samples (JSON or CSV)"},
+    {"GET", "/v1/sessions/{id}/stream", get_stream, RF_SESSION, "channels since format", "Live samples (SSE or NDJSON)"},
+    {"GET", "/v1/sessions/{id}/fft", get_fft, RF_SESSION, "channel from to", "Amplitude spectrum of a channel"},
+    {"GET", "/v1/sessions/{id}/frame.png", get_frame, RF_SESSION | RF_WORK, "t " Q_VIEW, "One rendered frame (PNG)"},
+    {"GET", "/v1/sessions/{id}/frames", get_frames, RF_SESSION | RF_WORK, "fps format from to " Q_VIEW, "Animation of stored frames"},
+    {"POST", "/v1/modes", post_modes, RF_WORK, "", "Track eigenanalysis (tanksim modes)"},
+    {"GET", "/v1/operations/{id}", get_operation, 0, "", "State of a run operation"},
+    {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "", "Cancel a run operation"},
+    {"GET", "/", tsd_static_index, RF_PUBLIC, "*", "The browser dashboard (web_static/index.html)"},
+    {"GET", "/static/{file}", tsd_static_file, RF_PUBLIC, "*", "Dashboard assets (web_static/FILE)"},
 };
 #define NROUTES (sizeof routes / sizeof routes[0])
 
 void tsd_routes_print(void)
 {
     for (size_t i = 0; i < NROUTES; i++)
-        printf("%s %s\t%s\n", routes[i].method, routes[i].pattern, routes[i].summary);
+        printf("%s %s\t%s\t%s\n", routes[i].method, routes[i].pattern, routes[i].summary,
+               routes[i].query);
 }
 
 /* Match url against pattern, capturing {..} segments. 1 on match. */
@@ -962,6 +999,68 @@ static int authorized(tsd_request *r)
     return diff == 0;
 }
 
+/* Query parameters against the route's list: a name it does not read (a typo
+ * such as 'chanels' would otherwise be ignored silently) or a name given twice
+ * (only the first would count) is a 400 naming it, as unknown JSON fields are. */
+typedef struct query_check {
+    const char *accepted;
+    char seen[32][48];
+    int nseen;
+    char bad[48];
+    const char *why;
+} query_check;
+
+/* 1 when name is a whole word of the space-separated list. */
+static int in_list(const char *list, const char *name)
+{
+    size_t n = strlen(name);
+    for (const char *p = list; (p = strstr(p, name)) != NULL; p += n)
+        if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) return 1;
+    return 0;
+}
+
+static enum MHD_Result query_iter(void *cls, enum MHD_ValueKind kind, const char *key,
+                                  const char *value)
+{
+    (void)kind;
+    query_check *c = cls;
+    if (!key[0] && (!value || !value[0])) return MHD_YES; /* a stray '&' */
+    if (!key[0] || strlen(key) >= sizeof c->bad || !in_list(c->accepted, key)) {
+        snprintf(c->bad, sizeof c->bad, "%s", key);
+        c->why = "unknown";
+        return MHD_NO;
+    }
+    for (int i = 0; i < c->nseen; i++)
+        if (strcmp(c->seen[i], key) == 0) {
+            snprintf(c->bad, sizeof c->bad, "%s", key);
+            c->why = "repeated";
+            return MHD_NO;
+        }
+    if (c->nseen < (int)(sizeof c->seen / sizeof c->seen[0]))
+        snprintf(c->seen[c->nseen++], sizeof c->seen[0], "%s", key);
+    return MHD_YES;
+}
+
+/* 0, or -1 with a 400 queued in *ret. */
+static int check_query(tsd_request *r, const tsd_route_row *row, enum MHD_Result *ret)
+{
+    if (strcmp(row->query, "*") == 0) return 0;
+    query_check c = {.accepted = row->query};
+    MHD_get_connection_values(r->conn, MHD_GET_ARGUMENT_KIND, query_iter, &c);
+    if (!c.why) return 0;
+    ts_err e;
+    char ptr[64];
+    snprintf(ptr, sizeof ptr, "/%s", c.bad);
+    if (c.why[0] == 'r')
+        ts_err_set(&e, TS_ERR_PARAM, ptr, "query parameter %s: given more than once", c.bad);
+    else
+        ts_err_set(&e, TS_ERR_PARAM, ptr,
+                   "query parameter '%s': unknown here; %s %s takes %s%s", c.bad, row->method,
+                   row->pattern, row->query[0] ? "only: " : "none", row->query);
+    *ret = tsd_reply_err(r, &e, NULL);
+    return -1;
+}
+
 /* Add method to the Allow list of a 405 (r->allow, comma-separated, once each). */
 static void allow_method(tsd_request *r, const char *method)
 {
@@ -995,6 +1094,8 @@ enum MHD_Result tsd_route(tsd_request *r)
                                  "this daemon needs 'Authorization: Bearer TOKEN' (--token)", NULL);
     }
     if (row) {
+        enum MHD_Result qret;
+        if (check_query(r, row, &qret) < 0) return qret;
         /* A check ahead of the handler for a clear answer; a submission that
          * races with the start of shutdown is refused by the stopped pool and
          * answered the same way (TSD_ERR_SHUTDOWN). */

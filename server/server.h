@@ -39,6 +39,7 @@ typedef struct tsd_options {
     char token[128];       /* bearer token; empty = no authentication */
     int max_sessions;      /* sessions kept at once (create beyond -> 429) */
     long max_samples;      /* sample rows per series/FFT response (page past it) */
+    long max_rows;         /* sample rows one session may store (0: no limit) */
     double max_step;       /* longest synchronous step [s simulated] (longer -> 422) */
     char web_root[512];    /* dashboard files served at / (static_files.c) */
     double drain;          /* after SIGTERM/SIGINT, keep answering this long [s] (main.c) */

@@ -688,6 +688,24 @@ static ts_rc refuse_client_files(const ts_config *cfg, json_t *errors, ts_err *e
     return ts_err_set(err, TS_ERR_PARAM, ptr, "%s", msg);
 }
 
+/* Every row a session produces is stored: a config whose run would store more
+ * than --max-rows (run.duration 3600 s at 20 kHz: 72 million rows, ~24 GB)
+ * is refused before it fills the disk. */
+static ts_rc check_rows(const tsd_server *srv, const ts_config *cfg, json_t *errors, ts_err *err)
+{
+    double rows = floor(cfg->run.duration * cfg->run.sample_rate + 1e-9) + 1.0;
+    if (srv->opt.max_rows <= 0 || rows <= (double)srv->opt.max_rows) return TS_OK;
+    const char *ptr = "/run/duration";
+    char msg[TS_ERR_MSG_LEN];
+    snprintf(msg, sizeof msg,
+             "%s: %g s at run.sample_rate %g Hz is %.0f stored rows, more than this daemon "
+             "keeps per session (--max-rows %ld); shorten /run/duration, lower "
+             "/run/sample_rate, or start tanksimd with a larger --max-rows",
+             ptr, cfg->run.duration, cfg->run.sample_rate, rows, srv->opt.max_rows);
+    if (errors) json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", ptr, "message", msg));
+    return ts_err_set(err, TS_ERR_PARAM, ptr, "%s", msg);
+}
+
 ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, json_t *errors,
                          ts_err *err)
 {
@@ -702,6 +720,7 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
                                                     "message", err->msg));
     }
     if (rc == TS_OK && !srv->opt.client_files) rc = refuse_client_files(&cfg, errors, err);
+    if (rc == TS_OK) rc = check_rows(srv, &cfg, errors, err);
     if (rc != TS_OK) {
         json_decref(resolved);
         return rc;

@@ -402,8 +402,13 @@ static const char *step_pointer(const ts_engine *e)
 static ts_rc cycle_diverged(const ts_engine *e, double t, double h, ts_err *err)
 {
     return ts_err_set(err, TS_ERR_DIVERGED, step_pointer(e),
-                      "engine state left its domain at t = %.6f s of a cycle (fixed step %.3g s)",
-                      t, h);
+                      "engine state left its domain at t = %.6f s of a cycle (fixed step %.3g s)%s",
+                      t, h,
+                      e->c.fidelity == TS_ENGINE_CRANK_ANGLE
+                          ? "; a smaller /engine/ca_step cures a step too coarse for the gas "
+                            "dynamics; if it persists at the smallest, another /engine parameter "
+                            "is outside what the model can run"
+                          : "");
 }
 
 /* Load torque on the crankshaft as a function of (t, speed) at every stage. */

@@ -125,6 +125,9 @@ static void problem_mapping(void **state)
     assert_int_equal(tsa_http_status(TS_ERR_PARAM), 400);
     assert_int_equal(tsa_http_status(TS_ERR_NOTFOUND), 404);
     assert_int_equal(tsa_http_status(TS_ERR_LIMIT), 429);
+    /* a config the model cannot solve is the request's content, not a server fault */
+    assert_int_equal(tsa_http_status(TS_ERR_SOLVER), 422);
+    assert_int_equal(tsa_http_status(TS_ERR_DIVERGED), 422);
     ts_err err;
     ts_err_set(&err, TS_ERR_RANGE, "/track/ea", "/track/ea: too small");
     json_t *p = tsa_problem_from_err(&err, NULL);

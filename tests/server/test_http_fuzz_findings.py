@@ -20,7 +20,7 @@ REPLACEMENT = "\ufffd"
 # (route under the session, query parameter); "" = /v1/sessions itself
 NOT_UTF8_PARAMS = [("", "page_size"), ("", "page_token"), ("series", "from"),
                    ("series", "every"), ("series", "format"), ("series", "channels"),
-                   ("stream", "since"), ("stream", "to"), ("fft", "channel"), ("fft", "from"),
+                   ("stream", "since"), ("stream", "format"), ("fft", "channel"), ("fft", "from"),
                    ("frames", "format"), ("frame.png", "width")]
 
 
