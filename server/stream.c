@@ -126,7 +126,20 @@ enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx,
     pthread_mutex_lock(&s->mu);
     s->refs++;
     pthread_mutex_unlock(&s->mu);
-    if (!ndjson) tsa_buf_put(&c->buf, "retry: 1000\n\n", 13);
+    if (!ndjson) {
+        tsa_buf_put(&c->buf, "retry: 1000\n\n", 13);
+        /* the rows carry names only: say once what they are and in which unit */
+        json_t *list = json_array();
+        for (int k = 0; k < c->n; k++) {
+            const ts_channel *ch = &s->ch.view.v[c->idx[k]];
+            json_array_append_new(list, json_pack("{s:s,s:s,s:s}", "name", ch->name, "unit",
+                                                  ch->unit, "description", ch->description));
+        }
+        char *text = json_dumps(list, JSON_COMPACT);
+        tsa_buf_printf(&c->buf, "event: channels\ndata: %s\n\n", text ? text : "[]");
+        free(text);
+        json_decref(list);
+    }
     return tsd_reply_chunked(r, ndjson ? "application/x-ndjson" : "text/event-stream", 16384,
                              reader, c, release);
 }

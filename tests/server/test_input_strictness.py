@@ -125,3 +125,21 @@ def test_delete_leaves_no_write_ahead_log_behind():
         assert os.path.getsize(wal) == 0
     finally:
         d.stop()
+
+
+def test_sse_stream_says_the_units_of_its_rows(daemon, sid500):
+    # sample rows carry names only; the first event lists the selected
+    # channels with their units (the review found no unit in the stream)
+    from conftest import sse_events
+    r = requests.get(f"{daemon.url}/v1/sessions/{sid500}/stream?channels=vehicle.speed",
+                     stream=True, timeout=10)
+    assert r.status_code == 200
+    events = sse_events(r, stop_after=1)
+    r.close()
+    import json
+    assert events[0][0] == "channels", events[:2]
+    assert json.loads(events[0][2]) == [
+        {"name": "t", "unit": "s", "description": json.loads(events[0][2])[0]["description"]},
+        {"name": "vehicle.speed", "unit": "m/s",
+         "description": json.loads(events[0][2])[1]["description"]}]
+    assert events[1][0] == "sample"
