@@ -101,9 +101,16 @@ const char *const vm_body_names[VM_NB] = {"sprocket", "rear_roller", "front_roll
                                           "rw5",      "rw6",         "rw7"};
 
 /* Nodes of the compensating idler's travel table, over +-VM_COMP_RANGE rad
- * of road arm 1 about its design angle (beyond the bump stop and full droop). */
-#define VM_COMP_N     97
-#define VM_COMP_RANGE 1.2
+ * of road arm 1 about its design angle, built outward from it as far as a
+ * travel solves (a steep link can run out of travel at deep droop or jounce).
+ * Arm 1's own travel (compensation_reach: bump stop to hanging free) widened
+ * by VM_COMP_MARGIN must lie within what solved. The margin: past the bump
+ * stop 0.1 rad makes the default stop (1e6 N*m/rad) carry ~7x the static bar
+ * torque; past the free-hanging angle the IVS bump run's arm 1 overshoots by
+ * 0.03 rad (dynamics), so 0.1 leaves a factor 3. */
+#define VM_COMP_N      97
+#define VM_COMP_RANGE  1.2
+#define VM_COMP_MARGIN 0.1 /* [rad] */
 
 /* Jacobian of a body centre: up to 4 columns (x, z, theta, alpha_i). */
 typedef struct jcol {
@@ -148,10 +155,12 @@ struct vm {
     double link_dir[2], d_link;      /* idler link direction and setting */
     /* compensating idler: its travel along link_dir as a function of road arm
      * 1's angle, tabulated at VM_COMP_N nodes from comp_a0 in steps comp_da
-     * (travel and slope; cubic Hermite between nodes, constant outside);
+     * (travel and slope; cubic Hermite between nodes comp_lo..comp_hi, the
+     * ones that solved, constant outside); comp_fail: the angle of the first
+     * node that did not solve below / above the design angle (NaN: none);
      * comp_on 0: the idler is fixed to the hull */
-    int comp_on;
-    double comp_a0, comp_da;
+    int comp_on, comp_lo, comp_hi;
+    double comp_a0, comp_da, comp_fail[2];
     double comp_s[VM_COMP_N], comp_ds[VM_COMP_N];
     double rho_b[VM_NB], j_b[VM_NB]; /* pitch-line radii, spin inertias */
     double wheel_ground;             /* hub to ground-contact surface: r + thickness */
@@ -227,13 +236,20 @@ static int is_station(const double *list, int n, int station)
 
 /* The compensating idler's travel along its link at road-arm-1 angle alpha
  * [m], and its slope d travel / d alpha in *slope [m/rad]: cubic Hermite on
- * the table vm_make built (compensation_table), constant beyond it. */
+ * the table vm_make built (compensation_table), constant beyond the nodes
+ * that solved. A NaN angle (an integrator's failed state) gives NaN, so the
+ * RHS fails recoverably as it does without the idler. */
 static double comp_travel(const vm *v, double alpha, double *slope)
 {
     double x = (alpha - v->comp_a0) / v->comp_da;
-    if (x <= 0 || x >= VM_COMP_N - 1) {
+    /* negated so NaN takes this branch, never the table index below */
+    if (!(x > v->comp_lo && x < v->comp_hi)) {
+        if (isnan(x)) {
+            *slope = NAN;
+            return NAN;
+        }
         *slope = 0;
-        return x <= 0 ? v->comp_s[0] : v->comp_s[VM_COMP_N - 1];
+        return x <= v->comp_lo ? v->comp_s[v->comp_lo] : v->comp_s[v->comp_hi];
     }
     int i = (int)x;
     double t = x - i, h = v->comp_da;
@@ -1421,20 +1437,35 @@ static double loop_length_at(vm *v, double *q, double travel)
     return L;
 }
 
+/* The error of a compensating idler that cannot follow road arm 1 at angle
+ * alpha [rad]. */
+static ts_rc comp_error(ts_err *err, double alpha, const char *where)
+{
+    return ts_err_set(err, TS_ERR_PARAM, "/vehicle/idler_compensation",
+                      "/vehicle/idler_compensation, /vehicle/idler_link_angle: no idler travel "
+                      "along the link keeps the loop length at road arm 1 angle %.3f rad%s",
+                      alpha, where);
+}
+
 /* The compensating idler's travel table: at each arm-1 angle the travel that
  * takes up the given share of the change of the loop's length from the
  * design configuration q (other arms at their design angle), by Newton from
- * the neighbouring node; the slope from the implicit function theorem.
- * TS_ERR_PARAM when the layout leaves no travel that does it. */
+ * the neighbouring node; the slope from the implicit function theorem. Built
+ * outward from the design angle, each way up to the first node without a
+ * solution (comp_lo, comp_hi, comp_fail; compensation_reach checks arm 1
+ * cannot get there). TS_ERR_PARAM when not even the design node solves. */
 static ts_rc compensation_table(vm *v, double *q, double share, ts_err *err)
 {
     const double h = 1e-6, keep = q[QA0];
     double L0 = loop_length(v, q);
     v->comp_da = 2 * VM_COMP_RANGE / (VM_COMP_N - 1);
     v->comp_a0 = v->arm0 - VM_COMP_RANGE;
+    v->comp_lo = 0;
+    v->comp_hi = VM_COMP_N - 1;
     int mid = (VM_COMP_N - 1) / 2;
     for (int dir = -1; dir <= 1; dir += 2) {
         double s = 0;
+        v->comp_fail[dir > 0] = NAN;
         for (int n = mid; n >= 0 && n < VM_COMP_N; n += dir) {
             q[QA0] = v->comp_a0 + n * v->comp_da;
             double La = loop_length_at(v, q, 0), Ls = 0;
@@ -1449,13 +1480,6 @@ static ts_rc compensation_table(vm *v, double *q, double share, ts_err *err)
                 if (fabs(step) < 1e-12) break;
             }
             double Lq = (loop_length_at(v, q, s) - target);
-            if (it == 30 || !isfinite(Lq) || fabs(Lq) > 1e-9) {
-                q[QA0] = keep;
-                return ts_err_set(err, TS_ERR_PARAM, "/vehicle/idler_compensation",
-                                  "/vehicle/idler_compensation: no idler travel along the link "
-                                  "keeps the loop length at road arm 1 angle %.3f rad",
-                                  v->comp_a0 + n * v->comp_da);
-            }
             double dq = 1e-6;
             q[QA0] += dq;
             double La1 = loop_length_at(v, q, s);
@@ -1469,12 +1493,64 @@ static ts_rc compensation_table(vm *v, double *q, double share, ts_err *err)
             double T0 = loop_length_at(v, q, 0);
             q[QA0] += dq;
             double dtarget = (1 - share) * (T1 - T0) / (2 * dq);
+            double slope = -((La1 - La0) / (2 * dq) - dtarget) / Ls;
+            if (it == 30 || !isfinite(Lq) || fabs(Lq) > 1e-9 || !isfinite(slope)) {
+                double alpha = v->comp_a0 + n * v->comp_da;
+                if (n == mid) {
+                    q[QA0] = keep;
+                    return comp_error(err, alpha, " (the design angle)");
+                }
+                /* the table ends at the last node that solved */
+                if (dir < 0)
+                    v->comp_lo = n + 1;
+                else
+                    v->comp_hi = n - 1;
+                v->comp_fail[dir > 0] = alpha;
+                break;
+            }
             v->comp_s[n] = s;
-            v->comp_ds[n] = -((La1 - La0) / (2 * dq) - dtarget) / Ls;
+            v->comp_ds[n] = slope;
         }
     }
     q[QA0] = keep;
     v->comp_on = 1;
+    return TS_OK;
+}
+
+/* Road arm 1's travel: from the bump stop (/vehicle/bump_stop_angle, taken
+ * as the jounce end at every station) to where it hangs free (wheel off the
+ * ground, hull level: the bar's preload m0 less k (alpha - alpha0) against
+ * the weight of wheel and arm, m g a cos alpha; the track's pull, which only
+ * lifts the wheel, left out), widened by VM_COMP_MARGIN. TS_ERR_PARAM when
+ * the compensating idler's table (compensation_table) stopped inside it
+ * (a travel wider than the table's +-VM_COMP_RANGE, which no preset comes
+ * near, is held constant beyond it unchecked). Needs the preloads
+ * (equilibrium). */
+static ts_rc compensation_reach(const vm *v, ts_err *err)
+{
+    if (!v->comp_on) return TS_OK;
+    double mga = GRAVITY * v->arm_len * (v->m_w + 0.5 * v->m_arm);
+    /* f(alpha) = m0 - k (alpha - alpha0) + mga cos alpha is >= 0 at lo and
+     * <= 0 at hi: bisection to the free-hanging angle */
+    double lo = v->arm0 + (v->m0[0] - mga) / v->k_bar, hi = v->arm0 + (v->m0[0] + mga) / v->k_bar;
+    for (int it = 0; it < 60; it++) {
+        double a = 0.5 * (lo + hi);
+        if (v->m0[0] - v->k_bar * (a - v->arm0) + mga * cos(a) > 0)
+            lo = a;
+        else
+            hi = a;
+    }
+    double reach[2] = {v->bs_angle - VM_COMP_MARGIN, 0.5 * (lo + hi) + VM_COMP_MARGIN};
+    for (int d = 0; d < 2; d++) {
+        double a = v->comp_fail[d];
+        if (isnan(a) || (d == 0 ? a < reach[0] : a > reach[1])) continue;
+        char where[160];
+        snprintf(where, sizeof where,
+                 ", inside arm 1's travel %.3f .. %.3f rad (bump stop to hanging free, "
+                 "+-%.2f rad)",
+                 reach[0], reach[1], VM_COMP_MARGIN);
+        return comp_error(err, a, where);
+    }
     return TS_OK;
 }
 
@@ -1685,6 +1761,7 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
         goto fail;
     }
     if (equilibrium(v, err) != TS_OK) goto fail;
+    if (compensation_reach(v, err) != TS_OK) goto fail;
     return v;
 fail:
     vm_free(v);
