@@ -52,7 +52,7 @@ LIB_RENDER := $(BUILD)/libtanksim_render.a
 LIB_API := $(BUILD)/libtanksim_api.a
 LIBS_OWN := $(LIB_API) $(LIB_RENDER) $(LIB_SIM)
 
-.PHONY: all deps web run test asan tsan bench format lint check-layers clean
+.PHONY: all deps web run install test asan tsan bench format lint check-layers clean
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/tanksimd $(BUILD)/tanksim $(LIB_SIM) web | deps
@@ -128,6 +128,22 @@ $(BUILD)/bench/%: tests/bench/%.c $(LIBS_OWN) | deps
 # `make run`: the daemon in the foreground on 127.0.0.1:8080, data under ./var.
 run: all
 	./$(BUILD)/tanksimd --bind 127.0.0.1 --port 8080 --data-dir ./var
+
+# `make install [PREFIX=/usr/local] [DESTDIR=]`: the two programs, the dashboard and the
+# systemd unit (deploy/tanksimd.service, its paths rewritten for PREFIX). The unit
+# runs as a transient user (DynamicUser) with its store in /var/lib/tanksim
+# (StateDirectory): no account to create. Then: systemctl daemon-reload &&
+# systemctl enable --now tanksimd.
+PREFIX ?= /usr/local
+install: all
+	install -D -m 755 $(BUILD)/tanksimd $(DESTDIR)$(PREFIX)/bin/tanksimd
+	install -D -m 755 $(BUILD)/tanksim $(DESTDIR)$(PREFIX)/bin/tanksim
+	install -d $(DESTDIR)$(PREFIX)/share/tanksim/web_static
+	install -m 644 web_static/index.html web_static/app.js web_static/app.css \
+	  $(DESTDIR)$(PREFIX)/share/tanksim/web_static/
+	install -d $(DESTDIR)/etc/systemd/system
+	sed 's|/usr/local/|$(PREFIX)/|g' deploy/tanksimd.service \
+	  > $(DESTDIR)/etc/systemd/system/tanksimd.service
 
 # `make test [T=module]`: every suite (C unit tests per module, layer check,
 # end-to-end tests against a real daemon); ends with "N passed, N failed".

@@ -28,6 +28,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -54,7 +56,10 @@ static void usage(FILE *f)
                "  --max-body N     largest request body in bytes (default 1048576)\n"
                "  --timeout S      idle connection timeout in seconds (default 60)\n"
                "  --token T        require 'Authorization: Bearer T' (all but /v1/health and the\n"
-               "                   dashboard's / and /static/ files)\n"
+               "                   dashboard's / and /static/ files); a command line is visible\n"
+               "                   to every local user, so prefer:\n"
+               "  --token-file F   the token from the first line of file F\n"
+               "  (environment)    TANKSIM_TOKEN=T, when neither flag is given\n"
                "  --web-root DIR   dashboard files served at / (default: web_static/ beside the\n"
                "                   build directory of this binary, else ./web_static)\n"
                "  --max-sessions N sessions kept at once (default 1000; more -> 429)\n"
@@ -106,6 +111,76 @@ static int parse_int(const char *flag, const char *s, long lo, long hi, long *ou
     return 0;
 }
 
+/* The bearer token from a flag, the environment or a file's first line: 0, or
+ * 1 after a message (empty, too long for the options' buffer, or with bytes a
+ * header value cannot carry). */
+static int set_token(tsd_options *o, const char *from, const char *v, size_t n)
+{
+    if (n == 0 || n >= sizeof o->token) {
+        fprintf(stderr, "tanksimd: %s: a token of 1 to %zu characters expected, got %zu\n", from,
+                sizeof o->token - 1, n);
+        return 1;
+    }
+    for (size_t i = 0; i < n; i++)
+        if ((unsigned char)v[i] <= ' ' || (unsigned char)v[i] >= 127) {
+            fprintf(stderr, "tanksimd: %s: the token must be printable ASCII without blanks\n",
+                    from);
+            return 1;
+        }
+    memcpy(o->token, v, n);
+    o->token[n] = '\0';
+    return 0;
+}
+
+static int read_token_file(tsd_options *o, const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        fprintf(stderr, "tanksimd: --token-file %s: %s\n", path, strerror(errno));
+        return 1;
+    }
+    char line[256];
+    size_t n = fgets(line, sizeof line, f) ? strcspn(line, "\r\n") : 0;
+    fclose(f);
+    return set_token(o, "--token-file", line, n);
+}
+
+/* One daemon per data directory: a second one would mark the first one's
+ * running sessions interrupted and advance them too. An exclusive flock on
+ * DIR/tanksimd.lock, which holds the owner's pid for the message. 0, or -1
+ * after a message. */
+static int lock_data_dir(const char *dir)
+{
+    char path[PATH_MAX];
+    snprintf(path, sizeof path, "%s/tanksimd.lock", dir);
+    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        fprintf(stderr, "tanksimd: cannot open %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        int e = errno;
+        if (e == EWOULDBLOCK) {
+            char pid[32] = "";
+            ssize_t k = pread(fd, pid, sizeof pid - 1, 0);
+            pid[k > 0 ? strcspn(pid, "\n") : 0] = '\0';
+            fprintf(stderr,
+                    "tanksimd: data dir %s is in use by another tanksimd%s%s%s; give each "
+                    "daemon its own --data-dir\n",
+                    dir, pid[0] ? " (pid " : "", pid, pid[0] ? ")" : "");
+        } else {
+            fprintf(stderr, "tanksimd: cannot lock %s: %s\n", path, strerror(e));
+        }
+        close(fd);
+        return -1;
+    }
+    char pid[32];
+    int len = snprintf(pid, sizeof pid, "%ld\n", (long)getpid());
+    if (ftruncate(fd, 0) != 0 || pwrite(fd, pid, (size_t)len, 0) != len)
+        fprintf(stderr, "tanksimd: note: cannot write the pid to %s\n", path);
+    return fd;
+}
+
 static int make_dirs(const char *path)
 {
     char buf[PATH_MAX];
@@ -138,6 +213,7 @@ int main(int argc, char **argv)
     o->max_rows = 1000000;
     tsd_static_default_root(o->web_root, sizeof o->web_root);
 
+    int token_given = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -193,7 +269,11 @@ int main(int argc, char **argv)
             }
             o->client_files = strcmp(v, "yes") == 0;
         } else if (strcmp(a, "--token") == 0) {
-            snprintf(o->token, sizeof o->token, "%s", v);
+            if (set_token(o, a, v, strlen(v))) return 2;
+            token_given = 1;
+        } else if (strcmp(a, "--token-file") == 0) {
+            if (read_token_file(o, v)) return 2;
+            token_given = 1;
         } else if (strcmp(a, "--web-root") == 0) {
             snprintf(o->web_root, sizeof o->web_root, "%s", v);
         } else {
@@ -203,10 +283,16 @@ int main(int argc, char **argv)
         }
         i++;
     }
+    const char *env_token = getenv("TANKSIM_TOKEN");
+    if (!token_given && env_token && env_token[0] &&
+        set_token(o, "TANKSIM_TOKEN", env_token, strlen(env_token)))
+        return 2;
     if (make_dirs(o->data_dir) != 0) {
         fprintf(stderr, "tanksimd: cannot create data dir %s: %s\n", o->data_dir, strerror(errno));
         return 1;
     }
+    /* held (never closed) while the process lives: released by the kernel at exit */
+    if (lock_data_dir(o->data_dir) < 0) return 1;
 
     sigset_t stop;
     sigemptyset(&stop);

@@ -77,3 +77,52 @@ def test_help_version_and_bad_flags():
     out = subprocess.run([TANKSIMD, "--bind", "not-an-ip", "--port", "0"],
                          capture_output=True, text=True, timeout=10)
     assert out.returncode == 1 and "--bind" in out.stderr
+
+
+def test_second_daemon_on_one_data_dir_is_refused_before_touching_it(tmp_path):
+    # Found by a deployment review (session 11): a second `make run` opened the
+    # first one's store, marked its running session `interrupted` and only then
+    # failed to bind; on another port it advanced the same session too.
+    first = Daemon(data_dir=str(tmp_path))
+    try:
+        r = requests.post(first.url + "/v1/sessions", json={"preset": "pointmass-prescribed"})
+        assert r.status_code == 201
+        second = subprocess.run([TANKSIMD, "--port", "0", "--data-dir", str(tmp_path)],
+                                capture_output=True, text=True, timeout=20)
+        assert second.returncode == 1, second
+        assert "in use by another tanksimd (pid %d)" % first.proc.pid in second.stderr, second
+        s = requests.get(first.url + "/v1/sessions/" + r.json()["id"]).json()
+        assert s["status"] == "created", s
+    finally:
+        first.stop()
+    # the lock goes with the process: the directory serves again
+    again = Daemon(data_dir=str(tmp_path))
+    again.stop()
+
+
+@pytest.mark.parametrize("how", ["file", "env"])
+def test_token_from_a_file_or_the_environment(tmp_path, how, monkeypatch):
+    # --token T shows in /proc/PID/cmdline to every local user; a file or the
+    # environment (/proc/PID/environ is the owner's) keeps it private
+    if how == "file":
+        f = tmp_path / "token"
+        f.write_text("s3cret\n")
+        d = Daemon("--token-file", str(f))
+    else:
+        monkeypatch.setenv("TANKSIM_TOKEN", "s3cret")
+        d = Daemon()
+    try:
+        assert requests.get(d.url + "/v1/sessions").status_code == 401
+        ok = requests.get(d.url + "/v1/sessions", headers={"Authorization": "Bearer s3cret"})
+        assert ok.status_code == 200
+        assert "s3cret" not in open("/proc/%d/cmdline" % d.proc.pid).read()
+    finally:
+        d.stop()
+
+
+def test_empty_token_file_is_refused(tmp_path):
+    f = tmp_path / "token"
+    f.write_text("\n")
+    out = subprocess.run([TANKSIMD, "--token-file", str(f), "--data-dir", str(tmp_path)],
+                         capture_output=True, text=True, timeout=20)
+    assert out.returncode == 2 and "--token-file" in out.stderr, out
