@@ -8,6 +8,14 @@
 // placeholder when this build has no renderer — the log says which), the time
 // scrubber, the FFT panel, the display-unit toggle, the compare overlay, and
 // a second daemon with --token (token entered once, kept in localStorage).
+// Then the review's defects, each a check that failed before its fix: bad
+// numbers in the form, the step duration and the exaggeration reported on
+// their field; FFT errors clear the stale spectrum; log and linear axes label
+// their ticks with numbers in one format per axis; channel lists show the
+// display unit; compare leaves out (and names) sessions without the channel
+// and keeps the ticked order; a continued run's progress never goes back and
+// the header follows the run; a deleted session leaves no data on screen; a
+// 401 says so in the session list; nothing overflows at 1024 px.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -112,8 +120,8 @@ async function stopDaemons() {
 let currentPage = null;
 const consoleErrors = [];
 
-async function newPage(browser) {
-  const ctx = await browser.newContext({ viewport: { width: 1440, height: 1000 } });
+async function newPage(browser, viewport = { width: 1440, height: 1000 }) {
+  const ctx = await browser.newContext({ viewport });
   const page = await ctx.newPage();
   page.setDefaultTimeout(8000);
   page.on('console', (m) => {
@@ -141,6 +149,55 @@ async function createSession(page) {
   await waitFor(async () => (await page.locator('#session-table tbody tr').count()) > before, 'the new session in the list');
   await waitFor(async () => (await text(page, '#session-title')).startsWith('Session '), 'the session to open');
   return page.evaluate(() => window.tanksimDebug.state.session.id);
+}
+
+/* Requests the page sends ("POST /v1/sessions"), for checks that nothing was sent. */
+function recordRequests(page) {
+  const seen = [];
+  const on = (r) => seen.push(`${r.method()} ${new URL(r.url()).pathname}`);
+  page.on('request', on);
+  return { seen, stop: () => page.off('request', on) };
+}
+
+/* The tick labels uPlot drew on every axis of every chart (axis._values: what the axis's values() returned). */
+const axisLabels = (page) =>
+  page.evaluate(() => {
+    const dbg = window.tanksimDebug;
+    const plots = [...dbg.plots.charts.map((c) => [c.name, c.plot]), ['fft', dbg.fft.plot], ['compare', dbg.compare.plot]];
+    return plots.filter(([, p]) => p).flatMap(([chart, p]) => p.axes.map((a, axis) => ({ chart, axis, labels: a._values || [] })));
+  });
+
+/* "fixed:2" for 0.25, "exp:1" for 2.5e-4; anything else is not a number label. */
+function tickStyle(label) {
+  const m = /^-?\d+(?:\.(\d+))?(e[+-]?\d+)?$/.exec(label);
+  if (!m) return `not a number: '${label}'`;
+  return `${m[2] ? 'exp' : 'fixed'}:${(m[1] || '').length}`;
+}
+
+/* The formats of an axis's labelled ticks (zero, written "0" or "0.00", goes with any). */
+const tickStyles = (labels) => [...new Set(labels.filter((l) => l !== '' && Number(l) !== 0).map(tickStyle))];
+
+/* Nothing of a closed session is left on screen. */
+async function assertCleared(page, id) {
+  const v = await page.evaluate(() => ({
+    charts: document.querySelectorAll('#plots .chart').length,
+    samples: document.getElementById('sample-count').dataset.count,
+    percent: document.querySelector('.progress').dataset.percent ?? null,
+    progress: document.getElementById('progress-text').textContent,
+    frame: !document.getElementById('frame-img').hidden,
+    fft: document.querySelectorAll('#fft-plot .uplot').length,
+    fftChannels: document.getElementById('fft-channel').options.length,
+    channelChips: document.querySelectorAll('#channel-list input').length,
+    unitToggles: document.querySelectorAll('#unit-toggles .seg').length,
+    status: document.getElementById('session-status').textContent,
+    store: !!window.tanksimDebug.state.store,
+    stepEnabled: !document.getElementById('step-btn').disabled,
+  }));
+  const want = { charts: 0, samples: '0', percent: null, progress: '—', frame: false, fft: 0, fftChannels: 0, channelChips: 0, unitToggles: 0, status: 'deleted', store: false, stepEnabled: false };
+  const left = Object.keys(want).filter((k) => v[k] !== want[k]);
+  assert(!left.length, `left on screen: ${left.map((k) => `${k}=${JSON.stringify(v[k])}`).join(', ')}`);
+  const meta = await text(page, '#session-meta');
+  assert(meta.includes(id) && /deleted/.test(meta), `the header does not say ${id} is gone: "${meta}"`);
 }
 
 const sampleCount = (page) => page.evaluate(() => window.tanksimDebug.state.store?.length || 0);
@@ -258,6 +315,33 @@ async function main() {
       assert(!(await row.getAttribute('class')).includes('invalid'), 'error not cleared after edit');
     });
 
+    await check('review 1: a bad number typed in a config field is reported on that field, naming it, and nothing is sent', async () => {
+      const rec = recordRequests(page);
+      try {
+        /* "1e" and "abc" in numeric inputs (the browser reports value "" for them), a non-number in a number list */
+        for (const [pointer, typed] of [['/run/duration', '1e'], ['/track/n_trans', 'abc'], ['/drive/table_t', '0, 1e, 2']]) {
+          const row = page.locator(`#schema-form .field[data-pointer="${pointer}"]`);
+          if (!(await row.isVisible())) await page.click('#schema-form .all-params summary');
+          const input = row.locator('input');
+          await input.fill('');
+          await input.pressSequentially(typed);
+          await page.click('#create-btn');
+          await waitFor(async () => (await row.getAttribute('class')).includes('invalid'), `${pointer} marked invalid after typing '${typed}'`, 5000);
+          const msg = await row.locator('.field-error').innerText();
+          assert(msg.includes(pointer) && /number/.test(msg), `the message next to ${pointer} for '${typed}': "${msg}"`);
+          assert((await text(page, '#create-error')).includes(pointer), `the error box does not name ${pointer}`);
+          await shot(page, `02b-bad-number-${slug(pointer)}`);
+          await page.click('#reset-form');
+          await waitFor(async () => !(await row.getAttribute('class')).includes('invalid'), 'the error cleared by "Reset to preset"', 5000);
+        }
+        if (await page.locator('#schema-form .all-params').evaluate((e) => e.open)) await page.click('#schema-form .all-params summary');
+        const posts = rec.seen.filter((r) => r === 'POST /v1/sessions');
+        assert(posts.length === 0, `${posts.length} create request(s) sent with a bad number in the form`);
+      } finally {
+        rec.stop();
+      }
+    });
+
     await check('create a session from the first preset', async () => {
       await page.click('#reset-form');
       await page.waitForTimeout(200);
@@ -284,6 +368,29 @@ async function main() {
       assert(Math.abs(t - 0.2) < 1e-9, `session t after the step: ${t}`);
     });
 
+    await check('review 5: an empty or invalid step duration is an error shown to the user; no 0-s step is sent', async () => {
+      const t0 = await page.evaluate(() => window.tanksimDebug.state.session.t);
+      const rec = recordRequests(page);
+      try {
+        for (const typed of ['', '0', '1e']) {
+          await page.locator('#step-duration').fill('');
+          await page.locator('#step-duration').pressSequentially(typed);
+          await page.click('#step-btn');
+          await waitFor(async () => !(await page.locator('#session-error').isHidden()), `an error for step duration '${typed}'`, 5000);
+          const msg = await text(page, '#session-error');
+          assert(/step duration/.test(msg), `the error does not name the step duration: "${msg}"`);
+          assert((await page.locator('#step-duration').getAttribute('class'))?.includes('invalid'), 'the step duration input is not marked');
+        }
+        await page.waitForTimeout(300);
+        const steps = rec.seen.filter((r) => r.startsWith('POST') && r.endsWith('/step'));
+        assert(steps.length === 0, `${steps.length} step request(s) sent: ${steps}`);
+        assert((await page.evaluate(() => window.tanksimDebug.state.session.t)) === t0, 'the session time moved');
+      } finally {
+        rec.stop();
+      }
+      await page.locator('#step-duration').fill('1');
+    });
+
     await check('run to end: progress reaches 100 %, plot data grows over the stream', async () => {
       const dur = await page.evaluate(() => window.tanksimDebug.state.session.config.run.duration);
       const rate = await page.evaluate(() => window.tanksimDebug.state.session.config.run.sample_rate);
@@ -301,6 +408,13 @@ async function main() {
       await shot(page, '03-run-done');
     });
 
+    await check('review 5: when the run is done (t = run duration) Step and Run to end are disabled', async () => {
+      const s = await page.evaluate(() => ({ t: window.tanksimDebug.state.session.t, dur: window.tanksimDebug.state.session.config.run.duration }));
+      assert(s.t >= s.dur - 1e-9, `the run is not done: t ${s.t} of ${s.dur}`);
+      assert(await page.locator('#step-btn').isDisabled(), 'Step still enabled at the end of the run');
+      assert(await page.locator('#run-btn').isDisabled(), 'Run to end still enabled at the end of the run');
+    });
+
     await check('speed unit toggle converts for display only (m/s <-> mph)', async () => {
       const has = await page.locator('.seg[data-unit="m/s"]').count();
       assert(has === 1, 'no m/s toggle');
@@ -315,6 +429,26 @@ async function main() {
       const mph = await speedChart();
       assert(si.label === 'm/s' && mph.label === 'mph', `labels ${si.label} ${mph.label}`);
       assert(Math.abs(mph.last / si.last - 1 / 0.44704) < 1e-9, `mph/m/s ratio ${mph.last / si.last}`);
+    });
+
+    await check('review 11: channel dropdowns show the display unit the charts and channel list use', async () => {
+      await page.locator('#compare-channel').focus(); /* fills it from the open session */
+      const agree = async (label) => {
+        const chips = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('#channel-list .chip')].map((c) => [c.querySelector('input').value, c.querySelector('.unit').textContent])));
+        for (const sel of ['#fft-channel', '#compare-channel']) {
+          const opts = await page.locator(`${sel} option`).evaluateAll((os) => os.map((o) => [o.value, o.textContent]));
+          assert(opts.length > 0, `${sel} is empty`);
+          for (const [name, txt] of opts) assert(txt === `${name}${chips[name]}`, `${sel}: "${txt}" but the channel list says "${name}${chips[name]}"`);
+          const speed = opts.find(([n]) => n === 'vehicle.speed');
+          assert(speed && speed[1].endsWith(`[${label}]`), `${sel}: ${speed && speed[1]}, want [${label}]`);
+        }
+        const chart = await page.evaluate(() => window.tanksimDebug.plots.charts.find((c) => c.name === 'vehicle.speed')?.d.label);
+        assert(chart === label, `the vehicle.speed chart is in ${chart}, want ${label}`);
+      };
+      await page.click('.seg[data-unit="m/s"] button:text-is("km/h")');
+      await agree('km/h');
+      await page.click('.seg[data-unit="m/s"] button:text-is("mph")');
+      await agree('mph');
     });
 
     await check('frame viewer shows the frame at the current time, or the placeholder when frames are unavailable', async () => {
@@ -352,6 +486,24 @@ async function main() {
       await shot(page, '04-scrubbed');
     });
 
+    await check('review 11: an exaggeration out of range or not a number is reported next to its input with the field and range; the frame stays', async () => {
+      const hadFrame = await page.locator('#frame-img').isVisible();
+      const err = page.locator('#frame-exag-error');
+      for (const typed of ['2000', '-3', '1e']) {
+        await page.locator('#frame-exag').fill('');
+        await page.locator('#frame-exag').pressSequentially(typed);
+        await page.locator('#frame-exag').dispatchEvent('change');
+        await waitFor(async () => (await err.count()) === 1 && (await err.isVisible()), `the exaggeration error for '${typed}'`, 5000);
+        const msg = await err.innerText();
+        assert(/exaggeration/.test(msg) && msg.includes('[0, 1000]'), `the message does not name the field and its range: "${msg}"`);
+        if (hadFrame) assert(await page.locator('#frame-img').isVisible(), `the frame was replaced for '${typed}'`);
+      }
+      await shot(page, '04b-exaggeration-error');
+      await page.locator('#frame-exag').fill('1');
+      await page.locator('#frame-exag').dispatchEvent('change');
+      await waitFor(async () => await err.isHidden(), 'the error gone after a valid value', 5000);
+    });
+
     await check('FFT panel draws the amplitude spectrum of a channel from /fft', async () => {
       await page.click('#fft-btn');
       await waitFor(async () => (await page.locator('#fft-plot .uplot').count()) === 1 || !(await page.locator('#fft-error').isHidden()), 'spectrum or error');
@@ -360,6 +512,50 @@ async function main() {
       assert(bins > 10, `only ${bins} bins`);
       await page.locator('#fft-panel').scrollIntoViewIfNeeded();
       await shot(page, '05-fft');
+    });
+
+    await check("review 7: a failed FFT shows the daemon's message and clears the old spectrum; show-up-to below the first bin is an error", async () => {
+      assert((await page.locator('#fft-plot .uplot').count()) === 1, 'no spectrum to start from');
+      await page.fill('#fft-from', '3');
+      await page.fill('#fft-to', '1');
+      await page.click('#fft-btn');
+      await waitFor(async () => !(await page.locator('#fft-error').isHidden()), 'the FFT error');
+      const msg = await text(page, '#fft-error');
+      assert(msg.includes('/to') && /at least from/.test(msg), `not the daemon's message: "${msg}"`);
+      assert((await page.locator('#fft-plot .uplot').count()) === 0, 'the old spectrum is still shown after the failed request');
+      await page.fill('#fft-from', '');
+      await page.fill('#fft-to', '');
+      await page.click('#fft-btn');
+      await waitFor(async () => (await page.locator('#fft-plot .uplot').count()) === 1, 'the spectrum again');
+      await page.fill('#fft-fmax', '0.01'); /* the first bin is df = 1 / window = 0.2 Hz for the 5-s run */
+      await page.click('#fft-btn');
+      await waitFor(async () => !(await page.locator('#fft-error').isHidden()), 'the show-up-to error');
+      const msg2 = await text(page, '#fft-error');
+      assert(/first frequency bin/.test(msg2), `show up to 0.01 Hz: "${msg2}"`);
+      assert((await page.locator('#fft-plot .uplot').count()) === 0, 'a spectrum shown though nothing lies at or below 0.01 Hz');
+      await page.fill('#fft-fmax', '50');
+      await page.click('#fft-btn');
+      await waitFor(async () => (await page.locator('#fft-plot .uplot').count()) === 1 && (await page.locator('#fft-error').isHidden()), 'the spectrum, without error');
+    });
+
+    await check('review 8, 10: a log amplitude axis labels its ticks with numbers, in one format', async () => {
+      for (const [id, v] of [['#fft-from', ''], ['#fft-to', ''], ['#fft-fmax', '50']]) await page.fill(id, v);
+      await page.check('#fft-log');
+      await page.click('#fft-btn');
+      await waitFor(async () => (await page.evaluate(() => window.tanksimDebug.fft.plot?.scales.y.distr)) === 3, 'the log-axis spectrum');
+      await page.waitForTimeout(100);
+      const labels = await page.evaluate(() => window.tanksimDebug.fft.plot.axes[1]._values);
+      const shown = labels.filter((l) => l !== '');
+      assert(shown.length >= 2, `log axis labels: ${JSON.stringify(labels)}`);
+      assert(shown.every((l) => Number.isFinite(Number(l))), `log axis labels that are not numbers: ${JSON.stringify(labels)}`);
+      const styles = tickStyles(labels);
+      assert(styles.length === 1, `log axis mixes formats ${styles}: ${JSON.stringify(shown)}`);
+      notes.push(`log FFT axis labels: ${shown.join(' ')}`);
+      await page.locator('#fft-panel').scrollIntoViewIfNeeded();
+      await shot(page, '05b-fft-log');
+      await page.uncheck('#fft-log');
+      await page.click('#fft-btn');
+      await waitFor(async () => (await page.evaluate(() => window.tanksimDebug.fft.plot?.scales.y.distr)) === 1, 'the linear spectrum again');
     });
 
     await check('compare overlays the same channel from two sessions', async () => {
@@ -381,6 +577,46 @@ async function main() {
       assert(last.every((n) => n > 10), `overlay series lengths ${last}`);
       await page.locator('#compare-panel').scrollIntoViewIfNeeded();
       await shot(page, '06-compare');
+    });
+
+    await check('review 2, 11: compare plots the sessions that have the channel, names those that lack it, legend in the order ticked', async () => {
+      /* a point-mass session has other channels (no track) */
+      const kind = () => page.locator('#schema-form [data-pointer="/run/kind"] select').inputValue();
+      await page.selectOption('#preset-select', 'pointmass-prescribed');
+      await waitFor(async () => (await kind()) === 'pointmass', 'the point-mass preset in the form');
+      await setField(page, '/run/duration', 1);
+      const pmId = await createSession(page);
+      await runToEnd(page);
+      await page.selectOption('#preset-select', preset);
+      await waitFor(async () => (await kind()) !== 'pointmass', `the ${preset} preset in the form again`);
+      for (const cb of await page.locator('#session-table input.cmp').all()) await cb.uncheck();
+      for (const id of [pmId, secondId, firstId]) await page.locator(`#session-table tr[data-id="${id}"] input.cmp`).check();
+      const overlay = async (channel) => {
+        await page.selectOption('#compare-channel', channel);
+        await page.evaluate(() => (document.getElementById('compare-info').textContent = ''));
+        await page.click('#compare-btn');
+        await waitFor(async () => /overlaid/.test(await text(page, '#compare-info')) || !(await page.locator('#compare-error').isHidden()), `the ${channel} overlay`);
+        assert(await page.locator('#compare-error').isHidden(), `compare error: ${await text(page, '#compare-error').catch(() => '')}`);
+        return page.evaluate(() => window.tanksimDebug.compare.plot.series.slice(1).map((x) => x.label.split(' · ')[0]));
+      };
+      const short = (id) => id.slice(0, 8);
+      const tension = await overlay('track.tension.rear_roller');
+      assert(JSON.stringify(tension) === JSON.stringify([short(secondId), short(firstId)]), `tension overlay legend ${tension}, want ${short(secondId)}, ${short(firstId)}`);
+      const info = await text(page, '#compare-info');
+      assert(info.includes(short(pmId)) && /no channel track\.tension\.rear_roller/.test(info), `the session without the channel is not named: "${info}"`);
+      await page.locator('#compare-panel').scrollIntoViewIfNeeded();
+      await shot(page, '06b-compare-missing');
+      const speed = await overlay('vehicle.speed');
+      assert(JSON.stringify(speed) === JSON.stringify([pmId, secondId, firstId].map(short)), `speed overlay legend ${speed}, want the ticked order`);
+      assert(!/no channel/.test(await text(page, '#compare-info')), 'a session named as lacking vehicle.speed');
+    });
+
+    await check('review 10: every chart axis labels its ticks with numbers in one format', async () => {
+      await page.waitForTimeout(300);
+      const axes = await axisLabels(page);
+      assert(axes.length >= 6, `only ${axes.length} axes`);
+      const mixed = axes.map((a) => ({ ...a, styles: tickStyles(a.labels) })).filter((a) => a.styles.length !== 1);
+      assert(!mixed.length, mixed.map((a) => `${a.chart} axis ${a.axis}: ${a.styles} (${a.labels.join(' ')})`).join('; '));
     });
 
     await check('paced run: plot data grows while running; cancel stops it (status paused, progress < 100 %)', async () => {
@@ -420,6 +656,38 @@ async function main() {
       await page.click(`#session-table tr[data-id="${id}"] td:nth-child(2)`);
     });
 
+    await check('review 3, 6: a continued run: the progress bar (t / run duration) never goes back and the header follows the run', async () => {
+      const s0 = await page.evaluate(() => ({ t: window.tanksimDebug.state.session.t, dur: window.tanksimDebug.state.session.config.run.duration }));
+      /* progress, header time and status, read at one instant */
+      const header = () =>
+        page.evaluate(() => ({
+          p: Number(document.querySelector('.progress').dataset.percent),
+          t: Number(/t = ([-\d.e+]+) s/.exec(document.getElementById('session-meta').textContent)?.[1]),
+          status: document.getElementById('session-status').textContent,
+        }));
+      const p0 = (await header()).p;
+      assert(s0.t > 0 && Math.abs(p0 - (100 * s0.t) / s0.dur) < 0.06, `progress ${p0} % for t ${s0.t} of ${s0.dur} s`);
+      await page.selectOption('#run-pace', '5');
+      await page.click('#run-btn');
+      /* watch until the header's time moved twice (at most 5 s: the old header never moved) */
+      const seen = [];
+      for (const end = Date.now() + 5000; Date.now() < end; await page.waitForTimeout(120)) {
+        seen.push(await header());
+        if (new Set(seen.map((x) => x.t).filter((t) => t > s0.t)).size >= 2) break;
+      }
+      const ps = [p0, ...seen.map((x) => x.p)];
+      assert(ps.every((p, i) => i === 0 || p >= ps[i - 1]), `progress went back: ${ps.join(' -> ')}`);
+      const ts = [...new Set(seen.map((x) => x.t))];
+      assert(ts.filter((t) => t > s0.t).length >= 2, `the header time did not follow the run: ${s0.t} -> ${ts.join(' -> ')}`);
+      assert(seen[seen.length - 1].status === 'running', `status while running: ${seen[seen.length - 1].status}`);
+      const last = seen[seen.length - 1];
+      assert(Math.abs(last.p - (100 * last.t) / s0.dur) < 0.5, `progress ${last.p} % with t = ${last.t} of ${s0.dur} s`);
+      notes.push(`continued run: progress ${ps.join(' -> ')} %`);
+      await page.click('#cancel-btn');
+      await waitFor(async () => (await page.locator('#progress-text').getAttribute('data-outcome')) === 'cancelled', 'the cancelled outcome');
+      await page.selectOption('#run-pace', '');
+    });
+
     await check('delete the open session (after confirming): it leaves the list', async () => {
       const id = await page.evaluate(() => window.tanksimDebug.state.session.id);
       const rows = await page.locator('#session-table tbody tr').count();
@@ -432,6 +700,53 @@ async function main() {
       assert(r.status === 404, `deleted session still answers ${r.status}`);
     });
 
+    await check('review 4: after a delete, here or by another client, no data of the session is left on screen', async () => {
+      await assertCleared(page, await page.evaluate(() => document.getElementById('session-meta').textContent.match(/Session (\S+) was deleted/)?.[1] || '(no id in the header)'));
+      await shot(page, '07b-deleted');
+      /* the second session, open with plots, a frame, a spectrum and in the compare overlay, deleted by another client */
+      await page.click(`#session-table tr[data-id="${secondId}"] td:nth-child(2)`);
+      await waitFor(async () => (await sampleCount(page)) > 10, 'the second session open');
+      await page.click('#fft-btn');
+      await waitFor(async () => (await page.locator('#fft-plot .uplot').count()) === 1, 'its spectrum');
+      const r = await fetch(`${d.url}/v1/sessions/${secondId}`, { method: 'DELETE' });
+      assert(r.status === 204, `DELETE -> ${r.status}`);
+      await waitFor(async () => (await text(page, '#session-status')) === 'deleted', 'the open session shown as deleted', 8000);
+      await assertCleared(page, secondId);
+      assert(!(await page.evaluate(() => !!window.tanksimDebug.compare.plot)), 'the compare overlay still shows the deleted session');
+    });
+
+    await check('review 12: at 1024 px wide nothing overflows the viewport or its panel (preset list, toolbars wrap)', async () => {
+      const narrow = await newPage(browser, { width: 1024, height: 800 });
+      try {
+        await narrow.goto(`${d.url}/`);
+        await waitFor(async () => (await narrow.locator('#preset-select option').count()) === list.length, 'presets in the select');
+        await narrow.click(`#session-table tr[data-id="${firstId}"] td:nth-child(2)`);
+        await waitFor(async () => (await sampleCount(narrow)) > 10, 'the session open');
+        await narrow.click('#schema-form .all-params summary');
+        await narrow.waitForTimeout(300);
+        const res = await narrow.evaluate(() => {
+          const vw = document.documentElement.clientWidth;
+          const out = [];
+          for (const e of document.querySelectorAll('body *')) {
+            const r = e.getBoundingClientRect();
+            if (!r.width || !r.height) continue;
+            const box = e.parentElement?.closest('.panel, .topbar')?.getBoundingClientRect();
+            const name = `${e.tagName.toLowerCase()}${e.id ? '#' + e.id : ''}${e.className && typeof e.className === 'string' ? '.' + e.className.split(' ')[0] : ''}`;
+            if (r.left < -0.5 || r.right > vw + 0.5) out.push(`${name} ${Math.round(r.left)}-${Math.round(r.right)} px outside the ${vw}-px viewport`);
+            else if (box && (r.left < box.left - 0.5 || r.right > box.right + 0.5)) out.push(`${name} ${Math.round(r.left)}-${Math.round(r.right)} px outside its panel ${Math.round(box.left)}-${Math.round(box.right)}`);
+          }
+          return { vw, scroll: document.documentElement.scrollWidth, out };
+        });
+        assert(res.scroll <= res.vw, `the page scrolls sideways: ${res.scroll} > ${res.vw} px`);
+        assert(!res.out.length, `${res.out.length} overflowing: ${res.out.slice(0, 6).join('; ')}`);
+        await narrow.evaluate(() => window.scrollTo(0, 0));
+        await shot(narrow, '10-1024px');
+      } finally {
+        await narrow.context().close();
+        currentPage = page;
+      }
+    });
+
     await check('no JavaScript errors in the page', async () => {
       const real = consoleErrors.filter((m) => !/Failed to load resource/.test(m));
       assert(real.length === 0, real.join(' | '));
@@ -441,6 +756,21 @@ async function main() {
     const token = 'web-test-token-1234';
     const dt = await startDaemon('--token', token);
     const page2 = await newPage(browser);
+    await check('review 9: with --token the session list says authentication is required / the token was rejected, not "No sessions yet"', async () => {
+      const empty = () => text(page2, '#sessions-empty');
+      await page2.goto(`${dt.url}/`);
+      await waitFor(async () => /authentication required/i.test(await empty()), 'the session list asking for the token');
+      assert(!/No sessions yet/.test(await empty()), 'still "No sessions yet"');
+      await page2.fill('#token-input', 'not-the-token');
+      await page2.click('#token-form button');
+      await waitFor(async () => /token rejected/i.test(await empty()), 'the session list saying the token was rejected');
+      assert(/rejected/.test(await text(page2, '#banner')), `banner: ${await text(page2, '#banner')}`);
+      await shot(page2, '08b-token-rejected');
+      await page2.fill('#token-input', ''); /* back to no token for the next check */
+      await page2.click('#token-form button');
+      await waitFor(async () => /authentication required/i.test(await empty()), 'the session list asking for the token again');
+    });
+
     await check('with --token: the page asks for the token, then works', async () => {
       await page2.goto(`${dt.url}/`);
       await waitFor(async () => !(await page2.locator('#banner').isHidden()), 'the token banner');

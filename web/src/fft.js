@@ -3,11 +3,14 @@
  * GET /v1/sessions/{id}/fft (the daemon computes it; paper Figs. 13-14 show
  * the hull's vertical-acceleration spectrum this way). Drawn with uPlot,
  * frequency in Hz on x, amplitude in the channel's display unit on y.
+ * A spectrum that cannot be drawn (the daemon's error, or nothing at or
+ * below "show up to") throws; the caller clears the old one and says why.
  */
 import uPlot from 'uplot';
-import { api } from './api.js';
+import { api, ApiError } from './api.js';
 import { bracket, display, fmt, toDisplay } from './units.js';
-import { chartWidth, fmtTicks, fmtValue } from './plots.js';
+import { chartWidth, fmtValue } from './plots.js';
+import { axisValues } from './ticks.js';
 
 export class FftPanel {
   constructor(root) {
@@ -15,8 +18,8 @@ export class FftPanel {
     this.plot = null;
   }
 
-  /* fmax: highest frequency shown [Hz] (the whole spectrum is kept: zoom out
-   * with a double-click); log: logarithmic amplitude axis. */
+  /* fmax: highest frequency shown [Hz] (0/undefined: all); log: logarithmic
+   * amplitude axis. */
   async compute(session, channel, from, to, { fmax, log } = {}) {
     const ch = (session.channels || []).find((c) => c.name === channel) || { unit: '' };
     const doc = await api.fft(session.id, { channel, from, to });
@@ -26,22 +29,30 @@ export class FftPanel {
     let xs = freq.slice(1);
     let yy = toDisplay((doc.amplitude || []).slice(1), d);
     if (log) yy = yy.map((v) => (v > 0 ? v : null));
+    if (!xs.length) throw new ApiError(0, { title: 'No spectrum', detail: `the window ${fmt(doc.from)}–${fmt(doc.to)} s holds ${doc.n} samples: widen it` });
     if (fmax > 0) {
       const n = xs.findIndex((f) => f > fmax);
-      if (n > 1) {
+      if (n === 0)
+        throw new ApiError(0, {
+          title: 'Nothing to show',
+          detail: `show up to ${fmt(fmax)} Hz is below the first frequency bin, ${fmt(xs[0])} Hz (df = 1 / window length): raise it or widen the time window`,
+        });
+      if (n > 0) {
         xs = xs.slice(0, n);
         yy = yy.slice(0, n);
       }
     }
-    this.plot?.destroy();
-    this.root.replaceChildren();
+    this.clear();
     const opts = {
       title: `Amplitude spectrum of ${channel} (${fmt(doc.from ?? from ?? 0)}–${fmt(doc.to ?? to ?? 0)} s, ${freq.length} bins)`,
       width: chartWidth(this.root),
       height: 220,
       scales: { x: { time: false }, y: log ? { distr: 3 } : {} },
       cursor: { drag: { x: true, y: false } },
-      axes: [{ label: 'frequency [Hz]' }, { label: `amplitude${bracket(d.label)}`, size: 64, values: fmtTicks }],
+      axes: [
+        { label: 'frequency [Hz]', values: axisValues },
+        { label: `amplitude${bracket(d.label)}`, size: 64, values: axisValues },
+      ],
       series: [
         { label: 'f [Hz]', value: fmtValue },
         { label: `|${channel}|${bracket(d.label)}`, stroke: '#7c3aed', width: 1.5, fill: 'rgba(124,58,237,0.08)', value: fmtValue },

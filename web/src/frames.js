@@ -4,14 +4,17 @@
  * only after the previous one arrived, so playback never floods the daemon).
  * The PNG is fetched with the bearer token (an <img src> cannot send it) and
  * shown from an object URL. When the build has no renderer the daemon answers
- * 404/422/501: the viewer then shows that message as a placeholder.
+ * 404/422/501: the viewer then shows that message as a placeholder. An
+ * exaggeration outside the API's range is reported next to its input (the
+ * last frame stays) and not requested.
  */
 import { raw, api, ApiError } from './api.js';
 import { fmt } from './units.js';
+import { markInput, readNumber } from './number_input.js';
 
 export class FrameViewer {
   constructor(els) {
-    this.els = els; /* {img, placeholder, scrub, time, play, view, exaggeration, tension, status} */
+    this.els = els; /* {img, placeholder, scrub, time, play, view, exaggeration, exaggerationError, tension, status} */
     this.session = null;
     this.playing = false;
     this.url = null;
@@ -37,7 +40,14 @@ export class FrameViewer {
     this.pause();
     clearTimeout(this.followTimer);
     this.session = null;
+    this.wanted = null;
     this.els.img.hidden = true;
+    this.els.img.removeAttribute('src');
+    if (this.url) URL.revokeObjectURL(this.url);
+    this.url = null;
+    this.els.scrub.max = '0';
+    this.els.scrub.value = '0';
+    this.els.time.textContent = 't = 0 s';
     this.els.placeholder.hidden = false;
     this.els.placeholder.textContent = 'Open a session to see its frames.';
     this.els.status.textContent = '';
@@ -71,30 +81,46 @@ export class FrameViewer {
     return Number(this.els.scrub.value);
   }
 
+  /* The exaggeration factor, or undefined (its error shown by the input) when it is not a number in the API's range. */
+  exaggeration() {
+    const e = this.els.exaggeration;
+    const r = readNumber(e, { name: 'exaggeration', min: Number(e.min), max: Number(e.max) });
+    markInput(e, this.els.exaggerationError, r.error);
+    return r.value;
+  }
+
   /** Load the frame at time t (latest request wins; one in flight at a time). */
   request(t) {
     if (!this.session) return;
-    this.wanted = t;
     this.els.time.textContent = `t = ${fmt(t)} s`;
+    if (this.exaggeration() === undefined) {
+      this.pause(); /* nothing to play until the input is fixed */
+      return;
+    }
+    this.wanted = t;
     if (!this.pending) this.pending = this.load();
   }
 
   async load() {
-    while (this.wanted !== null) {
+    while (this.wanted !== null && this.session) {
       const t = this.wanted;
+      const session = this.session;
+      const exaggeration = this.exaggeration();
       this.wanted = null;
+      if (exaggeration === undefined) break; /* the input says why */
       const img = this.els.img;
       const params = {
         t: t.toFixed(4),
         width: 640,
         height: 360,
         view: this.els.view.value,
-        exaggeration: this.els.exaggeration.value,
+        exaggeration,
         color: this.els.tension.checked ? 'tension' : undefined,
       };
       try {
-        const resp = await raw('GET', api.frameUrl(this.session.id, params));
+        const resp = await raw('GET', api.frameUrl(session.id, params));
         const blob = await resp.blob();
+        if (this.session !== session) continue; /* closed or another session opened meanwhile */
         const url = URL.createObjectURL(blob);
         await new Promise((res, rej) => {
           img.onload = res;
@@ -109,7 +135,7 @@ export class FrameViewer {
         this.els.placeholder.hidden = true;
         this.els.status.textContent = `frame at t = ${fmt(t)} s`;
       } catch (e) {
-        this.showPlaceholder(e);
+        if (this.session === session) this.showPlaceholder(e);
       }
     }
     this.pending = null;

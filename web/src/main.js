@@ -5,7 +5,10 @@
  * run controls (step, run to end with a progress bar fed by polling the
  * long-running operation, cancel), live plots over the SSE stream, FFT,
  * frame viewer and the multi-session compare overlay. Every API failure is
- * shown in words; problem+json errors[].pointer marks the form field.
+ * shown in words; problem+json errors[].pointer marks the form field. The
+ * open session's header follows its run (operation polling, and the session
+ * list's polling for runs started elsewhere); a deleted session is cleared
+ * from every panel.
  */
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
@@ -17,6 +20,7 @@ import { FftPanel } from './fft.js';
 import { FrameViewer } from './frames.js';
 import { ComparePanel } from './compare.js';
 import { bracket, choices, display, setDisplay, fmt } from './units.js';
+import { markInput, readNumber } from './number_input.js';
 
 const $ = (id) => document.getElementById(id);
 const HISTORY_POINTS = 50000;
@@ -86,14 +90,30 @@ function initToken() {
 
 /* ---------- sessions list ---------- */
 
+/* Why the list is empty: no sessions, or the daemon refused to list them. */
+function listMessage(e) {
+  if (!e) return 'No sessions yet — create one below.';
+  if (e.status !== 401) return `Could not load the sessions: ${e.message}`;
+  return getToken()
+    ? 'Token rejected: the daemon did not accept the saved API token. Enter the right one under “API token” at the top and press Save.'
+    : 'Authentication required: the daemon was started with an API token. Enter it under “API token” at the top and press Save.';
+}
+
 async function refreshSessions() {
+  const tbody = $('session-table').querySelector('tbody');
+  const seen = openSnapshot();
   try {
     state.sessions = await allSessions();
   } catch (e) {
     if (e.status === 401) showError($('create-error'), e);
+    tbody.replaceChildren();
+    $('sessions-empty').textContent = listMessage(e);
+    $('sessions-empty').dataset.problem = String(e.status ?? '');
+    $('sessions-empty').hidden = false;
     return;
   }
-  const tbody = $('session-table').querySelector('tbody');
+  $('sessions-empty').textContent = listMessage(null);
+  delete $('sessions-empty').dataset.problem;
   tbody.replaceChildren();
   for (const s of state.sessions) {
     const tr = document.createElement('tr');
@@ -129,6 +149,33 @@ async function refreshSessions() {
   $('sessions-empty').hidden = state.sessions.length > 0;
   for (const id of [...state.compare]) if (!state.sessions.some((s) => s.id === id)) state.compare.delete(id);
   updateCompareInfo();
+  followOpenSession(seen);
+}
+
+/* What the open session looked like when a list request left. */
+function openSnapshot() {
+  const s = state.session;
+  return s && { s, status: s.status, t: s.t, op: state.op };
+}
+
+/* Keep the open session in step with the list (a run or a delete by another
+ * client), unless it changed here while the list was on its way (then the
+ * list is the older news) or an operation's polling already follows it. */
+function followOpenSession(seen) {
+  const s = state.session;
+  if (!s || !seen || seen.s !== s || seen.status !== s.status || seen.t !== s.t || seen.op || state.op) return;
+  const sum = state.sessions.find((x) => x.id === s.id);
+  if (!sum) {
+    closeSession(`Session ${s.id} no longer exists (deleted).`);
+    return;
+  }
+  if (sum.status === s.status && sum.t === s.t) return;
+  Object.assign(s, { status: sum.status, t: sum.t, index: sum.index, error: sum.error, operation: sum.operation });
+  renderSessionHeader();
+  if (sum.status === 'running' && sum.operation) {
+    pollOperation(sum.operation);
+    startStream();
+  }
 }
 
 const text = (s) => document.createTextNode(s);
@@ -196,7 +243,13 @@ async function onCreate(ev) {
     return;
   }
   state.form.clearErrors();
-  const doc = { preset: $('preset-select').value || undefined, ...state.form.overrides() };
+  const { doc: overrides, errors } = state.form.overrides();
+  if (errors.length) {
+    state.form.showErrors(errors);
+    showError(box, new ApiError(0, { title: 'Not sent: fix the marked fields', errors }));
+    return;
+  }
+  const doc = { preset: $('preset-select').value || undefined, ...overrides };
   $('create-btn').disabled = true;
   try {
     const s = await api.createSession(doc);
@@ -240,6 +293,7 @@ async function openSession(id, given) {
   fillChannelSelect($('fft-channel'), chans, pickFftDefault(chans));
   $('fft-btn').disabled = false;
   fft.clear();
+  hideError($('fft-error'));
   try {
     /* long histories are thinned to about HISTORY_POINTS rows; live rows come at full rate */
     const every = Math.max(1, Math.ceil((s.index || 0) / HISTORY_POINTS));
@@ -263,25 +317,34 @@ function pickFftDefault(chans) {
   return names.find((n) => n === 'hull.accel_z') || names.find((n) => /hull.*acc|accel/.test(n)) || names[0];
 }
 
+/* Options "name [display unit]": the unit the charts draw the channel in. */
 function fillChannelSelect(sel, chans, selected) {
   const keep = selected || sel.value;
   sel.replaceChildren();
   for (const c of chans) {
     const o = document.createElement('option');
     o.value = c.name;
-    o.textContent = `${c.name} [${c.unit}]`;
+    o.dataset.unit = c.unit;
+    o.textContent = `${c.name}${bracket(display(c.unit).label)}`;
     sel.append(o);
   }
   if (chans.some((c) => c.name === keep)) sel.value = keep;
 }
 
-function renderSessionHeader() {
+/* After a unit toggle: the same options with the new display units. */
+function relabelChannelSelect(sel) {
+  for (const o of sel.options) o.textContent = `${o.value}${bracket(display(o.dataset.unit).label)}`;
+}
+
+/* Title, status, time, buttons and progress of the open session; `gone`: what to say when none is. */
+function renderSessionHeader(gone) {
   const s = state.session;
   const open = !!s;
   $('session-title').textContent = open ? `Session ${String(s.id).slice(0, 8)}` : 'No session open';
   const st = $('session-status');
-  st.className = `pill st-${s?.status || 'none'}`;
-  st.textContent = s?.status || '';
+  const status = s?.status || (gone ? 'deleted' : '');
+  st.className = `pill st-${status || 'none'}`;
+  st.textContent = status;
   const dur = s?.config?.run?.duration;
   const fid = s?.config?.track?.fidelity;
   const kind = s?.config?.run?.kind;
@@ -295,15 +358,26 @@ function renderSessionHeader() {
       ]
         .filter(Boolean)
         .join(' · ')
-    : '';
+    : gone || '';
   const running = s?.status === 'running' || !!state.op;
-  $('step-btn').disabled = !open || running;
-  $('run-btn').disabled = !open || running || (dur !== undefined && (s.t || 0) >= dur - 1e-9);
+  const ended = open && dur !== undefined && (s.t || 0) >= dur - 1e-9;
+  $('step-btn').disabled = !open || running || ended;
+  $('run-btn').disabled = !open || running || ended;
   $('cancel-btn').disabled = !state.op;
   $('delete-session').disabled = !open;
-  if (open && dur && !state.op) setProgress(Math.min(1, (s.t || 0) / dur), null);
+  renderProgress(state.op?.meta);
 }
 
+/* The bar shows t / run duration (meta: the run operation's metadata, for its speed). */
+function renderProgress(meta) {
+  const s = state.session;
+  const dur = s?.config?.run?.duration;
+  if (!s) resetProgress();
+  else if (dur) setProgress((s.t || 0) / dur, meta);
+}
+
+/* t / duration only moves forward, also when a paused run continues (an
+ * operation's own progress restarts at 0 from where it was started). */
 function setProgress(frac, meta) {
   const pct = Math.max(0, Math.min(100, frac * 100));
   $('progress-bar').style.width = `${pct}%`;
@@ -312,6 +386,13 @@ function setProgress(frac, meta) {
   if (meta?.real_time_factor) txt += ` · ${fmt(meta.real_time_factor, 3)}× real time`;
   $('progress-text').textContent = txt;
   $('progress-bar').parentElement.dataset.percent = pct.toFixed(1);
+}
+
+function resetProgress() {
+  $('progress-bar').style.width = '0';
+  $('progress-text').textContent = '—';
+  delete $('progress-text').dataset.outcome;
+  delete $('progress-bar').parentElement.dataset.percent;
 }
 
 async function refreshSession() {
@@ -334,10 +415,11 @@ function startStream() {
   const id = state.session.id;
   const handle = streamSession(id, state.store, {
     onStatus: (st) => {
+      if (state.stream !== handle) return; /* a stopped stream's last words */
       const e = $('stream-status');
       e.textContent = `stream: ${st}`;
       e.className = `pill ${st === 'live' ? 'st-running' : 'muted'}`;
-      if (st === 'ended' && state.stream === handle) state.stream = null;
+      if (st === 'ended') state.stream = null;
     },
     /* The daemon ends a stream when the session is not running; reconnect
      * only while a run of this session is being polled. */
@@ -358,7 +440,12 @@ function updateSampleCount() {
 async function onStep() {
   const s = state.session;
   hideError($('session-error'));
-  const duration = Number($('step-duration').value);
+  const { value: duration, error } = readNumber($('step-duration'), { name: 'step duration [s]', above: 0 });
+  markInput($('step-duration'), null, error);
+  if (error) {
+    showError($('session-error'), new ApiError(0, { title: 'Not stepped', detail: error }));
+    return;
+  }
   try {
     await api.step(s.id, duration); /* synchronous: the answer is the session's new state */
     await refreshSession();
@@ -393,7 +480,7 @@ function stopOpPolling() {
 function pollOperation(id, first) {
   stopOpPolling();
   const sessionId = state.session.id;
-  state.op = { id, sessionId, timer: null };
+  state.op = { id, sessionId, timer: null, meta: null };
   delete $('progress-text').dataset.outcome;
   renderSessionHeader();
   const tick = async (op) => {
@@ -407,21 +494,21 @@ function pollOperation(id, first) {
       return;
     }
     const m = op.metadata || {};
-    const p = typeof m.progress === 'number' ? m.progress : 0; /* [0, 1] (api/openapi.yaml) */
     if (op.done) {
       stopOpPolling();
       const cancelled = op.error && isCancelled(op.error);
       if (op.error && !cancelled) showError($('session-error'), new ApiError(op.error.status || 500, op.error));
       await refreshSession();
-      setProgress(op.error ? p : 1, m);
+      renderProgress(m);
       if (cancelled) $('progress-text').textContent += ' · cancelled';
       $('progress-text').dataset.outcome = cancelled ? 'cancelled' : op.error ? 'failed' : 'done';
       startStream(); /* catch up on rows stored after the stream last closed */
       refreshSessions();
       return;
     }
-    setProgress(p, m);
-    $('session-meta').dataset.t = String(m.t ?? '');
+    state.op.meta = m;
+    if (typeof m.t === 'number') Object.assign(state.session, { status: 'running', t: Math.max(m.t, state.session.t || 0) });
+    renderSessionHeader();
     state.op.timer = setTimeout(() => tick(), 300);
   };
   tick(first); /* POST run answers with the operation itself */
@@ -441,21 +528,40 @@ async function onDelete() {
   if (!s || !confirm(`Delete session ${s.id}?`)) return;
   try {
     await api.deleteSession(s.id);
-    state.stream?.stop();
-    state.stream = null;
-    stopOpPolling();
-    state.session = null;
-    plots.stop();
-    $('plots-empty').hidden = false;
-    $('channel-list').replaceChildren();
-    frames.clear();
-    fft.clear();
-    $('fft-btn').disabled = true;
-    renderSessionHeader();
-    refreshSessions();
   } catch (e) {
-    showError($('session-error'), e);
+    if (e.status !== 404) {
+      showError($('session-error'), e);
+      return;
+    }
   }
+  closeSession(`Session ${s.id} was deleted.`);
+  refreshSessions();
+}
+
+/* No session open any more (`notice` says why): every panel drops its data. */
+function closeSession(notice) {
+  const id = state.session?.id;
+  state.stream?.stop();
+  state.stream = null;
+  stopOpPolling();
+  state.session = null;
+  state.store = null;
+  state.picks = [];
+  plots.stop();
+  frames.clear();
+  fft.clear();
+  if (compare.shows(id)) compare.clear();
+  for (const box of ['session-error', 'fft-error']) hideError($(box));
+  $('plots-empty').hidden = false;
+  $('channel-list').replaceChildren();
+  $('unit-toggles').replaceChildren();
+  $('fft-channel').replaceChildren();
+  $('fft-btn').disabled = true;
+  $('stream-status').textContent = 'no stream';
+  $('stream-status').className = 'pill muted';
+  for (const tr of $('session-table').querySelectorAll('tr.selected')) tr.classList.remove('selected');
+  renderSessionHeader(notice);
+  updateSampleCount();
 }
 
 /* ---------- channels and units ---------- */
@@ -507,6 +613,8 @@ function renderUnitToggles() {
         setDisplay(u, c.label);
         renderUnitToggles();
         renderChannelPicker();
+        relabelChannelSelect($('fft-channel'));
+        relabelChannelSelect($('compare-channel'));
         plots.show(state.store, state.picks);
       });
       group.append(b);
@@ -536,8 +644,10 @@ async function onCompare() {
     const sel = $('compare-channel');
     if (!chans.some((c) => c.name === sel.value)) fillChannelSelect(sel, chans, state.picks[0]);
     const r = await compare.show(sessions, sel.value);
-    $('compare-info').textContent = `${r.series} sessions overlaid`;
+    const lacking = r.missing.map((s) => String(s.id).slice(0, 8)).join(', ');
+    $('compare-info').textContent = `${r.series} session${r.series > 1 ? 's' : ''} overlaid${lacking ? ` · not plotted, no channel ${sel.value}: ${lacking}` : ''}`;
   } catch (e) {
+    compare.clear(); /* an overlay of an earlier request would pass for this one */
     showError(box, e);
   }
 }
@@ -553,13 +663,20 @@ async function updateCompareChannels() {
 async function onFft() {
   const box = $('fft-error');
   hideError(box);
-  const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
+  const fields = { from: 'fft-from', to: 'fft-to', 'show up to': 'fft-fmax' };
+  const v = {};
+  const errors = [];
+  for (const [name, id] of Object.entries(fields)) {
+    const r = readNumber($(id), { name, min: 0, optional: true });
+    markInput($(id), null, r.error);
+    if (r.error) errors.push(r.error);
+    v[name] = r.value;
+  }
   try {
-    await fft.compute(state.session, $('fft-channel').value, num('fft-from'), num('fft-to'), {
-      fmax: num('fft-fmax'),
-      log: $('fft-log').checked,
-    });
+    if (errors.length) throw new ApiError(0, { title: 'Not computed', detail: errors.join('; ') });
+    await fft.compute(state.session, $('fft-channel').value, v.from, v.to, { fmax: v['show up to'], log: $('fft-log').checked });
   } catch (e) {
+    fft.clear(); /* the last spectrum is not the answer to this request */
     showError(box, e);
   }
 }
@@ -577,6 +694,7 @@ const frames = new FrameViewer({
   play: $('play-btn'),
   view: $('frame-view'),
   exaggeration: $('frame-exag'),
+  exaggerationError: $('frame-exag-error'),
   tension: $('frame-tension'),
   status: $('frame-status'),
 });
@@ -610,6 +728,8 @@ $('run-btn').addEventListener('click', onRun);
 $('cancel-btn').addEventListener('click', onCancel);
 $('delete-session').addEventListener('click', onDelete);
 $('fft-btn').addEventListener('click', onFft);
+/* an edited number field loses its error mark until it is used again */
+for (const id of ['step-duration', 'fft-from', 'fft-to', 'fft-fmax']) $(id).addEventListener('input', () => markInput($(id), null, ''));
 $('compare-btn').addEventListener('click', onCompare);
 $('compare-channel').addEventListener('focus', updateCompareChannels);
 setInterval(() => {

@@ -5,6 +5,7 @@
  */
 import uPlot from 'uplot';
 import { bracket, display, fmt, toDisplay } from './units.js';
+import { axisValues } from './ticks.js';
 
 /* Channels picked by default when a session opens: the paper's plotted
  * quantities (vehicle speed, engine speed, gear, rack, sprocket torque, rear
@@ -40,8 +41,7 @@ export function defaultPicks(channels) {
 const COLORS = ['#2563eb', '#dc2626', '#059669', '#d97706', '#7c3aed', '#0891b2', '#db2777', '#4b5563'];
 export const color = (i) => COLORS[i % COLORS.length];
 
-/* uPlot formatters shared by every chart: axis ticks and legend values. */
-export const fmtTicks = (u, ticks) => ticks.map((v) => fmt(v));
+/* uPlot legend values shared by every chart (axis ticks: ticks.js). */
 export const fmtValue = (u, v) => fmt(v);
 
 export function chartWidth(container) {
@@ -87,8 +87,8 @@ export class LivePlots {
       scales: { x: { time: false } },
       legend: { live: true },
       axes: [
-        { label: 't [s]', size: 36 },
-        { label: d.label || ch.name, size: 64, values: fmtTicks },
+        { label: 't [s]', size: 36, values: axisValues },
+        { label: d.label || ch.name, size: 64, values: axisValues },
       ],
       series: [
         { label: 't [s]', value: fmtValue },

@@ -11,10 +11,14 @@
  * speed controller target or rack, duration); all other fields sit under
  * "All parameters". Only fields the user edited are sent, as overrides on top
  * of the chosen preset, so the daemon's defaults <- preset <- overrides chain
- * stays the single source of values. Validation is the daemon's: errors come
- * back as problem+json errors[{pointer, message}] and are shown on the field.
+ * stays the single source of values. Ranges and types are the daemon's to
+ * check: its errors come back as problem+json errors[{pointer, message}] and
+ * are shown on the field. Only what cannot be sent as a number at all (an
+ * entry the browser cannot parse, "abc" in a number list, an emptied field)
+ * is caught here, reported the same way, and nothing is sent.
  */
 import { display, convertible, fmt } from './units.js';
+import { parseNumeral, readNumber } from './number_input.js';
 
 /* JSON Pointers of the fields shown up front, in this order (if the schema has them). */
 const KEY_FIELDS = [
@@ -211,30 +215,31 @@ export class SchemaForm {
     else input.value = v === undefined || v === null ? '' : String(v);
   }
 
+  /** The value of an edited field: {value} or {error} (a message naming the field). */
   readInput(e) {
     const { input, f } = e;
     const t = f.prop.type;
-    if (t === 'boolean') return input.checked;
-    const s = input.value.trim();
-    if (t === 'integer' || t === 'number') {
-      if (s === '') return null;
-      const v = Number(s);
-      return Number.isFinite(v) ? v : s; /* the daemon reports a non-number by pointer */
+    if (t === 'boolean') return { value: input.checked };
+    if (t === 'integer' || t === 'number') return readNumber(input, { name: f.pointer });
+    if (t === 'array') {
+      const items = input.value.split(/[\s,;]+/).filter(Boolean);
+      if (!['number', 'integer'].includes(f.prop.items?.type)) return { value: items };
+      const bad = items.find((x) => !Number.isFinite(parseNumeral(x)));
+      return bad === undefined ? { value: items.map(Number) } : { error: `${f.pointer}: numbers separated by commas expected, got '${bad}'` };
     }
-    if (t === 'array') return s === '' ? [] : s.split(/[\s,;]+/).filter(Boolean).map((x) => (Number.isFinite(Number(x)) ? Number(x) : x));
-    return input.value;
+    return { value: input.value };
   }
 
-  /** The overrides document: only fields the user edited. */
+  /** The overrides document of the fields the user edited: {doc, errors[{pointer, message}]}. */
   overrides() {
     const doc = {};
+    const errors = [];
     for (const p of this.dirty) {
-      const e = this.inputs.get(p);
-      const v = this.readInput(e);
-      if (v === null) continue;
-      setPath(doc, p, v);
+      const r = this.readInput(this.inputs.get(p));
+      if (r.error) errors.push({ pointer: p, message: r.error });
+      else setPath(doc, p, r.value);
     }
-    return doc;
+    return { doc, errors };
   }
 
   clearError(pointer) {

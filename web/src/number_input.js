@@ -1,0 +1,51 @@
+/*
+ * number_input.js — reading a number the user typed, never guessing.
+ *
+ * A <input type="number"> whose text the browser cannot parse ("abc", "1e")
+ * reports value "" and validity.badInput, so a bare Number(input.value) turns
+ * it into 0 or "not given". Here such an entry, an empty required field and
+ * an entry out of range become an error message that names the field, in the
+ * daemon's words ("exaggeration: number in [0, 1000] expected, got '2000'"),
+ * so the caller shows it next to the field and sends nothing.
+ */
+import { fmt } from './units.js';
+
+/* A plain decimal numeral, as the daemon's query parameters take them (no 0x10, inf, blanks). */
+const NUMERAL = /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/;
+
+/** The number a text holds, or NaN when it is not a plain decimal numeral. */
+export function parseNumeral(text) {
+  const s = String(text).trim();
+  return NUMERAL.test(s) ? Number(s) : NaN;
+}
+
+function rangeText({ min, max, above }) {
+  if (above !== undefined) return ` > ${fmt(above)}`;
+  if (min !== undefined && max !== undefined) return ` in [${fmt(min)}, ${fmt(max)}]`;
+  if (min !== undefined) return ` ≥ ${fmt(min)}`;
+  return max !== undefined ? ` ≤ ${fmt(max)}` : '';
+}
+
+/**
+ * The number in a numeric or text input: {value} or {error}.
+ * name: how the message names the field; min/max: inclusive bounds; above:
+ * exclusive lower bound; optional: an empty field gives {value: undefined}.
+ */
+export function readNumber(input, { name, min, max, above, optional = false } = {}) {
+  const raw = input.value.trim();
+  const expected = `${name}: number${rangeText({ min, max, above })} expected`;
+  if (input.validity?.badInput) return { error: `${expected}, got an entry that is not a number` };
+  if (raw === '') return optional ? { value: undefined } : { error: `${expected}, got nothing` };
+  const v = parseNumeral(raw);
+  const out = !Number.isFinite(v) || (min !== undefined && v < min) || (max !== undefined && v > max) || (above !== undefined && v <= above);
+  return out ? { error: `${expected}, got '${raw}'` } : { value: v };
+}
+
+/** Mark an input invalid with `message`, shown in the element `msg` (null: shown elsewhere); no message clears. */
+export function markInput(input, msg, message) {
+  input.classList.toggle('invalid', !!message);
+  input.setAttribute('aria-invalid', message ? 'true' : 'false');
+  if (!msg) return;
+  msg.textContent = message || '';
+  msg.hidden = !message;
+}
