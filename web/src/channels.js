@@ -1,0 +1,104 @@
+/*
+ * channels.js — the open session's channels: the chips that pick what is
+ * charted, the unit toggles (mph / m/s / km/h, ...), and the channel
+ * <select>s of the FFT and Compare panels, each labelled with the unit the
+ * charts draw it in.
+ */
+import { $ } from './dom.js';
+import { bracket, choices, display, setDisplay } from './units.js';
+
+/* A session's channels less the time axis. */
+export function channelsOf(s) {
+  return (s.channels || []).filter((c) => c.name !== 't');
+}
+
+/* Options "name [display unit]": the unit the charts draw the channel in. */
+export function fillChannelSelect(sel, chans, selected) {
+  const keep = selected || sel.value;
+  sel.replaceChildren();
+  for (const c of chans) {
+    const o = document.createElement('option');
+    o.value = c.name;
+    o.dataset.unit = c.unit;
+    o.textContent = `${c.name}${bracket(display(c.unit).label)}`;
+    sel.append(o);
+  }
+  if (chans.some((c) => c.name === keep)) sel.value = keep;
+}
+
+/* After a unit toggle: the same options with the new display units. */
+function relabelChannelSelect(sel) {
+  for (const o of sel.options) o.textContent = `${o.value}${bracket(display(o.dataset.unit).label)}`;
+}
+
+/* The chips and toggles of the open session; picking a chip sets state.picks and redraws the charts. */
+export function initChannelPicker(state, plots) {
+  function renderChannelPicker() {
+    const box = $('channel-list');
+    box.replaceChildren();
+    for (const c of channelsOf(state.session)) {
+      const lab = document.createElement('label');
+      lab.className = 'chip';
+      lab.title = c.description || '';
+      const cb = document.createElement('input');
+      cb.type = 'checkbox';
+      cb.value = c.name;
+      cb.checked = state.picks.includes(c.name);
+      cb.addEventListener('change', () => {
+        state.picks = [...box.querySelectorAll('input:checked')].map((x) => x.value);
+        plots.show(state.store, state.picks);
+      });
+      lab.append(cb, ` ${c.name} `);
+      const u = document.createElement('span');
+      u.className = 'unit';
+      u.textContent = bracket(display(c.unit).label);
+      lab.append(u);
+      box.append(lab);
+    }
+  }
+
+  function renderUnitToggles() {
+    const box = $('unit-toggles');
+    box.replaceChildren();
+    const units = [...new Set(channelsOf(state.session).map((c) => c.unit))];
+    for (const u of units) {
+      const list = choices(u);
+      if (list.length < 2) continue;
+      const group = document.createElement('span');
+      group.className = 'seg';
+      group.dataset.unit = u;
+      const cap = document.createElement('span');
+      cap.className = 'muted';
+      cap.textContent = { 'm/s': 'speed', 'rad/s': 'rotation', rad: 'angle', W: 'power', Pa: 'pressure' }[u] || u;
+      group.append(cap);
+      for (const c of list) {
+        const b = document.createElement('button');
+        b.type = 'button';
+        b.className = `small seg-btn${display(u).label === c.label ? ' on' : ''}`;
+        b.textContent = c.label;
+        b.addEventListener('click', () => {
+          setDisplay(u, c.label);
+          renderUnitToggles();
+          renderChannelPicker();
+          relabelChannelSelect($('fft-channel'));
+          relabelChannelSelect($('compare-channel'));
+          plots.show(state.store, state.picks);
+        });
+        group.append(b);
+      }
+      box.append(group);
+    }
+  }
+
+  function render() {
+    renderChannelPicker();
+    renderUnitToggles();
+  }
+
+  function clear() {
+    $('channel-list').replaceChildren();
+    $('unit-toggles').replaceChildren();
+  }
+
+  return { render, clear };
+}

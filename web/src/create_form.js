@@ -1,0 +1,87 @@
+/*
+ * create_form.js — the "new session" form: the preset list (GET
+ * /v1/presets), the fields generated from GET /v1/schema (SchemaForm) and
+ * Create, which sends only the fields changed from the preset and opens the
+ * new session. A rejected field is marked by its errors[].pointer.
+ */
+import { api, ApiError } from './api.js';
+import { $ } from './dom.js';
+import { hideError, showError } from './messages.js';
+import { SchemaForm } from './schema_form.js';
+
+export function initCreateForm(state, { refreshList, open }) {
+  /* Fetch the schema and presets and build the form (state.form); throws what the daemon said. */
+  async function load() {
+    const [schema, presets] = await Promise.all([api.schema(), api.presets()]);
+    state.form = new SchemaForm($('schema-form'), schema);
+    const list = presets.presets || [];
+    const sel = $('preset-select');
+    sel.replaceChildren();
+    for (const p of list) {
+      const o = document.createElement('option');
+      o.value = p.name;
+      o.textContent = p.name;
+      o.title = p.description || '';
+      /* a preset that serves other commands only (the eigenanalysis ones: POST /v1/modes)
+         stays visible but cannot start a session */
+      if (Array.isArray(p.commands) && !p.commands.includes('session')) {
+        o.disabled = true;
+        o.textContent = `${p.name} (${p.commands.join(', ')} only)`;
+      }
+      sel.append(o);
+    }
+    sel.onchange = () => loadPreset(list);
+    $('reset-form').onclick = () => loadPreset(list);
+    await loadPreset(list);
+  }
+
+  async function loadPreset(list) {
+    const name = $('preset-select').value;
+    const meta = list.find((p) => p.name === name);
+    $('preset-desc').textContent = [meta?.kind && `scenario ${meta.kind}.`, meta?.description].filter(Boolean).join(' ');
+    hideError($('create-error'));
+    let doc = {};
+    if (name) {
+      try {
+        doc = (await api.preset(name)).config; /* the resolved document (GET /v1/presets/{name}) */
+      } catch (e) {
+        showError($('create-error'), e);
+      }
+    }
+    state.form.setBase(doc);
+  }
+
+  async function onCreate(ev) {
+    ev.preventDefault();
+    const box = $('create-error');
+    hideError(box);
+    if (!state.form) {
+      showError(box, new ApiError(0, { title: 'No form', detail: 'the run-config schema could not be loaded (see above); reload the page' }));
+      return;
+    }
+    state.form.clearErrors();
+    const { doc: overrides, errors } = state.form.overrides();
+    if (errors.length) {
+      state.form.showErrors(errors);
+      showError(box, new ApiError(0, { title: 'Not sent: fix the marked fields', errors }));
+      return;
+    }
+    const doc = { preset: $('preset-select').value || undefined, ...overrides };
+    $('create-btn').disabled = true;
+    try {
+      const s = await api.createSession(doc);
+      await refreshList();
+      await open(s.id, s);
+    } catch (e) {
+      const unmatched = e instanceof ApiError ? state.form.showErrors(e.errors) : [];
+      showError(box, e);
+      box.dataset.unmatched = String(unmatched.length);
+    } finally {
+      $('create-btn').disabled = false;
+    }
+  }
+
+  $('create-form').addEventListener('submit', onCreate);
+
+  return { load };
+}

@@ -1,0 +1,61 @@
+/*
+ * fft_controls.js — the FFT panel's form: channel (the hull's vertical
+ * acceleration by default, as in the paper's Figs. 13-14), time window and
+ * display limit, read and checked here and drawn by FftPanel (fft.js).
+ */
+import { ApiError } from './api.js';
+import { $ } from './dom.js';
+import { hideError, showError } from './messages.js';
+import { markInput, readNumber } from './number_input.js';
+import { fillChannelSelect } from './channels.js';
+
+function pickFftDefault(chans) {
+  const names = chans.map((c) => c.name);
+  /* the paper's spectra (Figs. 13-14) are of the hull's vertical acceleration */
+  return names.find((n) => n === 'hull.accel_z') || names.find((n) => /hull.*acc|accel/.test(n)) || names[0];
+}
+
+export function initFftControls(state, fft) {
+  async function onFft() {
+    const box = $('fft-error');
+    hideError(box);
+    const fields = { from: 'fft-from', to: 'fft-to', 'show up to': 'fft-fmax' };
+    const v = {};
+    const errors = [];
+    for (const [name, id] of Object.entries(fields)) {
+      const r = readNumber($(id), { name, min: 0, optional: true });
+      markInput($(id), null, r.error);
+      if (r.error) errors.push(r.error);
+      v[name] = r.value;
+    }
+    try {
+      if (errors.length) throw new ApiError(0, { title: 'Not computed', detail: errors.join('; ') });
+      await fft.compute(state.session, $('fft-channel').value, v.from, v.to, { fmax: v['show up to'], log: $('fft-log').checked });
+    } catch (e) {
+      fft.clear(); /* the last spectrum is not the answer to this request */
+      showError(box, e);
+    }
+  }
+
+  /* A session was opened with channels `chans`. */
+  function open(chans) {
+    fillChannelSelect($('fft-channel'), chans, pickFftDefault(chans));
+    $('fft-btn').disabled = false;
+    fft.clear();
+    hideError($('fft-error'));
+  }
+
+  /* No session open. */
+  function close() {
+    fft.clear();
+    hideError($('fft-error'));
+    $('fft-channel').replaceChildren();
+    $('fft-btn').disabled = true;
+  }
+
+  $('fft-btn').addEventListener('click', onFft);
+  /* an edited number field loses its error mark until it is used again */
+  for (const id of ['fft-from', 'fft-to', 'fft-fmax']) $(id).addEventListener('input', () => markInput($(id), null, ''));
+
+  return { open, close };
+}

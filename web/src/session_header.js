@@ -1,0 +1,87 @@
+/*
+ * session_header.js — the open session's header: title, status, the meta
+ * line, which run buttons are enabled, and the progress bar (t / run
+ * duration). Drawn from state.session and state.op; refresh() re-reads the
+ * session from the daemon first.
+ */
+import { api } from './api.js';
+import { $ } from './dom.js';
+import { showError } from './messages.js';
+import { fmt } from './units.js';
+
+export function initSessionHeader(state, frames) {
+  /* Title, status, time, buttons and progress of the open session; `gone`: what to say when none is. */
+  function render(gone) {
+    const s = state.session;
+    const open = !!s;
+    $('session-title').textContent = open ? `Session ${String(s.id).slice(0, 8)}` : 'No session open';
+    const st = $('session-status');
+    const status = s?.status || (gone ? 'deleted' : '');
+    st.className = `pill st-${status || 'none'}`;
+    st.textContent = status;
+    const dur = s?.config?.run?.duration;
+    const fid = s?.config?.track?.fidelity;
+    const kind = s?.config?.run?.kind;
+    $('session-meta').textContent = open
+      ? [
+          `preset ${s.preset || '—'}`,
+          kind && `scenario ${kind}`,
+          fid && `track ${fid}`,
+          `t = ${fmt(s.t || 0)} s${dur ? ` of ${fmt(dur)} s` : ''}`,
+          s.error ? `error: ${s.error}` : '',
+        ]
+          .filter(Boolean)
+          .join(' · ')
+      : gone || '';
+    const running = s?.status === 'running' || !!state.op;
+    const ended = open && dur !== undefined && (s.t || 0) >= dur - 1e-9;
+    $('step-btn').disabled = !open || running || ended;
+    $('run-btn').disabled = !open || running || ended;
+    $('cancel-btn').disabled = !state.op;
+    $('delete-session').disabled = !open;
+    renderProgress(state.op?.meta);
+  }
+
+  /* The bar shows t / run duration (meta: the run operation's metadata, for its speed). */
+  function renderProgress(meta) {
+    const s = state.session;
+    const dur = s?.config?.run?.duration;
+    if (!s) resetProgress();
+    else if (dur) setProgress((s.t || 0) / dur, meta);
+  }
+
+  /* t / duration only moves forward, also when a paused run continues (an
+   * operation's own progress restarts at 0 from where it was started). */
+  function setProgress(frac, meta) {
+    const pct = Math.max(0, Math.min(100, frac * 100));
+    $('progress-bar').style.width = `${pct}%`;
+    let txt = `${pct.toFixed(pct >= 99.95 || pct === 0 ? 0 : 1)} %`;
+    if (meta?.t !== undefined) txt += ` · t = ${fmt(meta.t)} s`;
+    if (meta?.real_time_factor) txt += ` · ${fmt(meta.real_time_factor, 3)}× real time`;
+    $('progress-text').textContent = txt;
+    $('progress-bar').parentElement.dataset.percent = pct.toFixed(1);
+  }
+
+  function resetProgress() {
+    $('progress-bar').style.width = '0';
+    $('progress-text').textContent = '—';
+    delete $('progress-text').dataset.outcome;
+    delete $('progress-bar').parentElement.dataset.percent;
+  }
+
+  /* GET the open session again and show it (header, frame scrubber range). */
+  async function refresh() {
+    if (!state.session) return;
+    try {
+      const s = await api.session(state.session.id);
+      if (!state.session || s.id !== state.session.id) return;
+      state.session = s;
+      render();
+      frames.updateRange(s.t || 0);
+    } catch (e) {
+      showError($('session-error'), e);
+    }
+  }
+
+  return { render, renderProgress, refresh };
+}

@@ -1,0 +1,92 @@
+/*
+ * session_list.js — the sessions table (GET /v1/sessions, all pages), drawn
+ * again on every refresh: a row opens its session, its checkbox ticks it for
+ * Compare. An empty table says why (none yet, or the daemon refused).
+ */
+import { allSessions, getToken } from './api.js';
+import { $ } from './dom.js';
+import { showError } from './messages.js';
+import { fmt } from './units.js';
+
+/* Why the list is empty: no sessions, or the daemon refused to list them. */
+function listMessage(e) {
+  if (!e) return 'No sessions yet — create one below.';
+  if (e.status !== 401) return `Could not load the sessions: ${e.message}`;
+  return getToken()
+    ? 'Token rejected: the daemon did not accept the saved API token. Enter the right one under “API token” at the top and press Save.'
+    : 'Authentication required: the daemon was started with an API token. Enter it under “API token” at the top and press Save.';
+}
+
+const text = (s) => document.createTextNode(s);
+function mono(s) {
+  const e = document.createElement('span');
+  e.className = 'mono';
+  e.textContent = s;
+  return e;
+}
+function pill(status) {
+  const e = document.createElement('span');
+  e.className = `pill st-${status || 'unknown'}`;
+  e.textContent = status || '?';
+  return e;
+}
+
+/* view: the open session's {open, snapshot, follow} (session_view.js); ticksChanged: after state.compare changed. */
+export function initSessionList(state, { view, ticksChanged }) {
+  async function refresh() {
+    const tbody = $('session-table').querySelector('tbody');
+    const seen = view.snapshot();
+    try {
+      state.sessions = await allSessions();
+    } catch (e) {
+      if (e.status === 401) showError($('create-error'), e);
+      tbody.replaceChildren();
+      $('sessions-empty').textContent = listMessage(e);
+      $('sessions-empty').dataset.problem = String(e.status ?? '');
+      $('sessions-empty').hidden = false;
+      return;
+    }
+    $('sessions-empty').textContent = listMessage(null);
+    delete $('sessions-empty').dataset.problem;
+    tbody.replaceChildren();
+    for (const s of state.sessions) {
+      const tr = document.createElement('tr');
+      tr.dataset.id = s.id;
+      if (state.session && state.session.id === s.id) tr.classList.add('selected');
+      const cb = document.createElement('input');
+      cb.type = 'checkbox';
+      cb.className = 'cmp';
+      cb.checked = state.compare.has(s.id);
+      cb.title = 'include in Compare';
+      cb.addEventListener('click', (ev) => ev.stopPropagation());
+      cb.addEventListener('change', () => {
+        if (cb.checked) state.compare.add(s.id);
+        else state.compare.delete(s.id);
+        ticksChanged();
+      });
+      const cells = [
+        cb,
+        mono(String(s.id).slice(0, 8)),
+        text(s.preset || '—'),
+        pill(s.status),
+        text(s.t !== undefined ? `${fmt(s.t, 4)}${s.duration ? ` / ${fmt(s.duration)}` : ''}` : '—'),
+      ];
+      cells.forEach((c, i) => {
+        const td = document.createElement('td');
+        if (i === 4) td.className = 'num';
+        td.append(c);
+        tr.append(td);
+      });
+      tr.addEventListener('click', () => view.open(s.id));
+      tbody.append(tr);
+    }
+    $('sessions-empty').hidden = state.sessions.length > 0;
+    for (const id of [...state.compare]) if (!state.sessions.some((s) => s.id === id)) state.compare.delete(id);
+    ticksChanged();
+    view.follow(seen);
+  }
+
+  $('refresh-sessions').addEventListener('click', refresh);
+
+  return { refresh };
+}

@@ -1,0 +1,49 @@
+/*
+ * session_stream.js — the open session's SSE stream into state.store, and
+ * the sample counter under the charts. The daemon ends a stream when the
+ * session is not running; it reconnects only while a run of this session is
+ * being polled (state.op).
+ */
+import { $ } from './dom.js';
+import { streamSession } from './stream.js';
+import { fmt } from './units.js';
+
+export function initSessionStream(state) {
+  /* Start streaming the open session's new rows, unless a stream is already on. */
+  function start() {
+    if (!state.session || state.stream) return;
+    const id = state.session.id;
+    const handle = streamSession(id, state.store, {
+      onStatus: (st) => {
+        if (state.stream !== handle) return; /* a stopped stream's last words */
+        const e = $('stream-status');
+        e.textContent = `stream: ${st}`;
+        e.className = `pill ${st === 'live' ? 'st-running' : 'muted'}`;
+        if (st === 'ended') state.stream = null;
+      },
+      isFinished: () => !(state.op && state.op.sessionId === id),
+    });
+    state.stream = handle;
+  }
+
+  function stop() {
+    state.stream?.stop();
+    state.stream = null;
+  }
+
+  /* Stopped, and the status pill says so (no session open). */
+  function clear() {
+    stop();
+    $('stream-status').textContent = 'no stream';
+    $('stream-status').className = 'pill muted';
+  }
+
+  function updateCount() {
+    const n = state.store?.length || 0;
+    const e = $('sample-count');
+    e.textContent = `${n} samples${n ? ` · t = ${fmt(state.store.t[n - 1])} s` : ''}`;
+    e.dataset.count = String(n);
+  }
+
+  return { start, stop, clear, updateCount };
+}
