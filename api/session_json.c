@@ -227,12 +227,15 @@ int tsa_channel_index(const tsa_channels *c, const char *name)
     return -1;
 }
 
-json_t *tsa_channels_json(const tsa_channels *c)
+json_t *tsa_channels_json(const tsa_channels *c, const int *idx, int n)
 {
     json_t *a = json_array();
-    for (int i = 0; i < c->n; i++)
-        json_array_append_new(a, json_pack("{s:s,s:s,s:s}", "name", c->v[i].name, "unit",
-                                           c->v[i].unit, "description", c->v[i].description));
+    if (!idx) n = c->n;
+    for (int k = 0; k < n; k++) {
+        const ts_channel *ch = &c->v[idx ? idx[k] : k];
+        json_array_append_new(a, json_pack("{s:s,s:s,s:s}", "name", ch->name, "unit", ch->unit,
+                                           "description", ch->description));
+    }
     return a;
 }
 
@@ -422,7 +425,7 @@ json_t *tsa_session_json(const tsa_session_view *v, int summary)
     if (!summary) {
         if (v->config) json_object_set(o, "config", (json_t *)v->config);
         if (v->ch) {
-            json_object_set_new(o, "channels", tsa_channels_json(v->ch));
+            json_object_set_new(o, "channels", tsa_channels_json(v->ch, NULL, 0));
             if (v->latest) json_object_set_new(o, "latest", tsa_values_json(v->ch, v->latest));
         }
         if (v->integrators)

@@ -84,8 +84,9 @@ ts_rc tsa_channels_from_model(tsa_channels *c, ts_channel *store, int cap, const
 /* Column of the channel named name, -1 when c has none. */
 int tsa_channel_index(const tsa_channels *c, const char *name);
 
-/* [{"name","unit","description"}] of every channel. */
-json_t *tsa_channels_json(const tsa_channels *c);
+/* [{"name","unit","description"}] of the n channels idx names, in that order
+ * (idx NULL: every channel). */
+json_t *tsa_channels_json(const tsa_channels *c, const int *idx, int n);
 
 /* {"name": value, ...} of one row of c->n values. */
 json_t *tsa_values_json(const tsa_channels *c, const double *row);

@@ -12,7 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "../api/config_json.h"
@@ -32,19 +31,12 @@ typedef struct {
 #define PROGRESS_FIRST 2.0  /* wall seconds before the first progress line */
 #define PROGRESS_EVERY 5.0  /* ... and between lines when stderr is not a terminal */
 
-static double wall_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* Long runs say how far they are on stderr (stdout keeps the one summary
  * line): simulated time, share of the run, real-time factor. Short runs,
  * done before PROGRESS_FIRST, print nothing. */
 static void progress(run_sink *s, double t)
 {
-    double now = wall_now();
+    double now = ts_monotonic_seconds();
     if (now < s->next) return;
     double wall = now - s->wall0;
     fprintf(stderr, "%stanksim run: t = %.3f of %.3f s (%.1f %%), %.1fx real time%s",
@@ -117,7 +109,7 @@ int tsc_cmd_run(int argc, char **argv)
     fputc('\n', csv);
     sink.csv = csv;
     sink.until = until;
-    sink.wall0 = wall_now();
+    sink.wall0 = ts_monotonic_seconds();
     sink.next = sink.wall0 + PROGRESS_FIRST;
     sink.tty = isatty(fileno(stderr));
     write_row(&sink, 0, 0.0, ts_latest(d), ts_model_nchannel(m));

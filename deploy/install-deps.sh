@@ -19,8 +19,7 @@ if [ "$(id -u)" != 0 ]; then
   if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
     echo "make deps: run as root (or install sudo) to install:$missing" >&2; exit 1; fi
 fi
-# sudo's env_reset drops exported variables: the commands below pass it through env
-export DEBIAN_FRONTEND=noninteractive
+# DEBIAN_FRONTEND goes through env on each command: sudo's env_reset would drop an export
 # Another apt may hold the lists lock for a while: retry the update.
 for try in 1 2 3 4 5 6 7 8 9 10; do
   $SUDO env DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=600 update -qq >&2 && break

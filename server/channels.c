@@ -13,7 +13,7 @@
 char *tsd_channels_dump(const tsa_channels *c)
 {
     json_t *o =
-        json_pack("{s:f,s:o}", "sample_rate", 1.0 / c->period, "channels", tsa_channels_json(c));
+        json_pack("{s:f,s:o}", "sample_rate", 1.0 / c->period, "channels", tsa_channels_json(c, NULL, 0));
     char *text = o ? json_dumps(o, JSON_COMPACT | JSON_REAL_PRECISION(17)) : NULL;
     json_decref(o);
     return text;

@@ -1007,7 +1007,7 @@ typedef struct query_check {
     char seen[32][48];
     int nseen;
     char bad[48];
-    const char *why;
+    enum { QUERY_OK, QUERY_UNKNOWN, QUERY_REPEATED } why;
 } query_check;
 
 /* 1 when name is a whole word of the space-separated list. */
@@ -1027,13 +1027,13 @@ static enum MHD_Result query_iter(void *cls, enum MHD_ValueKind kind, const char
     if (!key[0] && (!value || !value[0])) return MHD_YES; /* a stray '&' */
     if (!key[0] || strlen(key) >= sizeof c->bad || !in_list(c->accepted, key)) {
         snprintf(c->bad, sizeof c->bad, "%s", key);
-        c->why = "unknown";
+        c->why = QUERY_UNKNOWN;
         return MHD_NO;
     }
     for (int i = 0; i < c->nseen; i++)
         if (strcmp(c->seen[i], key) == 0) {
             snprintf(c->bad, sizeof c->bad, "%s", key);
-            c->why = "repeated";
+            c->why = QUERY_REPEATED;
             return MHD_NO;
         }
     if (c->nseen < (int)(sizeof c->seen / sizeof c->seen[0]))
@@ -1047,11 +1047,11 @@ static int check_query(tsd_request *r, const tsd_route_row *row, enum MHD_Result
     if (strcmp(row->query, "*") == 0) return 0;
     query_check c = {.accepted = row->query};
     MHD_get_connection_values(r->conn, MHD_GET_ARGUMENT_KIND, query_iter, &c);
-    if (!c.why) return 0;
+    if (c.why == QUERY_OK) return 0;
     ts_err e;
     char ptr[64];
     snprintf(ptr, sizeof ptr, "/%s", c.bad);
-    if (c.why[0] == 'r')
+    if (c.why == QUERY_REPEATED)
         ts_err_set(&e, TS_ERR_PARAM, ptr, "query parameter %s: given more than once", c.bad);
     else
         ts_err_set(&e, TS_ERR_PARAM, ptr,

@@ -658,6 +658,13 @@ static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolve
     return TS_OK;
 }
 
+/* A refusal of the config at ptr: listed in errors (may be NULL) and in err. */
+static ts_rc refuse(json_t *errors, ts_err *err, const char *ptr, const char *msg)
+{
+    if (errors) json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", ptr, "message", msg));
+    return ts_err_set(err, TS_ERR_PARAM, ptr, "%s", msg);
+}
+
 /* Unless started with --client-files yes, the daemon opens no file a client
  * names: a profile terrain (/terrain/profile_csv) and a bump course that is
  * not one of the shipped ones embedded in the binary (which tsa_config_load
@@ -683,9 +690,7 @@ static ts_rc refuse_client_files(const ts_config *cfg, json_t *errors, ts_err *e
                  "(/terrain/bump_start, /terrain/bump_height, /terrain/bump_length)",
                  ptr, t->course);
     }
-    if (!ptr) return TS_OK;
-    if (errors) json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", ptr, "message", msg));
-    return ts_err_set(err, TS_ERR_PARAM, ptr, "%s", msg);
+    return ptr ? refuse(errors, err, ptr, msg) : TS_OK;
 }
 
 /* Every row a session produces is stored: a config whose run would store more
@@ -702,8 +707,7 @@ static ts_rc check_rows(const tsd_server *srv, const ts_config *cfg, json_t *err
              "keeps per session (--max-rows %ld); shorten /run/duration, lower "
              "/run/sample_rate, or start tanksimd with a larger --max-rows",
              ptr, cfg->run.duration, cfg->run.sample_rate, rows, srv->opt.max_rows);
-    if (errors) json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", ptr, "message", msg));
-    return ts_err_set(err, TS_ERR_PARAM, ptr, "%s", msg);
+    return refuse(errors, err, ptr, msg);
 }
 
 ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, json_t *errors,

@@ -129,12 +129,7 @@ enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx,
     if (!ndjson) {
         tsa_buf_put(&c->buf, "retry: 1000\n\n", 13);
         /* the rows carry names only: say once what they are and in which unit */
-        json_t *list = json_array();
-        for (int k = 0; k < c->n; k++) {
-            const ts_channel *ch = &s->ch.view.v[c->idx[k]];
-            json_array_append_new(list, json_pack("{s:s,s:s,s:s}", "name", ch->name, "unit",
-                                                  ch->unit, "description", ch->description));
-        }
+        json_t *list = tsa_channels_json(&s->ch.view, c->idx, c->n);
         char *text = json_dumps(list, JSON_COMPACT);
         tsa_buf_printf(&c->buf, "event: channels\ndata: %s\n\n", text ? text : "[]");
         free(text);

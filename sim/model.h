@@ -74,6 +74,10 @@ long ts_sample_index(const ts_data *d);      /* index of the latest sample row *
 const double *ts_latest(const ts_data *d);   /* latest row, ts_model_nchannel values */
 double ts_wall_seconds(const ts_data *d);    /* wall time spent inside ts_advance [s] */
 
+/* Monotonic wall clock [s] (CLOCK_MONOTONIC): what ts_wall_seconds and the
+ * coupled system's per-side timers count with, for callers' progress too. */
+double ts_monotonic_seconds(void);
+
 /* ---- integrator work --------------------------------------------------------- */
 
 /* Work counters of one integrator of a run, since ts_data_make (summed over the

@@ -85,10 +85,6 @@ int ts_metric_add(ts_metric *out, int n, int max, const char *name, const char *
  * of nc values, time in column 0; linear interpolation), NAN if never. */
 double ts_rows_first_crossing(const double *rows, long nrows, int nc, int col, double level);
 
-/* Monotonic wall clock [s] (CLOCK_MONOTONIC), for wall-time counters: the
- * model's ts_wall_seconds and the coupled system's per-side timers. */
-double ts_monotonic_seconds(void);
-
 /* A CVODE handle's counters (ts_ode_get_stats) as one ts_integrator_stats entry;
  * name and method must outlive it (string literals). */
 void ts_integrator_stats_of_ode(ts_ode *o, const char *name, const char *method,

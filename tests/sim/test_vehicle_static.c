@@ -489,24 +489,24 @@ static void equilibrium_with_a_bump_under_a_wheel(void **state)
     ts_model_free(m);
 }
 
-/* A static-fidelity model with idler compensation share comp, its work
- * area and a state buffer, for probing the massless loop at the equilibrium
- * with road arm 1 turned. */
+/* A model of track fidelity fid with idler compensation share comp and the
+ * link at link_angle, its work area and state buffers, for probing the
+ * right-hand side near the equilibrium with road arm 1 turned. */
 typedef struct arm1_probe {
     vm *v;
     vm_work *w;
     double *y, *yd;
 } arm1_probe;
 
-static arm1_probe probe_make(double comp, double link_angle)
+static arm1_probe probe_make(const char *fid, double comp, double link_angle)
 {
-    ts_config c = config("static");
+    ts_config c = config(fid);
     c.vehicle.idler_compensation = comp;
     c.vehicle.idler_link_angle = link_angle;
     ts_err err;
     arm1_probe p;
     p.v = vm_make(&c, &err);
-    if (!p.v) fail_msg("idler_compensation %g, link %g rad: %s", comp, link_angle, err.msg);
+    if (!p.v) fail_msg("%s, idler_compensation %g, link %g rad: %s", fid, comp, link_angle, err.msg);
     p.w = vm_work_make(p.v);
     assert_non_null(p.w);
     size_t ny = (size_t)vm_ny(p.v);
@@ -558,7 +558,8 @@ static void compensating_idler_keeps_the_loop_length(void **state)
     enum { NAMED = 6, SWEEP = 60 };
     const double named[NAMED] = {-0.3871, -0.2113, -0.0137, 0.0137, 0.2113, 0.3871};
     const double tol = 1; /* [N] */
-    arm1_probe fixed = probe_make(0, 0), half = probe_make(0.5, 0), full = probe_make(1, 0);
+    arm1_probe fixed = probe_make("static", 0, 0), half = probe_make("static", 0.5, 0),
+               full = probe_make("static", 1, 0);
     double t0 = tension_with_arm1_turned(&fixed, 0);
     double worst_free = 0, worst_full = 0, worst_half = 0;
     for (int i = 0; i < NAMED + SWEEP; i++) {
@@ -593,22 +594,12 @@ static void nan_arm_angle_fails_recoverably(void **state)
     const char *fid[2] = {"static", "coupled"};
     for (int f = 0; f < 2; f++)
         for (int comp = 0; comp <= 1; comp++) {
-            ts_config c = config(fid[f]);
-            c.vehicle.idler_compensation = comp;
-            ts_err err;
-            vm *v = vm_make(&c, &err);
-            if (!v) fail_msg("%s: %s", fid[f], err.msg);
-            vm_work *w = vm_work_make(v);
-            size_t ny = (size_t)vm_ny(v);
-            double *y = malloc(sizeof(double) * ny), *yd = malloc(sizeof(double) * ny);
-            assert_true(w && y && yd);
-            memcpy(y, vm_equilibrium(v), sizeof(double) * ny);
-            assert_int_equal(vm_rhs(v, w, 0.0, y, yd, NULL), 0);
-            y[3] = NAN;
-            assert_true(vm_rhs(v, w, 0.0, y, yd, NULL) > 0);
-            free(y), free(yd);
-            vm_work_free(w);
-            vm_free(v);
+            arm1_probe p = probe_make(fid[f], comp, 0);
+            memcpy(p.y, vm_equilibrium(p.v), sizeof(double) * (size_t)vm_ny(p.v));
+            assert_int_equal(vm_rhs(p.v, p.w, 0.0, p.y, p.yd, NULL), 0);
+            p.y[3] = NAN;
+            assert_true(vm_rhs(p.v, p.w, 0.0, p.y, p.yd, NULL) > 0);
+            probe_free(&p);
         }
 }
 
@@ -623,7 +614,7 @@ static void nan_arm_angle_fails_recoverably(void **state)
 static void compensating_idler_table_covers_the_arm_travel(void **state)
 {
     (void)state;
-    arm1_probe fixed = probe_make(0, -0.8), full = probe_make(1, -0.8);
+    arm1_probe fixed = probe_make("static", 0, -0.8), full = probe_make("static", 1, -0.8);
     double t0 = tension_with_arm1_turned(&fixed, 0);
     const double da[6] = {-0.6137, -0.3871, -0.0137, 0.2113, 0.3871, 0.5113};
     for (int i = 0; i < 6; i++) {
