@@ -26,10 +26,8 @@ export function fillChannelSelect(sel, chans, selected) {
   if (chans.some((c) => c.name === keep)) sel.value = keep;
 }
 
-/* After a unit toggle: the same options with the new display units. */
-function relabelChannelSelect(sel) {
-  for (const o of sel.options) o.textContent = `${o.value}${bracket(display(o.dataset.unit).label)}`;
-}
+/* The channels a select lists, as it was filled. */
+const listed = (sel) => [...sel.options].map((o) => ({ name: o.value, unit: o.dataset.unit }));
 
 /* The chips and toggles of the open session; picking a chip sets state.picks and redraws the charts. */
 export function initChannelPicker(state, plots) {
@@ -80,8 +78,7 @@ export function initChannelPicker(state, plots) {
           setDisplay(u, c.label);
           renderUnitToggles();
           renderChannelPicker();
-          relabelChannelSelect($('fft-channel'));
-          relabelChannelSelect($('compare-channel'));
+          for (const sel of [$('fft-channel'), $('compare-channel')]) fillChannelSelect(sel, listed(sel)); /* new unit labels */
           plots.show(state.store, state.picks);
         });
         group.append(b);

@@ -23,7 +23,7 @@ export class ComparePanel {
 
   /**
    * sessions: full session objects (with channels, t, config), in legend order.
-   * Returns {series, points, missing: [sessions without the channel]};
+   * Returns {series, missing: [sessions without the channel]};
    * throws when none has it.
    */
   async show(sessions, channel) {
@@ -62,7 +62,7 @@ export class ComparePanel {
     };
     this.plot = new uPlot(opts, data, this.root);
     this.ids = present.map((s) => s.id);
-    return { series: labels.length, points: data[0].length, missing };
+    return { series: labels.length, missing };
   }
 
   /** Whether the overlay shows session `id`. */

@@ -37,7 +37,7 @@ export function initCompareControls(state, compare) {
   }
 
   /* The channel list, filled from the open session until a comparison fills it. */
-  async function updateChannels() {
+  function updateChannels() {
     if ($('compare-channel').options.length) return;
     const chans = state.session ? channelsOf(state.session) : [];
     fillChannelSelect($('compare-channel'), chans, state.picks[0]);
@@ -50,6 +50,7 @@ export function initCompareControls(state, compare) {
 
   $('compare-btn').addEventListener('click', onCompare);
   $('compare-channel').addEventListener('focus', updateChannels);
+  updateInfo();
 
   return { updateInfo, updateChannels, close };
 }

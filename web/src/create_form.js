@@ -9,11 +9,13 @@ import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { SchemaForm } from './schema_form.js';
 
-export function initCreateForm(state, { refreshList, open }) {
-  /* Fetch the schema and presets and build the form (state.form); throws what the daemon said. */
+export function initCreateForm({ refreshList, open }) {
+  let form = null; /* the SchemaForm, once the schema loaded */
+
+  /* Fetch the schema and presets and build the form; throws what the daemon said. */
   async function load() {
     const [schema, presets] = await Promise.all([api.schema(), api.presets()]);
-    state.form = new SchemaForm($('schema-form'), schema);
+    form = new SchemaForm($('schema-form'), schema);
     const list = presets.presets || [];
     const sel = $('preset-select');
     sel.replaceChildren();
@@ -48,34 +50,28 @@ export function initCreateForm(state, { refreshList, open }) {
         showError($('create-error'), e);
       }
     }
-    state.form.setBase(doc);
+    form.setBase(doc);
   }
 
   async function onCreate(ev) {
     ev.preventDefault();
     const box = $('create-error');
     hideError(box);
-    if (!state.form) {
+    if (!form) {
       showError(box, new ApiError(0, { title: 'No form', detail: 'the run-config schema could not be loaded (see above); reload the page' }));
       return;
     }
-    state.form.clearErrors();
-    const { doc: overrides, errors } = state.form.overrides();
-    if (errors.length) {
-      state.form.showErrors(errors);
-      showError(box, new ApiError(0, { title: 'Not sent: fix the marked fields', errors }));
-      return;
-    }
-    const doc = { preset: $('preset-select').value || undefined, ...overrides };
+    form.clearErrors();
     $('create-btn').disabled = true;
     try {
-      const s = await api.createSession(doc);
+      const { doc: overrides, errors } = form.overrides();
+      if (errors.length) throw new ApiError(0, { title: 'Not sent: fix the marked fields', errors });
+      const s = await api.createSession({ preset: $('preset-select').value || undefined, ...overrides });
       await refreshList();
       await open(s.id, s);
     } catch (e) {
-      const unmatched = e instanceof ApiError ? state.form.showErrors(e.errors) : [];
+      if (e instanceof ApiError) form.showErrors(e.errors);
       showError(box, e);
-      box.dataset.unmatched = String(unmatched.length);
     } finally {
       $('create-btn').disabled = false;
     }

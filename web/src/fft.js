@@ -59,7 +59,6 @@ export class FftPanel {
       ],
     };
     this.plot = new uPlot(opts, [xs, yy], this.root);
-    return { bins: xs.length };
   }
 
   clear() {

@@ -6,7 +6,7 @@
 import { ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { markInput, readNumber } from './number_input.js';
+import { numberField } from './number_input.js';
 import { fillChannelSelect } from './channels.js';
 
 function pickFftDefault(chans) {
@@ -16,21 +16,18 @@ function pickFftDefault(chans) {
 }
 
 export function initFftControls(state, fft) {
+  const field = (id, name) => numberField($(id), { name, min: 0, optional: true });
+  const fields = [field('fft-from', 'from'), field('fft-to', 'to'), field('fft-fmax', 'show up to')];
+
   async function onFft() {
     const box = $('fft-error');
     hideError(box);
-    const fields = { from: 'fft-from', to: 'fft-to', 'show up to': 'fft-fmax' };
-    const v = {};
-    const errors = [];
-    for (const [name, id] of Object.entries(fields)) {
-      const r = readNumber($(id), { name, min: 0, optional: true });
-      markInput($(id), null, r.error);
-      if (r.error) errors.push(r.error);
-      v[name] = r.value;
-    }
+    const read = fields.map((f) => f());
+    const errors = read.map((r) => r.error).filter(Boolean);
+    const [from, to, fmax] = read.map((r) => r.value);
     try {
       if (errors.length) throw new ApiError(0, { title: 'Not computed', detail: errors.join('; ') });
-      await fft.compute(state.session, $('fft-channel').value, v.from, v.to, { fmax: v['show up to'], log: $('fft-log').checked });
+      await fft.compute(state.session, $('fft-channel').value, from, to, { fmax, log: $('fft-log').checked });
     } catch (e) {
       fft.clear(); /* the last spectrum is not the answer to this request */
       showError(box, e);
@@ -54,8 +51,6 @@ export function initFftControls(state, fft) {
   }
 
   $('fft-btn').addEventListener('click', onFft);
-  /* an edited number field loses its error mark until it is used again */
-  for (const id of ['fft-from', 'fft-to', 'fft-fmax']) $(id).addEventListener('input', () => markInput($(id), null, ''));
 
   return { open, close };
 }

@@ -10,7 +10,7 @@
  */
 import { raw, api, ApiError } from './api.js';
 import { fmt } from './units.js';
-import { markInput, readNumber } from './number_input.js';
+import { numberField } from './number_input.js';
 
 export class FrameViewer {
   constructor(els) {
@@ -19,8 +19,11 @@ export class FrameViewer {
     this.playing = false;
     this.url = null;
     this.pending = null;
-    this.wanted = null;
+    this.wanted = null; /* {t, exaggeration} of the next frame to load */
     this.available = null; /* null unknown, true frames load, false placeholder */
+    /* the factor, or undefined (its error shown next to the input) when not a number in the API's range */
+    const ex = els.exaggeration;
+    this.exaggeration = numberField(ex, { name: 'exaggeration', min: Number(ex.min), max: Number(ex.max) }, els.exaggerationError);
     els.scrub.addEventListener('input', () => this.request(this.scrubTime()));
     els.play.addEventListener('click', () => this.toggle());
     for (const e of [els.view, els.exaggeration, els.tension]) e.addEventListener('change', () => this.request(this.scrubTime()));
@@ -81,33 +84,24 @@ export class FrameViewer {
     return Number(this.els.scrub.value);
   }
 
-  /* The exaggeration factor, or undefined (its error shown by the input) when it is not a number in the API's range. */
-  exaggeration() {
-    const e = this.els.exaggeration;
-    const r = readNumber(e, { name: 'exaggeration', min: Number(e.min), max: Number(e.max) });
-    markInput(e, this.els.exaggerationError, r.error);
-    return r.value;
-  }
-
   /** Load the frame at time t (latest request wins; one in flight at a time). */
   request(t) {
     if (!this.session) return;
     this.els.time.textContent = `t = ${fmt(t)} s`;
-    if (this.exaggeration() === undefined) {
+    const { value: exaggeration } = this.exaggeration();
+    if (exaggeration === undefined) {
       this.pause(); /* nothing to play until the input is fixed */
       return;
     }
-    this.wanted = t;
+    this.wanted = { t, exaggeration };
     if (!this.pending) this.pending = this.load();
   }
 
   async load() {
-    while (this.wanted !== null && this.session) {
-      const t = this.wanted;
+    while (this.wanted && this.session) {
+      const { t, exaggeration } = this.wanted;
       const session = this.session;
-      const exaggeration = this.exaggeration();
       this.wanted = null;
-      if (exaggeration === undefined) break; /* the input says why */
       const img = this.els.img;
       const params = {
         t: t.toFixed(4),

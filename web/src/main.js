@@ -28,14 +28,12 @@ import { initSessionList } from './session_list.js';
 import { initCreateForm } from './create_form.js';
 
 const state = {
-  form: null,
-  sessions: [],
   compare: new Set(), /* ids ticked for Compare */
   session: null, /* the open session object */
-  store: null,
-  stream: null,
-  picks: [],
-  op: null, /* {id, timer} of the operation being polled */
+  store: null, /* its samples (SeriesStore) */
+  stream: null, /* its SSE stream, while one is open */
+  picks: [], /* the channels charted */
+  op: null, /* {id, sessionId, timer, meta} of the run operation being polled */
 };
 
 const plots = new LivePlots($('plots'));
@@ -59,7 +57,7 @@ window.tanksimDebug = { state, plots, compare, fft };
 
 initTokenForm(boot);
 const refreshList = () => list.refresh(); /* list is made last: it shows the open session */
-const header = initSessionHeader(state, frames);
+const header = initSessionHeader(state);
 const stream = initSessionStream(state);
 const picker = initChannelPicker(state, plots);
 const fftControls = initFftControls(state, fft);
@@ -67,7 +65,7 @@ const compareControls = initCompareControls(state, compare);
 const run = initRunControls(state, { header, stream, refreshList });
 const view = initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, run, refreshList });
 const list = initSessionList(state, { view, ticksChanged: compareControls.updateInfo });
-const form = initCreateForm(state, { refreshList, open: view.open });
+const form = initCreateForm({ refreshList, open: view.open });
 
 async function boot() {
   try {
@@ -87,9 +85,11 @@ async function boot() {
   await list.refresh();
 }
 
+/* the sample count and the frame scrubber's range follow the stored rows (close() resets them) */
 setInterval(() => {
+  if (!state.session) return;
   stream.updateCount();
-  if (state.session) frames.updateRange(state.store?.length ? state.store.t[state.store.length - 1] : state.session.t || 0);
+  frames.updateRange(state.store?.length ? state.store.t[state.store.length - 1] : state.session.t || 0);
 }, 300);
 setInterval(() => {
   if (!document.hidden) list.refresh();

@@ -1,7 +1,7 @@
 /*
  * messages.js — telling the user what went wrong: a panel's error box (an
  * ApiError's title, and its errors[] by JSON pointer), the banner at the
- * top, and the API token form that a 401 points to.
+ * top, and the API token form that a 401 points to (askForToken).
  */
 import { ApiError, getToken, setToken } from './api.js';
 import { $ } from './dom.js';
@@ -25,11 +25,7 @@ export function showError(box, err) {
     box.append(ul);
   }
   box.hidden = false;
-  if (e.status === 401) {
-    banner(getToken() ? 'The daemon rejected the saved API token: enter the right one at the top right and press Save.' : 'The daemon requires an API token: enter it at the top right and press Save.');
-    $('token-input').classList.add('attention');
-    $('token-input').focus();
-  }
+  if (e.status === 401) askForToken();
 }
 
 export const hideError = (box) => {
@@ -37,10 +33,17 @@ export const hideError = (box) => {
   box.replaceChildren();
 };
 
-export function banner(text) {
+function banner(text) {
   const b = $('banner');
   b.textContent = text || '';
   b.hidden = !text;
+}
+
+/* A 401: the banner says whether the token is missing or was rejected, and the token input asks for it. */
+export function askForToken() {
+  banner(getToken() ? 'The daemon rejected the saved API token: enter the right one at the top right and press Save.' : 'The daemon requires an API token: enter it at the top right and press Save.');
+  $('token-input').classList.add('attention');
+  $('token-input').focus();
 }
 
 /* The token form: Save keeps the token (api.js) and calls onSaved to load everything again. */

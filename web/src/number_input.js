@@ -6,7 +6,9 @@
  * it into 0 or "not given". Here such an entry, an empty required field and
  * an entry out of range become an error message that names the field, in the
  * daemon's words ("exaggeration: number in [0, 1000] expected, got '2000'"),
- * so the caller shows it next to the field and sends nothing.
+ * so the caller shows it next to the field and sends nothing. numberField()
+ * ties that to one input: reading it marks it invalid (with its message),
+ * typing in it again takes the mark away.
  */
 import { fmt } from './units.js';
 
@@ -41,11 +43,25 @@ export function readNumber(input, { name, min, max, above, optional = false } = 
   return out ? { error: `${expected}, got '${raw}'` } : { value: v };
 }
 
-/** Mark an input invalid with `message`, shown in the element `msg` (null: shown elsewhere); no message clears. */
-export function markInput(input, msg, message) {
+/* Mark an input invalid with `message`, shown in the element `msg` (null: shown elsewhere); no message clears. */
+function mark(input, msg, message) {
   input.classList.toggle('invalid', !!message);
   input.setAttribute('aria-invalid', message ? 'true' : 'false');
   if (!msg) return;
   msg.textContent = message || '';
   msg.hidden = !message;
+}
+
+/**
+ * A numeric input read with readNumber's options: the returned function gives
+ * {value} or {error} and marks the input (message in `msg`, or null when the
+ * caller shows it); an edit takes the mark away until the next read.
+ */
+export function numberField(input, options, msg = null) {
+  input.addEventListener('input', () => mark(input, msg, ''));
+  return () => {
+    const r = readNumber(input, options);
+    mark(input, msg, r.error);
+    return r;
+  };
 }

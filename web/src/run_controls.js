@@ -1,27 +1,27 @@
 /*
  * run_controls.js — Step, Run to end and Cancel for the open session, and
  * the polling of a run's long-running operation (state.op) that moves the
- * header and progress bar until the run is done, failed or cancelled.
+ * header and progress bar until the run is done, failed or cancelled. An
+ * answer that arrives after the polling stopped (another session opened, or
+ * another run followed) is dropped.
  */
 import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { markInput, readNumber } from './number_input.js';
+import { numberField } from './number_input.js';
 
 /* google.rpc code 1 = CANCELLED (the daemon also sends a problem type). */
 const isCancelled = (err) => err.code === 1 || /cancel/i.test(err.type || '');
 
 export function initRunControls(state, { header, stream, refreshList }) {
+  const stepDuration = numberField($('step-duration'), { name: 'step duration [s]', above: 0 });
+
   async function onStep() {
     const s = state.session;
     hideError($('session-error'));
-    const { value: duration, error } = readNumber($('step-duration'), { name: 'step duration [s]', above: 0 });
-    markInput($('step-duration'), null, error);
-    if (error) {
-      showError($('session-error'), new ApiError(0, { title: 'Not stepped', detail: error }));
-      return;
-    }
+    const { value: duration, error } = stepDuration();
     try {
+      if (error) throw new ApiError(0, { title: 'Not stepped', detail: error });
       await api.step(s.id, duration); /* synchronous: the answer is the session's new state */
       await header.refresh();
       stream.start(); /* fetch the new rows (the stream ends when they are sent) */
@@ -52,20 +52,22 @@ export function initRunControls(state, { header, stream, refreshList }) {
   /* Follow operation `id` of the open session; `first`: the operation itself when already at hand. */
   function poll(id, first) {
     stop();
-    const sessionId = state.session.id;
-    state.op = { id, sessionId, timer: null, meta: null };
+    const me = { id, sessionId: state.session.id, timer: null, meta: null };
+    state.op = me;
     delete $('progress-text').dataset.outcome;
     header.render();
+    /* stop() clears the timer, but not an answer already on its way */
     const tick = async (op) => {
-      if (!state.op || state.op.id !== id || state.session?.id !== sessionId) return;
       try {
         op = op || (await api.operation(id));
       } catch (e) {
+        if (state.op !== me) return;
         showError($('session-error'), e);
         stop();
         header.render();
         return;
       }
+      if (state.op !== me) return;
       const m = op.metadata || {};
       if (op.done) {
         stop();
@@ -79,10 +81,10 @@ export function initRunControls(state, { header, stream, refreshList }) {
         refreshList();
         return;
       }
-      state.op.meta = m;
+      me.meta = m;
       if (typeof m.t === 'number') Object.assign(state.session, { status: 'running', t: Math.max(m.t, state.session.t || 0) });
       header.render();
-      state.op.timer = setTimeout(() => tick(), 300);
+      me.timer = setTimeout(() => tick(), 300);
     };
     tick(first); /* POST run answers with the operation itself */
   }
@@ -99,8 +101,6 @@ export function initRunControls(state, { header, stream, refreshList }) {
   $('step-btn').addEventListener('click', onStep);
   $('run-btn').addEventListener('click', onRun);
   $('cancel-btn').addEventListener('click', onCancel);
-  /* an edited number field loses its error mark until it is used again */
-  $('step-duration').addEventListener('input', () => markInput($('step-duration'), null, ''));
 
   return { poll, stop };
 }

@@ -190,7 +190,7 @@ export class SchemaForm {
   updateHint(pointer) {
     const e = this.inputs.get(pointer);
     if (!e || !convertible(e.unit)) return;
-    const v = parseFloat(e.input.value);
+    const v = parseNumeral(e.input.value);
     const d = display(e.unit);
     e.hint.textContent = Number.isFinite(v) && d.factor !== 1 ? `= ${fmt(v * d.factor)} ${d.label}` : '';
   }
@@ -224,8 +224,9 @@ export class SchemaForm {
     if (t === 'array') {
       const items = input.value.split(/[\s,;]+/).filter(Boolean);
       if (!['number', 'integer'].includes(f.prop.items?.type)) return { value: items };
-      const bad = items.find((x) => !Number.isFinite(parseNumeral(x)));
-      return bad === undefined ? { value: items.map(Number) } : { error: `${f.pointer}: numbers separated by commas expected, got '${bad}'` };
+      const nums = items.map(parseNumeral);
+      const bad = nums.findIndex((v) => !Number.isFinite(v));
+      return bad < 0 ? { value: nums } : { error: `${f.pointer}: numbers separated by commas expected, got '${items[bad]}'` };
     }
     return { value: input.value };
   }
@@ -254,18 +255,14 @@ export class SchemaForm {
   }
 
   /**
-   * Mark the fields named by problem errors[].pointer. Returns the errors no
-   * field matched (shown by the caller in the general message box).
+   * Mark the fields named by problem errors[].pointer (the caller shows the
+   * whole list, those that match no field too, in the general message box).
    */
   showErrors(errors) {
-    const unmatched = [];
     let first = null;
     for (const err of errors || []) {
       const e = this.inputs.get(err.pointer) || this.inputs.get(parentField(err.pointer, this.inputs));
-      if (!e) {
-        unmatched.push(err);
-        continue;
-      }
+      if (!e) continue;
       e.row.classList.add('invalid');
       e.msg.textContent = e.msg.textContent ? `${e.msg.textContent}; ${err.message}` : err.message;
       if (!first) first = e;
@@ -275,7 +272,6 @@ export class SchemaForm {
       first.input.focus({ preventScroll: true });
       first.row.scrollIntoView({ block: 'center', behavior: 'smooth' });
     }
-    return unmatched;
   }
 }
 

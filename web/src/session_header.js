@@ -9,7 +9,7 @@ import { $ } from './dom.js';
 import { showError } from './messages.js';
 import { fmt } from './units.js';
 
-export function initSessionHeader(state, frames) {
+export function initSessionHeader(state) {
   /* Title, status, time, buttons and progress of the open session; `gone`: what to say when none is. */
   function render(gone) {
     const s = state.session;
@@ -42,16 +42,15 @@ export function initSessionHeader(state, frames) {
     renderProgress(state.op?.meta);
   }
 
-  /* The bar shows t / run duration (meta: the run operation's metadata, for its speed). */
+  /* The bar shows t / run duration (meta: the run operation's metadata, for
+   * its speed), not the operation's own progress: that restarts at 0 when a
+   * paused run continues, t / duration only moves forward. */
   function renderProgress(meta) {
-    const s = state.session;
-    const dur = s?.config?.run?.duration;
-    if (!s) resetProgress();
-    else if (dur) setProgress((s.t || 0) / dur, meta);
+    const dur = state.session?.config?.run?.duration;
+    if (dur) setProgress((state.session.t || 0) / dur, meta);
+    else resetProgress();
   }
 
-  /* t / duration only moves forward, also when a paused run continues (an
-   * operation's own progress restarts at 0 from where it was started). */
   function setProgress(frac, meta) {
     const pct = Math.max(0, Math.min(100, frac * 100));
     $('progress-bar').style.width = `${pct}%`;
@@ -69,7 +68,7 @@ export function initSessionHeader(state, frames) {
     delete $('progress-bar').parentElement.dataset.percent;
   }
 
-  /* GET the open session again and show it (header, frame scrubber range). */
+  /* GET the open session again and show it. */
   async function refresh() {
     if (!state.session) return;
     try {
@@ -77,7 +76,6 @@ export function initSessionHeader(state, frames) {
       if (!state.session || s.id !== state.session.id) return;
       state.session = s;
       render();
-      frames.updateRange(s.t || 0);
     } catch (e) {
       showError($('session-error'), e);
     }

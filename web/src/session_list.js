@@ -1,11 +1,12 @@
 /*
  * session_list.js — the sessions table (GET /v1/sessions, all pages), drawn
  * again on every refresh: a row opens its session, its checkbox ticks it for
- * Compare. An empty table says why (none yet, or the daemon refused).
+ * Compare (a session gone from the list is unticked). An empty table says
+ * why (none yet, or the daemon refused; a 401 also asks for the token).
  */
 import { allSessions, getToken } from './api.js';
 import { $ } from './dom.js';
-import { showError } from './messages.js';
+import { askForToken } from './messages.js';
 import { fmt } from './units.js';
 
 /* Why the list is empty: no sessions, or the daemon refused to list them. */
@@ -36,10 +37,11 @@ export function initSessionList(state, { view, ticksChanged }) {
   async function refresh() {
     const tbody = $('session-table').querySelector('tbody');
     const seen = view.snapshot();
+    let sessions;
     try {
-      state.sessions = await allSessions();
+      sessions = await allSessions();
     } catch (e) {
-      if (e.status === 401) showError($('create-error'), e);
+      if (e.status === 401) askForToken();
       tbody.replaceChildren();
       $('sessions-empty').textContent = listMessage(e);
       $('sessions-empty').dataset.problem = String(e.status ?? '');
@@ -49,7 +51,7 @@ export function initSessionList(state, { view, ticksChanged }) {
     $('sessions-empty').textContent = listMessage(null);
     delete $('sessions-empty').dataset.problem;
     tbody.replaceChildren();
-    for (const s of state.sessions) {
+    for (const s of sessions) {
       const tr = document.createElement('tr');
       tr.dataset.id = s.id;
       if (state.session && state.session.id === s.id) tr.classList.add('selected');
@@ -80,10 +82,11 @@ export function initSessionList(state, { view, ticksChanged }) {
       tr.addEventListener('click', () => view.open(s.id));
       tbody.append(tr);
     }
-    $('sessions-empty').hidden = state.sessions.length > 0;
-    for (const id of [...state.compare]) if (!state.sessions.some((s) => s.id === id)) state.compare.delete(id);
-    ticksChanged();
-    view.follow(seen);
+    $('sessions-empty').hidden = sessions.length > 0;
+    const ticked = state.compare.size;
+    for (const id of state.compare) if (!sessions.some((s) => s.id === id)) state.compare.delete(id);
+    if (state.compare.size !== ticked) ticksChanged(); /* else compare-info keeps what the last overlay said */
+    view.follow(seen, sessions);
   }
 
   $('refresh-sessions').addEventListener('click', refresh);

@@ -15,6 +15,11 @@ import { channelsOf } from './channels.js';
 const HISTORY_POINTS = 50000;
 
 export function initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, run, refreshList }) {
+  /* The open session's row in the list is highlighted (none when none is open). */
+  function markRow() {
+    for (const tr of $('session-table').querySelectorAll('tr[data-id]')) tr.classList.toggle('selected', tr.dataset.id === state.session?.id);
+  }
+
   async function open(id, given) {
     hideError($('session-error'));
     let s = given;
@@ -27,7 +32,7 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
     stream.stop();
     run.stop();
     state.session = s;
-    for (const tr of $('session-table').querySelectorAll('tr[data-id]')) tr.classList.toggle('selected', tr.dataset.id === s.id);
+    markRow();
     header.render();
     const chans = channelsOf(s);
     state.store = new SeriesStore(chans);
@@ -65,7 +70,7 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
     hideError($('session-error'));
     $('plots-empty').hidden = false;
     picker.clear();
-    for (const tr of $('session-table').querySelectorAll('tr.selected')) tr.classList.remove('selected');
+    markRow();
     header.render(notice);
     stream.updateCount();
   }
@@ -91,13 +96,14 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
     return s && { s, status: s.status, t: s.t, op: state.op };
   }
 
-  /* Keep the open session in step with the list (a run or a delete by another
-   * client), unless it changed here while the list was on its way (then the
-   * list is the older news) or an operation's polling already follows it. */
-  function follow(seen) {
+  /* Keep the open session in step with the list `sessions` (a run or a
+   * delete by another client), unless it changed here while the list was on
+   * its way (then the list is the older news) or an operation's polling
+   * already follows it. */
+  function follow(seen, sessions) {
     const s = state.session;
     if (!s || !seen || seen.s !== s || seen.status !== s.status || seen.t !== s.t || seen.op || state.op) return;
-    const sum = state.sessions.find((x) => x.id === s.id);
+    const sum = sessions.find((x) => x.id === s.id);
     if (!sum) {
       close(`Session ${s.id} no longer exists (deleted).`);
       return;

@@ -20,8 +20,8 @@ function digits(values, format) {
 
 const expo = (v, d) => v.toExponential(d).replace('e+', 'e');
 
-/** Labels for tick values (null -> ''), one format for all. */
-export function tickLabels(values) {
+/* Labels for tick values (null -> ''), one format for all. */
+function tickLabels(values) {
   const shown = values.filter((v) => v !== null && v !== undefined && Number.isFinite(v));
   const mags = shown.filter((v) => v !== 0).map(Math.abs);
   if (!mags.length) return values.map((v) => (shown.includes(v) ? '0' : ''));
