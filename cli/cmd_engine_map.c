@@ -16,23 +16,22 @@
  * launch). Columns: time, speed, the cycle means and eta_v, eta_i, q_wall.
  * Ambient: /driveline/ambient_pressure and ambient_temperature (the air the
  * vehicle runs' engine breathes).
+ *
+ * The full-load sweep is sim/engine_sweep.c and its columns (name, unit,
+ * format) are api/analysis_json.c's table, shared with the daemon's JSON
+ * document; this file writes them as CSV. The spool-ups are only here.
  */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "../api/analysis_json.h"
 #include "../sim/constants.h"
 #include "../sim/engine.h"
+#include "../sim/engine_sweep.h"
 #include "cli.h"
 
-#define RPM_HI 2100
-#define RPM_LO 800
-#define RPM_STEP 100
-#define NPOINT ((RPM_HI - RPM_LO) / RPM_STEP + 1)
-#define STEADY_CYCLES 80
-#define STEADY_TOL 2e-4
-#define SEARCH_TURBO 8000.0 /* rotor speed the lug-down starts from [rad/s] */
 #define PI TS_PI
 #define SPOOL_RPM_LO 800
 #define SPOOL_RPM_HI 2200
@@ -105,6 +104,42 @@ done:
     return rc;
 }
 
+/* ts_progress_fn of the sweep: one line per speed on stderr, from rated down. */
+static int sweep_progress(void *ud, int done, int total)
+{
+    const ts_engine_cycle *rows = ud;
+    int k = total - done; /* the row just finished (engine_sweep.h) */
+    int rpm = TS_ENGINE_SWEEP_RPM_LO + k * TS_ENGINE_SWEEP_RPM_STEP;
+    double w = rpm * PI / 30;
+    fprintf(stderr, "  %4d rpm  %7.1f N*m  %7.1f kW\n", rpm, rows[k].mean.brake_torque,
+            rows[k].mean.brake_torque * w / 1e3);
+    return 0;
+}
+
+/* The sweep's rows as CSV, ascending speed, columns as in the JSON document. */
+static int write_csv(const char *out, const ts_engine_cycle *rows)
+{
+    FILE *f = fopen(out, "w");
+    if (!f) {
+        fprintf(stderr, "tanksim engine-map: cannot write %s\n", out);
+        return TSC_EXIT_FAIL;
+    }
+    for (int j = 0; j < TSA_ENGINE_MAP_NCOLUMN; j++)
+        fprintf(f, "%s%s [%s]", j ? "," : "", tsa_engine_map_columns[j].name,
+                tsa_engine_map_columns[j].unit);
+    fputc('\n', f);
+    for (int k = 0; k < TS_ENGINE_SWEEP_NPOINT; k++) {
+        int rpm = TS_ENGINE_SWEEP_RPM_LO + k * TS_ENGINE_SWEEP_RPM_STEP;
+        for (int j = 0; j < TSA_ENGINE_MAP_NCOLUMN; j++) {
+            const tsa_engine_map_column *col = &tsa_engine_map_columns[j];
+            if (j) fputc(',', f);
+            fprintf(f, col->format, col->get(&rows[k], rpm));
+        }
+        fputc('\n', f);
+    }
+    return fclose(f) == 0 ? TSC_EXIT_OK : TSC_EXIT_FAIL;
+}
+
 int tsc_cmd_engine_map(int argc, char **argv)
 {
     const char *out = tsc_option(argc, argv, "--out");
@@ -117,66 +152,20 @@ int tsc_cmd_engine_map(int argc, char **argv)
         return TSC_EXIT_USAGE;
     }
     ts_err err;
-    ts_engine *e = ts_engine_make(&cfg, &err);
-    if (!e) {
-        tsc_print_err("engine-map", &err);
-        return TSC_EXIT_FAIL;
-    }
     if (spool_out) {
+        ts_engine *e = ts_engine_make(&cfg, &err);
+        if (!e) {
+            tsc_print_err("engine-map", &err);
+            return TSC_EXIT_FAIL;
+        }
         int src = spool(e, &cfg, spool_out);
         ts_engine_free(e);
         return src;
     }
-    double *x = calloc((size_t)ts_engine_nstate(e), sizeof *x);
-    ts_engine_cycle *rows = calloc(NPOINT, sizeof *rows);
-    if (!x || !rows) {
-        fprintf(stderr, "tanksim engine-map: out of memory\n");
-        free(x);
-        free(rows);
-        ts_engine_free(e);
+    ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT];
+    if (ts_engine_full_load_sweep(&cfg, rows, sweep_progress, rows, &err) != TS_OK) {
+        tsc_print_err("engine-map", &err);
         return TSC_EXIT_FAIL;
     }
-    ts_engine_inputs in = {.rack = cfg.control.rack, .fuel_per_cycle = -1,
-                           .p_amb = cfg.driveline.ambient_pressure,
-                           .T_amb = cfg.driveline.ambient_temperature, .hold_speed = 1};
-    ts_engine_init_state(e, RPM_HI * PI / 30, in.p_amb, in.T_amb, x);
-    ts_engine_set_turbo_speed(e, x, SEARCH_TURBO);
-    int rc = TSC_EXIT_OK;
-    for (int k = NPOINT - 1; k >= 0; k--) {
-        double w = (RPM_LO + k * RPM_STEP) * PI / 30;
-        if (ts_engine_steady(e, x, w, &in, STEADY_CYCLES, STEADY_TOL, &rows[k], &err) != TS_OK) {
-            tsc_print_err("engine-map", &err);
-            rc = TSC_EXIT_FAIL;
-            break;
-        }
-        fprintf(stderr, "  %4d rpm  %7.1f N*m  %7.1f kW\n", RPM_LO + k * RPM_STEP,
-                rows[k].mean.brake_torque, rows[k].mean.brake_torque * w / 1e3);
-    }
-    FILE *f = rc == TSC_EXIT_OK ? fopen(out, "w") : NULL;
-    if (rc == TSC_EXIT_OK && !f) {
-        fprintf(stderr, "tanksim engine-map: cannot write %s\n", out);
-        rc = TSC_EXIT_FAIL;
-    }
-    if (f) {
-        fprintf(f, "speed_rpm [rpm],speed [rad/s],torque [N*m],power [W],bsfc [g/kWh],"
-                   "boost [Pa],exhaust_temp [K],peak_pressure [Pa],fuel_flow [kg/s],"
-                   "air_flow [kg/s],phi [1],intake_temp [K],turbo_speed [rad/s],eta_v [1],"
-                   "eta_i [1],q_wall [1],energy_residual [1],mass_residual [1],cycles [1]\n");
-        for (int k = 0; k < NPOINT; k++) {
-            const ts_engine_cycle *c = &rows[k];
-            double w = (RPM_LO + k * RPM_STEP) * PI / 30;
-            fprintf(f, "%d,%.4f,%.2f,%.1f,%.2f,%.0f,%.1f,%.0f,%.6f,%.5f,%.4f,%.1f,%.0f,%.4f,%.4f,"
-                       "%.4f,%.3e,%.3e,%d\n",
-                    RPM_LO + k * RPM_STEP, w, c->mean.brake_torque, c->mean.brake_torque * w,
-                    c->bsfc * 3.6e9, c->mean.boost, c->mean.exhaust_temp, c->peak_pressure,
-                    c->mean.fuel_flow, c->mean.air_flow, c->mean.phi, c->mean.intake_temp,
-                    c->mean.turbo_speed, c->eta_v, c->eta_i, c->q_wall, c->energy_residual,
-                    c->mass_residual, c->cycles);
-        }
-        if (fclose(f) != 0) rc = TSC_EXIT_FAIL;
-    }
-    free(x);
-    free(rows);
-    ts_engine_free(e);
-    return rc;
+    return write_csv(out, rows);
 }

@@ -10,6 +10,7 @@
 #define TS_GRAVITY 9.80665                /* standard gravity [m/s^2] (ISO 80000-3) */
 #define TS_MPH     0.44704                /* m/s per mile per hour (exact) */
 #define TS_LBF     4.44822                /* N per pound-force, for display only */
+#define TS_HP      745.69987158227022     /* W per mechanical horsepower (550 ft*lbf/s), display only */
 
 /* Cold-air properties of the compressor map (engine_turbo.c): its head and
  * tip Mach number are reduced with constant cp and gamma of dry air at

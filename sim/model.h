@@ -63,6 +63,10 @@ ts_rc ts_reset(const ts_model *m, ts_data *d, ts_err *err);
  * (ts_advance then returns TS_ERR_CANCELLED, the state stays consistent at t). */
 typedef int (*ts_sample_fn)(void *ud, long index, double t, const double *values, int n);
 
+/* Progress of a multi-part computation: called after each part (done of total).
+ * A non-zero return asks the computation to stop; it then returns TS_ERR_CANCELLED. */
+typedef int (*ts_progress_fn)(void *ud, int done, int total);
+
 /* Integrate up to t_end (clamped to run.duration), calling fn (may be NULL) for
  * every sample row after the current one. On error the data keeps the last good
  * sample time and the error is sticky until ts_reset or ts_state_restore. */

@@ -17,12 +17,14 @@
  *   track_circuit.h  the upper track circuit and its eigenanalysis (Fig. 5)
  *   ivs_controller.h PI speed controller with saturation and gain schedule (Eq. 10, Fig. 27)
  *   zn_tuning.h      Ziegler-Nichols reaction-curve tuning (Eqs. 11-12, Fig. 26)
+ *   ivs_tune.h       the plant step that tuning is made from (point mass + powertrain)
  *   governor.h       two-speed governor of the fuel actuator (Section IV.B.2)
  *   cosim.h          leading-following co-simulation driver (Section IV.A)
  *   terrain.h        flat, bump-course and user-profile ground (Section II.D, Fig. 8)
  *   vehicle_model.h  the pitch-plane multibody vehicle with its track (Section II.C-D)
  *   fft.h            amplitude spectra (Figs. 13-14)
  *   engine.h         the virtual V-12 diesel, three fidelities (Section III.A-B)
+ *   engine_sweep.h   its full-load dynamometer sweep (Fig. 18)
  *   fuel_actuator.h  constant-phi fuel law (Eqs. 13-14)
  *   torque_converter.h, transmission.h, final_drive.h  the driveline (Section III.B.2)
  *   powertrain.h     engine + driveline as one subsystem (Fig. 16-17)
@@ -43,7 +45,9 @@
 #include "governor.h"
 #include "ivs_controller.h"
 #include "zn_tuning.h"
+#include "ivs_tune.h"
 #include "engine.h"
+#include "engine_sweep.h"
 #include "fft.h"
 #include "final_drive.h"
 #include "fuel_actuator.h"
