@@ -1,6 +1,7 @@
 /*
- * operations.c — run operations (operations.h): a fixed-capacity list kept in
- * creation order; when full, the oldest finished operation is dropped.
+ * operations.c — run and analysis operations (operations.h): a fixed-capacity
+ * list kept in creation order; when full, the oldest finished operation is
+ * dropped.
  */
 #define _GNU_SOURCE
 #include "operations.h"
@@ -14,8 +15,11 @@
 
 struct tsd_op {
     char id[24];
-    char sid[24];
-    double t_start, until, t;
+    char sid[24];      /* "" for an analysis */
+    const char *kind;  /* "run", or the analysis's kind */
+    double t_start, until, t;          /* a run's times [s] */
+    int parts_done, parts_total;       /* an analysis's progress */
+    int cancel;                        /* an analysis was asked to stop */
     double wall_start, wall_last;
     int done;
     json_t *response, *error;
@@ -52,15 +56,12 @@ void tsd_ops_free(tsd_server *srv)
     srv->ops = NULL;
 }
 
-tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double until)
+/* Register op (kept in creation order; when full, the oldest finished one is
+ * dropped); frees it and returns NULL when every kept operation is running. */
+static tsd_op *op_register(tsd_server *srv, tsd_op *op)
 {
     tsd_ops *o = srv->ops;
-    tsd_op *op = calloc(1, sizeof *op);
-    if (!op) return NULL;
     tsd_random_id(op->id, sizeof op->id, "op");
-    snprintf(op->sid, sizeof op->sid, "%s", sid);
-    op->t_start = op->t = t_start;
-    op->until = until;
     op->wall_start = op->wall_last = tsd_now();
     pthread_mutex_lock(&o->mu);
     if (o->n == TSD_MAX_OPS) {
@@ -79,6 +80,57 @@ tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double unti
     o->v[o->n++] = op;
     pthread_mutex_unlock(&o->mu);
     return op;
+}
+
+tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double until)
+{
+    tsd_op *op = calloc(1, sizeof *op);
+    if (!op) return NULL;
+    op->kind = "run";
+    snprintf(op->sid, sizeof op->sid, "%s", sid);
+    op->t_start = op->t = t_start;
+    op->until = until;
+    return op_register(srv, op);
+}
+
+tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total)
+{
+    tsd_op *op = calloc(1, sizeof *op);
+    if (!op) return NULL;
+    op->kind = kind;
+    op->parts_total = parts_total;
+    return op_register(srv, op);
+}
+
+void tsd_op_parts(tsd_server *srv, tsd_op *op, int parts_done, int parts_total)
+{
+    pthread_mutex_lock(&srv->ops->mu);
+    op->parts_done = parts_done;
+    op->parts_total = parts_total;
+    op->wall_last = tsd_now();
+    pthread_mutex_unlock(&srv->ops->mu);
+}
+
+int tsd_op_request_cancel(tsd_server *srv, const char *id)
+{
+    int found = 0;
+    pthread_mutex_lock(&srv->ops->mu);
+    for (int i = 0; i < srv->ops->n; i++) {
+        tsd_op *op = srv->ops->v[i];
+        if (strcmp(op->id, id) != 0) continue;
+        if (!op->sid[0] && !op->done) op->cancel = found = 1;
+        break;
+    }
+    pthread_mutex_unlock(&srv->ops->mu);
+    return found;
+}
+
+int tsd_op_cancel_requested(tsd_server *srv, tsd_op *op)
+{
+    pthread_mutex_lock(&srv->ops->mu);
+    int c = op->cancel;
+    pthread_mutex_unlock(&srv->ops->mu);
+    return c;
 }
 
 const char *tsd_op_id(const tsd_op *op)
@@ -107,19 +159,32 @@ void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
 /* Caller holds the lock. */
 static json_t *op_json(const tsd_op *op)
 {
-    double span = op->until - op->t_start;
-    double progress = span > 0 ? (op->t - op->t_start) / span : 1.0;
+    int run = op->sid[0] != '\0';
+    double progress;
+    if (run) {
+        double span = op->until - op->t_start;
+        progress = span > 0 ? (op->t - op->t_start) / span : 1.0;
+    } else {
+        progress = op->parts_total > 0 ? (double)op->parts_done / op->parts_total : 0.0;
+    }
     if (progress < 0) progress = 0;
     if (progress > 1) progress = 1;
     if (op->done && !op->error) progress = 1.0;
     double wall = op->wall_last - op->wall_start;
     char name[48];
     snprintf(name, sizeof name, "operations/%s", op->id);
-    json_t *j =
-        json_pack("{s:s,s:s,s:b,s:{s:s,s:f,s:f,s:f,s:f,s:f,s:f}}", "name", name, "id", op->id,
-                  "done", op->done, "metadata", "session", op->sid, "progress", progress, "t",
-                  op->t, "t_start", op->t_start, "until", op->until, "wall_time_s", wall,
-                  "real_time_factor", wall > 0 ? (op->t - op->t_start) / wall : 0.0);
+    json_t *j;
+    if (run)
+        j = json_pack("{s:s,s:s,s:b,s:{s:s,s:s,s:f,s:f,s:f,s:f,s:f,s:f}}", "name", name, "id",
+                      op->id, "done", op->done, "metadata", "kind", op->kind, "session", op->sid,
+                      "progress", progress, "t", op->t, "t_start", op->t_start, "until",
+                      op->until, "wall_time_s", wall, "real_time_factor",
+                      wall > 0 ? (op->t - op->t_start) / wall : 0.0);
+    else
+        j = json_pack("{s:s,s:s,s:b,s:{s:s,s:f,s:i,s:i,s:f}}", "name", name, "id", op->id,
+                      "done", op->done, "metadata", "kind", op->kind, "progress", progress,
+                      "parts_done", op->parts_done, "parts_total", op->parts_total,
+                      "wall_time_s", wall);
     if (j && op->done) {
         if (op->error)
             json_object_set(j, "error", op->error);

@@ -38,7 +38,9 @@
 #include "../api/session_json.h"
 #include "../api/spectrum.h"
 #include "../api/store.h"
+#include "../sim/param.h"
 #include "../sim/version.h"
+#include "analyses.h"
 #include "db.h"
 #include "frames.h"
 #include "operations.h"
@@ -888,6 +890,122 @@ static enum MHD_Result post_modes(tsd_request *r)
     return defer_body_job(r, 1, modes_job, MHD_HTTP_OK);
 }
 
+/* ---- analyses: engine map (Fig. 18) and IVS tuning (Figs. 26-27) ------------------ */
+
+/* The body's config (empty = the defaults) for command: a preset made for
+ * another command only is refused naming /preset. -1 when a 4xx was queued. */
+static int analysis_config(tsd_request *r, const char *command, ts_config *cfg,
+                           enum MHD_Result *ret)
+{
+    json_t *doc = body_object(r, 1, ret);
+    if (!doc) return -1;
+    ts_err e;
+    json_t *errors = json_array();
+    ts_rc rc = tsa_config_load(doc, cfg, NULL, errors, &e);
+    if (rc == TS_OK) rc = tsa_config_runnable(doc, command, &e);
+    json_decref(doc);
+    if (rc != TS_OK) {
+        *ret = reply_body_err(r, &e, errors);
+        return -1;
+    }
+    json_decref(errors);
+    return 0;
+}
+
+/* A 500 for an allocation that failed in a handler. */
+static enum MHD_Result reply_oom(tsd_request *r)
+{
+    ts_err e;
+    ts_err_set(&e, TS_ERR_NOMEM, NULL, "out of memory");
+    return tsd_reply_err(r, &e, NULL);
+}
+
+/* Start the analysis and answer 202 with its operation. Frees q. */
+static enum MHD_Result start_analysis(tsd_request *r, tsd_analysis_req *q)
+{
+    ts_err e;
+    json_t *op = NULL;
+    ts_rc rc = tsd_analysis_start(r->srv, q, &op, &e);
+    free(q);
+    if (rc != TS_OK) return tsd_reply_err(r, &e, NULL);
+    snprintf(r->location, sizeof r->location, "/v1/operations/%s",
+             json_string_value(json_object_get(op, "id")));
+    return tsd_reply_json(r, MHD_HTTP_ACCEPTED, op);
+}
+
+static enum MHD_Result post_engine_map(tsd_request *r)
+{
+    enum MHD_Result ret = MHD_NO;
+    tsd_analysis_req *q = calloc(1, sizeof *q);
+    if (!q) return reply_oom(r);
+    q->kind = TSD_ANALYSIS_ENGINE_MAP;
+    if (analysis_config(r, "engine-map", &q->cfg, &ret) < 0) {
+        free(q);
+        return ret;
+    }
+    return start_analysis(r, q);
+}
+
+/* Query parameter name as a comma-separated list of plain decimals within the
+ * range of config field ptr: 1 read (x[*n]), 0 absent, -1 replied 400. */
+static int q_schedule(tsd_request *r, const char *name, const char *ptr, double *x, int *n,
+                      enum MHD_Result *ret)
+{
+    const char *v = tsd_arg(r, name);
+    if (!v) return 0;
+    const ts_param *p = ts_param_find(ptr);
+    char what[160];
+    snprintf(what, sizeof what,
+             "1 to %d comma-separated numbers in [%g, %g] %s (the range of %s) expected",
+             TSA_TUNE_SCHEDULE_MAX, p->min, p->max, p->unit, ptr);
+    *n = 0;
+    const char *s = v;
+    for (;;) {
+        const char *end = strchr(s, ',');
+        size_t len = end ? (size_t)(end - s) : strlen(s);
+        char item[64];
+        if (*n == TSA_TUNE_SCHEDULE_MAX || len == 0 || len >= sizeof item) break;
+        memcpy(item, s, len);
+        item[len] = '\0';
+        errno = 0;
+        double xi = is_decimal(item, 0) ? strtod(item, NULL) : NAN;
+        if (!isfinite(xi) || errno || xi < p->min || xi > p->max) break;
+        x[(*n)++] = xi;
+        if (!end) return 1;
+        s = end + 1;
+    }
+    *ret = bad_param(r, name, what, v);
+    return -1;
+}
+
+static enum MHD_Result post_tune(tsd_request *r)
+{
+    enum MHD_Result ret = MHD_NO;
+    tsd_analysis_req *q = calloc(1, sizeof *q);
+    if (!q) return reply_oom(r);
+    q->kind = TSD_ANALYSIS_TUNE;
+    int m = q_schedule(r, "schedule_mass", "/vehicle/mass", q->x, &q->n, &ret);
+    int g = m < 0 ? 0 : q_schedule(r, "schedule_grade", "/vehicle/grade", q->x, &q->n, &ret);
+    if (m < 0 || g < 0) {
+        free(q);
+        return ret;
+    }
+    if (m > 0 && g > 0) {
+        free(q);
+        ts_err e;
+        ts_err_set(&e, TS_ERR_PARAM, "/schedule_grade",
+                   "query parameters schedule_mass and schedule_grade: one schedule variable "
+                   "per request");
+        return tsd_reply_err(r, &e, NULL);
+    }
+    if (m > 0 || g > 0) snprintf(q->var, sizeof q->var, "%s", m > 0 ? "mass" : "grade");
+    if (analysis_config(r, "tune", &q->cfg, &ret) < 0) {
+        free(q);
+        return ret;
+    }
+    return start_analysis(r, q);
+}
+
 /* ---- operations ------------------------------------------------------------------- */
 
 static enum MHD_Result get_operation(tsd_request *r)
@@ -910,7 +1028,9 @@ static enum MHD_Result cancel_operation(tsd_request *r)
     json_t *j = tsd_op_json(r->srv, r->params[0], sid, &done);
     if (!j) return get_operation(r);
     json_decref(j);
-    if (!done) {
+    if (!done && !sid[0]) { /* an analysis: its worker stops after the part in progress */
+        tsd_op_request_cancel(r->srv, r->params[0]);
+    } else if (!done) {
         tsd_session *s = tsd_session_get(r->srv, sid);
         if (s) {
             tsd_session_cancel(s, r->params[0]);
@@ -944,8 +1064,10 @@ static const tsd_route_row routes[] = {
     {"GET", "/v1/sessions/{id}/frame.png", get_frame, RF_SESSION | RF_WORK, "t " Q_VIEW, "One rendered frame (PNG)"},
     {"GET", "/v1/sessions/{id}/frames", get_frames, RF_SESSION | RF_WORK, "fps format from to " Q_VIEW, "Animation of stored frames"},
     {"POST", "/v1/modes", post_modes, RF_WORK, "", "Track eigenanalysis (tanksim modes)"},
-    {"GET", "/v1/operations/{id}", get_operation, 0, "", "State of a run operation"},
-    {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "", "Cancel a run operation"},
+    {"POST", "/v1/engine-map", post_engine_map, RF_WORK, "", "Full-load engine map, an operation (tanksim engine-map)"},
+    {"POST", "/v1/tune", post_tune, RF_WORK, "schedule_mass schedule_grade", "IVS Ziegler-Nichols tuning, an operation (tanksim tune)"},
+    {"GET", "/v1/operations/{id}", get_operation, 0, "", "State of a run or analysis operation"},
+    {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "", "Cancel a run or analysis operation"},
     {"GET", "/", tsd_static_index, RF_PUBLIC, "*", "The browser dashboard (web_static/index.html)"},
     {"GET", "/static/{file}", tsd_static_file, RF_PUBLIC, "*", "Dashboard assets (web_static/FILE)"},
 };
