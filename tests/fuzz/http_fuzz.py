@@ -479,7 +479,7 @@ def gen_cases(rng, rts, ids, subset):
         for name, b, exp, prm in bodies:
             if fp.endswith(":cancel"):
                 exp = "any"  # cancel reads no body
-            if "modes" in fp and name in ("empty",):
+            if fp.endswith(("/modes", "/engine-map", "/tune")) and name in ("empty",):
                 exp = "any"  # optional body: {} is the default config
             if fp.endswith("/run") and name == "empty":
                 exp = "any"
