@@ -18,6 +18,10 @@
 // run's operation answer that arrives after another session was opened
 // changes nothing; a deleted session leaves no data on screen; a 401 says so
 // in the session list; nothing overflows at 1024 px.
+// The Analyses panel: an engine map (mean-value) drawn with its rated point,
+// a tuning with its gains and a gain schedule, a bad schedule value marked on
+// its field and not sent, and the daemon's 429 (one analysis at a time) shown
+// in its words, the running map then cancelled.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -173,7 +177,7 @@ function recordRequests(page) {
 const axisLabels = (page) =>
   page.evaluate(() => {
     const dbg = window.tanksimDebug;
-    const plots = [...dbg.plots.charts.map((c) => [c.name, c.plot]), ['fft', dbg.fft.plot], ['compare', dbg.compare.plot]];
+    const plots = [...dbg.plots.charts.map((c) => [c.name, c.plot]), ['fft', dbg.fft.plot], ['compare', dbg.compare.plot], ['engine map', dbg.engineMap.plot]];
     return plots.filter(([, p]) => p).flatMap(([chart, p]) => p.axes.map((a, axis) => ({ chart, axis, labels: a._values || [] })));
   });
 
@@ -192,7 +196,7 @@ async function assertCleared(page, id) {
   const v = await page.evaluate(() => ({
     charts: document.querySelectorAll('#plots .chart').length,
     samples: document.getElementById('sample-count').dataset.count,
-    percent: document.querySelector('.progress').dataset.percent ?? null,
+    percent: document.querySelector('#run-progress').dataset.percent ?? null,
     progress: document.getElementById('progress-text').textContent,
     frame: !document.getElementById('frame-img').hidden,
     fft: document.querySelectorAll('#fft-plot .uplot').length,
@@ -219,7 +223,7 @@ async function runToEnd(page, { watchGrowth = false } = {}) {
   await waitFor(
     async () => {
       if (watchGrowth) counts.push(await sampleCount(page));
-      return (await page.locator('.progress').getAttribute('data-percent')) === '100.0';
+      return (await page.locator('#run-progress').getAttribute('data-percent')) === '100.0';
     },
     'progress 100 %',
     60000,
@@ -244,7 +248,7 @@ async function main() {
   let secondId;
   let deletedId;
   try {
-    d = await startDaemon();
+    d = await startDaemon('--threads', '2'); /* analyses: at most max(1, threads - 1) = 1 at once, on any machine */
 
     await check('daemon serves the dashboard: / is HTML, assets with content types, no traversal', async () => {
       const r = await fetch(`${d.url}/`);
@@ -635,6 +639,104 @@ async function main() {
       assert(!/no channel/.test(await text(page, '#compare-info')), 'a session named as lacking vehicle.speed');
     });
 
+    await check('analyses: an engine map at mean-value fidelity is drawn (14 speeds, torque and power) with its rated point', async () => {
+      await page.selectOption('#map-preset', 'engine-map-conventional');
+      await page.selectOption('#map-fidelity', 'mean_value');
+      await page.click('#map-run');
+      await waitFor(async () => (await page.locator('#map-progress').getAttribute('data-outcome')) === 'done', 'the engine map done', 20000);
+      assert(await page.locator('#map-error').isHidden(), `error: ${await text(page, '#map-error')}`);
+      const summary = await text(page, '#map-summary');
+      const m = /^rated: ([\d.]+) kW \(([\d.]+) hp\) at 2100 rpm$/.exec(summary);
+      assert(m, `summary "${summary}"`);
+      const kw = Number(m[1]);
+      assert(kw >= 900 && kw <= 1300, `rated power ${kw} kW outside 900-1300 kW`);
+      assert(Math.abs(Number(m[2]) / kw - 1.341) < 0.01, `hp ${m[2]} does not go with ${kw} kW`);
+      const chart = await page.evaluate(() => {
+        const p = window.tanksimDebug.engineMap.plot;
+        return p && { n: p.data.length, xs: [...p.data[0]], torque: [...p.data[1]], power: [...p.data[2]], labels: p.series.map((s) => s.label) };
+      });
+      assert(chart && chart.n === 3, `chart series: ${JSON.stringify(chart)}`);
+      assert(chart.xs.length === 14 && chart.xs[0] === 800 && chart.xs[13] === 2100, `speeds ${chart.xs}`);
+      assert(chart.torque.every((v) => v > 1000 && v < 10000), `torque [N*m] ${chart.torque}`);
+      assert(Math.abs(chart.power[13] - kw) < 0.01 * kw, `power at 2100 rpm ${chart.power[13]} kW, rated ${kw} kW`);
+      assert(/torque \[N\*m\]/.test(chart.labels[1]) && /power \[kW\]/.test(chart.labels[2]), `labels ${chart.labels}`);
+      assert((await page.locator('#map-progress').getAttribute('data-percent')) === '100', 'progress not at 100 %');
+      assert((await text(page, '#map-progress-text')).startsWith('14 / 14'), `progress "${await text(page, '#map-progress-text')}"`);
+      assert(await page.locator('#map-cancel').isDisabled(), 'Cancel enabled after the map is done');
+      const axes = (await axisLabels(page)).filter((a) => a.chart === 'engine map');
+      const mixed = axes.map((a) => ({ ...a, styles: tickStyles(a.labels) })).filter((a) => a.styles.length !== 1);
+      assert(axes.length === 3 && !mixed.length, `engine-map axes: ${JSON.stringify(axes)}`);
+      await page.locator('#analyses-panel').scrollIntoViewIfNeeded();
+      await shot(page, '06c-engine-map');
+    });
+
+    await check('analyses: tuning shows K_p and T_I; with a schedule over mass 50000,60000 a 2-row schedule table', async () => {
+      await page.selectOption('#tune-preset', 'bump-coupled-ivs5mph');
+      await page.selectOption('#tune-var', '');
+      await page.click('#tune-run');
+      await waitFor(async () => (await page.locator('#tune-progress').getAttribute('data-outcome')) === 'done', 'the tuning done', 20000);
+      assert(await page.locator('#tune-error').isHidden(), `error: ${await text(page, '#tune-error')}`);
+      const value = (key) => page.locator(`#tune-result .tune-params tr[data-key="${key}"] td.num`).getAttribute('data-value').then(Number);
+      const [kp, ti] = [await value('kp'), await value('ti')];
+      assert(kp > 0 && kp < 10 && ti > 0 && ti < 100, `K_p ${kp}, T_I ${ti}`);
+      const row = await text(page, '#tune-result .tune-params tr[data-key="kp"]');
+      assert(/K_p \[rack\/\(m\/s\)\]/.test(row) && /\d/.test(row), `K_p row "${row}"`);
+      assert((await page.locator('#tune-result .tune-schedule').count()) === 0, 'a schedule table without a schedule');
+      await page.selectOption('#tune-var', 'mass');
+      await page.fill('#tune-values', '50000, 60000');
+      await page.click('#tune-run');
+      await waitFor(async () => (await page.locator('#tune-result .tune-schedule tbody tr').count()) === 2, 'the 2-row schedule table', 20000);
+      const rows = await page.locator('#tune-result .tune-schedule tbody tr').allInnerTexts();
+      assert(/^50000\s/.test(rows[0]) && /^60000\s/.test(rows[1]), `schedule rows ${JSON.stringify(rows)}`);
+      const kps = await page.locator('#tune-result .tune-schedule tbody tr td:nth-child(2)').evaluateAll((tds) => tds.map((td) => Number(td.dataset.value)));
+      assert(kps[0] > 0 && kps[0] < kps[1], `schedule K_p ${kps} (heavier needs more gain)`);
+      await shot(page, '06d-tune');
+    });
+
+    await check('analyses: a bad schedule value is marked on its field, naming it, and nothing is sent', async () => {
+      await page.selectOption('#tune-var', 'mass');
+      const before = await page.locator('#tune-result .tune-schedule tbody tr').count();
+      for (const [bad, want] of [['abc', "'abc'"], ['50000,,60000', 'empty entry'], ['50000,1e9', "'1e9'"]]) {
+        await page.fill('#tune-values', bad);
+        const rec = recordRequests(page);
+        await page.click('#tune-run');
+        await page.waitForTimeout(300);
+        rec.stop();
+        const sent = rec.seen.filter((r) => r.startsWith('POST /v1/tune'));
+        assert(!sent.length, `"${bad}": sent ${sent}`);
+        assert(await page.locator('#tune-values').evaluate((e) => e.classList.contains('invalid') && e.getAttribute('aria-invalid') === 'true'), `"${bad}": the field is not marked`);
+        const msg = await text(page, '#tune-values-error');
+        assert(msg.includes('schedule masses [kg]') && msg.includes(want), `"${bad}": message "${msg}"`);
+      }
+      assert((await page.locator('#tune-result .tune-schedule tbody tr').count()) === before, 'the last result went though nothing was sent');
+      await page.fill('#tune-values', '50000');
+      assert(!(await page.locator('#tune-values').evaluate((e) => e.classList.contains('invalid'))), 'the mark stays after an edit');
+      assert(await page.locator('#tune-values-error').isHidden(), 'the message stays after an edit');
+    });
+
+    await check("analyses: a second analysis while a crank-angle map runs shows the daemon's 429 message; Cancel stops the map", async () => {
+      await page.selectOption('#map-fidelity', 'crank_angle');
+      await page.click('#map-run');
+      await waitFor(() => page.evaluate(() => !!window.tanksimDebug.state.analyses.engine_map), 'the crank-angle map running');
+      await page.selectOption('#tune-var', '');
+      await page.click('#tune-run');
+      await waitFor(async () => !(await page.locator('#tune-error').isHidden()), 'the tuning refused');
+      const msg = await text(page, '#tune-error');
+      assert(/at most 1 at once/.test(msg) && /already running/.test(msg), `not the daemon's message: "${msg}"`);
+      assert((await page.locator('#tune-progress').getAttribute('data-outcome')) === 'failed', 'tune progress not marked failed');
+      assert(await page.locator('#tune-run').isEnabled(), 'Run stays disabled after the refusal');
+      assert(await page.locator('#map-cancel').isEnabled(), 'no Cancel while the map runs');
+      await page.locator('#analyses-panel').scrollIntoViewIfNeeded();
+      await shot(page, '06e-analysis-429');
+      await page.click('#map-cancel');
+      await waitFor(async () => (await page.locator('#map-progress').getAttribute('data-outcome')) === 'cancelled', 'the map cancelled', 15000);
+      assert(/cancelled/.test(await text(page, '#map-progress-text')), `progress "${await text(page, '#map-progress-text')}"`);
+      assert(Number(await page.locator('#map-progress').getAttribute('data-percent')) < 100, 'a cancelled map at 100 %');
+      assert(await page.locator('#map-error').isHidden(), `a cancel shown as an error: ${await text(page, '#map-error')}`);
+      assert((await page.locator('#map-plot .uplot').count()) === 0 && (await text(page, '#map-summary')) === '', 'a map shown for the cancelled run');
+      assert(await page.locator('#map-run').isEnabled(), 'Run disabled after the cancel');
+    });
+
     await check('review 10: every chart axis labels its ticks with numbers in one format', async () => {
       await page.waitForTimeout(300);
       const axes = await axisLabels(page);
@@ -667,7 +769,7 @@ async function main() {
       await waitFor(async () => (await page.locator('#progress-text').getAttribute('data-outcome')) === 'cancelled', 'the cancelled outcome');
       const st = await text(page, '#session-status');
       assert(st === 'paused', `status after cancel: ${st}`);
-      const pct = Number(await page.locator('.progress').getAttribute('data-percent'));
+      const pct = Number(await page.locator('#run-progress').getAttribute('data-percent'));
       assert(pct > 0 && pct < 100, `progress after cancel ${pct} %`);
       const n1 = await sampleCount(page);
       await page.waitForTimeout(800);
@@ -684,7 +786,7 @@ async function main() {
       /* progress, header time and status, read at one instant */
       const header = () =>
         page.evaluate(() => ({
-          p: Number(document.querySelector('.progress').dataset.percent),
+          p: Number(document.querySelector('#run-progress').dataset.percent),
           t: Number(/t = ([-\d.e+]+) s/.exec(document.getElementById('session-meta').textContent)?.[1]),
           status: document.getElementById('session-status').textContent,
         }));
@@ -799,6 +901,14 @@ async function main() {
         await narrow.click(`#session-table tr[data-id="${firstId}"] td:nth-child(2)`);
         await waitFor(async () => (await sampleCount(narrow)) > 10, 'the session open');
         await narrow.click('#schema-form .all-params summary');
+        /* the Analyses panel with its results: a map chart, the tuning and schedule tables */
+        await narrow.selectOption('#map-fidelity', 'mean_value');
+        await narrow.click('#map-run');
+        await waitFor(async () => (await narrow.locator('#map-plot .uplot').count()) === 1, 'the engine map', 20000);
+        await narrow.selectOption('#tune-var', 'grade');
+        await narrow.fill('#tune-values', '0,0.05');
+        await narrow.click('#tune-run');
+        await waitFor(async () => (await narrow.locator('#tune-result .tune-schedule tbody tr').count()) === 2, 'the tuning', 20000);
         await narrow.waitForTimeout(300);
         const res = await narrow.evaluate(() => {
           const vw = document.documentElement.clientWidth;

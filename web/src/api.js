@@ -100,6 +100,10 @@ export const api = {
     request('POST', `/v1/sessions/${enc(id)}/run`, {
       body: { ...(until === undefined ? {} : { until }), ...(rtf ? { real_time_factor: rtf } : {}) },
     }),
+  /* analyses (operations): doc is a run config, e.g. {preset: 'engine-map-lhr10'} */
+  engineMap: (doc) => request('POST', '/v1/engine-map', { body: doc }),
+  /* params: {schedule_mass: '50000,60000'} or {schedule_grade: ...} (optional) */
+  tune: (doc, params = {}) => request('POST', `/v1/tune${qs(params)}`, { body: doc }),
   operation: (opId) => request('GET', `/v1/operations/${enc(opId)}`),
   cancel: (opId) => request('POST', `/v1/operations/${enc(opId)}:cancel`),
   series: (id, params) => request('GET', `/v1/sessions/${enc(id)}/series${qs({ format: 'json', ...params })}`),

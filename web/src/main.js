@@ -6,7 +6,8 @@
  * create_form (from /v1/schema), session_view (open / close / delete),
  * session_header (header, progress), run_controls (step, run, cancel,
  * operation polling), session_stream (live rows), channels (chips, unit
- * toggles), fft_controls and compare_controls (their panels' forms).
+ * toggles), fft_controls and compare_controls (their panels' forms),
+ * engine_map_controls and tune_controls (the Analyses panel's forms).
  */
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
@@ -16,6 +17,7 @@ import { LivePlots } from './plots.js';
 import { FftPanel } from './fft.js';
 import { FrameViewer } from './frames.js';
 import { ComparePanel } from './compare.js';
+import { EngineMapPanel } from './engine_map.js';
 import { hideError, initTokenForm, showError } from './messages.js';
 import { initSessionHeader } from './session_header.js';
 import { initSessionStream } from './session_stream.js';
@@ -26,6 +28,8 @@ import { initRunControls } from './run_controls.js';
 import { initSessionView } from './session_view.js';
 import { initSessionList } from './session_list.js';
 import { initCreateForm } from './create_form.js';
+import { initEngineMapControls } from './engine_map_controls.js';
+import { initTuneControls } from './tune_controls.js';
 
 const state = {
   compare: new Set(), /* ids ticked for Compare */
@@ -34,11 +38,13 @@ const state = {
   stream: null, /* its SSE stream, while one is open */
   picks: [], /* the channels charted */
   op: null, /* {id, sessionId, timer, meta} of the run operation being polled */
+  analyses: { engine_map: null, tune: null }, /* {id, timer} of each analysis operation being polled */
 };
 
 const plots = new LivePlots($('plots'));
 const fft = new FftPanel($('fft-plot'));
 const compare = new ComparePanel($('compare-plot'));
+const engineMap = new EngineMapPanel($('map-plot'), $('map-summary'));
 const frames = new FrameViewer({
   img: $('frame-img'),
   placeholder: $('frame-placeholder'),
@@ -53,7 +59,7 @@ const frames = new FrameViewer({
 });
 
 /* Read-only handle for the browser test (tests/web/dashboard.test.mjs). */
-window.tanksimDebug = { state, plots, compare, fft };
+window.tanksimDebug = { state, plots, compare, fft, engineMap };
 
 initTokenForm(boot);
 const refreshList = () => list.refresh(); /* list is made last: it shows the open session */
@@ -66,6 +72,8 @@ const run = initRunControls(state, { header, stream, refreshList });
 const view = initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, run, refreshList });
 const list = initSessionList(state, { view, ticksChanged: compareControls.updateInfo });
 const form = initCreateForm({ refreshList, open: view.open });
+initEngineMapControls(state, engineMap);
+initTuneControls(state);
 
 async function boot() {
   try {

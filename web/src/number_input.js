@@ -8,7 +8,8 @@
  * daemon's words ("exaggeration: number in [0, 1000] expected, got '2000'"),
  * so the caller shows it next to the field and sends nothing. numberField()
  * ties that to one input: reading it marks it invalid (with its message),
- * typing in it again takes the mark away.
+ * typing in it again takes the mark away. readNumberList / numberListField
+ * do the same for a text input of comma-separated numbers ("50000,60000").
  */
 import { fmt } from './units.js';
 
@@ -43,6 +44,26 @@ export function readNumber(input, { name, min, max, above, optional = false } = 
   return out ? { error: `${expected}, got '${raw}'` } : { value: v };
 }
 
+/**
+ * The comma-separated numbers in a text input: {value: [numbers]} or {error}.
+ * name, min, max, optional: as readNumber's; most: the most entries taken.
+ */
+export function readNumberList(input, { name, min, max, most = Infinity, optional = false } = {}) {
+  const raw = input.value.trim();
+  const count = Number.isFinite(most) ? `1 to ${most} ` : '';
+  const expected = `${name}: ${count}comma-separated numbers${rangeText({ min, max })} expected`;
+  if (raw === '') return optional ? { value: undefined } : { error: `${expected}, got nothing` };
+  const items = raw.split(',').map((s) => s.trim());
+  const values = items.map(parseNumeral);
+  const bad = items.findIndex((s, i) => {
+    const v = values[i];
+    return !Number.isFinite(v) || (min !== undefined && v < min) || (max !== undefined && v > max);
+  });
+  if (bad >= 0) return { error: `${expected}, got ${items[bad] === '' ? 'an empty entry' : `'${items[bad]}'`}` };
+  if (values.length > most) return { error: `${expected}, got ${values.length}` };
+  return { value: values };
+}
+
 /* Mark an input invalid with `message`, shown in the element `msg` (null: shown elsewhere); no message clears. */
 function mark(input, msg, message) {
   input.classList.toggle('invalid', !!message);
@@ -58,9 +79,21 @@ function mark(input, msg, message) {
  * caller shows it); an edit takes the mark away until the next read.
  */
 export function numberField(input, options, msg = null) {
+  return markedField(readNumber, input, options, msg);
+}
+
+/** numberField for a list of comma-separated numbers (readNumberList's options). */
+export function numberListField(input, options, msg = null) {
+  return markedField(readNumberList, input, options, msg);
+}
+
+/* Mark an input from a field's message (a daemon's error about it): an edit takes the mark away. */
+export const markInvalid = (input, message, msg = null) => mark(input, msg, message);
+
+function markedField(read, input, options, msg) {
   input.addEventListener('input', () => mark(input, msg, ''));
   return () => {
-    const r = readNumber(input, options);
+    const r = read(input, options);
     mark(input, msg, r.error);
     return r;
   };

@@ -1,0 +1,110 @@
+/*
+ * analysis_op.js — the operation of one analysis form (POST /v1/engine-map,
+ * POST /v1/tune): Run starts it, polling GET /v1/operations/{id} moves the
+ * form's progress bar (parts_done / parts_total), Cancel asks the daemon to
+ * stop it after the part in progress, and the response goes to onDone. The
+ * operation polled is state.analyses[kind]; an answer that arrives after it
+ * was replaced is dropped. A refusal (400, 429: one analysis at a time) or
+ * a failed operation is shown in the form's error box in the daemon's words.
+ *
+ * Elements, by the form's prefix p: p-run, p-cancel, p-error, p-progress
+ * (data-percent, data-outcome), p-progress-bar, p-progress-text.
+ */
+import { api, ApiError } from './api.js';
+import { $ } from './dom.js';
+import { hideError, showError } from './messages.js';
+
+/* google.rpc code 1 = CANCELLED (the daemon also sends a problem type). */
+const isCancelled = (err) => err.code === 1 || /cancel/i.test(err.type || '');
+
+/**
+ * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
+ * draw the result (may throw an ApiError: shown as the form's error).
+ * Returns {start(begin)}: begin() sends the request and resolves to the operation.
+ */
+export function initAnalysisOp(state, kind, prefix, { onDone }) {
+  const el = (name) => $(`${prefix}-${name}`);
+  const box = el('error');
+
+  function render(meta, outcome) {
+    const total = meta?.parts_total;
+    const done = meta?.parts_done ?? 0;
+    const pct = total ? Math.round((100 * done) / total) : 0;
+    el('progress-bar').style.width = `${pct}%`;
+    el('progress').dataset.percent = String(pct);
+    if (outcome) el('progress').dataset.outcome = outcome;
+    else delete el('progress').dataset.outcome;
+    const parts = total ? `${done} / ${total} parts · ${pct} %` : '';
+    const end = outcome === 'cancelled' || outcome === 'failed' ? outcome : '';
+    el('progress-text').textContent = [parts, end].filter(Boolean).join(' · ') || '—';
+    const running = state.analyses[kind] !== null;
+    el('run').disabled = running;
+    el('cancel').disabled = !running;
+  }
+
+  function stop() {
+    clearTimeout(state.analyses[kind]?.timer);
+    state.analyses[kind] = null;
+  }
+
+  async function start(begin) {
+    hideError(box);
+    stop();
+    render(null);
+    el('run').disabled = true; /* until the daemon answers */
+    let op;
+    try {
+      op = await begin();
+    } catch (e) {
+      showError(box, e);
+      render(null, 'failed');
+      return;
+    }
+    const me = { id: op.id, timer: null };
+    state.analyses[kind] = me;
+    const tick = async (first) => {
+      let cur;
+      try {
+        cur = first || (await api.operation(me.id));
+      } catch (e) {
+        if (state.analyses[kind] !== me) return;
+        stop();
+        showError(box, e);
+        render(null, 'failed');
+        return;
+      }
+      if (state.analyses[kind] !== me) return;
+      if (!cur.done) {
+        render(cur.metadata);
+        me.timer = setTimeout(() => tick(), 200);
+        return;
+      }
+      stop();
+      let outcome = 'done';
+      try {
+        if (cur.error && isCancelled(cur.error)) outcome = 'cancelled';
+        else if (cur.error) throw new ApiError(cur.error.status || 500, cur.error);
+        else onDone(cur.response);
+      } catch (e) {
+        outcome = 'failed';
+        showError(box, e);
+      }
+      render(cur.metadata, outcome);
+    };
+    tick(op); /* the POST answers with the operation itself */
+  }
+
+  async function onCancel() {
+    const me = state.analyses[kind];
+    if (!me) return;
+    try {
+      await api.cancel(me.id);
+    } catch (e) {
+      showError(box, e);
+    }
+  }
+
+  el('cancel').addEventListener('click', onCancel);
+  render(null);
+  return { start };
+}

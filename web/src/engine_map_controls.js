@@ -1,0 +1,21 @@
+/*
+ * engine_map_controls.js — the Analyses panel's engine-map form: an
+ * engine-map preset (the variant) and the engine fidelity, sent as a run
+ * config to POST /v1/engine-map; the operation is followed by analysis_op.js
+ * and its map drawn by EngineMapPanel (engine_map.js).
+ */
+import { api } from './api.js';
+import { $ } from './dom.js';
+import { initAnalysisOp } from './analysis_op.js';
+
+export function initEngineMapControls(state, engineMap) {
+  const op = initAnalysisOp(state, 'engine_map', 'map', { onDone: (doc) => engineMap.show(doc) });
+
+  function onRun() {
+    const doc = { preset: $('map-preset').value, engine: { fidelity: $('map-fidelity').value } };
+    engineMap.clear(); /* the last map is not the answer to this request */
+    op.start(() => api.engineMap(doc));
+  }
+
+  $('map-run').addEventListener('click', onRun);
+}

@@ -1,0 +1,61 @@
+/*
+ * tune_controls.js — the Analyses panel's tuning form: a config preset whose
+ * resolved config can be tuned, and optionally a gain-schedule variable
+ * (mass or grade) with its comma-separated values, checked here before
+ * anything is sent (number_input.js) and by the daemon again; POST /v1/tune,
+ * followed by analysis_op.js, its result shown by showTuning (tune.js).
+ */
+import { api, ApiError } from './api.js';
+import { $ } from './dom.js';
+import { hideError } from './messages.js';
+import { markInvalid, numberListField } from './number_input.js';
+import { initAnalysisOp } from './analysis_op.js';
+import { showTuning } from './tune.js';
+
+/* The schedule variables: query parameter, and the range of /vehicle/mass and
+ * /vehicle/grade (GET /v1/schema; the daemon takes 1 to 16 values). */
+const SCHEDULE = {
+  mass: { param: 'schedule_mass', name: 'schedule masses [kg]', min: 1000, max: 200000, placeholder: 'e.g. 50000,60000,70000' },
+  grade: { param: 'schedule_grade', name: 'schedule grades [rad]', min: -0.6, max: 0.6, placeholder: 'e.g. 0,0.05,0.1' },
+};
+const MOST = 16;
+
+export function initTuneControls(state) {
+  const op = initAnalysisOp(state, 'tune', 'tune', { onDone: (doc) => showTuning($('tune-result'), doc) });
+  const input = $('tune-values');
+  const fields = Object.fromEntries(
+    Object.entries(SCHEDULE).map(([k, s]) => [k, numberListField(input, { name: s.name, min: s.min, max: s.max, most: MOST }, $('tune-values-error'))]),
+  );
+
+  function onVar() {
+    const s = SCHEDULE[$('tune-var').value];
+    input.disabled = !s;
+    input.placeholder = s ? s.placeholder : 'no schedule';
+    markInvalid(input, '', $('tune-values-error'));
+  }
+
+  function onRun() {
+    const box = $('tune-error');
+    hideError(box);
+    const v = $('tune-var').value;
+    const s = SCHEDULE[v];
+    const read = s ? fields[v]() : { value: undefined };
+    if (read.error) return; /* shown on the field */
+    const params = s ? { [s.param]: read.value.join(',') } : {};
+    $('tune-result').replaceChildren(); /* the last result is not the answer to this request */
+    op.start(async () => {
+      try {
+        return await api.tune({ preset: $('tune-preset').value }, params);
+      } catch (e) {
+        /* the daemon names the query parameter: mark the values field */
+        const about = e instanceof ApiError && s && e.errors.find((x) => x.pointer === `/${s.param}`);
+        if (about) markInvalid(input, about.message); /* the message is in the error box */
+        throw e;
+      }
+    });
+  }
+
+  $('tune-var').addEventListener('change', onVar);
+  $('tune-run').addEventListener('click', onRun);
+  onVar();
+}
