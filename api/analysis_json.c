@@ -9,13 +9,16 @@
  */
 #include "analysis_json.h"
 
+#include <errno.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "../sim/constants.h"
 #include "../sim/engine_sweep.h"
 #include "../sim/ivs_tune.h"
 #include "../sim/param.h"
+#include "config_json.h"
 
 /* ---- engine map ---- */
 
@@ -94,16 +97,6 @@ static json_t *no_json(ts_err *err, const char *what)
     return NULL;
 }
 
-/* Name of the enum value index of the config field at pointer, or NULL. */
-static const char *enum_name(const char *pointer, int index)
-{
-    const ts_param *p = ts_param_find(pointer);
-    if (!p || p->type != TS_PT_ENUM || !p->enum_names || index < 0) return NULL;
-    for (int i = 0; p->enum_names[i]; i++)
-        if (i == index) return p->enum_names[i];
-    return NULL;
-}
-
 /* A number for the document: an integer column as an integer, a non-finite
  * value (e.g. bsfc at zero brake power) as null. NULL only when out of memory. */
 static json_t *number(double v, int integer)
@@ -122,13 +115,9 @@ static int append(json_t *a, json_t *v)
 /* The document from a finished sweep. */
 static json_t *engine_map_doc(const ts_config *cfg, const ts_engine_cycle *rows, ts_err *err)
 {
-    const char *variant = enum_name("/engine/variant", cfg->engine.variant);
-    const char *fidelity = enum_name("/engine/fidelity", cfg->engine.fidelity);
-    if (!variant || !fidelity) {
-        ts_err_set(err, TS_ERR_PARAM, variant ? "/engine/fidelity" : "/engine/variant",
-                   "engine map: %s index out of range", variant ? "fidelity" : "variant");
-        return NULL;
-    }
+    /* the sweep validated cfg, enum indices included */
+    const char *variant = ts_engine_variant_names[cfg->engine.variant];
+    const char *fidelity = ts_engine_fidelity_names[cfg->engine.fidelity];
     json_t *cols = json_array(), *jrows = json_array();
     int bad = !cols || !jrows;
     for (int j = 0; !bad && j < TSA_ENGINE_MAP_NCOLUMN; j++) {
@@ -224,6 +213,41 @@ static json_t *schedule_doc(const ts_config *cfg, int mass, const double *x, int
     return s ? s : no_json(err, "tune");
 }
 
+/* The config field a schedule variable sets, or NULL for another name. */
+static const ts_param *schedule_field(const char *var)
+{
+    if (var && strcmp(var, "mass") == 0) return ts_param_find("/vehicle/mass");
+    if (var && strcmp(var, "grade") == 0) return ts_param_find("/vehicle/grade");
+    return NULL;
+}
+
+ts_rc tsa_tune_schedule_parse(const char *text, const char *var, double *x, int *n, ts_err *err)
+{
+    const ts_param *field = schedule_field(var);
+    *n = 0;
+    if (!field)
+        return ts_err_set(err, TS_ERR_PARAM, "", "the schedule variable is mass or grade");
+    const char *s = text;
+    for (;;) {
+        const char *end = strchr(s, ',');
+        size_t len = end ? (size_t)(end - s) : strlen(s);
+        char item[64];
+        if (*n == TSA_TUNE_SCHEDULE_MAX || len == 0 || len >= sizeof item) break;
+        memcpy(item, s, len);
+        item[len] = '\0';
+        errno = 0;
+        double v = tsa_is_decimal(item, 0) ? strtod(item, NULL) : NAN;
+        if (errno || !isfinite(v) || ts_param_check_number(field, v, NULL) != TS_OK) break;
+        x[(*n)++] = v;
+        if (!end) return TS_OK;
+        s = end + 1;
+    }
+    return ts_err_set(err, TS_ERR_PARAM, field->pointer,
+                      "1 to %d comma-separated numbers in [%g, %g] %s (the range of %s) "
+                      "expected",
+                      TSA_TUNE_SCHEDULE_MAX, field->min, field->max, field->unit, field->pointer);
+}
+
 json_t *tsa_tune_json(const ts_config *cfg, const char *var, const double *x, int n,
                       ts_progress_fn progress, void *ud, ts_err *err)
 {
@@ -232,37 +256,29 @@ json_t *tsa_tune_json(const ts_config *cfg, const char *var, const double *x, in
                    TSA_TUNE_SCHEDULE_MAX, n);
         return NULL;
     }
-    int mass = var && strcmp(var, "mass") == 0;
-    if (n > 0) {
-        if (!mass && !(var && strcmp(var, "grade") == 0)) {
-            ts_err_set(err, TS_ERR_PARAM, "",
-                       "tune: the schedule variable is \"mass\" or \"grade\", got %s%s%s",
-                       var ? "\"" : "", var ? var : "none", var ? "\"" : "");
-            return NULL;
-        }
-        if (!x) {
-            ts_err_set(err, TS_ERR_PARAM, "", "tune: %d schedule values expected, got none", n);
-            return NULL;
-        }
-        /* what ts_model_make would refuse after the base tune, refused before it */
-        const ts_param *field = ts_param_find(mass ? "/vehicle/mass" : "/vehicle/grade");
-        for (int i = 0; field && i < n; i++)
-            if (ts_param_check_number(field, x[i], err) != TS_OK) return NULL;
-    }
-    const char *fidelity = enum_name("/engine/fidelity", cfg->engine.fidelity);
-    if (!fidelity) {
-        ts_err_set(err, TS_ERR_PARAM, "/engine/fidelity", "tune: fidelity index out of range");
+    const ts_param *field = n > 0 ? schedule_field(var) : NULL;
+    if (n > 0 && !field) {
+        ts_err_set(err, TS_ERR_PARAM, "",
+                   "tune: the schedule variable is \"mass\" or \"grade\", got %s%s%s",
+                   var ? "\"" : "", var ? var : "none", var ? "\"" : "");
         return NULL;
     }
+    if (n > 0 && !x) {
+        ts_err_set(err, TS_ERR_PARAM, "", "tune: %d schedule values expected, got none", n);
+        return NULL;
+    }
+    /* what ts_model_make would refuse after the base tune, refused before it */
+    for (int i = 0; i < n; i++)
+        if (ts_param_check_number(field, x[i], err) != TS_OK) return NULL;
     ts_ivs_tune_result o;
-    if (ts_ivs_tune(cfg, &o, err) != TS_OK) return NULL;
+    if (ts_ivs_tune(cfg, &o, err) != TS_OK) return NULL; /* validates cfg */
     if (progress && progress(ud, 1, 1 + n) != 0) {
         ts_err_set(err, TS_ERR_CANCELLED, NULL, "tune: cancelled after the base tune");
         return NULL;
     }
-    json_t *doc = tune_doc(cfg, fidelity, &o, err);
+    json_t *doc = tune_doc(cfg, ts_engine_fidelity_names[cfg->engine.fidelity], &o, err);
     if (!doc || n == 0) return doc;
-    json_t *sched = schedule_doc(cfg, mass, x, n, progress, ud, err);
+    json_t *sched = schedule_doc(cfg, strcmp(var, "mass") == 0, x, n, progress, ud, err);
     if (!sched) {
         json_decref(doc);
         return NULL;

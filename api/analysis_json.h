@@ -56,4 +56,12 @@ json_t *tsa_engine_map_json(const ts_config *cfg, ts_progress_fn progress, void 
 json_t *tsa_tune_json(const ts_config *cfg, const char *var, const double *x, int n,
                       ts_progress_fn progress, void *ud, ts_err *err);
 
+/* Read a schedule typed as text, "X1,X2,..." (the CLI's --schedule-mass, the
+ * daemon's ?schedule_mass=), for var "mass" or "grade": 1 to
+ * TSA_TUNE_SCHEDULE_MAX plain decimals (tsa_is_decimal), each within the
+ * range of /vehicle/mass or /vehicle/grade, into x[*n]. TS_ERR_PARAM with
+ * that field's pointer and a message saying what is expected (not the text,
+ * which the caller quotes) otherwise. */
+ts_rc tsa_tune_schedule_parse(const char *text, const char *var, double *x, int *n, ts_err *err);
+
 #endif

@@ -3,6 +3,7 @@
  */
 #include "config_json.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -603,4 +604,24 @@ json_t *tsa_preset_list(void)
     for (int i = 0; i < n; i++)
         json_array_append_new(arr, items[i]);
     return arr;
+}
+
+/* (config_json.h) moved from server/routes.c: the daemon's query numbers,
+ * the CLI's options and the tuning schedules read text numbers alike */
+int tsa_is_decimal(const char *v, int integer)
+{
+    const char *s = v;
+    if (*s == '+' || *s == '-') s++;
+    int digits = 0;
+    while (isdigit((unsigned char)*s)) s++, digits++;
+    if (!integer && *s == '.')
+        for (s++; isdigit((unsigned char)*s); s++) digits++;
+    if (!digits) return 0;
+    if (!integer && (*s == 'e' || *s == 'E')) {
+        s++;
+        if (*s == '+' || *s == '-') s++;
+        if (!isdigit((unsigned char)*s)) return 0;
+        while (isdigit((unsigned char)*s)) s++;
+    }
+    return *s == '\0';
 }

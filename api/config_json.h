@@ -60,6 +60,13 @@ json_t *tsa_preset_get(const char *name, ts_err *err);
  * "modes" only) before any document of the chain sets /run/kind itself. */
 ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err);
 
+/* 1 when v is a plain decimal numeral: [+-] digits [. digits] [(e|E) [+-]
+ * digits], a digit before or after the point, no point or exponent when
+ * integer. What strtod also takes (blanks, "0x10", "inf", "nan") is refused:
+ * a number typed as text (query value, CLI option) means what it reads in
+ * decimal. */
+int tsa_is_decimal(const char *v, int integer);
+
 /* Read a config from a file path (a JSON document as above). */
 ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out,
                            json_t *errors, ts_err *err);

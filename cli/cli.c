@@ -35,12 +35,10 @@ int tsc_flag(int argc, char **argv, const char *name)
 
 int tsc_number(const char *s, const char *name, double lo, double hi, double *out)
 {
-    char *end;
     errno = 0;
-    double v = strtod(s, &end);
     /* a plain decimal numeral, as the daemon's query numbers: no blanks, no hexadecimal */
-    int plain = strspn(s, "0123456789+-.eE") == strlen(s);
-    if (!plain || errno || end == s || *end || !isfinite(v) || v < lo || v > hi) {
+    double v = tsa_is_decimal(s, 0) ? strtod(s, NULL) : NAN;
+    if (errno || !isfinite(v) || v < lo || v > hi) {
         fprintf(stderr, "tanksim: %s: number in [%g, %g], got '%s'\n", name, lo, hi, s);
         return -1;
     }

@@ -29,26 +29,6 @@
 #include "../api/analysis_json.h"
 #include "cli.h"
 
-/* "X1,X2,..." into x[0..max-1]: the count, or -1 (not numbers, or more than max). */
-static int parse_list(const char *text, double *x, int max)
-{
-    int n = 0;
-    const char *p = text;
-    while (*p) {
-        char *end;
-        if (n == max) return -1;
-        double v = strtod(p, &end);
-        if (end == p) return -1;
-        x[n++] = v;
-        p = end;
-        if (*p == ',')
-            p++;
-        else if (*p)
-            return -1;
-    }
-    return n;
-}
-
 int tsc_cmd_tune(int argc, char **argv)
 {
     const char *smass = tsc_option(argc, argv, "--schedule-mass");
@@ -65,10 +45,10 @@ int tsc_cmd_tune(int argc, char **argv)
     }
     if (smass || sgrade) {
         var = smass ? "mass" : "grade";
-        nx = parse_list(smass ? smass : sgrade, xs, TSA_TUNE_SCHEDULE_MAX);
-        if (nx < 1) {
-            fprintf(stderr, "tanksim: tune: --schedule-%s: comma-separated numbers (at most %d)\n",
-                    var, TSA_TUNE_SCHEDULE_MAX);
+        ts_err perr;
+        if (tsa_tune_schedule_parse(smass ? smass : sgrade, var, xs, &nx, &perr) != TS_OK) {
+            fprintf(stderr, "tanksim: tune: --schedule-%s: %s, got '%s'\n", var, perr.msg,
+                    smass ? smass : sgrade);
             return TSC_EXIT_USAGE;
         }
     }

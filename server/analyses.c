@@ -1,8 +1,9 @@
 /*
  * analyses.c — engine map and IVS tuning as operations (analyses.h). The
  * document is built by api/analysis_json.c on a pool worker; this file only
- * keeps the count of running analyses, feeds the operation's progress and
- * turns a stop (cancel or shutdown) into the operation's error.
+ * caps the analyses running at once (the operation registry counts them),
+ * feeds the operation's progress and turns a stop (cancel or shutdown) into
+ * the operation's error.
  */
 #include "analyses.h"
 
@@ -10,7 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../api/problem.h"
 #include "../sim/engine_sweep.h"
 #include "operations.h"
 #include "pool.h"
@@ -22,7 +22,8 @@ typedef struct analysis_job {
     tsd_analysis_req req;
 } analysis_job;
 
-int tsd_analysis_cap(const tsd_server *srv)
+/* At most this many at once: session runs keep a worker when there are two. */
+static int analysis_cap(const tsd_server *srv)
 {
     return srv->opt.threads > 1 ? srv->opt.threads - 1 : 1;
 }
@@ -56,28 +57,16 @@ static void analysis_run(void *arg)
         doc = tsa_engine_map_json(&q->cfg, on_progress, j, &e);
     else
         doc = tsa_tune_json(&q->cfg, q->n > 0 ? q->var : NULL, q->x, q->n, on_progress, j, &e);
-    json_t *error = NULL;
-    if (!doc) {
-        if (e.code == TS_ERR_CANCELLED)
-            ts_err_set(&e, TS_ERR_CANCELLED, NULL,
-                       atomic_load(&srv->stopping)
-                           ? "the daemon shut down after %d of %d parts; start the analysis "
-                             "again"
-                           : "cancelled after %d of %d parts",
-                       j->parts_done, j->parts_total);
-        error = tsa_problem_from_err(&e, NULL);
-        /* AIP-151 google.rpc.Status style code beside the problem fields, as runs */
-        json_object_set_new(error, "code", json_integer(e.code == TS_ERR_CANCELLED ? 1
-                                                        : e.code == TS_ERR_PARAM ||
-                                                                  e.code == TS_ERR_RANGE
-                                                            ? 3
-                                                            : 13));
-        json_object_set_new(error, "message", json_string(e.msg));
-    }
-    /* the slot is free before the operation reads done, so a client that
-     * saw it done can start the next analysis at once */
-    atomic_fetch_sub(&srv->analyses, 1);
-    tsd_op_finish(srv, j->op, doc, error);
+    if (!doc && e.code == TS_ERR_CANCELLED)
+        ts_err_set(&e, TS_ERR_CANCELLED, NULL,
+                   atomic_load(&srv->stopping)
+                       ? "the daemon shut down after %d of %d parts; start the analysis again"
+                       : "cancelled after %d of %d parts",
+                   j->parts_done, j->parts_total);
+    if (doc)
+        tsd_op_finish(srv, j->op, doc, NULL);
+    else
+        tsd_op_fail(srv, j->op, &e);
     free(j);
 }
 
@@ -86,21 +75,18 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
 {
     *opdoc = NULL;
     if (atomic_load(&srv->stopping)) return tsd_err_shutdown(err);
-    int cap = tsd_analysis_cap(srv);
-    if (atomic_fetch_add(&srv->analyses, 1) >= cap) {
-        atomic_fetch_sub(&srv->analyses, 1);
-        return ts_err_set(err, TS_ERR_LIMIT, NULL,
-                          "%d analyses already running (at most %d at once with %d worker "
-                          "threads, so that session runs keep one); retry when one is done",
-                          cap, cap, srv->opt.threads);
-    }
+    int cap = analysis_cap(srv), busy = 0;
     analysis_job *j = calloc(1, sizeof *j);
     int total = req->kind == TSD_ANALYSIS_ENGINE_MAP ? TS_ENGINE_SWEEP_NPOINT : 1 + req->n;
-    tsd_op *op = j ? tsd_op_new_analysis(srv, kind_name(req->kind), total) : NULL;
+    tsd_op *op = j ? tsd_op_new_analysis(srv, kind_name(req->kind), total, cap, &busy) : NULL;
     if (!op) {
         int nomem = !j;
         free(j);
-        atomic_fetch_sub(&srv->analyses, 1);
+        if (busy)
+            return ts_err_set(err, TS_ERR_LIMIT, NULL,
+                              "%d analyses already running (at most %d at once with %d worker "
+                              "threads, so that session runs keep one); retry when one is done",
+                              cap, cap, srv->opt.threads);
         return nomem ? ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory")
                      : ts_err_set(err, TS_ERR_LIMIT, NULL, "too many operations in progress");
     }
@@ -114,11 +100,7 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
                         : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory queueing the job");
         ts_err e2;
         ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "%s", err->msg);
-        json_t *error = tsa_problem_from_err(&e2, NULL);
-        json_object_set_new(error, "code", json_integer(1));
-        json_object_set_new(error, "message", json_string(e2.msg));
-        tsd_op_finish(srv, op, NULL, error);
-        atomic_fetch_sub(&srv->analyses, 1);
+        tsd_op_fail(srv, op, &e2);
         free(j);
         json_decref(*opdoc);
         *opdoc = NULL;

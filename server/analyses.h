@@ -41,7 +41,4 @@ typedef struct tsd_analysis_req {
 ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **opdoc,
                          ts_err *err);
 
-/* The cap on concurrent analyses for this server. */
-int tsd_analysis_cap(const tsd_server *srv);
-
 #endif

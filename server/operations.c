@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../api/problem.h"
 #include "pool.h"
 
 struct tsd_op {
@@ -57,13 +58,23 @@ void tsd_ops_free(tsd_server *srv)
 }
 
 /* Register op (kept in creation order; when full, the oldest finished one is
- * dropped); frees it and returns NULL when every kept operation is running. */
-static tsd_op *op_register(tsd_server *srv, tsd_op *op)
+ * dropped); frees it and returns NULL when every kept operation is running,
+ * or (max_analyses > 0) when that many analyses are not done (*busy = 1). */
+static tsd_op *op_register(tsd_server *srv, tsd_op *op, int max_analyses, int *busy)
 {
     tsd_ops *o = srv->ops;
     tsd_random_id(op->id, sizeof op->id, "op");
     op->wall_start = op->wall_last = tsd_now();
     pthread_mutex_lock(&o->mu);
+    int running = 0;
+    for (int i = 0; max_analyses > 0 && i < o->n; i++)
+        running += !o->v[i]->sid[0] && !o->v[i]->done;
+    if (max_analyses > 0 && running >= max_analyses) {
+        pthread_mutex_unlock(&o->mu);
+        free(op);
+        *busy = 1;
+        return NULL;
+    }
     if (o->n == TSD_MAX_OPS) {
         int drop = -1;
         for (int i = 0; i < o->n && drop < 0; i++)
@@ -90,16 +101,18 @@ tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double unti
     snprintf(op->sid, sizeof op->sid, "%s", sid);
     op->t_start = op->t = t_start;
     op->until = until;
-    return op_register(srv, op);
+    return op_register(srv, op, 0, NULL);
 }
 
-tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total)
+tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total,
+                            int max_running, int *busy)
 {
+    *busy = 0;
     tsd_op *op = calloc(1, sizeof *op);
     if (!op) return NULL;
     op->kind = kind;
     op->parts_total = parts_total;
-    return op_register(srv, op);
+    return op_register(srv, op, max_running, busy);
 }
 
 void tsd_op_parts(tsd_server *srv, tsd_op *op, int parts_done, int parts_total)
@@ -111,14 +124,16 @@ void tsd_op_parts(tsd_server *srv, tsd_op *op, int parts_done, int parts_total)
     pthread_mutex_unlock(&srv->ops->mu);
 }
 
-int tsd_op_request_cancel(tsd_server *srv, const char *id)
+int tsd_op_request_cancel(tsd_server *srv, const char *id, char *sid)
 {
     int found = 0;
     pthread_mutex_lock(&srv->ops->mu);
     for (int i = 0; i < srv->ops->n; i++) {
         tsd_op *op = srv->ops->v[i];
         if (strcmp(op->id, id) != 0) continue;
-        if (!op->sid[0] && !op->done) op->cancel = found = 1;
+        if (!op->done) op->cancel = 1;
+        snprintf(sid, 24, "%s", op->sid);
+        found = 1;
         break;
     }
     pthread_mutex_unlock(&srv->ops->mu);
@@ -154,6 +169,18 @@ void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
     op->response = response;
     op->error = error;
     pthread_mutex_unlock(&srv->ops->mu);
+}
+
+void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e)
+{
+    json_t *error = tsa_problem_from_err(e, NULL);
+    int code = e->code == TS_ERR_CANCELLED                           ? 1
+               : e->code == TS_ERR_PARAM || e->code == TS_ERR_RANGE ? 3
+               : e->code == TS_ERR_LIMIT                             ? 8
+                                                                     : 13;
+    json_object_set_new(error, "code", json_integer(code));
+    json_object_set_new(error, "message", json_string(e->msg));
+    tsd_op_finish(srv, op, NULL, error);
 }
 
 /* Caller holds the lock. */
@@ -202,18 +229,12 @@ json_t *tsd_op_json_of(tsd_server *srv, tsd_op *op)
     return j;
 }
 
-json_t *tsd_op_json(tsd_server *srv, const char *id, char *sid, int *done)
+json_t *tsd_op_json(tsd_server *srv, const char *id)
 {
     json_t *j = NULL;
     pthread_mutex_lock(&srv->ops->mu);
-    for (int i = 0; i < srv->ops->n; i++) {
-        tsd_op *op = srv->ops->v[i];
-        if (strcmp(op->id, id) != 0) continue;
-        j = op_json(op);
-        if (sid) snprintf(sid, 24, "%s", op->sid);
-        if (done) *done = op->done;
-        break;
-    }
+    for (int i = 0; i < srv->ops->n && !j; i++)
+        if (strcmp(srv->ops->v[i]->id, id) == 0) j = op_json(srv->ops->v[i]);
     pthread_mutex_unlock(&srv->ops->mu);
     return j;
 }

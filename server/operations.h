@@ -17,6 +17,7 @@
 
 #include <jansson.h>
 
+#include "../sim/errors.h"
 #include "server.h"
 
 #define TSD_MAX_OPS 1024
@@ -30,23 +31,29 @@ void tsd_ops_free(tsd_server *srv);
  * or when every kept operation is still running. */
 tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double until);
 /* A new operation of an analysis (kind: a static string, "engine_map", "tune")
- * in parts_total parts, not tied to a session. NULL as tsd_op_new. */
-tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total);
+ * in parts_total parts, not tied to a session. NULL as tsd_op_new, or with
+ * *busy = 1 when max_running analyses are not done yet (counted under the
+ * registry's lock, so an analysis a client saw done no longer counts). */
+tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total,
+                            int max_running, int *busy);
 /* An analysis's progress: parts_done of its parts finished. */
 void tsd_op_parts(tsd_server *srv, tsd_op *op, int parts_done, int parts_total);
-/* Ask the analysis with this id to stop: 1 if it is a running analysis (its
- * worker sees tsd_op_cancel_requested), 0 otherwise (a run is cancelled
- * through its session). */
-int tsd_op_request_cancel(tsd_server *srv, const char *id);
+/* Ask the operation with this id to stop: 0 when there is none; else 1, and
+ * sid (24 bytes) receives its session ("" for an analysis, whose worker sees
+ * tsd_op_cancel_requested; a run is stopped through its session). */
+int tsd_op_request_cancel(tsd_server *srv, const char *id, char *sid);
 int tsd_op_cancel_requested(tsd_server *srv, tsd_op *op);
 const char *tsd_op_id(const tsd_op *op); /* stable while the op exists */
 void tsd_op_progress(tsd_server *srv, tsd_op *op, double t);
 /* Mark done with response or error (steals both; either may be NULL). */
 void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error);
+/* Mark done with the error e: its problem document plus AIP-151's google.rpc
+ * "code" (1 CANCELLED, 3 INVALID_ARGUMENT for a parameter, 8
+ * RESOURCE_EXHAUSTED for a limit, 13 INTERNAL otherwise) and "message". */
+void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e);
 
-/* The operation document by id (new reference), NULL if unknown. *sid (if
- * non-NULL, 24 bytes) receives its session id; *done its state. */
-json_t *tsd_op_json(tsd_server *srv, const char *id, char *sid, int *done);
+/* The operation document by id (new reference), NULL if unknown. */
+json_t *tsd_op_json(tsd_server *srv, const char *id);
 json_t *tsd_op_json_of(tsd_server *srv, tsd_op *op);
 
 #endif

@@ -81,28 +81,6 @@ static enum MHD_Result bad_param(tsd_request *r, const char *name, const char *f
     return tsd_reply_err(r, &e, NULL);
 }
 
-/* A plain decimal numeral: [+-] digits [. digits] [(e|E) [+-] digits], with a
- * digit before or after the point (no exponent or point when integer). What
- * strtod also takes -- leading blanks, hexadecimal ("0x10" = 16), "inf",
- * "nan" -- is refused: a query value means what it reads in decimal. */
-static int is_decimal(const char *v, int integer)
-{
-    const char *s = v;
-    if (*s == '+' || *s == '-') s++;
-    int digits = 0;
-    while (isdigit((unsigned char)*s)) s++, digits++;
-    if (!integer && *s == '.')
-        for (s++; isdigit((unsigned char)*s); s++) digits++;
-    if (!digits) return 0;
-    if (!integer && (*s == 'e' || *s == 'E')) {
-        s++;
-        if (*s == '+' || *s == '-') s++;
-        if (!isdigit((unsigned char)*s)) return 0;
-        while (isdigit((unsigned char)*s)) s++;
-    }
-    return *s == '\0';
-}
-
 /* Optional query number in [lo, hi]: 1 present, 0 absent, -1 replied 400. */
 static int q_number(tsd_request *r, const char *name, double lo, double hi, double *out,
                     enum MHD_Result *ret)
@@ -110,7 +88,7 @@ static int q_number(tsd_request *r, const char *name, double lo, double hi, doub
     const char *v = tsd_arg(r, name);
     if (!v || !*v) return 0;
     errno = 0; /* ERANGE: beyond a double, or below its normal range */
-    double x = is_decimal(v, 0) ? strtod(v, NULL) : NAN;
+    double x = tsa_is_decimal(v, 0) ? strtod(v, NULL) : NAN;
     if (!isfinite(x) || errno || x < lo || x > hi) {
         char what[96];
         snprintf(what, sizeof what, "number in [%g, %g] expected", lo, hi);
@@ -124,7 +102,7 @@ static int q_number(tsd_request *r, const char *name, double lo, double hi, doub
 /* Whole decimal string v as an integer in [lo, hi]: 0, or -1 when it is not. */
 static int parse_integer(const char *v, long lo, long hi, long *out)
 {
-    if (!is_decimal(v, 1)) return -1;
+    if (!tsa_is_decimal(v, 1)) return -1;
     errno = 0;
     long x = strtol(v, NULL, 10);
     if (errno || x < lo || x > hi) return -1;
@@ -946,35 +924,16 @@ static enum MHD_Result post_engine_map(tsd_request *r)
     return start_analysis(r, q);
 }
 
-/* Query parameter name as a comma-separated list of plain decimals within the
- * range of config field ptr: 1 read (x[*n]), 0 absent, -1 replied 400. */
-static int q_schedule(tsd_request *r, const char *name, const char *ptr, double *x, int *n,
+/* Query parameter name as a tuning schedule over var (tsa_tune_schedule_parse):
+ * 1 read (x[*n]), 0 absent, -1 replied 400 naming the parameter. */
+static int q_schedule(tsd_request *r, const char *name, const char *var, double *x, int *n,
                       enum MHD_Result *ret)
 {
     const char *v = tsd_arg(r, name);
     if (!v) return 0;
-    const ts_param *p = ts_param_find(ptr);
-    char what[160];
-    snprintf(what, sizeof what,
-             "1 to %d comma-separated numbers in [%g, %g] %s (the range of %s) expected",
-             TSA_TUNE_SCHEDULE_MAX, p->min, p->max, p->unit, ptr);
-    *n = 0;
-    const char *s = v;
-    for (;;) {
-        const char *end = strchr(s, ',');
-        size_t len = end ? (size_t)(end - s) : strlen(s);
-        char item[64];
-        if (*n == TSA_TUNE_SCHEDULE_MAX || len == 0 || len >= sizeof item) break;
-        memcpy(item, s, len);
-        item[len] = '\0';
-        errno = 0;
-        double xi = is_decimal(item, 0) ? strtod(item, NULL) : NAN;
-        if (!isfinite(xi) || errno || xi < p->min || xi > p->max) break;
-        x[(*n)++] = xi;
-        if (!end) return 1;
-        s = end + 1;
-    }
-    *ret = bad_param(r, name, what, v);
+    ts_err e;
+    if (tsa_tune_schedule_parse(v, var, x, n, &e) == TS_OK) return 1;
+    *ret = bad_param(r, name, e.msg, v);
     return -1;
 }
 
@@ -984,8 +943,8 @@ static enum MHD_Result post_tune(tsd_request *r)
     tsd_analysis_req *q = calloc(1, sizeof *q);
     if (!q) return reply_oom(r);
     q->kind = TSD_ANALYSIS_TUNE;
-    int m = q_schedule(r, "schedule_mass", "/vehicle/mass", q->x, &q->n, &ret);
-    int g = m < 0 ? 0 : q_schedule(r, "schedule_grade", "/vehicle/grade", q->x, &q->n, &ret);
+    int m = q_schedule(r, "schedule_mass", "mass", q->x, &q->n, &ret);
+    int g = m < 0 ? 0 : q_schedule(r, "schedule_grade", "grade", q->x, &q->n, &ret);
     if (m < 0 || g < 0) {
         free(q);
         return ret;
@@ -1010,7 +969,7 @@ static enum MHD_Result post_tune(tsd_request *r)
 
 static enum MHD_Result get_operation(tsd_request *r)
 {
-    json_t *j = tsd_op_json(r->srv, r->params[0], NULL, NULL);
+    json_t *j = tsd_op_json(r->srv, r->params[0]);
     if (!j) {
         ts_err e;
         ts_err_set(&e, TS_ERR_NOTFOUND, NULL,
@@ -1024,20 +983,15 @@ static enum MHD_Result get_operation(tsd_request *r)
 static enum MHD_Result cancel_operation(tsd_request *r)
 {
     char sid[24] = "";
-    int done = 0;
-    json_t *j = tsd_op_json(r->srv, r->params[0], sid, &done);
-    if (!j) return get_operation(r);
-    json_decref(j);
-    if (!done && !sid[0]) { /* an analysis: its worker stops after the part in progress */
-        tsd_op_request_cancel(r->srv, r->params[0]);
-    } else if (!done) {
+    if (!tsd_op_request_cancel(r->srv, r->params[0], sid)) return get_operation(r); /* 404 */
+    if (sid[0]) { /* a run stops through its session; an analysis's worker sees the flag */
         tsd_session *s = tsd_session_get(r->srv, sid);
         if (s) {
             tsd_session_cancel(s, r->params[0]);
             tsd_session_put(s);
         }
     }
-    return tsd_reply_json(r, MHD_HTTP_OK, tsd_op_json(r->srv, r->params[0], NULL, NULL));
+    return tsd_reply_json(r, MHD_HTTP_OK, tsd_op_json(r->srv, r->params[0]));
 }
 
 /* ---- the table ---------------------------------------------------------------------- */

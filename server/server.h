@@ -71,7 +71,6 @@ typedef struct tsd_server {
     tsd_metrics metrics;             /* counters for /metrics (metrics.h) */
     pthread_mutex_t fft_lock;        /* FFTW's planner is not thread-safe */
     atomic_int stopping;             /* set once shutdown begins */
-    atomic_int analyses;             /* analyses running or queued (analyses.h) */
     atomic_int inflight;             /* requests between arrival and completion (shutdown
                                         waits for them, bounded, before stopping MHD) */
 } tsd_server;

@@ -1095,24 +1095,17 @@ static void run_finish(run_job_arg *j, tsd_status st, ts_rc rc, const ts_err *er
     tsd_server *srv = s->srv;
     double t = ts_time(s->d); /* read while busy is still held (invariant 1) */
     release(s, st, rc == TS_OK || rc == TS_ERR_CANCELLED ? NULL : err->msg);
-    json_t *error = NULL, *response = NULL;
-    if (rc != TS_OK) {
-        error = tsa_problem_from_err(err, NULL);
-        /* AIP-151 google.rpc.Status style code beside the problem fields */
-        json_object_set_new(error, "code", json_integer(rc == TS_ERR_CANCELLED ? 1
-                                                        : rc == TS_ERR_LIMIT   ? 8
-                                                                               : 13));
-        json_object_set_new(error, "message", json_string(err->msg));
-    } else {
-        response = tsd_session_json(s, 1);
-    }
+
     int r = st == TSD_DONE     ? 0
             : st == TSD_PAUSED ? (rc == TS_ERR_CANCELLED ? 2 : 1)
             : st == TSD_FAILED ? 3
                                : 4;
     atomic_fetch_add(&srv->metrics.runs_ended[r], 1);
     tsd_op_progress(srv, j->op, t);
-    tsd_op_finish(srv, j->op, response, error);
+    if (rc != TS_OK)
+        tsd_op_fail(srv, j->op, err);
+    else
+        tsd_op_finish(srv, j->op, tsd_session_json(s, 1), NULL);
     tsd_session_put(s);
     free(j);
 }
@@ -1229,10 +1222,7 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
          * and store the session without its previous error and operation. */
         ts_err e2;
         ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "%s", err->msg);
-        json_t *error = tsa_problem_from_err(&e2, NULL);
-        json_object_set_new(error, "code", json_integer(1));
-        json_object_set_new(error, "message", json_string(e2.msg));
-        tsd_op_finish(s->srv, op, NULL, error);
+        tsd_op_fail(s->srv, op, &e2);
         pthread_mutex_lock(&s->mu);
         s->status = before;
         memcpy(s->error, before_error, sizeof before_error);

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 
 #include "constants.h"
+#include "param.h"
 
 #define STEADY_CYCLES 80     /* cycle limit of each steady state */
 #define STEADY_TOL    2e-4   /* relative brake-torque change between cycles */
@@ -21,6 +22,8 @@ _Static_assert(TS_ENGINE_SWEEP_NPOINT ==
 ts_rc ts_engine_full_load_sweep(const ts_config *cfg, ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT],
                                 ts_progress_fn progress, void *ud, ts_err *err)
 {
+    /* ts_engine_make indexes its tables by the enum fields: validate as ts_model_make does */
+    if (ts_param_validate(cfg, err) != TS_OK) return err ? err->code : TS_ERR_PARAM;
     ts_engine *e = ts_engine_make(cfg, err);
     if (!e) return err ? err->code : TS_ERR_PARAM;
     double *x = calloc((size_t)ts_engine_nstate(e), sizeof *x);

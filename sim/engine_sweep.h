@@ -24,7 +24,8 @@
  * state, the first from ts_engine_init_state with the turbo at a search speed; every point
  * is ts_engine_steady with the crank speed held. progress (may be NULL) is called after each
  * point with (done, TS_ENGINE_SWEEP_NPOINT); as the sweep runs downwards, the point just
- * finished is rows[TS_ENGINE_SWEEP_NPOINT - done]. Errors: the engine's (ts_engine_make,
+ * finished is rows[TS_ENGINE_SWEEP_NPOINT - done]. Errors: cfg's (ts_param_validate), the
+ * engine's (ts_engine_make,
  * ts_engine_steady, with their pointer and message), TS_ERR_NOMEM, TS_ERR_CANCELLED when
  * progress returned non-zero; rows are then only partly filled. */
 ts_rc ts_engine_full_load_sweep(const ts_config *cfg, ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT],

@@ -41,8 +41,12 @@ def test_tune_schedule_over_mass():
 
 
 def test_tune_rejects_bad_schedule():
-    out = run("tune", "--preset", "bump-coupled-ivs5mph", "--schedule-mass", "5e4,x")
-    assert out.returncode == 2 and "--schedule-mass" in out.stderr
+    # the CLI reads the schedule as the daemon's ?schedule_mass= does
+    # (tsa_tune_schedule_parse): plain decimals within /vehicle/mass's range
+    for bad in ("5e4,x", "0x10000", "1e9", " 50000"):
+        out = run("tune", "--preset", "bump-coupled-ivs5mph", "--schedule-mass", bad)
+        assert out.returncode == 2, (bad, out.stderr)
+        assert "--schedule-mass" in out.stderr and "/vehicle/mass" in out.stderr, out.stderr
 
 
 def test_coupled_run_writes_channels(tmp_path):

@@ -262,6 +262,48 @@ static void tune_rejects_bad_schedule(void **state)
     assert_int_equal(seen.n, 0);
 }
 
+/* The schedule as text (CLI option, query value): plain decimals only (as the
+ * daemon's other query numbers), 1 to 16 of them, each in the field's range;
+ * the error names the field and says what is expected. */
+static void schedule_parse(void **state)
+{
+    (void)state;
+    double x[TSA_TUNE_SCHEDULE_MAX];
+    int n = -1;
+    ts_err err;
+    assert_int_equal(tsa_tune_schedule_parse("50000,6e4,70000.5", "mass", x, &n, &err), TS_OK);
+    assert_int_equal(n, 3);
+    assert_true(x[0] == 50000 && x[1] == 60000 && x[2] == 70000.5);
+    assert_int_equal(tsa_tune_schedule_parse("-0.1,0,0.2", "grade", x, &n, &err), TS_OK);
+    assert_int_equal(n, 3);
+    assert_true(x[0] == -0.1);
+    const char *bad[] = {"", "abc", "50000,", ",50000", "50000,,60000", "0x10000", " 50000",
+                         "inf", "1e9" /* above /vehicle/mass's max */,
+                         "60000,60000,60000,60000,60000,60000,60000,60000,60000,60000,60000,"
+                         "60000,60000,60000,60000,60000,60000" /* 17 */};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        assert_int_equal(tsa_tune_schedule_parse(bad[i], "mass", x, &n, &err), TS_ERR_PARAM);
+        assert_string_equal(err.pointer, "/vehicle/mass");
+        assert_non_null(strstr(err.msg, "comma-separated"));
+    }
+    assert_int_equal(tsa_tune_schedule_parse("0.9", "grade", x, &n, &err), TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/vehicle/grade");
+    assert_int_equal(tsa_tune_schedule_parse("1", "speed", x, &n, &err), TS_ERR_PARAM);
+}
+
+/* The sweep validates its config as ts_model_make does: an enum index out of
+ * range is refused naming the field (the engine indexes its tables by it). */
+static void sweep_validates_config(void **state)
+{
+    (void)state;
+    ts_config cfg = load(NULL);
+    cfg.engine.variant = 7;
+    ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT];
+    ts_err err;
+    assert_int_not_equal(ts_engine_full_load_sweep(&cfg, rows, NULL, NULL, &err), TS_OK);
+    assert_string_equal(err.pointer, "/engine/variant");
+}
+
 /* A settle shorter than two samples is an error naming the field (it used to
  * read before the start of an empty series). */
 static void ivs_tune_needs_a_settle(void **state)
@@ -286,6 +328,8 @@ int main(void)
         cmocka_unit_test(tune_document_and_progress),
         cmocka_unit_test(tune_rejects_bad_schedule),
         cmocka_unit_test(ivs_tune_needs_a_settle),
+        cmocka_unit_test(schedule_parse),
+        cmocka_unit_test(sweep_validates_config),
     };
     return cmocka_run_group_tests_name("sim/analysis_calls", tests, NULL, NULL);
 }

@@ -13,9 +13,7 @@
 import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-
-/* google.rpc code 1 = CANCELLED (the daemon also sends a problem type). */
-const isCancelled = (err) => err.code === 1 || /cancel/i.test(err.type || '');
+import { followOperation, isCancelled } from './operation.js';
 
 /**
  * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
@@ -43,7 +41,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone }) {
   }
 
   function stop() {
-    clearTimeout(state.analyses[kind]?.timer);
+    state.analyses[kind]?.follower?.stop(); /* null while followOperation is still calling back */
     state.analyses[kind] = null;
   }
 
@@ -60,38 +58,31 @@ export function initAnalysisOp(state, kind, prefix, { onDone }) {
       render(null, 'failed');
       return;
     }
-    const me = { id: op.id, timer: null };
+    const me = { id: op.id, follower: null };
     state.analyses[kind] = me;
-    const tick = async (first) => {
-      let cur;
-      try {
-        cur = first || (await api.operation(me.id));
-      } catch (e) {
-        if (state.analyses[kind] !== me) return;
+    me.follower = followOperation(op.id, op, 200, {
+      error(e) {
         stop();
         showError(box, e);
         render(null, 'failed');
-        return;
-      }
-      if (state.analyses[kind] !== me) return;
-      if (!cur.done) {
+      },
+      done(cur) {
+        stop();
+        let outcome = 'done';
+        try {
+          if (cur.error && isCancelled(cur.error)) outcome = 'cancelled';
+          else if (cur.error) throw new ApiError(cur.error.status || 500, cur.error);
+          else onDone(cur.response);
+        } catch (e) {
+          outcome = 'failed';
+          showError(box, e);
+        }
+        render(cur.metadata, outcome);
+      },
+      progress(cur) {
         render(cur.metadata);
-        me.timer = setTimeout(() => tick(), 200);
-        return;
-      }
-      stop();
-      let outcome = 'done';
-      try {
-        if (cur.error && isCancelled(cur.error)) outcome = 'cancelled';
-        else if (cur.error) throw new ApiError(cur.error.status || 500, cur.error);
-        else onDone(cur.response);
-      } catch (e) {
-        outcome = 'failed';
-        showError(box, e);
-      }
-      render(cur.metadata, outcome);
-    };
-    tick(op); /* the POST answers with the operation itself */
+      },
+    });
   }
 
   async function onCancel() {

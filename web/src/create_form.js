@@ -12,7 +12,7 @@ import { SchemaForm } from './schema_form.js';
 export function initCreateForm({ refreshList, open }) {
   let form = null; /* the SchemaForm, once the schema loaded */
 
-  /* Fetch the schema and presets and build the form; throws what the daemon said. */
+  /* Fetch the schema and presets and build the form; the schema, or throws what the daemon said. */
   async function load() {
     const [schema, presets] = await Promise.all([api.schema(), api.presets()]);
     form = new SchemaForm($('schema-form'), schema);
@@ -35,6 +35,7 @@ export function initCreateForm({ refreshList, open }) {
     sel.onchange = () => loadPreset(list);
     $('reset-form').onclick = () => loadPreset(list);
     await loadPreset(list);
+    return schema;
   }
 
   async function loadPreset(list) {

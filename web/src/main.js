@@ -37,8 +37,9 @@ const state = {
   store: null, /* its samples (SeriesStore) */
   stream: null, /* its SSE stream, while one is open */
   picks: [], /* the channels charted */
-  op: null, /* {id, sessionId, timer, meta} of the run operation being polled */
-  analyses: { engine_map: null, tune: null }, /* {id, timer} of each analysis operation being polled */
+  op: null, /* {id, sessionId, meta, follower} of the run operation being followed */
+  analyses: { engine_map: null, tune: null }, /* {id, follower} of each analysis operation being followed */
+  schema: null, /* GET /v1/schema, once loaded (field ranges) */
 };
 
 const plots = new LivePlots($('plots'));
@@ -85,7 +86,7 @@ async function boot() {
     $('health').className = 'health bad';
   }
   try {
-    await form.load();
+    state.schema = await form.load();
     hideError($('create-error'));
   } catch (e) {
     showError($('create-error'), e);

@@ -82,7 +82,7 @@ export function numberField(input, options, msg = null) {
   return markedField(readNumber, input, options, msg);
 }
 
-/** numberField for a list of comma-separated numbers (readNumberList's options). */
+/** numberField for a list of comma-separated numbers (readNumberList's options, or a function giving them). */
 export function numberListField(input, options, msg = null) {
   return markedField(readNumberList, input, options, msg);
 }
@@ -90,10 +90,11 @@ export function numberListField(input, options, msg = null) {
 /* Mark an input from a field's message (a daemon's error about it): an edit takes the mark away. */
 export const markInvalid = (input, message, msg = null) => mark(input, msg, message);
 
+/* options: an object, or a function giving it at each read (a range known later) */
 function markedField(read, input, options, msg) {
   input.addEventListener('input', () => mark(input, msg, ''));
   return () => {
-    const r = read(input, options);
+    const r = read(input, typeof options === 'function' ? options() : options);
     mark(input, msg, r.error);
     return r;
   };

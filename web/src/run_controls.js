@@ -9,9 +9,7 @@ import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { numberField } from './number_input.js';
-
-/* google.rpc code 1 = CANCELLED (the daemon also sends a problem type). */
-const isCancelled = (err) => err.code === 1 || /cancel/i.test(err.type || '');
+import { followOperation, isCancelled } from './operation.js';
 
 export function initRunControls(state, { header, stream, refreshList }) {
   const stepDuration = numberField($('step-duration'), { name: 'step duration [s]', above: 0 });
@@ -45,32 +43,26 @@ export function initRunControls(state, { header, stream, refreshList }) {
   }
 
   function stop() {
-    if (state.op) clearTimeout(state.op.timer);
+    state.op?.follower?.stop(); /* null while followOperation is still calling back */
     state.op = null;
   }
 
   /* Follow operation `id` of the open session; `first`: the operation itself when already at hand. */
   function poll(id, first) {
     stop();
-    const me = { id, sessionId: state.session.id, timer: null, meta: null };
+    const me = { id, sessionId: state.session.id, meta: null, follower: null };
     state.op = me;
     delete $('progress-text').dataset.outcome;
     header.render();
-    /* stop() clears the timer, but not an answer already on its way */
-    const tick = async (op) => {
-      try {
-        op = op || (await api.operation(id));
-      } catch (e) {
-        if (state.op !== me) return;
+    me.follower = followOperation(id, first, 300, {
+      error(e) {
         showError($('session-error'), e);
         stop();
         header.render();
-        return;
-      }
-      if (state.op !== me) return;
-      const m = op.metadata || {};
-      if (op.done) {
+      },
+      async done(op) {
         stop();
+        const m = op.metadata || {};
         const cancelled = op.error && isCancelled(op.error);
         if (op.error && !cancelled) showError($('session-error'), new ApiError(op.error.status || 500, op.error));
         await header.refresh();
@@ -79,14 +71,14 @@ export function initRunControls(state, { header, stream, refreshList }) {
         $('progress-text').dataset.outcome = cancelled ? 'cancelled' : op.error ? 'failed' : 'done';
         stream.start(); /* catch up on rows stored after the stream last closed */
         refreshList();
-        return;
-      }
-      me.meta = m;
-      if (typeof m.t === 'number') Object.assign(state.session, { status: 'running', t: Math.max(m.t, state.session.t || 0) });
-      header.render();
-      me.timer = setTimeout(() => tick(), 300);
-    };
-    tick(first); /* POST run answers with the operation itself */
+      },
+      progress(op) {
+        const m = op.metadata || {};
+        me.meta = m;
+        if (typeof m.t === 'number') Object.assign(state.session, { status: 'running', t: Math.max(m.t, state.session.t || 0) });
+        header.render();
+      },
+    });
   }
 
   async function onCancel() {

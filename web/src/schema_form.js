@@ -67,6 +67,12 @@ export function schemaFields(schema) {
   return out;
 }
 
+/** The range {min, max} of the config field at pointer in the schema (undefined ends when unknown). */
+export function fieldRange(schema, pointer) {
+  const f = schema ? schemaFields(schema).find((x) => x.pointer === pointer) : null;
+  return { min: f?.prop.minimum, max: f?.prop.maximum };
+}
+
 function getPath(doc, pointer) {
   let v = doc;
   for (const part of pointer.split('/').slice(1)) {

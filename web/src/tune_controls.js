@@ -10,13 +10,15 @@ import { $ } from './dom.js';
 import { hideError } from './messages.js';
 import { markInvalid, numberListField } from './number_input.js';
 import { initAnalysisOp } from './analysis_op.js';
+import { fieldRange } from './schema_form.js';
 import { showTuning } from './tune.js';
 
-/* The schedule variables: query parameter, and the range of /vehicle/mass and
- * /vehicle/grade (GET /v1/schema; the daemon takes 1 to 16 values). */
+/* The schedule variables: query parameter and the config field whose range
+ * (GET /v1/schema, state.schema) each value must be in; the daemon takes 1 to
+ * 16 values. */
 const SCHEDULE = {
-  mass: { param: 'schedule_mass', name: 'schedule masses [kg]', min: 1000, max: 200000, placeholder: 'e.g. 50000,60000,70000' },
-  grade: { param: 'schedule_grade', name: 'schedule grades [rad]', min: -0.6, max: 0.6, placeholder: 'e.g. 0,0.05,0.1' },
+  mass: { param: 'schedule_mass', pointer: '/vehicle/mass', name: 'schedule masses [kg]', placeholder: 'e.g. 50000,60000,70000' },
+  grade: { param: 'schedule_grade', pointer: '/vehicle/grade', name: 'schedule grades [rad]', placeholder: 'e.g. 0,0.05,0.1' },
 };
 const MOST = 16;
 
@@ -24,7 +26,7 @@ export function initTuneControls(state) {
   const op = initAnalysisOp(state, 'tune', 'tune', { onDone: (doc) => showTuning($('tune-result'), doc) });
   const input = $('tune-values');
   const fields = Object.fromEntries(
-    Object.entries(SCHEDULE).map(([k, s]) => [k, numberListField(input, { name: s.name, min: s.min, max: s.max, most: MOST }, $('tune-values-error'))]),
+    Object.entries(SCHEDULE).map(([k, s]) => [k, numberListField(input, () => ({ name: s.name, most: MOST, ...fieldRange(state.schema, s.pointer) }), $('tune-values-error'))]),
   );
 
   function onVar() {

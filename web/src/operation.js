@@ -1,0 +1,47 @@
+/*
+ * operation.js — following one long-running operation of the daemon (a
+ * session's run, an analysis): poll GET /v1/operations/{id} until it is
+ * done. Shared by run_controls.js and analysis_op.js, which differ only in
+ * what they draw. After stop() no callback runs, also for an answer already
+ * on its way.
+ */
+import { api } from './api.js';
+
+/* google.rpc code 1 = CANCELLED (the daemon also sends a problem type). */
+export const isCancelled = (err) => err.code === 1 || /cancel/i.test(err.type || '');
+
+/**
+ * Follow operation `id` every `period` ms; `first`: the operation itself when
+ * already at hand (a POST answers with it). on.progress(op) for each answer
+ * not yet done, on.done(op) once at the end, on.error(e) when a poll fails
+ * (the following then ends). Returns { stop() }.
+ */
+export function followOperation(id, first, period, on) {
+  let timer = null;
+  let stopped = false;
+  const tick = async (op) => {
+    try {
+      op = op || (await api.operation(id));
+    } catch (e) {
+      if (stopped) return;
+      stopped = true;
+      on.error(e);
+      return;
+    }
+    if (stopped) return;
+    if (op.done) {
+      stopped = true;
+      await on.done(op);
+      return;
+    }
+    on.progress(op);
+    if (!stopped) timer = setTimeout(() => tick(), period);
+  };
+  tick(first);
+  return {
+    stop() {
+      stopped = true;
+      clearTimeout(timer);
+    },
+  };
+}
