@@ -1,9 +1,13 @@
 /*
  * analyses.c — engine map and IVS tuning as operations (analyses.h). The
- * document is built by api/analysis_json.c on a pool worker; this file only
- * caps the analyses running at once (the operation registry counts them),
- * feeds the operation's progress and turns a stop (cancel or shutdown) into
- * the operation's error.
+ * document is built by api/analysis_json.c on a pool worker; this file caps
+ * the analyses running at once (the operation registry counts them), feeds
+ * the operation's progress, turns a stop (cancel or shutdown) into the
+ * operation's error, and keeps each operation's document in the store
+ * (db.h, table analyses): written when it starts, after each part and when
+ * it ends (one small row; a part takes 0.1-5 s), so a
+ * finished result survives a restart and one a crash cut short is reported
+ * as such instead of vanishing.
  */
 #include "analyses.h"
 
@@ -12,6 +16,7 @@
 #include <string.h>
 
 #include "../sim/engine_sweep.h"
+#include "db.h"
 #include "operations.h"
 #include "pool.h"
 
@@ -33,6 +38,33 @@ static const char *kind_name(tsd_analysis_kind k)
     return k == TSD_ANALYSIS_ENGINE_MAP ? "engine_map" : "tune";
 }
 
+/* Write the operation document doc to the store (a failure is logged by db.c:
+ * the result stays in memory until the daemon stops). */
+static void store_doc(tsd_server *srv, json_t *doc)
+{
+    json_t *md = json_object_get(doc, "metadata");
+    char *text = json_dumps(doc, JSON_COMPACT);
+    char *req = json_dumps(json_object_get(md, "request"), JSON_COMPACT | JSON_ENCODE_ANY);
+    if (text && req)
+        tsd_db_analysis_put(srv->db, json_string_value(json_object_get(doc, "id")),
+                            json_string_value(json_object_get(md, "kind")),
+                            json_number_value(json_object_get(md, "created")),
+                            json_is_true(json_object_get(doc, "done")),
+                            json_object_get(doc, "error") != NULL, req, text);
+    else
+        fprintf(stderr, "tanksimd: out of memory storing analysis %s\n",
+                json_string_value(json_object_get(doc, "id")));
+    free(text);
+    free(req);
+}
+
+static void store_op(tsd_server *srv, tsd_op *op)
+{
+    json_t *doc = tsd_op_json_of(srv, op);
+    if (doc) store_doc(srv, doc);
+    json_decref(doc);
+}
+
 /* ts_progress_fn: record the part; stop on cancel or shutdown. */
 static int on_progress(void *ud, int done, int total)
 {
@@ -40,6 +72,7 @@ static int on_progress(void *ud, int done, int total)
     j->parts_done = done;
     j->parts_total = total;
     tsd_op_parts(j->srv, j->op, done, total);
+    store_op(j->srv, j->op); /* a crash after this part reports how far it got */
     return atomic_load(&j->srv->stopping) || tsd_op_cancel_requested(j->srv, j->op);
 }
 
@@ -67,6 +100,7 @@ static void analysis_run(void *arg)
         tsd_op_finish(srv, j->op, doc, NULL);
     else
         tsd_op_fail(srv, j->op, &e);
+    store_op(srv, j->op);
     free(j);
 }
 
@@ -74,11 +108,17 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
                          ts_err *err)
 {
     *opdoc = NULL;
-    if (atomic_load(&srv->stopping)) return tsd_err_shutdown(err);
+    json_t *request = req->request;
+    if (atomic_load(&srv->stopping)) {
+        json_decref(request);
+        return tsd_err_shutdown(err);
+    }
     int cap = analysis_cap(srv), busy = 0;
     analysis_job *j = calloc(1, sizeof *j);
     int total = req->kind == TSD_ANALYSIS_ENGINE_MAP ? TS_ENGINE_SWEEP_NPOINT : 1 + req->n;
-    tsd_op *op = j ? tsd_op_new_analysis(srv, kind_name(req->kind), total, cap, &busy) : NULL;
+    if (!j) json_decref(request);
+    tsd_op *op = j ? tsd_op_new_analysis(srv, kind_name(req->kind), total, request, cap, &busy)
+                   : NULL;
     if (!op) {
         int nomem = !j;
         free(j);
@@ -93,7 +133,9 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
     j->srv = srv;
     j->op = op;
     j->req = *req;
+    j->req.request = NULL; /* the operation holds it */
     *opdoc = tsd_op_json_of(srv, op);
+    if (*opdoc) store_doc(srv, *opdoc);
     if (tsd_pool_submit(srv->pool, analysis_run, j, 0) != 0) {
         ts_rc why = atomic_load(&srv->stopping)
                         ? tsd_err_shutdown(err)
@@ -101,10 +143,124 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
         ts_err e2;
         ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "%s", err->msg);
         tsd_op_fail(srv, op, &e2);
+        store_op(srv, op);
         free(j);
         json_decref(*opdoc);
         *opdoc = NULL;
         return why;
     }
+    return TS_OK;
+}
+
+/* ---- stored analyses -------------------------------------------------------------- */
+
+typedef struct recover_ctx {
+    tsd_server *srv;
+    int n, failed;
+} recover_ctx;
+
+/* tsd_db_analysis_fn: an analysis stored as not done was cut short by a
+ * daemon that stopped without finishing it (killed, crashed, power loss):
+ * store it done, with an error saying so. */
+static void recover_one(void *ud, const char *id, const char *kind, double created, int done,
+                        int failed, const char *request_json)
+{
+    (void)kind, (void)created, (void)failed, (void)request_json;
+    recover_ctx *c = ud;
+    if (done) return;
+    char *text = NULL;
+    json_t *doc = NULL;
+    if (tsd_db_analysis_get(c->srv->db, id, &text) == 0 && text)
+        doc = json_loads(text, 0, NULL);
+    free(text);
+    if (!json_is_object(doc)) {
+        json_decref(doc);
+        c->failed++;
+        return;
+    }
+    json_t *md = json_object_get(doc, "metadata");
+    ts_err e;
+    ts_err_set(&e, TS_ERR_CANCELLED, NULL,
+               "the daemon stopped (killed or crashed) after %d of %d parts of this analysis; "
+               "start it again",
+               (int)json_integer_value(json_object_get(md, "parts_done")),
+               (int)json_integer_value(json_object_get(md, "parts_total")));
+    json_object_set_new(doc, "done", json_true());
+    json_object_set_new(doc, "error", tsd_op_error_json(&e));
+    store_doc(c->srv, doc);
+    json_decref(doc);
+    fprintf(stderr, "tanksimd: analysis %s was interrupted (the daemon stopped during it)\n", id);
+    c->n++;
+}
+
+int tsd_analyses_recover(tsd_server *srv)
+{
+    recover_ctx c = {srv, 0, 0};
+    if (tsd_db_analyses(srv->db, recover_one, &c) != 0 || c.failed) return -1;
+    return c.n;
+}
+
+json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err)
+{
+    json_t *j = tsd_op_json(srv, id);
+    if (j) return j;
+    char *text = NULL;
+    if (tsd_db_analysis_get(srv->db, id, &text) != 0) {
+        ts_err_set(err, TS_ERR_IO, NULL, "cannot read analysis '%s' from the store", id);
+        return NULL;
+    }
+    if (!text) {
+        ts_err_set(err, TS_ERR_NOTFOUND, NULL,
+                   "no operation '%s' (run operations are kept in memory until the daemon "
+                   "stops; analyses are stored until deleted)",
+                   id);
+        return NULL;
+    }
+    j = json_loads(text, 0, NULL);
+    free(text);
+    if (!j) ts_err_set(err, TS_ERR_INTERNAL, NULL, "stored analysis '%s' is not JSON", id);
+    return j;
+}
+
+/* tsd_db_analysis_fn: one entry of the list. */
+static void list_one(void *ud, const char *id, const char *kind, double created, int done,
+                     int failed, const char *request_json)
+{
+    char name[48];
+    snprintf(name, sizeof name, "operations/%s", id);
+    json_t *req = json_loads(request_json, JSON_DECODE_ANY, NULL);
+    json_array_append_new(ud, json_pack("{s:s,s:s,s:s,s:f,s:b,s:b,s:o}", "id", id, "name", name,
+                                        "kind", kind, "created", created, "done", done,
+                                        "failed", failed, "request",
+                                        req ? req : json_null()));
+}
+
+json_t *tsd_analyses_json(tsd_server *srv, ts_err *err)
+{
+    json_t *list = json_array();
+    if (!list) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return NULL;
+    }
+    if (tsd_db_analyses(srv->db, list_one, list) != 0) {
+        json_decref(list);
+        ts_err_set(err, TS_ERR_IO, NULL, "cannot list the stored analyses");
+        return NULL;
+    }
+    return json_pack("{s:o}", "analyses", list);
+}
+
+ts_rc tsd_analysis_delete(tsd_server *srv, const char *id, ts_err *err)
+{
+    int forgot = tsd_op_forget(srv, id);
+    if (forgot < 0)
+        return ts_err_set(err, TS_ERR_STATE, NULL,
+                          "analysis '%s' is running: cancel it (POST "
+                          "/v1/operations/%s:cancel), then delete it",
+                          id, id);
+    int deleted = 0;
+    if (tsd_db_analysis_delete(srv->db, id, &deleted) != 0)
+        return ts_err_set(err, TS_ERR_IO, NULL, "cannot delete analysis '%s' from the store", id);
+    if (!deleted && !forgot) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no stored analysis '%s'", id);
     return TS_OK;
 }

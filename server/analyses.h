@@ -12,8 +12,14 @@
  * /v1/operations/{id} shows parts done and, at the end, the document as its
  * response; :cancel stops it after the part in progress. An analysis holds a
  * worker thread from start to end, so at most max(1, threads - 1) run at
- * once: session runs always keep a worker when there are two. Results live
- * in the operation (memory), as run operations do.
+ * once: session runs always keep a worker when there are two.
+ *
+ * Each analysis's operation document is stored (db.h, table analyses) when
+ * it starts, after each part and when it ends: GET /v1/operations/{id} finds it after a
+ * restart, GET /v1/analyses lists them, DELETE /v1/analyses/{id} removes
+ * one. An analysis the daemon did not finish (killed, crashed) is stored
+ * done with an error at the next start-up (tsd_analyses_recover); one the
+ * daemon's shutdown stopped already ends with such an error.
  */
 #ifndef TSD_ANALYSES_H
 #define TSD_ANALYSES_H
@@ -33,12 +39,31 @@ typedef struct tsd_analysis_req {
     char var[8];                       /* tune: "mass" or "grade" when n > 0 */
     double x[TSA_TUNE_SCHEDULE_MAX];   /* tune: the schedule's values (kg or rad) */
     int n;                             /* tune: schedule points (0: none) */
+    json_t *request;                   /* the request as metadata.request shows it */
 } tsd_analysis_req;
 
 /* Queue the analysis; *opdoc (new reference) is its operation document.
- * TS_ERR_LIMIT when the concurrent analyses are at their cap,
- * TSD_ERR_SHUTDOWN once shutdown began, TS_ERR_NOMEM. */
+ * req->request is stolen in every case. TS_ERR_LIMIT when the concurrent
+ * analyses are at their cap, TSD_ERR_SHUTDOWN once shutdown began,
+ * TS_ERR_NOMEM. */
 ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **opdoc,
                          ts_err *err);
+
+/* Start-up: store every analysis left not done as done with an error.
+ * Returns how many, -1 on a store error (logged). */
+int tsd_analyses_recover(tsd_server *srv);
+
+/* Operation document of analysis (or run operation) id: from memory while
+ * the daemon holds it, else from the store. New reference, or NULL with err
+ * (TS_ERR_NOTFOUND when neither has it). */
+json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err);
+
+/* {"analyses": [{id, name, kind, created, done, failed, request}]}, the
+ * stored analyses newest first. New reference, or NULL with err. */
+json_t *tsd_analyses_json(tsd_server *srv, ts_err *err);
+
+/* Remove a finished analysis from the store and from memory:
+ * TS_ERR_STATE while it runs, TS_ERR_NOTFOUND when not stored. */
+ts_rc tsd_analysis_delete(tsd_server *srv, const char *id, ts_err *err);
 
 #endif

@@ -29,7 +29,9 @@ static const char schema[] =
     "CREATE TABLE IF NOT EXISTS samples(seq INTEGER, idx INTEGER, vals BLOB,"
     " PRIMARY KEY(seq, idx)) WITHOUT ROWID;"
     "CREATE TABLE IF NOT EXISTS snapshots(seq INTEGER, idx INTEGER, t REAL, blob BLOB,"
-    " PRIMARY KEY(seq, idx)) WITHOUT ROWID;";
+    " PRIMARY KEY(seq, idx)) WITHOUT ROWID;"
+    "CREATE TABLE IF NOT EXISTS analyses(id TEXT PRIMARY KEY, kind TEXT, created REAL,"
+    " done INTEGER, failed INTEGER, request TEXT, document TEXT);";
 
 static void log_err(sqlite3 *c, const char *what)
 {
@@ -125,15 +127,14 @@ void tsd_db_close(tsd_db *db)
 }
 
 /* Run one statement with bound text/int/double parameters described by fmt:
- * 'i' long, 'd' double, 's' text (NULL -> SQL NULL). Writer connection. */
-static int exec_w(tsd_db *db, const char *sql, const char *fmt, ...)
+ * 'i' long, 'd' double, 's' text (NULL -> SQL NULL). Writer connection; the
+ * rows it changed into *changes when that is not NULL. */
+static int exec_wv(tsd_db *db, long *changes, const char *sql, const char *fmt, va_list ap)
 {
-    va_list ap;
     sqlite3_stmt *st = NULL;
     int rc = -1;
     pthread_mutex_lock(&db->wmu);
     if (sqlite3_prepare_v2(db->w, sql, -1, &st, NULL) != SQLITE_OK) goto out;
-    va_start(ap, fmt);
     for (int i = 0; fmt[i]; i++) {
         if (fmt[i] == 'i')
             sqlite3_bind_int64(st, i + 1, va_arg(ap, long));
@@ -147,12 +148,30 @@ static int exec_w(tsd_db *db, const char *sql, const char *fmt, ...)
                 sqlite3_bind_null(st, i + 1);
         }
     }
-    va_end(ap);
     rc = sqlite3_step(st) == SQLITE_DONE ? 0 : -1;
+    if (rc == 0 && changes) *changes = sqlite3_changes(db->w);
 out:
     if (rc != 0) log_err(db->w, sql);
     sqlite3_finalize(st);
     pthread_mutex_unlock(&db->wmu);
+    return rc;
+}
+
+static int exec_w(tsd_db *db, const char *sql, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int rc = exec_wv(db, NULL, sql, fmt, ap);
+    va_end(ap);
+    return rc;
+}
+
+static int exec_w_changes(tsd_db *db, long *changes, const char *sql, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int rc = exec_wv(db, changes, sql, fmt, ap);
+    va_end(ap);
     return rc;
 }
 
@@ -310,6 +329,103 @@ out:
     free(v);
     return rc;
 }
+
+/* ---- analyses ------------------------------------------------------------------ */
+
+int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double created, int done,
+                        int failed, const char *request_json, const char *document_json)
+{
+    return exec_w(db,
+                  "INSERT OR REPLACE INTO analyses(id,kind,created,done,failed,request,document)"
+                  " VALUES(?,?,?,?,?,?,?)",
+                  "ssdiiss", id, kind, created, (long)done, (long)failed, request_json,
+                  document_json);
+}
+
+int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc)
+{
+    sqlite3_stmt *st = NULL;
+    int rc = -1;
+    *doc = NULL;
+    pthread_mutex_lock(&db->rmu);
+    if (sqlite3_prepare_v2(db->r, "SELECT document FROM analyses WHERE id=?", -1, &st, NULL) !=
+        SQLITE_OK)
+        goto out;
+    sqlite3_bind_text(st, 1, id, -1, SQLITE_TRANSIENT);
+    int s = sqlite3_step(st);
+    if (s == SQLITE_ROW) {
+        *doc = strdup(col_text(st, 0));
+        rc = *doc ? 0 : -1;
+    } else {
+        rc = s == SQLITE_DONE ? 0 : -1;
+    }
+out:
+    if (rc) log_err(db->r, "read analysis");
+    sqlite3_finalize(st);
+    pthread_mutex_unlock(&db->rmu);
+    return rc;
+}
+
+int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted)
+{
+    long n = 0;
+    int rc = exec_w_changes(db, &n, "DELETE FROM analyses WHERE id=?", "s", id);
+    *deleted = rc == 0 && n > 0;
+    return rc;
+}
+
+typedef struct stored_analysis {
+    char *id, *kind, *request;
+    double created;
+    int done, failed;
+} stored_analysis;
+
+int tsd_db_analyses(tsd_db *db, tsd_db_analysis_fn fn, void *ud)
+{
+    sqlite3_stmt *st = NULL;
+    stored_analysis *v = NULL;
+    long n = 0, cap = 0;
+    int rc = -1;
+    pthread_mutex_lock(&db->rmu);
+    if (sqlite3_prepare_v2(db->r,
+                           "SELECT id,kind,created,done,failed,request FROM analyses"
+                           " ORDER BY created DESC, id",
+                           -1, &st, NULL) != SQLITE_OK)
+        goto out;
+    int s;
+    while ((s = sqlite3_step(st)) == SQLITE_ROW) {
+        if (n == cap) {
+            cap = cap ? 2 * cap : 64;
+            stored_analysis *nv = realloc(v, sizeof *v * (size_t)cap);
+            if (!nv) goto out;
+            v = nv;
+        }
+        stored_analysis *x = &v[n++];
+        x->id = strdup(col_text(st, 0));
+        x->kind = strdup(col_text(st, 1));
+        x->created = sqlite3_column_double(st, 2);
+        x->done = sqlite3_column_int(st, 3);
+        x->failed = sqlite3_column_int(st, 4);
+        x->request = strdup(col_text(st, 5));
+    }
+    rc = s == SQLITE_DONE ? 0 : -1;
+out:
+    if (rc) log_err(db->r, "list analyses");
+    sqlite3_finalize(st);
+    pthread_mutex_unlock(&db->rmu);
+    for (long i = 0; i < n; i++) {
+        stored_analysis *x = &v[i];
+        if (rc == 0 && x->id && x->kind && x->request)
+            fn(ud, x->id, x->kind, x->created, x->done, x->failed, x->request);
+        free(x->id);
+        free(x->kind);
+        free(x->request);
+    }
+    free(v);
+    return rc;
+}
+
+/* ---- state snapshots ------------------------------------------------------------ */
 
 int tsd_db_state(tsd_db *db, long seq, void **blob, size_t *size, long *idx)
 {

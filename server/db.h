@@ -15,6 +15,11 @@
  *   snapshots(seq, idx, t, blob)     ts_state_save snapshots, one per batch: the
  *                                    latest restarts an interrupted run; older
  *                                    ones let frames of past times be rebuilt
+ *   analyses(id PK, kind, created, done, failed, request, document)
+ *                                    one row per analysis operation (engine
+ *                                    map, tuning; analyses.h): its operation
+ *                                    document as last stored (at start, then
+ *                                    done), so a result outlives the daemon
  * WAL journal, synchronous=NORMAL: a committed batch survives a killed daemon
  * (not necessarily a power cut). Samples and the state they end at are
  * written in ONE transaction (tsd_db_append), so after a crash the stored
@@ -57,6 +62,25 @@ typedef void (*tsd_db_session_fn)(void *ud, long seq, const char *id, double cre
                                   const char *status, const char *error,
                                   const char *channels_json /* "" when none stored */);
 int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud);
+
+/* Store (insert or replace) analysis id: its kind, creation time [Unix s],
+ * whether it is done and failed, the request (JSON text) and the operation
+ * document (JSON text). */
+int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double created, int done,
+                        int failed, const char *request_json, const char *document_json);
+
+/* The stored operation document of analysis id: *doc malloc'd JSON text
+ * (caller frees), NULL when there is no such analysis. */
+int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc);
+
+/* Remove analysis id; *deleted = 1 when there was one. */
+int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted);
+
+/* Visit the stored analyses, newest first (the rows are copied out before the
+ * first call, so fn may use the database). */
+typedef void (*tsd_db_analysis_fn)(void *ud, const char *id, const char *kind, double created,
+                                   int done, int failed, const char *request_json);
+int tsd_db_analyses(tsd_db *db, tsd_db_analysis_fn fn, void *ud);
 
 /* The stored state snapshot: *blob malloc'd (caller frees), *idx its index;
  * *blob = NULL when there is none. */

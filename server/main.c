@@ -35,6 +35,7 @@
 #include <unistd.h>
 
 #include "../sim/version.h"
+#include "analyses.h"
 #include "db.h"
 #include "frames.h"
 #include "operations.h"
@@ -318,6 +319,10 @@ int main(int argc, char **argv)
         tsd_db_close(srv.db);
         return 1;
     }
+    /* analyses a killed daemon left running: stored as failed, not lost */
+    if (tsd_analyses_recover(&srv) < 0)
+        fprintf(stderr, "tanksimd: warning: could not mark the stored analyses of the last run "
+                        "that did not finish (see the sqlite message above)\n");
     srv.pool = tsd_pool_start(o->threads);
     if (!srv.pool || tsd_server_start(&srv, err, sizeof err) != 0) {
         fprintf(stderr, "tanksimd: %s\n", srv.pool ? err : "cannot start worker threads");

@@ -22,6 +22,8 @@ struct tsd_op {
     int parts_done, parts_total;       /* an analysis's progress */
     int cancel;                        /* an analysis was asked to stop */
     double wall_start, wall_last;
+    double created;                    /* an analysis's start [Unix s] */
+    json_t *request;                   /* an analysis's request (metadata.request) */
     int done;
     json_t *response, *error;
 };
@@ -42,6 +44,7 @@ int tsd_ops_init(tsd_server *srv)
 
 static void op_free(tsd_op *op)
 {
+    json_decref(op->request);
     json_decref(op->response);
     json_decref(op->error);
     free(op);
@@ -71,7 +74,7 @@ static tsd_op *op_register(tsd_server *srv, tsd_op *op, int max_analyses, int *b
         running += !o->v[i]->sid[0] && !o->v[i]->done;
     if (max_analyses > 0 && running >= max_analyses) {
         pthread_mutex_unlock(&o->mu);
-        free(op);
+        op_free(op);
         *busy = 1;
         return NULL;
     }
@@ -81,7 +84,7 @@ static tsd_op *op_register(tsd_server *srv, tsd_op *op, int max_analyses, int *b
             if (o->v[i]->done) drop = i;
         if (drop < 0) {
             pthread_mutex_unlock(&o->mu);
-            free(op);
+            op_free(op);
             return NULL;
         }
         op_free(o->v[drop]);
@@ -104,15 +107,41 @@ tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double unti
     return op_register(srv, op, 0, NULL);
 }
 
-tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total,
+tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total, json_t *request,
                             int max_running, int *busy)
 {
     *busy = 0;
     tsd_op *op = calloc(1, sizeof *op);
-    if (!op) return NULL;
+    if (!op) {
+        json_decref(request);
+        return NULL;
+    }
     op->kind = kind;
     op->parts_total = parts_total;
+    op->created = tsd_unix_now();
+    op->request = request;
     return op_register(srv, op, max_running, busy);
+}
+
+int tsd_op_forget(tsd_server *srv, const char *id)
+{
+    tsd_ops *o = srv->ops;
+    int rc = 0;
+    pthread_mutex_lock(&o->mu);
+    for (int i = 0; i < o->n; i++) {
+        if (strcmp(o->v[i]->id, id) != 0 || o->v[i]->sid[0]) continue;
+        if (!o->v[i]->done) {
+            rc = -1;
+            break;
+        }
+        op_free(o->v[i]);
+        memmove(&o->v[i], &o->v[i + 1], sizeof o->v[0] * (size_t)(o->n - i - 1));
+        o->n--;
+        rc = 1;
+        break;
+    }
+    pthread_mutex_unlock(&o->mu);
+    return rc;
 }
 
 void tsd_op_parts(tsd_server *srv, tsd_op *op, int parts_done, int parts_total)
@@ -171,7 +200,7 @@ void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
     pthread_mutex_unlock(&srv->ops->mu);
 }
 
-void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e)
+json_t *tsd_op_error_json(const ts_err *e)
 {
     json_t *error = tsa_problem_from_err(e, NULL);
     int code = e->code == TS_ERR_CANCELLED                           ? 1
@@ -180,7 +209,12 @@ void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e)
                                                                      : 13;
     json_object_set_new(error, "code", json_integer(code));
     json_object_set_new(error, "message", json_string(e->msg));
-    tsd_op_finish(srv, op, NULL, error);
+    return error;
+}
+
+void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e)
+{
+    tsd_op_finish(srv, op, NULL, tsd_op_error_json(e));
 }
 
 /* Caller holds the lock. */
@@ -208,10 +242,11 @@ static json_t *op_json(const tsd_op *op)
                       op->until, "wall_time_s", wall, "real_time_factor",
                       wall > 0 ? (op->t - op->t_start) / wall : 0.0);
     else
-        j = json_pack("{s:s,s:s,s:b,s:{s:s,s:f,s:i,s:i,s:f}}", "name", name, "id", op->id,
-                      "done", op->done, "metadata", "kind", op->kind, "progress", progress,
-                      "parts_done", op->parts_done, "parts_total", op->parts_total,
-                      "wall_time_s", wall);
+        j = json_pack("{s:s,s:s,s:b,s:{s:s,s:f,s:O,s:f,s:i,s:i,s:f}}", "name", name, "id",
+                      op->id, "done", op->done, "metadata", "kind", op->kind, "created",
+                      op->created, "request", op->request ? op->request : json_null(),
+                      "progress", progress, "parts_done", op->parts_done, "parts_total",
+                      op->parts_total, "wall_time_s", wall);
     if (j && op->done) {
         if (op->error)
             json_object_set(j, "error", op->error);

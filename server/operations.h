@@ -4,12 +4,14 @@
  * /v1/operations/{id} shows {name, done, metadata{kind "run", session,
  * progress 0..1, t, until, real_time_factor}, error | response}; :cancel asks
  * it to stop. The analyses (POST /v1/engine-map, /v1/tune; analyses.h) are
- * operations too, without a session: metadata{kind, progress, parts_done,
- * parts_total, wall_time_s}; their cancel flag lives in the operation.
+ * operations too, without a session: metadata{kind, created, request,
+ * progress, parts_done, parts_total, wall_time_s}; their cancel flag lives in
+ * the operation.
  *
  * Operations live in memory (the last TSD_MAX_OPS; the oldest finished ones
- * are forgotten first) — after a restart they are gone and the session's
- * status (interrupted) tells what happened. Every field is guarded by the
+ * are forgotten first). After a restart a run's operation is gone and the
+ * session's status (interrupted) tells what happened; an analysis's document
+ * is also stored (analyses.c), and GET finds it there. Every field is guarded by the
  * registry's one mutex; workers update progress through tsd_op_progress.
  */
 #ifndef TSD_OPERATIONS_H
@@ -31,11 +33,17 @@ void tsd_ops_free(tsd_server *srv);
  * or when every kept operation is still running. */
 tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double until);
 /* A new operation of an analysis (kind: a static string, "engine_map", "tune")
- * in parts_total parts, not tied to a session. NULL as tsd_op_new, or with
- * *busy = 1 when max_running analyses are not done yet (counted under the
- * registry's lock, so an analysis a client saw done no longer counts). */
-tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total,
+ * in parts_total parts, not tied to a session, made from request (a JSON
+ * object shown as metadata.request; stolen, even on failure). NULL as
+ * tsd_op_new, or with *busy = 1 when max_running analyses are not done yet
+ * (counted under the registry's lock, so an analysis a client saw done no
+ * longer counts). */
+tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total, json_t *request,
                             int max_running, int *busy);
+/* Drop the analysis operation with this id from memory if it is done: 1
+ * dropped, 0 no such analysis (run operations are never dropped this way),
+ * -1 it is still running. */
+int tsd_op_forget(tsd_server *srv, const char *id);
 /* An analysis's progress: parts_done of its parts finished. */
 void tsd_op_parts(tsd_server *srv, tsd_op *op, int parts_done, int parts_total);
 /* Ask the operation with this id to stop: 0 when there is none; else 1, and
@@ -51,6 +59,8 @@ void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
  * "code" (1 CANCELLED, 3 INVALID_ARGUMENT for a parameter, 8
  * RESOURCE_EXHAUSTED for a limit, 13 INTERNAL otherwise) and "message". */
 void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e);
+/* That error member alone (new reference). */
+json_t *tsd_op_error_json(const ts_err *e);
 
 /* The operation document by id (new reference), NULL if unknown. */
 json_t *tsd_op_json(tsd_server *srv, const char *id);

@@ -44,6 +44,13 @@ double tsd_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+double tsd_unix_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 void tsd_random_id(char *out, size_t n, const char *prefix)
 {
     unsigned char rnd[8] = {0};

@@ -43,6 +43,8 @@ void tsd_pool_free(tsd_pool *p);
 
 /* Monotonic clock [s]. */
 double tsd_now(void);
+/* Wall-clock time [s since 1970-01-01 UTC]: the stored "created" times. */
+double tsd_unix_now(void);
 
 /* Fresh random id: prefix + 16 hex digits (getrandom; the clock if that
  * fails) into out[n]. Sessions ("s...") and operations ("op...") use it. */

@@ -871,9 +871,11 @@ static enum MHD_Result post_modes(tsd_request *r)
 /* ---- analyses: engine map (Fig. 18) and IVS tuning (Figs. 26-27) ------------------ */
 
 /* The body's config (empty = the defaults) for command: a preset made for
- * another command only is refused naming /preset. -1 when a 4xx was queued. */
+ * another command only is refused naming /preset. -1 when a 4xx was queued;
+ * else 0 and *request = {"body": the body as sent} (new reference, for the
+ * operation's metadata). */
 static int analysis_config(tsd_request *r, const char *command, ts_config *cfg,
-                           enum MHD_Result *ret)
+                           json_t **request, enum MHD_Result *ret)
 {
     json_t *doc = body_object(r, 1, ret);
     if (!doc) return -1;
@@ -881,12 +883,13 @@ static int analysis_config(tsd_request *r, const char *command, ts_config *cfg,
     json_t *errors = json_array();
     ts_rc rc = tsa_config_load(doc, cfg, NULL, errors, &e);
     if (rc == TS_OK) rc = tsa_config_runnable(doc, command, &e);
-    json_decref(doc);
     if (rc != TS_OK) {
+        json_decref(doc);
         *ret = reply_body_err(r, &e, errors);
         return -1;
     }
     json_decref(errors);
+    *request = json_pack("{s:o}", "body", doc);
     return 0;
 }
 
@@ -903,6 +906,10 @@ static enum MHD_Result start_analysis(tsd_request *r, tsd_analysis_req *q)
 {
     ts_err e;
     json_t *op = NULL;
+    if (!q->request) {
+        free(q);
+        return reply_oom(r);
+    }
     ts_rc rc = tsd_analysis_start(r->srv, q, &op, &e);
     free(q);
     if (rc != TS_OK) return tsd_reply_err(r, &e, NULL);
@@ -917,7 +924,7 @@ static enum MHD_Result post_engine_map(tsd_request *r)
     tsd_analysis_req *q = calloc(1, sizeof *q);
     if (!q) return reply_oom(r);
     q->kind = TSD_ANALYSIS_ENGINE_MAP;
-    if (analysis_config(r, "engine-map", &q->cfg, &ret) < 0) {
+    if (analysis_config(r, "engine-map", &q->cfg, &q->request, &ret) < 0) {
         free(q);
         return ret;
     }
@@ -958,10 +965,13 @@ static enum MHD_Result post_tune(tsd_request *r)
         return tsd_reply_err(r, &e, NULL);
     }
     if (m > 0 || g > 0) snprintf(q->var, sizeof q->var, "%s", m > 0 ? "mass" : "grade");
-    if (analysis_config(r, "tune", &q->cfg, &ret) < 0) {
+    if (analysis_config(r, "tune", &q->cfg, &q->request, &ret) < 0) {
         free(q);
         return ret;
     }
+    const char *sched = m > 0 ? "schedule_mass" : g > 0 ? "schedule_grade" : NULL;
+    if (sched && q->request) /* the query as sent, beside the body */
+        json_object_set_new(q->request, sched, json_string(tsd_arg(r, sched)));
     return start_analysis(r, q);
 }
 
@@ -969,21 +979,17 @@ static enum MHD_Result post_tune(tsd_request *r)
 
 static enum MHD_Result get_operation(tsd_request *r)
 {
-    json_t *j = tsd_op_json(r->srv, r->params[0]);
-    if (!j) {
-        ts_err e;
-        ts_err_set(&e, TS_ERR_NOTFOUND, NULL,
-                   "no operation '%s' (operations are kept in memory; a restart forgets them)",
-                   r->params[0]);
-        return tsd_reply_err(r, &e, NULL);
-    }
+    ts_err e;
+    json_t *j = tsd_analysis_json(r->srv, r->params[0], &e);
+    if (!j) return tsd_reply_err(r, &e, NULL);
     return tsd_reply_json(r, MHD_HTTP_OK, j);
 }
 
 static enum MHD_Result cancel_operation(tsd_request *r)
 {
     char sid[24] = "";
-    if (!tsd_op_request_cancel(r->srv, r->params[0], sid)) return get_operation(r); /* 404 */
+    if (!tsd_op_request_cancel(r->srv, r->params[0], sid)) /* stored (done) or 404 */
+        return get_operation(r);
     if (sid[0]) { /* a run stops through its session; an analysis's worker sees the flag */
         tsd_session *s = tsd_session_get(r->srv, sid);
         if (s) {
@@ -991,7 +997,21 @@ static enum MHD_Result cancel_operation(tsd_request *r)
             tsd_session_put(s);
         }
     }
-    return tsd_reply_json(r, MHD_HTTP_OK, tsd_op_json(r->srv, r->params[0]));
+    return get_operation(r);
+}
+
+static enum MHD_Result get_analyses(tsd_request *r)
+{
+    ts_err e;
+    json_t *j = tsd_analyses_json(r->srv, &e);
+    return j ? tsd_reply_json(r, MHD_HTTP_OK, j) : tsd_reply_err(r, &e, NULL);
+}
+
+static enum MHD_Result delete_analysis(tsd_request *r)
+{
+    ts_err e;
+    if (tsd_analysis_delete(r->srv, r->params[0], &e) != TS_OK) return tsd_reply_err(r, &e, NULL);
+    return tsd_reply_text(r, MHD_HTTP_NO_CONTENT, "application/json", "", 0);
 }
 
 /* ---- the table ---------------------------------------------------------------------- */
@@ -1020,6 +1040,8 @@ static const tsd_route_row routes[] = {
     {"POST", "/v1/modes", post_modes, RF_WORK, "", "Track eigenanalysis (tanksim modes)"},
     {"POST", "/v1/engine-map", post_engine_map, RF_WORK, "", "Full-load engine map, an operation (tanksim engine-map)"},
     {"POST", "/v1/tune", post_tune, RF_WORK, "schedule_mass schedule_grade", "IVS Ziegler-Nichols tuning, an operation (tanksim tune)"},
+    {"GET", "/v1/analyses", get_analyses, 0, "", "Stored analyses (engine maps, tunings), newest first"},
+    {"DELETE", "/v1/analyses/{id}", delete_analysis, 0, "", "Remove a finished analysis from the store"},
     {"GET", "/v1/operations/{id}", get_operation, 0, "", "State of a run or analysis operation"},
     {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "", "Cancel a run or analysis operation"},
     {"GET", "/", tsd_static_index, RF_PUBLIC, "*", "The browser dashboard (web_static/index.html)"},

@@ -85,13 +85,6 @@ static tsd_status status_from_name(const char *s)
     return TSD_FAILED;
 }
 
-static double unix_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* ---- lifetime ---------------------------------------------------------------- */
 
 static void session_free(tsd_session *s)
@@ -618,7 +611,7 @@ static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolve
     snprintf(s->preset, sizeof s->preset, "%s",
              json_is_string(preset) ? json_string_value(preset) : "");
     tsd_random_id(s->id, sizeof s->id, "s");
-    s->created = unix_now();
+    s->created = tsd_unix_now();
     s->status = TSD_CREATED;
     s->t = 0.0;
     s->index = 0;

@@ -1,0 +1,163 @@
+"""Stored analyses: an engine map or tuning (POST /v1/engine-map, /v1/tune)
+outlives the daemon that computed it. Its operation document is written to
+the store (table analyses) when it starts, after each part and when it ends,
+so after a restart GET /v1/operations/{id} returns the finished result, and
+an analysis a kill -9 cut short is reported done with an error saying how
+far it got, instead of a 404. GET /v1/analyses lists them; DELETE
+/v1/analyses/{id} removes a finished one (409 while it runs). The brief's
+"nothing lost on a crash" for the daemon's second kind of work."""
+import signal
+import time
+
+import pytest
+import requests
+
+from conftest import Daemon, is_problem, wait_op
+
+MEAN_VALUE_DYNO = {"run": {"kind": "engine_dyno"}, "engine": {"fidelity": "mean_value"},
+                   "control": {"rack": 1.0}}
+CRANK_MAP = {"preset": "engine-map-conventional"}  # crank-angle: 14 parts, ~3 s (slower in ASan)
+
+
+def start(url, path, body, query=""):
+    r = requests.post(url + path + query, json=body, timeout=30)
+    assert r.status_code == 202, r.text
+    return r.json()
+
+
+def wait_parts(url, op_id, parts, timeout=120):
+    """Poll until the operation has at least `parts` parts done; its document."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        op = requests.get(f"{url}/v1/operations/{op_id}", timeout=10).json()
+        if op["metadata"]["parts_done"] >= parts or op["done"]:
+            return op
+        time.sleep(0.02)
+    raise AssertionError(f"{op_id}: fewer than {parts} parts after {timeout} s")
+
+
+def listed(url):
+    r = requests.get(url + "/v1/analyses", timeout=10)
+    assert r.status_code == 200, r.text
+    return {a["id"]: a for a in r.json()["analyses"]}
+
+
+def test_finished_analysis_survives_a_restart(tmp_path):
+    d = Daemon("--threads", "2", data_dir=str(tmp_path))
+    try:
+        op = start(d.url, "/v1/engine-map", MEAN_VALUE_DYNO)
+        assert op["metadata"]["request"] == {"body": MEAN_VALUE_DYNO}
+        assert op["metadata"]["created"] == pytest.approx(time.time(), abs=60)
+        done = wait_op(d.url, op["id"], timeout=60)
+        assert "response" in done, done
+    finally:
+        d.stop()
+    d2 = Daemon("--threads", "2", data_dir=str(tmp_path))
+    try:
+        r = requests.get(f"{d2.url}/v1/operations/{op['id']}", timeout=10)
+        assert r.status_code == 200, r.text
+        assert r.json() == done  # the document as the first daemon answered it, bit for bit
+        a = listed(d2.url)[op["id"]]
+        assert a["kind"] == "engine_map" and a["done"] and not a["failed"]
+        assert a["name"] == "operations/" + op["id"] and a["request"] == {"body": MEAN_VALUE_DYNO}
+        # cancelling a stored, finished analysis changes nothing
+        r = requests.post(f"{d2.url}/v1/operations/{op['id']}:cancel", timeout=10)
+        assert r.status_code == 200 and r.json() == done
+    finally:
+        d2.stop()
+
+
+def test_analysis_cut_short_by_kill_9_is_reported_not_lost(tmp_path):
+    d = Daemon("--threads", "2", data_dir=str(tmp_path))
+    try:
+        op = start(d.url, "/v1/engine-map", CRANK_MAP)
+        seen = wait_parts(d.url, op["id"], 2)
+        assert not seen["done"], "the crank-angle map finished before the kill: nothing to test"
+        d.stop(sig=signal.SIGKILL)
+    finally:
+        d.stop()
+    d2 = Daemon("--threads", "2", data_dir=str(tmp_path))
+    try:
+        got = requests.get(f"{d2.url}/v1/operations/{op['id']}", timeout=10).json()
+        assert got["done"] and "response" not in got
+        err = got["error"]
+        assert err["code"] == 1 and "killed or crashed" in err["message"]
+        n = got["metadata"]["parts_done"]
+        assert 2 <= n < 14 and f"after {n} of 14 parts" in err["message"]
+        assert got["metadata"]["request"] == {"body": CRANK_MAP}
+        assert listed(d2.url)[op["id"]]["failed"] is True
+        assert f"analysis {op['id']} was interrupted" in d2.stderr()
+    finally:
+        d2.stop()
+    # a third start has nothing left to recover
+    d3 = Daemon(data_dir=str(tmp_path))
+    try:
+        assert "was interrupted" not in d3.stderr()
+        assert requests.get(f"{d3.url}/v1/operations/{op['id']}", timeout=10).json() == got
+    finally:
+        d3.stop()
+
+
+def test_shutdown_during_an_analysis_stores_why_it_ended(tmp_path):
+    d = Daemon("--threads", "2", data_dir=str(tmp_path))
+    try:
+        op = start(d.url, "/v1/engine-map", CRANK_MAP)
+        wait_parts(d.url, op["id"], 1)
+        assert d.stop() == 0  # SIGTERM: the map ends after the speed point in progress
+    finally:
+        d.stop()
+    d2 = Daemon(data_dir=str(tmp_path))
+    try:
+        got = requests.get(f"{d2.url}/v1/operations/{op['id']}", timeout=10).json()
+        assert got["done"] and got["error"]["code"] == 1
+        assert "shut down" in got["error"]["message"], got["error"]
+        assert "was interrupted" not in d2.stderr()  # it ended cleanly, nothing to recover
+    finally:
+        d2.stop()
+
+
+def test_list_newest_first_and_delete(tmp_path):
+    d = Daemon("--threads", "2", data_dir=str(tmp_path))
+    try:
+        a = start(d.url, "/v1/engine-map", MEAN_VALUE_DYNO)
+        wait_op(d.url, a["id"], timeout=60)
+        b = start(d.url, "/v1/tune", {"preset": "bump-coupled-ivs5mph",
+                                      "engine": {"fidelity": "mean_value"}},
+                  "?schedule_mass=50000,60000")
+        assert b["metadata"]["request"]["schedule_mass"] == "50000,60000"
+        wait_op(d.url, b["id"], timeout=120)
+        ids = [x["id"] for x in requests.get(d.url + "/v1/analyses").json()["analyses"]]
+        assert ids == [b["id"], a["id"]]
+        c = start(d.url, "/v1/engine-map", CRANK_MAP)  # a running one cannot be deleted
+        p = is_problem(requests.delete(f"{d.url}/v1/analyses/{c['id']}"), 409)
+        assert ":cancel" in p["detail"]
+        requests.post(f"{d.url}/v1/operations/{c['id']}:cancel")
+        wait_op(d.url, c["id"], timeout=120)
+        for x in (a, c):
+            r = requests.delete(f"{d.url}/v1/analyses/{x['id']}")
+            assert r.status_code == 204 and r.content == b""
+            is_problem(requests.get(f"{d.url}/v1/operations/{x['id']}"), 404)
+            is_problem(requests.delete(f"{d.url}/v1/analyses/{x['id']}"), 404)
+        assert list(listed(d.url)) == [b["id"]]
+        is_problem(requests.delete(f"{d.url}/v1/analyses/op0000000000000000"), 404)
+    finally:
+        d.stop()
+    d2 = Daemon(data_dir=str(tmp_path))  # the deletes were stored too
+    try:
+        assert list(listed(d2.url)) == [b["id"]]
+    finally:
+        d2.stop()
+
+
+def test_a_run_operation_is_not_an_analysis(tmp_path):
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        s = requests.post(d.url + "/v1/sessions",
+                          json={"preset": "pointmass-prescribed", "run": {"duration": 0.2}}).json()
+        op = requests.post(f"{d.url}/v1/sessions/{s['id']}/run", json={}).json()
+        wait_op(d.url, op["id"])
+        is_problem(requests.delete(f"{d.url}/v1/analyses/{op['id']}"), 404)
+        assert requests.get(f"{d.url}/v1/operations/{op['id']}").status_code == 200
+        assert listed(d.url) == {}
+    finally:
+        d.stop()
