@@ -65,6 +65,17 @@ static void store_op(tsd_server *srv, tsd_op *op)
     json_decref(doc);
 }
 
+/* End op with response or error (one of them; stolen), storing its final
+ * document first: once a client can see it done it may DELETE it (the row
+ * would come back if stored after) and the registry may drop it (op freed). */
+static void finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
+{
+    json_t *doc = tsd_op_json_finished(srv, op, response, error);
+    if (doc) store_doc(srv, doc);
+    json_decref(doc);
+    tsd_op_finish(srv, op, response, error);
+}
+
 /* ts_progress_fn: record the part; stop on cancel or shutdown. */
 static int on_progress(void *ud, int done, int total)
 {
@@ -96,11 +107,7 @@ static void analysis_run(void *arg)
                        ? "the daemon shut down after %d of %d parts; start the analysis again"
                        : "cancelled after %d of %d parts",
                    j->parts_done, j->parts_total);
-    if (doc)
-        tsd_op_finish(srv, j->op, doc, NULL);
-    else
-        tsd_op_fail(srv, j->op, &e);
-    store_op(srv, j->op);
+    finish(srv, j->op, doc, doc ? NULL : tsd_op_error_json(&e));
     free(j);
 }
 
@@ -142,8 +149,7 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
                         : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory queueing the job");
         ts_err e2;
         ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "%s", err->msg);
-        tsd_op_fail(srv, op, &e2);
-        store_op(srv, op);
+        finish(srv, op, NULL, tsd_op_error_json(&e2));
         free(j);
         json_decref(*opdoc);
         *opdoc = NULL;

@@ -25,6 +25,7 @@ struct tsd_op {
     double created;                    /* an analysis's start [Unix s] */
     json_t *request;                   /* an analysis's request (metadata.request) */
     int done;
+    int frozen;                        /* wall_last fixed by tsd_op_json_finished */
     json_t *response, *error;
 };
 
@@ -194,7 +195,7 @@ void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
 {
     pthread_mutex_lock(&srv->ops->mu);
     op->done = 1;
-    op->wall_last = tsd_now();
+    if (!op->frozen) op->wall_last = tsd_now();
     op->response = response;
     op->error = error;
     pthread_mutex_unlock(&srv->ops->mu);
@@ -253,6 +254,20 @@ static json_t *op_json(const tsd_op *op)
         else if (op->response)
             json_object_set(j, "response", op->response);
     }
+    return j;
+}
+
+json_t *tsd_op_json_finished(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
+{
+    pthread_mutex_lock(&srv->ops->mu);
+    op->wall_last = tsd_now();
+    op->frozen = 1;
+    tsd_op done = *op;
+    done.done = 1;
+    done.response = response;
+    done.error = error;
+    json_t *j = op_json(&done);
+    pthread_mutex_unlock(&srv->ops->mu);
     return j;
 }
 

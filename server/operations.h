@@ -62,6 +62,12 @@ void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e);
 /* That error member alone (new reference). */
 json_t *tsd_op_error_json(const ts_err *e);
 
+/* The document op will have once tsd_op_finish(srv, op, response, error)
+ * ends it (response, error borrowed; new reference), with its wall time
+ * fixed now so that the two agree: for a caller that stores the final
+ * document before any client can see the operation done (and delete it). */
+json_t *tsd_op_json_finished(tsd_server *srv, tsd_op *op, json_t *response, json_t *error);
+
 /* The operation document by id (new reference), NULL if unknown. */
 json_t *tsd_op_json(tsd_server *srv, const char *id);
 json_t *tsd_op_json_of(tsd_server *srv, tsd_op *op);
