@@ -50,7 +50,9 @@ static void store_doc(tsd_server *srv, json_t *doc)
                             json_string_value(json_object_get(md, "kind")),
                             json_number_value(json_object_get(md, "created")),
                             json_is_true(json_object_get(doc, "done")),
-                            json_object_get(doc, "error") != NULL, req, text);
+                            (int)json_integer_value(
+                                json_object_get(json_object_get(doc, "error"), "code")),
+                            req, text);
     else
         fprintf(stderr, "tanksimd: out of memory storing analysis %s\n",
                 json_string_value(json_object_get(doc, "id")));
@@ -169,9 +171,9 @@ typedef struct recover_ctx {
  * daemon that stopped without finishing it (killed, crashed, power loss):
  * store it done, with an error saying so. */
 static void recover_one(void *ud, const char *id, const char *kind, double created, int done,
-                        int failed, const char *request_json)
+                        int error_code, const char *request_json)
 {
-    (void)kind, (void)created, (void)failed, (void)request_json;
+    (void)kind, (void)created, (void)error_code, (void)request_json;
     recover_ctx *c = ud;
     if (done) return;
     char *text = NULL;
@@ -230,15 +232,15 @@ json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err)
 
 /* tsd_db_analysis_fn: one entry of the list. */
 static void list_one(void *ud, const char *id, const char *kind, double created, int done,
-                     int failed, const char *request_json)
+                     int error_code, const char *request_json)
 {
     char name[48];
     snprintf(name, sizeof name, "operations/%s", id);
     json_t *req = json_loads(request_json, JSON_DECODE_ANY, NULL);
-    json_array_append_new(ud, json_pack("{s:s,s:s,s:s,s:f,s:b,s:b,s:o}", "id", id, "name", name,
-                                        "kind", kind, "created", created, "done", done,
-                                        "failed", failed, "request",
-                                        req ? req : json_null()));
+    json_array_append_new(ud, json_pack("{s:s,s:s,s:s,s:f,s:b,s:b,s:i,s:o}", "id", id, "name",
+                                        name, "kind", kind, "created", created, "done", done,
+                                        "failed", error_code != 0, "error_code", error_code,
+                                        "request", req ? req : json_null()));
 }
 
 json_t *tsd_analyses_json(tsd_server *srv, ts_err *err)

@@ -58,7 +58,8 @@ int tsd_analyses_recover(tsd_server *srv);
  * (TS_ERR_NOTFOUND when neither has it). */
 json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err);
 
-/* {"analyses": [{id, name, kind, created, done, failed, request}]}, the
+/* {"analyses": [{id, name, kind, created, done, failed, error_code,
+ * request}]}, the
  * stored analyses newest first. New reference, or NULL with err. */
 json_t *tsd_analyses_json(tsd_server *srv, ts_err *err);
 

@@ -31,7 +31,7 @@ static const char schema[] =
     "CREATE TABLE IF NOT EXISTS snapshots(seq INTEGER, idx INTEGER, t REAL, blob BLOB,"
     " PRIMARY KEY(seq, idx)) WITHOUT ROWID;"
     "CREATE TABLE IF NOT EXISTS analyses(id TEXT PRIMARY KEY, kind TEXT, created REAL,"
-    " done INTEGER, failed INTEGER, request TEXT, document TEXT);";
+    " done INTEGER, error_code INTEGER, request TEXT, document TEXT);";
 
 static void log_err(sqlite3 *c, const char *what)
 {
@@ -333,12 +333,12 @@ out:
 /* ---- analyses ------------------------------------------------------------------ */
 
 int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double created, int done,
-                        int failed, const char *request_json, const char *document_json)
+                        int error_code, const char *request_json, const char *document_json)
 {
     return exec_w(db,
-                  "INSERT OR REPLACE INTO analyses(id,kind,created,done,failed,request,document)"
+                  "INSERT OR REPLACE INTO analyses(id,kind,created,done,error_code,request,document)"
                   " VALUES(?,?,?,?,?,?,?)",
-                  "ssdiiss", id, kind, created, (long)done, (long)failed, request_json,
+                  "ssdiiss", id, kind, created, (long)done, (long)error_code, request_json,
                   document_json);
 }
 
@@ -377,7 +377,7 @@ int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted)
 typedef struct stored_analysis {
     char *id, *kind, *request;
     double created;
-    int done, failed;
+    int done, error_code;
 } stored_analysis;
 
 int tsd_db_analyses(tsd_db *db, tsd_db_analysis_fn fn, void *ud)
@@ -388,7 +388,7 @@ int tsd_db_analyses(tsd_db *db, tsd_db_analysis_fn fn, void *ud)
     int rc = -1;
     pthread_mutex_lock(&db->rmu);
     if (sqlite3_prepare_v2(db->r,
-                           "SELECT id,kind,created,done,failed,request FROM analyses"
+                           "SELECT id,kind,created,done,error_code,request FROM analyses"
                            " ORDER BY created DESC, id",
                            -1, &st, NULL) != SQLITE_OK)
         goto out;
@@ -405,7 +405,7 @@ int tsd_db_analyses(tsd_db *db, tsd_db_analysis_fn fn, void *ud)
         x->kind = strdup(col_text(st, 1));
         x->created = sqlite3_column_double(st, 2);
         x->done = sqlite3_column_int(st, 3);
-        x->failed = sqlite3_column_int(st, 4);
+        x->error_code = sqlite3_column_int(st, 4);
         x->request = strdup(col_text(st, 5));
     }
     rc = s == SQLITE_DONE ? 0 : -1;
@@ -416,7 +416,7 @@ out:
     for (long i = 0; i < n; i++) {
         stored_analysis *x = &v[i];
         if (rc == 0 && x->id && x->kind && x->request)
-            fn(ud, x->id, x->kind, x->created, x->done, x->failed, x->request);
+            fn(ud, x->id, x->kind, x->created, x->done, x->error_code, x->request);
         free(x->id);
         free(x->kind);
         free(x->request);

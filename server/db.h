@@ -15,7 +15,7 @@
  *   snapshots(seq, idx, t, blob)     ts_state_save snapshots, one per batch: the
  *                                    latest restarts an interrupted run; older
  *                                    ones let frames of past times be rebuilt
- *   analyses(id PK, kind, created, done, failed, request, document)
+ *   analyses(id PK, kind, created, done, error_code, request, document)
  *                                    one row per analysis operation (engine
  *                                    map, tuning; analyses.h): its operation
  *                                    document as last stored (at start, then
@@ -64,10 +64,10 @@ typedef void (*tsd_db_session_fn)(void *ud, long seq, const char *id, double cre
 int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud);
 
 /* Store (insert or replace) analysis id: its kind, creation time [Unix s],
- * whether it is done and failed, the request (JSON text) and the operation
- * document (JSON text). */
+ * whether it is done, its error's google.rpc code (0: none), the request
+ * (JSON text) and the operation document (JSON text). */
 int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double created, int done,
-                        int failed, const char *request_json, const char *document_json);
+                        int error_code, const char *request_json, const char *document_json);
 
 /* The stored operation document of analysis id: *doc malloc'd JSON text
  * (caller frees), NULL when there is no such analysis. */
@@ -79,7 +79,7 @@ int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted);
 /* Visit the stored analyses, newest first (the rows are copied out before the
  * first call, so fn may use the database). */
 typedef void (*tsd_db_analysis_fn)(void *ud, const char *id, const char *kind, double created,
-                                   int done, int failed, const char *request_json);
+                                   int done, int error_code, const char *request_json);
 int tsd_db_analyses(tsd_db *db, tsd_db_analysis_fn fn, void *ud);
 
 /* The stored state snapshot: *blob malloc'd (caller frees), *idx its index;

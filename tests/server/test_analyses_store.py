@@ -58,7 +58,7 @@ def test_finished_analysis_survives_a_restart(tmp_path):
         assert r.status_code == 200, r.text
         assert r.json() == done  # the document as the first daemon answered it, bit for bit
         a = listed(d2.url)[op["id"]]
-        assert a["kind"] == "engine_map" and a["done"] and not a["failed"]
+        assert a["kind"] == "engine_map" and a["done"] and not a["failed"] and a["error_code"] == 0
         assert a["name"] == "operations/" + op["id"] and a["request"] == {"body": MEAN_VALUE_DYNO}
         # cancelling a stored, finished analysis changes nothing
         r = requests.post(f"{d2.url}/v1/operations/{op['id']}:cancel", timeout=10)
@@ -85,7 +85,8 @@ def test_analysis_cut_short_by_kill_9_is_reported_not_lost(tmp_path):
         n = got["metadata"]["parts_done"]
         assert 2 <= n < 14 and f"after {n} of 14 parts" in err["message"]
         assert got["metadata"]["request"] == {"body": CRANK_MAP}
-        assert listed(d2.url)[op["id"]]["failed"] is True
+        a = listed(d2.url)[op["id"]]
+        assert a["failed"] is True and a["error_code"] == 1
         assert f"analysis {op['id']} was interrupted" in d2.stderr()
     finally:
         d2.stop()
