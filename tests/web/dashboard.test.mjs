@@ -21,7 +21,11 @@
 // The Analyses panel: an engine map (mean-value) drawn with its rated point,
 // a tuning with its gains and a gain schedule, a bad schedule value marked on
 // its field and not sent, and the daemon's 429 (one analysis at a time) shown
-// in its words, the running map then cancelled.
+// in its words, the running map then cancelled. Stored analyses: the list
+// (refreshed when a form's analysis starts and ends) shows each with its
+// status, Show draws a stored result or error, Delete of a row another client
+// deleted shows the daemon's 404; after a restart on the same data dir a map
+// is still listed and shown, and Delete makes its operation 404.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -95,9 +99,11 @@ function freePort() {
   });
 }
 
-async function startDaemon(...extra) {
+const startDaemon = (...extra) => startDaemonIn(mkdtempSync(path.join(os.tmpdir(), 'tanksimd-web-')), ...extra);
+
+/* A daemon on `dataDir` (a restart: the data dir of a stopped one). */
+async function startDaemonIn(dataDir, ...extra) {
   const port = await freePort();
-  const dataDir = mkdtempSync(path.join(os.tmpdir(), 'tanksimd-web-'));
   const logPath = path.join(OUT, `tanksimd-${port}.log`);
   const log = openSync(logPath, 'w');
   const proc = spawn(path.join(BUILD, 'tanksimd'), ['--port', String(port), '--data-dir', dataDir, ...extra], {
@@ -110,13 +116,19 @@ async function startDaemon(...extra) {
   return d;
 }
 
+/* SIGTERM (SIGKILL after 10 s); the data dir stays. */
+async function stopDaemon(d) {
+  const running = () => d.proc.exitCode === null && d.proc.signalCode === null;
+  if (!running()) return;
+  const exited = new Promise((r) => d.proc.once('exit', r));
+  d.proc.kill('SIGTERM');
+  await Promise.race([exited, new Promise((r) => setTimeout(r, 10000))]);
+  if (running()) d.proc.kill('SIGKILL');
+}
+
 async function stopDaemons() {
   for (const d of daemons) {
-    if (d.proc.exitCode === null) {
-      d.proc.kill('SIGTERM');
-      await Promise.race([new Promise((r) => d.proc.once('exit', r)), new Promise((r) => setTimeout(r, 10000))]);
-      if (d.proc.exitCode === null) d.proc.kill('SIGKILL');
-    }
+    await stopDaemon(d);
     rmSync(d.dataDir, { recursive: true, force: true });
   }
 }
@@ -216,6 +228,26 @@ async function assertCleared(page, id) {
 
 const sampleCount = (page) => page.evaluate(() => window.tanksimDebug.state.store?.length || 0);
 const chartPoints = (page) => page.evaluate(() => window.tanksimDebug.plots.charts.map((c) => c.plot.data[0].length));
+
+/* The stored-analyses table as shown: per row its id, cells' text, start time (ISO), status and which buttons work. */
+const storedRows = (page) =>
+  page.evaluate(() =>
+    [...document.querySelectorAll('#stored-table tbody tr')].map((tr) => {
+      const button = (name) => [...tr.querySelectorAll('button')].find((b) => b.textContent === name);
+      return {
+        id: tr.dataset.id,
+        kind: tr.cells[1].textContent,
+        asked: tr.cells[2].textContent,
+        status: tr.querySelector('.pill')?.textContent,
+        started: tr.querySelector('time')?.dateTime,
+        show: !!button('Show') && !button('Show').disabled,
+        del: !!button('Delete') && !button('Delete').disabled,
+      };
+    }),
+  );
+const storedButton = (page, id, name) => page.locator(`#stored-table tr[data-id="${id}"] button:text-is("${name}")`);
+/* The engine map on screen: rows plotted and the rated-point line. */
+const mapShown = (page) => page.evaluate(() => ({ rows: window.tanksimDebug.engineMap.plot?.data[0].length ?? 0, summary: document.getElementById('map-summary').textContent }));
 
 async function runToEnd(page, { watchGrowth = false } = {}) {
   const counts = [];
@@ -670,6 +702,20 @@ async function main() {
       await shot(page, '06c-engine-map');
     });
 
+    await check('stored analyses: the mean-value map just finished is listed, done, with when and what was asked (the list was refreshed when it ended)', async () => {
+      const stored = (await (await fetch(`${d.url}/v1/analyses`)).json()).analyses;
+      assert(stored.length === 1 && stored[0].kind === 'engine_map' && stored[0].done, `GET /v1/analyses: ${JSON.stringify(stored)}`);
+      /* the list shows it running from the start; done only if it was drawn again at the end */
+      await waitFor(async () => (await storedRows(page))[0]?.status === 'done', 'the map done in the stored list', 5000);
+      const rows = await storedRows(page);
+      assert(rows.length === 1 && rows[0].id === stored[0].id, `rows ${JSON.stringify(rows)}, stored ${stored[0].id}`);
+      const r = rows[0];
+      assert(r.kind === 'engine map' && /engine-map-conventional/.test(r.asked) && /mean_value/.test(r.asked), `row ${JSON.stringify(r)}`);
+      assert(r.started === new Date(stored[0].created * 1000).toISOString() && Math.abs(Date.parse(r.started) - Date.now()) < 120000, `started ${r.started}, created ${stored[0].created}`);
+      assert(r.show && r.del, `Show / Delete not usable on a done row: ${JSON.stringify(r)}`);
+      assert(await page.locator('#stored-empty').isHidden(), 'the list still says it is empty');
+    });
+
     await check('analyses: tuning shows K_p and T_I; with a schedule over mass 50000,60000 a 2-row schedule table', async () => {
       await page.selectOption('#tune-preset', 'bump-coupled-ivs5mph');
       await page.selectOption('#tune-var', '');
@@ -728,6 +774,10 @@ async function main() {
       assert(await page.locator('#map-cancel').isEnabled(), 'no Cancel while the map runs');
       await page.locator('#analyses-panel').scrollIntoViewIfNeeded();
       await shot(page, '06e-analysis-429');
+      /* the stored list was drawn again when the map started: it is there, running, and cannot be deleted */
+      await waitFor(async () => (await storedRows(page))[0]?.status === 'running', 'the running map in the stored list', 5000);
+      const running = (await storedRows(page))[0];
+      assert(running.kind === 'engine map' && /crank_angle/.test(running.asked) && !running.del && !running.show, `running row ${JSON.stringify(running)}`);
       await page.click('#map-cancel');
       await waitFor(async () => (await page.locator('#map-progress').getAttribute('data-outcome')) === 'cancelled', 'the map cancelled', 15000);
       assert(/cancelled/.test(await text(page, '#map-progress-text')), `progress "${await text(page, '#map-progress-text')}"`);
@@ -735,6 +785,37 @@ async function main() {
       assert(await page.locator('#map-error').isHidden(), `a cancel shown as an error: ${await text(page, '#map-error')}`);
       assert((await page.locator('#map-plot .uplot').count()) === 0 && (await text(page, '#map-summary')) === '', 'a map shown for the cancelled run');
       assert(await page.locator('#map-run').isEnabled(), 'Run disabled after the cancel');
+    });
+
+    await check("stored analyses: the cancelled map is listed as cancelled; Show draws a stored tuning; Delete of a row another client deleted shows the daemon's 404 and the row goes", async () => {
+      await waitFor(async () => (await storedRows(page))[0]?.status === 'cancelled', 'the cancelled map in the stored list', 5000);
+      const rows = await storedRows(page);
+      assert(rows.length === 4, `${rows.length} rows, want 4 (map, 2 tunings, cancelled map): ${JSON.stringify(rows)}`);
+      assert(rows[0].del && rows[0].show, `a cancelled row cannot be shown or deleted: ${JSON.stringify(rows[0])}`);
+      const tune = rows[1];
+      assert(tune.kind === 'tuning' && tune.status === 'done' && /bump-coupled-ivs5mph/.test(tune.asked) && /mass 50000,60000/.test(tune.asked), `the scheduled tuning's row ${JSON.stringify(tune)}`);
+      /* the refused tuning (429) cleared the tuning result: Show brings back the stored one */
+      assert((await page.locator('#tune-result table').count()) === 0, 'a tuning result on screen before Show');
+      await storedButton(page, tune.id, 'Show').click();
+      await waitFor(async () => (await page.locator('#tune-result .tune-schedule tbody tr').count()) === 2, 'the stored 2-row schedule table');
+      assert(await page.locator('#tune-error').isHidden(), `error: ${await text(page, '#tune-error')}`);
+      /* Show of the cancelled map: its error, in the daemon's words, where the map form shows errors */
+      await storedButton(page, rows[0].id, 'Show').click();
+      await waitFor(async () => !(await page.locator('#map-error').isHidden()), "the cancelled map's error");
+      assert(/cancelled after \d+ of 14 parts/.test(await text(page, '#map-error')), `map error "${await text(page, '#map-error')}"`);
+      assert((await mapShown(page)).rows === 0, 'a map drawn for the cancelled analysis');
+      const r = await fetch(`${d.url}/v1/analyses/${tune.id}`, { method: 'DELETE' });
+      assert(r.status === 204, `DELETE by another client -> ${r.status}`);
+      page.once('dialog', (dlg) => dlg.accept());
+      await storedButton(page, tune.id, 'Delete').click();
+      await waitFor(async () => !(await page.locator('#stored-error').isHidden()), 'the error of the delete');
+      const msg = await text(page, '#stored-error');
+      assert(msg.includes(`no stored analysis '${tune.id}'`), `not the daemon's words: "${msg}"`);
+      await waitFor(async () => (await page.locator(`#stored-table tr[data-id="${tune.id}"]`).count()) === 0, 'the row gone');
+      assert((await page.locator('#tune-result table').count()) === 0, "the deleted tuning's result is still on screen");
+      assert(!(await page.locator('#stored-error').isHidden()), 'the error went with the refresh');
+      await page.locator('#stored-analyses').scrollIntoViewIfNeeded();
+      await shot(page, '06f-stored-analyses');
     });
 
     await check('review 10: every chart axis labels its ticks with numbers in one format', async () => {
@@ -932,6 +1013,58 @@ async function main() {
         currentPage = page;
       }
     });
+
+    /* stored analyses outlive their daemon: a map computed by one is listed, shown and deleted by the next on the same --data-dir */
+    const da = await startDaemon('--threads', '2');
+    const page3 = await newPage(browser);
+    let stored;
+    await check('stored analyses: a mean-value map run on a fresh daemon is listed done (the list was empty)', async () => {
+      await page3.goto(`${da.url}/`);
+      await waitFor(async () => !(await page3.locator('#stored-empty').isHidden()), 'the empty stored list');
+      assert((await storedRows(page3)).length === 0, 'rows on a fresh daemon');
+      await page3.selectOption('#map-fidelity', 'mean_value');
+      await page3.click('#map-run');
+      await waitFor(async () => (await page3.locator('#map-progress').getAttribute('data-outcome')) === 'done', 'the engine map done', 20000);
+      await waitFor(async () => (await storedRows(page3))[0]?.status === 'done', 'the map done in the stored list', 5000);
+      stored = { row: (await storedRows(page3))[0], map: await mapShown(page3) };
+      assert(stored.map.rows === 14 && /^rated: /.test(stored.map.summary), `the map drawn: ${JSON.stringify(stored.map)}`);
+    });
+
+    await stopDaemon(da);
+    const db = await startDaemonIn(da.dataDir, '--threads', '2');
+    await check('stored analyses: after a restart on the same --data-dir the map is still listed and Show draws it (14 speeds, the same rated point)', async () => {
+      assert(stored, 'no map from the first daemon');
+      assert(da.proc.exitCode !== null || da.proc.signalCode !== null, 'the first daemon still runs');
+      await page3.goto(`${db.url}/`);
+      await waitFor(async () => (await storedRows(page3)).length === 1, 'the stored map listed by the new daemon');
+      const row = (await storedRows(page3))[0];
+      assert(row.id === stored.row.id && row.status === 'done' && row.asked === stored.row.asked && row.started === stored.row.started, `row ${JSON.stringify(row)}, before the restart ${JSON.stringify(stored.row)}`);
+      assert((await mapShown(page3)).rows === 0, 'a map on the fresh page before Show');
+      await storedButton(page3, row.id, 'Show').click();
+      await waitFor(async () => (await mapShown(page3)).rows > 0, 'the stored map drawn');
+      const map = await mapShown(page3);
+      assert(JSON.stringify(map) === JSON.stringify(stored.map), `shown ${JSON.stringify(map)}, computed ${JSON.stringify(stored.map)}`);
+      assert(await page3.locator('#map-error').isHidden(), `error: ${await text(page3, '#map-error')}`);
+      await page3.locator('#stored-analyses').scrollIntoViewIfNeeded();
+      await shot(page3, '11-stored-after-restart');
+    });
+
+    await check('stored analyses: Delete removes the row and the map it shows; GET of the operation then gives 404', async () => {
+      const id = stored?.row.id;
+      assert(id, 'no stored map');
+      page3.once('dialog', (dlg) => dlg.accept());
+      await storedButton(page3, id, 'Delete').click();
+      await waitFor(async () => (await storedRows(page3)).length === 0, 'the row gone');
+      assert(!(await page3.locator('#stored-empty').isHidden()), 'the list does not say it is empty');
+      assert(await page3.locator('#stored-error').isHidden(), `error: ${await text(page3, '#stored-error')}`);
+      assert((await mapShown(page3)).rows === 0, "the deleted map's chart is still on screen");
+      const r = await fetch(`${db.url}/v1/operations/${id}`);
+      assert(r.status === 404, `GET /v1/operations/${id} after the delete -> ${r.status}`);
+      const left = (await (await fetch(`${db.url}/v1/analyses`)).json()).analyses;
+      assert(left.length === 0, `still stored: ${JSON.stringify(left)}`);
+    });
+    await page3.context().close();
+    currentPage = page;
 
     await check('no JavaScript errors in the page', async () => {
       const real = consoleErrors.filter((m) => !/Failed to load resource/.test(m));

@@ -6,6 +6,8 @@
  * operation polled is state.analyses[kind]; an answer that arrives after it
  * was replaced is dropped. A refusal (400, 429: one analysis at a time) or
  * a failed operation is shown in the form's error box in the daemon's words.
+ * changed(kind, op) hears of each start and end (the stored-analyses list,
+ * stored_analyses.js).
  *
  * Elements, by the form's prefix p: p-run, p-cancel, p-error, p-progress
  * (data-percent, data-outcome), p-progress-bar, p-progress-text.
@@ -17,10 +19,11 @@ import { followOperation, isCancelled } from './operation.js';
 
 /**
  * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
- * draw the result (may throw an ApiError: shown as the form's error).
+ * draw the result (may throw an ApiError: shown as the form's error); changed(kind, op)
+ * (optional): the operation started (op not done) or ended (op: null when its poll failed).
  * Returns {start(begin)}: begin() sends the request and resolves to the operation.
  */
-export function initAnalysisOp(state, kind, prefix, { onDone }) {
+export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {} }) {
   const el = (name) => $(`${prefix}-${name}`);
   const box = el('error');
 
@@ -60,11 +63,13 @@ export function initAnalysisOp(state, kind, prefix, { onDone }) {
     }
     const me = { id: op.id, follower: null };
     state.analyses[kind] = me;
+    changed(kind, op);
     me.follower = followOperation(op.id, op, 200, {
       error(e) {
         stop();
         showError(box, e);
         render(null, 'failed');
+        changed(kind, null);
       },
       done(cur) {
         stop();
@@ -78,6 +83,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone }) {
           showError(box, e);
         }
         render(cur.metadata, outcome);
+        changed(kind, cur);
       },
       progress(cur) {
         render(cur.metadata);

@@ -2,14 +2,14 @@
  * engine_map_controls.js — the Analyses panel's engine-map form: an
  * engine-map preset (the variant) and the engine fidelity, sent as a run
  * config to POST /v1/engine-map; the operation is followed by analysis_op.js
- * and its map drawn by EngineMapPanel (engine_map.js).
+ * and its map drawn by EngineMapPanel (engine_map.js); changed: see analysis_op.js.
  */
 import { api } from './api.js';
 import { $ } from './dom.js';
 import { initAnalysisOp } from './analysis_op.js';
 
-export function initEngineMapControls(state, engineMap) {
-  const op = initAnalysisOp(state, 'engine_map', 'map', { onDone: (doc) => engineMap.show(doc) });
+export function initEngineMapControls(state, engineMap, { changed }) {
+  const op = initAnalysisOp(state, 'engine_map', 'map', { onDone: (doc) => engineMap.show(doc), changed });
 
   function onRun() {
     const doc = { preset: $('map-preset').value, engine: { fidelity: $('map-fidelity').value } };

@@ -7,7 +7,8 @@
  * session_header (header, progress), run_controls (step, run, cancel,
  * operation polling), session_stream (live rows), channels (chips, unit
  * toggles), fft_controls and compare_controls (their panels' forms),
- * engine_map_controls and tune_controls (the Analyses panel's forms).
+ * engine_map_controls and tune_controls (the Analyses panel's forms),
+ * stored_analyses (its list of stored analyses, told by the forms).
  */
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
@@ -30,6 +31,7 @@ import { initSessionList } from './session_list.js';
 import { initCreateForm } from './create_form.js';
 import { initEngineMapControls } from './engine_map_controls.js';
 import { initTuneControls } from './tune_controls.js';
+import { initStoredAnalyses } from './stored_analyses.js';
 
 const state = {
   compare: new Set(), /* ids ticked for Compare */
@@ -73,8 +75,9 @@ const run = initRunControls(state, { header, stream, refreshList });
 const view = initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, run, refreshList });
 const list = initSessionList(state, { view, ticksChanged: compareControls.updateInfo });
 const form = initCreateForm({ refreshList, open: view.open });
-initEngineMapControls(state, engineMap);
-initTuneControls(state);
+const stored = initStoredAnalyses({ engineMap });
+initEngineMapControls(state, engineMap, { changed: stored.changed });
+initTuneControls(state, { changed: stored.changed });
 
 async function boot() {
   try {
@@ -91,7 +94,7 @@ async function boot() {
   } catch (e) {
     showError($('create-error'), e);
   }
-  await list.refresh();
+  await Promise.all([list.refresh(), stored.refresh()]);
 }
 
 /* the sample count and the frame scrubber's range follow the stored rows (close() resets them) */

@@ -3,7 +3,8 @@
  * resolved config can be tuned, and optionally a gain-schedule variable
  * (mass or grade) with its comma-separated values, checked here before
  * anything is sent (number_input.js) and by the daemon again; POST /v1/tune,
- * followed by analysis_op.js, its result shown by showTuning (tune.js).
+ * followed by analysis_op.js, its result shown by showTuning (tune.js);
+ * changed: see analysis_op.js.
  */
 import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
@@ -22,8 +23,8 @@ const SCHEDULE = {
 };
 const MOST = 16;
 
-export function initTuneControls(state) {
-  const op = initAnalysisOp(state, 'tune', 'tune', { onDone: (doc) => showTuning($('tune-result'), doc) });
+export function initTuneControls(state, { changed }) {
+  const op = initAnalysisOp(state, 'tune', 'tune', { onDone: (doc) => showTuning($('tune-result'), doc), changed });
   const input = $('tune-values');
   const fields = Object.fromEntries(
     Object.entries(SCHEDULE).map(([k, s]) => [k, numberListField(input, () => ({ name: s.name, most: MOST, ...fieldRange(state.schema, s.pointer) }), $('tune-values-error'))]),

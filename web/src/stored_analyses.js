@@ -1,0 +1,173 @@
+/*
+ * stored_analyses.js — the Analyses panel's list of stored analyses (GET
+ * /v1/analyses, newest first): when each was started, its kind, what was
+ * asked (from the request the daemon stored: preset, engine fidelity,
+ * schedule) and its status. Show fetches the operation (GET
+ * /v1/operations/{id}) and draws its response where its form draws one (the
+ * engine-map chart, the tuning tables), or puts its error in that form's
+ * error box; Delete removes a finished one (DELETE /v1/analyses/{id}). The
+ * list is drawn again on page load, when a form's analysis starts or ends
+ * (refresh / changed) and after a delete; it does not poll.
+ */
+import { api, ApiError } from './api.js';
+import { $ } from './dom.js';
+import { hideError, showError } from './messages.js';
+import { isCancelled } from './operation.js';
+import { showTuning } from './tune.js';
+
+const KIND_LABEL = { engine_map: 'engine map', tune: 'tuning' };
+
+/* What the stored request asked for: "preset · fidelity engine · schedule over mass 50000,60000". */
+function asked(request) {
+  const body = request?.body || {};
+  const parts = [body.preset || 'config without preset'];
+  if (body.engine?.fidelity) parts.push(`${body.engine.fidelity} engine`);
+  for (const [k, v] of Object.entries(request || {})) if (k.startsWith('schedule_')) parts.push(`schedule over ${k.slice(9)} ${v}`);
+  return parts.join(' · ');
+}
+
+function cell(content, className) {
+  const td = document.createElement('td');
+  if (className) td.className = className;
+  td.append(content);
+  return td;
+}
+
+function button(label, title, onClick) {
+  const b = document.createElement('button');
+  b.type = 'button';
+  b.className = 'small ghost';
+  b.textContent = label;
+  b.setAttribute('aria-label', title);
+  b.addEventListener('click', onClick);
+  return b;
+}
+
+/* engineMap: the EngineMapPanel the map form draws in (engine_map.js). */
+export function initStoredAnalyses({ engineMap }) {
+  const box = $('stored-error');
+  const tbody = $('stored-table').querySelector('tbody');
+  /* Where each kind's result goes; shown: the id of the analysis it shows, if stored. */
+  const forms = {
+    engine_map: { error: $('map-error'), show: (doc) => engineMap.show(doc), clear: () => engineMap.clear(), shown: null },
+    tune: { error: $('tune-error'), show: (doc) => showTuning($('tune-result'), doc), clear: () => $('tune-result').replaceChildren(), shown: null },
+  };
+  const outcomes = new Map(); /* id -> 'failed' | 'cancelled' of failed analyses (a finished one does not change) */
+  let drawn = 0; /* the latest refresh: an earlier one answering late is dropped */
+  let showing = 0; /* the same for Show */
+  let listFailed = false; /* the error box holds why the list could not be loaded */
+
+  function clearBox() {
+    hideError(box);
+    listFailed = false;
+  }
+
+  async function outcome(a) {
+    if (!a.done) return 'running';
+    if (!a.failed) return 'done';
+    if (!outcomes.has(a.id)) {
+      const op = await api.operation(a.id).catch(() => null); /* gone since the list was read */
+      if (!op) return 'failed';
+      outcomes.set(a.id, op.error && isCancelled(op.error) ? 'cancelled' : 'failed');
+    }
+    return outcomes.get(a.id);
+  }
+
+  async function refresh() {
+    const me = ++drawn;
+    let list;
+    let status;
+    try {
+      list = (await api.analyses()).analyses || [];
+      status = await Promise.all(list.map(outcome));
+    } catch (e) {
+      if (me !== drawn) return;
+      showError(box, e);
+      listFailed = true;
+      return;
+    }
+    if (me !== drawn) return;
+    if (listFailed) hideError(box); /* an error of Show or Delete stays */
+    listFailed = false;
+    tbody.replaceChildren(...list.map((a, i) => row(a, status[i])));
+    $('stored-empty').hidden = list.length > 0;
+  }
+
+  function row(a, status) {
+    const tr = document.createElement('tr');
+    tr.dataset.id = a.id;
+    tr.dataset.kind = a.kind;
+    const created = new Date(a.created * 1000);
+    const time = document.createElement('time');
+    time.dateTime = created.toISOString();
+    time.textContent = created.toLocaleString(undefined, { dateStyle: 'short', timeStyle: 'medium' });
+    const pill = document.createElement('span');
+    pill.className = `pill st-${status}`;
+    pill.textContent = status;
+    const what = cell(asked(a.request));
+    what.title = JSON.stringify(a.request);
+    const kind = KIND_LABEL[a.kind] || a.kind;
+    const show = button('Show', `show the ${kind} of ${time.textContent}`, () => onShow(a));
+    show.disabled = !a.done || !forms[a.kind];
+    const del = button('Delete', `delete the ${kind} of ${time.textContent}`, () => onDelete(a, `${kind} of ${time.textContent}`));
+    del.classList.add('danger');
+    del.disabled = !a.done; /* the daemon refuses a running one (409) */
+    const actions = cell(show, 'actions');
+    actions.append(del);
+    tr.append(cell(time), cell(kind), what, cell(pill), actions);
+    return tr;
+  }
+
+  async function onShow(a) {
+    const me = ++showing;
+    const form = forms[a.kind];
+    clearBox();
+    let op;
+    try {
+      op = await api.operation(a.id);
+    } catch (e) {
+      if (me !== showing) return;
+      showError(box, e);
+      if (e.status === 404) refresh(); /* deleted by another client */
+      return;
+    }
+    if (me !== showing) return;
+    form.clear();
+    form.shown = null;
+    hideError(form.error);
+    try {
+      if (op.error) throw new ApiError(op.error.status || 500, op.error);
+      form.show(op.response);
+      form.shown = a.id;
+    } catch (e) {
+      showError(form.error, e);
+    }
+  }
+
+  async function onDelete(a, what) {
+    if (!confirm(`Delete the stored ${what}?`)) return;
+    clearBox();
+    let gone = true;
+    try {
+      await api.deleteAnalysis(a.id);
+    } catch (e) {
+      showError(box, e); /* 409: it is running after all; 404: another client deleted it */
+      gone = e.status === 404;
+    }
+    if (gone && forms[a.kind]?.shown === a.id) {
+      forms[a.kind].clear(); /* no result of a deleted analysis stays on screen */
+      forms[a.kind].shown = null;
+    }
+    await refresh();
+  }
+
+  /* A form's analysis of `kind` started (op not done: the form cleared its last result),
+     ended (op done), or could not be followed (op null). */
+  function changed(kind, op) {
+    if (forms[kind]) forms[kind].shown = op?.done && op.response ? op.id : null;
+    refresh();
+  }
+
+  $('refresh-analyses').addEventListener('click', refresh);
+  return { refresh, changed };
+}
