@@ -12,7 +12,6 @@
 import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { isCancelled } from './operation.js';
 import { showTuning } from './tune.js';
 
 const KIND_LABEL = { engine_map: 'engine map', tune: 'tuning' };
@@ -52,7 +51,6 @@ export function initStoredAnalyses({ engineMap }) {
     engine_map: { error: $('map-error'), show: (doc) => engineMap.show(doc), clear: () => engineMap.clear(), shown: null },
     tune: { error: $('tune-error'), show: (doc) => showTuning($('tune-result'), doc), clear: () => $('tune-result').replaceChildren(), shown: null },
   };
-  const outcomes = new Map(); /* id -> 'failed' | 'cancelled' of failed analyses (a finished one does not change) */
   let drawn = 0; /* the latest refresh: an earlier one answering late is dropped */
   let showing = 0; /* the same for Show */
   let listFailed = false; /* the error box holds why the list could not be loaded */
@@ -62,24 +60,18 @@ export function initStoredAnalyses({ engineMap }) {
     listFailed = false;
   }
 
-  async function outcome(a) {
+  /* error_code: google.rpc's, 1 for a cancel, a shutdown or a daemon killed during it */
+  function outcome(a) {
     if (!a.done) return 'running';
-    if (!a.failed) return 'done';
-    if (!outcomes.has(a.id)) {
-      const op = await api.operation(a.id).catch(() => null); /* gone since the list was read */
-      if (!op) return 'failed';
-      outcomes.set(a.id, op.error && isCancelled(op.error) ? 'cancelled' : 'failed');
-    }
-    return outcomes.get(a.id);
+    if (!a.error_code) return 'done';
+    return a.error_code === 1 ? 'cancelled' : 'failed';
   }
 
   async function refresh() {
     const me = ++drawn;
     let list;
-    let status;
     try {
       list = (await api.analyses()).analyses || [];
-      status = await Promise.all(list.map(outcome));
     } catch (e) {
       if (me !== drawn) return;
       showError(box, e);
@@ -89,7 +81,7 @@ export function initStoredAnalyses({ engineMap }) {
     if (me !== drawn) return;
     if (listFailed) hideError(box); /* an error of Show or Delete stays */
     listFailed = false;
-    tbody.replaceChildren(...list.map((a, i) => row(a, status[i])));
+    tbody.replaceChildren(...list.map((a) => row(a, outcome(a))));
     $('stored-empty').hidden = list.length > 0;
   }
 
