@@ -40,8 +40,9 @@ static const char *kind_name(tsd_analysis_kind k)
 
 /* Write the operation document doc to the store (a failure is logged by db.c:
  * the result stays in memory until the daemon stops). */
-static void store_doc(tsd_server *srv, json_t *doc)
+static void store_doc(void *ud, json_t *doc)
 {
+    tsd_server *srv = ud;
     json_t *md = json_object_get(doc, "metadata");
     char *text = json_dumps(doc, JSON_COMPACT);
     char *req = json_dumps(json_object_get(md, "request"), JSON_COMPACT | JSON_ENCODE_ANY);
@@ -72,10 +73,7 @@ static void store_op(tsd_server *srv, tsd_op *op)
  * would come back if stored after) and the registry may drop it (op freed). */
 static void finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
 {
-    json_t *doc = tsd_op_json_finished(srv, op, response, error);
-    if (doc) store_doc(srv, doc);
-    json_decref(doc);
-    tsd_op_finish(srv, op, response, error);
+    tsd_op_finish_persisted(srv, op, response, error, store_doc, srv);
 }
 
 /* ts_progress_fn: record the part; stop on cancel or shutdown. */
@@ -162,6 +160,26 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
 
 /* ---- stored analyses -------------------------------------------------------------- */
 
+json_t *tsd_analysis_stored(tsd_server *srv, const char *id, ts_err *err)
+{
+    char *text = NULL;
+    if (tsd_db_analysis_get(srv->db, id, &text) != 0) {
+        ts_err_set(err, TS_ERR_IO, NULL, "cannot read analysis '%s' from the store", id);
+        return NULL;
+    }
+    if (!text) {
+        ts_err_set(err, TS_ERR_NOTFOUND, NULL,
+                   "no operation '%s' (run operations are kept in memory until the daemon "
+                   "stops; analyses are stored until deleted)",
+                   id);
+        return NULL;
+    }
+    json_t *j = json_loads(text, 0, NULL);
+    free(text);
+    if (!j) ts_err_set(err, TS_ERR_INTERNAL, NULL, "stored analysis '%s' is not JSON", id);
+    return j;
+}
+
 typedef struct recover_ctx {
     tsd_server *srv;
     int n, failed;
@@ -176,18 +194,14 @@ static void recover_one(void *ud, const char *id, const char *kind, double creat
     (void)kind, (void)created, (void)error_code, (void)request_json;
     recover_ctx *c = ud;
     if (done) return;
-    char *text = NULL;
-    json_t *doc = NULL;
-    if (tsd_db_analysis_get(c->srv->db, id, &text) == 0 && text)
-        doc = json_loads(text, 0, NULL);
-    free(text);
+    ts_err e;
+    json_t *doc = tsd_analysis_stored(c->srv, id, &e);
     if (!json_is_object(doc)) {
         json_decref(doc);
         c->failed++;
         return;
     }
     json_t *md = json_object_get(doc, "metadata");
-    ts_err e;
     ts_err_set(&e, TS_ERR_CANCELLED, NULL,
                "the daemon stopped (killed or crashed) after %d of %d parts of this analysis; "
                "start it again",
@@ -206,28 +220,6 @@ int tsd_analyses_recover(tsd_server *srv)
     recover_ctx c = {srv, 0, 0};
     if (tsd_db_analyses(srv->db, recover_one, &c) != 0 || c.failed) return -1;
     return c.n;
-}
-
-json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err)
-{
-    json_t *j = tsd_op_json(srv, id);
-    if (j) return j;
-    char *text = NULL;
-    if (tsd_db_analysis_get(srv->db, id, &text) != 0) {
-        ts_err_set(err, TS_ERR_IO, NULL, "cannot read analysis '%s' from the store", id);
-        return NULL;
-    }
-    if (!text) {
-        ts_err_set(err, TS_ERR_NOTFOUND, NULL,
-                   "no operation '%s' (run operations are kept in memory until the daemon "
-                   "stops; analyses are stored until deleted)",
-                   id);
-        return NULL;
-    }
-    j = json_loads(text, 0, NULL);
-    free(text);
-    if (!j) ts_err_set(err, TS_ERR_INTERNAL, NULL, "stored analysis '%s' is not JSON", id);
-    return j;
 }
 
 /* tsd_db_analysis_fn: one entry of the list. */

@@ -53,10 +53,10 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
  * Returns how many, -1 on a store error (logged). */
 int tsd_analyses_recover(tsd_server *srv);
 
-/* Operation document of analysis (or run operation) id: from memory while
- * the daemon holds it, else from the store. New reference, or NULL with err
- * (TS_ERR_NOTFOUND when neither has it). */
-json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err);
+/* The stored operation document of analysis id (for one the daemon no
+ * longer holds in memory: tsd_op_json first). New reference, or NULL with
+ * err (TS_ERR_NOTFOUND when not stored). */
+json_t *tsd_analysis_stored(tsd_server *srv, const char *id, ts_err *err);
 
 /* {"analyses": [{id, name, kind, created, done, failed, error_code,
  * request}]}, the

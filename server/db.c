@@ -272,62 +272,82 @@ out:
     return rc;
 }
 
-typedef struct stored_session {
-    long seq;
-    double created;
-    char *id, *preset, *config, *status, *error, *channels;
-} stored_session;
+/* The rows of a reader query without parameters, copied out (protected
+ * values, sqlite3_value_dup) so that the caller may use the database again
+ * while it walks them: row i's column k is v[i * ncol + k]. */
+typedef struct row_copy {
+    sqlite3_value **v;
+    long n;
+    int ncol;
+} row_copy;
 
-int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
+static void free_rows(row_copy *t)
 {
-    /* Copy the rows out first: fn may read the database again (state blobs). */
+    for (long i = 0; i < t->n * t->ncol; i++)
+        sqlite3_value_free(t->v[i]);
+    free(t->v);
+    memset(t, 0, sizeof *t);
+}
+
+/* 0, or -1 with the SQLite message logged under what (t is then empty). */
+static int select_rows(tsd_db *db, const char *sql, const char *what, row_copy *t)
+{
     sqlite3_stmt *st = NULL;
-    stored_session *v = NULL;
-    long n = 0, cap = 0;
-    int rc = -1;
+    long cap = 0;
+    int rc = -1, s = SQLITE_ERROR;
+    memset(t, 0, sizeof *t);
     pthread_mutex_lock(&db->rmu);
-    if (sqlite3_prepare_v2(db->r,
-                           "SELECT seq,id,created,preset,config,status,error,channels"
-                           " FROM sessions ORDER BY seq",
-                           -1, &st, NULL) != SQLITE_OK)
-        goto out;
-    int s;
+    if (sqlite3_prepare_v2(db->r, sql, -1, &st, NULL) != SQLITE_OK) goto out;
+    t->ncol = sqlite3_column_count(st);
     while ((s = sqlite3_step(st)) == SQLITE_ROW) {
-        if (n == cap) {
+        if (t->n == cap) {
             cap = cap ? 2 * cap : 64;
-            stored_session *nv = realloc(v, sizeof *v * (size_t)cap);
+            sqlite3_value **nv = realloc(t->v, sizeof *nv * (size_t)(cap * t->ncol));
             if (!nv) goto out;
-            v = nv;
+            t->v = nv;
         }
-        stored_session *x = &v[n++];
-        x->seq = (long)sqlite3_column_int64(st, 0);
-        x->id = strdup(col_text(st, 1));
-        x->created = sqlite3_column_double(st, 2);
-        x->preset = strdup(col_text(st, 3));
-        x->config = strdup(col_text(st, 4));
-        x->status = strdup(col_text(st, 5));
-        x->error = strdup(col_text(st, 6));
-        x->channels = strdup(col_text(st, 7));
+        sqlite3_value **row = t->v + t->n * t->ncol;
+        int k = 0;
+        while (k < t->ncol && (row[k] = sqlite3_value_dup(sqlite3_column_value(st, k))))
+            k++;
+        if (k < t->ncol) { /* out of memory: free this row's copies */
+            while (k-- > 0)
+                sqlite3_value_free(row[k]);
+            goto out;
+        }
+        t->n++;
     }
     rc = s == SQLITE_DONE ? 0 : -1;
 out:
-    if (rc) log_err(db->r, "list sessions");
+    if (rc) log_err(db->r, what);
     sqlite3_finalize(st);
     pthread_mutex_unlock(&db->rmu);
-    for (long i = 0; i < n; i++) {
-        stored_session *x = &v[i];
-        if (rc == 0 && x->id && x->preset && x->config && x->status && x->error && x->channels)
-            fn(ud, x->seq, x->id, x->created, x->preset, x->config, x->status, x->error,
-               x->channels);
-        free(x->id);
-        free(x->preset);
-        free(x->config);
-        free(x->status);
-        free(x->error);
-        free(x->channels);
-    }
-    free(v);
+    if (rc) free_rows(t);
     return rc;
+}
+
+/* A copied value as text, "" for NULL. */
+static const char *val_text(sqlite3_value *v)
+{
+    const unsigned char *s = sqlite3_value_text(v);
+    return s ? (const char *)s : "";
+}
+
+int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
+{
+    row_copy t; /* fn may read the database again (state blobs) */
+    if (select_rows(db,
+                    "SELECT seq,id,created,preset,config,status,error,channels"
+                    " FROM sessions ORDER BY seq",
+                    "list sessions", &t) != 0)
+        return -1;
+    for (long i = 0; i < t.n; i++) {
+        sqlite3_value **c = t.v + i * t.ncol;
+        fn(ud, (long)sqlite3_value_int64(c[0]), val_text(c[1]), sqlite3_value_double(c[2]),
+           val_text(c[3]), val_text(c[4]), val_text(c[5]), val_text(c[6]), val_text(c[7]));
+    }
+    free_rows(&t);
+    return 0;
 }
 
 /* ---- analyses ------------------------------------------------------------------ */
@@ -374,55 +394,21 @@ int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted)
     return rc;
 }
 
-typedef struct stored_analysis {
-    char *id, *kind, *request;
-    double created;
-    int done, error_code;
-} stored_analysis;
-
 int tsd_db_analyses(tsd_db *db, tsd_db_analysis_fn fn, void *ud)
 {
-    sqlite3_stmt *st = NULL;
-    stored_analysis *v = NULL;
-    long n = 0, cap = 0;
-    int rc = -1;
-    pthread_mutex_lock(&db->rmu);
-    if (sqlite3_prepare_v2(db->r,
-                           "SELECT id,kind,created,done,error_code,request FROM analyses"
-                           " ORDER BY created DESC, id",
-                           -1, &st, NULL) != SQLITE_OK)
-        goto out;
-    int s;
-    while ((s = sqlite3_step(st)) == SQLITE_ROW) {
-        if (n == cap) {
-            cap = cap ? 2 * cap : 64;
-            stored_analysis *nv = realloc(v, sizeof *v * (size_t)cap);
-            if (!nv) goto out;
-            v = nv;
-        }
-        stored_analysis *x = &v[n++];
-        x->id = strdup(col_text(st, 0));
-        x->kind = strdup(col_text(st, 1));
-        x->created = sqlite3_column_double(st, 2);
-        x->done = sqlite3_column_int(st, 3);
-        x->error_code = sqlite3_column_int(st, 4);
-        x->request = strdup(col_text(st, 5));
+    row_copy t; /* fn may use the database (the recovery reads and writes) */
+    if (select_rows(db,
+                    "SELECT id,kind,created,done,error_code,request FROM analyses"
+                    " ORDER BY created DESC, id",
+                    "list analyses", &t) != 0)
+        return -1;
+    for (long i = 0; i < t.n; i++) {
+        sqlite3_value **c = t.v + i * t.ncol;
+        fn(ud, val_text(c[0]), val_text(c[1]), sqlite3_value_double(c[2]),
+           sqlite3_value_int(c[3]), sqlite3_value_int(c[4]), val_text(c[5]));
     }
-    rc = s == SQLITE_DONE ? 0 : -1;
-out:
-    if (rc) log_err(db->r, "list analyses");
-    sqlite3_finalize(st);
-    pthread_mutex_unlock(&db->rmu);
-    for (long i = 0; i < n; i++) {
-        stored_analysis *x = &v[i];
-        if (rc == 0 && x->id && x->kind && x->request)
-            fn(ud, x->id, x->kind, x->created, x->done, x->error_code, x->request);
-        free(x->id);
-        free(x->kind);
-        free(x->request);
-    }
-    free(v);
-    return rc;
+    free_rows(&t);
+    return 0;
 }
 
 /* ---- state snapshots ------------------------------------------------------------ */

@@ -25,7 +25,6 @@ struct tsd_op {
     double created;                    /* an analysis's start [Unix s] */
     json_t *request;                   /* an analysis's request (metadata.request) */
     int done;
-    int frozen;                        /* wall_last fixed by tsd_op_json_finished */
     json_t *response, *error;
 };
 
@@ -61,6 +60,14 @@ void tsd_ops_free(tsd_server *srv)
     srv->ops = NULL;
 }
 
+/* Drop the i-th operation of the list. Caller holds the lock. */
+static void op_remove(tsd_ops *o, int i)
+{
+    op_free(o->v[i]);
+    memmove(&o->v[i], &o->v[i + 1], sizeof o->v[0] * (size_t)(o->n - i - 1));
+    o->n--;
+}
+
 /* Register op (kept in creation order; when full, the oldest finished one is
  * dropped); frees it and returns NULL when every kept operation is running,
  * or (max_analyses > 0) when that many analyses are not done (*busy = 1). */
@@ -88,9 +95,7 @@ static tsd_op *op_register(tsd_server *srv, tsd_op *op, int max_analyses, int *b
             op_free(op);
             return NULL;
         }
-        op_free(o->v[drop]);
-        memmove(&o->v[drop], &o->v[drop + 1], sizeof o->v[0] * (size_t)(o->n - drop - 1));
-        o->n--;
+        op_remove(o, drop);
     }
     o->v[o->n++] = op;
     pthread_mutex_unlock(&o->mu);
@@ -135,9 +140,7 @@ int tsd_op_forget(tsd_server *srv, const char *id)
             rc = -1;
             break;
         }
-        op_free(o->v[i]);
-        memmove(&o->v[i], &o->v[i + 1], sizeof o->v[0] * (size_t)(o->n - i - 1));
-        o->n--;
+        op_remove(o, i);
         rc = 1;
         break;
     }
@@ -191,33 +194,6 @@ void tsd_op_progress(tsd_server *srv, tsd_op *op, double t)
     pthread_mutex_unlock(&srv->ops->mu);
 }
 
-void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
-{
-    pthread_mutex_lock(&srv->ops->mu);
-    op->done = 1;
-    if (!op->frozen) op->wall_last = tsd_now();
-    op->response = response;
-    op->error = error;
-    pthread_mutex_unlock(&srv->ops->mu);
-}
-
-json_t *tsd_op_error_json(const ts_err *e)
-{
-    json_t *error = tsa_problem_from_err(e, NULL);
-    int code = e->code == TS_ERR_CANCELLED                           ? 1
-               : e->code == TS_ERR_PARAM || e->code == TS_ERR_RANGE ? 3
-               : e->code == TS_ERR_LIMIT                             ? 8
-                                                                     : 13;
-    json_object_set_new(error, "code", json_integer(code));
-    json_object_set_new(error, "message", json_string(e->msg));
-    return error;
-}
-
-void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e)
-{
-    tsd_op_finish(srv, op, NULL, tsd_op_error_json(e));
-}
-
 /* Caller holds the lock. */
 static json_t *op_json(const tsd_op *op)
 {
@@ -257,18 +233,47 @@ static json_t *op_json(const tsd_op *op)
     return j;
 }
 
-json_t *tsd_op_json_finished(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
+void tsd_op_finish_persisted(tsd_server *srv, tsd_op *op, json_t *response, json_t *error,
+                             void (*persist)(void *ud, json_t *doc), void *ud)
 {
     pthread_mutex_lock(&srv->ops->mu);
-    op->wall_last = tsd_now();
-    op->frozen = 1;
-    tsd_op done = *op;
+    tsd_op done = *op; /* as it will be; op itself stays running until persisted */
     done.done = 1;
+    done.wall_last = tsd_now();
     done.response = response;
     done.error = error;
-    json_t *j = op_json(&done);
+    json_t *doc = persist ? op_json(&done) : NULL;
     pthread_mutex_unlock(&srv->ops->mu);
-    return j;
+    if (doc) persist(ud, doc);
+    json_decref(doc);
+    pthread_mutex_lock(&srv->ops->mu);
+    op->done = 1;
+    op->wall_last = done.wall_last;
+    op->response = response;
+    op->error = error;
+    pthread_mutex_unlock(&srv->ops->mu);
+}
+
+void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
+{
+    tsd_op_finish_persisted(srv, op, response, error, NULL, NULL);
+}
+
+json_t *tsd_op_error_json(const ts_err *e)
+{
+    json_t *error = tsa_problem_from_err(e, NULL);
+    int code = e->code == TS_ERR_CANCELLED                           ? 1
+               : e->code == TS_ERR_PARAM || e->code == TS_ERR_RANGE ? 3
+               : e->code == TS_ERR_LIMIT                             ? 8
+                                                                     : 13;
+    json_object_set_new(error, "code", json_integer(code));
+    json_object_set_new(error, "message", json_string(e->msg));
+    return error;
+}
+
+void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e)
+{
+    tsd_op_finish(srv, op, NULL, tsd_op_error_json(e));
 }
 
 json_t *tsd_op_json_of(tsd_server *srv, tsd_op *op)

@@ -55,18 +55,18 @@ const char *tsd_op_id(const tsd_op *op); /* stable while the op exists */
 void tsd_op_progress(tsd_server *srv, tsd_op *op, double t);
 /* Mark done with response or error (steals both; either may be NULL). */
 void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error);
+/* The same, handing the operation's final document (borrowed; the one GET
+ * shows afterwards) to persist(ud, doc) first, while the operation still
+ * looks running: no client can see it done, and delete it, before it is
+ * stored, and the registry cannot drop it meanwhile. persist may be NULL. */
+void tsd_op_finish_persisted(tsd_server *srv, tsd_op *op, json_t *response, json_t *error,
+                             void (*persist)(void *ud, json_t *doc), void *ud);
 /* Mark done with the error e: its problem document plus AIP-151's google.rpc
  * "code" (1 CANCELLED, 3 INVALID_ARGUMENT for a parameter, 8
  * RESOURCE_EXHAUSTED for a limit, 13 INTERNAL otherwise) and "message". */
 void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e);
 /* That error member alone (new reference). */
 json_t *tsd_op_error_json(const ts_err *e);
-
-/* The document op will have once tsd_op_finish(srv, op, response, error)
- * ends it (response, error borrowed; new reference), with its wall time
- * fixed now so that the two agree: for a caller that stores the final
- * document before any client can see the operation done (and delete it). */
-json_t *tsd_op_json_finished(tsd_server *srv, tsd_op *op, json_t *response, json_t *error);
 
 /* The operation document by id (new reference), NULL if unknown. */
 json_t *tsd_op_json(tsd_server *srv, const char *id);

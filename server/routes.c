@@ -980,7 +980,8 @@ static enum MHD_Result post_tune(tsd_request *r)
 static enum MHD_Result get_operation(tsd_request *r)
 {
     ts_err e;
-    json_t *j = tsd_analysis_json(r->srv, r->params[0], &e);
+    json_t *j = tsd_op_json(r->srv, r->params[0]); /* held in memory, or an analysis stored */
+    if (!j) j = tsd_analysis_stored(r->srv, r->params[0], &e);
     if (!j) return tsd_reply_err(r, &e, NULL);
     return tsd_reply_json(r, MHD_HTTP_OK, j);
 }

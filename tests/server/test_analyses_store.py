@@ -43,17 +43,13 @@ def listed(url):
 
 
 def test_finished_analysis_survives_a_restart(tmp_path):
-    d = Daemon("--threads", "2", data_dir=str(tmp_path))
-    try:
+    with Daemon("--threads", "2", data_dir=str(tmp_path)) as d:
         op = start(d.url, "/v1/engine-map", MEAN_VALUE_DYNO)
         assert op["metadata"]["request"] == {"body": MEAN_VALUE_DYNO}
         assert op["metadata"]["created"] == pytest.approx(time.time(), abs=60)
         done = wait_op(d.url, op["id"], timeout=60)
         assert "response" in done, done
-    finally:
-        d.stop()
-    d2 = Daemon("--threads", "2", data_dir=str(tmp_path))
-    try:
+    with Daemon("--threads", "2", data_dir=str(tmp_path)) as d2:
         r = requests.get(f"{d2.url}/v1/operations/{op['id']}", timeout=10)
         assert r.status_code == 200, r.text
         assert r.json() == done  # the document as the first daemon answered it, bit for bit
@@ -63,21 +59,15 @@ def test_finished_analysis_survives_a_restart(tmp_path):
         # cancelling a stored, finished analysis changes nothing
         r = requests.post(f"{d2.url}/v1/operations/{op['id']}:cancel", timeout=10)
         assert r.status_code == 200 and r.json() == done
-    finally:
-        d2.stop()
 
 
 def test_analysis_cut_short_by_kill_9_is_reported_not_lost(tmp_path):
-    d = Daemon("--threads", "2", data_dir=str(tmp_path))
-    try:
+    with Daemon("--threads", "2", data_dir=str(tmp_path)) as d:
         op = start(d.url, "/v1/engine-map", CRANK_MAP)
         seen = wait_parts(d.url, op["id"], 2)
         assert not seen["done"], "the crank-angle map finished before the kill: nothing to test"
         d.stop(sig=signal.SIGKILL)
-    finally:
-        d.stop()
-    d2 = Daemon("--threads", "2", data_dir=str(tmp_path))
-    try:
+    with Daemon("--threads", "2", data_dir=str(tmp_path)) as d2:
         got = requests.get(f"{d2.url}/v1/operations/{op['id']}", timeout=10).json()
         assert got["done"] and "response" not in got
         err = got["error"]
@@ -88,38 +78,26 @@ def test_analysis_cut_short_by_kill_9_is_reported_not_lost(tmp_path):
         a = listed(d2.url)[op["id"]]
         assert a["failed"] is True and a["error_code"] == 1
         assert f"analysis {op['id']} was interrupted" in d2.stderr()
-    finally:
-        d2.stop()
     # a third start has nothing left to recover
-    d3 = Daemon(data_dir=str(tmp_path))
-    try:
+    with Daemon(data_dir=str(tmp_path)) as d3:
         assert "was interrupted" not in d3.stderr()
         assert requests.get(f"{d3.url}/v1/operations/{op['id']}", timeout=10).json() == got
-    finally:
-        d3.stop()
 
 
 def test_shutdown_during_an_analysis_stores_why_it_ended(tmp_path):
-    d = Daemon("--threads", "2", data_dir=str(tmp_path))
-    try:
+    with Daemon("--threads", "2", data_dir=str(tmp_path)) as d:
         op = start(d.url, "/v1/engine-map", CRANK_MAP)
         wait_parts(d.url, op["id"], 1)
         assert d.stop() == 0  # SIGTERM: the map ends after the speed point in progress
-    finally:
-        d.stop()
-    d2 = Daemon(data_dir=str(tmp_path))
-    try:
+    with Daemon(data_dir=str(tmp_path)) as d2:
         got = requests.get(f"{d2.url}/v1/operations/{op['id']}", timeout=10).json()
         assert got["done"] and got["error"]["code"] == 1
         assert "shut down" in got["error"]["message"], got["error"]
         assert "was interrupted" not in d2.stderr()  # it ended cleanly, nothing to recover
-    finally:
-        d2.stop()
 
 
 def test_list_newest_first_and_delete(tmp_path):
-    d = Daemon("--threads", "2", data_dir=str(tmp_path))
-    try:
+    with Daemon("--threads", "2", data_dir=str(tmp_path)) as d:
         a = start(d.url, "/v1/engine-map", MEAN_VALUE_DYNO)
         wait_op(d.url, a["id"], timeout=60)
         b = start(d.url, "/v1/tune", {"preset": "bump-coupled-ivs5mph",
@@ -141,18 +119,12 @@ def test_list_newest_first_and_delete(tmp_path):
             is_problem(requests.delete(f"{d.url}/v1/analyses/{x['id']}"), 404)
         assert list(listed(d.url)) == [b["id"]]
         is_problem(requests.delete(f"{d.url}/v1/analyses/op0000000000000000"), 404)
-    finally:
-        d.stop()
-    d2 = Daemon(data_dir=str(tmp_path))  # the deletes were stored too
-    try:
+    with Daemon(data_dir=str(tmp_path)) as d2:  # the deletes were stored too
         assert list(listed(d2.url)) == [b["id"]]
-    finally:
-        d2.stop()
 
 
 def test_a_run_operation_is_not_an_analysis(tmp_path):
-    d = Daemon(data_dir=str(tmp_path))
-    try:
+    with Daemon(data_dir=str(tmp_path)) as d:
         s = requests.post(d.url + "/v1/sessions",
                           json={"preset": "pointmass-prescribed", "run": {"duration": 0.2}}).json()
         op = requests.post(f"{d.url}/v1/sessions/{s['id']}/run", json={}).json()
@@ -160,5 +132,3 @@ def test_a_run_operation_is_not_an_analysis(tmp_path):
         is_problem(requests.delete(f"{d.url}/v1/analyses/{op['id']}"), 404)
         assert requests.get(f"{d.url}/v1/operations/{op['id']}").status_code == 200
         assert listed(d.url) == {}
-    finally:
-        d.stop()

@@ -5,7 +5,7 @@
  * why (none yet, or the daemon refused; a 401 also asks for the token).
  */
 import { allSessions, getToken } from './api.js';
-import { $ } from './dom.js';
+import { $, cell, pill } from './dom.js';
 import { askForToken } from './messages.js';
 import { fmt } from './units.js';
 
@@ -23,12 +23,6 @@ function mono(s) {
   const e = document.createElement('span');
   e.className = 'mono';
   e.textContent = s;
-  return e;
-}
-function pill(status) {
-  const e = document.createElement('span');
-  e.className = `pill st-${status || 'unknown'}`;
-  e.textContent = status || '?';
   return e;
 }
 
@@ -73,12 +67,7 @@ export function initSessionList(state, { view, ticksChanged }) {
         pill(s.status),
         text(s.t !== undefined ? `${fmt(s.t, 4)}${s.duration ? ` / ${fmt(s.duration)}` : ''}` : '—'),
       ];
-      cells.forEach((c, i) => {
-        const td = document.createElement('td');
-        if (i === 4) td.className = 'num';
-        td.append(c);
-        tr.append(td);
-      });
+      cells.forEach((c, i) => tr.append(cell(c, i === 4 ? 'num' : undefined)));
       tr.addEventListener('click', () => view.open(s.id));
       tbody.append(tr);
     }

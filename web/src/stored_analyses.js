@@ -10,7 +10,7 @@
  * (refresh / changed) and after a delete; it does not poll.
  */
 import { api, ApiError } from './api.js';
-import { $ } from './dom.js';
+import { $, cell, pill } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { showTuning } from './tune.js';
 
@@ -23,13 +23,6 @@ function asked(request) {
   if (body.engine?.fidelity) parts.push(`${body.engine.fidelity} engine`);
   for (const [k, v] of Object.entries(request || {})) if (k.startsWith('schedule_')) parts.push(`schedule over ${k.slice(9)} ${v}`);
   return parts.join(' · ');
-}
-
-function cell(content, className) {
-  const td = document.createElement('td');
-  if (className) td.className = className;
-  td.append(content);
-  return td;
 }
 
 function button(label, title, onClick) {
@@ -93,9 +86,6 @@ export function initStoredAnalyses({ engineMap }) {
     const time = document.createElement('time');
     time.dateTime = created.toISOString();
     time.textContent = created.toLocaleString(undefined, { dateStyle: 'short', timeStyle: 'medium' });
-    const pill = document.createElement('span');
-    pill.className = `pill st-${status}`;
-    pill.textContent = status;
     const what = cell(asked(a.request));
     what.title = JSON.stringify(a.request);
     const kind = KIND_LABEL[a.kind] || a.kind;
@@ -106,7 +96,7 @@ export function initStoredAnalyses({ engineMap }) {
     del.disabled = !a.done; /* the daemon refuses a running one (409) */
     const actions = cell(show, 'actions');
     actions.append(del);
-    tr.append(cell(time), cell(kind), what, cell(pill), actions);
+    tr.append(cell(time), cell(kind), what, cell(pill(status)), actions);
     return tr;
   }
 
