@@ -2,8 +2,8 @@
  * analyses.c — engine map and IVS tuning as operations (analyses.h). The
  * document is built by api/analysis_json.c on a pool worker; this file caps
  * the analyses running at once (the operation registry counts them), feeds
- * the operation's progress, turns a stop (cancel or shutdown) into the
- * operation's error, and keeps each operation's document in the store
+ * the operation's progress, turns a stop (cancel, shutdown) into the
+ * operation's error (google.rpc 1 CANCELLED, 14 UNAVAILABLE), and keeps each operation's document in the store
  * (db.h, table analyses): written when it starts, after each part and when
  * it ends (one small row; a part takes 0.1-5 s), so a
  * finished result survives a restart and one a crash cut short is reported
@@ -101,12 +101,15 @@ static void analysis_run(void *arg)
         doc = tsa_engine_map_json(&q->cfg, on_progress, j, &e);
     else
         doc = tsa_tune_json(&q->cfg, q->n > 0 ? q->var : NULL, q->x, q->n, on_progress, j, &e);
-    if (!doc && e.code == TS_ERR_CANCELLED)
-        ts_err_set(&e, TS_ERR_CANCELLED, NULL,
-                   atomic_load(&srv->stopping)
-                       ? "the daemon shut down after %d of %d parts; start the analysis again"
-                       : "cancelled after %d of %d parts",
-                   j->parts_done, j->parts_total);
+    if (!doc && e.code == TS_ERR_CANCELLED) {
+        if (atomic_load(&srv->stopping))
+            ts_err_set(&e, TSD_ERR_SHUTDOWN, NULL,
+                       "the daemon shut down after %d of %d parts; start the analysis again",
+                       j->parts_done, j->parts_total);
+        else
+            ts_err_set(&e, TS_ERR_CANCELLED, NULL, "cancelled after %d of %d parts",
+                       j->parts_done, j->parts_total);
+    }
     finish(srv, j->op, doc, doc ? NULL : tsd_op_error_json(&e));
     free(j);
 }
@@ -148,7 +151,7 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
                         ? tsd_err_shutdown(err)
                         : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory queueing the job");
         ts_err e2;
-        ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "%s", err->msg);
+        ts_err_set(&e2, why == TSD_ERR_SHUTDOWN ? why : TS_ERR_CANCELLED, NULL, "%s", err->msg);
         finish(srv, op, NULL, tsd_op_error_json(&e2));
         free(j);
         json_decref(*opdoc);
@@ -202,7 +205,7 @@ static void recover_one(void *ud, const char *id, const char *kind, double creat
         return;
     }
     json_t *md = json_object_get(doc, "metadata");
-    ts_err_set(&e, TS_ERR_CANCELLED, NULL,
+    ts_err_set(&e, TSD_ERR_SHUTDOWN, NULL,
                "the daemon stopped (killed or crashed) after %d of %d parts of this analysis; "
                "start it again",
                (int)json_integer_value(json_object_get(md, "parts_done")),

@@ -261,8 +261,14 @@ void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
 
 json_t *tsd_op_error_json(const ts_err *e)
 {
-    json_t *error = tsa_problem_from_err(e, NULL);
-    int code = e->code == TS_ERR_CANCELLED                           ? 1
+    /* the daemon stopping (a shutdown, or the crash found at the next
+     * start-up) is not the client's cancel: 503 and UNAVAILABLE, retry */
+    int stopped = e->code == TSD_ERR_SHUTDOWN;
+    json_t *error = stopped ? tsa_problem(MHD_HTTP_SERVICE_UNAVAILABLE, "/problems/interrupted",
+                                          "Interrupted: the daemon stopped", e->msg, NULL)
+                            : tsa_problem_from_err(e, NULL);
+    int code = stopped                                               ? 14
+               : e->code == TS_ERR_CANCELLED                         ? 1
                : e->code == TS_ERR_PARAM || e->code == TS_ERR_RANGE ? 3
                : e->code == TS_ERR_LIMIT                             ? 8
                                                                      : 13;

@@ -1149,8 +1149,8 @@ static void run_slice(void *arg)
     }
     if (a.reason == ADV_STOP || (a.reason == ADV_NONE && atomic_load(&srv->stopping) &&
                                  ts_time(s->d) < j->until - 0.5 * ts_model_sample_period(s->m))) {
-        if (atomic_load(&srv->stopping))
-            ts_err_set(&err, TS_ERR_CANCELLED, NULL,
+        if (atomic_load(&srv->stopping)) /* the operation's error: 14 UNAVAILABLE */
+            ts_err_set(&err, TSD_ERR_SHUTDOWN, NULL,
                        "the daemon shut down at t = %g s; run the session again to continue",
                        ts_time(s->d));
         else /* the next slice could not be queued: only a failed allocation does that */
@@ -1214,7 +1214,7 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
         /* Not run_finish: that would count a run ended that never started
          * and store the session without its previous error and operation. */
         ts_err e2;
-        ts_err_set(&e2, TS_ERR_CANCELLED, NULL, "%s", err->msg);
+        ts_err_set(&e2, why == TSD_ERR_SHUTDOWN ? why : TS_ERR_CANCELLED, NULL, "%s", err->msg);
         tsd_op_fail(s->srv, op, &e2);
         pthread_mutex_lock(&s->mu);
         s->status = before;

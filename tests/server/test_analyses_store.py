@@ -71,12 +71,14 @@ def test_analysis_cut_short_by_kill_9_is_reported_not_lost(tmp_path):
         got = requests.get(f"{d2.url}/v1/operations/{op['id']}", timeout=10).json()
         assert got["done"] and "response" not in got
         err = got["error"]
-        assert err["code"] == 1 and "killed or crashed" in err["message"]
+        # the daemon stopping is not the client's cancel: 14 UNAVAILABLE, a 503 problem
+        assert err["code"] == 14 and "killed or crashed" in err["message"]
+        assert err["status"] == 503 and err["type"] == "/problems/interrupted", err
         n = got["metadata"]["parts_done"]
         assert 2 <= n < 14 and f"after {n} of 14 parts" in err["message"]
         assert got["metadata"]["request"] == {"body": CRANK_MAP}
         a = listed(d2.url)[op["id"]]
-        assert a["failed"] is True and a["error_code"] == 1
+        assert a["failed"] is True and a["error_code"] == 14
         assert f"analysis {op['id']} was interrupted" in d2.stderr()
     # a third start has nothing left to recover
     with Daemon(data_dir=str(tmp_path)) as d3:
@@ -91,8 +93,8 @@ def test_shutdown_during_an_analysis_stores_why_it_ended(tmp_path):
         assert d.stop() == 0  # SIGTERM: the map ends after the speed point in progress
     with Daemon(data_dir=str(tmp_path)) as d2:
         got = requests.get(f"{d2.url}/v1/operations/{op['id']}", timeout=10).json()
-        assert got["done"] and got["error"]["code"] == 1
-        assert "shut down" in got["error"]["message"], got["error"]
+        assert got["done"] and got["error"]["code"] == 14, got["error"]
+        assert got["error"]["status"] == 503 and "shut down" in got["error"]["message"], got["error"]
         assert "was interrupted" not in d2.stderr()  # it ended cleanly, nothing to recover
 
 

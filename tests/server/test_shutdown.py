@@ -59,6 +59,7 @@ def test_new_work_during_shutdown_is_503_shutting_down(tmp_path):
         # reads are served; the run was stopped and everything it made is stored
         final = wait_op(d.url, op["id"])
         assert final["done"] and "shut down" in final["error"]["message"]
+        assert final["error"]["code"] == 14 and final["error"]["status"] == 503, final["error"]
         s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
         assert s["status"] == "interrupted" and s["t"] >= 0.2
         ser = requests.get(f"{d.url}/v1/sessions/{sid}/series",

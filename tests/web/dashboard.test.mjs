@@ -25,7 +25,9 @@
 // (refreshed when a form's analysis starts and ends) shows each with its
 // status, Show draws a stored result or error, Delete of a row another client
 // deleted shows the daemon's 404; after a restart on the same data dir a map
-// is still listed and shown, and Delete makes its operation 404.
+// is still listed and shown, and Delete makes its operation 404; a map
+// another client starts is followed to its end with no click (the list
+// polls while one runs); one cut short by kill -9 is listed "interrupted".
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -1062,6 +1064,43 @@ async function main() {
       assert(r.status === 404, `GET /v1/operations/${id} after the delete -> ${r.status}`);
       const left = (await (await fetch(`${db.url}/v1/analyses`)).json()).analyses;
       assert(left.length === 0, `still stored: ${JSON.stringify(left)}`);
+    });
+
+    /* another client's analysis: listed running after a reload, then followed with no click (the list polls while one runs) */
+    const post = async (url, route, body) => {
+      const r = await fetch(`${url}${route}`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+      const doc = await r.json();
+      assert(r.status === 202, `POST ${route} -> ${r.status}: ${JSON.stringify(doc)}`);
+      return doc;
+    };
+    const opOf = async (url, id) => (await fetch(`${url}/v1/operations/${id}`)).json();
+    await check("stored analyses: a map another client started is listed running, and its end (cancelled by that client) shows with no click", async () => {
+      const op = await post(db.url, '/v1/engine-map', { preset: 'engine-map-conventional' }); /* crank-angle: seconds per speed */
+      await page3.click('#refresh-analyses');
+      await waitFor(async () => (await storedRows(page3))[0]?.status === 'running', "the other client's map listed running", 5000);
+      const r = await fetch(`${db.url}/v1/operations/${op.id}:cancel`, { method: 'POST' });
+      assert(r.status === 200, `cancel -> ${r.status}`);
+      await waitFor(async () => (await opOf(db.url, op.id)).done, 'the cancelled map done', 20000);
+      /* no click, no form event: only the list's own polling can bring this */
+      await waitFor(async () => (await storedRows(page3))[0]?.status === 'cancelled', 'the row turned cancelled', 6000);
+      assert((await storedRows(page3))[0].id === op.id, 'another row on top');
+    });
+
+    await check("stored analyses: a map cut short by kill -9 is listed as interrupted (not cancelled) by the next daemon, and Show gives the daemon's reason", async () => {
+      const op = await post(db.url, '/v1/engine-map', { preset: 'engine-map-conventional' });
+      await waitFor(async () => (await opOf(db.url, op.id)).metadata.parts_done >= 1, 'a speed point done', 30000);
+      db.proc.kill('SIGKILL');
+      await new Promise((r) => (db.proc.exitCode === null && db.proc.signalCode === null ? db.proc.once('exit', r) : r()));
+      const dc = await startDaemonIn(db.dataDir, '--threads', '2');
+      await page3.goto(`${dc.url}/`);
+      await waitFor(async () => (await storedRows(page3)).length === 2, 'both maps listed by the new daemon');
+      const row = (await storedRows(page3))[0];
+      assert(row.id === op.id && row.status === 'interrupted', `top row ${JSON.stringify(row)}`);
+      assert(row.show && row.del, `an interrupted row cannot be shown or deleted: ${JSON.stringify(row)}`);
+      await storedButton(page3, row.id, 'Show').click();
+      await waitFor(async () => !(await page3.locator('#map-error').isHidden()), 'the error of the interrupted map');
+      const msg = await text(page3, '#map-error');
+      assert(/killed or crashed/.test(msg) && /of 14 parts/.test(msg), `error shown: "${msg}"`);
     });
     await page3.context().close();
     currentPage = page;

@@ -7,7 +7,8 @@
  * engine-map chart, the tuning tables), or puts its error in that form's
  * error box; Delete removes a finished one (DELETE /v1/analyses/{id}). The
  * list is drawn again on page load, when a form's analysis starts or ends
- * (refresh / changed) and after a delete; it does not poll.
+ * (refresh / changed) and after a delete, and every POLL_MS while a listed
+ * analysis runs (one another client started, say) and the page is visible.
  */
 import { api, ApiError } from './api.js';
 import { $, cell, pill } from './dom.js';
@@ -15,6 +16,7 @@ import { hideError, showError } from './messages.js';
 import { showTuning } from './tune.js';
 
 const KIND_LABEL = { engine_map: 'engine map', tune: 'tuning' };
+const POLL_MS = 2000; /* [ms] list refresh while an analysis in it runs */
 
 /* What the stored request asked for: "preset · fidelity engine · schedule over mass 50000,60000". */
 function asked(request) {
@@ -53,11 +55,30 @@ export function initStoredAnalyses({ engineMap }) {
     listFailed = false;
   }
 
-  /* error_code: google.rpc's, 1 for a cancel, a shutdown or a daemon killed during it */
+  let poll = 0; /* the pending timer of the next refresh while one runs */
+  let shown = []; /* the list drawn last */
+  let awaitVisible = false; /* a refresh waits for the page to be visible again */
+
+  /* error_code: google.rpc's, 1 a client's cancel, 14 the daemon stopped during it */
   function outcome(a) {
     if (!a.done) return 'running';
     if (!a.error_code) return 'done';
-    return a.error_code === 1 ? 'cancelled' : 'failed';
+    return { 1: 'cancelled', 14: 'interrupted' }[a.error_code] || 'failed';
+  }
+
+  /* Refresh again in POLL_MS while a listed analysis runs (a hidden page waits for visibility). */
+  function schedule(list) {
+    clearTimeout(poll);
+    poll = 0;
+    if (list.some((a) => !a.done))
+      poll = setTimeout(() => {
+        poll = 0;
+        if (document.visibilityState === 'visible') refresh();
+        else if (!awaitVisible) {
+          awaitVisible = true;
+          document.addEventListener('visibilitychange', () => { awaitVisible = false; refresh(); }, { once: true });
+        }
+      }, POLL_MS);
   }
 
   async function refresh() {
@@ -69,6 +90,7 @@ export function initStoredAnalyses({ engineMap }) {
       if (me !== drawn) return;
       showError(box, e);
       listFailed = true;
+      schedule(shown); /* still polling while the last list had one running */
       return;
     }
     if (me !== drawn) return;
@@ -76,6 +98,8 @@ export function initStoredAnalyses({ engineMap }) {
     listFailed = false;
     tbody.replaceChildren(...list.map((a) => row(a, outcome(a))));
     $('stored-empty').hidden = list.length > 0;
+    shown = list;
+    schedule(list);
   }
 
   function row(a, status) {
