@@ -18,7 +18,8 @@
 // run's operation answer that arrives after another session was opened
 // changes nothing; a deleted session leaves no data on screen; a 401 says so
 // in the session list; nothing overflows at 1024 px.
-// The Analyses panel: an engine map (mean-value) drawn with its rated point,
+// The Analyses panel: its preset lists from /v1/presets (engine_dyno for the
+// map, coupled for the tuning), an engine map (mean-value) drawn with its rated point,
 // a tuning with its gains and a gain schedule, a bad schedule value marked on
 // its field and not sent, and the daemon's 429 (one analysis at a time) shown
 // in its words, the running map then cancelled. Stored analyses: the list
@@ -318,6 +319,16 @@ async function main() {
       assert((await page.locator('#preset-select').inputValue()) === list[0].name, 'first preset not selected');
       await page.selectOption('#preset-select', preset);
       await page.waitForTimeout(300);
+    });
+
+    await check("the analysis forms' preset lists come from /v1/presets: the map form's are its engine_dyno presets, the tuning form's its coupled ones, each with its description", async () => {
+      const options = (sel) => page.locator(`${sel} option`).evaluateAll((os) => os.map((o) => ({ name: o.value, description: o.title })));
+      const want = (kind) => list.filter((p) => p.kind === kind).map((p) => ({ name: p.name, description: p.description || '' }));
+      for (const [sel, kind] of [['#map-preset', 'engine_dyno'], ['#tune-preset', 'coupled']]) {
+        const got = await options(sel);
+        assert(want(kind).length > 0 && JSON.stringify(got) === JSON.stringify(want(kind)), `${sel}: ${JSON.stringify(got)}, want ${JSON.stringify(want(kind))}`);
+        assert((await page.locator(sel).inputValue()) === want(kind)[0].name, `${sel}: the first not selected`);
+      }
     });
 
     await check('form is generated from /v1/schema (enum -> select, number range and unit)', async () => {

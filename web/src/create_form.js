@@ -5,37 +5,26 @@
  * new session. A rejected field is marked by its errors[].pointer.
  */
 import { api, ApiError } from './api.js';
-import { $ } from './dom.js';
+import { $, presetOptions } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { SchemaForm } from './schema_form.js';
 
 export function initCreateForm({ refreshList, open }) {
   let form = null; /* the SchemaForm, once the schema loaded */
 
-  /* Fetch the schema and presets and build the form; the schema, or throws what the daemon said. */
+  /* Fetch the schema and presets and build the form; {schema, presets}, or throws what the daemon said. */
   async function load() {
     const [schema, presets] = await Promise.all([api.schema(), api.presets()]);
     form = new SchemaForm($('schema-form'), schema);
     const list = presets.presets || [];
     const sel = $('preset-select');
-    sel.replaceChildren();
-    for (const p of list) {
-      const o = document.createElement('option');
-      o.value = p.name;
-      o.textContent = p.name;
-      o.title = p.description || '';
-      /* a preset that serves other commands only (the eigenanalysis ones: POST /v1/modes)
-         stays visible but cannot start a session */
-      if (Array.isArray(p.commands) && !p.commands.includes('session')) {
-        o.disabled = true;
-        o.textContent = `${p.name} (${p.commands.join(', ')} only)`;
-      }
-      sel.append(o);
-    }
+    /* a preset that serves other commands only (the eigenanalysis ones: POST /v1/modes)
+       stays visible but cannot start a session */
+    presetOptions(sel, list, (p) => (Array.isArray(p.commands) && !p.commands.includes('session') ? `${p.commands.join(', ')} only` : ''));
     sel.onchange = () => loadPreset(list);
     $('reset-form').onclick = () => loadPreset(list);
     await loadPreset(list);
-    return schema;
+    return { schema, presets: list };
   }
 
   async function loadPreset(list) {

@@ -1,11 +1,12 @@
 /*
  * engine_map_controls.js — the Analyses panel's engine-map form: an
- * engine-map preset (the variant) and the engine fidelity, sent as a run
+ * engine-map preset (the variant: GET /v1/presets' engine_dyno scenarios,
+ * setPresets) and the engine fidelity, sent as a run
  * config to POST /v1/engine-map; the operation is followed by analysis_op.js
  * and its map drawn by EngineMapPanel (engine_map.js); changed: see analysis_op.js.
  */
 import { api } from './api.js';
-import { $ } from './dom.js';
+import { $, presetOptions } from './dom.js';
 import { initAnalysisOp } from './analysis_op.js';
 
 export function initEngineMapControls(state, engineMap, { changed }) {
@@ -18,4 +19,6 @@ export function initEngineMapControls(state, engineMap, { changed }) {
   }
 
   $('map-run').addEventListener('click', onRun);
+  /* presets: GET /v1/presets' list; the engine-on-dynamometer ones are the engine variants */
+  return { setPresets: (presets) => presetOptions($('map-preset'), presets.filter((p) => p.kind === 'engine_dyno')) };
 }

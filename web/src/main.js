@@ -76,8 +76,8 @@ const view = initSessionView(state, { plots, frames, header, stream, picker, fft
 const list = initSessionList(state, { view, ticksChanged: compareControls.updateInfo });
 const form = initCreateForm({ refreshList, open: view.open });
 const stored = initStoredAnalyses({ engineMap });
-initEngineMapControls(state, engineMap, { changed: stored.changed });
-initTuneControls(state, { changed: stored.changed });
+const mapControls = initEngineMapControls(state, engineMap, { changed: stored.changed });
+const tuneControls = initTuneControls(state, { changed: stored.changed });
 
 async function boot() {
   try {
@@ -89,7 +89,10 @@ async function boot() {
     $('health').className = 'health bad';
   }
   try {
-    state.schema = await form.load();
+    const { schema, presets } = await form.load();
+    state.schema = schema;
+    mapControls.setPresets(presets);
+    tuneControls.setPresets(presets);
     hideError($('create-error'));
   } catch (e) {
     showError($('create-error'), e);

@@ -1,13 +1,14 @@
 /*
  * tune_controls.js — the Analyses panel's tuning form: a config preset whose
- * resolved config can be tuned, and optionally a gain-schedule variable
+ * resolved config can be tuned (GET /v1/presets' powertrain-and-vehicle
+ * scenarios, kind coupled, which carry the IVS controller; setPresets), and optionally a gain-schedule variable
  * (mass or grade) with its comma-separated values, checked here before
  * anything is sent (number_input.js) and by the daemon again; POST /v1/tune,
  * followed by analysis_op.js, its result shown by showTuning (tune.js);
  * changed: see analysis_op.js.
  */
 import { api, ApiError } from './api.js';
-import { $ } from './dom.js';
+import { $, presetOptions } from './dom.js';
 import { hideError } from './messages.js';
 import { markInvalid, numberListField } from './number_input.js';
 import { initAnalysisOp } from './analysis_op.js';
@@ -61,4 +62,5 @@ export function initTuneControls(state, { changed }) {
   $('tune-var').addEventListener('change', onVar);
   $('tune-run').addEventListener('click', onRun);
   onVar();
+  return { setPresets: (presets) => presetOptions($('tune-preset'), presets.filter((p) => p.kind === 'coupled')) };
 }
