@@ -1,16 +1,18 @@
 /*
  * analyses.c — engine map and IVS tuning as operations (analyses.h). The
  * document is built by api/analysis_json.c on a pool worker; this file caps
- * the analyses running at once (the operation registry counts them), feeds
- * the operation's progress, turns a stop (cancel, shutdown) into the
- * operation's error (google.rpc 1 CANCELLED, 14 UNAVAILABLE), and keeps each operation's document in the store
- * (db.h, table analyses): written when it starts, after each part and when
- * it ends (one small row; a part takes 0.1-5 s), so a
- * finished result survives a restart and one a crash cut short is reported
- * as such instead of vanishing.
+ * the analyses running at once (the operation registry counts them) and
+ * stored at once (--max-analyses), feeds the operation's progress, turns a
+ * stop into the operation's error (a cancel: google.rpc 1 CANCELLED; the
+ * daemon stopping: 14 UNAVAILABLE), and keeps each operation's document in
+ * the store (db.h, table analyses): written when it starts, after each part
+ * and when it ends (one small row; a part takes 0.1-5 s), so a finished
+ * result survives a restart and one a crash cut short is reported as such
+ * instead of vanishing.
  */
 #include "analyses.h"
 
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -123,6 +125,21 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
         json_decref(request);
         return tsd_err_shutdown(err);
     }
+    /* The stored count, the operation and its first row in one section: two
+     * requests cannot pass --max-analyses together (a row that could not be
+     * stored is not counted: db.c logs why). */
+    pthread_mutex_lock(&srv->analyses_lock);
+    long stored = 0;
+    tsd_db_analysis_count(srv->db, &stored);
+    if (stored >= srv->opt.max_analyses) {
+        pthread_mutex_unlock(&srv->analyses_lock);
+        json_decref(request);
+        return ts_err_set(err, TS_ERR_LIMIT, NULL,
+                          "the daemon holds its limit of %d stored analyses (--max-analyses, "
+                          "running ones included); delete some first (DELETE /v1/analyses/{id}, "
+                          "GET /v1/analyses lists them)",
+                          srv->opt.max_analyses);
+    }
     int cap = analysis_cap(srv), busy = 0;
     analysis_job *j = calloc(1, sizeof *j);
     int total = req->kind == TSD_ANALYSIS_ENGINE_MAP ? TS_ENGINE_SWEEP_NPOINT : 1 + req->n;
@@ -130,6 +147,7 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
     tsd_op *op = j ? tsd_op_new_analysis(srv, kind_name(req->kind), total, request, cap, &busy)
                    : NULL;
     if (!op) {
+        pthread_mutex_unlock(&srv->analyses_lock);
         int nomem = !j;
         free(j);
         if (busy)
@@ -146,6 +164,7 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
     j->req.request = NULL; /* the operation holds it */
     *opdoc = tsd_op_json_of(srv, op);
     if (*opdoc) store_doc(srv, *opdoc);
+    pthread_mutex_unlock(&srv->analyses_lock);
     if (tsd_pool_submit(srv->pool, analysis_run, j, 0) != 0) {
         ts_rc why = atomic_load(&srv->stopping)
                         ? tsd_err_shutdown(err)

@@ -44,7 +44,8 @@ typedef struct tsd_analysis_req {
 
 /* Queue the analysis; *opdoc (new reference) is its operation document.
  * req->request is stolen in every case. TS_ERR_LIMIT when the concurrent
- * analyses are at their cap, TSD_ERR_SHUTDOWN once shutdown began,
+ * analyses are at their cap or --max-analyses are stored, TSD_ERR_SHUTDOWN
+ * once shutdown began,
  * TS_ERR_NOMEM. */
 ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **opdoc,
                          ts_err *err);

@@ -386,6 +386,16 @@ out:
     return rc;
 }
 
+int tsd_db_analysis_count(tsd_db *db, long *n)
+{
+    row_copy t;
+    *n = 0;
+    if (select_rows(db, "SELECT COUNT(*) FROM analyses", "count analyses", &t) != 0) return -1;
+    if (t.n == 1) *n = (long)sqlite3_value_int64(t.v[0]);
+    free_rows(&t);
+    return 0;
+}
+
 int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted)
 {
     long n = 0;

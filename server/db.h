@@ -73,6 +73,9 @@ int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double cre
  * (caller frees), NULL when there is no such analysis. */
 int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc);
 
+/* How many analyses are stored (*n). */
+int tsd_db_analysis_count(tsd_db *db, long *n);
+
 /* Remove analysis id; *deleted = 1 when there was one. */
 int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted);
 

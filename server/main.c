@@ -64,6 +64,8 @@ static void usage(FILE *f)
                "  --web-root DIR   dashboard files served at / (default: web_static/ beside the\n"
                "                   build directory of this binary, else ./web_static)\n"
                "  --max-sessions N sessions kept at once (default 1000; more -> 429)\n"
+               "  --max-analyses N engine maps and tunings stored at once, running ones\n"
+               "                   included (default 1000; more -> 429: DELETE /v1/analyses/ID)\n"
                "  --max-samples N  sample rows per series/FFT response (default 100000)\n"
                "  --max-rows N     sample rows one session may store: a config whose\n"
                "                   run.duration x run.sample_rate needs more gets 400\n"
@@ -209,6 +211,7 @@ int main(int argc, char **argv)
     o->max_body = 1 << 20;
     o->conn_timeout = 60;
     o->max_sessions = 1000;
+    o->max_analyses = 1000;
     o->max_samples = 100000;
     o->max_step = 10.0;
     o->max_rows = 1000000;
@@ -251,6 +254,9 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--max-sessions") == 0) {
             if (parse_int(a, v, 1, 1000000, &n)) return 2;
             o->max_sessions = (int)n;
+        } else if (strcmp(a, "--max-analyses") == 0) {
+            if (parse_int(a, v, 1, 1000000, &n)) return 2;
+            o->max_analyses = (int)n;
         } else if (strcmp(a, "--max-samples") == 0) {
             if (parse_int(a, v, 10, 100000000, &n)) return 2;
             o->max_samples = n;
@@ -309,6 +315,7 @@ int main(int argc, char **argv)
         return 1;
     }
     pthread_mutex_init(&srv.fft_lock, NULL);
+    pthread_mutex_init(&srv.analyses_lock, NULL);
     snprintf(err, sizeof err, "out of memory");
     if (tsd_ops_init(&srv) != 0 || tsd_renderers_init(&srv) != 0 ||
         tsd_sessions_init(&srv, err, sizeof err) != 0) {
@@ -365,6 +372,7 @@ int main(int argc, char **argv)
     tsd_ops_free(&srv);
     tsd_db_close(srv.db);
     pthread_mutex_destroy(&srv.fft_lock);
+    pthread_mutex_destroy(&srv.analyses_lock);
     fprintf(stderr, "tanksimd: stopped\n");
     return 0;
 }

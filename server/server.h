@@ -38,6 +38,7 @@ typedef struct tsd_options {
     unsigned conn_timeout; /* idle connection timeout [s] */
     char token[128];       /* bearer token; empty = no authentication */
     int max_sessions;      /* sessions kept at once (create beyond -> 429) */
+    int max_analyses;      /* analyses stored at once (a new one beyond -> 429) */
     long max_samples;      /* sample rows per series/FFT response (page past it) */
     long max_rows;         /* sample rows one session may store (0: no limit) */
     double max_step;       /* longest synchronous step [s simulated] (longer -> 422) */
@@ -70,6 +71,8 @@ typedef struct tsd_server {
     struct tsd_renderers *renderers; /* OpenGL contexts for frames (frames.h) */
     tsd_metrics metrics;             /* counters for /metrics (metrics.h) */
     pthread_mutex_t fft_lock;        /* FFTW's planner is not thread-safe */
+    pthread_mutex_t analyses_lock;   /* a new analysis: the --max-analyses count, its
+                                        operation and its first stored row (analyses.c) */
     atomic_int stopping;             /* set once shutdown begins */
     atomic_int inflight;             /* requests between arrival and completion (shutdown
                                         waits for them, bounded, before stopping MHD) */
