@@ -28,7 +28,9 @@
 // deleted shows the daemon's 404; after a restart on the same data dir a map
 // is still listed and shown, and Delete makes its operation 404; a map
 // another client starts is followed to its end with no click (the list
-// polls while one runs); one cut short by kill -9 is listed "interrupted".
+// polls while one runs); one cut short by kill -9 is listed "interrupted",
+// and a form following a map when its daemon shuts down says "interrupted"
+// with the daemon's reason.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -1112,6 +1114,21 @@ async function main() {
       await waitFor(async () => !(await page3.locator('#map-error').isHidden()), 'the error of the interrupted map');
       const msg = await text(page3, '#map-error');
       assert(/killed or crashed/.test(msg) && /of 14 parts/.test(msg), `error shown: "${msg}"`);
+    });
+
+    await check("a map the page follows when its daemon shuts down (SIGTERM, --drain): the form says interrupted with the daemon's reason, and the list agrees", async () => {
+      const dd = await startDaemon('--threads', '2', '--drain', '5');
+      await page3.goto(`${dd.url}/`);
+      await waitFor(async () => (await page3.locator('#map-preset option').count()) > 0, 'the map presets');
+      await page3.selectOption('#map-fidelity', 'crank_angle');
+      await page3.click('#map-run');
+      await waitFor(async () => Number(await page3.locator('#map-progress').getAttribute('data-percent')) > 0, 'a speed point done', 30000);
+      dd.proc.kill('SIGTERM'); /* reads are still served for 5 s: the page sees the operation end */
+      await waitFor(async () => (await page3.locator('#map-progress').getAttribute('data-outcome')) === 'interrupted', 'the map interrupted', 10000);
+      assert(/interrupted/.test(await text(page3, '#map-progress-text')), `progress "${await text(page3, '#map-progress-text')}"`);
+      const msg = await text(page3, '#map-error');
+      assert(/shut down after \d+ of 14 parts/.test(msg), `error shown: "${msg}"`);
+      await waitFor(async () => (await storedRows(page3))[0]?.status === 'interrupted', 'the row interrupted', 4000);
     });
     await page3.context().close();
     currentPage = page;

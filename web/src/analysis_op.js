@@ -5,7 +5,8 @@
  * stop it after the part in progress, and the response goes to onDone. The
  * operation polled is state.analyses[kind]; an answer that arrives after it
  * was replaced is dropped. A refusal (400, 429: one analysis at a time) or
- * a failed operation is shown in the form's error box in the daemon's words.
+ * a failed or interrupted (the daemon stopped) operation is shown in the
+ * form's error box in the daemon's words.
  * changed(kind, op) hears of each start and end (the stored-analyses list,
  * stored_analyses.js).
  *
@@ -15,7 +16,7 @@
 import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { followOperation, isCancelled } from './operation.js';
+import { followOperation, isCancelled, isInterrupted } from './operation.js';
 
 /**
  * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
@@ -36,7 +37,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
     if (outcome) el('progress').dataset.outcome = outcome;
     else delete el('progress').dataset.outcome;
     const parts = total ? `${done} / ${total} parts · ${pct} %` : '';
-    const end = outcome === 'cancelled' || outcome === 'failed' ? outcome : '';
+    const end = ['cancelled', 'failed', 'interrupted'].includes(outcome) ? outcome : '';
     el('progress-text').textContent = [parts, end].filter(Boolean).join(' · ') || '—';
     const running = state.analyses[kind] !== null;
     el('run').disabled = running;
@@ -76,7 +77,10 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
         let outcome = 'done';
         try {
           if (cur.error && isCancelled(cur.error)) outcome = 'cancelled';
-          else if (cur.error) throw new ApiError(cur.error.status || 500, cur.error);
+          else if (cur.error && isInterrupted(cur.error)) {
+            outcome = 'interrupted'; /* the daemon's words say to start it again */
+            showError(box, new ApiError(cur.error.status || 503, cur.error));
+          } else if (cur.error) throw new ApiError(cur.error.status || 500, cur.error);
           else onDone(cur.response);
         } catch (e) {
           outcome = 'failed';

@@ -9,6 +9,8 @@ import { api } from './api.js';
 
 /* google.rpc code 1 = CANCELLED (the daemon also sends a problem type). */
 export const isCancelled = (err) => err.code === 1 || /cancel/i.test(err.type || '');
+/* The daemon stopped during it (shutdown, or a crash found at its next start): google.rpc 14. */
+export const isInterrupted = (err) => err.code === 14 || /interrupted/.test(err.type || '');
 
 /**
  * Follow operation `id` every `period` ms; `first`: the operation itself when

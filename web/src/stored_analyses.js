@@ -13,6 +13,7 @@
 import { api, ApiError } from './api.js';
 import { $, cell, pill } from './dom.js';
 import { hideError, showError } from './messages.js';
+import { isCancelled, isInterrupted } from './operation.js';
 import { showTuning } from './tune.js';
 
 const KIND_LABEL = { engine_map: 'engine map', tune: 'tuning' };
@@ -63,7 +64,8 @@ export function initStoredAnalyses({ engineMap }) {
   function outcome(a) {
     if (!a.done) return 'running';
     if (!a.error_code) return 'done';
-    return { 1: 'cancelled', 14: 'interrupted' }[a.error_code] || 'failed';
+    const err = { code: a.error_code };
+    return isCancelled(err) ? 'cancelled' : isInterrupted(err) ? 'interrupted' : 'failed';
   }
 
   /* Refresh again in POLL_MS while a listed analysis runs (a hidden page waits for visibility). */
