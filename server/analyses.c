@@ -130,8 +130,10 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
      * stored is not counted: db.c logs why). */
     pthread_mutex_lock(&srv->analyses_lock);
     long stored = 0;
-    tsd_db_analysis_count(srv->db, &stored);
-    if (stored >= srv->opt.max_analyses) {
+    /* a store that cannot count (db.c logged why) does not stop the analysis:
+     * its result is still served from memory */
+    int counted = tsd_db_analysis_count(srv->db, &stored) == 0;
+    if (counted && stored >= srv->opt.max_analyses) {
         pthread_mutex_unlock(&srv->analyses_lock);
         json_decref(request);
         return ts_err_set(err, TS_ERR_LIMIT, NULL,
