@@ -3,9 +3,9 @@
  * "hello world", measured in the same run on the same machine (make bench).
  *
  * What runs:
- *   1. hello: an in-process MHD daemon with tanksimd's own MHD flags (internal
- *      epoll thread pool of 4, suspend/resume allowed) answering a 5-byte
- *      persistent buffer — the ceiling of libmicrohttpd here.
+ *   1. hello: an MHD daemon in a child process with tanksimd's own MHD flags
+ *      (internal epoll thread pool of 4, suspend/resume allowed) answering a
+ *      5-byte persistent buffer — the ceiling of libmicrohttpd here.
  *   2. build/tanksimd on a free loopback port with a temporary --data-dir:
  *      GET /v1/health (routing + JSON reply + request log line), and
  *      GET /v1/sessions/ID/series for 10 000 stored samples of every channel
@@ -13,7 +13,9 @@
  *      500 Hz of the pointmass-prescribed preset.
  * The load generator: CLIENTS threads, each with one keep-alive connection
  * (plain sockets, HTTP/1.1, Content-Length framing), sending back to back for
- * SECONDS. Printed: requests/s of each and the ratios; no timed assertion.
+ * SECONDS, ROUNDS times on new connections (measure_best says why).
+ * Printed: requests/s of each (best and least round) and the ratios of the
+ * bests; no timed assertion.
  */
 #define _GNU_SOURCE
 #include <arpa/inet.h>
@@ -34,7 +36,8 @@
 #include <unistd.h>
 
 #define CLIENTS 2
-#define SECONDS 2.0
+#define SECONDS 0.5 /* one round */
+#define ROUNDS 5    /* each on new connections; the best is reported */
 
 static double now(void)
 {
@@ -167,6 +170,25 @@ static double measure(int port, const char *path)
     return errors ? -1.0 : rate;
 }
 
+/* The best of ROUNDS measure() rounds (*worst: the least; -1 on errors).
+ * libmicrohttpd's rate here is bimodal — ~35k or ~115k req/s for the same
+ * server, by how its thread pool happens to take the two connections — so a
+ * single round compared one server's slow mode with the other's fast one
+ * (ratios 0.26-3.1 between runs of the same build); new connections each
+ * round give both servers the chance of their fast mode. */
+static double measure_best(int port, const char *path, double *worst)
+{
+    double best = -1, least = -1;
+    for (int r = 0; r < ROUNDS; r++) {
+        double x = measure(port, path);
+        if (x < 0) return *worst = -1;
+        best = x > best ? x : best;
+        least = least < 0 || x < least ? x : least;
+    }
+    *worst = least;
+    return best;
+}
+
 /* ---- the bare libmicrohttpd hello world ----------------------------------------- */
 
 static enum MHD_Result hello(void *cls, struct MHD_Connection *conn, const char *url,
@@ -199,12 +221,13 @@ static int free_port(void)
     return ntohs(a.sin_port);
 }
 
-static int wait_health(int port)
+/* Poll GET path on port until it answers 200 (10 s at most): 0, or -1. */
+static int wait_ready(int port, const char *path)
 {
     for (int i = 0; i < 200; i++) {
         conn c;
         if (conn_open(&c, port) == 0) {
-            int st = request(&c, "GET", "/v1/health", NULL, NULL, NULL);
+            int st = request(&c, "GET", path, NULL, NULL, NULL);
             conn_close(&c);
             if (st == 200) return 0;
         }
@@ -235,17 +258,28 @@ int main(int argc, char **argv)
     snprintf(self, sizeof self, "%s", argv[0]);
     snprintf(daemon_path, sizeof daemon_path, "%s/../tanksimd", dirname(self));
 
-    /* 1. bare libmicrohttpd */
+    /* 1. bare libmicrohttpd, in a child process as tanksimd is (in this
+     * process, beside the client threads, it measured 38k or 117-134k req/s
+     * from run to run) */
     int hport = free_port();
-    struct MHD_Daemon *h = MHD_start_daemon(
-        MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL_LINUX_ONLY | MHD_ALLOW_SUSPEND_RESUME,
-        (uint16_t)hport, NULL, NULL, hello, NULL, MHD_OPTION_THREAD_POOL_SIZE, 4u, MHD_OPTION_END);
-    if (!h) {
+    pid_t hpid = fork();
+    if (hpid == 0) {
+        struct MHD_Daemon *h = MHD_start_daemon(
+            MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL_LINUX_ONLY | MHD_ALLOW_SUSPEND_RESUME,
+            (uint16_t)hport, NULL, NULL, hello, NULL, MHD_OPTION_THREAD_POOL_SIZE, 4u,
+            MHD_OPTION_END);
+        if (!h) _exit(1);
+        pause(); /* until the parent's SIGTERM */
+        _exit(0);
+    }
+    if (hpid < 0 || wait_ready(hport, "/") != 0) {
         fprintf(stderr, "bench_http: cannot start the hello-world daemon\n");
+        if (hpid > 0) kill(hpid, SIGTERM);
         return 1;
     }
-    double r_hello = measure(hport, "/");
-    MHD_stop_daemon(h);
+    double w_hello, r_hello = measure_best(hport, "/", &w_hello);
+    kill(hpid, SIGTERM);
+    waitpid(hpid, NULL, 0);
 
     /* 2. tanksimd */
     char dir[] = "/tmp/tanksim-bench-XXXXXX";
@@ -262,7 +296,7 @@ int main(int argc, char **argv)
         _exit(127);
     }
     int rc = 1;
-    if (wait_health(port) != 0) {
+    if (wait_ready(port, "/v1/health") != 0) {
         fprintf(stderr, "bench_http: %s did not start\n", daemon_path);
         goto out;
     }
@@ -295,12 +329,14 @@ int main(int argc, char **argv)
     size_t series_bytes = blen;
     conn_close(&c);
 
-    double r_health = measure(port, "/v1/health");
-    double r_series = measure(port, path);
-    printf("bench_http: %d keep-alive clients, %.1f s each, same run\n", CLIENTS, SECONDS);
-    printf("  bare libmicrohttpd hello      %10.0f req/s\n", r_hello);
-    printf("  tanksimd GET /v1/health       %10.0f req/s   ratio to hello %.2f\n", r_health,
-           r_health / r_hello);
+    double w_health, r_health = measure_best(port, "/v1/health", &w_health);
+    double w_series, r_series = measure_best(port, path, &w_series);
+    printf("bench_http: %d keep-alive clients, best of %d rounds of %.1f s on new connections "
+           "(least in brackets), same run\n",
+           CLIENTS, ROUNDS, SECONDS);
+    printf("  bare libmicrohttpd hello      %10.0f req/s (%.0f)\n", r_hello, w_hello);
+    printf("  tanksimd GET /v1/health       %10.0f req/s (%.0f)   ratio to hello %.2f\n",
+           r_health, w_health, r_health / r_hello);
     printf("  tanksimd series 10000 samples %10.1f req/s   ratio to hello %.4f, to health %.4f"
            "  (%zu bytes, %.0f samples/s)\n",
            r_series, r_series / r_hello, r_series / r_health, series_bytes, 1e4 * r_series);
