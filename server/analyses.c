@@ -171,9 +171,7 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
         ts_rc why = atomic_load(&srv->stopping)
                         ? tsd_err_shutdown(err)
                         : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory queueing the job");
-        ts_err e2;
-        ts_err_set(&e2, why == TSD_ERR_SHUTDOWN ? why : TS_ERR_CANCELLED, NULL, "%s", err->msg);
-        finish(srv, op, NULL, tsd_op_error_json(&e2));
+        finish(srv, op, NULL, tsd_op_error_json(err));
         free(j);
         json_decref(*opdoc);
         *opdoc = NULL;

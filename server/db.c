@@ -126,15 +126,10 @@ void tsd_db_close(tsd_db *db)
     free(db);
 }
 
-/* Run one statement with bound text/int/double parameters described by fmt:
- * 'i' long, 'd' double, 's' text (NULL -> SQL NULL). Writer connection; the
- * rows it changed into *changes when that is not NULL. */
-static int exec_wv(tsd_db *db, long *changes, const char *sql, const char *fmt, va_list ap)
+/* Bind the parameters described by fmt: 'i' long, 'd' double, 's' text
+ * (NULL -> SQL NULL). */
+static void bind_args(sqlite3_stmt *st, const char *fmt, va_list ap)
 {
-    sqlite3_stmt *st = NULL;
-    int rc = -1;
-    pthread_mutex_lock(&db->wmu);
-    if (sqlite3_prepare_v2(db->w, sql, -1, &st, NULL) != SQLITE_OK) goto out;
     for (int i = 0; fmt[i]; i++) {
         if (fmt[i] == 'i')
             sqlite3_bind_int64(st, i + 1, va_arg(ap, long));
@@ -148,6 +143,17 @@ static int exec_wv(tsd_db *db, long *changes, const char *sql, const char *fmt, 
                 sqlite3_bind_null(st, i + 1);
         }
     }
+}
+
+/* Run one statement with the parameters of fmt (bind_args) on the writer
+ * connection; the rows it changed into *changes when that is not NULL. */
+static int exec_wv(tsd_db *db, long *changes, const char *sql, const char *fmt, va_list ap)
+{
+    sqlite3_stmt *st = NULL;
+    int rc = -1;
+    pthread_mutex_lock(&db->wmu);
+    if (sqlite3_prepare_v2(db->w, sql, -1, &st, NULL) != SQLITE_OK) goto out;
+    bind_args(st, fmt, ap);
     rc = sqlite3_step(st) == SQLITE_DONE ? 0 : -1;
     if (rc == 0 && changes) *changes = sqlite3_changes(db->w);
 out:
@@ -272,9 +278,9 @@ out:
     return rc;
 }
 
-/* The rows of a reader query without parameters, copied out (protected
- * values, sqlite3_value_dup) so that the caller may use the database again
- * while it walks them: row i's column k is v[i * ncol + k]. */
+/* The rows of a reader query, copied out (protected values,
+ * sqlite3_value_dup) so that the caller may use the database again while it
+ * walks them: row i's column k is v[i * ncol + k]. */
 typedef struct row_copy {
     sqlite3_value **v;
     long n;
@@ -289,8 +295,10 @@ static void free_rows(row_copy *t)
     memset(t, 0, sizeof *t);
 }
 
-/* 0, or -1 with the SQLite message logged under what (t is then empty). */
-static int select_rows(tsd_db *db, const char *sql, const char *what, row_copy *t)
+/* Run sql with the parameters of fmt (bind_args) on the reader connection:
+ * 0, or -1 with the SQLite message logged under what (t is then empty). */
+static int select_rows(tsd_db *db, const char *sql, const char *what, row_copy *t,
+                       const char *fmt, ...)
 {
     sqlite3_stmt *st = NULL;
     long cap = 0;
@@ -298,6 +306,10 @@ static int select_rows(tsd_db *db, const char *sql, const char *what, row_copy *
     memset(t, 0, sizeof *t);
     pthread_mutex_lock(&db->rmu);
     if (sqlite3_prepare_v2(db->r, sql, -1, &st, NULL) != SQLITE_OK) goto out;
+    va_list ap;
+    va_start(ap, fmt);
+    bind_args(st, fmt, ap);
+    va_end(ap);
     t->ncol = sqlite3_column_count(st);
     while ((s = sqlite3_step(st)) == SQLITE_ROW) {
         if (t->n == cap) {
@@ -339,7 +351,7 @@ int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
     if (select_rows(db,
                     "SELECT seq,id,created,preset,config,status,error,channels"
                     " FROM sessions ORDER BY seq",
-                    "list sessions", &t) != 0)
+                    "list sessions", &t, "") != 0)
         return -1;
     for (long i = 0; i < t.n; i++) {
         sqlite3_value **c = t.v + i * t.ncol;
@@ -364,25 +376,13 @@ int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double cre
 
 int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc)
 {
-    sqlite3_stmt *st = NULL;
-    int rc = -1;
+    row_copy t;
     *doc = NULL;
-    pthread_mutex_lock(&db->rmu);
-    if (sqlite3_prepare_v2(db->r, "SELECT document FROM analyses WHERE id=?", -1, &st, NULL) !=
-        SQLITE_OK)
-        goto out;
-    sqlite3_bind_text(st, 1, id, -1, SQLITE_TRANSIENT);
-    int s = sqlite3_step(st);
-    if (s == SQLITE_ROW) {
-        *doc = strdup(col_text(st, 0));
-        rc = *doc ? 0 : -1;
-    } else {
-        rc = s == SQLITE_DONE ? 0 : -1;
-    }
-out:
-    if (rc) log_err(db->r, "read analysis");
-    sqlite3_finalize(st);
-    pthread_mutex_unlock(&db->rmu);
+    if (select_rows(db, "SELECT document FROM analyses WHERE id=?", "read analysis", &t, "s", id))
+        return -1;
+    int rc = 0;
+    if (t.n == 1 && !(*doc = strdup(val_text(t.v[0])))) rc = -1;
+    free_rows(&t);
     return rc;
 }
 
@@ -390,7 +390,7 @@ int tsd_db_analysis_count(tsd_db *db, long *n)
 {
     row_copy t;
     *n = 0;
-    if (select_rows(db, "SELECT COUNT(*) FROM analyses", "count analyses", &t) != 0) return -1;
+    if (select_rows(db, "SELECT COUNT(*) FROM analyses", "count analyses", &t, "")) return -1;
     if (t.n == 1) *n = (long)sqlite3_value_int64(t.v[0]);
     free_rows(&t);
     return 0;
@@ -410,7 +410,7 @@ int tsd_db_analyses(tsd_db *db, tsd_db_analysis_fn fn, void *ud)
     if (select_rows(db,
                     "SELECT id,kind,created,done,error_code,request FROM analyses"
                     " ORDER BY created DESC, id",
-                    "list analyses", &t) != 0)
+                    "list analyses", &t, "") != 0)
         return -1;
     for (long i = 0; i < t.n; i++) {
         sqlite3_value **c = t.v + i * t.ncol;

@@ -270,7 +270,7 @@ json_t *tsd_op_error_json(const ts_err *e)
     int code = stopped                                               ? 14
                : e->code == TS_ERR_CANCELLED                         ? 1
                : e->code == TS_ERR_PARAM || e->code == TS_ERR_RANGE ? 3
-               : e->code == TS_ERR_LIMIT                             ? 8
+               : e->code == TS_ERR_LIMIT || e->code == TS_ERR_NOMEM  ? 8
                                                                      : 13;
     json_object_set_new(error, "code", json_integer(code));
     json_object_set_new(error, "message", json_string(e->msg));

@@ -63,7 +63,7 @@ void tsd_op_finish_persisted(tsd_server *srv, tsd_op *op, json_t *response, json
                              void (*persist)(void *ud, json_t *doc), void *ud);
 /* Mark done with the error e: its problem document plus AIP-151's google.rpc
  * "code" (1 CANCELLED, 3 INVALID_ARGUMENT for a parameter, 8
- * RESOURCE_EXHAUSTED for a limit, 14 UNAVAILABLE for TSD_ERR_SHUTDOWN: the
+ * RESOURCE_EXHAUSTED for a limit or out of memory, 14 UNAVAILABLE for TSD_ERR_SHUTDOWN: the
  * daemon stopped during it, problem 503 /problems/interrupted; 13 INTERNAL
  * otherwise) and "message". */
 void tsd_op_fail(tsd_server *srv, tsd_op *op, const ts_err *e);

@@ -1207,15 +1207,14 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
     *opdoc = tsd_op_json_of(s->srv, op);
     if (tsd_pool_submit(s->srv->pool, run_slice, j, 0) != 0) {
         /* Nothing ran: the session goes back as it was, the operation ends
-         * cancelled, and the caller gets the reason (not a 202). */
+         * with the reason (14 UNAVAILABLE, or 8 for the memory), and the
+         * caller gets it too (not a 202). */
         ts_rc why = atomic_load(&s->srv->stopping)
                         ? tsd_err_shutdown(err)
                         : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory queueing the run");
         /* Not run_finish: that would count a run ended that never started
          * and store the session without its previous error and operation. */
-        ts_err e2;
-        ts_err_set(&e2, why == TSD_ERR_SHUTDOWN ? why : TS_ERR_CANCELLED, NULL, "%s", err->msg);
-        tsd_op_fail(s->srv, op, &e2);
+        tsd_op_fail(s->srv, op, err);
         pthread_mutex_lock(&s->mu);
         s->status = before;
         memcpy(s->error, before_error, sizeof before_error);

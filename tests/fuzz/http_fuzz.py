@@ -631,8 +631,8 @@ def run_cases(port, cases, results, log):
     lock = threading.Lock()
     def one(c):
         r = send_raw(port, c["raw"], timeout=c.get("timeout", 15))
-        if r.status == 202 and b"/v1/engine-map" in c["raw"][:40] or \
-                r.status == 202 and b"/v1/tune" in c["raw"][:40]:
+        head = c["raw"][:40]
+        if r.status == 202 and (b"/v1/engine-map" in head or b"/v1/tune" in head):
             # an analysis the fuzzer started holds the fuzz daemon's one worker
             # (--threads 1) until its current part ends, seconds (tens under TSan):
             # cancel it and wait for it, so later checks do not queue behind it

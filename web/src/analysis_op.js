@@ -16,7 +16,7 @@
 import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { followOperation, isCancelled, isInterrupted } from './operation.js';
+import { followOperation, outcomeOf } from './operation.js';
 
 /**
  * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
@@ -74,16 +74,13 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
       },
       done(cur) {
         stop();
-        let outcome = 'done';
+        let outcome = outcomeOf(cur.error);
         try {
-          if (cur.error && isCancelled(cur.error)) outcome = 'cancelled';
-          else if (cur.error && isInterrupted(cur.error)) {
-            outcome = 'interrupted'; /* the daemon's words say to start it again */
-            showError(box, new ApiError(cur.error.status || 503, cur.error));
-          } else if (cur.error) throw new ApiError(cur.error.status || 500, cur.error);
-          else onDone(cur.response);
+          /* failed or interrupted: the daemon's words (the latter say to start it again) */
+          if (outcome !== 'cancelled' && cur.error) throw new ApiError(cur.error.status || 500, cur.error);
+          if (outcome === 'done') onDone(cur.response);
         } catch (e) {
-          outcome = 'failed';
+          if (outcome === 'done') outcome = 'failed'; /* onDone could not draw it */
           showError(box, e);
         }
         render(cur.metadata, outcome);

@@ -7,10 +7,16 @@
  */
 import { api } from './api.js';
 
-/* google.rpc code 1 = CANCELLED (the daemon also sends a problem type). */
-export const isCancelled = (err) => err.code === 1 || /cancel/i.test(err.type || '');
-/* The daemon stopped during it (shutdown, or a crash found at its next start): google.rpc 14. */
-export const isInterrupted = (err) => err.code === 14 || /interrupted/.test(err.type || '');
+/* How a finished operation ended, from its error member (google.rpc code;
+ * the daemon also sends a problem type): 'done' (none), 'cancelled' (1, a
+ * client's cancel), 'interrupted' (14, the daemon stopped during it: a
+ * shutdown, or a crash found at its next start) or 'failed'. */
+export function outcomeOf(err) {
+  if (!err) return 'done';
+  if (err.code === 1 || /cancel/i.test(err.type || '')) return 'cancelled';
+  if (err.code === 14 || /interrupted/.test(err.type || '')) return 'interrupted';
+  return 'failed';
+}
 
 /**
  * Follow operation `id` every `period` ms; `first`: the operation itself when

@@ -9,7 +9,7 @@ import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { numberField } from './number_input.js';
-import { followOperation, isCancelled, isInterrupted } from './operation.js';
+import { followOperation, outcomeOf } from './operation.js';
 
 export function initRunControls(state, { header, stream, refreshList }) {
   const stepDuration = numberField($('step-duration'), { name: 'step duration [s]', above: 0 });
@@ -63,11 +63,10 @@ export function initRunControls(state, { header, stream, refreshList }) {
       async done(op) {
         stop();
         const m = op.metadata || {};
-        const cancelled = op.error && isCancelled(op.error);
-        if (op.error && !cancelled) showError($('session-error'), new ApiError(op.error.status || 500, op.error));
+        const outcome = outcomeOf(op.error);
+        if (outcome === 'failed' || outcome === 'interrupted') showError($('session-error'), new ApiError(op.error.status || 500, op.error));
         await header.refresh();
         header.renderProgress(m);
-        const outcome = cancelled ? 'cancelled' : op.error ? (isInterrupted(op.error) ? 'interrupted' : 'failed') : 'done';
         if (outcome === 'cancelled' || outcome === 'interrupted') $('progress-text').textContent += ` · ${outcome}`;
         $('progress-text').dataset.outcome = outcome;
         stream.start(); /* catch up on rows stored after the stream last closed */

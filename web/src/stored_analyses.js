@@ -8,12 +8,12 @@
  * error box; Delete removes a finished one (DELETE /v1/analyses/{id}). The
  * list is drawn again on page load, when a form's analysis starts or ends
  * (refresh / changed) and after a delete, and every POLL_MS while a listed
- * analysis runs (one another client started, say) and the page is visible.
+ * analysis runs (one another client started, say) and the page is not hidden.
  */
 import { api, ApiError } from './api.js';
 import { $, cell, pill } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { isCancelled, isInterrupted } from './operation.js';
+import { outcomeOf } from './operation.js';
 import { showTuning } from './tune.js';
 
 const KIND_LABEL = { engine_map: 'engine map', tune: 'tuning' };
@@ -50,37 +50,21 @@ export function initStoredAnalyses({ engineMap }) {
   let drawn = 0; /* the latest refresh: an earlier one answering late is dropped */
   let showing = 0; /* the same for Show */
   let listFailed = false; /* the error box holds why the list could not be loaded */
+  let running = false; /* the list drawn last has a running analysis */
+  let poll = 0; /* the timer of the next refresh while one runs */
 
   function clearBox() {
     hideError(box);
     listFailed = false;
   }
 
-  let poll = 0; /* the pending timer of the next refresh while one runs */
-  let shown = []; /* the list drawn last */
-  let awaitVisible = false; /* a refresh waits for the page to be visible again */
+  /* error_code: the google.rpc code of its error (0: none) */
+  const outcome = (a) => (a.done ? outcomeOf(a.error_code ? { code: a.error_code } : null) : 'running');
 
-  /* error_code: google.rpc's, 1 a client's cancel, 14 the daemon stopped during it */
-  function outcome(a) {
-    if (!a.done) return 'running';
-    if (!a.error_code) return 'done';
-    const err = { code: a.error_code };
-    return isCancelled(err) ? 'cancelled' : isInterrupted(err) ? 'interrupted' : 'failed';
-  }
-
-  /* Refresh again in POLL_MS while a listed analysis runs (a hidden page waits for visibility). */
-  function schedule(list) {
+  /* Refresh again in POLL_MS while the list drawn last has a running analysis (a hidden page only waits). */
+  function schedule() {
     clearTimeout(poll);
-    poll = 0;
-    if (list.some((a) => !a.done))
-      poll = setTimeout(() => {
-        poll = 0;
-        if (document.visibilityState === 'visible') refresh();
-        else if (!awaitVisible) {
-          awaitVisible = true;
-          document.addEventListener('visibilitychange', () => { awaitVisible = false; refresh(); }, { once: true });
-        }
-      }, POLL_MS);
+    poll = running ? setTimeout(() => (document.hidden ? schedule() : refresh()), POLL_MS) : 0;
   }
 
   async function refresh() {
@@ -92,7 +76,7 @@ export function initStoredAnalyses({ engineMap }) {
       if (me !== drawn) return;
       showError(box, e);
       listFailed = true;
-      schedule(shown); /* still polling while the last list had one running */
+      schedule(); /* still polling while the last list had one running */
       return;
     }
     if (me !== drawn) return;
@@ -100,8 +84,8 @@ export function initStoredAnalyses({ engineMap }) {
     listFailed = false;
     tbody.replaceChildren(...list.map((a) => row(a, outcome(a))));
     $('stored-empty').hidden = list.length > 0;
-    shown = list;
-    schedule(list);
+    running = list.some((a) => !a.done);
+    schedule();
   }
 
   function row(a, status) {
