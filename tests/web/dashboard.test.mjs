@@ -24,8 +24,9 @@
 // its field and not sent, and the daemon's 429 (one analysis at a time) shown
 // in its words, the running map then cancelled. Stored analyses: the list
 // (refreshed when a form's analysis starts and ends) shows each with its
-// status, Show draws a stored result or error, Delete of a row another client
-// deleted shows the daemon's 404; after a restart on the same data dir a map
+// status, Show draws a stored result or error and puts its parts on the
+// form's progress bar, Delete of a row another client deleted shows the
+// daemon's 404; after a restart on the same data dir a map
 // is still listed and shown, and Delete makes its operation 404; a map
 // another client starts is followed to its end with no click (the list
 // polls while one runs); one cut short by kill -9 is listed "interrupted",
@@ -814,6 +815,9 @@ async function main() {
       await storedButton(page, tune.id, 'Show').click();
       await waitFor(async () => (await page.locator('#tune-result .tune-schedule tbody tr').count()) === 2, 'the stored 2-row schedule table');
       assert(await page.locator('#tune-error').isHidden(), `error: ${await text(page, '#tune-error')}`);
+      /* the form's bar was the refused tuning's ("failed"): it now tells of the tuning shown */
+      const bar = { outcome: await page.locator('#tune-progress').getAttribute('data-outcome'), percent: await page.locator('#tune-progress').getAttribute('data-percent') };
+      assert(bar.outcome === 'done' && bar.percent === '100', `tuning progress after Show ${JSON.stringify(bar)}`);
       /* Show of the cancelled map: its error, in the daemon's words, where the map form shows errors */
       await storedButton(page, rows[0].id, 'Show').click();
       await waitFor(async () => !(await page.locator('#map-error').isHidden()), "the cancelled map's error");
@@ -1059,6 +1063,7 @@ async function main() {
       await waitFor(async () => (await mapShown(page3)).rows > 0, 'the stored map drawn');
       const map = await mapShown(page3);
       assert(JSON.stringify(map) === JSON.stringify(stored.map), `shown ${JSON.stringify(map)}, computed ${JSON.stringify(stored.map)}`);
+      assert((await text(page3, '#map-progress-text')).startsWith('14 / 14') && (await page3.locator('#map-progress').getAttribute('data-outcome')) === 'done', `progress "${await text(page3, '#map-progress-text')}" for the map shown`);
       assert(await page3.locator('#map-error').isHidden(), `error: ${await text(page3, '#map-error')}`);
       await page3.locator('#stored-analyses').scrollIntoViewIfNeeded();
       await shot(page3, '11-stored-after-restart');

@@ -8,7 +8,8 @@
  * a failed or interrupted (the daemon stopped) operation is shown in the
  * form's error box in the daemon's words.
  * changed(kind, op) hears of each start and end (the stored-analyses list,
- * stored_analyses.js).
+ * stored_analyses.js); showStored(op) puts a stored analysis the list draws
+ * in this form on its progress bar, unless the form's own one runs.
  *
  * Elements, by the form's prefix p: p-run, p-cancel, p-error, p-progress
  * (data-percent, data-outcome), p-progress-bar, p-progress-text.
@@ -22,7 +23,8 @@ import { followOperation, outcomeOf } from './operation.js';
  * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
  * draw the result (may throw an ApiError: shown as the form's error); changed(kind, op)
  * (optional): the operation started (op not done) or ended (op: null when its poll failed).
- * Returns {start(begin)}: begin() sends the request and resolves to the operation.
+ * Returns {start(begin), showStored(op)}: begin() sends the request and resolves to the
+ * operation; op: a done operation (GET /v1/operations/{id}) whose result the form now shows.
  */
 export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {} }) {
   const el = (name) => $(`${prefix}-${name}`);
@@ -102,7 +104,12 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
     }
   }
 
+  function showStored(op) {
+    if (state.analyses[kind]) return; /* the bar is the running analysis' */
+    render(op.metadata, outcomeOf(op.error));
+  }
+
   el('cancel').addEventListener('click', onCancel);
   render(null);
-  return { start };
+  return { start, showStored };
 }

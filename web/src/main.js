@@ -75,7 +75,8 @@ const run = initRunControls(state, { header, stream, refreshList });
 const view = initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, run, refreshList });
 const list = initSessionList(state, { view, ticksChanged: compareControls.updateInfo });
 const form = initCreateForm({ refreshList, open: view.open });
-const stored = initStoredAnalyses({ engineMap });
+/* a stored analysis shown in a form goes on that form's progress bar (the controls are made next) */
+const stored = initStoredAnalyses({ engineMap, progress: (kind, op) => ({ engine_map: mapControls, tune: tuneControls })[kind]?.showStored(op) });
 const mapControls = initEngineMapControls(state, engineMap, { changed: stored.changed });
 const tuneControls = initTuneControls(state, { changed: stored.changed });
 

@@ -5,7 +5,8 @@
  * schedule) and its status. Show fetches the operation (GET
  * /v1/operations/{id}) and draws its response where its form draws one (the
  * engine-map chart, the tuning tables), or puts its error in that form's
- * error box; Delete removes a finished one (DELETE /v1/analyses/{id}). The
+ * error box, and has that form's progress bar show its parts and outcome
+ * (progress; not while the form's own analysis runs); Delete removes a finished one (DELETE /v1/analyses/{id}). The
  * list is drawn again on page load, when a form's analysis starts or ends
  * (refresh / changed) and after a delete, and every POLL_MS while a listed
  * analysis runs (one another client started, say) and the page is not hidden.
@@ -38,8 +39,9 @@ function button(label, title, onClick) {
   return b;
 }
 
-/* engineMap: the EngineMapPanel the map form draws in (engine_map.js). */
-export function initStoredAnalyses({ engineMap }) {
+/* engineMap: the EngineMapPanel the map form draws in (engine_map.js); progress(kind, op):
+   the form of that kind shows a done operation on its progress bar (analysis_op.js showStored). */
+export function initStoredAnalyses({ engineMap, progress }) {
   const box = $('stored-error');
   const tbody = $('stored-table').querySelector('tbody');
   /* Where each kind's result goes; shown: the id of the analysis it shows, if stored. */
@@ -134,6 +136,7 @@ export function initStoredAnalyses({ engineMap }) {
     } catch (e) {
       showError(form.error, e);
     }
+    progress(a.kind, op);
   }
 
   async function onDelete(a, what) {

@@ -62,5 +62,8 @@ export function initTuneControls(state, { changed }) {
   $('tune-var').addEventListener('change', onVar);
   $('tune-run').addEventListener('click', onRun);
   onVar();
-  return { setPresets: (presets) => presetOptions($('tune-preset'), presets.filter((p) => p.kind === 'coupled')) };
+  return {
+    setPresets: (presets) => presetOptions($('tune-preset'), presets.filter((p) => p.kind === 'coupled')),
+    showStored: op.showStored,
+  };
 }
