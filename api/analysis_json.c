@@ -238,6 +238,11 @@ ts_rc tsa_tune_schedule_parse(const char *text, const char *var, double *x, int 
         errno = 0;
         double v = tsa_is_decimal(item, 0) ? strtod(item, NULL) : NAN;
         if (errno || !isfinite(v) || ts_param_check_number(field, v, NULL) != TS_OK) break;
+        if (*n > 0 && !(v > x[*n - 1])) /* /control/schedule_x must increase (ivs_controller.c) */
+            return ts_err_set(err, TS_ERR_PARAM, field->pointer,
+                              "the %s values must increase (they become /control/schedule_x), "
+                              "got %g after %g",
+                              field->pointer, v, x[*n - 1]);
         x[(*n)++] = v;
         if (!end) return TS_OK;
         s = end + 1;

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "../sim/terrain.h"
+#include "problem.h"
 #include "store.h"
 
 #define PRESET_DIR       "sim/data/presets/"
@@ -25,9 +26,15 @@ json_t *tsa_store_json(const char *path, ts_err *err)
         return NULL;
     }
     json_error_t je;
-    json_t *j = json_loadb((const char *)f->data, f->size, 0, &je);
+    json_t *j = json_loadb((const char *)f->data, f->size, JSON_REJECT_DUPLICATES, &je);
     if (!j) ts_err_set(err, TS_ERR_INTERNAL, NULL, "%s:%d: %s", path, je.line, je.text);
     return j;
+}
+
+/* The schema's word for comment keys: any value, ignored (strip_comments). */
+static json_t *comment_keys(void)
+{
+    return json_pack("{s:{s:s}}", "^_", "description", "a comment: read and ignored");
 }
 
 /* Remove comment keys ("_...") recursively. */
@@ -149,7 +156,7 @@ static ts_rc merge_document(json_t *merged, const json_t *doc, int depth, ts_err
             /* a section given as a scalar or array would replace the whole section and
              * every one of its fields would then be reported missing: name the section */
             char ptr[TS_ERR_POINTER_LEN];
-            snprintf(ptr, sizeof ptr, "/%s", key);
+            tsa_pointer_join(ptr, sizeof ptr, "", key);
             return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: object expected, got %s", ptr,
                               json_type_word(val));
         }
@@ -311,7 +318,10 @@ static void read_field(const ts_param *p, const json_t *v, char *base, json_t *e
 static ts_rc fill_course(ts_config *cfg, json_t *errors, ts_err *err)
 {
     ts_terrain_config *tc = &cfg->terrain;
-    if (tc->kind != TS_TERRAIN_BUMPS || tc->bump_n > 0 || !tc->course[0]) return TS_OK;
+    /* an inline list, even a partial one (ts_terrain_make refuses that), is not overridden */
+    if (tc->kind != TS_TERRAIN_BUMPS || tc->bump_n > 0 || tc->bump_height_n > 0 ||
+        tc->bump_length_n > 0 || !tc->course[0])
+        return TS_OK;
     char path[TS_NAME_LEN + 64];
     snprintf(path, sizeof path, "sim/data/terrain/%s.txt", tc->course);
     const tsa_file *f = tsa_store_find(path);
@@ -350,7 +360,7 @@ ts_rc tsa_config_read(const json_t *resolved, ts_config *cfg, json_t *errors, ts
         for (int s = 0; s < ts_param_nsections(); s++)
             if (strcmp(ts_param_section_at(s)->name, skey) == 0) sec = ts_param_section_at(s);
         char ptr[TS_ERR_POINTER_LEN];
-        snprintf(ptr, sizeof ptr, "/%s", skey);
+        tsa_pointer_join(ptr, sizeof ptr, "", skey);
         if (!sec) {
             add_error(errors, err, &count, TS_ERR_PARAM, ptr, "%s: unknown section", ptr);
             continue;
@@ -366,7 +376,7 @@ ts_rc tsa_config_read(const json_t *resolved, ts_config *cfg, json_t *errors, ts
         {
             if (fkey[0] == '_') continue;
             char fptr[TS_ERR_POINTER_LEN];
-            snprintf(fptr, sizeof fptr, "/%s/%s", skey, fkey);
+            tsa_pointer_join(fptr, sizeof fptr, ptr, fkey);
             if (!ts_param_find(fptr))
                 add_error(errors, err, &count, TS_ERR_PARAM, fptr, "%s: unknown field", fptr);
         }
@@ -455,7 +465,7 @@ ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_o
                            ts_err *err)
 {
     json_error_t je;
-    json_t *doc = json_load_file(path, 0, &je);
+    json_t *doc = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
     if (!doc) {
         if (je.line < 0 || strstr(je.text, "unable to open"))
             return ts_err_set(err, TS_ERR_IO, NULL, "%s", je.text); /* names the path */
@@ -564,14 +574,15 @@ json_t *tsa_config_schema(void)
             json_object_set_new(sprops, field, f);
         }
         json_object_set_new(props, sec->name,
-                            json_pack("{s:s,s:s,s:o,s:b}", "type", "object", "description",
-                                      sec->description, "properties", sprops,
-                                      "additionalProperties", 0));
+                            json_pack("{s:s,s:s,s:o,s:o,s:b}", "type", "object", "description",
+                                      sec->description, "properties", sprops, "patternProperties",
+                                      comment_keys(), "additionalProperties", 0));
     }
     json_decref(defaults);
-    return json_pack("{s:s,s:s,s:s,s:o,s:b}", "$schema",
+    return json_pack("{s:s,s:s,s:s,s:o,s:o,s:b}", "$schema",
                      "https://json-schema.org/draft/2020-12/schema", "title", "tanksim run config",
-                     "type", "object", "properties", props, "additionalProperties", 0);
+                     "type", "object", "properties", props, "patternProperties", comment_keys(),
+                     "additionalProperties", 0);
 }
 
 static int cmp_name(const void *a, const void *b)

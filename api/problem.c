@@ -10,6 +10,7 @@
  */
 #include "problem.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -117,4 +118,22 @@ json_t *tsa_problem_from_err(const ts_err *err, json_t *errors)
     json_t *p = tsa_problem(map[rc].status, map[rc].type, map[rc].title, err->msg, errors);
     json_decref(own);
     return p;
+}
+
+char *tsa_pointer_join(char *out, size_t n, const char *parent, const char *key)
+{
+    if (n == 0) return out;
+    size_t k = (size_t)snprintf(out, n, "%s/", parent);
+    for (const char *c = key; *c && k + 1 < n; c++) {
+        if (*c == '~' || *c == '/') {
+            if (k + 2 >= n) break; /* no half escape */
+            out[k++] = '~';
+            out[k++] = *c == '~' ? '0' : '1';
+        } else {
+            out[k++] = *c;
+        }
+    }
+    if (k >= n) k = n - 1;
+    out[k] = '\0';
+    return out;
 }

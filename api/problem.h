@@ -29,4 +29,9 @@ json_t *tsa_problem(int status, const char *type, const char *title, const char 
  * message, and errors (if NULL, one built from err's pointer when non-empty). */
 json_t *tsa_problem_from_err(const ts_err *err, json_t *errors);
 
+/* JSON Pointer (RFC 6901) of a member: parent (a pointer, "" for the root)
+ * then "/" and key with '~' written "~0" and '/' "~1", so a key "a/b" is not
+ * read as two levels. Into out (n bytes), cut to fit; returns out. */
+char *tsa_pointer_join(char *out, size_t n, const char *parent, const char *key);
+
 #endif

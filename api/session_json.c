@@ -14,6 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "problem.h"
+
 /* ---- buffer --------------------------------------------------------------- */
 
 static int reserve(tsa_buf *b, size_t extra)
@@ -169,8 +171,8 @@ ts_rc tsa_read_numbers(const json_t *obj, const tsa_num_field *f, int nf, json_t
         for (int i = 0; i < nf; i++)
             known |= strcmp(f[i].name, key) == 0;
         if (known) continue;
-        snprintf(ptr, sizeof ptr, "/%.100s", key);
-        snprintf(msg, sizeof msg, "%s: unknown field", ptr);
+        tsa_pointer_join(ptr, sizeof ptr, "", key);
+        snprintf(msg, sizeof msg, "%.100s: unknown field", ptr);
         if (!count) first = TS_ERR_PARAM;
         add_error(errors, err, &count, TS_ERR_PARAM, ptr, msg);
     }

@@ -127,7 +127,8 @@ int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
     }
     /* a preset made for one command only (the eigenanalysis ones) is not run */
     if (rc == TS_OK && strcmp(argv[0], "modes") != 0) {
-        json_t *doc = preset ? json_pack("{s:s}", "preset", preset) : json_load_file(path, 0, NULL);
+        json_t *doc = preset ? json_pack("{s:s}", "preset", preset)
+                             : json_load_file(path, JSON_REJECT_DUPLICATES, NULL);
         rc = doc ? tsa_config_runnable(doc, argv[0], &err) : TS_OK;
         json_decref(doc);
         if (rc != TS_OK && resolved) {

@@ -147,8 +147,10 @@ int tsc_cmd_engine_map(int argc, char **argv)
     ts_config cfg;
     int lrc = tsc_load_config(argc, argv, &cfg, NULL);
     if (lrc != TSC_EXIT_OK) return lrc;
-    if (!out && !spool_out) {
-        fprintf(stderr, "tanksim engine-map: --out FILE.csv is required\n");
+    if (!out == !spool_out) { /* the usage's alternatives: one of them */
+        fprintf(stderr, "tanksim engine-map: %s\n",
+                out ? "give --out FILE.csv (the map) or --spool FILE.csv (the spool-ups), not both"
+                    : "--out FILE.csv is required");
         return TSC_EXIT_USAGE;
     }
     ts_err err;

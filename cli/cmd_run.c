@@ -26,10 +26,11 @@ typedef struct {
     double wall0, next; /* monotonic start and next progress time [s] */
     int tty;            /* stderr is a terminal: the progress line is redrawn */
     int shown;          /* a progress line was printed */
+    int nomem;          /* the rows kept for the metrics could not grow */
 } run_sink;
 
-#define PROGRESS_FIRST 2.0  /* wall seconds before the first progress line */
-#define PROGRESS_EVERY 5.0  /* ... and between lines when stderr is not a terminal */
+#define PROGRESS_FIRST 2.0 /* wall seconds before the first progress line */
+#define PROGRESS_EVERY 5.0 /* ... and between lines when stderr is not a terminal */
 
 /* Long runs say how far they are on stderr (stdout keeps the one summary
  * line): simulated time, share of the run, real-time factor. Short runs,
@@ -50,16 +51,23 @@ static void progress(run_sink *s, double t)
 static int write_row(void *ud, long index, double t, const double *v, int n)
 {
     run_sink *s = ud;
-    for (int i = 0; i < n; i++) fprintf(s->csv, i ? ",%.9g" : "%.9g", v[i]);
+    for (int i = 0; i < n; i++)
+        fprintf(s->csv, i ? ",%.9g" : "%.9g", v[i]);
     fputc('\n', s->csv);
-    if (ts_rows_append(&s->rows, index, t, v, n) != 0) return 1;
+    if (ts_rows_append(&s->rows, index, t, v, n) != 0) {
+        s->nomem = 1;
+        return 1;
+    }
     if ((index & 63) == 0) progress(s, t);
     return ferror(s->csv) ? 1 : 0;
 }
 
+#define OUT_PATH_MAX 1000 /* [chars] the directory; its file names are added to it */
+
+/* mkdir -p; path is 1 to OUT_PATH_MAX characters (tsc_cmd_run checks). */
 static int make_dirs(const char *path)
 {
-    char buf[1024];
+    char buf[OUT_PATH_MAX + 1];
     snprintf(buf, sizeof buf, "%s", path);
     for (char *p = buf + 1; *p; p++) {
         if (*p != '/') continue;
@@ -80,12 +88,24 @@ int tsc_cmd_run(int argc, char **argv)
     if (rc != TSC_EXIT_OK) return rc;
     if (!out) out = "out";
     double until = cfg.run.duration;
-    if (until_s && tsc_number(until_s, "--until", 0, cfg.run.duration, &until) != 0) {
+    ts_err err;
+    int usage = 0;
+    if (!*out || strlen(out) > OUT_PATH_MAX) {
+        fprintf(stderr, "tanksim: --out: a directory name of 1 to %d characters expected\n",
+                OUT_PATH_MAX);
+        usage = 1;
+    } else if (until_s && tsc_number(until_s, "--until", 0, cfg.run.duration, &until) != 0) {
+        usage = 1;
+    } else if (until_s &&
+               ts_on_sample_grid(until, 1.0 / cfg.run.sample_rate, "--until", &err) != TS_OK) {
+        fprintf(stderr, "tanksim: %s\n", err.msg); /* rows are only at whole sample periods */
+        usage = 1;
+    }
+    if (usage) {
         json_decref(resolved);
         return TSC_EXIT_USAGE;
     }
 
-    ts_err err;
     ts_model *m = NULL;
     ts_data *d = NULL;
     FILE *csv = NULL;
@@ -93,11 +113,17 @@ int tsc_cmd_run(int argc, char **argv)
     int status = TSC_EXIT_FAIL;
     char path[1200];
 
+    if (tsc_model_start(&cfg, &m, &d) != 0) goto done; /* a bad config leaves DIR as it was */
     if (make_dirs(out) != 0) {
         fprintf(stderr, "tanksim: cannot create %s: %s\n", out, strerror(errno));
         goto done;
     }
-    if (tsc_model_start(&cfg, &m, &d) != 0) goto done;
+    /* a summary left by an earlier run must not sit beside this run's series */
+    snprintf(path, sizeof path, "%s/summary.json", out);
+    if (unlink(path) != 0 && errno != ENOENT) {
+        fprintf(stderr, "tanksim: cannot remove the earlier %s: %s\n", path, strerror(errno));
+        goto done;
+    }
     snprintf(path, sizeof path, "%s/series.csv", out);
     csv = fopen(path, "w");
     if (!csv) {
@@ -115,29 +141,40 @@ int tsc_cmd_run(int argc, char **argv)
     write_row(&sink, 0, 0.0, ts_latest(d), ts_model_nchannel(m));
     ts_rc arc = ts_advance(m, d, until, write_row, &sink, &err);
     if (sink.shown && sink.tty) fputc('\n', stderr);
-    if (fclose(csv) != 0) arc = TS_ERR_IO;
+    int write_failed = ferror(csv) != 0;
+    if (fclose(csv) != 0) write_failed = 1;
     csv = NULL;
-    if (arc != TS_OK) {
+    if (sink.nomem) /* the sink stopped the run: say why, not "stopped by the caller" */
+        ts_err_set(&err, TS_ERR_NOMEM, NULL,
+                   "out of memory keeping the rows for the metrics at t = %.6g s (%ld rows of "
+                   "%d channels); lower /run/sample_rate or /run/duration",
+                   ts_time(d), sink.rows.n, ts_model_nchannel(m));
+    else if (write_failed)
+        ts_err_set(&err, TS_ERR_IO, NULL, "cannot write %s/series.csv: %s", out, strerror(errno));
+    if (arc != TS_OK || sink.nomem || write_failed) {
         tsc_print_err("run", &err);
+        fprintf(stderr,
+                "tanksim: run: %s/series.csv holds the rows up to t = %.6g s; no summary "
+                "written\n",
+                out, ts_time(d));
         goto done;
     }
 
     json_t *channels = json_array();
     for (int i = 0; i < ts_model_nchannel(m); i++) {
         const ts_channel *c = ts_model_channel(m, i);
-        json_array_append_new(channels, json_pack("{s:s,s:s,s:s}", "name", c->name, "unit",
-                                                  c->unit, "description", c->description));
+        json_array_append_new(channels, json_pack("{s:s,s:s,s:s}", "name", c->name, "unit", c->unit,
+                                                  "description", c->description));
     }
     ts_metric metrics[32];
     int nmetric = ts_model_metrics(m, sink.rows.v, sink.rows.n, metrics, 32);
     json_t *mj = json_object();
     for (int i = 0; i < nmetric; i++)
-        json_object_set_new(mj, metrics[i].name,
-                            json_pack("{s:o,s:s,s:s}", "value",
-                                      isfinite(metrics[i].value) ? json_real(metrics[i].value)
-                                                                 : json_null(),
-                                      "unit", metrics[i].unit, "description",
-                                      metrics[i].description));
+        json_object_set_new(
+            mj, metrics[i].name,
+            json_pack("{s:o,s:s,s:s}", "value",
+                      isfinite(metrics[i].value) ? json_real(metrics[i].value) : json_null(),
+                      "unit", metrics[i].unit, "description", metrics[i].description));
     double wall = ts_wall_seconds(d);
     ts_integrator_stats ist[TS_MAX_INTEGRATORS];
     int nist = ts_integrator_stats_get(m, d, ist, TS_MAX_INTEGRATORS);
@@ -160,8 +197,8 @@ int tsc_cmd_run(int argc, char **argv)
     char work[64] = ""; /* none for the fixed-step steppers (crank-angle point mass, dyno) */
     if (nist > 0) snprintf(work, sizeof work, ", %ld integrator steps", steps);
     printf("%s, %d DOF, %.3f s simulated in %.3f s wall (%.0fx real time%s) -> %s/\n",
-           ts_model_kind(m), ts_model_dof(m), ts_time(d), wall,
-           wall > 0 ? ts_time(d) / wall : 0.0, work, out);
+           ts_model_kind(m), ts_model_dof(m), ts_time(d), wall, wall > 0 ? ts_time(d) / wall : 0.0,
+           work, out);
     status = TSC_EXIT_OK;
 done:
     if (csv) fclose(csv);

@@ -4,6 +4,7 @@
  * sim/data/presets/). The table is the only list of commands; --help prints it,
  * and `tanksim COMMAND --help` (or -h) prints that command's row.
  */
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -39,6 +40,15 @@ static void usage(FILE *f)
                 commands[i].help);
 }
 
+/* What a command printed reached stdout (a full disk, a closed pipe, /dev/full
+ * fail here, at the flush, not in the command's printf): TSC_EXIT_OK or FAIL. */
+static int stdout_written(void)
+{
+    if (fflush(stdout) == 0 && !ferror(stdout)) return TSC_EXIT_OK;
+    fprintf(stderr, "tanksim: cannot write the output: %s\n", strerror(errno));
+    return TSC_EXIT_FAIL;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -61,7 +71,8 @@ int main(int argc, char **argv)
                        commands[i].usage[0] ? " " : "", commands[i].usage, commands[i].help);
                 return TSC_EXIT_OK;
             }
-        return commands[i].run(argc - 1, argv + 1);
+        int rc = commands[i].run(argc - 1, argv + 1);
+        return rc == TSC_EXIT_OK ? stdout_written() : rc;
     }
     fprintf(stderr, "tanksim: unknown command '%s' (see tanksim --help)\n", argv[1]);
     return TSC_EXIT_USAGE;

@@ -172,9 +172,13 @@ static ts_rc draw_apng(frames_ctx *f)
         }
     }
     if (rc == TS_OK) {
-        /* delay = 1/fps s as a 16-bit fraction: 1000/(1000 fps) keeps 3 decimals of fps */
-        unsigned den = (unsigned)lround(fmin(65535.0, f->fps * 1000.0));
-        rc = tsr_apng_assemble((const unsigned char *const *)pngs, lens, (int)done, 1000,
+        /* delay = 1/fps s as a fraction of two 16-bit numbers, k / (k fps) with the
+         * largest k that keeps k fps within 16 bits: exact for whole fps up to the
+         * API's 1000 (65 / 65000 s), ~5 significant digits otherwise; 1000 / (1000 fps)
+         * capped the denominator, so every rate above 65.5 fps played at 65.5 */
+        double k = floor(fmin(65535.0, 65535.0 / f->fps));
+        unsigned den = (unsigned)fmin(65535.0, lround(k * f->fps));
+        rc = tsr_apng_assemble((const unsigned char *const *)pngs, lens, (int)done, (unsigned)k,
                                den ? den : 1, &f->png, &f->png_len, &f->err);
     }
     for (long j = 0; j < done; j++) free(pngs[j]);

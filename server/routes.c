@@ -448,15 +448,10 @@ static int check_on_grid(tsd_request *r, const char *field, double x, enum MHD_R
 {
     double dt = r->session->ch.view.period;
     if (!(dt > 0)) return 0;
-    double n = x / dt, k = floor(n + 0.5);
-    if (fabs(n - k) <= 1e-6 * (1.0 + fabs(n))) return 0;
     ts_err e;
     char ptr[64];
     snprintf(ptr, sizeof ptr, "/%s", field);
-    ts_err_set(&e, TS_ERR_PARAM, ptr,
-               "%s: a whole number of sample periods expected (samples are %g s apart, "
-               "run.sample_rate %g Hz), got %g s; nearest %g or %g s",
-               ptr, dt, 1.0 / dt, x, floor(n) * dt, (floor(n) + 1) * dt);
+    if (ts_on_sample_grid(x, dt, ptr, &e) == TS_OK) return 0;
     *ret = tsd_reply_err(r, &e, NULL);
     return -1;
 }
@@ -759,6 +754,13 @@ static int parse_view(tsd_request *r, tsr_view *v, enum MHD_Result *ret)
         }
     }
     const char *text = tsd_arg(r, "text");
+    if (text && strlen(text) >= sizeof v->text) { /* not cut to fit: tsr_view_check's limit */
+        char what[64];
+        snprintf(what, sizeof what, "at most %d printable ASCII characters expected",
+                 (int)sizeof v->text - 1);
+        *ret = bad_param(r, "text", what, text);
+        return -1;
+    }
     if (text) snprintf(v->text, sizeof v->text, "%s", text);
     ts_err e;
     if (tsr_view_check(v, &e) != TS_OK) {
@@ -1099,14 +1101,16 @@ static int authorized(tsd_request *r)
 }
 
 /* Query parameters against the route's list: a name it does not read (a typo
- * such as 'chanels' would otherwise be ignored silently) or a name given twice
- * (only the first would count) is a 400 naming it, as unknown JSON fields are. */
+ * such as 'chanels' would otherwise be ignored silently), a name given twice
+ * (only the first would count), an empty value ('from=' read as absent) or a
+ * NUL byte (%00 cut the value short: '50000%00abc' read as 50000) is a 400
+ * naming it, as unknown JSON fields are. */
 typedef struct query_check {
     const char *accepted;
     char seen[32][48];
     int nseen;
     char bad[48];
-    enum { QUERY_OK, QUERY_UNKNOWN, QUERY_REPEATED } why;
+    enum { QUERY_OK, QUERY_UNKNOWN, QUERY_REPEATED, QUERY_EMPTY, QUERY_NUL } why;
 } query_check;
 
 /* 1 when name is a whole word of the space-separated list. */
@@ -1119,14 +1123,24 @@ static int in_list(const char *list, const char *name)
 }
 
 static enum MHD_Result query_iter(void *cls, enum MHD_ValueKind kind, const char *key,
-                                  const char *value)
+                                  size_t key_size, const char *value, size_t value_size)
 {
     (void)kind;
     query_check *c = cls;
-    if (!key[0] && (!value || !value[0])) return MHD_YES; /* a stray '&' */
+    if (!key[0] && (!value || !value[0]) && key_size == 0) return MHD_YES; /* a stray '&' */
     if (!key[0] || strlen(key) >= sizeof c->bad || !in_list(c->accepted, key)) {
         snprintf(c->bad, sizeof c->bad, "%s", key);
         c->why = QUERY_UNKNOWN;
+        return MHD_NO;
+    }
+    if (key_size != strlen(key) || (value && value_size != strlen(value))) {
+        snprintf(c->bad, sizeof c->bad, "%s", key);
+        c->why = QUERY_NUL;
+        return MHD_NO;
+    }
+    if (!value || !value[0]) {
+        snprintf(c->bad, sizeof c->bad, "%s", key);
+        c->why = QUERY_EMPTY;
         return MHD_NO;
     }
     for (int i = 0; i < c->nseen; i++)
@@ -1145,13 +1159,20 @@ static int check_query(tsd_request *r, const tsd_route_row *row, enum MHD_Result
 {
     if (strcmp(row->query, "*") == 0) return 0;
     query_check c = {.accepted = row->query};
-    MHD_get_connection_values(r->conn, MHD_GET_ARGUMENT_KIND, query_iter, &c);
+    MHD_get_connection_values_n(r->conn, MHD_GET_ARGUMENT_KIND, query_iter, &c);
     if (c.why == QUERY_OK) return 0;
     ts_err e;
     char ptr[64];
     snprintf(ptr, sizeof ptr, "/%s", c.bad);
     if (c.why == QUERY_REPEATED)
         ts_err_set(&e, TS_ERR_PARAM, ptr, "query parameter %s: given more than once", c.bad);
+    else if (c.why == QUERY_EMPTY)
+        ts_err_set(&e, TS_ERR_PARAM, ptr,
+                   "query parameter %s: a value expected (leave the parameter out for its "
+                   "default)",
+                   c.bad);
+    else if (c.why == QUERY_NUL)
+        ts_err_set(&e, TS_ERR_PARAM, ptr, "query parameter %s: a NUL byte (%%00) in it", c.bad);
     else
         ts_err_set(&e, TS_ERR_PARAM, ptr,
                    "query parameter '%s': unknown here; %s %s takes %s%s", c.bad, row->method,

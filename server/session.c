@@ -781,7 +781,8 @@ static json_t *json_locked(tsd_session *s, int summary)
     int stored_table = s->ch.doc != NULL;
     tsa_session_view v = {
         .id = s->id,
-        .status = tsd_status_name(s->status),
+        /* deleted: seen only by whoever still holds it (a stream's end event) */
+        .status = s->deleted ? "deleted" : tsd_status_name(s->status),
         .preset = s->preset,
         .created = s->created,
         .t = s->t,

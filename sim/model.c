@@ -82,6 +82,10 @@ ts_model *ts_model_make(const ts_config *cfg, ts_err *err)
         return NULL;
     }
     if (ts_param_validate(cfg, err) != TS_OK) return NULL;
+    /* off the grid the last row falls short of the run's end, which then never comes */
+    if (ts_on_sample_grid(cfg->run.duration, 1.0 / cfg->run.sample_rate, "/run/duration", err) !=
+        TS_OK)
+        return NULL;
     const ts_scenario_ops *ops = scenarios[cfg->run.kind];
     if (!ops) {
         ts_err_set(err, TS_ERR_UNSUPPORTED, "/run/kind",
@@ -108,6 +112,16 @@ fail:
         free(m);
     }
     return NULL;
+}
+
+ts_rc ts_on_sample_grid(double t, double dt, const char *pointer, ts_err *err)
+{
+    double n = t / dt, k = floor(n + 0.5);
+    if (fabs(n - k) <= 1e-6 * (1.0 + fabs(n))) return TS_OK;
+    return ts_err_set(err, TS_ERR_PARAM, pointer,
+                      "%s: a whole number of sample periods expected (samples are %g s apart, "
+                      "run.sample_rate %g Hz), got %g s; nearest %g or %g s",
+                      pointer, dt, 1.0 / dt, t, floor(n) * dt, (floor(n) + 1) * dt);
 }
 
 void ts_model_free(ts_model *m)

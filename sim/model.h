@@ -49,6 +49,11 @@ const ts_channel *ts_model_channel(const ts_model *m, int i); /* NULL if out of 
 int ts_model_channel_index(const ts_model *m, const char *name); /* -1 if unknown */
 double ts_model_sample_period(const ts_model *m);  /* 1 / run.sample_rate [s] */
 
+/* Sample rows are dt apart: TS_OK if t is a whole number of them (relative
+ * slack 1e-6), else TS_ERR_PARAM naming pointer with the two nearest times.
+ * ts_model_make checks /run/duration with it; callers their own end times. */
+ts_rc ts_on_sample_grid(double t, double dt, const char *pointer, ts_err *err);
+
 /* ---- data: one per running instance -------------------------------------- */
 
 ts_data *ts_data_make(const ts_model *m, ts_err *err);

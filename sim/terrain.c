@@ -102,46 +102,99 @@ static char *slurp(const char *path, const char *pointer, ts_err *err)
     return buf;
 }
 
+/* Ranges of what a terrain file may hold (input checks, not physics): a
+ * course's bumps as the inline /terrain/bump_* fields (cfg_vehicle.c), a
+ * profile's points within 10,000 km along and 10 km up or down. */
+#define COURSE_START_MAX  1e5
+#define COURSE_HEIGHT_MAX 2.0
+#define COURSE_LENGTH_MIN 0.01
+#define COURSE_LENGTH_MAX 1000.0
+#define PROFILE_X_MAX     1e7
+#define PROFILE_Z_MAX     1e4
+#define LINE_MAX_CHARS    256
+
+/* The next line of text at *p, ended by \n, \r or \r\n, copied into buf
+ * (LINE_MAX_CHARS) with a '#' comment cut off; *p moves past it. Returns 0
+ * at the end of the text, -1 for a line too long for buf, else 1. */
+static int next_line(const char **p, char *buf)
+{
+    const char *s = *p;
+    if (!*s) return 0;
+    size_t len = strcspn(s, "\r\n");
+    *p = s + len;
+    if (**p == '\r') (*p)++;
+    if (**p == '\n') (*p)++;
+    if (len >= LINE_MAX_CHARS) return -1;
+    memcpy(buf, s, len);
+    buf[len] = '\0';
+    char *hash = strchr(buf, '#');
+    if (hash) *hash = '\0';
+    return 1;
+}
+
+static const char *skip_blanks(const char *s)
+{
+    while (*s == ' ' || *s == '\t')
+        s++;
+    return s;
+}
+
+/* Exactly want finite numbers from s, separated by blanks or one comma, and
+ * nothing after them but blanks. Returns 0, or -1 (v partly written). */
+static int read_numbers(const char *s, double *v, int want)
+{
+    for (int i = 0; i < want; i++) {
+        s = skip_blanks(s);
+        if (i > 0 && *s == ',') s = skip_blanks(s + 1);
+        char *end;
+        errno = 0;
+        v[i] = strtod(s, &end);
+        if (end == s || errno == ERANGE || !isfinite(v[i])) return -1;
+        s = end;
+    }
+    return *skip_blanks(s) ? -1 : 0;
+}
+
 ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, double *len, int cap,
                               int *n, double *length, ts_err *err)
 {
+    const char *ptr = "/terrain/course";
     *n = 0;
     *length = 0;
-    int line = 0;
-    const char *p = text;
-    while (*p) {
+    int line = 0, got;
+    char buf[LINE_MAX_CHARS];
+    while ((got = next_line(&text, buf)) != 0) {
         line++;
-        const char *end = strchr(p, '\n');
-        size_t ln = end ? (size_t)(end - p) : strlen(p);
-        char buf[256];
-        if (ln >= sizeof buf) ln = sizeof buf - 1;
-        memcpy(buf, p, ln);
-        buf[ln] = '\0';
-        p = end ? end + 1 : p + strlen(p);
-        char *hash = strchr(buf, '#');
-        if (hash) *hash = '\0';
-        char *s = buf;
-        while (*s == ' ' || *s == '\t' || *s == '\r')
-            s++;
+        if (got < 0)
+            return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: line %d: longer than %d characters", ptr,
+                              line, LINE_MAX_CHARS - 1);
+        const char *s = skip_blanks(buf);
         if (!*s) continue;
         double v[3];
         if (strncmp(s, "length", 6) == 0) {
-            if (sscanf(s + 6, "%lf", &v[0]) != 1 || !(v[0] > 0))
-                return ts_err_set(err, TS_ERR_PARAM, "/terrain/course",
-                                  "/terrain/course: line %d: bad 'length' line", line);
+            if (read_numbers(s + 6, v, 1) != 0 || !(v[0] > 0 && v[0] <= COURSE_START_MAX))
+                return ts_err_set(err, TS_ERR_PARAM, ptr,
+                                  "%s: line %d: want 'length METRES', METRES in (0, %g]", ptr, line,
+                                  COURSE_START_MAX);
             *length = v[0];
             continue;
         }
-        if (sscanf(s, "%lf %lf %lf", &v[0], &v[1], &v[2]) != 3 || !(v[2] > 0))
-            return ts_err_set(err, TS_ERR_PARAM, "/terrain/course",
-                              "/terrain/course: line %d: want 'start_m height_m length_m'", line);
-        if (*n >= cap)
-            return ts_err_set(err, TS_ERR_LIMIT, "/terrain/course",
-                              "/terrain/course: more than %d bumps", cap);
-        if (*n > 0 && v[0] < start[*n - 1] + len[*n - 1])
-            return ts_err_set(err, TS_ERR_PARAM, "/terrain/course",
-                              "/terrain/course: line %d: bumps must be in order, not overlapping",
+        if (read_numbers(s, v, 3) != 0)
+            return ts_err_set(err, TS_ERR_PARAM, ptr,
+                              "%s: line %d: want three numbers 'start_m height_m length_m'", ptr,
                               line);
+        if (!(v[0] >= 0 && v[0] <= COURSE_START_MAX) || fabs(v[1]) > COURSE_HEIGHT_MAX ||
+            !(v[2] >= COURSE_LENGTH_MIN && v[2] <= COURSE_LENGTH_MAX))
+            return ts_err_set(err, TS_ERR_PARAM, ptr,
+                              "%s: line %d: start_m in [0, %g], height_m in [%g, %g] and "
+                              "length_m in [%g, %g] expected (those of /terrain/bump_*)",
+                              ptr, line, COURSE_START_MAX, -COURSE_HEIGHT_MAX, COURSE_HEIGHT_MAX,
+                              COURSE_LENGTH_MIN, COURSE_LENGTH_MAX);
+        if (*n >= cap)
+            return ts_err_set(err, TS_ERR_LIMIT, ptr, "%s: more than %d bumps", ptr, cap);
+        if (*n > 0 && v[0] < start[*n - 1] + len[*n - 1])
+            return ts_err_set(err, TS_ERR_PARAM, ptr,
+                              "%s: line %d: bumps must be in order, not overlapping", ptr, line);
         start[*n] = v[0];
         height[*n] = v[1];
         len[*n] = v[2];
@@ -157,33 +210,49 @@ static ts_rc load_profile(ts_terrain *t, const char *path, ts_err *err)
     if (!text) return err ? err->code : TS_ERR_NOTFOUND;
     int cap = 1;
     for (const char *q = text; *q; q++)
-        cap += *q == '\n';
+        cap += *q == '\n' || *q == '\r';
     ts_rc rc = TS_OK;
     if (!alloc_arrays(t, cap)) {
         rc = ts_err_set(err, TS_ERR_NOMEM, ptr, "out of memory");
         goto done;
     }
-    int line = 0;
-    char *save = NULL;
-    for (char *s = strtok_r(text, "\n", &save); s; s = strtok_r(NULL, "\n", &save)) {
+    int line = 0, got;
+    char buf[LINE_MAX_CHARS];
+    const char *p = text;
+    while ((got = next_line(&p, buf)) != 0) {
         line++;
-        while (*s == ' ' || *s == '\t')
-            s++;
-        if (!*s || *s == '#' || *s == '\r') continue;
-        double x, z;
-        if (sscanf(s, "%lf , %lf", &x, &z) != 2 && sscanf(s, "%lf %lf", &x, &z) != 2) {
-            if (t->n == 0 && line == 1) continue; /* header */
-            rc = ts_err_set(err, TS_ERR_PARAM, ptr, "%s: line %d: want 'distance_m,height_m'", ptr,
-                            line);
+        if (got < 0) {
+            rc = ts_err_set(err, TS_ERR_PARAM, ptr, "%s: line %d: longer than %d characters", ptr,
+                            line, LINE_MAX_CHARS - 1);
             goto done;
         }
-        if (t->n > 0 && !(x > t->a[t->n - 1])) {
+        const char *s = skip_blanks(buf);
+        if (!*s) continue;
+        double v[2];
+        if (read_numbers(s, v, 2) != 0) {
+            char *end;
+            (void)strtod(s, &end);
+            if (line == 1 && end == s) continue; /* a header: it does not start with a number */
+            rc =
+                ts_err_set(err, TS_ERR_PARAM, ptr,
+                           "%s: line %d: want two finite numbers 'distance_m,height_m'", ptr, line);
+            goto done;
+        }
+        if (fabs(v[0]) > PROFILE_X_MAX || fabs(v[1]) > PROFILE_Z_MAX) {
+            rc =
+                ts_err_set(err, TS_ERR_PARAM, ptr,
+                           "%s: line %d: distance_m in [%g, %g] and height_m in [%g, %g] "
+                           "expected",
+                           ptr, line, -PROFILE_X_MAX, PROFILE_X_MAX, -PROFILE_Z_MAX, PROFILE_Z_MAX);
+            goto done;
+        }
+        if (t->n > 0 && !(v[0] > t->a[t->n - 1])) {
             rc = ts_err_set(err, TS_ERR_PARAM, ptr, "%s: line %d: distances must increase", ptr,
                             line);
             goto done;
         }
-        t->a[t->n] = x;
-        t->b[t->n] = z;
+        t->a[t->n] = v[0];
+        t->b[t->n] = v[1];
         t->n++;
     }
     if (t->n < 1)
@@ -204,12 +273,15 @@ ts_terrain *ts_terrain_make(const ts_terrain_config *c, ts_err *err)
     }
     t->kind = c->kind;
     ts_rc rc = TS_OK;
-    if (c->kind == TS_TERRAIN_BUMPS && c->bump_n > 0) {
-        if (c->bump_height_n != c->bump_n || c->bump_length_n != c->bump_n) {
-            rc = ts_err_set(err, TS_ERR_PARAM, "/terrain/bump_height",
-                            "/terrain/bump_height: bump_start, bump_height and bump_length "
-                            "must have the same length");
-        } else if (!alloc_arrays(t, c->bump_n)) {
+    if (c->kind == TS_TERRAIN_BUMPS &&
+        (c->bump_height_n != c->bump_n || c->bump_length_n != c->bump_n)) {
+        /* heights without starts too: they would give way to the course unseen */
+        rc = ts_err_set(err, TS_ERR_PARAM, "/terrain/bump_height",
+                        "/terrain/bump_height: bump_start, bump_height and bump_length must have "
+                        "the same length (%d, %d and %d given)",
+                        c->bump_n, c->bump_height_n, c->bump_length_n);
+    } else if (c->kind == TS_TERRAIN_BUMPS && c->bump_n > 0) {
+        if (!alloc_arrays(t, c->bump_n)) {
             rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         } else {
             t->n = c->bump_n;

@@ -90,6 +90,12 @@ static void bad_input_names_the_field(void **state)
                  "number expected");
     expect_error("{\"vehicle\":{\"mass\":-5}}", "/vehicle/mass", "got -5");
     expect_error("{\"track\":{\"translation_terms\":1}}", "/track/translation_terms", "boolean");
+    /* RFC 6901: a key's '/' is ~1 and '~' is ~0 ("/run/a/b" named a field b of a section a) */
+    expect_error("{\"run\":{\"a/b\":1}}", "/run/a~1b", "unknown field");
+    expect_error("{\"x~y\":{}}", "/x~0y", "unknown section");
+    char ptr[8];
+    assert_string_equal(tsa_pointer_join(ptr, sizeof ptr, "/ab", "c/d"), "/ab/c~1");
+    assert_string_equal(tsa_pointer_join(ptr, sizeof ptr, "", "~/"), "/~0~1");
     /* several errors at once */
     json_t *doc = json_loads("{\"track\":{\"ea\":-1,\"tension\":-1}}", 0, NULL);
     json_t *errors = json_array();
@@ -110,6 +116,12 @@ static void schema_comes_from_the_table(void **state)
         "ea");
     assert_non_null(ea);
     assert_string_equal(json_string_value(json_object_get(ea, "x-unit")), "N");
+    /* comment keys ("_...") are allowed at every level, as tsa_config_load reads them */
+    assert_non_null(json_object_get(json_object_get(s, "patternProperties"), "^_"));
+    assert_non_null(json_object_get(
+        json_object_get(json_object_get(json_object_get(s, "properties"), "run"),
+                        "patternProperties"),
+        "^_"));
     assert_close(json_number_value(json_object_get(ea, "default")), 3e7, 0, 0);
     assert_close(json_number_value(json_object_get(ea, "minimum")),
                  ts_param_find("/track/ea")->min, 0, 0);

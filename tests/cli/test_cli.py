@@ -98,6 +98,45 @@ def test_run_arguments_are_checked(tmp_path):
     assert "bad.json:1:" in out.stderr
 
 
+def test_what_cannot_be_done_exactly_is_refused(tmp_path):
+    # Found by an audit (session 16): each of these ran and exited 0, doing
+    # something other than what was asked.
+    o = str(tmp_path / "o")
+    # an end between two sample rows was floored without a word (0.0031 s ran 0.002)
+    out = run("run", "--preset", "pointmass-prescribed", "--until", "0.0031", "--out", o)
+    assert out.returncode == 2 and "--until: a whole number of sample periods" in out.stderr, out.stderr
+    assert "nearest 0.002 or 0.004 s" in out.stderr
+    cfg = tmp_path / "grid.json"  # the daemon's session never reached such a duration's end
+    cfg.write_text(json.dumps({"preset": "pointmass-prescribed", "run": {"duration": 1.5, "sample_rate": 1}}))
+    out = run("run", str(cfg), "--out", o)
+    assert out.returncode == 1 and "/run/duration: a whole number of sample periods" in out.stderr, out.stderr
+    # a key given twice: the second "run" replaced the first (a 30-s run for a 0.2-s one)
+    cfg.write_text('{"preset": "pointmass-prescribed", "run": {"duration": 0.2}, "run": {"sample_rate": 100}}')
+    out = run("run", str(cfg), "--out", o)
+    assert out.returncode == 1 and "duplicate" in out.stderr, out.stderr
+    out = run("run", "--preset", "pointmass-prescribed", "--out", "")
+    assert out.returncode == 2 and "--out" in out.stderr, out.stderr
+    assert not os.path.exists(o)
+    # a run that fails leaves no summary of an earlier run beside its series
+    cfg.write_text(json.dumps({"preset": "pointmass-prescribed", "run": {"duration": 0.1}}))
+    assert run("run", str(cfg), "--out", o).returncode == 0
+    assert os.path.exists(os.path.join(o, "summary.json"))
+    os.remove(os.path.join(o, "series.csv"))
+    os.mkdir(os.path.join(o, "series.csv"))  # this run cannot write its series
+    out = run("run", str(cfg), "--out", o)
+    assert out.returncode == 1 and "series.csv" in out.stderr, out.stderr
+    assert not os.path.exists(os.path.join(o, "summary.json"))
+    # engine-map's --out and --spool are alternatives: --out was ignored
+    out = run("engine-map", "--preset", "engine-map-conventional", "--out", str(tmp_path / "m.csv"),
+              "--spool", str(tmp_path / "s.csv"))
+    assert out.returncode == 2 and "not both" in out.stderr, out.stderr
+    # output that cannot be written is a failure (modes and tune exited 0)
+    with open("/dev/full", "w") as full:
+        r = subprocess.run([TANKSIM, "modes", "--preset", "m1"], stdout=full, stderr=subprocess.PIPE,
+                           text=True, timeout=60)
+    assert r.returncode == 1 and "cannot write the output" in r.stderr, r.stderr
+
+
 def test_modes_only_presets_are_not_run(tmp_path):
     # m1 and table1-span are the eigenanalyses of Fig. 5 and Table 1: they set no
     # /run, and `run` used to go on with the default point-mass scenario

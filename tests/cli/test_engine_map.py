@@ -46,13 +46,13 @@ def test_engine_map_needs_out(tmp_path):
 
 def test_dyno_preset_runs_crank_angle_traces(tmp_path):
     out = run("run", "--preset", "engine-map-conventional", "--out", str(tmp_path / "o"),
-              "--until", "0.006")
+              "--until", "0.0060317460317")  # 76 rows of 1/12600 s (an end off the rows is refused)
     assert out.returncode == 0, out.stderr
     rows = list(csv.reader(open(tmp_path / "o" / "series.csv")))
     head = rows[0]
     p = [float(r[head.index("cylinder.pressure")]) for r in rows[1:]]
     speed = [float(r[head.index("engine.speed")]) for r in rows[1:]]
-    assert len(rows) == 1 + 1 + int(0.006 * 12600)  # header, row 0, rows up to 0.006 s
+    assert len(rows) == 1 + 1 + 76  # header, row 0, rows up to 76 / 12600 s
     assert all(abs(s - 219.91) < 1e-6 for s in speed)
     assert max(p) > 3e5 and min(p) > 0
     summary = json.load(open(tmp_path / "o" / "summary.json"))

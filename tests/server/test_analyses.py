@@ -106,7 +106,8 @@ def test_tune_schedule_over_mass(daemon):
     ("?schedule_mass=0x10", "/schedule_mass"),
     ("?schedule_mass=1e9", "/schedule_mass"),          # beyond /vehicle/mass's range
     ("?schedule_grade=0.9", "/schedule_grade"),        # beyond /vehicle/grade's range
-    ("?schedule_mass=" + ",".join(["60000"] * 17), "/schedule_mass"),  # more than 16
+    ("?schedule_mass=" + ",".join(str(50000 + 1000 * i) for i in range(17)), "/schedule_mass"),  # more than 16
+    ("?schedule_mass=60000,50000", "/schedule_mass"),  # not increasing (it becomes /control/schedule_x)
     ("?schedule_mass=60000&schedule_grade=0.1", "/schedule_grade"),
     ("?schedule=60000", "/schedule"),                  # a parameter the route does not take
 ])

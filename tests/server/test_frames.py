@@ -105,6 +105,23 @@ def test_frames_of_every_drawable_preset(daemon):
         actl = apng.content.index(b"acTL")
         assert int.from_bytes(apng.content[actl + 4:actl + 8], "big") == 5   # num_frames
         assert apng.content.count(b"fcTL") == 5 and apng.content.count(b"fdAT") >= 4
+
+        def delays(content):  # each fcTL's delay_num / delay_den [s] (APNG spec, PNG 3rd ed.)
+            out, i = [], content.find(b"fcTL")
+            while i >= 0:
+                num = int.from_bytes(content[i + 24:i + 26], "big")
+                den = int.from_bytes(content[i + 26:i + 28], "big")
+                out.append(num / den)
+                i = content.find(b"fcTL", i + 4)
+            return out
+        assert delays(apng.content) == pytest.approx([0.1] * 5, rel=1e-12)
+        # above 65.5 fps the 16-bit denominator of 1000 / (1000 fps) was capped: 100 and 1000
+        # fps played at 65.5 (15.3 ms a frame)
+        for fps in (100, 1000, 29.97):
+            fast = requests.get(base + "/frames", params={"from": 0, "to": 0.002, "fps": fps,
+                                                          "width": 16, "height": 16})
+            assert fast.status_code == 200
+            assert delays(fast.content) == pytest.approx([1 / fps] * len(delays(fast.content)), rel=1e-4)
         a = requests.get(base + "/frames", params={"from": 0, "to": 0.4, "fps": 10,
                                                    "width": 160, "height": 100,
                                                    "format": "multipart"})

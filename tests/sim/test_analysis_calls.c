@@ -263,8 +263,8 @@ static void tune_rejects_bad_schedule(void **state)
 }
 
 /* The schedule as text (CLI option, query value): plain decimals only (as the
- * daemon's other query numbers), 1 to 16 of them, each in the field's range;
- * the error names the field and says what is expected. */
+ * daemon's other query numbers), 1 to 16 of them, each in the field's range,
+ * increasing; the error names the field and says what is expected. */
 static void schedule_parse(void **state)
 {
     (void)state;
@@ -279,12 +279,19 @@ static void schedule_parse(void **state)
     assert_true(x[0] == -0.1);
     const char *bad[] = {"", "abc", "50000,", ",50000", "50000,,60000", "0x10000", " 50000",
                          "inf", "1e9" /* above /vehicle/mass's max */,
-                         "60000,60000,60000,60000,60000,60000,60000,60000,60000,60000,60000,"
-                         "60000,60000,60000,60000,60000,60000" /* 17 */};
+                         "50000,51000,52000,53000,54000,55000,56000,57000,58000,59000,60000,"
+                         "61000,62000,63000,64000,65000,66000" /* 17 */};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         assert_int_equal(tsa_tune_schedule_parse(bad[i], "mass", x, &n, &err), TS_ERR_PARAM);
         assert_string_equal(err.pointer, "/vehicle/mass");
         assert_non_null(strstr(err.msg, "comma-separated"));
+    }
+    /* the values become /control/schedule_x, which must increase */
+    const char *unordered[] = {"60000,50000", "50000,50000"};
+    for (size_t i = 0; i < 2; i++) {
+        assert_int_equal(tsa_tune_schedule_parse(unordered[i], "mass", x, &n, &err), TS_ERR_PARAM);
+        assert_string_equal(err.pointer, "/vehicle/mass");
+        assert_non_null(strstr(err.msg, "must increase"));
     }
     assert_int_equal(tsa_tune_schedule_parse("0.9", "grade", x, &n, &err), TS_ERR_PARAM);
     assert_string_equal(err.pointer, "/vehicle/grade");

@@ -120,12 +120,83 @@ static void errors_name_the_field(void **state)
     assert_close(len, 10, 0, 0);
 }
 
+/* A profile file holding text: ts_terrain_make's result code; *last: the
+ * profile's length (its last distance) [m], 0 when refused. */
+static int profile_from(const char *text, int *last, ts_err *err)
+{
+    const char *path = "tests/out/terrain_profile_check.csv";
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    ts_terrain_config p = base(TS_TERRAIN_PROFILE);
+    snprintf(p.profile_csv, sizeof p.profile_csv, "%s", path);
+    ts_terrain *t = ts_terrain_make(&p, err);
+    *last = 0;
+    if (!t) return err->code;
+    *last = (int)ts_terrain_length(t);
+    ts_terrain_free(t);
+    return TS_OK;
+}
+
+/* EVIDENCE: a file the model cannot use is refused at its line, naming the
+ * field (before, "nan", "inf", a third column, trailing text and heights of
+ * 1e6 m were read, and the run ended with garbage: wheel loads of 1 MN); CR
+ * and CRLF line ends are line ends (a CR-only file was one row: flat ground). */
+static void terrain_files_are_read_strictly(void **state)
+{
+    (void)state;
+    ts_err err;
+    int rows;
+    const char *bad[] = {"x,z\n0,0\n7,0\n7.5,nan\n200,0\n",
+                         "0,inf\n10,0\n",
+                         "0,0,5\n10,0.3\n",
+                         "0,0\n10,0.3abc\n",
+                         "0,0\n10,1e6\n",
+                         "0,0\n1e300,0\n"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        assert_int_equal(profile_from(bad[i], &rows, &err), TS_ERR_PARAM);
+        assert_string_equal(err.pointer, "/terrain/profile_csv");
+        assert_non_null(strstr(err.msg, "line "));
+    }
+    assert_int_equal(profile_from("x,z\n0,0\n7,0\n7.5,nan\n", &rows, &err), TS_ERR_PARAM);
+    assert_non_null(strstr(err.msg, "line 4")); /* the line of the nan, not the next */
+    assert_int_equal(profile_from("0,0\r10,0.3\r200,0.3\r", &rows, &err), TS_OK);
+    assert_int_equal(rows, 200);
+    assert_int_equal(profile_from("x,z\r\n0,0\r\n10 0.3\r\n150, 0.3 # end\r\n", &rows, &err),
+                     TS_OK);
+    assert_int_equal(rows, 150);
+
+    double s[4], h[4], l[4], len;
+    int n;
+    const char *bad_course[] = {"length 10\n1 nan 2\n", "length 10\n1 0.1 2 3\n",
+                                "length 10\n1 2.5 2\n", "length inf\n", "length 10\n1 0.1 0\n"};
+    for (size_t i = 0; i < sizeof bad_course / sizeof bad_course[0]; i++) {
+        assert_int_equal(ts_terrain_parse_course(bad_course[i], s, h, l, 4, &n, &len, &err),
+                         TS_ERR_PARAM);
+        assert_string_equal(err.pointer, "/terrain/course");
+    }
+    assert_int_equal(
+        ts_terrain_parse_course("length 10\r1 0.1 2\r4 0.2 1\r", s, h, l, 4, &n, &len, &err),
+        TS_OK);
+    assert_int_equal(n, 2);
+
+    /* heights and lengths without starts: refused, not replaced by the course */
+    ts_terrain_config c = base(TS_TERRAIN_BUMPS);
+    c.bump_height_n = c.bump_length_n = 1;
+    c.bump_height[0] = 0.2;
+    c.bump_length[0] = 2.0;
+    assert_null(ts_terrain_make(&c, &err));
+    assert_string_equal(err.pointer, "/terrain/bump_height");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(apg4_synth_course_has_the_papers_obstacles),
         cmocka_unit_test(inline_bumps_and_csv_profile),
         cmocka_unit_test(errors_name_the_field),
+        cmocka_unit_test(terrain_files_are_read_strictly),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
