@@ -40,6 +40,8 @@ static const ts_param driveline_rows[] = {
     {"/driveline/shift_capacity_factor", TS_PT_DOUBLE, F(shift_capacity_factor), "1", 1.0, 5,
      NULL, 0, 0,
      "peak shift-clutch capacity as a multiple of the input torque at the start of the shift"},
+    {"/driveline/shift_capacity_floor", TS_PT_DOUBLE, F(shift_capacity_floor), "1", 0, 1, NULL, 0,
+     0, "least peak shift-clutch capacity, as a fraction of clutch_capacity"},
     {"/driveline/clutch_slip_speed", TS_PT_DOUBLE, F(clutch_slip_speed), "rad/s", 1e-3, 10,
      NULL, 0, 0, "slip speed of the regularised (tanh) clutch friction law; numerical"},
     {"/driveline/final_ratio", TS_PT_DOUBLE, F(final_ratio), "1", 0.5, 20, NULL, 0, 0,

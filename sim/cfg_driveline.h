@@ -32,6 +32,7 @@ typedef struct ts_driveline_config {
     double shift_hysteresis;                  /* re-arm the upshift this far below shift_speed [rad/s] */
     double clutch_capacity;                   /* applied clutch torque capacity, input side [N*m] */
     double shift_capacity_factor;             /* shift clutch capacity / torque at shift start [1] */
+    double shift_capacity_floor;              /* least shift clutch capacity / clutch_capacity [1] */
     double clutch_slip_speed;                 /* friction regularisation slip speed [rad/s] */
     /* propshaft, differential, final drive */
     double final_ratio;                       /* transmission output to sprocket [1] */

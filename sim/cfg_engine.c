@@ -67,6 +67,8 @@ static const ts_param engine_rows[] = {
     D(evo, "rad", 0, 12.57, "exhaust valve opening, crank angle after firing TDC"),
     D(evc, "rad", 0, 12.57, "exhaust valve closing, crank angle after firing TDC"),
     D(valve_cd, "1", 0.3, 1, "valve discharge coefficient on the curtain area"),
+    D(valve_throat_factor, "1", 0.5, 1,
+      "port throat area as a fraction of the inner seat area: the open valve's flow limit"),
     D(soi, "rad", 0, 1, "start of injection before firing TDC"),
     D(lhv, "J/kg", 3e7, 5e7, "fuel lower heating value"),
     D(afr_stoich, "1", 10, 20, "stoichiometric air/fuel ratio"),

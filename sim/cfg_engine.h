@@ -64,6 +64,7 @@ typedef struct ts_engine_config {
     double intake_max_lift, exhaust_max_lift;             /* [m] */
     double ivo, ivc, evo, evc;                            /* valve events [rad CA] */
     double valve_cd;                                      /* discharge coefficient [1] */
+    double valve_throat_factor; /* port throat area / inner seat area [1] */
     /* injection and fuel law */
     double soi;            /* start of injection, before firing TDC [rad CA] */
     double lhv;            /* fuel lower heating value [J/kg] */

@@ -30,10 +30,6 @@ typedef struct ts_track_config {
     double damping_ratio;     /* modal damping ratio of span modes [1] */
     int translation_terms;    /* keep the track-speed terms of Eqs. 1-2 [bool] */
     int no_compression;       /* modal spans go slack instead of pushing [bool] */
-    double pitch_line_offset; /* pitch line above the road-wheel/idler/roller rim [m] */
-    double idler_inertia;     /* idler spin inertia [kg m^2] */
-    double roller_inertia;    /* support-roller spin inertia, each [kg m^2] */
-    double sprocket_inertia;  /* sprocket spin inertia [kg m^2] */
     double modes_speed;       /* track speed for eigenanalysis with translation_terms [m/s] */
     int modes_reported;       /* circuit modes reported by `tanksim modes` */
     int span_n;               /* single spans to analyse (0: the layout's five spans) */

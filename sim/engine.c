@@ -179,7 +179,7 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
                             c->watson_c2, c->watson_c3k, c->watson_c3e, c->watson_c4k,
                             c->burn_duration};
     /* Turbocharger scaled from the reference unit by geometric similarity
-     * (parameters.md 3.6, Watson & Janota 1982): flow x s, diameter x sqrt(s)
+     * (geometric similarity, Watson & Janota 1982): flow x s, diameter x sqrt(s)
      * (so speed x 1/sqrt(s) at equal tip speed), inertia x s^(5/2). */
     double s = c->turbo_flow_scale;
     e->turbo = (en_turbo){.d_c = c->comp_diameter_ref * sqrt(s),

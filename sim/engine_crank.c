@@ -197,10 +197,11 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         double l_ev =
             valve_lift(e, 1, i, thl, nw, c->evo, c->evc, c->exhaust_max_lift, vC[1], vS[1]);
         double a_iv = l_iv > 0 ? en_valve_area(l_iv, c->intake_valve_diameter, c->n_intake_valves,
-                                               c->valve_cd)
+                                               c->valve_cd, c->valve_throat_factor)
                                : 0.0;
         double a_ev = l_ev > 0 ? en_valve_area(l_ev, c->exhaust_valve_diameter,
-                                               c->n_exhaust_valves, c->valve_cd)
+                                               c->n_exhaust_valves, c->valve_cd,
+                                               c->valve_throat_factor)
                                : 0.0;
         int valves_open = a_iv > 0 || a_ev > 0;
         const en_bank_out *o = &bo[b];

@@ -2,7 +2,7 @@
  * engine_friction.c — Millington & Hartles (1968) motored friction (paper
  * Section III.B.1, ref. 28), evaluated at the INSTANTANEOUS crank speed:
  *   fmep = a (r_c - 4) + b N + c S_p^2,   N [rpm], S_p = 2 stroke N / 60 [m/s].
- * Constants in engine.json (a literature; b, c provisional, parameters.md 3.5).
+ * Constants in engine.json (a from Millington & Hartles 1968; b, c provisional, chosen for 1.5-2.5 bar fmep at 2100 rpm: engine.json's notes).
  * The friction torque fmep V_d / (4 pi) fades to zero below a few rad/s
  * (tanh(w / EN_FRICTION_FADE), 5 rad/s, a numerical smoothing so the engine does not drive
  * itself backwards at rest). The crank-angle-varying inertia is in

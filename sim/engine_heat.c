@@ -8,7 +8,7 @@
  *   L = instantaneous chamber height V / A_bore, at most B / 2;
  * the convective coefficient follows a turbulent pipe-flow Nusselt law
  *   Nu = h L / lambda = a Re^b,  Re = rho u L / mu,  u = sqrt(U^2 + u'^2 + (S_p/2)^2)
- * (the piston-speed term is an estimate, parameters.md 3.4). Radiation during
+ * (the piston-speed term is an estimate, engine.json). Radiation during
  * combustion is added in engine_crank.c. Gas viscosity mu = 3.3e-7 T^0.7 Pa s
  * (air, within ~5 % 300-2500 K), Prandtl number 0.7.
  */

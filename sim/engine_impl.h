@@ -197,11 +197,12 @@ static inline double en_valve_lift(double th, double open, double close, double 
     if (d > span) return 0.0;
     return lmax * 0.5 * (1.0 - cos(2.0 * EN_PI * d / span));
 }
-/* Effective flow area = cd x min(curtain, 0.9 x seat area) x n valves. */
-static inline double en_valve_area(double lift, double diameter, int n, double cd)
+/* Effective flow area = cd x min(curtain, throat x seat area) x n valves
+ * (throat: /engine/valve_throat_factor). */
+static inline double en_valve_area(double lift, double diameter, int n, double cd, double throat)
 {
     double curtain = EN_PI * diameter * lift;
-    double seat = 0.9 * EN_PI / 4.0 * diameter * diameter;
+    double seat = throat * EN_PI / 4.0 * diameter * diameter;
     return cd * n * (curtain < seat ? curtain : seat);
 }
 
@@ -250,7 +251,7 @@ static inline void en_cascade(const en_cascade_in *c, double cbeta, double rdt, 
     double K = c->K > 0.0 ? c->K : 0.0, k = c->k > 1e-9 ? c->k : 1e-9;
     double im = 1.0 / m, iL = 1.0 / Lh, skm = sqrt(k * im); /* sqrt(k / m) */
     double up = sqrt(2.0 / 3.0) * skm;                      /* sqrt(2 k / (3 m)) */
-    double P = 0.3307 * cbeta * (K * iL) * skm;
+    double P = 0.3307 * cbeta * (K * iL) * skm; /* Poulos & Heywood's production constant */
     double eps = up * up * up * iL;
     double out_m = c->mdot_out * im;
     *dK = 0.5 * c->mdot_in * c->v_in * c->v_in - P - K * out_m;

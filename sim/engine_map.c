@@ -1,6 +1,6 @@
 /*
  * engine_map.c — the map fidelity: a full-load torque-speed map with a
- * first-order boost lag (paper Section III; model.md "map engine").
+ * first-order boost lag (paper Section III; the map fidelity of README's engine fidelities).
  *
  * The tables (/engine/map_*_<variant>) are the crank-angle model's own
  * dynamometer sweep (`tanksim engine-map`, provenance in engine.json).

@@ -1,5 +1,5 @@
 /*
- * engine_mean.c — the mean-value fidelity (model.md "mean-value engine"):
+ * engine_mean.c — the mean-value fidelity (cycle-averaged cylinder, manifolds and turbos kept):
  * cycle-averaged cylinders between the SAME intercoolers, manifolds and
  * turbochargers as the crank-angle model (engine_manifold.c, engine_turbo.c).
  *

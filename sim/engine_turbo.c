@@ -4,7 +4,7 @@
  *
  * The paper scales DDC Series 60 truck maps to +60 % mass flow; no public DDC
  * map exists, so the reference map is SYNTHESISED from standard
- * non-dimensional shapes (parameters.md 3.6, Watson & Janota 1982):
+ * non-dimensional shapes (Watson & Janota 1982):
  *
  *  Compressor, tip speed U = w D/2, flow coefficient phi = mdot/(rho01 U D^2),
  *  isentropic head coefficient psi = dh_is / U^2, dh_is = cp T01 (PR^k - 1):

@@ -180,15 +180,15 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     }
     const double *last = rows + (nrows - 1) * nc;
     n = ts_metric_add(out, n, max, "dof", "1", m->dof, "vehicle mechanical degrees of freedom");
-    n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / TS_MPH, "predicted top speed");
+    n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / TS_MPH, "top speed");
     n = ts_metric_add(out, n, max, "final_speed_mph", "mph", last[CH_SPEED] / TS_MPH,
-                      "predicted speed at the end of the run");
+                      "speed at the end of the run");
     n = ts_metric_add(out, n, max, "static_tension", "N", vm_static_tension(ts_coupled_vehicle(c)),
                       "static rear-roller tension (tensioner setting)");
-    n = ts_metric_add(out, n, max, "peak_tension", "N", tmax, "predicted peak rear-roller tension");
+    n = ts_metric_add(out, n, max, "peak_tension", "N", tmax, "peak rear-roller tension");
     n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / TS_LBF, "the same in lbf");
     n = ts_metric_add(out, n, max, "peak_sprocket_torque", "N*m", tq_max,
-                      "predicted peak torque at each sprocket (Fig. 28 converter multiplication)");
+                      "peak torque at each sprocket (Fig. 28 converter multiplication)");
     n = vm_channels_span_metrics(rows, nrows, nc, CH_V0, out, n, max);
     char name[64], desc[160];
     for (int g = 1; g <= 3; g++) {

@@ -4,7 +4,7 @@
  * sprocket torque (drive.h), integrated by CVODE (solver.h) from its static
  * equilibrium. Section II.D's runs are the presets bump-prescribed-*.json.
  *
- * Channels: the fixed names of model.md (vehicle.x, vehicle.speed, hull.z,
+ * Channels: fixed names, a stable API (vehicle.x, vehicle.speed, hull.z,
  * hull.pitch, hull.accel_x, track.tension.rear_roller, roller.rear.normal_force,
  * sprocket.torque, sprocket.speed) plus per-span mid-span tension and dynamic
  * transverse deflection, every road-arm angle and road-wheel load, the anchor
@@ -254,11 +254,13 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
                       "prescribed torque is calibrated to it [C II.D])");
     n = ts_metric_add(out, n, max, "static_tension", "N", t0,
                       "static track tension at the rear roller (tensioner setting P0)");
-    n = ts_metric_add(out, n, max, "peak_tension", "N", tmax,
-                      "predicted peak rear-roller tension (paper Fig. 12: ~30,000 lb = 133 kN)");
+    n = ts_metric_add(
+        out, n, max, "peak_tension", "N", tmax,
+        "peak rear-roller tension (paper Fig. 12: ~30,000 lb = 133 kN; its level rests on "
+        "the static tension P0, inferred from that statement)");
     n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / TS_LBF, "the same in lbf");
     n = ts_metric_add(out, n, max, "tension_amplification", "1", t0 > 0 ? tmax / t0 : NAN,
-                      "predicted peak over static tension (paper: nearly 2)");
+                      "peak over static tension (paper: nearly 2; predicted)");
     n = ts_metric_add(out, n, max, "quasi_static_peak_tension_lb", "lbf", qsmax / TS_LBF,
                       "peak of track.tension.quasi_static: what the suspension travel alone "
                       "(loop-length change, massless track) gives");
@@ -270,38 +272,45 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
                       nrows > 0 && t0 > 0 ? sqrt(d2 / (double)nrows) / t0 : NAN,
                       "RMS(rear-roller tension - quasi-static tension) / static tension");
     n = ts_metric_add(out, n, max, "peak_abs_accel_x", "m/s^2", amax,
-                      "predicted largest |hull.accel_x| (Fig. 11)");
+                      "largest |hull.accel_x| (Fig. 11)");
     n = ts_metric_add(out, n, max, "peak_abs_roller_force", "N", nmax,
                       "largest |roller.rear.normal_force|");
     double a;
     double f = spectrum_peak(m, rows, nrows, CH_T_RR, -1, 2.0, 6.0, &a);
     n = ts_metric_add(out, n, max, "tension_peak_2_6hz", "Hz", f,
-                      "predicted tension spectrum peak in 2-6 Hz (paper Fig. 13c: 3.7 Hz)");
+                      "tension spectrum peak in 2-6 Hz (paper Fig. 13c: 3.7 Hz; the circuit mode's "
+                      "frequency follows the roller layout calibrated to Fig. 5)");
     n = ts_metric_add(out, n, max, "tension_peak_2_6hz_amp", "N", a, "its amplitude");
     f = spectrum_peak(m, rows, nrows, CH_T_RR, -1, 13.0, 20.0, &a);
-    n = ts_metric_add(out, n, max, "tension_peak_13_20hz", "Hz", f,
-                      "predicted tension spectrum peak in 13-20 Hz (paper Fig. 13b-c: 14.0 Hz)");
+    n = ts_metric_add(
+        out, n, max, "tension_peak_13_20hz", "Hz", f,
+        "tension spectrum peak in 13-20 Hz (paper Fig. 13b-c: 14.0 Hz; EA is calibrated "
+        "to put the longitudinal circuit mode there)");
     n = ts_metric_add(out, n, max, "tension_peak_13_20hz_amp", "N", a, "its amplitude");
     /* the same on the dynamic part alone (tension less the quasi-static tension
      * of the same support positions): what the track's own vibration adds, free
      * of the suspension travel's loop-length response to the course */
     f = spectrum_peak(m, rows, nrows, CH_T_RR, CH_T_QS, 2.0, 4.6, &a);
     n = ts_metric_add(out, n, max, "dynamic_tension_peak_2_4.6hz", "Hz", f,
-                      "predicted spectrum peak of (tension - quasi-static tension) in 2-4.6 Hz "
+                      "spectrum peak of (tension - quasi-static tension) in 2-4.6 Hz "
                       "(paper Fig. 13c: 3.7 Hz, coupled model only)");
     n = ts_metric_add(out, n, max, "dynamic_tension_peak_2_4.6hz_amp", "N", a, "its amplitude");
     f = spectrum_peak(m, rows, nrows, CH_T_RR, CH_T_QS, 13.0, 20.0, &a);
     n = ts_metric_add(out, n, max, "dynamic_tension_peak_13_20hz", "Hz", f,
-                      "predicted spectrum peak of (tension - quasi-static tension) in 13-20 Hz "
+                      "spectrum peak of (tension - quasi-static tension) in 13-20 Hz "
                       "(paper Fig. 13b-c: 14.0 Hz, both dynamic models)");
     n = ts_metric_add(out, n, max, "dynamic_tension_peak_13_20hz_amp", "N", a, "its amplitude");
     f = spectrum_peak(m, rows, nrows, CH_N_RR, -1, 2.0, 4.6, &a);
-    n = ts_metric_add(out, n, max, "roller_force_peak_2_4.6hz", "Hz", f,
-                      "predicted roller-force spectrum peak in 2-4.6 Hz (paper Fig. 14b: 3.7 Hz)");
+    n = ts_metric_add(
+        out, n, max, "roller_force_peak_2_4.6hz", "Hz", f,
+        "roller-force spectrum peak in 2-4.6 Hz (paper Fig. 14b: 3.7 Hz; mode frequency "
+        "from the Fig. 5-calibrated layout)");
     n = ts_metric_add(out, n, max, "roller_force_peak_2_4.6hz_amp", "N", a, "its amplitude");
     f = spectrum_peak(m, rows, nrows, CH_N_RR, -1, 4.6, 7.0, &a);
-    n = ts_metric_add(out, n, max, "roller_force_peak_4.6_7hz", "Hz", f,
-                      "predicted roller-force spectrum peak in 4.6-7 Hz (paper Fig. 14b: 5.5 Hz)");
+    n = ts_metric_add(
+        out, n, max, "roller_force_peak_4.6_7hz", "Hz", f,
+        "roller-force spectrum peak in 4.6-7 Hz (paper Fig. 14b: 5.5 Hz; mode frequency "
+        "from the Fig. 5-calibrated layout)");
     n = ts_metric_add(out, n, max, "roller_force_peak_4.6_7hz_amp", "N", a, "its amplitude");
     n = vm_channels_span_metrics(rows, nrows, nc, CH_V0, out, n, max);
     return n;

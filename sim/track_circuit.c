@@ -360,7 +360,7 @@ ts_rc ts_circuit_params_from_config(const ts_config *cfg, ts_circuit_params *p, 
         return ts_err_set(err, TS_ERR_PARAM, "/vehicle/road_wheel_x",
                           "the upper circuit needs at least two road wheels, got %d",
                           v->road_wheel_n);
-    double off = t->pitch_line_offset;
+    double off = v->track_pitch_offset; /* one layout for the vehicle and its Fig. 5 circuit */
     double rw = v->road_wheel_radius + off;
     const ts_span_support sup[TS_CIRCUIT_NSUPPORTS] = {
         {v->road_wheel_x[0], v->road_wheel_z, rw, 1},
@@ -371,10 +371,10 @@ ts_rc ts_circuit_params_from_config(const ts_config *cfg, ts_circuit_params *p, 
         {v->road_wheel_x[v->road_wheel_n - 1], v->road_wheel_z, rw, 1},
     };
     memcpy(p->support, sup, sizeof sup);
-    p->inertia[1] = t->idler_inertia;
-    p->inertia[2] = t->roller_inertia;
-    p->inertia[3] = t->roller_inertia;
-    p->inertia[4] = t->sprocket_inertia;
+    p->inertia[1] = v->idler_inertia;
+    p->inertia[2] = v->roller_inertia;
+    p->inertia[3] = v->roller_inertia;
+    p->inertia[4] = v->sprocket_inertia;
     p->rho = t->mass_per_length;
     p->ea = t->ea;
     p->tension = t->tension;

@@ -65,8 +65,9 @@ typedef struct ts_circuit {
 
 /* Circuit parameters from a run config: support circles from the /vehicle
  * layout (road wheels 1 and 7 = first and last /vehicle/road_wheel_x; pitch
- * line = rim + /track/pitch_line_offset for road wheels, idler and rollers,
- * /vehicle/sprocket_radius as is), spin inertias and track data from /track,
+ * line = rim + /vehicle/track_pitch_offset for road wheels, idler and rollers,
+ * /vehicle/sprocket_radius as is), spin inertias from /vehicle (the vehicle
+ * model's own: one layout for both), track data from /track,
  * modes per span /track/n_long, /track/n_trans (n_long = 0: quasi-static
  * uniform-tension stretch), track speed /track/modes_speed when
  * /track/translation_terms. TS_ERR_PARAM naming the field on bad input. */

@@ -10,7 +10,6 @@
 
 #define EVENT_TIME_TOL 1e-9  /* relative slack when testing a time event at its root */
 #define EVENT_SPEED_TOL 1e-6 /* relative slack when testing a speed event at its root */
-#define SHIFT_CAP_FLOOR 0.05 /* floor of Cs as a fraction of clutch_capacity */
 
 ts_rc ts_transmission_init(ts_transmission *tr, const ts_driveline_config *c, ts_err *err)
 {
@@ -40,6 +39,7 @@ ts_rc ts_transmission_init(ts_transmission *tr, const ts_driveline_config *c, ts
     tr->shift_hysteresis = c->shift_hysteresis;
     tr->clutch_capacity = c->clutch_capacity;
     tr->shift_capacity_factor = c->shift_capacity_factor;
+    tr->shift_capacity_floor = c->shift_capacity_floor;
     tr->slip_speed = c->clutch_slip_speed;
     return TS_OK;
 }
@@ -180,7 +180,7 @@ int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double
         to = st->gear - 1;
     if (!to) return ramp_done;
     double cs = tr->shift_capacity_factor * fabs(input_torque);
-    double floor = SHIFT_CAP_FLOOR * tr->clutch_capacity;
+    double floor = tr->shift_capacity_floor * tr->clutch_capacity;
     st->capacity = cs > floor ? cs : floor;
     st->target = to;
     st->armed = 0;

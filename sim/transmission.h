@@ -67,6 +67,7 @@ typedef struct ts_transmission {
     double shift_hysteresis;          /* re-arm below shift_speed by this [rad/s] */
     double clutch_capacity;           /* applied clutch [N*m] */
     double shift_capacity_factor;     /* [1] */
+    double shift_capacity_floor;      /* [1] of clutch_capacity */
     double slip_speed;                /* regularisation [rad/s] */
 } ts_transmission;
 

@@ -2,7 +2,7 @@
  * vehicle_channels.h — the output channels of the multibody vehicle, one
  * definition shared by the scenarios that run it (vehicle: prescribed torque;
  * coupled: the powertrain drives it), so names, units and descriptions are
- * written once. Names are stable API (model.md's table and the per-span,
+ * written once. Names are stable API (the fixed vehicle channels and the per-span,
  * per-arm and per-wheel channels of issue 4).
  *
  * Block layout (indices relative to the block's first channel):

@@ -12,10 +12,10 @@
  * roller -> idler -> road wheel 1 -> ... -> road wheel 7 -> sprocket.
  *
  * ONE SIDE is modelled: half the hull mass and pitch inertia on one track and
- * its running gear (both tracks identical, model.md). Wheel loads and tensions
+ * its running gear (both tracks identical: a pitch-plane model). Wheel loads and tensions
  * are per side; the sprocket torque is the torque at each sprocket.
  *
- * Generalised coordinates q (DOF reading of model.md, 21 for the rigid bodies):
+ * Generalised coordinates q (21 for the rigid bodies, as the paper's static model):
  *   0 x, 1 z (hull CG, world), 2 theta, 3..9 road-arm angles alpha_1..7 (below
  *   hull x, relative to the hull), 10..20 spins Phi of the circuit bodies in
  *   circuit order (sprocket, rear roller, front roller, idler, road wheels 1..7),
@@ -23,7 +23,7 @@
  *   n_long longitudinal, then n_trans transverse).
  * State y = [q, dq/dt].
  *
- * Track element between bodies a -> b (stretch s, model.md "DOF reading"):
+ * Track element between bodies a -> b (stretch s):
  *   s = (l - l0) + (rho_b - rho_a)(psi - psi0) + rho_b Phi_b - rho_a Phi_a,
  * l the tangent length, psi the chord angle; the (rho_b - rho_a) dpsi term is
  * the change of the wrap arcs, so sum(s) is the change of the whole loop.

@@ -52,8 +52,8 @@ static void valve_lift_and_area(void **state)
     assert_true(en_valve_lift(600 * ET_PI / 180, o, c, l) == 0);
     assert_close(en_valve_lift(0.5 * (o + c), o, c, l), l, 1e-12, 0);
     assert_close(en_valve_lift(o + 0.3, o, c, l), en_valve_lift(c - 0.3, o, c, l), 1e-12, 0);
-    assert_close(en_valve_area(0.001, 0.05, 2, 0.7), 0.7 * 2 * ET_PI * 0.05 * 0.001, 1e-12, 0);
-    assert_close(en_valve_area(0.05, 0.05, 2, 0.7), 0.7 * 2 * 0.9 * ET_PI / 4 * 0.0025, 1e-12, 0);
+    assert_close(en_valve_area(0.001, 0.05, 2, 0.7, 0.9), 0.7 * 2 * ET_PI * 0.05 * 0.001, 1e-12, 0);
+    assert_close(en_valve_area(0.05, 0.05, 2, 0.7, 0.9), 0.7 * 2 * 0.9 * ET_PI / 4 * 0.0025, 1e-12, 0);
 }
 
 /* EVIDENCE: Watson et al. (1980) burn law: X(0) = 0, X(1) = 1, dX/dtau is the
@@ -351,7 +351,7 @@ static void turbine_schedule_is_checked(void **state)
 
 /* EVIDENCE: Millington & Hartles (SAE 680590) with the provisional constants:
  * fmep = 6895 (15 - 4) + 33.1 N + 107 S_p^2 Pa = 1.59 bar at 2100 rpm
- * (parameters.md 3.5 asks for 1.5-2.5 bar). Eq. 13: phi_tgt = 0.45 at 2100
+ * (1.5-2.5 bar expected for this engine; engine.json's fmep notes). Eq. 13: phi_tgt = 0.45 at 2100
  * rpm, 0.65 at 600 rpm; Eq. 14: m_f = m_air phi/(A/F)s Rack 120/(N 12). */
 static void friction_and_fuel_law(void **state)
 {

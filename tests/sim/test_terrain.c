@@ -20,8 +20,8 @@ static ts_terrain_config base(int kind)
     return c;
 }
 
-/* EVIDENCE: parameters.md 6.2 / sim/data/terrain/apg4-synth.txt: 26 bumps,
- * the first 1 ft x 25 ft at 50 ft [P II.D: the large obstacle], the last
+/* EVIDENCE: paper Fig. 8 / II.D as sim/data/terrain/apg4-synth.txt lays it
+ * out: 26 bumps, the first 1 ft x 25 ft at 50 ft [P II.D: the large obstacle], the last
  * 0.25 ft x 2 ft [P II.D: the small obstacle] at 490.5 ft, the train's
  * 10-ft pitch [C Figs. 13a-b] flat between its bumps, course 500 ft.
  * 1-cos shape: full height at the bump middle, zero and flat at its ends.

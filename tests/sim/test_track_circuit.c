@@ -78,7 +78,7 @@ static void track_circuit_no_sag_is_five_strings(void **state)
 static void track_circuit_moving_track_gyroscopic(void **state)
 {
     (void)state;
-    /* EVIDENCE: axially moving string (parameters.md §2.3, Wickert & Mote):
+    /* EVIDENCE: axially moving string (Wickert & Mote 1990):
      * f_n = n c (1 - v^2/c^2)/(2L) for each span; the assembled gyroscopic
      * circuit (dggev first-order form) at v = 11.2 m/s (25 mph), no sag, with
      * 8 transverse modes per span: first 6 within 1 %. Not calibrated. */
@@ -142,7 +142,7 @@ static void track_circuit_fig5_m1(void **state)
     /* EVIDENCE: paper Fig. 5, upper track circuit with road wheels 1 and 7
      * fixed: 3.7, 5.5, 7.3, 7.6 Hz; first four within 15 %. CALIBRATED: the
      * roller/idler positions in vehicle.json and P0, rho in track.json were
-     * chosen (parameters.md §1.2, §2.4) so the three upper spans' taut-string
+     * chosen (vehicle.json [C Fig. 5]) so the three upper spans' taut-string
      * fundamentals are 3.7, 5.5 and 7.3 Hz — this checks the assembled model
      * (sag, wheel coupling, slope spans) stays consistent with that reading,
      * it does not predict Fig. 5. The mode characters are the model's own:

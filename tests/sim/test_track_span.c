@@ -283,8 +283,8 @@ static void track_span_irvine_crossover(void **state)
         ts_modes_free(m);
     }
     assert_true(first_sym[0] < 2.0 && first_sym[2] > 2.0);
-    /* the root finder against the table of parameters.md §2.3 (independent
-     * computation): 1st symmetric f/f0 at lambda^2 = 5 and 100, 2nd at 100 */
+    /* the root finder against independently computed roots of Irvine's
+     * transcendental equation (Irvine 1981): 1st symmetric f/f0 at lambda^2 = 5 and 100, 2nd at 100 */
     double xr[2];
     assert_int_equal(irvine_roots(5.0, xr, 2), 2);
     assert_close(2 * xr[0] / PI, 1.187, 0, 6e-4);
@@ -320,10 +320,10 @@ static void track_span_convergence_monotone(void **state)
 static void track_span_moving_string(void **state)
 {
     (void)state;
-    /* EVIDENCE: axially moving string (Wickert & Mote 1990; parameters.md
-     * §2.3): f_n = n c_w (1 - v^2/c_w^2) / (2L), c_w = sqrt(P0/rho), from the
-     * gyroscopic matrices with translation_terms on (dggev). v = 0.5 c_w (a
-     * strong test: factor 0.75). Within 0.5 % for n = 1..3. Not calibrated. */
+    /* EVIDENCE: axially moving string (Wickert & Mote 1990): f_n = n c_w
+     * (1 - v^2/c_w^2) / (2L), c_w = sqrt(P0/rho), from the gyroscopic
+     * matrices with translation_terms on (dggev). v = 0.5 c_w (a strong test:
+     * factor 0.75). Within 0.5 % for n = 1..3. Not calibrated. */
     const double L = 1.5;
     double cw = sqrt(P0 / RHO), v = 0.5 * cw;
     ts_span_params p = base(L, 0.0, 0, 12);
@@ -581,7 +581,7 @@ static void track_span_table1_test_span(void **state)
     /* EVIDENCE: paper Table 1 (single test span): predicted 7.2, 14.6, 23.2,
      * 29.7 Hz; measured 7.2, 14.7, 25.3, 37.0 Hz. CALIBRATED: the span length
      * 1.39 m (track.json /track/span_length) and P0, rho were inferred from
-     * f1 = 7.2 Hz itself (parameters.md §2.4), so f1, f2 within 5 % shows
+     * f1 = 7.2 Hz itself (table1-span preset), so f1, f2 within 5 % shows
      * consistency, not prediction. Modes 3-4 are printed beside the paper. */
     const double L = 1.39;
     ts_span_params p = base(L, G0, 8, 8);

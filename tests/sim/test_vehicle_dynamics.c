@@ -84,7 +84,7 @@ static int count_in(const double *f, int n, double lo, double hi, double *first)
  * 18 Hz; the static (massless-track) model has no mode at all between 2.5 and
  * 25 Hz, so its tension cannot show those peaks (Fig. 13a). Predicted, with
  * one calibration to disclose: the layout's upper span lengths were chosen
- * (parameters.md 1.2, [C Fig. 5]) to put the span fundamentals at the Fig. 5
+ * (vehicle.json, [C Fig. 5]) to put the span fundamentals at the Fig. 5
  * frequencies; EA was estimated for the 14-Hz mode by the track module. */
 static void coupled_model_has_the_papers_track_modes(void **state)
 {
