@@ -191,12 +191,12 @@ function recordRequests(page) {
   return { seen, stop: () => page.off('request', on) };
 }
 
-/* The tick labels uPlot drew on every axis of every chart (axis._values: what the axis's values() returned). */
+/* The tick labels uPlot drew on every axis of every chart (what each axis's values(), ticks.js, last returned). */
 const axisLabels = (page) =>
   page.evaluate(() => {
     const dbg = window.tanksimDebug;
     const plots = [...dbg.plots.charts.map((c) => [c.name, c.plot]), ['fft', dbg.fft.plot], ['compare', dbg.compare.plot], ['engine map', dbg.engineMap.plot]];
-    return plots.filter(([, p]) => p).flatMap(([chart, p]) => p.axes.map((a, axis) => ({ chart, axis, labels: a._values || [] })));
+    return plots.filter(([, p]) => p).flatMap(([chart, p]) => dbg.tickLabels(p).map((labels, axis) => ({ chart, axis, labels })));
   });
 
 /* "fixed:2" for 0.25, "exp:1" for 2.5e-4; anything else is not a number label. */
@@ -614,7 +614,7 @@ async function main() {
       await page.click('#fft-btn');
       await waitFor(async () => (await page.evaluate(() => window.tanksimDebug.fft.plot?.scales.y.distr)) === 3, 'the log-axis spectrum');
       await page.waitForTimeout(100);
-      const labels = await page.evaluate(() => window.tanksimDebug.fft.plot.axes[1]._values);
+      const labels = await page.evaluate(() => window.tanksimDebug.tickLabels(window.tanksimDebug.fft.plot)[1]);
       const shown = labels.filter((l) => l !== '');
       assert(shown.length >= 2, `log axis labels: ${JSON.stringify(labels)}`);
       assert(shown.every((l) => Number.isFinite(Number(l))), `log axis labels that are not numbers: ${JSON.stringify(labels)}`);

@@ -32,6 +32,7 @@ import { initCreateForm } from './create_form.js';
 import { initEngineMapControls } from './engine_map_controls.js';
 import { initTuneControls } from './tune_controls.js';
 import { initStoredAnalyses } from './stored_analyses.js';
+import { drawnTickLabels } from './ticks.js';
 
 const state = {
   compare: new Set(), /* ids ticked for Compare */
@@ -62,7 +63,7 @@ const frames = new FrameViewer({
 });
 
 /* Read-only handle for the browser test (tests/web/dashboard.test.mjs). */
-window.tanksimDebug = { state, plots, compare, fft, engineMap };
+window.tanksimDebug = { state, plots, compare, fft, engineMap, tickLabels: drawnTickLabels };
 
 initTokenForm(boot);
 const refreshList = () => list.refresh(); /* list is made last: it shows the open session */

@@ -36,5 +36,17 @@ function tickLabels(values) {
   });
 }
 
-/** uPlot axis.values: the labels of the ticks it passes. */
-export const axisValues = (u, splits) => tickLabels(splits);
+/* The labels each chart's axes were last given, by chart (the browser test
+ * reads them through drawnTickLabels instead of uPlot's internals). */
+const drawn = new WeakMap();
+
+/** uPlot axis.values: the labels of the ticks it passes (axis: the axis index). */
+export const axisValues = (u, splits, axis) => {
+  const labels = tickLabels(splits);
+  if (!drawn.has(u)) drawn.set(u, []);
+  drawn.get(u)[axis] = labels;
+  return labels;
+};
+
+/** The labels axisValues last returned for each axis of chart u ([] for an axis not drawn). */
+export const drawnTickLabels = (u) => u.axes.map((_, i) => drawn.get(u)?.[i] || []);
