@@ -42,25 +42,35 @@ static const char *kind_name(tsd_analysis_kind k)
 
 /* Write the operation document doc to the store (a failure is logged by db.c:
  * the result stays in memory until the daemon stops). */
-static void store_doc(void *ud, json_t *doc)
+/* Store an analysis' operation document: 0, or -1 when the store refused it
+ * (db.c logged why) or memory ran out. */
+static int put_doc(tsd_server *srv, json_t *doc)
 {
-    tsd_server *srv = ud;
     json_t *md = json_object_get(doc, "metadata");
     char *text = json_dumps(doc, JSON_COMPACT);
     char *req = json_dumps(json_object_get(md, "request"), JSON_COMPACT | JSON_ENCODE_ANY);
+    int rc = -1;
     if (text && req)
-        tsd_db_analysis_put(srv->db, json_string_value(json_object_get(doc, "id")),
-                            json_string_value(json_object_get(md, "kind")),
-                            json_number_value(json_object_get(md, "created")),
-                            json_is_true(json_object_get(doc, "done")),
-                            (int)json_integer_value(
-                                json_object_get(json_object_get(doc, "error"), "code")),
-                            req, text);
+        rc = tsd_db_analysis_put(srv->db, json_string_value(json_object_get(doc, "id")),
+                                 json_string_value(json_object_get(md, "kind")),
+                                 json_number_value(json_object_get(md, "created")),
+                                 json_is_true(json_object_get(doc, "done")),
+                                 (int)json_integer_value(
+                                     json_object_get(json_object_get(doc, "error"), "code")),
+                                 req, text);
     else
         fprintf(stderr, "tanksimd: out of memory storing analysis %s\n",
                 json_string_value(json_object_get(doc, "id")));
     free(text);
     free(req);
+    return rc;
+}
+
+/* tsd_op_finish_persisted's and the progress rows' writer: a later row that
+ * cannot be stored leaves the last stored one (the analysis goes on in memory). */
+static void store_doc(void *ud, json_t *doc)
+{
+    (void)put_doc(ud, doc);
 }
 
 static void store_op(tsd_server *srv, tsd_op *op)
@@ -165,7 +175,23 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
     j->req = *req;
     j->req.request = NULL; /* the operation holds it */
     *opdoc = tsd_op_json_of(srv, op);
-    if (*opdoc) store_doc(srv, *opdoc);
+    if (!*opdoc || put_doc(srv, *opdoc) != 0) {
+        /* not stored, not started: an analysis the store never held would be
+         * lost at the next restart, where the README promises it is kept */
+        pthread_mutex_unlock(&srv->analyses_lock);
+        ts_rc why = *opdoc ? ts_err_set(err, TS_ERR_IO, NULL,
+                                        "cannot store the analysis (the store is full or failing: "
+                                        "see the daemon log); it was not started")
+                           : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        char id[64]; /* the op may be freed once finished */
+        snprintf(id, sizeof id, "%s", tsd_op_id(op));
+        finish(srv, op, NULL, tsd_op_error_json(err));
+        tsd_op_forget(srv, id);
+        free(j);
+        json_decref(*opdoc);
+        *opdoc = NULL;
+        return why;
+    }
     pthread_mutex_unlock(&srv->analyses_lock);
     if (tsd_pool_submit(srv->pool, analysis_run, j, 0) != 0) {
         ts_rc why = atomic_load(&srv->stopping)

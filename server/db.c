@@ -33,6 +33,21 @@ static const char schema[] =
     "CREATE TABLE IF NOT EXISTS analyses(id TEXT PRIMARY KEY, kind TEXT, created REAL,"
     " done INTEGER, error_code INTEGER, request TEXT, document TEXT);";
 
+/* PRAGMA user_version of the schema above (0: a store from before it was
+ * set, brought up by migrate). A store from a newer build is refused: its
+ * tables may mean something this build would misread or damage. */
+#define SCHEMA_VERSION 1
+
+/* A session deleted while it ran is marked so at once (its DELETE is
+ * answered then) and removed by its worker; one the daemon died before
+ * removing goes here, at the next start. */
+static const char purge_deleted[] =
+    "BEGIN IMMEDIATE;"
+    "DELETE FROM samples WHERE seq IN (SELECT seq FROM sessions WHERE status='deleted');"
+    "DELETE FROM snapshots WHERE seq IN (SELECT seq FROM sessions WHERE status='deleted');"
+    "DELETE FROM sessions WHERE status='deleted';"
+    "COMMIT;";
+
 static void log_err(sqlite3 *c, const char *what)
 {
     fprintf(stderr, "tanksimd: sqlite: %s: %s\n", what, sqlite3_errmsg(c));
@@ -86,6 +101,32 @@ static int migrate(sqlite3 *c, char *err, size_t errlen)
     return 0;
 }
 
+#define TSD_STR_(x) #x
+#define TSD_STR(x)  TSD_STR_(x)
+
+/* 0, or -1 with why in err when the store is from a newer schema. */
+static int check_version(sqlite3 *c, const char *path, char *err, size_t errlen)
+{
+    sqlite3_stmt *st = NULL;
+    long v = -1;
+    if (sqlite3_prepare_v2(c, "PRAGMA user_version", -1, &st, NULL) == SQLITE_OK &&
+        sqlite3_step(st) == SQLITE_ROW)
+        v = (long)sqlite3_column_int64(st, 0);
+    sqlite3_finalize(st);
+    if (v < 0) {
+        snprintf(err, errlen, "%s: cannot read its schema version: %s", path, sqlite3_errmsg(c));
+        return -1;
+    }
+    if (v > SCHEMA_VERSION) {
+        snprintf(err, errlen,
+                 "%s is from a newer tanksimd (store schema %ld; this build reads up to %d): "
+                 "use that build, or another --data-dir",
+                 path, v, SCHEMA_VERSION);
+        return -1;
+    }
+    return 0;
+}
+
 tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
 {
     char path[1024];
@@ -103,7 +144,19 @@ tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
         sqlite3_free(msg);
         goto fail;
     }
-    if (migrate(db->w, err, errlen) != 0) goto fail;
+    if (check_version(db->w, path, err, errlen) != 0 || migrate(db->w, err, errlen) != 0)
+        goto fail;
+    /* best effort: a full disk must not keep the daemon from serving what
+     * is stored (a session still marked deleted is not loaded: session.c) */
+    if (sqlite3_exec(db->w, purge_deleted, NULL, NULL, &msg) != SQLITE_OK ||
+        sqlite3_exec(db->w, "PRAGMA user_version=" TSD_STR(SCHEMA_VERSION), NULL, NULL, &msg) !=
+            SQLITE_OK) {
+        fprintf(stderr, "tanksimd: %s: %s (sessions deleted during a run are removed at a later "
+                        "start)\n", path, msg ? msg : "cannot write the store");
+        sqlite3_free(msg);
+        msg = NULL;
+        sqlite3_exec(db->w, "ROLLBACK", NULL, NULL, NULL);
+    }
     db->r = open_conn(path, err, errlen);
     if (!db->r) goto fail;
     pthread_mutex_init(&db->wmu, NULL);
@@ -147,11 +200,10 @@ static void bind_args(sqlite3_stmt *st, const char *fmt, va_list ap)
 
 /* Run one statement with the parameters of fmt (bind_args) on the writer
  * connection; the rows it changed into *changes when that is not NULL. */
-static int exec_wv(tsd_db *db, long *changes, const char *sql, const char *fmt, va_list ap)
+static int exec_locked_v(tsd_db *db, long *changes, const char *sql, const char *fmt, va_list ap)
 {
     sqlite3_stmt *st = NULL;
     int rc = -1;
-    pthread_mutex_lock(&db->wmu);
     if (sqlite3_prepare_v2(db->w, sql, -1, &st, NULL) != SQLITE_OK) goto out;
     bind_args(st, fmt, ap);
     rc = sqlite3_step(st) == SQLITE_DONE ? 0 : -1;
@@ -159,7 +211,24 @@ static int exec_wv(tsd_db *db, long *changes, const char *sql, const char *fmt, 
 out:
     if (rc != 0) log_err(db->w, sql);
     sqlite3_finalize(st);
+    return rc;
+}
+
+static int exec_wv(tsd_db *db, long *changes, const char *sql, const char *fmt, va_list ap)
+{
+    pthread_mutex_lock(&db->wmu);
+    int rc = exec_locked_v(db, changes, sql, fmt, ap);
     pthread_mutex_unlock(&db->wmu);
+    return rc;
+}
+
+/* exec_wv with wmu already held (inside a transaction). */
+static int exec_locked(tsd_db *db, const char *sql, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int rc = exec_locked_v(db, NULL, sql, fmt, ap);
+    va_end(ap);
     return rc;
 }
 
@@ -192,17 +261,32 @@ int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created, 
                   channels_json, status);
 }
 
+/* A session marked deleted keeps that status: a worker's late status write
+ * must not bring it back (purge_deleted removes it at the next start). */
 int tsd_db_session_status(tsd_db *db, long seq, const char *status, const char *error)
 {
-    return exec_w(db, "UPDATE sessions SET status=?, error=? WHERE seq=?", "ssi", status,
-                  error && error[0] ? error : NULL, seq);
+    return exec_w(db, "UPDATE sessions SET status=?, error=? WHERE seq=? AND status<>'deleted'",
+                  "ssi", status, error && error[0] ? error : NULL, seq);
 }
 
 int tsd_db_session_delete(tsd_db *db, long seq)
 {
-    int rc = exec_w(db, "DELETE FROM samples WHERE seq=?", "i", seq);
-    rc |= exec_w(db, "DELETE FROM snapshots WHERE seq=?", "i", seq);
-    rc |= exec_w(db, "DELETE FROM sessions WHERE seq=?", "i", seq);
+    /* one transaction (a crash midway left a session row without its rows),
+     * wmu held throughout so no other writer's statement falls inside it */
+    pthread_mutex_lock(&db->wmu);
+    int rc = sqlite3_exec(db->w, "BEGIN IMMEDIATE", NULL, NULL, NULL) == SQLITE_OK ? 0 : -1;
+    if (rc != 0) log_err(db->w, "BEGIN");
+    if (rc == 0) {
+        rc |= exec_locked(db, "DELETE FROM sessions WHERE seq=?", "i", seq);
+        rc |= exec_locked(db, "DELETE FROM samples WHERE seq=?", "i", seq);
+        rc |= exec_locked(db, "DELETE FROM snapshots WHERE seq=?", "i", seq);
+        if (sqlite3_exec(db->w, rc == 0 ? "COMMIT" : "ROLLBACK", NULL, NULL, NULL) != SQLITE_OK) {
+            log_err(db->w, rc == 0 ? "COMMIT" : "ROLLBACK");
+            sqlite3_exec(db->w, "ROLLBACK", NULL, NULL, NULL);
+            rc = -1;
+        }
+    }
+    pthread_mutex_unlock(&db->wmu);
     /* The deletes went through the write-ahead log page by page (a long run's
      * rows: hundreds of MB); copy them back and truncate the log, so a delete
      * does not leave the store larger than before it. The freed pages stay in
@@ -253,8 +337,10 @@ int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, co
         if (sqlite3_step(st) != SQLITE_DONE) goto rollback;
     }
     what = "update session";
-    if (sqlite3_prepare_v2(db->w, "UPDATE sessions SET t=?, idx=?, status=? WHERE seq=?", -1, &up,
-                           NULL) != SQLITE_OK)
+    if (sqlite3_prepare_v2(db->w,
+                           "UPDATE sessions SET t=?, idx=?, status=? WHERE seq=? AND "
+                           "status<>'deleted'",
+                           -1, &up, NULL) != SQLITE_OK)
         goto rollback;
     sqlite3_bind_double(up, 1, t);
     sqlite3_bind_int64(up, 2, idx);

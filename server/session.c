@@ -38,7 +38,13 @@
  *  (4) failed is sticky: ts_advance's error is sticky too, and a failed
  *      session accepts no step or run (409).
  *  (5) A deleted session's rows are removed by whoever releases it last
- *      from busy (the worker) or at once when idle (the handler).
+ *      from busy (the worker) or at once when idle (the handler); a busy one
+ *      is marked deleted in the store first, so the DELETE's answer holds
+ *      if the daemon dies before the worker gets there (db.c purges it at
+ *      the next start).
+ *  (6) A batch the store refuses (a full disk) rolls the state back to the
+ *      last stored row: the session is paused there, not failed, and goes
+ *      on once the store takes rows again (roll_back_to_store).
  */
 #define _GNU_SOURCE
 #include "session.h"
@@ -294,6 +300,7 @@ static void load_session(void *ud, long seq, const char *id, double created, con
     /* First: even a session that is not loaded keeps its seq, so a new
      * session can never be stored under it (nor clean up "its" rows). */
     if (seq >= srv->reg->next_seq) srv->reg->next_seq = seq + 1;
+    if (strcmp(status, "deleted") == 0) return; /* deleted while it ran: db.c removes it */
     json_error_t je;
     json_t *resolved = json_loads(config_json, 0, &je);
     ts_err err;
@@ -767,7 +774,10 @@ ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
     int idle = !s->busy;
     wake_locked(s);
     pthread_mutex_unlock(&s->mu);
-    if (idle) tsd_db_session_delete(srv->db, s->seq); /* invariant 5 */
+    if (idle)
+        tsd_db_session_delete(srv->db, s->seq); /* invariant 5 */
+    else /* its worker removes the rows; marked now, so the 204 holds through a crash */
+        tsd_db_session_status(srv->db, s->seq, "deleted", NULL);
     pthread_mutex_unlock(&s->build_mu);
     tsd_session_put(s);                               /* the registry's reference */
     return TS_OK;
@@ -968,6 +978,38 @@ static void release(tsd_session *s, tsd_status st, const char *error)
 
 /* ---- step -------------------------------------------------------------------- */
 
+/* The store refused a batch (a full disk, say), so d has run past the last
+ * stored row (invariant 2). Put d back at the state stored with that row so
+ * the session can go on from there once the store takes rows again: PAUSED,
+ * or FAILED when even that state cannot be read. err: what the caller says.
+ * Busy holder only. */
+static tsd_status roll_back_to_store(tsd_session *s, ts_err *err)
+{
+    void *blob = NULL;
+    size_t size = 0;
+    long sidx = -1;
+    pthread_mutex_lock(&s->mu);
+    long stored = s->index;
+    double t = s->t;
+    pthread_mutex_unlock(&s->mu);
+    ts_err e;
+    int ok = tsd_db_state(s->srv->db, s->seq, &blob, &size, &sidx) == 0 && blob &&
+             sidx == stored && ts_state_restore(s->m, s->d, blob, size, &e) == TS_OK;
+    free(blob);
+    if (!ok) {
+        ts_err_set(err, TS_ERR_IO, NULL,
+                   "cannot store samples, nor return to the last stored row (see the daemon "
+                   "log)");
+        return TSD_FAILED;
+    }
+    ts_err_set(err, TS_ERR_IO, NULL,
+               "cannot store samples (the store is full or failing: see the daemon log); the "
+               "session is back at its last stored row, t = %g s, and goes on from there once "
+               "the store takes rows again",
+               t);
+    return TSD_PAUSED;
+}
+
 typedef struct step_job_arg {
     tsd_session *s;
     double duration;
@@ -990,9 +1032,11 @@ static void step_job(void *arg)
     add_sim_time(s->srv, ts_time(s->d) - t0, tsd_now() - w0);
     atomic_fetch_add(&s->srv->metrics.steps, 1);
     if (rc == TS_ERR_CANCELLED && a.reason != ADV_IO) rc = TS_OK; /* deleted/shutdown: stop */
-    if (io && rc == TS_OK)
-        rc = ts_err_set(&err, TS_ERR_IO, NULL, "cannot store samples (see the daemon log)");
     tsd_status st = rc == TS_OK ? (at_end(s, ts_time(s->d)) ? TSD_DONE : TSD_PAUSED) : TSD_FAILED;
+    if (io && (rc == TS_OK || rc == TS_ERR_CANCELLED)) { /* invariant 6 */
+        st = roll_back_to_store(s, &err);
+        rc = TS_ERR_IO;
+    }
     double t = ts_time(s->d); /* while busy is held (invariant 1) */
     int cut = t < t0 + j->duration - 0.5 * ts_model_sample_period(s->m);
     release(s, st, rc == TS_OK ? NULL : err.msg);
@@ -1126,9 +1170,8 @@ static void run_slice(void *arg)
     int io = flush(s, "running") != 0 || a.reason == ADV_IO;
     add_sim_time(srv, ts_time(s->d) - t0, tsd_now() - w0);
     tsd_op_progress(srv, j->op, ts_time(s->d));
-    if (io) {
-        ts_err_set(&err, TS_ERR_IO, NULL, "cannot store samples (see the daemon log)");
-        run_finish(j, TSD_FAILED, TS_ERR_IO, &err);
+    if (io) { /* invariant 6 */
+        run_finish(j, roll_back_to_store(s, &err), TS_ERR_IO, &err);
         return;
     }
     if (rc != TS_OK && rc != TS_ERR_CANCELLED) {

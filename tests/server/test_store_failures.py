@@ -1,0 +1,143 @@
+"""What the store keeps when the daemon dies or the disk fills (session 16).
+
+Found by an audit of crash safety, each reproduced before the fix:
+- a session deleted while it ran (DELETE answered 204) came back after a
+  kill -9, with its rows: the rows were left for the worker to remove;
+- a run whose batch the store refused (a full disk) left the session
+  `failed` for good, though its stored rows and state were consistent:
+  now it is paused at its last stored row and goes on once there is room;
+- an engine map started while the store could not write it was answered 202,
+  ran in memory and was gone after a restart: now refused (500, nothing
+  started);
+- a store written by a newer build (PRAGMA user_version) was opened as if
+  it were this build's.
+The full-disk cases need a small tmpfs (root and mount rights); they are
+skipped where it cannot be mounted.
+"""
+import os
+import signal
+import sqlite3
+import subprocess
+import time
+
+import pytest
+import requests
+
+from conftest import TANKSIMD, Daemon, free_port, wait_op
+
+
+def test_delete_of_a_running_session_holds_through_kill_9(tmp_path):
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        sid = requests.post(d.url + "/v1/sessions", json={"preset": "bump-prescribed-coupled"}).json()["id"]
+        op = requests.post(f"{d.url}/v1/sessions/{sid}/run", json={"real_time_factor": 5}).json()
+        while requests.get(f"{d.url}/v1/operations/{op['id']}").json()["metadata"]["t"] < 0.5:
+            time.sleep(0.05)
+        assert requests.delete(f"{d.url}/v1/sessions/{sid}").status_code == 204
+        d.stop(sig=signal.SIGKILL)  # at once: before the worker removes the rows
+    finally:
+        d.stop()
+    d2 = Daemon(data_dir=str(tmp_path))
+    try:
+        assert requests.get(f"{d2.url}/v1/sessions/{sid}").status_code == 404
+        assert all(s["id"] != sid for s in requests.get(d2.url + "/v1/sessions").json()["sessions"])
+    finally:
+        d2.stop()
+    db = sqlite3.connect(str(tmp_path / "tanksimd.db"))
+    try:  # and nothing of it is left in the store
+        assert db.execute("SELECT count(*) FROM sessions").fetchone()[0] == 0
+        assert db.execute("SELECT count(*) FROM samples").fetchone()[0] == 0
+        assert db.execute("SELECT count(*) FROM snapshots").fetchone()[0] == 0
+    finally:
+        db.close()
+
+
+def test_store_from_a_newer_build_is_refused(tmp_path):
+    Daemon(data_dir=str(tmp_path)).stop()
+    db = sqlite3.connect(str(tmp_path / "tanksimd.db"))
+    assert db.execute("PRAGMA user_version").fetchone()[0] == 1
+    db.execute("PRAGMA user_version=99")
+    db.commit()
+    db.close()
+    p = subprocess.run([TANKSIMD, "--port", str(free_port()), "--data-dir", str(tmp_path)],
+                       capture_output=True, text=True, timeout=30)
+    assert p.returncode != 0
+    assert "newer tanksimd" in p.stderr and "schema 99" in p.stderr, p.stderr
+
+
+@pytest.fixture
+def small_store(tmp_path):
+    """A 1-MiB tmpfs as --data-dir (skipped where it cannot be mounted)."""
+    mnt = tmp_path / "small"
+    mnt.mkdir()
+    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mnt)],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        pytest.skip("cannot mount a tmpfs here: " + r.stderr.strip())
+    try:
+        yield mnt
+    finally:
+        subprocess.run(["umount", "-l", str(mnt)], capture_output=True)
+
+
+def fill(mnt):
+    """Take every free byte of the mount."""
+    fd = os.open(mnt / "filler", os.O_WRONLY | os.O_CREAT)
+    try:
+        while os.write(fd, b"\0" * 4096) > 0:
+            pass
+    except OSError:
+        pass
+    os.close(fd)
+
+
+def test_analysis_the_store_cannot_hold_is_not_started(small_store):
+    d = Daemon(data_dir=str(small_store))
+    try:
+        fill(small_store)
+        body = {"preset": "engine-map-conventional", "engine": {"fidelity": "map"}}
+        r = requests.post(d.url + "/v1/engine-map", json=body)
+        assert r.status_code == 500 and "not started" in r.json()["detail"], r.text
+        assert requests.get(d.url + "/v1/analyses").json()["analyses"] == []
+        assert requests.get(d.url + "/v1/health").status_code == 200  # still serving
+        os.remove(small_store / "filler")
+        r = requests.post(d.url + "/v1/engine-map", json=body)
+        assert r.status_code == 202, r.text
+        done = wait_op(d.url, r.json()["id"], timeout=60)
+        assert done["done"] and "error" not in done, done
+        assert [a["id"] for a in requests.get(d.url + "/v1/analyses").json()["analyses"]] == [done["id"]]
+    finally:
+        d.stop()
+
+
+def test_full_store_pauses_the_run_at_its_last_stored_row_then_it_goes_on(small_store):
+    d = Daemon(data_dir=str(small_store))
+    try:
+        # 20 kHz of 10 s: ~200,000 rows, far more than 1 MiB holds
+        r = requests.post(d.url + "/v1/sessions", json={"preset": "pointmass-prescribed",
+                                                         "run": {"duration": 10, "sample_rate": 20000}})
+        assert r.status_code == 201, r.text
+        sid = r.json()["id"]
+        op = requests.post(f"{d.url}/v1/sessions/{sid}/run", json={}).json()
+        final = wait_op(d.url, op["id"], timeout=60)
+        assert final["error"]["status"] == 500, final
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "paused", s
+        assert "last stored row" in s["error"], s
+        stored = requests.get(f"{d.url}/v1/sessions/{sid}/series",
+                              params={"channels": "vehicle.speed"}).json()
+        assert stored["count"] == s["index"] + 1 and stored["index"][-1] == s["index"]
+        t_stop = s["t"]
+        assert 0 < t_stop < 10
+        # room again: the session goes on from its last stored row, no gap
+        subprocess.run(["mount", "-o", "remount,size=64m", str(small_store)], check=True)
+        r = requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.01})
+        assert r.status_code == 200, r.text
+        assert r.json()["t"] == pytest.approx(t_stop + 0.01, abs=1e-9)
+        after = requests.get(f"{d.url}/v1/sessions/{sid}/series",
+                             params={"channels": "vehicle.speed", "from": t_stop - 0.001}).json()
+        idx = after["index"]
+        assert idx[0] <= s["index"] and idx[-1] == s["index"] + 200, (idx[:3], idx[-3:])
+        assert idx == list(range(idx[0], idx[-1] + 1))  # no gap, no duplicate
+    finally:
+        d.stop()
