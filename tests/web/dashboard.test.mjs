@@ -687,6 +687,34 @@ async function main() {
       assert(!/no channel/.test(await text(page, '#compare-info')), 'a session named as lacking vehicle.speed');
     });
 
+    await check('audit (session 16): the compare channel list is that of the ticked sessions, not of the session open', async () => {
+      const options = () => page.locator('#compare-channel option').evaluateAll((os) => os.map((o) => o.value));
+      for (const cb of await page.locator('#session-table input.cmp').all()) await cb.uncheck();
+      await page.locator('#session-table tbody tr', { hasText: 'pointmass-prescribed' }).first().locator('input.cmp').check();
+      /* only the point-mass run ticked: no track channel offered (the open vehicle session has them) */
+      await waitFor(async () => !(await options()).includes('track.tension.rear_roller'), 'the point-mass channels only', 5000);
+      assert((await options()).includes('vehicle.speed'), `options ${await options()}`);
+      await page.locator(`#session-table tr[data-id="${firstId}"] input.cmp`).check();
+      await waitFor(async () => (await options()).includes('track.tension.rear_roller'), 'the vehicle channels added', 5000);
+      for (const cb of await page.locator('#session-table input.cmp').all()) await cb.uncheck();
+    });
+
+    await check('audit (session 16): keyboard: Tab reaches a session row, Enter opens it, and focus stays on it through a list refresh', async () => {
+      const row = page.locator(`#session-table tr[data-id="${secondId}"]`);
+      await row.focus();
+      await page.keyboard.press('Enter');
+      await waitFor(() => page.evaluate((id) => window.tanksimDebug.state.session?.id === id, secondId), 'the session opened by Enter', 5000);
+      assert(/open session/.test((await row.getAttribute('aria-label')) || ''), 'the row has no accessible name');
+      await row.focus();
+      await page.evaluate(() => document.querySelectorAll('#session-table tbody tr').forEach((tr) => (tr.dataset.stale = '1')));
+      await page.click('#refresh-sessions');
+      await row.focus(); /* the click moved focus to the button: put it back, then poll */
+      await page.evaluate(() => document.querySelectorAll('#session-table tbody tr').forEach((tr) => (tr.dataset.stale = '1')));
+      await waitFor(async () => (await page.locator('#session-table tbody tr[data-stale]').count()) === 0, 'the list polled again', 8000);
+      const focused = await page.evaluate(() => document.activeElement?.closest?.('tr')?.dataset.id || document.activeElement?.tagName);
+      assert(focused === secondId, `focus after the list was redrawn: ${focused}`);
+    });
+
     await check('analyses: an engine map at mean-value fidelity is drawn (14 speeds, torque and power) with its rated point', async () => {
       await page.selectOption('#map-preset', 'engine-map-conventional');
       await page.selectOption('#map-fidelity', 'mean_value');
@@ -785,7 +813,9 @@ async function main() {
       await waitFor(async () => !(await page.locator('#tune-error').isHidden()), 'the tuning refused');
       const msg = await text(page, '#tune-error');
       assert(/at most 1 at once/.test(msg) && /already running/.test(msg), `not the daemon's message: "${msg}"`);
-      assert((await page.locator('#tune-progress').getAttribute('data-outcome')) === 'failed', 'tune progress not marked failed');
+      /* nothing ran: "refused", not "failed" (an audit found "failed" misleading) */
+      assert((await page.locator('#tune-progress').getAttribute('data-outcome')) === 'refused', 'tune progress not marked refused');
+      assert(/refused/.test(await text(page, '#tune-progress-text')), `progress "${await text(page, '#tune-progress-text')}"`);
       assert(await page.locator('#tune-run').isEnabled(), 'Run stays disabled after the refusal');
       assert(await page.locator('#map-cancel').isEnabled(), 'no Cancel while the map runs');
       await page.locator('#analyses-panel').scrollIntoViewIfNeeded();
@@ -809,7 +839,7 @@ async function main() {
       assert(rows.length === 4, `${rows.length} rows, want 4 (map, 2 tunings, cancelled map): ${JSON.stringify(rows)}`);
       assert(rows[0].del && rows[0].show, `a cancelled row cannot be shown or deleted: ${JSON.stringify(rows[0])}`);
       const tune = rows[1];
-      assert(tune.kind === 'tuning' && tune.status === 'done' && /bump-coupled-ivs5mph/.test(tune.asked) && /mass 50000,60000/.test(tune.asked), `the scheduled tuning's row ${JSON.stringify(tune)}`);
+      assert(tune.kind === 'tuning' && tune.status === 'done' && /bump-coupled-ivs5mph/.test(tune.asked) && /mass 50000, 60000/.test(tune.asked), `the scheduled tuning's row ${JSON.stringify(tune)}`);
       /* the refused tuning (429) cleared the tuning result: Show brings back the stored one */
       assert((await page.locator('#tune-result table').count()) === 0, 'a tuning result on screen before Show');
       await storedButton(page, tune.id, 'Show').click();

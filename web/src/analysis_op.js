@@ -6,7 +6,8 @@
  * operation polled is state.analyses[kind]; an answer that arrives after it
  * was replaced is dropped. A refusal (400, 429: one analysis at a time) or
  * a failed or interrupted (the daemon stopped) operation is shown in the
- * form's error box in the daemon's words.
+ * form's error box in the daemon's words; the progress bar says "refused"
+ * for the first (nothing ran), "failed" or "interrupted" for the others.
  * changed(kind, op) hears of each start and end (the stored-analyses list,
  * stored_analyses.js); showStored(op) puts a stored analysis the list draws
  * in this form on its progress bar, unless the form's own one runs.
@@ -39,7 +40,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
     if (outcome) el('progress').dataset.outcome = outcome;
     else delete el('progress').dataset.outcome;
     const parts = total ? `${done} / ${total} parts · ${pct} %` : '';
-    const end = ['cancelled', 'failed', 'interrupted'].includes(outcome) ? outcome : '';
+    const end = ['cancelled', 'failed', 'interrupted', 'refused'].includes(outcome) ? outcome : '';
     el('progress-text').textContent = [parts, end].filter(Boolean).join(' · ') || '—';
     const running = state.analyses[kind] !== null;
     el('run').disabled = running;
@@ -61,7 +62,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
       op = await begin();
     } catch (e) {
       showError(box, e);
-      render(null, 'failed');
+      render(null, 'refused'); /* nothing ran: the daemon's reason is in the error box */
       return;
     }
     const me = { id: op.id, follower: null };

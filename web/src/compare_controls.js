@@ -8,10 +8,36 @@ import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { channelsOf, fillChannelSelect } from './channels.js';
 
+/* Every channel of the sessions, each name once, in first-seen order. */
+function unionChannels(sessions) {
+  const chans = [];
+  for (const s of sessions) for (const c of channelsOf(s)) if (!chans.some((x) => x.name === c.name)) chans.push(c);
+  return chans;
+}
+
 export function initCompareControls(state, compare) {
+  let filled = 0; /* the latest channel-list refresh: one answering late is dropped */
+
+  /* The channel list: what the ticked sessions have (the open session's while
+     none is ticked), the channel chosen kept while it is still there. A ticked
+     accel run lists engine.speed even when a bump-course session is open. */
+  async function updateChannels() {
+    const me = ++filled;
+    let sessions;
+    try {
+      sessions = state.compare.size ? await Promise.all([...state.compare].map((id) => api.session(id))) : [state.session].filter(Boolean);
+    } catch {
+      return; /* a ticked session went: Compare says so when asked */
+    }
+    if (me !== filled) return;
+    const sel = $('compare-channel');
+    fillChannelSelect(sel, unionChannels(sessions), sel.value || state.picks[0]);
+  }
+
   function updateInfo() {
     const n = state.compare.size;
     $('compare-info').textContent = n ? `${n} session${n > 1 ? 's' : ''} ticked` : 'none ticked';
+    updateChannels();
   }
 
   async function onCompare() {
@@ -23,10 +49,8 @@ export function initCompareControls(state, compare) {
     }
     try {
       const sessions = await Promise.all([...state.compare].map((id) => api.session(id)));
-      const chans = [];
-      for (const s of sessions) for (const c of channelsOf(s)) if (!chans.some((x) => x.name === c.name)) chans.push(c);
       const sel = $('compare-channel');
-      if (!chans.some((c) => c.name === sel.value)) fillChannelSelect(sel, chans, state.picks[0]);
+      fillChannelSelect(sel, unionChannels(sessions), sel.value || state.picks[0]);
       const r = await compare.show(sessions, sel.value);
       const lacking = r.missing.map((s) => String(s.id).slice(0, 8)).join(', ');
       $('compare-info').textContent = `${r.series} session${r.series > 1 ? 's' : ''} overlaid${lacking ? ` · not plotted, no channel ${sel.value}: ${lacking}` : ''}`;
@@ -36,20 +60,12 @@ export function initCompareControls(state, compare) {
     }
   }
 
-  /* The channel list, filled from the open session until a comparison fills it. */
-  function updateChannels() {
-    if ($('compare-channel').options.length) return;
-    const chans = state.session ? channelsOf(state.session) : [];
-    fillChannelSelect($('compare-channel'), chans, state.picks[0]);
-  }
-
   /* Session `id` was closed: an overlay that shows it goes. */
   function close(id) {
     if (compare.shows(id)) compare.clear();
   }
 
   $('compare-btn').addEventListener('click', onCompare);
-  $('compare-channel').addEventListener('focus', updateChannels);
   updateInfo();
 
   return { updateInfo, updateChannels, close };

@@ -81,15 +81,29 @@ const stored = initStoredAnalyses({ engineMap, progress: (kind, op) => ({ engine
 const mapControls = initEngineMapControls(state, engineMap, { changed: stored.changed });
 const tuneControls = initTuneControls(state, { changed: stored.changed });
 
-async function boot() {
-  try {
-    const h = await api.health();
-    $('health').textContent = `tanksimd ${h.version || ''} · ${h.status || 'ok'}`;
-    $('health').className = 'health ok';
-  } catch (e) {
-    $('health').textContent = `daemon unreachable: ${e.message}`;
-    $('health').className = 'health bad';
+/* The health pill follows the daemon: asked again every HEALTH_MS while the
+ * page is visible (it said "ok" all the while a stopped daemon was away). */
+const HEALTH_MS = 5000;
+let healthTimer = 0;
+async function checkHealth() {
+  clearTimeout(healthTimer);
+  if (!document.hidden) {
+    try {
+      const h = await api.health();
+      $('health').textContent = `tanksimd ${h.version || ''} · ${h.status || 'ok'}`;
+      $('health').className = 'health ok';
+    } catch (e) {
+      /* a draining daemon answers 503 with its status: say that rather than "unreachable" */
+      const stopping = e.status === 503;
+      $('health').textContent = stopping ? `tanksimd stopping: ${e.message}` : `daemon unreachable: ${e.message}`;
+      $('health').className = 'health bad';
+    }
   }
+  healthTimer = setTimeout(checkHealth, HEALTH_MS);
+}
+
+async function boot() {
+  await checkHealth();
   try {
     const { schema, presets } = await form.load();
     state.schema = schema;

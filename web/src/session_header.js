@@ -20,8 +20,9 @@ export function initSessionHeader(state) {
     st.className = `pill st-${status || 'none'}`;
     st.textContent = status;
     const dur = s?.config?.run?.duration;
-    const fid = s?.config?.track?.fidelity;
     const kind = s?.config?.run?.kind;
+    /* the track only exists in the multibody vehicle (vehicle, coupled runs) */
+    const fid = kind === 'vehicle' || kind === 'coupled' ? s?.config?.track?.fidelity : undefined;
     $('session-meta').textContent = open
       ? [
           `preset ${s.preset || '—'}`,

@@ -44,6 +44,9 @@ export function initSessionList(state, { view, ticksChanged }) {
     }
     $('sessions-empty').textContent = listMessage(null);
     delete $('sessions-empty').dataset.problem;
+    /* the redraw replaces the rows: a keyboard user's focus goes back where it was */
+    const had = tbody.contains(document.activeElement) ? document.activeElement : null;
+    const focus = had && { id: had.closest('tr')?.dataset.id, cmp: had.classList.contains('cmp') };
     tbody.replaceChildren();
     for (const s of sessions) {
       const tr = document.createElement('tr');
@@ -54,6 +57,7 @@ export function initSessionList(state, { view, ticksChanged }) {
       cb.className = 'cmp';
       cb.checked = state.compare.has(s.id);
       cb.title = 'include in Compare';
+      cb.setAttribute('aria-label', `include session ${String(s.id).slice(0, 8)} in Compare`);
       cb.addEventListener('click', (ev) => ev.stopPropagation());
       cb.addEventListener('change', () => {
         if (cb.checked) state.compare.add(s.id);
@@ -69,7 +73,16 @@ export function initSessionList(state, { view, ticksChanged }) {
       ];
       cells.forEach((c, i) => tr.append(cell(c, i === 4 ? 'num' : undefined)));
       tr.addEventListener('click', () => view.open(s.id));
+      /* keyboard: the row is a control of its own (Tab to it, Enter or Space opens) */
+      tr.tabIndex = 0;
+      tr.setAttribute('aria-label', `open session ${String(s.id).slice(0, 8)}, ${s.preset || 'no preset'}, ${s.status}`);
+      tr.addEventListener('keydown', (ev) => {
+        if (ev.target !== tr || (ev.key !== 'Enter' && ev.key !== ' ')) return;
+        ev.preventDefault();
+        view.open(s.id);
+      });
       tbody.append(tr);
+      if (focus && focus.id === s.id) (focus.cmp ? cb : tr).focus();
     }
     $('sessions-empty').hidden = sessions.length > 0;
     const ticked = state.compare.size;

@@ -25,7 +25,7 @@ function asked(request) {
   const body = request?.body || {};
   const parts = [body.preset || 'config without preset'];
   if (body.engine?.fidelity) parts.push(`${body.engine.fidelity} engine`);
-  for (const [k, v] of Object.entries(request || {})) if (k.startsWith('schedule_')) parts.push(`schedule over ${k.slice(9)} ${v}`);
+  for (const [k, v] of Object.entries(request || {})) if (k.startsWith('schedule_')) parts.push(`schedule over ${k.slice(9)} ${String(v).replaceAll(',', ', ')}`);
   return parts.join(' · ');
 }
 
@@ -98,7 +98,7 @@ export function initStoredAnalyses({ engineMap, progress }) {
     const time = document.createElement('time');
     time.dateTime = created.toISOString();
     time.textContent = created.toLocaleString(undefined, { dateStyle: 'short', timeStyle: 'medium' });
-    const what = cell(asked(a.request));
+    const what = cell(asked(a.request), 'asked');
     what.title = JSON.stringify(a.request);
     const kind = KIND_LABEL[a.kind] || a.kind;
     const show = button('Show', `show the ${kind} of ${time.textContent}`, () => onShow(a));

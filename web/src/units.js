@@ -74,11 +74,15 @@ export function toDisplay(values, { factor }) {
   return factor === 1 ? values : values.map((v) => (v === null ? null : v * factor));
 }
 
-/** Format a number compactly for tables and labels. */
+/** Format a number compactly for tables and labels: `digits` significant
+ * digits, but whole units kept from 10^digits up to 1e9 (a tension of
+ * 146,613 N reads "146613", not "1.47e+5"), exponential beyond that range
+ * and below 1e-3 with the same significant digits. */
 export function fmt(v, digits = 4) {
   if (v === null || v === undefined || Number.isNaN(v)) return '—';
   if (v === 0) return '0';
   const a = Math.abs(v);
-  if (a >= 1e5 || a < 1e-3) return v.toExponential(2);
+  if (a >= 1e9 || a < 1e-3) return v.toExponential(digits - 1).replace(/\.?0+e/, 'e').replace('e+', 'e');
+  if (a >= 10 ** digits) return Math.round(v).toString();
   return Number(v.toPrecision(digits)).toString();
 }
