@@ -60,11 +60,11 @@ int tsc_cmd_render(int argc, char **argv)
             return TSC_EXIT_USAGE;
         }
     }
-    if (text_s) snprintf(v.text, sizeof v.text, "%s", text_s);
     v.antialias = antialias;
     v.overlay = !no_overlay;
     ts_err err;
-    if (tsr_view_check(&v, &err) != TS_OK) {
+    if ((text_s && tsr_view_set_text(&v, text_s, &err) != TS_OK) ||
+        tsr_view_check(&v, &err) != TS_OK) {
         fprintf(stderr, "tanksim: render: %s: %s\n", err.pointer, err.msg);
         return TSC_EXIT_USAGE;
     }

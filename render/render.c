@@ -139,6 +139,16 @@ ts_rc tsr_view_check(const tsr_view *v, ts_err *err)
     return TS_OK;
 }
 
+ts_rc tsr_view_set_text(tsr_view *v, const char *text, ts_err *err)
+{
+    size_t n = strlen(text);
+    if (n >= TSR_TEXT_LEN)
+        return ts_err_set(err, TS_ERR_RANGE, "/text", "at most %d characters, got %zu",
+                          TSR_TEXT_LEN - 1, n);
+    memcpy(v->text, text, n + 1);
+    return TS_OK;
+}
+
 int tsr_view_kind_parse(const char *name)
 {
     if (!name) return -1;

@@ -113,6 +113,10 @@ void tsr_view_default(tsr_view *v);
 /* TS_OK, or TS_ERR_RANGE / TS_ERR_PARAM naming the bad field ("/width", ...). */
 ts_rc tsr_view_check(const tsr_view *v, ts_err *err);
 
+/* Copy text into v->text: TS_OK, or TS_ERR_RANGE naming "/text" when it does
+ * not fit (it is not cut: a cut text would pass tsr_view_check's length). */
+ts_rc tsr_view_set_text(tsr_view *v, const char *text, ts_err *err);
+
 /* "side" / "three_quarter" -> tsr_view_kind, -1 if unknown; and back (never NULL). */
 int tsr_view_kind_parse(const char *name);
 const char *tsr_view_kind_name(int kind);

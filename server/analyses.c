@@ -40,8 +40,6 @@ static const char *kind_name(tsd_analysis_kind k)
     return k == TSD_ANALYSIS_ENGINE_MAP ? "engine_map" : "tune";
 }
 
-/* Write the operation document doc to the store (a failure is logged by db.c:
- * the result stays in memory until the daemon stops). */
 /* Store an analysis' operation document: 0, or -1 when the store refused it
  * (db.c logged why) or memory ran out. */
 static int put_doc(tsd_server *srv, json_t *doc)
@@ -185,7 +183,7 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
                            : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         char id[64]; /* the op may be freed once finished */
         snprintf(id, sizeof id, "%s", tsd_op_id(op));
-        finish(srv, op, NULL, tsd_op_error_json(err));
+        tsd_op_finish(srv, op, NULL, tsd_op_error_json(err)); /* not finish(): nothing to store */
         tsd_op_forget(srv, id);
         free(j);
         json_decref(*opdoc);

@@ -101,6 +101,20 @@ static int migrate(sqlite3 *c, char *err, size_t errlen)
     return 0;
 }
 
+/* Run a script of statements (a whole transaction, BEGIN ... COMMIT, or a
+ * single statement) on the writer connection w, rolled back if one fails: 0,
+ * or -1 logged under what. The caller holds wmu, or is tsd_db_open (no
+ * other thread yet). */
+static int exec_script(sqlite3 *w, const char *sql, const char *what)
+{
+    char *msg = NULL;
+    if (sqlite3_exec(w, sql, NULL, NULL, &msg) == SQLITE_OK) return 0;
+    fprintf(stderr, "tanksimd: sqlite: %s: %s\n", what, msg ? msg : sqlite3_errmsg(w));
+    sqlite3_free(msg);
+    sqlite3_exec(w, "ROLLBACK", NULL, NULL, NULL);
+    return -1;
+}
+
 #define TSD_STR_(x) #x
 #define TSD_STR(x)  TSD_STR_(x)
 
@@ -148,15 +162,9 @@ tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
         goto fail;
     /* best effort: a full disk must not keep the daemon from serving what
      * is stored (a session still marked deleted is not loaded: session.c) */
-    if (sqlite3_exec(db->w, purge_deleted, NULL, NULL, &msg) != SQLITE_OK ||
-        sqlite3_exec(db->w, "PRAGMA user_version=" TSD_STR(SCHEMA_VERSION), NULL, NULL, &msg) !=
-            SQLITE_OK) {
-        fprintf(stderr, "tanksimd: %s: %s (sessions deleted during a run are removed at a later "
-                        "start)\n", path, msg ? msg : "cannot write the store");
-        sqlite3_free(msg);
-        msg = NULL;
-        sqlite3_exec(db->w, "ROLLBACK", NULL, NULL, NULL);
-    }
+    exec_script(db->w, purge_deleted, "removing sessions deleted during a run (next start)");
+    exec_script(db->w, "PRAGMA user_version=" TSD_STR(SCHEMA_VERSION),
+                "setting the schema version");
     db->r = open_conn(path, err, errlen);
     if (!db->r) goto fail;
     pthread_mutex_init(&db->wmu, NULL);
@@ -200,53 +208,22 @@ static void bind_args(sqlite3_stmt *st, const char *fmt, va_list ap)
 
 /* Run one statement with the parameters of fmt (bind_args) on the writer
  * connection; the rows it changed into *changes when that is not NULL. */
-static int exec_locked_v(tsd_db *db, long *changes, const char *sql, const char *fmt, va_list ap)
+static int exec_w(tsd_db *db, long *changes, const char *sql, const char *fmt, ...)
 {
     sqlite3_stmt *st = NULL;
     int rc = -1;
+    pthread_mutex_lock(&db->wmu);
     if (sqlite3_prepare_v2(db->w, sql, -1, &st, NULL) != SQLITE_OK) goto out;
+    va_list ap;
+    va_start(ap, fmt);
     bind_args(st, fmt, ap);
+    va_end(ap);
     rc = sqlite3_step(st) == SQLITE_DONE ? 0 : -1;
     if (rc == 0 && changes) *changes = sqlite3_changes(db->w);
 out:
     if (rc != 0) log_err(db->w, sql);
     sqlite3_finalize(st);
-    return rc;
-}
-
-static int exec_wv(tsd_db *db, long *changes, const char *sql, const char *fmt, va_list ap)
-{
-    pthread_mutex_lock(&db->wmu);
-    int rc = exec_locked_v(db, changes, sql, fmt, ap);
     pthread_mutex_unlock(&db->wmu);
-    return rc;
-}
-
-/* exec_wv with wmu already held (inside a transaction). */
-static int exec_locked(tsd_db *db, const char *sql, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int rc = exec_locked_v(db, NULL, sql, fmt, ap);
-    va_end(ap);
-    return rc;
-}
-
-static int exec_w(tsd_db *db, const char *sql, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int rc = exec_wv(db, NULL, sql, fmt, ap);
-    va_end(ap);
-    return rc;
-}
-
-static int exec_w_changes(tsd_db *db, long *changes, const char *sql, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int rc = exec_wv(db, changes, sql, fmt, ap);
-    va_end(ap);
     return rc;
 }
 
@@ -254,38 +231,33 @@ int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created, 
                           const char *config_json, int nchannel, const char *channels_json,
                           const char *status)
 {
-    return exec_w(db,
+    return exec_w(db, NULL,
                   "INSERT INTO sessions(seq,id,created,preset,config,nchannel,channels,status,t,"
                   "idx,error) VALUES(?,?,?,?,?,?,?,?,0,0,NULL)",
-                  "isdssiss", seq, id, created, preset, config_json, (long)nchannel,
-                  channels_json, status);
+                  "isdssiss", seq, id, created, preset, config_json, (long)nchannel, channels_json,
+                  status);
 }
 
 /* A session marked deleted keeps that status: a worker's late status write
  * must not bring it back (purge_deleted removes it at the next start). */
 int tsd_db_session_status(tsd_db *db, long seq, const char *status, const char *error)
 {
-    return exec_w(db, "UPDATE sessions SET status=?, error=? WHERE seq=? AND status<>'deleted'",
-                  "ssi", status, error && error[0] ? error : NULL, seq);
+    return exec_w(db, NULL,
+                  "UPDATE sessions SET status=?, error=? WHERE seq=? AND status<>'deleted'", "ssi",
+                  status, error && error[0] ? error : NULL, seq);
 }
 
 int tsd_db_session_delete(tsd_db *db, long seq)
 {
-    /* one transaction (a crash midway left a session row without its rows),
-     * wmu held throughout so no other writer's statement falls inside it */
+    /* one transaction: a crash between separate DELETEs left a session row
+     * without its rows (a seq is an integer: printing it into SQL is safe) */
+    char sql[256];
+    snprintf(sql, sizeof sql,
+             "BEGIN IMMEDIATE; DELETE FROM sessions WHERE seq=%ld; DELETE FROM samples WHERE "
+             "seq=%ld; DELETE FROM snapshots WHERE seq=%ld; COMMIT;",
+             seq, seq, seq);
     pthread_mutex_lock(&db->wmu);
-    int rc = sqlite3_exec(db->w, "BEGIN IMMEDIATE", NULL, NULL, NULL) == SQLITE_OK ? 0 : -1;
-    if (rc != 0) log_err(db->w, "BEGIN");
-    if (rc == 0) {
-        rc |= exec_locked(db, "DELETE FROM sessions WHERE seq=?", "i", seq);
-        rc |= exec_locked(db, "DELETE FROM samples WHERE seq=?", "i", seq);
-        rc |= exec_locked(db, "DELETE FROM snapshots WHERE seq=?", "i", seq);
-        if (sqlite3_exec(db->w, rc == 0 ? "COMMIT" : "ROLLBACK", NULL, NULL, NULL) != SQLITE_OK) {
-            log_err(db->w, rc == 0 ? "COMMIT" : "ROLLBACK");
-            sqlite3_exec(db->w, "ROLLBACK", NULL, NULL, NULL);
-            rc = -1;
-        }
-    }
+    int rc = exec_script(db->w, sql, "delete session");
     pthread_mutex_unlock(&db->wmu);
     /* The deletes went through the write-ahead log page by page (a long run's
      * rows: hundreds of MB); copy them back and truncate the log, so a delete
@@ -300,8 +272,15 @@ int tsd_db_session_delete(tsd_db *db, long seq)
 
 int tsd_db_truncate(tsd_db *db, long seq, long idx)
 {
-    int rc = exec_w(db, "DELETE FROM samples WHERE seq=? AND idx>?", "ii", seq, idx);
-    return rc | exec_w(db, "DELETE FROM snapshots WHERE seq=? AND idx>?", "ii", seq, idx);
+    char sql[256]; /* integers only: printing them into SQL is safe */
+    snprintf(sql, sizeof sql,
+             "BEGIN IMMEDIATE; DELETE FROM samples WHERE seq=%ld AND idx>%ld; DELETE FROM "
+             "snapshots WHERE seq=%ld AND idx>%ld; COMMIT;",
+             seq, idx, seq, idx);
+    pthread_mutex_lock(&db->wmu);
+    int rc = exec_script(db->w, sql, "truncate session");
+    pthread_mutex_unlock(&db->wmu);
+    return rc;
 }
 
 int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, const double *rows,
@@ -453,11 +432,11 @@ int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud)
 int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double created, int done,
                         int error_code, const char *request_json, const char *document_json)
 {
-    return exec_w(db,
-                  "INSERT OR REPLACE INTO analyses(id,kind,created,done,error_code,request,document)"
-                  " VALUES(?,?,?,?,?,?,?)",
-                  "ssdiiss", id, kind, created, (long)done, (long)error_code, request_json,
-                  document_json);
+    return exec_w(
+        db, NULL,
+        "INSERT OR REPLACE INTO analyses(id,kind,created,done,error_code,request,document)"
+        " VALUES(?,?,?,?,?,?,?)",
+        "ssdiiss", id, kind, created, (long)done, (long)error_code, request_json, document_json);
 }
 
 int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc)
@@ -485,7 +464,7 @@ int tsd_db_analysis_count(tsd_db *db, long *n)
 int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted)
 {
     long n = 0;
-    int rc = exec_w_changes(db, &n, "DELETE FROM analyses WHERE id=?", "s", id);
+    int rc = exec_w(db, &n, "DELETE FROM analyses WHERE id=?", "s", id);
     *deleted = rc == 0 && n > 0;
     return rc;
 }

@@ -754,16 +754,8 @@ static int parse_view(tsd_request *r, tsr_view *v, enum MHD_Result *ret)
         }
     }
     const char *text = tsd_arg(r, "text");
-    if (text && strlen(text) >= sizeof v->text) { /* not cut to fit: tsr_view_check's limit */
-        char what[64];
-        snprintf(what, sizeof what, "at most %d printable ASCII characters expected",
-                 (int)sizeof v->text - 1);
-        *ret = bad_param(r, "text", what, text);
-        return -1;
-    }
-    if (text) snprintf(v->text, sizeof v->text, "%s", text);
     ts_err e;
-    if (tsr_view_check(v, &e) != TS_OK) {
+    if ((text && tsr_view_set_text(v, text, &e) != TS_OK) || tsr_view_check(v, &e) != TS_OK) {
         *ret = tsd_reply_err(r, &e, NULL);
         return -1;
     }
@@ -1122,33 +1114,27 @@ static int in_list(const char *list, const char *name)
     return 0;
 }
 
+/* Why the walk stops at key (query_iter). */
+static enum MHD_Result query_stop(query_check *c, const char *key, int why)
+{
+    snprintf(c->bad, sizeof c->bad, "%s", key);
+    c->why = why;
+    return MHD_NO;
+}
+
 static enum MHD_Result query_iter(void *cls, enum MHD_ValueKind kind, const char *key,
                                   size_t key_size, const char *value, size_t value_size)
 {
     (void)kind;
     query_check *c = cls;
     if (!key[0] && (!value || !value[0]) && key_size == 0) return MHD_YES; /* a stray '&' */
-    if (!key[0] || strlen(key) >= sizeof c->bad || !in_list(c->accepted, key)) {
-        snprintf(c->bad, sizeof c->bad, "%s", key);
-        c->why = QUERY_UNKNOWN;
-        return MHD_NO;
-    }
-    if (key_size != strlen(key) || (value && value_size != strlen(value))) {
-        snprintf(c->bad, sizeof c->bad, "%s", key);
-        c->why = QUERY_NUL;
-        return MHD_NO;
-    }
-    if (!value || !value[0]) {
-        snprintf(c->bad, sizeof c->bad, "%s", key);
-        c->why = QUERY_EMPTY;
-        return MHD_NO;
-    }
+    if (!key[0] || strlen(key) >= sizeof c->bad || !in_list(c->accepted, key))
+        return query_stop(c, key, QUERY_UNKNOWN);
+    if (key_size != strlen(key) || (value && value_size != strlen(value)))
+        return query_stop(c, key, QUERY_NUL);
+    if (!value || !value[0]) return query_stop(c, key, QUERY_EMPTY);
     for (int i = 0; i < c->nseen; i++)
-        if (strcmp(c->seen[i], key) == 0) {
-            snprintf(c->bad, sizeof c->bad, "%s", key);
-            c->why = QUERY_REPEATED;
-            return MHD_NO;
-        }
+        if (strcmp(c->seen[i], key) == 0) return query_stop(c, key, QUERY_REPEATED);
     if (c->nseen < (int)(sizeof c->seen / sizeof c->seen[0]))
         snprintf(c->seen[c->nseen++], sizeof c->seen[0], "%s", key);
     return MHD_YES;

@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 
 #include "constants.h"
+#include "param.h"
 #define PI TS_PI
 
 struct ts_terrain {
@@ -103,12 +104,9 @@ static char *slurp(const char *path, const char *pointer, ts_err *err)
 }
 
 /* Ranges of what a terrain file may hold (input checks, not physics): a
- * course's bumps as the inline /terrain/bump_* fields (cfg_vehicle.c), a
- * profile's points within 10,000 km along and 10 km up or down. */
-#define COURSE_START_MAX  1e5
-#define COURSE_HEIGHT_MAX 2.0
-#define COURSE_LENGTH_MIN 0.01
-#define COURSE_LENGTH_MAX 1000.0
+ * course's bumps those of the inline /terrain/bump_* fields (their rows in
+ * the parameter table, cfg_vehicle.c), a profile's points within 10,000 km
+ * along and 10 km up or down. */
 #define PROFILE_X_MAX     1e7
 #define PROFILE_Z_MAX     1e4
 #define LINE_MAX_CHARS    256
@@ -172,10 +170,12 @@ ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, d
         if (!*s) continue;
         double v[3];
         if (strncmp(s, "length", 6) == 0) {
-            if (read_numbers(s + 6, v, 1) != 0 || !(v[0] > 0 && v[0] <= COURSE_START_MAX))
+            if (read_numbers(s + 6, v, 1) != 0 || !(v[0] > 0) ||
+                ts_param_check_number(ts_param_find("/terrain/bump_start"), v[0], NULL) != TS_OK)
                 return ts_err_set(err, TS_ERR_PARAM, ptr,
-                                  "%s: line %d: want 'length METRES', METRES in (0, %g]", ptr, line,
-                                  COURSE_START_MAX);
+                                  "%s: line %d: want 'length METRES', METRES > 0 and within "
+                                  "/terrain/bump_start's range",
+                                  ptr, line);
             *length = v[0];
             continue;
         }
@@ -183,13 +183,15 @@ ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, d
             return ts_err_set(err, TS_ERR_PARAM, ptr,
                               "%s: line %d: want three numbers 'start_m height_m length_m'", ptr,
                               line);
-        if (!(v[0] >= 0 && v[0] <= COURSE_START_MAX) || fabs(v[1]) > COURSE_HEIGHT_MAX ||
-            !(v[2] >= COURSE_LENGTH_MIN && v[2] <= COURSE_LENGTH_MAX))
-            return ts_err_set(err, TS_ERR_PARAM, ptr,
-                              "%s: line %d: start_m in [0, %g], height_m in [%g, %g] and "
-                              "length_m in [%g, %g] expected (those of /terrain/bump_*)",
-                              ptr, line, COURSE_START_MAX, -COURSE_HEIGHT_MAX, COURSE_HEIGHT_MAX,
-                              COURSE_LENGTH_MIN, COURSE_LENGTH_MAX);
+        /* the ranges of the inline fields, from their rows in the parameter table */
+        static const char *const field[3] = {"/terrain/bump_start", "/terrain/bump_height",
+                                             "/terrain/bump_length"};
+        for (int k = 0; k < 3; k++) {
+            ts_err range;
+            if (ts_param_check_number(ts_param_find(field[k]), v[k], &range) != TS_OK)
+                return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: line %d: %s", ptr, line,
+                                  range.msg);
+        }
         if (*n >= cap)
             return ts_err_set(err, TS_ERR_LIMIT, ptr, "%s: more than %d bumps", ptr, cap);
         if (*n > 0 && v[0] < start[*n - 1] + len[*n - 1])

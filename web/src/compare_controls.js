@@ -18,20 +18,27 @@ function unionChannels(sessions) {
 export function initCompareControls(state, compare) {
   let filled = 0; /* the latest channel-list refresh: one answering late is dropped */
 
-  /* The channel list: what the ticked sessions have (the open session's while
-     none is ticked), the channel chosen kept while it is still there. A ticked
-     accel run lists engine.speed even when a bump-course session is open. */
+  const ticked = () => Promise.all([...state.compare].map((id) => api.session(id)));
+
+  /* List the channels the sessions have, the one chosen kept while it is still there; returns the choice. */
+  function listChannels(sessions) {
+    const sel = $('compare-channel');
+    fillChannelSelect(sel, unionChannels(sessions), sel.value || state.picks[0]);
+    return sel.value;
+  }
+
+  /* The channel list follows the ticked sessions (the open session while none
+     is ticked): a ticked accel run lists engine.speed even when a bump-course
+     session is open. */
   async function updateChannels() {
     const me = ++filled;
     let sessions;
     try {
-      sessions = state.compare.size ? await Promise.all([...state.compare].map((id) => api.session(id))) : [state.session].filter(Boolean);
+      sessions = state.compare.size ? await ticked() : [state.session].filter(Boolean);
     } catch {
       return; /* a ticked session went: Compare says so when asked */
     }
-    if (me !== filled) return;
-    const sel = $('compare-channel');
-    fillChannelSelect(sel, unionChannels(sessions), sel.value || state.picks[0]);
+    if (me === filled) listChannels(sessions);
   }
 
   function updateInfo() {
@@ -48,12 +55,11 @@ export function initCompareControls(state, compare) {
       return;
     }
     try {
-      const sessions = await Promise.all([...state.compare].map((id) => api.session(id)));
-      const sel = $('compare-channel');
-      fillChannelSelect(sel, unionChannels(sessions), sel.value || state.picks[0]);
-      const r = await compare.show(sessions, sel.value);
+      const sessions = await ticked();
+      const channel = listChannels(sessions);
+      const r = await compare.show(sessions, channel);
       const lacking = r.missing.map((s) => String(s.id).slice(0, 8)).join(', ');
-      $('compare-info').textContent = `${r.series} session${r.series > 1 ? 's' : ''} overlaid${lacking ? ` · not plotted, no channel ${sel.value}: ${lacking}` : ''}`;
+      $('compare-info').textContent = `${r.series} session${r.series > 1 ? 's' : ''} overlaid${lacking ? ` · not plotted, no channel ${channel}: ${lacking}` : ''}`;
     } catch (e) {
       compare.clear(); /* an overlay of an earlier request would pass for this one */
       showError(box, e);

@@ -20,8 +20,7 @@ export class FrameViewer {
     this.url = null;
     this.pending = null;
     this.wanted = null; /* {t, exaggeration} of the next frame to load */
-    this.available = null; /* null unknown, true frames load, false placeholder */
-    this.retry = false; /* the last load failed for a reason that may pass (showPlaceholder) */
+    this.available = null; /* null unknown (or failed for a reason that may pass), true frames load, false none here */
     /* the factor, or undefined (its error shown next to the input) when not a number in the API's range */
     const ex = els.exaggeration;
     this.exaggeration = numberField(ex, { name: 'exaggeration', min: Number(ex.min), max: Number(ex.max) }, els.exaggerationError);
@@ -35,7 +34,6 @@ export class FrameViewer {
     this.session = session;
     this.pause();
     this.available = null;
-    this.retry = false;
     this.updateRange(session.t || 0);
     this.request(session.t || 0);
   }
@@ -66,12 +64,12 @@ export class FrameViewer {
     s.max = String(Math.max(tMax, 0));
     s.step = 'any';
     if (atEnd && !this.playing) {
-      /* follow the newest sample; fetch its frame only when frames exist */
+      /* follow the newest sample; fetch its frame unless the session has none */
       s.value = s.max;
       this.els.time.textContent = `t = ${fmt(Number(s.max))} s`;
       /* follow the run with at most one frame a second (rendering shares the
        * simulation workers); the trailing call fetches the final frame */
-      if (this.available || this.retry) {
+      if (this.available !== false) {
         clearTimeout(this.followTimer);
         const wait = Math.max(0, 1000 - (Date.now() - (this.lastFollow || 0)));
         this.followTimer = setTimeout(() => {
@@ -127,7 +125,6 @@ export class FrameViewer {
         this.url = url;
         img.dataset.t = String(t);
         this.available = true;
-        this.retry = false;
         img.hidden = false;
         this.els.placeholder.hidden = true;
         this.els.status.textContent = `frame at t = ${fmt(t)} s`;
@@ -141,10 +138,9 @@ export class FrameViewer {
 
   showPlaceholder(e) {
     const unavailable = e instanceof ApiError && [404, 422, 501].includes(e.status);
-    this.available = false;
-    /* a daemon that went away (or a 5xx) may come back: following the run
-     * asks again (at most once a second), and the frame returns with it */
-    this.retry = !unavailable;
+    /* a daemon that went away (or a 5xx) may come back: unknown again, so
+     * following the run asks again (at most once a second) */
+    this.available = unavailable ? false : null;
     this.els.img.hidden = true;
     this.els.placeholder.hidden = false;
     this.els.placeholder.textContent = unavailable
