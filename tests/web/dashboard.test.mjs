@@ -453,6 +453,20 @@ async function main() {
       await page.locator('#step-duration').fill('1');
     });
 
+    await check("session 17: a step duration the daemon refuses (off the sample grid) is marked on the field with the daemon's words", async () => {
+      const rate = await page.evaluate(() => window.tanksimDebug.state.session.config.run.sample_rate);
+      const t0 = await page.evaluate(() => window.tanksimDebug.state.session.t);
+      await page.locator('#step-duration').fill(String(1.5 / rate)); /* a sample and a half */
+      await page.click('#step-btn');
+      await waitFor(async () => !(await page.locator('#session-error').isHidden()), 'the daemon\'s error', 5000);
+      const msg = await text(page, '#session-error');
+      assert(msg.includes('/duration'), `not the daemon's message: "${msg}"`);
+      assert((await page.locator('#step-duration').getAttribute('aria-invalid')) === 'true', 'the step duration input is not marked');
+      assert((await page.evaluate(() => window.tanksimDebug.state.session.t)) === t0, 'the session time moved');
+      await page.locator('#step-duration').fill('1'); /* an edit takes the mark away */
+      assert((await page.locator('#step-duration').getAttribute('aria-invalid')) === 'false', 'the mark stayed after an edit');
+    });
+
     await check('run to end: progress reaches 100 %, plot data grows over the stream', async () => {
       const dur = await page.evaluate(() => window.tanksimDebug.state.session.config.run.duration);
       const rate = await page.evaluate(() => window.tanksimDebug.state.session.config.run.sample_rate);
@@ -490,6 +504,8 @@ async function main() {
       await page.click('.seg[data-unit="m/s"] button:text-is("mph")');
       const mph = await speedChart();
       assert(si.label === 'm/s' && mph.label === 'mph', `labels ${si.label} ${mph.label}`);
+      const pressed = await page.evaluate(() => [...document.querySelectorAll('.seg[data-unit="m/s"] button')].map((b) => `${b.textContent}:${b.getAttribute('aria-pressed')}`).join(' '));
+      assert(pressed === 'mph:true m/s:false km/h:false', `session 17: the toggle's pressed state: ${pressed}`);
       assert(Math.abs(mph.last / si.last - 1 / 0.44704) < 1e-9, `mph/m/s ratio ${mph.last / si.last}`);
     });
 
@@ -592,6 +608,7 @@ async function main() {
       await waitFor(async () => !(await page.locator('#fft-error').isHidden()), 'the FFT error');
       const msg = await text(page, '#fft-error');
       assert(msg.includes('/to') && /at least from/.test(msg), `not the daemon's message: "${msg}"`);
+      assert((await page.locator('#fft-to').getAttribute('aria-invalid')) === 'true', 'session 17: the field the daemon named (to) is not marked');
       assert((await page.locator('#fft-plot .uplot').count()) === 0, 'the old spectrum is still shown after the failed request');
       await page.fill('#fft-from', '');
       await page.fill('#fft-to', '');

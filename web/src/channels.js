@@ -69,10 +69,14 @@ export function initChannelPicker(state, plots) {
       cap.className = 'muted';
       cap.textContent = { 'm/s': 'speed', 'rad/s': 'rotation', rad: 'angle', W: 'power', Pa: 'pressure' }[u] || u;
       group.append(cap);
+      group.setAttribute('role', 'group');
+      group.setAttribute('aria-label', `${cap.textContent} unit`);
       for (const c of list) {
         const b = document.createElement('button');
+        const on = display(u).label === c.label;
         b.type = 'button';
-        b.className = `small seg-btn${display(u).label === c.label ? ' on' : ''}`;
+        b.className = `small seg-btn${on ? ' on' : ''}`;
+        b.setAttribute('aria-pressed', on ? 'true' : 'false'); /* the chosen unit, for assistive technology too */
         b.textContent = c.label;
         b.addEventListener('click', () => {
           setDisplay(u, c.label);

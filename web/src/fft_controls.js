@@ -6,7 +6,7 @@
 import { ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { numberField } from './number_input.js';
+import { markInvalid, numberField } from './number_input.js';
 import { fillChannelSelect } from './channels.js';
 
 function pickFftDefault(chans) {
@@ -30,6 +30,11 @@ export function initFftControls(state, fft) {
       await fft.compute(state.session, $('fft-channel').value, from, to, { fmax, log: $('fft-log').checked });
     } catch (e) {
       fft.clear(); /* the last spectrum is not the answer to this request */
+      /* the daemon names the bound at fault (e.g. /to: more samples than --max-samples): mark it */
+      for (const x of e instanceof ApiError ? e.errors : []) {
+        const id = { '/from': 'fft-from', '/to': 'fft-to' }[x.pointer];
+        if (id) markInvalid($(id), x.message);
+      }
       showError(box, e);
     }
   }

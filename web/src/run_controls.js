@@ -8,7 +8,7 @@
 import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { numberField } from './number_input.js';
+import { markInvalid, numberField } from './number_input.js';
 import { followOperation, outcomeOf } from './operation.js';
 
 export function initRunControls(state, { header, stream, refreshList }) {
@@ -25,6 +25,9 @@ export function initRunControls(state, { header, stream, refreshList }) {
       stream.start(); /* fetch the new rows (the stream ends when they are sent) */
       refreshList();
     } catch (e) {
+      /* the daemon names the field (off the sample grid, longer than --max-step): mark it too */
+      const about = e instanceof ApiError && e.errors.find((x) => x.pointer === '/duration');
+      if (about) markInvalid($('step-duration'), about.message);
       showError($('session-error'), e);
     }
   }
