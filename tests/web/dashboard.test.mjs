@@ -506,6 +506,14 @@ async function main() {
       assert(si.label === 'm/s' && mph.label === 'mph', `labels ${si.label} ${mph.label}`);
       const pressed = await page.evaluate(() => [...document.querySelectorAll('.seg[data-unit="m/s"] button')].map((b) => `${b.textContent}:${b.getAttribute('aria-pressed')}`).join(' '));
       assert(pressed === 'mph:true m/s:false km/h:false', `session 17: the toggle's pressed state: ${pressed}`);
+      /* session 17: the create form's "= x mph" hint of a speed field follows the toggle */
+      const hint = () => page.evaluate(() => document.querySelector('.field[data-pointer="/control/target_speed"] .hint')?.textContent);
+      assert(/ mph$/.test(await hint()), `the target-speed hint in mph: "${await hint()}"`);
+      await page.click('.seg[data-unit="m/s"] button:text-is("km/h")');
+      assert(/ km\/h$/.test(await hint()), `the target-speed hint after choosing km/h: "${await hint()}"`);
+      await page.click('.seg[data-unit="m/s"] button:text-is("m/s")');
+      assert((await hint()) === '', `the target-speed hint after choosing m/s (the field's own unit): "${await hint()}"`);
+      await page.click('.seg[data-unit="m/s"] button:text-is("mph")');
       assert(Math.abs(mph.last / si.last - 1 / 0.44704) < 1e-9, `mph/m/s ratio ${mph.last / si.last}`);
     });
 

@@ -59,10 +59,14 @@ export function display(siUnit) {
   return list.find((c) => c.label === want) || list[0];
 }
 
+/** The event sent on window when a display unit changes (detail: {siUnit, label}). */
+export const UNITS_CHANGED = 'tanksim-units';
+
 export function setDisplay(siUnit, label) {
   const p = prefs();
   p[siUnit] = label;
   localStorage.setItem(PREF_KEY, JSON.stringify(p));
+  window.dispatchEvent(new CustomEvent(UNITS_CHANGED, { detail: { siUnit, label } }));
 }
 
 export function convertible(siUnit) {
