@@ -37,6 +37,7 @@
 
 #include "constants.h"
 #include "drive.h"
+#include "governor.h"
 #include "powertrain.h"
 #include "scenario.h"
 #include "solver.h"
@@ -72,6 +73,18 @@ static double resistance(const ts_vehicle_config *vc, double v)
            0.5 * vc->air_density * vc->cda * v * fabs(v);
 }
 
+/* The rack the engine gets: /control/rack, through the fuel actuator's
+ * two-speed governor (paper IV.B.2, governor.h) when /control/governor is on,
+ * at the engine speed of the powertrain states yp. */
+static double governed_rack(const ts_model *m, const ts_powertrain *pt, const double *yp)
+{
+    const ts_control_config *cc = &m->cfg.control;
+    if (!cc->governor) return cc->rack;
+    ts_governor g = {cc->governor_low_idle, cc->governor_low_band, cc->governor_high_idle,
+                     cc->governor_high_band};
+    return ts_governor_rack(&g, cc->rack, yp[ts_powertrain_engine_speed_index(pt)]);
+}
+
 /* Vehicle derivatives; with the powertrain also its derivatives into ydot + NVEH
  * and its shaft quantities into out (may be NULL). */
 static int derivs(const ts_model *m, const ts_powertrain_state *ps, double t, const double *y,
@@ -83,7 +96,7 @@ static int derivs(const ts_model *m, const ts_powertrain_state *ps, double t, co
     if (pm->pt) {
         ts_powertrain_out o;
         int rc = ts_powertrain_rhs(pm->pt, ps, t, y + NVEH, y[V] / vc->sprocket_radius,
-                                   m->cfg.control.rack, ydot + NVEH, &o);
+                                   governed_rack(m, pm->pt, y + NVEH), ydot + NVEH, &o);
         if (rc != 0) return rc;
         t_s = o.sprocket_torque;
         if (out) *out = o;
@@ -262,7 +275,7 @@ static void derivs_driveline(const ts_model *m, const pm_data *p, double t, cons
     const ts_vehicle_config *vc = &m->cfg.vehicle;
     ts_powertrain_out o;
     ts_powertrain_rhs_driveline(pm->pt, &p->ps, t, y + NVEH, y[V] / vc->sprocket_radius,
-                                m->cfg.control.rack, ydot + NVEH, &o);
+                                governed_rack(m, pm->pt, y + NVEH), ydot + NVEH, &o);
     ydot[X] = y[V];
     ydot[V] = (2.0 * o.sprocket_torque / vc->sprocket_radius - resistance(vc, y[V])) / pm->mass_eff;
 }
@@ -285,13 +298,15 @@ static int rhs_held(double t, const double *y, double *ydot, void *ud)
 static ts_rc step_to_cosim(const ts_model *m, pm_data *p, double t, ts_err *err)
 {
     const pm_model *pm = m->impl;
-    const double r_s = m->cfg.vehicle.sprocket_radius, rack = m->cfg.control.rack;
+    const double r_s = m->cfg.vehicle.sprocket_radius;
     const int idx[3] = {X, V, p->n - 1}; /* the states the RK4 integrates */
     double *y = p->y, work[15];
     held_ctx ctx = {m, p};
     while (p->t_int < t - 1e-12 * (1.0 + t)) {
         double t_end = p->t_int + ts_powertrain_macro_step(pm->pt);
         if (t_end > t - 1e-12 * (1.0 + t)) t_end = t;
+        /* the governor acts per macro step, at the engine speed it starts from */
+        double rack = governed_rack(m, pm->pt, y + NVEH);
         ts_rc rc = ts_powertrain_engine_advance(pm->pt, p->t_int, t_end - p->t_int, y + NVEH, rack,
                                                 p->work, err);
         if (rc != TS_OK) return rc;
