@@ -125,25 +125,32 @@ $(BUILD)/bench/%: tests/bench/%.c $(LIBS_OWN) | deps
 	@echo "  BENCH   $@"
 	@$(CC) $(CFLAGS) -I. -Itests -o $@ $< $(LIBS_OWN) $(LIBS_ALL)
 
-# `make run`: the daemon in the foreground on 127.0.0.1:8080, data under ./var.
+# `make run [RUN_PORT=8080]`: the daemon in the foreground on 127.0.0.1, data under ./var.
+RUN_PORT ?= 8080
 run: all
-	./$(BUILD)/tanksimd --bind 127.0.0.1 --port 8080 --data-dir ./var
+	./$(BUILD)/tanksimd --bind 127.0.0.1 --port $(RUN_PORT) --data-dir ./var
 
-# `make install [PREFIX=/usr/local] [DESTDIR=]`: the two programs, the dashboard and the
-# systemd unit (deploy/tanksimd.service, its paths rewritten for PREFIX). The unit
-# runs as a transient user (DynamicUser) with its store in /var/lib/tanksim
-# (StateDirectory): no account to create. Then: systemctl daemon-reload &&
-# systemctl enable --now tanksimd.
+# `make install [PREFIX=/usr/local] [DESTDIR=] [UNITDIR=/etc/systemd/system]`: the two
+# programs, the dashboard (with its source maps) and the systemd unit
+# (deploy/tanksimd.service, its paths rewritten for PREFIX; skipped with a message
+# when UNITDIR cannot be written, e.g. a user's own PREFIX). The unit runs as a
+# transient user (DynamicUser) with its store in /var/lib/tanksim (StateDirectory):
+# no account to create. Then: systemctl daemon-reload && systemctl enable --now tanksimd.
 PREFIX ?= /usr/local
+UNITDIR ?= /etc/systemd/system
 install: all
 	install -D -m 755 $(BUILD)/tanksimd $(DESTDIR)$(PREFIX)/bin/tanksimd
 	install -D -m 755 $(BUILD)/tanksim $(DESTDIR)$(PREFIX)/bin/tanksim
 	install -d $(DESTDIR)$(PREFIX)/share/tanksim/web_static
 	install -m 644 web_static/index.html web_static/app.js web_static/app.css \
-	  $(DESTDIR)$(PREFIX)/share/tanksim/web_static/
-	install -d $(DESTDIR)/etc/systemd/system
-	sed 's|/usr/local/|$(PREFIX)/|g' deploy/tanksimd.service \
-	  > $(DESTDIR)/etc/systemd/system/tanksimd.service
+	  web_static/app.js.map web_static/app.css.map $(DESTDIR)$(PREFIX)/share/tanksim/web_static/
+	@d='$(DESTDIR)$(UNITDIR)'; \
+	if mkdir -p "$$d" 2>/dev/null && [ -w "$$d" ]; then \
+	  sed 's|/usr/local/|$(PREFIX)/|g' deploy/tanksimd.service > "$$d/tanksimd.service" && \
+	  echo "installed $$d/tanksimd.service"; \
+	else \
+	  echo "make install: $$d is not writable: systemd unit not installed (set UNITDIR=DIR)"; \
+	fi
 
 # `make test [T=module]`: every suite (C unit tests per module, layer check,
 # end-to-end tests against a real daemon); ends with "N passed, N failed".

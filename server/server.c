@@ -261,6 +261,9 @@ int tsd_server_start(tsd_server *s, char *err, size_t errlen)
                  s->opt.port);
         return -1;
     }
+    /* --port 0: the kernel chose one; say which */
+    const union MHD_DaemonInfo *bound = MHD_get_daemon_info(s->mhd, MHD_DAEMON_INFO_BIND_PORT);
+    if (bound && bound->port) s->opt.port = bound->port;
     return 0;
 }
 

@@ -73,12 +73,17 @@ void tsd_static_default_root(char *out, size_t n)
         char *slash = strrchr(exe, '/');
         if (slash) {
             *slash = '\0';
-            char cand[PATH_MAX];
-            if (snprintf(cand, sizeof cand, "%s/../web_static", exe) < (int)sizeof cand &&
-                has_index(cand)) {
-                char real[PATH_MAX];
-                snprintf(out, n, "%s", realpath(cand, real) ? real : cand);
-                return;
+            /* the build tree (build/../web_static), then `make install`'s
+             * PREFIX/bin/../share/tanksim/web_static */
+            static const char *const rel[] = {"../web_static", "../share/tanksim/web_static"};
+            for (size_t i = 0; i < sizeof rel / sizeof rel[0]; i++) {
+                char cand[PATH_MAX];
+                if (snprintf(cand, sizeof cand, "%s/%s", exe, rel[i]) < (int)sizeof cand &&
+                    has_index(cand)) {
+                    char real[PATH_MAX];
+                    snprintf(out, n, "%s", realpath(cand, real) ? real : cand);
+                    return;
+                }
             }
         }
     }

@@ -24,7 +24,9 @@ ts_rc vm_channels_declare(ts_model *m, ts_err *err)
         {"hull.accel_z", "m/s^2", "hull CG vertical acceleration"},
         {"track.tension.rear_roller", "N",
          "track tension at the rear support roller (Figs. 12, 29, 35)"},
-        {"roller.rear.normal_force", "N", "track load on the rear support roller (Fig. 14)"},
+        {"roller.rear.normal_force", "N",
+         "track load on the rear support roller (Fig. 14); negative when the spans' end "
+         "forces pull it up (the track is held on the roller: no lift-off)"},
         {"track.anchor_force", "N", "tangential ground force at the no-slip anchor (thrust)"},
     };
     ts_rc rc = ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
