@@ -78,12 +78,7 @@ static ts_rc build_controller(ts_coupled *c, ts_err *err)
     double x = cc->schedule_var == TS_SCHEDULE_GRADE ? c->cfg.vehicle.grade : c->cfg.vehicle.mass;
     c->gains = ts_ivs_gains_at(&c->ivs, x);
     c->governor_on = cc->governor;
-    c->gov = (ts_governor){cc->governor_low_idle, cc->governor_low_band, cc->governor_high_idle,
-                           cc->governor_high_band};
-    if (c->governor_on && !(cc->governor_high_idle > cc->governor_low_idle))
-        return ts_err_set(err, TS_ERR_PARAM, "/control/governor_high_idle",
-                          "/control/governor_high_idle: must exceed governor_low_idle");
-    return TS_OK;
+    return ts_governor_of_config(cc, &c->gov, err);
 }
 
 static ts_coupled *make(const ts_config *cfg, const ts_engine_port *port, ts_err *err)

@@ -18,3 +18,13 @@ double ts_governor_rack(const ts_governor *g, double rack, double w)
     }
     return rack;
 }
+
+ts_rc ts_governor_of_config(const ts_control_config *cc, ts_governor *g, ts_err *err)
+{
+    *g = (ts_governor){cc->governor_low_idle, cc->governor_low_band, cc->governor_high_idle,
+                       cc->governor_high_band};
+    if (cc->governor && !(cc->governor_high_idle > cc->governor_low_idle))
+        return ts_err_set(err, TS_ERR_PARAM, "/control/governor_high_idle",
+                          "/control/governor_high_idle: must exceed governor_low_idle");
+    return TS_OK;
+}

@@ -12,6 +12,9 @@
 #ifndef TS_GOVERNOR_H
 #define TS_GOVERNOR_H
 
+#include "cfg_control.h"
+#include "errors.h"
+
 typedef struct ts_governor {
     double low_idle;  /* speed below which fuel is added [rad/s] */
     double low_band;  /* speed deficit that calls for full rack [rad/s] */
@@ -21,5 +24,10 @@ typedef struct ts_governor {
 
 /* Governed rack for a demanded rack in [0, 1] at engine speed w [rad/s]. */
 double ts_governor_rack(const ts_governor *g, double rack, double w);
+
+/* The governor /control describes (its four speeds into *g), for every run
+ * kind that fuels an engine. TS_ERR_PARAM naming /control/governor_high_idle
+ * when /control/governor is on and high idle does not exceed low idle. */
+ts_rc ts_governor_of_config(const ts_control_config *cc, ts_governor *g, ts_err *err);
 
 #endif

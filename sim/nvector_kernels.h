@@ -14,16 +14,17 @@
  * same special cases (a == 1, a == -1, a == b, z == x, ...) as SUNDIALS'
  * serial vector, so results are the same to the last bit; the project builds
  * with -std=c11, under which GCC does not contract a * b + c into an FMA.
- * Operations not listed in the .c keep SUNDIALS' own.
+ * Only the operations CVODE calls every step are replaced (the list is in
+ * ts_nvector_use_kernels); the others keep SUNDIALS' own.
  */
 #ifndef TS_NVECTOR_KERNELS_H
 #define TS_NVECTOR_KERNELS_H
 
 #include <sundials/sundials_nvector.h>
 
-/* Replace the compute operations of v, a serial N_Vector (N_VNew_Serial),
- * that it has (non-NULL entries only: fused operations stay off unless they
- * were enabled on v first). Returns 0, or -1 if v is not a serial vector. */
+/* Replace the per-step compute operations of v, a serial N_Vector
+ * (N_VNew_Serial); fused operations only where v has them (they stay off
+ * unless enabled on v first). Returns 0, or -1 if v is not a serial vector. */
 int ts_nvector_use_kernels(N_Vector v);
 
 #endif

@@ -51,6 +51,8 @@ typedef struct pm_model {
     ts_powertrain *pt; /* NULL for a prescribed drive */
     int npt;           /* powertrain states */
     double mass_eff;   /* M [kg] */
+    ts_governor gov;   /* /control's two-speed governor, applied when governor_on */
+    int governor_on;
 } pm_model;
 
 typedef struct pm_data {
@@ -76,13 +78,12 @@ static double resistance(const ts_vehicle_config *vc, double v)
 /* The rack the engine gets: /control/rack, through the fuel actuator's
  * two-speed governor (paper IV.B.2, governor.h) when /control/governor is on,
  * at the engine speed of the powertrain states yp. */
-static double governed_rack(const ts_model *m, const ts_powertrain *pt, const double *yp)
+static double governed_rack(const ts_model *m, const double *yp)
 {
-    const ts_control_config *cc = &m->cfg.control;
-    if (!cc->governor) return cc->rack;
-    ts_governor g = {cc->governor_low_idle, cc->governor_low_band, cc->governor_high_idle,
-                     cc->governor_high_band};
-    return ts_governor_rack(&g, cc->rack, yp[ts_powertrain_engine_speed_index(pt)]);
+    const pm_model *pm = m->impl;
+    double rack = m->cfg.control.rack;
+    if (!pm->governor_on) return rack;
+    return ts_governor_rack(&pm->gov, rack, yp[ts_powertrain_engine_speed_index(pm->pt)]);
 }
 
 /* Vehicle derivatives; with the powertrain also its derivatives into ydot + NVEH
@@ -96,7 +97,7 @@ static int derivs(const ts_model *m, const ts_powertrain_state *ps, double t, co
     if (pm->pt) {
         ts_powertrain_out o;
         int rc = ts_powertrain_rhs(pm->pt, ps, t, y + NVEH, y[V] / vc->sprocket_radius,
-                                   governed_rack(m, pm->pt, y + NVEH), ydot + NVEH, &o);
+                                   governed_rack(m, y + NVEH), ydot + NVEH, &o);
         if (rc != 0) return rc;
         t_s = o.sprocket_torque;
         if (out) *out = o;
@@ -137,6 +138,9 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     m->dof = 1;
     m->nstate = NVEH;
     if (m->cfg.drive.kind == TS_DRIVE_POWERTRAIN) {
+        pm->governor_on = m->cfg.control.governor;
+        rc = ts_governor_of_config(&m->cfg.control, &pm->gov, err);
+        if (rc != TS_OK) return rc;
         pm->pt = ts_powertrain_make(&m->cfg, err);
         if (!pm->pt) return err ? err->code : TS_ERR_INTERNAL;
         pm->npt = ts_powertrain_nstate(pm->pt);
@@ -275,7 +279,7 @@ static void derivs_driveline(const ts_model *m, const pm_data *p, double t, cons
     const ts_vehicle_config *vc = &m->cfg.vehicle;
     ts_powertrain_out o;
     ts_powertrain_rhs_driveline(pm->pt, &p->ps, t, y + NVEH, y[V] / vc->sprocket_radius,
-                                governed_rack(m, pm->pt, y + NVEH), ydot + NVEH, &o);
+                                governed_rack(m, y + NVEH), ydot + NVEH, &o);
     ydot[X] = y[V];
     ydot[V] = (2.0 * o.sprocket_torque / vc->sprocket_radius - resistance(vc, y[V])) / pm->mass_eff;
 }
@@ -306,7 +310,7 @@ static ts_rc step_to_cosim(const ts_model *m, pm_data *p, double t, ts_err *err)
         double t_end = p->t_int + ts_powertrain_macro_step(pm->pt);
         if (t_end > t - 1e-12 * (1.0 + t)) t_end = t;
         /* the governor acts per macro step, at the engine speed it starts from */
-        double rack = governed_rack(m, pm->pt, y + NVEH);
+        double rack = governed_rack(m, y + NVEH);
         ts_rc rc = ts_powertrain_engine_advance(pm->pt, p->t_int, t_end - p->t_int, y + NVEH, rack,
                                                 p->work, err);
         if (rc != TS_OK) return rc;
