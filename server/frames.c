@@ -5,6 +5,7 @@
 #include "frames.h"
 
 #include <math.h>
+#include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,6 +73,7 @@ typedef struct frames_ctx {
     long n, i;     /* frames in all, next to draw */
     int single;
     int apng;    /* draw every frame in one job and answer one APNG */
+    int counted; /* holds one of srv->apng_jobs */
     double fps;  /* frame rate of the APNG */
     int pending; /* a draw job is queued or running */
     ts_data *d;  /* scratch state (draw jobs only) */
@@ -96,6 +98,7 @@ static void frames_free(void *cls)
     free(f->png);
     tsa_buf_free(&f->out);
     tsd_session_put(f->s);
+    if (f->counted) atomic_fetch_sub(&f->srv->apng_jobs, 1);
     free(f);
 }
 
@@ -156,6 +159,36 @@ static ts_rc draw_one(frames_ctx *f)
     return rc;
 }
 
+int tsd_apng_cap(const tsd_server *srv)
+{
+    return srv->opt.threads > 1 ? srv->opt.threads - 1 : 1;
+}
+
+/* The client closed its end: a half-closed or reset socket polls as hung up. */
+static int client_gone(struct MHD_Connection *conn)
+{
+    const union MHD_ConnectionInfo *ci =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+    if (!ci) return 0;
+    struct pollfd p = {.fd = ci->connect_fd, .events = POLLRDHUP};
+    return poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR));
+}
+
+/* Whether an APNG job should stop before its next frame (frames.h). */
+static ts_rc apng_interrupted(frames_ctx *f)
+{
+    if (atomic_load(&f->srv->stopping)) return tsd_err_shutdown(&f->err);
+    pthread_mutex_lock(&f->s->mu);
+    int deleted = f->s->deleted;
+    pthread_mutex_unlock(&f->s->mu);
+    if (deleted)
+        return ts_err_set(&f->err, TS_ERR_NOTFOUND, NULL,
+                          "session %s was deleted while its animation was drawn", f->s->id);
+    if (client_gone(f->conn)) /* nobody reads this answer; it ends the job */
+        return ts_err_set(&f->err, TS_ERR_CANCELLED, NULL, "the client closed the connection");
+    return TS_OK;
+}
+
 /* Every frame, then one APNG in f->png (apng.h says why APNG). */
 static ts_rc draw_apng(frames_ctx *f)
 {
@@ -164,7 +197,8 @@ static ts_rc draw_apng(frames_ctx *f)
     ts_rc rc = pngs && lens ? TS_OK : ts_err_set(&f->err, TS_ERR_NOMEM, NULL, "out of memory");
     long done = 0;
     while (rc == TS_OK && f->i < f->n) {
-        rc = draw_one(f);
+        rc = apng_interrupted(f);
+        if (rc == TS_OK) rc = draw_one(f);
         if (rc == TS_OK) {
             pngs[done] = f->png;
             lens[done++] = f->png_len;
@@ -281,8 +315,24 @@ static enum MHD_Result first_frame_ready(tsd_request *r)
 enum MHD_Result tsd_frames_reply(tsd_request *r, tsd_session *s, const tsr_view *v, double k0,
                                  double dk, long n, int single, double apng_fps)
 {
+    int apng = !single && apng_fps > 0;
+    if (apng && atomic_fetch_add(&r->srv->apng_jobs, 1) >= tsd_apng_cap(r->srv)) {
+        atomic_fetch_sub(&r->srv->apng_jobs, 1);
+        ts_err e;
+        ts_err_set(&e, TS_ERR_LIMIT, NULL,
+                   "animations drawn at once: %d, the most this daemon takes (one fewer than "
+                   "its --threads workers, so runs and steps keep one); retry shortly, or ask "
+                   "for format=multipart (one frame per job)",
+                   tsd_apng_cap(r->srv));
+        r->retry_after = TSD_RETRY_AFTER_APNG_S;
+        return tsd_reply_err(r, &e, NULL);
+    }
     frames_ctx *f = calloc(1, sizeof *f);
-    if (!f) return MHD_NO;
+    if (!f) {
+        if (apng) atomic_fetch_sub(&r->srv->apng_jobs, 1);
+        return MHD_NO;
+    }
+    f->counted = apng;
     f->srv = r->srv;
     f->s = s;
     pthread_mutex_lock(&s->mu);
@@ -294,7 +344,7 @@ enum MHD_Result tsd_frames_reply(tsd_request *r, tsd_session *s, const tsr_view 
     f->dk = dk;
     f->n = n;
     f->single = single;
-    f->apng = !single && apng_fps > 0;
+    f->apng = apng;
     f->fps = apng_fps;
     r->async_ctx = f;
     r->async_free = frames_free;

@@ -566,6 +566,12 @@ static long read_rows(tsd_request *r, tsd_session *s, long from, long to, long e
     }
     if (from > to) return 0;
     long n = tsd_db_rows(r->srv->db, s->seq, from, to, every, max, s->nch, *index, *rows, more);
+    /* a DELETE that landed meanwhile took the rows, or some of them: the
+     * session is gone, not empty (nor an I/O failure) */
+    pthread_mutex_lock(&s->mu);
+    int deleted = s->deleted;
+    pthread_mutex_unlock(&s->mu);
+    if (deleted) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id), -1;
     if (n < 0) ts_err_set(err, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
     return n;
 }

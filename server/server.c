@@ -152,6 +152,25 @@ enum MHD_Result tsd_reply_problem(tsd_request *r, unsigned status, const char *t
                       "application/problem+json");
 }
 
+/* The raw request target, before libmicrohttpd decodes the path in place
+ * for the access handler: a %00 would end the path early (".../ID%00/frames"
+ * routed as ".../ID") and a %2F would add a segment, so either in the path is
+ * refused (400) instead of routed. The request object starts here; completed()
+ * frees it, also for a request libmicrohttpd itself rejects later. */
+static void *uri_seen(void *cls, const char *uri, struct MHD_Connection *conn)
+{
+    (void)cls;
+    (void)conn;
+    tsd_request *r = calloc(1, sizeof *r);
+    if (!r) return NULL; /* the access handler tries once more */
+    size_t n = strcspn(uri, "?");
+    for (size_t i = 0; i + 2 < n; i++)
+        if (uri[i] == '%' && ((uri[i + 1] == '0' && uri[i + 2] == '0') ||
+                              (uri[i + 1] == '2' && (uri[i + 2] | 0x20) == 'f')))
+            r->bad_path = 1;
+    return r;
+}
+
 static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, const char *url,
                                       const char *method, const char *version,
                                       const char *upload_data, size_t *upload_data_size,
@@ -160,9 +179,8 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
     (void)version;
     tsd_server *s = cls;
     tsd_request *r = *con_cls;
-    if (!r) { /* first call: headers only */
-        r = calloc(1, sizeof *r);
-        if (!r) return MHD_NO;
+    if (!r || !r->srv) { /* first call: headers only */
+        if (!r && !(r = calloc(1, sizeof *r))) return MHD_NO;
         r->srv = s;
         r->conn = conn;
         r->method = method;
@@ -200,6 +218,11 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         return tsd_reply_problem(r, MHD_HTTP_CONTENT_TOO_LARGE, "/problems/body-too-large",
                                  "Request body too large", detail, NULL);
     }
+    if (r->bad_path)
+        return tsd_reply_problem(r, MHD_HTTP_BAD_REQUEST, "/problems/bad-path", "Bad request path",
+                                 "the path holds an encoded NUL (%00) or slash (%2F); neither "
+                                 "is part of any route",
+                                 NULL);
     return tsd_route(r);
 }
 
@@ -210,6 +233,11 @@ static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     tsd_server *s = cls;
     tsd_request *r = *con_cls;
     if (!r) return;
+    if (!r->srv) { /* made by uri_seen, never reached the access handler */
+        free(r);
+        *con_cls = NULL;
+        return;
+    }
     tsd_metrics_request(&s->metrics, r->status);
     char when[32];
     time_t now = time(NULL);
@@ -253,7 +281,8 @@ int tsd_server_start(tsd_server *s, char *err, size_t errlen)
         return -1;
     }
     s->mhd = MHD_start_daemon(flags, (uint16_t)s->opt.port, NULL, NULL, access_handler, s,
-                              MHD_OPTION_SOCK_ADDR, addr, MHD_OPTION_NOTIFY_COMPLETED, completed, s,
+                              MHD_OPTION_SOCK_ADDR, addr, MHD_OPTION_URI_LOG_CALLBACK, uri_seen, s,
+                              MHD_OPTION_NOTIFY_COMPLETED, completed, s,
                               MHD_OPTION_THREAD_POOL_SIZE, (unsigned)s->opt.http_threads,
                               MHD_OPTION_CONNECTION_TIMEOUT, s->opt.conn_timeout, MHD_OPTION_END);
     if (!s->mhd) {

@@ -76,6 +76,7 @@ typedef struct tsd_server {
     atomic_int stopping;             /* set once shutdown begins */
     atomic_int inflight;             /* requests between arrival and completion (shutdown
                                         waits for them, bounded, before stopping MHD) */
+    atomic_int apng_jobs;            /* APNG animations queued or drawing (frames.c) */
 } tsd_server;
 
 typedef struct tsd_request {
@@ -111,6 +112,7 @@ typedef struct tsd_request {
     char allow[64];                /* Allow header of a 405: the path's methods ("" = none) */
     int www_authenticate;          /* add WWW-Authenticate: Bearer (401) */
     int retry_after;               /* add Retry-After: N seconds (0 = none) */
+    int bad_path;                  /* the raw path had %00 or %2F (server.c refuses it) */
 } tsd_request;
 
 /* Start listening as configured; 0 on success, -1 with a message in err. */

@@ -1074,7 +1074,9 @@ static ts_rc acquire(tsd_session *s, ts_err *err)
                           s->id, s->error);
     pthread_mutex_lock(&s->mu);
     ts_rc rc = TS_OK;
-    if (s->busy || s->deleted)
+    if (s->deleted) /* a DELETE landed after the router looked the session up */
+        rc = ts_err_set(err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id);
+    else if (s->busy)
         rc =
             ts_err_set(err, TS_ERR_STATE, NULL, "session %s is busy (%s)", s->id,
                        s->status == TSD_RUNNING ? "a run is in progress" : "a step is in progress");

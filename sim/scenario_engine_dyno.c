@@ -190,8 +190,12 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     tq /= (double)nrows;
     pw /= (double)nrows;
     ts_metric mt[3] = {
-        {"brake_torque_mean", "N*m", tq, "mean brake torque over the sampled rows (predicted)"},
-        {"brake_power_mean", "W", pw, "mean brake power over the sampled rows (predicted)"},
+        {"brake_torque_mean", "N*m", tq,
+         "mean brake torque over the sampled rows (predicted; at 2100 rpm full rack of the "
+         "conventional engine calibrated to the paper's 1484 hp: engine.json wg_area)"},
+        {"brake_power_mean", "W", pw,
+         "mean brake power over the sampled rows (predicted; at 2100 rpm full rack of the "
+         "conventional engine calibrated to the paper's 1484 hp: engine.json wg_area)"},
         {"peak_cylinder_pressure", "Pa", pk, "largest sampled cylinder 1 pressure (predicted)"},
     };
     memcpy(out, mt, sizeof mt);

@@ -27,7 +27,8 @@ def test_no_traversal_or_hidden_files(daemon):
                  "/static/.gitignore", "/static/README.md", "/static/", "/static/a/b.js",
                  "/static/nope.js"]:
         r = requests.get(daemon.url + path)
-        assert r.status_code in (404, 405), path
+        # an encoded slash (%2F) is refused before routing (400 /problems/bad-path)
+        assert r.status_code in ((400,) if "%2f" in path.lower() else (404, 405)), path
         assert r.headers["Content-Type"] == "application/problem+json", path
 
 

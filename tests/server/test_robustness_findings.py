@@ -1,0 +1,164 @@
+"""Requests that could hold the daemon's workers or reach the wrong resource.
+
+Found by a read-only robustness audit of the daemon (session 17), each
+reproduced before the fix (session 18):
+- an APNG animation (GET .../frames, up to 600 frames) is one worker job that
+  drew every frame even after its client had hung up or shutdown had begun,
+  and any number of them could be queued, so a few large ones took every
+  worker from runs and steps. Now at most --threads - 1 are drawn at once
+  (429 with Retry-After beyond), and the job stops between frames when the
+  client hangs up, the session is deleted or the daemon stops;
+- libmicrohttpd decodes the path before routing, so DELETE
+  /v1/sessions/ID%00/frames was routed as DELETE /v1/sessions/ID and deleted
+  the session, and a %2F added a path segment. Now 400 /problems/bad-path.
+"""
+import http.client
+import signal
+import threading
+import time
+
+import pytest
+import requests
+
+from conftest import Daemon, is_problem
+
+# a long APNG: 596 frames of 1280 x 720 (about 5 s of drawing on the 2-core CI machine)
+BIG = {"from": 0, "to": 1.19, "fps": 500, "width": 1280, "height": 720}
+SMALL = {"from": 0, "to": 0.01, "fps": 100, "width": 64, "height": 64}
+
+
+def vehicle_session(url):
+    r = requests.post(url + "/v1/sessions",
+                      json={"preset": "bump-prescribed-static", "run": {"duration": 1.2}})
+    assert r.status_code == 201, r.text
+    s = r.json()["id"]
+    r = requests.post(f"{url}/v1/sessions/{s}/step", json={"duration": 1.2}, timeout=120)
+    assert r.status_code == 200, r.text
+    return s
+
+
+@pytest.fixture(scope="module")
+def d2():
+    """A daemon with two workers: one APNG at a time."""
+    d = Daemon("--threads", "2")
+    yield d
+    d.stop()
+
+
+@pytest.fixture(scope="module")
+def big_apng_seconds(d2):
+    """(session, wall time of the whole BIG animation): the yardstick of the tests below."""
+    s = vehicle_session(d2.url)
+    t0 = time.monotonic()
+    r = requests.get(f"{d2.url}/v1/sessions/{s}/frames", params=BIG, timeout=300)
+    wall = time.monotonic() - t0
+    assert r.status_code == 200 and r.headers["Content-Type"] == "image/apng", r.text
+    assert wall > 1.5, f"the yardstick animation took only {wall:.2f} s"
+    return s, wall
+
+
+def test_one_apng_at_a_time_with_two_workers(d2, big_apng_seconds):
+    s, wall = big_apng_seconds
+    url = f"{d2.url}/v1/sessions/{s}/frames"
+    first = {}
+    t = threading.Thread(target=lambda: first.update(r=requests.get(url, params=BIG, timeout=300)))
+    t.start()
+    time.sleep(min(0.5, wall / 4))
+    p = is_problem(requests.get(url, params=SMALL), 429)
+    assert "one fewer than its --threads workers" in p["detail"], p
+    assert requests.get(url, params=SMALL).headers["Retry-After"] == "2"
+    # the other worker is still free for physics and single frames
+    r = requests.get(f"{d2.url}/v1/sessions/{s}/frame.png", params={"t": 0.5, "width": 64,
+                                                                    "height": 64})
+    assert r.status_code == 200, r.text
+    m = requests.get(url, params={**SMALL, "format": "multipart"})
+    assert m.status_code == 200 and m.headers["Content-Type"].startswith("multipart/"), m.text
+    t.join()
+    assert first["r"].status_code == 200
+    assert requests.get(url, params=SMALL).status_code == 200   # the slot is given back
+
+
+def test_apng_stops_when_the_client_hangs_up(d2, big_apng_seconds):
+    s, wall = big_apng_seconds
+    url = f"{d2.url}/v1/sessions/{s}/frames"
+    t0 = time.monotonic()
+    with pytest.raises(requests.exceptions.ReadTimeout):
+        requests.get(url, params=BIG, timeout=0.3)   # hangs up after 0.3 s
+    while requests.get(url, params=SMALL).status_code == 429:   # the job still holds the slot
+        assert time.monotonic() - t0 < wall, "the animation was drawn to the end for nobody"
+        time.sleep(0.02)
+    took = time.monotonic() - t0
+    assert took < max(0.3 + 0.5, wall / 3), (took, wall)
+
+
+def test_apng_stops_when_the_session_is_deleted(d2, big_apng_seconds):
+    _, wall = big_apng_seconds
+    s = vehicle_session(d2.url)
+    got = {}
+    t = threading.Thread(target=lambda: got.update(r=requests.get(
+        f"{d2.url}/v1/sessions/{s}/frames", params=BIG, timeout=300)))
+    t0 = time.monotonic()
+    t.start()
+    time.sleep(0.3)
+    assert requests.delete(f"{d2.url}/v1/sessions/{s}").status_code == 204
+    t.join()
+    took = time.monotonic() - t0
+    is_problem(got["r"], 404)
+    assert took < max(0.3 + 0.5, wall / 3), (took, wall)
+
+
+def test_apng_does_not_hold_up_shutdown():
+    d = Daemon("--threads", "2", "--drain", "0")
+    try:
+        s = vehicle_session(d.url)
+        t0 = time.monotonic()
+        requests.get(f"{d.url}/v1/sessions/{s}/frames", params=BIG, timeout=300)
+        wall = time.monotonic() - t0
+        got = {}
+
+        def draw():
+            try:
+                got["r"] = requests.get(f"{d.url}/v1/sessions/{s}/frames", params=BIG,
+                                        timeout=300)
+            except requests.ConnectionError as e:   # closed at exit: also fine
+                got["r"] = e
+        t = threading.Thread(target=draw)
+        t.start()
+        time.sleep(0.3)
+        t1 = time.monotonic()
+        assert d.stop(signal.SIGTERM) == 0
+        took = time.monotonic() - t1
+        t.join()
+        assert took < max(1.0, wall / 3), (took, wall)
+        if isinstance(got["r"], requests.Response):
+            is_problem(got["r"], 503)
+    finally:
+        d.stop()
+
+
+def raw(url, method, path):
+    """Send path exactly as written (no client-side re-encoding)."""
+    host, port = url.split("//")[1].split(":")
+    c = http.client.HTTPConnection(host, int(port), timeout=10)
+    c.putrequest(method, path, skip_accept_encoding=True)
+    c.endheaders()
+    r = c.getresponse()
+    body = r.read()
+    c.close()
+    return r.status, r.getheader("Content-Type"), body
+
+
+def test_encoded_nul_or_slash_in_the_path_is_refused(daemon):
+    r = requests.post(daemon.url + "/v1/sessions", json={"preset": "pointmass-prescribed"})
+    s = r.json()["id"]
+    for method, path in [("DELETE", f"/v1/sessions/{s}%00/frames"),
+                         ("DELETE", f"/v1/sessions/{s}%00"),
+                         ("GET", f"/v1/sessions/{s}%2Fseries"),
+                         ("GET", f"/v1/sessions/{s}%2fseries")]:
+        status, ctype, body = raw(daemon.url, method, path)
+        assert status == 400 and ctype == "application/problem+json", (path, status, body)
+        assert b"/problems/bad-path" in body
+    assert requests.get(f"{daemon.url}/v1/sessions/{s}").status_code == 200   # not deleted
+    # an escape in the query is the query's business (named there, as before)
+    status, _, body = raw(daemon.url, "GET", f"/v1/sessions/{s}/series?channels=t%2Cvehicle.x")
+    assert status == 200, body
