@@ -91,6 +91,12 @@ static ts_coupled *make(const ts_config *cfg, const ts_engine_port *port, ts_err
     c->cfg = *cfg;
     c->pt = port ? ts_powertrain_make_port(cfg, port, err) : ts_powertrain_make(cfg, err);
     if (!c->pt) goto fail;
+    /* the run starts from standstill with the engine at its idle steady
+     * state, as the point-mass launch does (powertrain.h): from
+     * ts_engine_init_state's guessed turbo speed and ambient intercooler the
+     * compressor passes far more air than the cylinders take, and Eq. 14
+     * fuels on it (an 11-kN*m torque spike at 650 rpm in the first 25 ms) */
+    if (ts_powertrain_idle_start(c->pt, err) != TS_OK) goto fail;
     /* the driveline's output inertia (both sides, sprockets included) rides on
      * the vehicle's sprocket spin, per side */
     ts_config vcfg = *cfg;
