@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/socket.h>
 #include <time.h>
 
@@ -171,6 +172,40 @@ static void *uri_seen(void *cls, const char *uri, struct MHD_Connection *conn)
     return r;
 }
 
+static enum MHD_Result reply_too_large(tsd_request *r)
+{
+    char detail[128];
+    snprintf(detail, sizeof detail, "request body larger than %zu bytes", r->srv->opt.max_body);
+    return tsd_reply_problem(r, MHD_HTTP_CONTENT_TOO_LARGE, "/problems/body-too-large",
+                             "Request body too large", detail, NULL);
+}
+
+/* A browser sends any page's form or fetch POST to 127.0.0.1 without asking
+ * (a "simple" request needs no CORS preflight): without --token a page of
+ * another site could create, run, cancel or delete. Browsers name the page's
+ * origin in Origin; one that is not this daemon's own (scheme://Host) is
+ * refused for anything but a read. Clients that are not browsers (curl,
+ * scripts) send no Origin and are not affected. */
+static int cross_site(tsd_request *r)
+{
+    if (!strcmp(r->method, "GET") || !strcmp(r->method, "HEAD") || !strcmp(r->method, "OPTIONS"))
+        return 0;
+    const char *origin = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Origin");
+    if (!origin) return 0;
+    const char *rest = !strncmp(origin, "http://", 7)    ? origin + 7
+                       : !strncmp(origin, "https://", 8) ? origin + 8
+                                                         : NULL;
+    if (!rest) return 1; /* "null" (a sandboxed page, a file) or anything else */
+    /* behind a reverse proxy the public host is in X-Forwarded-Host, which a
+     * cross-site page cannot set without a preflight this daemon never grants */
+    const char *names[2] = {MHD_HTTP_HEADER_HOST, "X-Forwarded-Host"};
+    for (int i = 0; i < 2; i++) {
+        const char *host = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, names[i]);
+        if (host && strcasecmp(rest, host) == 0) return 0;
+    }
+    return 1;
+}
+
 static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, const char *url,
                                       const char *method, const char *version,
                                       const char *upload_data, size_t *upload_data_size,
@@ -188,6 +223,15 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         r->t_start = tsd_now();
         *con_cls = r;
         atomic_fetch_add(&s->inflight, 1);
+        /* a declared length past the limit is refused now, before any of the
+         * body is read (a chunked body is counted as it arrives, below) */
+        const char *cl =
+            MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
+        if (cl && *cl) {
+            char *end;
+            unsigned long long n = strtoull(cl, &end, 10);
+            if (*end == '\0' && n > s->opt.max_body) return reply_too_large(r);
+        }
         return MHD_YES;
     }
     if (*upload_data_size > 0) { /* body chunk */
@@ -212,12 +256,14 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         return fn(r);
     }
     if (r->status) return MHD_YES; /* already answered */
-    if (r->body_too_large) {
-        char detail[128];
-        snprintf(detail, sizeof detail, "request body larger than %zu bytes", s->opt.max_body);
-        return tsd_reply_problem(r, MHD_HTTP_CONTENT_TOO_LARGE, "/problems/body-too-large",
-                                 "Request body too large", detail, NULL);
-    }
+    if (r->body_too_large) return reply_too_large(r);
+    if (cross_site(r))
+        return tsd_reply_problem(r, MHD_HTTP_FORBIDDEN, "/problems/cross-origin",
+                                 "Cross-origin request refused",
+                                 "a page of another origin may not change this daemon's state "
+                                 "(its Origin header names another host); the dashboard is "
+                                 "served by the daemon itself",
+                                 NULL);
     if (r->bad_path)
         return tsd_reply_problem(r, MHD_HTTP_BAD_REQUEST, "/problems/bad-path", "Bad request path",
                                  "the path holds an encoded NUL (%00) or slash (%2F); neither "

@@ -14,6 +14,7 @@ reproduced before the fix (session 18):
 """
 import http.client
 import signal
+import socket
 import threading
 import time
 
@@ -162,3 +163,41 @@ def test_encoded_nul_or_slash_in_the_path_is_refused(daemon):
     # an escape in the query is the query's business (named there, as before)
     status, _, body = raw(daemon.url, "GET", f"/v1/sessions/{s}/series?channels=t%2Cvehicle.x")
     assert status == 200, body
+
+
+def test_cross_origin_writes_are_refused(daemon):
+    """Without --token, a page of another site could POST to the daemon (a form or a
+    "simple" fetch needs no CORS preflight). Writes whose Origin is not the daemon's own
+    are refused; reads, same-origin pages and clients that send no Origin are not."""
+    host = daemon.url.split("//")[1]
+    body = {"preset": "pointmass-prescribed"}
+    p = is_problem(requests.post(daemon.url + "/v1/sessions", json=body,
+                                 headers={"Origin": "http://evil.example"}), 403)
+    assert p["type"] == "/problems/cross-origin"
+    is_problem(requests.post(daemon.url + "/v1/sessions", data="preset=x",
+                             headers={"Origin": "null",
+                                      "Content-Type": "application/x-www-form-urlencoded"}), 403)
+    r = requests.post(daemon.url + "/v1/sessions", json=body, headers={"Origin": daemon.url})
+    assert r.status_code == 201, r.text
+    s = r.json()["id"]
+    assert requests.post(daemon.url + "/v1/sessions", json=body).status_code == 201  # curl-like
+    r = requests.post(daemon.url + "/v1/sessions", json=body,
+                      headers={"Origin": "https://tank.example", "X-Forwarded-Host": "tank.example"})
+    assert r.status_code == 201, r.text   # behind a proxy that forwards the public host
+    # another port of the same host is another origin
+    other = "http://" + host.split(":")[0] + ":1"
+    is_problem(requests.delete(f"{daemon.url}/v1/sessions/{s}", headers={"Origin": other}), 403)
+    r = requests.get(f"{daemon.url}/v1/sessions/{s}", headers={"Origin": "http://evil.example"})
+    assert r.status_code == 200   # a read: the browser keeps the answer from the other page
+
+
+def test_declared_oversize_body_is_refused_before_it_is_read(daemon):
+    """A Content-Length past --max-body (default 1 MiB) answered 413 only after the whole
+    body had arrived; now at once, and the connection is closed."""
+    host, port = daemon.url.split("//")[1].split(":")
+    with socket.create_connection((host, int(port)), timeout=5) as c:
+        c.sendall(b"POST /v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                  b"Content-Length: 50000000\r\n\r\n{")
+        head = c.recv(4096).decode("latin-1")   # times out (5 s) if the body is awaited
+    assert head.startswith("HTTP/1.1 413"), head
+    assert "/problems/body-too-large" in head
