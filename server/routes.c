@@ -660,6 +660,18 @@ static enum MHD_Result get_fft(tsd_request *r)
         return tsd_reply_err(r, &e, NULL);
     }
     if (strchr(ch, ',')) return bad_param(r, "channel", "exactly one channel name", ch);
+    static const char *const windows[] = {"rect", "hann"};
+    static const char *const detrends[] = {"none", "mean", "linear"};
+    const char *wn = tsd_arg(r, "window"), *dn = tsd_arg(r, "detrend");
+    int wi = wn ? -1 : 0, di = dn ? -1 : 1; /* defaults: rect, mean */
+    for (int i = 0; wn && i < 2; i++)
+        if (!strcmp(wn, windows[i])) wi = i;
+    for (int i = 0; dn && i < 3; i++)
+        if (!strcmp(dn, detrends[i])) di = i;
+    if (wi < 0) return bad_param(r, "window", "rect or hann expected", wn);
+    if (di < 0) return bad_param(r, "detrend", "none, mean or linear expected", dn);
+    ts_fft_window window = wi ? TS_FFT_HANN : TS_FFT_RECT;
+    ts_fft_detrend detrend = di == 0 ? TS_FFT_NONE : di == 1 ? TS_FFT_MEAN : TS_FFT_LINEAR;
     range_q q;
     if (parse_range(r, s, "channel", ch, &q, &ret) < 0) return ret;
     long want = q.to - q.from + 1;
@@ -694,7 +706,7 @@ static enum MHD_Result get_fft(tsd_request *r)
         for (long k = 0; k < n; k++)
             x[k] = rows[(size_t)k * (size_t)s->nch + (size_t)c];
         pthread_mutex_lock(&r->srv->fft_lock);
-        rc = tsa_amplitude_spectrum(x, n, 1.0 / s->ch.view.period, 1, freq, amp, &e);
+        rc = tsa_amplitude_spectrum(x, n, 1.0 / s->ch.view.period, detrend, window, freq, amp, &e);
         pthread_mutex_unlock(&r->srv->fft_lock);
     }
     json_t *out = NULL;
@@ -705,11 +717,12 @@ static enum MHD_Result get_fft(tsd_request *r)
             json_array_append_new(aa, json_real(amp[k]));
         }
         const ts_channel *chn = &s->ch.view.v[c];
-        out = json_pack("{s:s,s:s,s:s,s:f,s:f,s:I,s:f,s:s,s:o,s:o}", "session", s->id, "channel",
-                        chn->name, "unit", chn->unit, "from", (double)q.from * s->ch.view.period,
-                        "to", (double)q.to * s->ch.view.period, "n", (json_int_t)n, "df",
-                        1.0 / ((double)n * s->ch.view.period), "detrend", "mean removed",
-                        "frequency", fa, "amplitude", aa);
+        static const char *const detrend_text[] = {"none", "mean removed", "line removed"};
+        out = json_pack("{s:s,s:s,s:s,s:f,s:f,s:I,s:f,s:s,s:s,s:o,s:o}", "session", s->id,
+                        "channel", chn->name, "unit", chn->unit, "from",
+                        (double)q.from * s->ch.view.period, "to", (double)q.to * s->ch.view.period,
+                        "n", (json_int_t)n, "df", 1.0 / ((double)n * s->ch.view.period), "detrend",
+                        detrend_text[di], "window", windows[wi], "frequency", fa, "amplitude", aa);
         /* units of every number above: "unit" is the amplitude's (the channel's) */
         json_object_set_new(out, "units",
                             json_pack("{s:s,s:s,s:s,s:s,s:s}", "frequency", "Hz", "df", "Hz",
@@ -1027,26 +1040,41 @@ static const tsd_route_row routes[] = {
     {"GET", "/v1/presets", get_presets, 0, "", "List shipped presets"},
     {"GET", "/v1/presets/{name}", get_preset, 0, "", "One preset, as shipped and resolved"},
     {"GET", "/v1/schema", get_schema, 0, "", "JSON Schema of a run config"},
-    {"POST", "/v1/sessions", post_sessions, RF_WORK, "", "Create a session from a preset and overrides"},
+    {"POST", "/v1/sessions", post_sessions, RF_WORK, "",
+     "Create a session from a preset and overrides"},
     {"GET", "/v1/sessions", get_sessions, 0, "page_size page_token", "List sessions (paged)"},
     {"GET", "/v1/sessions/{id}", get_session, RF_SESSION, "", "One session"},
-    {"DELETE", "/v1/sessions/{id}", delete_session, RF_SESSION, "", "Delete a session and its data"},
-    {"POST", "/v1/sessions/{id}/step", post_step, RF_SESSION | RF_WORK, "", "Advance synchronously (bounded)"},
-    {"POST", "/v1/sessions/{id}/run", post_run, RF_SESSION | RF_WORK, "", "Start an asynchronous run"},
-    {"GET", "/v1/sessions/{id}/series", get_series, RF_SESSION, "channels from to every page_size page_token format", "Stored samples (JSON or CSV)"},
-    {"GET", "/v1/sessions/{id}/stream", get_stream, RF_SESSION, "channels since format", "Live samples (SSE or NDJSON)"},
-    {"GET", "/v1/sessions/{id}/fft", get_fft, RF_SESSION, "channel from to", "Amplitude spectrum of a channel"},
-    {"GET", "/v1/sessions/{id}/frame.png", get_frame, RF_SESSION | RF_WORK, "t " Q_VIEW, "One rendered frame (PNG)"},
-    {"GET", "/v1/sessions/{id}/frames", get_frames, RF_SESSION | RF_WORK, "fps format from to " Q_VIEW, "Animation of stored frames"},
+    {"DELETE", "/v1/sessions/{id}", delete_session, RF_SESSION, "",
+     "Delete a session and its data"},
+    {"POST", "/v1/sessions/{id}/step", post_step, RF_SESSION | RF_WORK, "",
+     "Advance synchronously (bounded)"},
+    {"POST", "/v1/sessions/{id}/run", post_run, RF_SESSION | RF_WORK, "",
+     "Start an asynchronous run"},
+    {"GET", "/v1/sessions/{id}/series", get_series, RF_SESSION,
+     "channels from to every page_size page_token format", "Stored samples (JSON or CSV)"},
+    {"GET", "/v1/sessions/{id}/stream", get_stream, RF_SESSION, "channels since format",
+     "Live samples (SSE or NDJSON)"},
+    {"GET", "/v1/sessions/{id}/fft", get_fft, RF_SESSION, "channel from to window detrend",
+     "Amplitude spectrum of a channel"},
+    {"GET", "/v1/sessions/{id}/frame.png", get_frame, RF_SESSION | RF_WORK, "t " Q_VIEW,
+     "One rendered frame (PNG)"},
+    {"GET", "/v1/sessions/{id}/frames", get_frames, RF_SESSION | RF_WORK,
+     "fps format from to " Q_VIEW, "Animation of stored frames"},
     {"POST", "/v1/modes", post_modes, RF_WORK, "", "Track eigenanalysis (tanksim modes)"},
-    {"POST", "/v1/engine-map", post_engine_map, RF_WORK, "", "Full-load engine map, an operation (tanksim engine-map)"},
-    {"POST", "/v1/tune", post_tune, RF_WORK, "schedule_mass schedule_grade", "IVS Ziegler-Nichols tuning, an operation (tanksim tune)"},
-    {"GET", "/v1/analyses", get_analyses, 0, "", "Stored analyses (engine maps, tunings), newest first"},
-    {"DELETE", "/v1/analyses/{id}", delete_analysis, 0, "", "Remove a finished analysis from the store"},
+    {"POST", "/v1/engine-map", post_engine_map, RF_WORK, "",
+     "Full-load engine map, an operation (tanksim engine-map)"},
+    {"POST", "/v1/tune", post_tune, RF_WORK, "schedule_mass schedule_grade",
+     "IVS Ziegler-Nichols tuning, an operation (tanksim tune)"},
+    {"GET", "/v1/analyses", get_analyses, 0, "",
+     "Stored analyses (engine maps, tunings), newest first"},
+    {"DELETE", "/v1/analyses/{id}", delete_analysis, 0, "",
+     "Remove a finished analysis from the store"},
     {"GET", "/v1/operations/{id}", get_operation, 0, "", "State of a run or analysis operation"},
-    {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "", "Cancel a run or analysis operation"},
+    {"POST", "/v1/operations/{id}:cancel", cancel_operation, 0, "",
+     "Cancel a run or analysis operation"},
     {"GET", "/", tsd_static_index, RF_PUBLIC, "*", "The browser dashboard (web_static/index.html)"},
-    {"GET", "/static/{file}", tsd_static_file, RF_PUBLIC, "*", "Dashboard assets (web_static/FILE)"},
+    {"GET", "/static/{file}", tsd_static_file, RF_PUBLIC, "*",
+     "Dashboard assets (web_static/FILE)"},
 };
 #define NROUTES (sizeof routes / sizeof routes[0])
 

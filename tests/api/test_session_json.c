@@ -31,7 +31,7 @@ static void spectrum_of_two_sines(void **state)
         x[i] = 7.0 + 2.0 * sin(2 * PI * 5.0 * t) + 0.5 * cos(2 * PI * 42.5 * t);
     }
     ts_err err;
-    assert_int_equal(tsa_amplitude_spectrum(x, n, fs, 1, f, a, &err), TS_OK);
+    assert_int_equal(tsa_amplitude_spectrum(x, n, fs, TS_FFT_MEAN, TS_FFT_RECT, f, a, &err), TS_OK);
     assert_close(f[1], 0.5, 1e-12, 0);
     assert_close(f[n / 2], 250.0, 1e-12, 0);
     assert_close(a[0], 0.0, 0, 1e-9);  /* mean removed */
@@ -40,9 +40,10 @@ static void spectrum_of_two_sines(void **state)
     for (long k = 1; k <= n / 2; k++)
         if (k != 10 && k != 85) assert_close(a[k], 0.0, 0, 1e-9);
     /* without detrending the mean shows at DC */
-    assert_int_equal(tsa_amplitude_spectrum(x, n, fs, 0, f, a, &err), TS_OK);
+    assert_int_equal(tsa_amplitude_spectrum(x, n, fs, TS_FFT_NONE, TS_FFT_RECT, f, a, &err), TS_OK);
     assert_close(a[0], 7.0, 1e-9, 0);
-    assert_int_equal(tsa_amplitude_spectrum(x, 1, fs, 1, f, a, &err), TS_ERR_PARAM);
+    assert_int_equal(tsa_amplitude_spectrum(x, 1, fs, TS_FFT_MEAN, TS_FFT_RECT, f, a, &err),
+                     TS_ERR_PARAM);
     free(x);
     free(f);
     free(a);

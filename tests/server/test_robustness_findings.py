@@ -1,4 +1,5 @@
-"""Requests that could hold the daemon's workers or reach the wrong resource.
+"""Requests that could hold the daemon's workers, reach the wrong resource or
+disagree with the CLI.
 
 Found by a read-only robustness audit of the daemon (session 17), each
 reproduced before the fix (session 18):
@@ -13,15 +14,17 @@ reproduced before the fix (session 18):
   the session, and a %2F added a path segment. Now 400 /problems/bad-path.
 """
 import http.client
+import json
 import signal
 import socket
+import subprocess
 import threading
 import time
 
 import pytest
 import requests
 
-from conftest import Daemon, is_problem
+from conftest import TANKSIM, Daemon, is_problem, wait_op
 
 # a long APNG: 596 frames of 1280 x 720 (about 5 s of drawing on the 2-core CI machine)
 BIG = {"from": 0, "to": 1.19, "fps": 500, "width": 1280, "height": 720}
@@ -201,3 +204,35 @@ def test_declared_oversize_body_is_refused_before_it_is_read(daemon):
         head = c.recv(4096).decode("latin-1")   # times out (5 s) if the body is awaited
     assert head.startswith("HTTP/1.1 413"), head
     assert "/problems/body-too-large" in head
+
+
+def test_fft_can_reproduce_the_run_summary_peaks(daemon, tmp_path):
+    """/fft used a rectangular window on the mean-removed series while the run summaries'
+    spectral peaks (sim/scenario_vehicle.c: paper Fig. 13's 3.7 / 14 Hz) use a Hann window
+    on the linearly detrended series, so a client could not check a reported peak. With
+    window=hann&detrend=linear the spectrum's largest bin in each band lies within one bin
+    (1/30 Hz) of the summary's interpolated peak for the same run."""
+    base = daemon.url + "/v1/sessions"
+    s = requests.post(base, json={"preset": "bump-prescribed-coupled"}).json()
+    op = requests.post(f"{base}/{s['id']}/run", json={}).json()
+    wait_op(daemon.url, op["id"], timeout=300)
+    r = requests.get(f"{base}/{s['id']}/fft", params={"channel": "track.tension.rear_roller",
+                                                     "window": "hann", "detrend": "linear"})
+    assert r.status_code == 200, r.text
+    sp = r.json()
+    assert sp["window"] == "hann" and sp["detrend"] == "line removed"
+    out = tmp_path / "run"
+    subprocess.run([TANKSIM, "run", "--preset", "bump-prescribed-coupled", "--out", str(out)],
+                   check=True, capture_output=True)
+    metrics = json.load(open(out / "summary.json"))["metrics"]
+    for band, (f0, f1) in {"tension_peak_2_6hz": (2, 6), "tension_peak_13_20hz": (13, 20)}.items():
+        k = max((i for i, f in enumerate(sp["frequency"]) if f0 <= f < f1),
+                key=lambda i: sp["amplitude"][i])
+        assert abs(sp["frequency"][k] - metrics[band]["value"]) <= sp["df"] + 1e-9, \
+            (band, sp["frequency"][k], metrics[band]["value"])
+    rect = requests.get(f"{base}/{s['id']}/fft", params={"channel": "track.tension.rear_roller"})
+    assert rect.json()["window"] == "rect" and rect.json()["detrend"] == "mean removed"
+    is_problem(requests.get(f"{base}/{s['id']}/fft", params={"channel": "t", "window": "kaiser"}),
+               400, "/window")
+    is_problem(requests.get(f"{base}/{s['id']}/fft", params={"channel": "t", "detrend": "cubic"}),
+               400, "/detrend")

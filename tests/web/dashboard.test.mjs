@@ -299,7 +299,9 @@ async function main() {
       assert(css.status === 200 && css.headers.get('content-type').startsWith('text/css'), `app.css -> ${css.status}`);
       for (const bad of ['/static/..%2F..%2Fetc%2Fpasswd', '/static/.hidden.js', '/static/README.md', '/static/%2e%2e%2fMakefile', '/static/../Makefile']) {
         const b = await fetch(`${d.url}${bad}`);
-        assert(b.status === 404, `${bad} -> ${b.status}, want 404`);
+        /* an encoded slash is refused before routing: 400 /problems/bad-path */
+        const want = /%2f/i.test(bad) ? 400 : 404;
+        assert(b.status === want, `${bad} -> ${b.status}, want ${want}`);
         assert(b.headers.get('content-type') === 'application/problem+json', `${bad} is not a problem document`);
       }
     });
