@@ -54,7 +54,7 @@ def test_run_to_a_time_between_samples_is_400_naming_until(daemon, sid500):
 def test_unknown_query_parameter_is_400_naming_it(daemon, sid500):
     base = f"{daemon.url}/v1/sessions/{sid500}"
     for path, bad in [("/series?chanels=t&page_size=1", "/chanels"),
-                      ("/fft?channel=vehicle.speed&window=hann", "/window"),
+                      ("/fft?channel=vehicle.speed&taper=hann", "/taper"),
                       ("/series?max_samples=5", "/max_samples"),
                       ("?verbose=1", "/verbose")]:
         p = is_problem(requests.get(base + path), 400, bad)
