@@ -15,10 +15,10 @@
  * Elements, by the form's prefix p: p-run, p-cancel, p-error, p-progress
  * (data-percent, data-outcome), p-progress-bar, p-progress-text.
  */
-import { api, ApiError } from './api.js';
+import { api } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { followOperation, outcomeOf } from './operation.js';
+import { followOperation, operationError, outcomeOf, outcomeSuffix } from './operation.js';
 
 /**
  * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
@@ -40,8 +40,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
     if (outcome) el('progress').dataset.outcome = outcome;
     else delete el('progress').dataset.outcome;
     const parts = total ? `${done} / ${total} parts · ${pct} %` : '';
-    const end = ['cancelled', 'failed', 'interrupted', 'refused'].includes(outcome) ? outcome : '';
-    el('progress-text').textContent = [parts, end].filter(Boolean).join(' · ') || '—';
+    el('progress-text').textContent = [parts, outcomeSuffix(outcome)].filter(Boolean).join(' · ') || '—';
     const running = state.analyses[kind] !== null;
     el('run').disabled = running;
     el('cancel').disabled = !running;
@@ -80,7 +79,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
         let outcome = outcomeOf(cur.error);
         try {
           /* failed or interrupted: the daemon's words (the latter say to start it again) */
-          if (outcome !== 'cancelled' && cur.error) throw new ApiError(cur.error.status || 500, cur.error);
+          if (outcome !== 'cancelled' && cur.error) throw operationError(cur);
           if (outcome === 'done') onDone(cur.response);
         } catch (e) {
           if (outcome === 'done') outcome = 'failed'; /* onDone could not draw it */

@@ -8,15 +8,19 @@ import { api, ApiError } from './api.js';
 import { $, presetOptions } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { SchemaForm } from './schema_form.js';
+import { UNITS_CHANGED } from './units.js';
 
 export function initCreateForm({ refreshList, open }) {
   let form = null; /* the SchemaForm, once the schema loaded */
 
-  /* Fetch the schema and presets and build the form; {schema, presets}, or throws what the daemon said. */
-  async function load() {
-    const [schema, presets] = await Promise.all([api.schema(), api.presets()]);
+  /* the "= 25 mph" hints follow the unit toggles (one listener: load() replaces the form) */
+  window.addEventListener(UNITS_CHANGED, () => form?.updateHints());
+
+  /* Fetch the schema and build the form with the preset list (GET /v1/presets);
+     the schema, or throws what the daemon said. */
+  async function load(list) {
+    const schema = await api.schema();
     form = new SchemaForm($('schema-form'), schema);
-    const list = presets.presets || [];
     const sel = $('preset-select');
     /* a preset that serves other commands only (the eigenanalysis ones: POST /v1/modes)
        stays visible but cannot start a session */
@@ -24,7 +28,7 @@ export function initCreateForm({ refreshList, open }) {
     sel.onchange = () => loadPreset(list);
     $('reset-form').onclick = () => loadPreset(list);
     await loadPreset(list);
-    return { schema, presets: list };
+    return schema;
   }
 
   async function loadPreset(list) {

@@ -6,7 +6,7 @@
 import { ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { markInvalid, numberField } from './number_input.js';
+import { markFromProblem, numberField } from './number_input.js';
 import { fillChannelSelect } from './channels.js';
 
 function pickFftDefault(chans) {
@@ -31,10 +31,7 @@ export function initFftControls(state, fft) {
     } catch (e) {
       fft.clear(); /* the last spectrum is not the answer to this request */
       /* the daemon names the bound at fault (e.g. /to: more samples than --max-samples): mark it */
-      for (const x of e instanceof ApiError ? e.errors : []) {
-        const id = { '/from': 'fft-from', '/to': 'fft-to' }[x.pointer];
-        if (id) markInvalid($(id), x.message);
-      }
+      markFromProblem(e, { '/from': $('fft-from'), '/to': $('fft-to') });
       showError(box, e);
     }
   }

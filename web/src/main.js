@@ -105,10 +105,11 @@ async function checkHealth() {
 async function boot() {
   await checkHealth();
   try {
-    const { schema, presets } = await form.load();
-    state.schema = schema;
+    /* the analyses' preset lists do not wait for the schema: it may fail on its own */
+    const presets = (await api.presets()).presets || [];
     mapControls.setPresets(presets);
     tuneControls.setPresets(presets);
+    state.schema = await form.load(presets);
     hideError($('create-error'));
   } catch (e) {
     showError($('create-error'), e);

@@ -90,6 +90,12 @@ export function numberListField(input, options, msg = null) {
 /* Mark an input from a field's message (a daemon's error about it): an edit takes the mark away. */
 export const markInvalid = (input, message, msg = null) => mark(input, msg, message);
 
+/* Mark the inputs a daemon's problem names: byPointer maps an errors[].pointer
+   ('/to', '/duration') to its input. Anything but an ApiError marks nothing. */
+export function markFromProblem(err, byPointer) {
+  for (const x of err?.errors || []) if (byPointer[x.pointer]) markInvalid(byPointer[x.pointer], x.message);
+}
+
 /* options: an object, or a function giving it at each read (a range known later) */
 function markedField(read, input, options, msg) {
   input.addEventListener('input', () => mark(input, msg, ''));

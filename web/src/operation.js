@@ -5,7 +5,7 @@
  * what they draw. After stop() no callback runs, also for an answer already
  * on its way.
  */
-import { api } from './api.js';
+import { api, ApiError } from './api.js';
 
 /* How a finished operation ended, from its error member (google.rpc code;
  * the daemon also sends a problem type): 'done' (none), 'cancelled' (1, a
@@ -14,9 +14,15 @@ import { api } from './api.js';
 export function outcomeOf(err) {
   if (!err) return 'done';
   if (err.code === 1 || /cancel/i.test(err.type || '')) return 'cancelled';
-  if (err.code === 14 || /interrupted/.test(err.type || '')) return 'interrupted';
+  if (err.code === 14 || /interrupted/i.test(err.type || '')) return 'interrupted';
   return 'failed';
 }
+
+/* The error an ended operation carries, as an ApiError (null when it succeeded). */
+export const operationError = (op) => (op.error ? new ApiError(op.error.status || 500, op.error) : null);
+
+/* The word a progress line ends with for an outcome ('' while running or when done). */
+export const outcomeSuffix = (outcome) => (['cancelled', 'failed', 'interrupted', 'refused'].includes(outcome) ? outcome : '');
 
 /**
  * Follow operation `id` every `period` ms; `first`: the operation itself when

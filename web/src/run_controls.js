@@ -8,8 +8,8 @@
 import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { markInvalid, numberField } from './number_input.js';
-import { followOperation, outcomeOf } from './operation.js';
+import { markFromProblem, numberField } from './number_input.js';
+import { followOperation, operationError, outcomeOf, outcomeSuffix } from './operation.js';
 
 export function initRunControls(state, { header, stream, refreshList }) {
   const stepDuration = numberField($('step-duration'), { name: 'step duration [s]', above: 0 });
@@ -26,8 +26,7 @@ export function initRunControls(state, { header, stream, refreshList }) {
       refreshList();
     } catch (e) {
       /* the daemon names the field (off the sample grid, longer than --max-step): mark it too */
-      const about = e instanceof ApiError && e.errors.find((x) => x.pointer === '/duration');
-      if (about) markInvalid($('step-duration'), about.message);
+      markFromProblem(e, { '/duration': $('step-duration') });
       showError($('session-error'), e);
     }
   }
@@ -67,10 +66,10 @@ export function initRunControls(state, { header, stream, refreshList }) {
         stop();
         const m = op.metadata || {};
         const outcome = outcomeOf(op.error);
-        if (outcome === 'failed' || outcome === 'interrupted') showError($('session-error'), new ApiError(op.error.status || 500, op.error));
+        if (outcome === 'failed' || outcome === 'interrupted') showError($('session-error'), operationError(op));
         await header.refresh();
         header.renderProgress(m);
-        if (outcome === 'cancelled' || outcome === 'interrupted') $('progress-text').textContent += ` · ${outcome}`;
+        if (outcomeSuffix(outcome)) $('progress-text').textContent += ` · ${outcomeSuffix(outcome)}`;
         $('progress-text').dataset.outcome = outcome;
         stream.start(); /* catch up on rows stored after the stream last closed */
         refreshList();

@@ -17,7 +17,7 @@
  * entry the browser cannot parse, "abc" in a number list, an emptied field)
  * is caught here, reported the same way, and nothing is sent.
  */
-import { display, convertible, fmt, UNITS_CHANGED } from './units.js';
+import { display, convertible, fmt } from './units.js';
 import { parseNumeral, readNumber } from './number_input.js';
 
 /* JSON Pointers of the fields shown up front, in this order (if the schema has them). */
@@ -111,10 +111,11 @@ export class SchemaForm {
     this.inputs = new Map(); /* pointer -> {f, input, row, msg, hint} */
     this.dirty = new Set();
     this.build();
-    /* the "= 25 mph" hints follow the display unit chosen elsewhere (the unit toggles) */
-    window.addEventListener(UNITS_CHANGED, () => {
-      for (const pointer of this.inputs.keys()) this.updateHint(pointer);
-    });
+  }
+
+  /* Redo every "= 25 mph" hint (the display unit was changed elsewhere: the unit toggles). */
+  updateHints() {
+    for (const pointer of this.inputs.keys()) this.updateHint(pointer);
   }
 
   build() {

@@ -82,7 +82,8 @@ export function initSessionList(state, { view, ticksChanged }) {
         view.open(s.id);
       });
       tbody.append(tr);
-      if (focus && focus.id === s.id) (focus.cmp ? cb : tr).focus();
+      /* the poll must not scroll the page back to a row the user scrolled away from */
+      if (focus && focus.id === s.id) (focus.cmp ? cb : tr).focus({ preventScroll: true });
     }
     $('sessions-empty').hidden = sessions.length > 0;
     const ticked = state.compare.size;

@@ -11,10 +11,10 @@
  * (refresh / changed) and after a delete, and every POLL_MS while a listed
  * analysis runs (one another client started, say) and the page is not hidden.
  */
-import { api, ApiError } from './api.js';
+import { api } from './api.js';
 import { $, cell, pill } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { outcomeOf } from './operation.js';
+import { operationError, outcomeOf } from './operation.js';
 import { showTuning } from './tune.js';
 
 const KIND_LABEL = { engine_map: 'engine map', tune: 'tuning' };
@@ -130,7 +130,7 @@ export function initStoredAnalyses({ engineMap, progress }) {
     form.shown = null;
     hideError(form.error);
     try {
-      if (op.error) throw new ApiError(op.error.status || 500, op.error);
+      if (op.error) throw operationError(op);
       form.show(op.response);
       form.shown = a.id;
     } catch (e) {

@@ -7,10 +7,10 @@
  * followed by analysis_op.js, its result shown by showTuning (tune.js);
  * changed: see analysis_op.js.
  */
-import { api, ApiError } from './api.js';
+import { api } from './api.js';
 import { $, presetOptions } from './dom.js';
 import { hideError } from './messages.js';
-import { markInvalid, numberListField } from './number_input.js';
+import { markFromProblem, markInvalid, numberListField } from './number_input.js';
 import { initAnalysisOp } from './analysis_op.js';
 import { fieldRange } from './schema_form.js';
 import { showTuning } from './tune.js';
@@ -52,8 +52,7 @@ export function initTuneControls(state, { changed }) {
         return await api.tune({ preset: $('tune-preset').value }, params);
       } catch (e) {
         /* the daemon names the query parameter: mark the values field */
-        const about = e instanceof ApiError && s && e.errors.find((x) => x.pointer === `/${s.param}`);
-        if (about) markInvalid(input, about.message); /* the message is in the error box */
+        if (s) markFromProblem(e, { [`/${s.param}`]: input }); /* the message is in the error box */
         throw e;
       }
     });
