@@ -141,8 +141,9 @@ int tsc_cmd_run(int argc, char **argv)
     write_row(&sink, 0, 0.0, ts_latest(d), ts_model_nchannel(m));
     ts_rc arc = ts_advance(m, d, until, write_row, &sink, &err);
     if (sink.shown && sink.tty) fputc('\n', stderr);
-    int write_failed = ferror(csv) != 0;
-    if (fclose(csv) != 0) write_failed = 1;
+    /* ferror sets no errno, and the errno of the write that failed is long gone */
+    int write_failed = ferror(csv) != 0, why = 0;
+    if (fclose(csv) != 0) write_failed = 1, why = errno;
     csv = NULL;
     if (sink.nomem) /* the sink stopped the run: say why, not "stopped by the caller" */
         ts_err_set(&err, TS_ERR_NOMEM, NULL,
@@ -150,7 +151,8 @@ int tsc_cmd_run(int argc, char **argv)
                    "%d channels); lower /run/sample_rate or /run/duration",
                    ts_time(d), sink.rows.n, ts_model_nchannel(m));
     else if (write_failed)
-        ts_err_set(&err, TS_ERR_IO, NULL, "cannot write %s/series.csv: %s", out, strerror(errno));
+        ts_err_set(&err, TS_ERR_IO, NULL, "cannot write %s/series.csv: %s", out,
+                   why ? strerror(why) : "a write failed (a full disk or an I/O error)");
     if (arc != TS_OK || sink.nomem || write_failed) {
         tsc_print_err("run", &err);
         fprintf(stderr,

@@ -29,12 +29,6 @@ typedef struct analysis_job {
     tsd_analysis_req req;
 } analysis_job;
 
-/* At most this many at once: session runs keep a worker when there are two. */
-static int analysis_cap(const tsd_server *srv)
-{
-    return srv->opt.threads > 1 ? srv->opt.threads - 1 : 1;
-}
-
 static const char *kind_name(tsd_analysis_kind k)
 {
     return k == TSD_ANALYSIS_ENGINE_MAP ? "engine_map" : "tune";
@@ -81,8 +75,11 @@ static void store_op(tsd_server *srv, tsd_op *op)
 /* End op with response or error (one of them; stolen), storing its final
  * document first: once a client can see it done it may DELETE it (the row
  * would come back if stored after) and the registry may drop it (op freed). */
+/* The end of a started analysis: its worker is given back first, so a client
+ * that sees it done can start the next one at once. */
 static void finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
 {
+    tsd_long_job_give(srv);
     tsd_op_finish_persisted(srv, op, response, error, store_doc, srv);
 }
 
@@ -150,21 +147,21 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
                           "GET /v1/analyses lists them)",
                           srv->opt.max_analyses);
     }
-    int cap = analysis_cap(srv), busy = 0;
+    ts_rc busy = tsd_long_job_take(srv, NULL, err);
+    if (busy != TS_OK) {
+        pthread_mutex_unlock(&srv->analyses_lock);
+        json_decref(request);
+        return busy;
+    }
     analysis_job *j = calloc(1, sizeof *j);
     int total = req->kind == TSD_ANALYSIS_ENGINE_MAP ? TS_ENGINE_SWEEP_NPOINT : 1 + req->n;
     if (!j) json_decref(request);
-    tsd_op *op = j ? tsd_op_new_analysis(srv, kind_name(req->kind), total, request, cap, &busy)
-                   : NULL;
+    tsd_op *op = j ? tsd_op_new_analysis(srv, kind_name(req->kind), total, request) : NULL;
     if (!op) {
         pthread_mutex_unlock(&srv->analyses_lock);
+        tsd_long_job_give(srv);
         int nomem = !j;
         free(j);
-        if (busy)
-            return ts_err_set(err, TS_ERR_LIMIT, NULL,
-                              "%d analyses already running (at most %d at once with %d worker "
-                              "threads, so that session runs keep one); retry when one is done",
-                              cap, cap, srv->opt.threads);
         return nomem ? ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory")
                      : ts_err_set(err, TS_ERR_LIMIT, NULL, "too many operations in progress");
     }
@@ -183,7 +180,8 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
                            : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         char id[64]; /* the op may be freed once finished */
         snprintf(id, sizeof id, "%s", tsd_op_id(op));
-        tsd_op_finish(srv, op, NULL, tsd_op_error_json(err)); /* not finish(): nothing to store */
+        tsd_long_job_give(srv);
+        tsd_op_fail(srv, op, err); /* not finish(): nothing to store */
         tsd_op_forget(srv, id);
         free(j);
         json_decref(*opdoc);

@@ -151,15 +151,15 @@ tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
         return NULL;
     }
     db->w = open_conn(path, err, errlen);
-    if (!db->w) goto fail;
+    /* a newer build's store is refused before anything is written to it */
+    if (!db->w || check_version(db->w, path, err, errlen) != 0) goto fail;
     char *msg = NULL;
     if (sqlite3_exec(db->w, schema, NULL, NULL, &msg) != SQLITE_OK) {
         snprintf(err, errlen, "%s: %s", path, msg ? msg : "schema failed");
         sqlite3_free(msg);
         goto fail;
     }
-    if (check_version(db->w, path, err, errlen) != 0 || migrate(db->w, err, errlen) != 0)
-        goto fail;
+    if (migrate(db->w, err, errlen) != 0) goto fail;
     /* best effort: a full disk must not keep the daemon from serving what
      * is stored (a session still marked deleted is not loaded: session.c) */
     exec_script(db->w, purge_deleted, "removing sessions deleted during a run (next start)");

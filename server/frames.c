@@ -73,7 +73,7 @@ typedef struct frames_ctx {
     long n, i;     /* frames in all, next to draw */
     int single;
     int apng;    /* draw every frame in one job and answer one APNG */
-    int counted; /* holds one of srv->apng_jobs */
+    int counted; /* holds a long job (server.h tsd_long_job_take) */
     double fps;  /* frame rate of the APNG */
     int pending; /* a draw job is queued or running */
     ts_data *d;  /* scratch state (draw jobs only) */
@@ -98,7 +98,7 @@ static void frames_free(void *cls)
     free(f->png);
     tsa_buf_free(&f->out);
     tsd_session_put(f->s);
-    if (f->counted) atomic_fetch_sub(&f->srv->apng_jobs, 1);
+    if (f->counted) tsd_long_job_give(f->srv);
     free(f);
 }
 
@@ -159,11 +159,6 @@ static ts_rc draw_one(frames_ctx *f)
     return rc;
 }
 
-int tsd_apng_cap(const tsd_server *srv)
-{
-    return srv->opt.threads > 1 ? srv->opt.threads - 1 : 1;
-}
-
 /* The client closed its end: a half-closed or reset socket polls as hung up. */
 static int client_gone(struct MHD_Connection *conn)
 {
@@ -178,15 +173,30 @@ static int client_gone(struct MHD_Connection *conn)
 static ts_rc apng_interrupted(frames_ctx *f)
 {
     if (atomic_load(&f->srv->stopping)) return tsd_err_shutdown(&f->err);
-    pthread_mutex_lock(&f->s->mu);
-    int deleted = f->s->deleted;
-    pthread_mutex_unlock(&f->s->mu);
-    if (deleted)
+    if (tsd_session_is_deleted(f->s))
         return ts_err_set(&f->err, TS_ERR_NOTFOUND, NULL,
                           "session %s was deleted while its animation was drawn", f->s->id);
     if (client_gone(f->conn)) /* nobody reads this answer; it ends the job */
         return ts_err_set(&f->err, TS_ERR_CANCELLED, NULL, "the client closed the connection");
     return TS_OK;
+}
+
+/* A frame's delay 1/fps s as num / den, both 16-bit (APNG fcTL): the closest
+ * such fraction, found over every denominator, so exact for any rate with a
+ * 16-bit rational period (0.5 fps: 2/1, 29.97: 100/2997, 1000: 1/1000).
+ * Earlier forms lost either the slow end (k / (k fps) with the largest k gave
+ * 0.5 fps as 65535/32768 s) or the fast one (1000 / (1000 fps) capped the
+ * denominator: every rate above 65.5 fps played at 65.5). */
+static void apng_delay(double fps, unsigned *num, unsigned *den)
+{
+    double period = 1.0 / fps, best = INFINITY;
+    *num = *den = 1;
+    for (unsigned d = 1; d <= 65535 && best > 0; d++) {
+        double n = round(period * d);
+        if (n < 1 || n > 65535) continue;
+        double e = fabs(n / d - period);
+        if (e < best) best = e, *num = (unsigned)n, *den = d;
+    }
 }
 
 /* Every frame, then one APNG in f->png (apng.h says why APNG). */
@@ -206,14 +216,10 @@ static ts_rc draw_apng(frames_ctx *f)
         }
     }
     if (rc == TS_OK) {
-        /* delay = 1/fps s as a fraction of two 16-bit numbers, k / (k fps) with the
-         * largest k that keeps k fps within 16 bits: exact for whole fps up to the
-         * API's 1000 (65 / 65000 s), ~5 significant digits otherwise; 1000 / (1000 fps)
-         * capped the denominator, so every rate above 65.5 fps played at 65.5 */
-        double k = floor(fmin(65535.0, 65535.0 / f->fps));
-        unsigned den = (unsigned)fmin(65535.0, lround(k * f->fps));
-        rc = tsr_apng_assemble((const unsigned char *const *)pngs, lens, (int)done, (unsigned)k,
-                               den ? den : 1, &f->png, &f->png_len, &f->err);
+        unsigned num, den;
+        apng_delay(f->fps, &num, &den);
+        rc = tsr_apng_assemble((const unsigned char *const *)pngs, lens, (int)done, num, den,
+                               &f->png, &f->png_len, &f->err);
     }
     for (long j = 0; j < done; j++) free(pngs[j]);
     free(pngs);
@@ -316,20 +322,12 @@ enum MHD_Result tsd_frames_reply(tsd_request *r, tsd_session *s, const tsr_view 
                                  double dk, long n, int single, double apng_fps)
 {
     int apng = !single && apng_fps > 0;
-    if (apng && atomic_fetch_add(&r->srv->apng_jobs, 1) >= tsd_apng_cap(r->srv)) {
-        atomic_fetch_sub(&r->srv->apng_jobs, 1);
-        ts_err e;
-        ts_err_set(&e, TS_ERR_LIMIT, NULL,
-                   "animations drawn at once: %d, the most this daemon takes (one fewer than "
-                   "its --threads workers, so runs and steps keep one); retry shortly, or ask "
-                   "for format=multipart (one frame per job)",
-                   tsd_apng_cap(r->srv));
-        r->retry_after = TSD_RETRY_AFTER_APNG_S;
+    ts_err e;
+    if (apng && tsd_long_job_take(r->srv, &r->retry_after, &e) != TS_OK)
         return tsd_reply_err(r, &e, NULL);
-    }
     frames_ctx *f = calloc(1, sizeof *f);
     if (!f) {
-        if (apng) atomic_fetch_sub(&r->srv->apng_jobs, 1);
+        if (apng) tsd_long_job_give(r->srv);
         return MHD_NO;
     }
     f->counted = apng;

@@ -26,9 +26,9 @@
  * geometry (pointmass) gets a 422 problem instead of an empty stream.
  *
  * An APNG is one pool job of up to TSD_MAX_APNG_FRAMES frames, so it is
- * bounded twice: at most tsd_apng_cap(srv) of them are drawn at once (one
- * more answers 429 with Retry-After, so animations never take every worker
- * from runs and steps), and the job stops between frames when the daemon is
+ * bounded twice: it is a long job (server.h: with the analyses, at most
+ * threads - 1 at once; one more answers 429 with Retry-After, so long jobs
+ * never take every worker from runs and steps), and it stops between frames when the daemon is
  * stopping, the session has been deleted, or the client has hung up
  * (libmicrohttpd does not watch a suspended connection, so the job polls
  * the socket itself).
@@ -42,11 +42,6 @@
 
 #define TSD_MAX_FRAMES 3000      /* frames per multipart animation request */
 #define TSD_MAX_APNG_FRAMES 600  /* frames per APNG (held in memory until sent) */
-
-#define TSD_RETRY_AFTER_APNG_S 2 /* [s] Retry-After of the 429 at the APNG cap */
-
-/* APNG jobs drawn at once: one fewer than the workers, at least one. */
-int tsd_apng_cap(const tsd_server *srv);
 
 int tsd_renderers_init(tsd_server *srv);
 void tsd_renderers_free(tsd_server *srv); /* after the pool has stopped */

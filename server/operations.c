@@ -69,23 +69,13 @@ static void op_remove(tsd_ops *o, int i)
 }
 
 /* Register op (kept in creation order; when full, the oldest finished one is
- * dropped); frees it and returns NULL when every kept operation is running,
- * or (max_analyses > 0) when that many analyses are not done (*busy = 1). */
-static tsd_op *op_register(tsd_server *srv, tsd_op *op, int max_analyses, int *busy)
+ * dropped); frees it and returns NULL when every kept operation is running. */
+static tsd_op *op_register(tsd_server *srv, tsd_op *op)
 {
     tsd_ops *o = srv->ops;
     tsd_random_id(op->id, sizeof op->id, "op");
     op->wall_start = op->wall_last = tsd_now();
     pthread_mutex_lock(&o->mu);
-    int running = 0;
-    for (int i = 0; max_analyses > 0 && i < o->n; i++)
-        running += !o->v[i]->sid[0] && !o->v[i]->done;
-    if (max_analyses > 0 && running >= max_analyses) {
-        pthread_mutex_unlock(&o->mu);
-        op_free(op);
-        *busy = 1;
-        return NULL;
-    }
     if (o->n == TSD_MAX_OPS) {
         int drop = -1;
         for (int i = 0; i < o->n && drop < 0; i++)
@@ -110,13 +100,11 @@ tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double unti
     snprintf(op->sid, sizeof op->sid, "%s", sid);
     op->t_start = op->t = t_start;
     op->until = until;
-    return op_register(srv, op, 0, NULL);
+    return op_register(srv, op);
 }
 
-tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total, json_t *request,
-                            int max_running, int *busy)
+tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total, json_t *request)
 {
-    *busy = 0;
     tsd_op *op = calloc(1, sizeof *op);
     if (!op) {
         json_decref(request);
@@ -126,7 +114,7 @@ tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total, 
     op->parts_total = parts_total;
     op->created = tsd_unix_now();
     op->request = request;
-    return op_register(srv, op, max_running, busy);
+    return op_register(srv, op);
 }
 
 int tsd_op_forget(tsd_server *srv, const char *id)

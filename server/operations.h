@@ -35,11 +35,8 @@ tsd_op *tsd_op_new(tsd_server *srv, const char *sid, double t_start, double unti
 /* A new operation of an analysis (kind: a static string, "engine_map", "tune")
  * in parts_total parts, not tied to a session, made from request (a JSON
  * object shown as metadata.request; stolen, even on failure). NULL as
- * tsd_op_new, or with *busy = 1 when max_running analyses are not done yet
- * (counted under the registry's lock, so an analysis a client saw done no
- * longer counts). */
-tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total, json_t *request,
-                            int max_running, int *busy);
+ * tsd_op_new (how many run at once is the caller's: server.h long jobs). */
+tsd_op *tsd_op_new_analysis(tsd_server *srv, const char *kind, int parts_total, json_t *request);
 /* Drop the analysis operation with this id from memory if it is done: 1
  * dropped, 0 no such analysis (run operations are never dropped this way),
  * -1 it is still running. */

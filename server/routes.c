@@ -86,7 +86,7 @@ static int q_number(tsd_request *r, const char *name, double lo, double hi, doub
                     enum MHD_Result *ret)
 {
     const char *v = tsd_arg(r, name);
-    if (!v || !*v) return 0;
+    if (!v) return 0; /* an empty value was refused by check_query */
     errno = 0; /* ERANGE: beyond a double, or below its normal range */
     double x = tsa_is_decimal(v, 0) ? strtod(v, NULL) : NAN;
     if (!isfinite(x) || errno || x < lo || x > hi) {
@@ -115,7 +115,7 @@ static int q_integer(tsd_request *r, const char *name, long lo, long hi, long *o
                      enum MHD_Result *ret)
 {
     const char *v = tsd_arg(r, name);
-    if (!v || !*v) return 0;
+    if (!v) return 0; /* an empty value was refused by check_query */
     if (parse_integer(v, lo, hi, out) != 0) {
         char what[96];
         snprintf(what, sizeof what, "integer in [%ld, %ld] expected", lo, hi);
@@ -568,10 +568,8 @@ static long read_rows(tsd_request *r, tsd_session *s, long from, long to, long e
     long n = tsd_db_rows(r->srv->db, s->seq, from, to, every, max, s->nch, *index, *rows, more);
     /* a DELETE that landed meanwhile took the rows, or some of them: the
      * session is gone, not empty (nor an I/O failure) */
-    pthread_mutex_lock(&s->mu);
-    int deleted = s->deleted;
-    pthread_mutex_unlock(&s->mu);
-    if (deleted) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id), -1;
+    if (tsd_session_is_deleted(s))
+        return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id), -1;
     if (n < 0) ts_err_set(err, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
     return n;
 }
@@ -649,29 +647,43 @@ static enum MHD_Result get_stream(tsd_request *r)
     return tsd_stream_reply(r, s, q.idx, q.n, since, ndjson);
 }
 
+/* /fft's window and detrend: the query word, its sim/fft.h value, how the answer names it. */
+typedef struct fft_word {
+    const char *word;
+    int value;
+    const char *label;
+} fft_word;
+static const fft_word fft_windows[] = {
+    {"rect", TS_FFT_RECT, "rect"}, {"hann", TS_FFT_HANN, "hann"}, {NULL, 0, NULL}};
+static const fft_word fft_detrends[] = {{"none", TS_FFT_NONE, "none"},
+                                        {"mean", TS_FFT_MEAN, "mean removed"},
+                                        {"linear", TS_FFT_LINEAR, "line removed"},
+                                        {NULL, 0, NULL}};
+
+/* The entry named s (list ended by a NULL word), list[dflt] when s is NULL, NULL when unknown. */
+static const fft_word *fft_word_of(const char *s, const fft_word *list, int dflt)
+{
+    if (!s) return &list[dflt];
+    for (; list->word; list++)
+        if (strcmp(s, list->word) == 0) return list;
+    return NULL;
+}
+
 static enum MHD_Result get_fft(tsd_request *r)
 {
     tsd_session *s = r->session;
     enum MHD_Result ret = MHD_NO;
     const char *ch = tsd_arg(r, "channel");
     ts_err e;
-    if (!ch || !*ch) {
+    if (!ch) {
         ts_err_set(&e, TS_ERR_PARAM, "/channel", "query parameter channel: required");
         return tsd_reply_err(r, &e, NULL);
     }
     if (strchr(ch, ',')) return bad_param(r, "channel", "exactly one channel name", ch);
-    static const char *const windows[] = {"rect", "hann"};
-    static const char *const detrends[] = {"none", "mean", "linear"};
     const char *wn = tsd_arg(r, "window"), *dn = tsd_arg(r, "detrend");
-    int wi = wn ? -1 : 0, di = dn ? -1 : 1; /* defaults: rect, mean */
-    for (int i = 0; wn && i < 2; i++)
-        if (!strcmp(wn, windows[i])) wi = i;
-    for (int i = 0; dn && i < 3; i++)
-        if (!strcmp(dn, detrends[i])) di = i;
-    if (wi < 0) return bad_param(r, "window", "rect or hann expected", wn);
-    if (di < 0) return bad_param(r, "detrend", "none, mean or linear expected", dn);
-    ts_fft_window window = wi ? TS_FFT_HANN : TS_FFT_RECT;
-    ts_fft_detrend detrend = di == 0 ? TS_FFT_NONE : di == 1 ? TS_FFT_MEAN : TS_FFT_LINEAR;
+    const fft_word *win = fft_word_of(wn, fft_windows, 0), *det = fft_word_of(dn, fft_detrends, 1);
+    if (!win) return bad_param(r, "window", "rect or hann expected", wn);
+    if (!det) return bad_param(r, "detrend", "none, mean or linear expected", dn);
     range_q q;
     if (parse_range(r, s, "channel", ch, &q, &ret) < 0) return ret;
     long want = q.to - q.from + 1;
@@ -706,7 +718,8 @@ static enum MHD_Result get_fft(tsd_request *r)
         for (long k = 0; k < n; k++)
             x[k] = rows[(size_t)k * (size_t)s->nch + (size_t)c];
         pthread_mutex_lock(&r->srv->fft_lock);
-        rc = tsa_amplitude_spectrum(x, n, 1.0 / s->ch.view.period, detrend, window, freq, amp, &e);
+        rc = tsa_amplitude_spectrum(x, n, 1.0 / s->ch.view.period, (ts_fft_detrend)det->value,
+                                    (ts_fft_window)win->value, freq, amp, &e);
         pthread_mutex_unlock(&r->srv->fft_lock);
     }
     json_t *out = NULL;
@@ -717,12 +730,11 @@ static enum MHD_Result get_fft(tsd_request *r)
             json_array_append_new(aa, json_real(amp[k]));
         }
         const ts_channel *chn = &s->ch.view.v[c];
-        static const char *const detrend_text[] = {"none", "mean removed", "line removed"};
         out = json_pack("{s:s,s:s,s:s,s:f,s:f,s:I,s:f,s:s,s:s,s:o,s:o}", "session", s->id,
                         "channel", chn->name, "unit", chn->unit, "from",
                         (double)q.from * s->ch.view.period, "to", (double)q.to * s->ch.view.period,
                         "n", (json_int_t)n, "df", 1.0 / ((double)n * s->ch.view.period), "detrend",
-                        detrend_text[di], "window", windows[wi], "frequency", fa, "amplitude", aa);
+                        det->label, "window", win->label, "frequency", fa, "amplitude", aa);
         /* units of every number above: "unit" is the amplitude's (the channel's) */
         json_object_set_new(out, "units",
                             json_pack("{s:s,s:s,s:s,s:s,s:s}", "frequency", "Hz", "df", "Hz",
@@ -850,7 +862,7 @@ static enum MHD_Result get_frames(tsd_request *r)
         return tsd_reply_err(r, &e, NULL);
     }
     const char *format = tsd_arg(r, "format");
-    int apng = !format || !*format || strcmp(format, "apng") == 0;
+    int apng = !format || strcmp(format, "apng") == 0;
     if (!apng && strcmp(format, "multipart") != 0)
         return bad_param(r, "format", "apng or multipart expected", format);
     int limit = apng ? TSD_MAX_APNG_FRAMES : TSD_MAX_FRAMES;
@@ -1183,7 +1195,7 @@ static int check_query(tsd_request *r, const tsd_route_row *row, enum MHD_Result
     if (c.why == QUERY_OK) return 0;
     ts_err e;
     char ptr[64];
-    snprintf(ptr, sizeof ptr, "/%s", c.bad);
+    tsa_pointer_join(ptr, sizeof ptr, "", c.bad); /* the client's own key: escape it */
     if (c.why == QUERY_REPEATED)
         ts_err_set(&e, TS_ERR_PARAM, ptr, "query parameter %s: given more than once", c.bad);
     else if (c.why == QUERY_EMPTY)

@@ -110,6 +110,34 @@ enum MHD_Result tsd_reply_problem_json(tsd_request *r, unsigned status, json_t *
     return reply_dump(r, status, p, "application/problem+json");
 }
 
+int tsd_long_job_cap(const tsd_server *s)
+{
+    return s->opt.threads > 1 ? s->opt.threads - 1 : 1;
+}
+
+ts_rc tsd_long_job_take(tsd_server *s, int *retry_after, ts_err *err)
+{
+    int cap = tsd_long_job_cap(s);
+    int n = atomic_load(&s->long_jobs);
+    do {
+        if (n >= cap) {
+            if (retry_after) *retry_after = TSD_RETRY_AFTER_BUSY_S;
+            return ts_err_set(err, TS_ERR_LIMIT, NULL,
+                              "%d long jobs already running (engine maps, tunings, APNG "
+                              "animations: at most %d at once with %d worker threads, so that "
+                              "session runs and steps keep one); retry when one is done, or "
+                              "ask for frames as format=multipart (one frame per job)",
+                              n, cap, s->opt.threads);
+        }
+    } while (!atomic_compare_exchange_weak(&s->long_jobs, &n, n + 1));
+    return TS_OK;
+}
+
+void tsd_long_job_give(tsd_server *s)
+{
+    atomic_fetch_sub(&s->long_jobs, 1);
+}
+
 ts_rc tsd_err_shutdown(ts_err *err)
 {
     return ts_err_set(err, TSD_ERR_SHUTDOWN, NULL, "%s", TSD_SHUTDOWN_MSG);
@@ -163,7 +191,7 @@ static void *uri_seen(void *cls, const char *uri, struct MHD_Connection *conn)
     (void)cls;
     (void)conn;
     tsd_request *r = calloc(1, sizeof *r);
-    if (!r) return NULL; /* the access handler tries once more */
+    if (!r) return NULL; /* the access handler then closes the connection */
     size_t n = strcspn(uri, "?");
     for (size_t i = 0; i + 2 < n; i++)
         if (uri[i] == '%' && ((uri[i + 1] == '0' && uri[i + 2] == '0') ||
@@ -214,8 +242,8 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
     (void)version;
     tsd_server *s = cls;
     tsd_request *r = *con_cls;
-    if (!r || !r->srv) { /* first call: headers only */
-        if (!r && !(r = calloc(1, sizeof *r))) return MHD_NO;
+    if (!r) return MHD_NO; /* uri_seen ran out of memory: its path went unchecked */
+    if (!r->srv) {         /* first call: headers only */
         r->srv = s;
         r->conn = conn;
         r->method = method;

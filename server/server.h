@@ -76,7 +76,7 @@ typedef struct tsd_server {
     atomic_int stopping;             /* set once shutdown begins */
     atomic_int inflight;             /* requests between arrival and completion (shutdown
                                         waits for them, bounded, before stopping MHD) */
-    atomic_int apng_jobs;            /* APNG animations queued or drawing (frames.c) */
+    atomic_int long_jobs;            /* analyses and APNG animations holding a worker */
 } tsd_server;
 
 typedef struct tsd_request {
@@ -114,6 +114,17 @@ typedef struct tsd_request {
     int retry_after;               /* add Retry-After: N seconds (0 = none) */
     int bad_path;                  /* the raw path had %00 or %2F (server.c refuses it) */
 } tsd_request;
+
+/* Long jobs — engine maps, tunings (analyses.c) and APNG animations
+ * (frames.c) — each hold a worker for seconds to minutes. Together at most
+ * tsd_long_job_cap(s) = max(1, threads - 1) run at once, so session runs and
+ * steps keep a worker. take: TS_OK, or TS_ERR_LIMIT with the message (and
+ * *retry_after, when not NULL, the Retry-After of its 429); every take that
+ * succeeded is given back once, when the job ends. */
+#define TSD_RETRY_AFTER_BUSY_S 2 /* [s] Retry-After of the 429 at the long-job cap */
+int tsd_long_job_cap(const tsd_server *s);
+ts_rc tsd_long_job_take(tsd_server *s, int *retry_after, ts_err *err);
+void tsd_long_job_give(tsd_server *s);
 
 /* Start listening as configured; 0 on success, -1 with a message in err. */
 int tsd_server_start(tsd_server *s, char *err, size_t errlen);

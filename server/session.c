@@ -752,6 +752,14 @@ ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, 
     return rc;
 }
 
+int tsd_session_is_deleted(tsd_session *s)
+{
+    pthread_mutex_lock(&s->mu);
+    int deleted = s->deleted;
+    pthread_mutex_unlock(&s->mu);
+    return deleted;
+}
+
 ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
 {
     tsd_session *s = NULL;

@@ -108,6 +108,9 @@ tsd_session *tsd_session_get(tsd_server *srv, const char *id); /* NULL if unknow
 int tsd_session_deferred(tsd_session *s);
 void tsd_session_build(tsd_session *s);
 void tsd_session_put(tsd_session *s);
+/* Non-zero once s has been deleted (taken under its lock): a reader holding
+ * a reference answers 404 instead of what the removed rows would give. */
+int tsd_session_is_deleted(tsd_session *s);
 ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err);
 
 /* Session object (session_json.h shape), taken under the lock. */

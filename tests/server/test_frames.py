@@ -116,12 +116,14 @@ def test_frames_of_every_drawable_preset(daemon):
             return out
         assert delays(apng.content) == pytest.approx([0.1] * 5, rel=1e-12)
         # above 65.5 fps the 16-bit denominator of 1000 / (1000 fps) was capped: 100 and 1000
-        # fps played at 65.5 (15.3 ms a frame)
-        for fps in (100, 1000, 29.97):
+        # fps played at 65.5 (15.3 ms a frame); its replacement k / (k fps) then gave the
+        # slow rates 5 digits only (0.5 fps: 65535 / 32768 s). Every one exact now.
+        for fps in (0.01, 0.5, 29.97, 100, 1000):
             fast = requests.get(base + "/frames", params={"from": 0, "to": 0.002, "fps": fps,
                                                           "width": 16, "height": 16})
             assert fast.status_code == 200
-            assert delays(fast.content) == pytest.approx([1 / fps] * len(delays(fast.content)), rel=1e-4)
+            assert delays(fast.content) == pytest.approx([1 / fps] * len(delays(fast.content)),
+                                                         rel=1e-12), fps
         a = requests.get(base + "/frames", params={"from": 0, "to": 0.4, "fps": 10,
                                                    "width": 160, "height": 100,
                                                    "format": "multipart"})

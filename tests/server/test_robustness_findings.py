@@ -6,8 +6,10 @@ reproduced before the fix (session 18):
 - an APNG animation (GET .../frames, up to 600 frames) is one worker job that
   drew every frame even after its client had hung up or shutdown had begun,
   and any number of them could be queued, so a few large ones took every
-  worker from runs and steps. Now at most --threads - 1 are drawn at once
-  (429 with Retry-After beyond), and the job stops between frames when the
+  worker from runs and steps. Now an APNG is a long job like an engine map
+  or a tuning, together at most --threads - 1 at once (429 with Retry-After
+  beyond; the first version capped animations and analyses each on its own,
+  so one of each still took both of two workers), and the job stops between frames when the
   client hangs up, the session is deleted or the daemon stops;
 - libmicrohttpd decodes the path before routing, so DELETE
   /v1/sessions/ID%00/frames was routed as DELETE /v1/sessions/ID and deleted
@@ -69,8 +71,12 @@ def test_one_apng_at_a_time_with_two_workers(d2, big_apng_seconds):
     t.start()
     time.sleep(min(0.5, wall / 4))
     p = is_problem(requests.get(url, params=SMALL), 429)
-    assert "one fewer than its --threads workers" in p["detail"], p
+    assert "at most 1 at once with 2 worker threads" in p["detail"], p
     assert requests.get(url, params=SMALL).headers["Retry-After"] == "2"
+    # animations and analyses share the cap: with one of each both workers were taken
+    p = is_problem(requests.post(d2.url + "/v1/engine-map",
+                                 json={"preset": "engine-map-conventional"}), 429)
+    assert "already running" in p["detail"], p
     # the other worker is still free for physics and single frames
     r = requests.get(f"{d2.url}/v1/sessions/{s}/frame.png", params={"t": 0.5, "width": 64,
                                                                     "height": 64})
@@ -225,11 +231,16 @@ def test_fft_can_reproduce_the_run_summary_peaks(daemon, tmp_path):
     subprocess.run([TANKSIM, "run", "--preset", "bump-prescribed-coupled", "--out", str(out)],
                    check=True, capture_output=True)
     metrics = json.load(open(out / "summary.json"))["metrics"]
+    f, a = sp["frequency"], sp["amplitude"]
     for band, (f0, f1) in {"tension_peak_2_6hz": (2, 6), "tension_peak_13_20hz": (13, 20)}.items():
-        k = max((i for i, f in enumerate(sp["frequency"]) if f0 <= f < f1),
-                key=lambda i: sp["amplitude"][i])
-        assert abs(sp["frequency"][k] - metrics[band]["value"]) <= sp["df"] + 1e-9, \
-            (band, sp["frequency"][k], metrics[band]["value"])
+        k = max((i for i in range(len(f)) if f0 <= f[i] <= f1), key=lambda i: a[i])
+        # the summary's parabolic interpolation through the peak bin and its neighbours
+        # (sim/fft.c ts_fft_peak): frequency and amplitude, which the window changes
+        y0, y1, y2 = a[k - 1], a[k], a[k + 1]
+        d = 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2)
+        peak_f, peak_a = f[k] + d * sp["df"], y1 - 0.25 * (y0 - y2) * d
+        assert peak_f == pytest.approx(metrics[band]["value"], rel=1e-6), band
+        assert peak_a == pytest.approx(metrics[band + "_amp"]["value"], rel=1e-6), band
     rect = requests.get(f"{base}/{s['id']}/fft", params={"channel": "track.tension.rear_roller"})
     assert rect.json()["window"] == "rect" and rect.json()["detrend"] == "mean removed"
     is_problem(requests.get(f"{base}/{s['id']}/fft", params={"channel": "t", "window": "kaiser"}),

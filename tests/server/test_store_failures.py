@@ -57,12 +57,20 @@ def test_store_from_a_newer_build_is_refused(tmp_path):
     db = sqlite3.connect(str(tmp_path / "tanksimd.db"))
     assert db.execute("PRAGMA user_version").fetchone()[0] == 1
     db.execute("PRAGMA user_version=99")
+    db.execute("DROP TABLE analyses")   # say the newer schema has none
     db.commit()
     db.close()
     p = subprocess.run([TANKSIMD, "--port", str(free_port()), "--data-dir", str(tmp_path)],
                        capture_output=True, text=True, timeout=30)
     assert p.returncode != 0
     assert "newer tanksimd" in p.stderr and "schema 99" in p.stderr, p.stderr
+    # refused before anything was written: this build's CREATE TABLE IF NOT EXISTS ran first
+    db = sqlite3.connect(str(tmp_path / "tanksimd.db"))
+    try:
+        names = [r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type='table'")]
+        assert "analyses" not in names, names
+    finally:
+        db.close()
 
 
 @pytest.fixture

@@ -331,12 +331,10 @@ static void launch_starts_from_idle_steady_state(void **state)
     (void)state;
     ts_config c = load("flat-coupled-rack90", "static");
     ts_err err;
-    ts_coupled *cm = ts_coupled_make(&c, &err);
-    assert_non_null(cm);
-    ts_coupled_run *r = ts_coupled_run_make(cm, TS_COUPLING_LEADING_FOLLOWING, &err);
-    assert_non_null(r);
-    assert_int_equal(ts_coupled_run_reset(r, &err), TS_OK);
-    const double v_d = 0.0377; /* displacement [m^3] (Table / engine.json) */
+    ts_coupled *cm;
+    ts_coupled_run *r = started(&c, TS_COUPLING_LEADING_FOLLOWING, 0.0, &cm);
+    const double pi = 3.141592653589793;
+    const double v_d = 12.0 * pi / 4.0 * c.engine.bore * c.engine.bore * c.engine.stroke; /* V-12 */
     double worst = 0, t0_torque = NAN;
     for (int k = 0; k <= 50; k++) {
         if (k > 0) assert_int_equal(ts_coupled_run_advance(r, 1e-3 * k, &err), TS_OK);
@@ -344,7 +342,7 @@ static void launch_starts_from_idle_steady_state(void **state)
         ts_coupled_run_observe(r, &o);
         if (k == 0) t0_torque = o.pt.engine_torque;
         if (o.pt.boost < 1.2e5)
-            worst = fmax(worst, o.pt.engine_torque * 4.0 * 3.141592653589793 / v_d);
+            worst = fmax(worst, o.pt.engine_torque * 4.0 * pi / v_d);
     }
     print_message("brake torque at t = 0: %.0f N*m; largest BMEP below 1.2 bar intake: %.1f bar\n",
                   t0_torque, worst / 1e5);
