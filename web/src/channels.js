@@ -4,7 +4,7 @@
  * <select>s of the FFT and Compare panels, each labelled with the unit the
  * charts draw it in.
  */
-import { $ } from './dom.js';
+import { $, fillSelect } from './dom.js';
 import { bracket, choices, display, setDisplay } from './units.js';
 
 /* A session's channels less the time axis. */
@@ -14,16 +14,7 @@ export function channelsOf(s) {
 
 /* Options "name [display unit]": the unit the charts draw the channel in. */
 export function fillChannelSelect(sel, chans, selected) {
-  const keep = selected || sel.value;
-  sel.replaceChildren();
-  for (const c of chans) {
-    const o = document.createElement('option');
-    o.value = c.name;
-    o.dataset.unit = c.unit;
-    o.textContent = `${c.name}${bracket(display(c.unit).label)}`;
-    sel.append(o);
-  }
-  if (chans.some((c) => c.name === keep)) sel.value = keep;
+  fillSelect(sel, chans, (c) => ({ value: c.name, text: `${c.name}${bracket(display(c.unit).label)}`, data: { unit: c.unit } }), selected || sel.value);
 }
 
 /* The channels a select lists, as it was filled. */

@@ -22,24 +22,27 @@ export function cell(content, className) {
   return td;
 }
 
-/* Fill <select> sel with one option per preset of GET /v1/presets (name, its
-   description as the tooltip); unusable(p) -> a reason: the option is shown
-   disabled with it. The selected name is kept when it is still listed. */
-export function presetOptions(sel, presets, unusable = () => '') {
-  const keep = sel.value;
+/* Fill <select> sel with one <option> per item, toOption(item) giving its
+   fields ({value, text, title, disabled, data}); the value keep (by default
+   the current one) stays selected when it is still listed. */
+export function fillSelect(sel, items, toOption, keep = sel.value) {
   sel.replaceChildren(
-    ...presets.map((p) => {
+    ...items.map((item) => {
+      const { value, text, title = '', disabled = false, data = {} } = toOption(item);
       const o = document.createElement('option');
-      o.value = p.name;
-      o.textContent = p.name;
-      o.title = p.description || '';
-      const why = unusable(p);
-      if (why) {
-        o.disabled = true;
-        o.textContent = `${p.name} (${why})`;
-      }
+      Object.assign(o, { value, textContent: text, title, disabled });
+      Object.assign(o.dataset, data);
       return o;
     }),
   );
-  if (presets.some((p) => p.name === keep)) sel.value = keep;
+  if ([...sel.options].some((o) => o.value === keep)) sel.value = keep;
+}
+
+/* Fill <select> sel with the presets of GET /v1/presets (name, its description
+   as the tooltip); unusable(p) -> a reason: the option is shown disabled with it. */
+export function presetOptions(sel, presets, unusable = () => '') {
+  fillSelect(sel, presets, (p) => {
+    const why = unusable(p);
+    return { value: p.name, text: why ? `${p.name} (${why})` : p.name, title: p.description || '', disabled: Boolean(why) };
+  });
 }
