@@ -129,7 +129,8 @@ static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err
                              .explicit_step = engine_explicit_step,
                              .free = engine_free,
                              .advance = engine_advance,
-                             .work_size = ts_engine_work_size(c->e)};
+                             .work_size = ts_engine_work_size(c->e),
+                             .piston_temp = ts_engine_get_fidelity(c->e) == TS_ENGINE_CRANK_ANGLE};
     return TS_OK;
 }
 
@@ -403,29 +404,53 @@ static const ts_channel channels[TS_POWERTRAIN_NCHANNEL] = {
     {"transmission.out.speed", "rad/s", "transmission output speed"},
     {"transmission.out.torque", "N*m", "transmission output (propshaft) torque"},
     {"transmission.clutch.offgoing", "N*m", "engaged/off-going range-clutch torque, input side"},
-    {"transmission.clutch.oncoming", "N*m", "on-coming range-clutch torque during a shift, input side"},
+    {"transmission.clutch.oncoming", "N*m",
+     "on-coming range-clutch torque during a shift, input side"},
     {"driveshaft.torque", "N*m", "torque in each drive shaft, differential to sprocket"},
     {"driveshaft.speed", "rad/s", "drive-shaft (= sprocket) speed"},
     {"exhaust.temperature", "K", "exhaust manifold temperature (Fig. 21c)"},
     {"turbo.speed", "rad/s", "turbocharger rotor speed"},
-    {"piston.surface_temperature", "K", "piston gas-side surface temperature (Fig. 21b; 0 if not modelled)"},
     {"engine.fuel_flow", "kg/s", "fuel mass flow, whole engine"},
+    {"piston.surface_temperature", "K",
+     "piston gas-side surface temperature (Fig. 21b; crank-angle engine only)"},
 };
 
 const ts_channel *ts_powertrain_channels(void) { return channels; }
 
-void ts_powertrain_channel_values(const ts_powertrain_out *o, double *v)
+int ts_powertrain_nchannel(const ts_powertrain *pt)
+{
+    return TS_POWERTRAIN_NCHANNEL - (pt->engine.piston_temp ? 0 : 1);
+}
+
+void ts_powertrain_channel_values(const ts_powertrain *pt, const ts_powertrain_out *o, double *v)
 {
     double row[TS_POWERTRAIN_NCHANNEL] = {
-        o->engine_speed,     o->engine_torque,   o->engine_power,    o->boost,
-        o->rack,             o->engine_speed,    o->turbine_speed,   o->pump_torque,
-        o->turbine_torque,   o->speed_ratio,     o->torque_ratio,    o->tc_efficiency,
-        o->engine_speed - o->turbine_speed,      o->gear,            o->out_speed,
-        o->out_torque,       o->clutch_offgoing, o->clutch_oncoming, o->sprocket_torque,
-        o->sprocket_speed,   o->exhaust_temp,    o->turbo_speed,     o->piston_temp,
+        o->engine_speed,
+        o->engine_torque,
+        o->engine_power,
+        o->boost,
+        o->rack,
+        o->engine_speed,
+        o->turbine_speed,
+        o->pump_torque,
+        o->turbine_torque,
+        o->speed_ratio,
+        o->torque_ratio,
+        o->tc_efficiency,
+        o->engine_speed - o->turbine_speed,
+        o->gear,
+        o->out_speed,
+        o->out_torque,
+        o->clutch_offgoing,
+        o->clutch_oncoming,
+        o->sprocket_torque,
+        o->sprocket_speed,
+        o->exhaust_temp,
+        o->turbo_speed,
         o->fuel_flow,
+        o->piston_temp,
     };
-    memcpy(v, row, sizeof row);
+    memcpy(v, row, sizeof row[0] * (size_t)ts_powertrain_nchannel(pt));
 }
 
 /* ---- the powertrain on its own integrator ---------------------------------- */

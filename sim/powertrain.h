@@ -40,7 +40,7 @@ typedef struct ts_engine_obs {
     double boost;        /* intake manifold pressure [Pa] */
     double exhaust_temp; /* exhaust manifold temperature [K] */
     double turbo_speed;  /* turbocharger rotor speed [rad/s] */
-    double piston_temp;  /* piston gas-side surface temperature [K] (0 if not modelled) */
+    double piston_temp;  /* piston gas-side surface temperature [K] (if port.piston_temp) */
     double fuel_flow;    /* whole engine [kg/s] */
 } ts_engine_obs;
 
@@ -71,6 +71,7 @@ typedef struct ts_engine_port {
                      double (*load)(void *lud, double t, double speed), void *lud, double *work,
                      ts_err *err);
     size_t work_size;
+    int piston_temp; /* 1: the engine models its walls, obs.piston_temp is set */
 } ts_engine_port;
 
 typedef struct ts_powertrain ts_powertrain;
@@ -215,9 +216,15 @@ void ts_powertrain_sim_save(const ts_powertrain_sim *s, void *buf);
 ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *err);
 
 /* Output channels: names, units and descriptions in channel order, and the
- * values of one row from a ts_powertrain_out. */
+ * values of one row from a ts_powertrain_out. The last channel,
+ * piston.surface_temperature, exists only when the engine models its walls
+ * (the crank-angle fidelity): ts_powertrain_nchannel is then
+ * TS_POWERTRAIN_NCHANNEL, otherwise one less, and channel_values writes that
+ * many values. */
 #define TS_POWERTRAIN_NCHANNEL 24
 const ts_channel *ts_powertrain_channels(void); /* TS_POWERTRAIN_NCHANNEL rows */
-void ts_powertrain_channel_values(const ts_powertrain_out *o, double *values);
+int ts_powertrain_nchannel(const ts_powertrain *pt);
+void ts_powertrain_channel_values(const ts_powertrain *pt, const ts_powertrain_out *o,
+                                  double *values);
 
 #endif

@@ -26,7 +26,6 @@
 #include "scenario.h"
 #include "vehicle_channels.h"
 
-
 enum {
     CH_V0 = 1, /* the vehicle channel block (vehicle_channels.h), after "t" */
     CH_SPEED = CH_V0 + VM_CH_SPEED,
@@ -40,8 +39,7 @@ enum {
     CH_V_MEAS,
     CH_ERR,
     CH_INTEGRAL,
-    CH_PT0,
-    NCH = CH_PT0 + TS_POWERTRAIN_NCHANNEL
+    CH_PT0 /* then ts_powertrain_nchannel channels */
 };
 /* indices into the powertrain block (ts_powertrain_channel_values order) */
 enum { PT_ENGINE_SPEED = 0, PT_RACK = 4, PT_TURBINE_SPEED = 6, PT_GEAR = 13 };
@@ -71,7 +69,9 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     };
     ts_rc rc = vm_channels_declare(m, err);
     if (rc == TS_OK) rc = ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
-    if (rc == TS_OK) rc = ts_model_add_channels(m, ts_powertrain_channels(), TS_POWERTRAIN_NCHANNEL, err);
+    if (rc == TS_OK)
+        rc = ts_model_add_channels(m, ts_powertrain_channels(),
+                                   ts_powertrain_nchannel(ts_coupled_powertrain(c)), err);
     return rc;
 }
 
@@ -134,7 +134,7 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     out[CH_V_MEAS] = o->speed_measured;
     out[CH_ERR] = o->speed_error;
     out[CH_INTEGRAL] = o->integral;
-    ts_powertrain_channel_values(&o->pt, out + CH_PT0);
+    ts_powertrain_channel_values(ts_coupled_powertrain(c), &o->pt, out + CH_PT0);
 }
 
 static int integrator_stats(const ts_model *m, const ts_data *d, ts_integrator_stats *out,

@@ -25,8 +25,24 @@
 #define SEARCH_TURBO 8000.0 /* rotor speed the search starts from [rad/s] (~76 krpm) */
 
 enum {
-    CH_SPEED = 1, CH_TORQUE, CH_POWER, CH_BOOST, CH_EXHAUST_T, CH_INTAKE_T, CH_AIR, CH_FUEL,
-    CH_PHI, CH_TURBO, CH_ANGLE, CH_CYL_P, CH_CYL_T, CH_HRR, CH_PISTON_T, CH_RACK, NCH
+    CH_SPEED = 1,
+    CH_TORQUE,
+    CH_POWER,
+    CH_BOOST,
+    CH_EXHAUST_T,
+    CH_INTAKE_T,
+    CH_AIR,
+    CH_FUEL,
+    CH_PHI,
+    CH_TURBO,
+    CH_ANGLE,
+    CH_RACK,
+    /* the crank-angle fidelity only: the mean-value and map engines have no
+     * cylinder cycle and no wall state, so these channels are not declared */
+    CH_CYL_P,
+    CH_CYL_T,
+    CH_HRR,
+    CH_PISTON_T
 };
 
 typedef struct dyno_data {
@@ -63,13 +79,15 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         {"engine.phi", "1", "delivered fuel/air equivalence ratio"},
         {"turbo.speed", "rad/s", "turbocharger rotor speed, mean of the banks"},
         {"engine.crank_angle", "rad", "crank angle from cylinder 1 firing TDC, 0..4 pi"},
-        {"cylinder.pressure", "Pa", "cylinder 1 pressure (crank_angle fidelity)"},
-        {"cylinder.temperature", "K", "cylinder 1 bulk gas temperature (crank_angle fidelity)"},
-        {"cylinder.heat_release", "W", "cylinder 1 fuel energy release rate (crank_angle fidelity)"},
-        {"piston.surface_temperature", "K", "cylinder 1 piston gas-side surface temperature"},
         {"rack", "1", "rack (driver demand)"},
+        {"cylinder.pressure", "Pa", "cylinder 1 pressure"},
+        {"cylinder.temperature", "K", "cylinder 1 bulk gas temperature"},
+        {"cylinder.heat_release", "W", "cylinder 1 fuel energy release rate"},
+        {"piston.surface_temperature", "K", "cylinder 1 piston gas-side surface temperature"},
     };
-    return ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
+    int n = (int)(sizeof ch / sizeof ch[0]);
+    if (ts_engine_get_fidelity(e) != TS_ENGINE_CRANK_ANGLE) n = CH_CYL_P - 1;
+    return ts_model_add_channels(m, ch, n, err);
 }
 
 static void model_fini(ts_model *m)
@@ -151,11 +169,12 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     out[CH_PHI] = o.phi;
     out[CH_TURBO] = o.turbo_speed;
     out[CH_ANGLE] = fmod(p->x[TS_ENGINE_X_ANGLE], 4.0 * TS_PI);
+    out[CH_RACK] = in.rack;
+    if (ts_engine_get_fidelity(m->impl) != TS_ENGINE_CRANK_ANGLE) return;
     out[CH_CYL_P] = o.cyl_pressure;
     out[CH_CYL_T] = o.cyl_temp;
     out[CH_HRR] = o.heat_release;
     out[CH_PISTON_T] = o.piston_surface_temp;
-    out[CH_RACK] = in.rack;
 }
 
 static size_t state_size(const ts_model *m) { return sizeof(double) * (size_t)m->nstate; }

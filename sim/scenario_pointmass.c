@@ -165,7 +165,8 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     };
     rc = ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
     if (rc == TS_OK && pm->pt)
-        rc = ts_model_add_channels(m, ts_powertrain_channels(), TS_POWERTRAIN_NCHANNEL, err);
+        rc =
+            ts_model_add_channels(m, ts_powertrain_channels(), ts_powertrain_nchannel(pm->pt), err);
     return rc;
 }
 
@@ -377,7 +378,7 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     out[CH_SPROCKET_TORQUE] = t_s;
     out[CH_SPROCKET_SPEED] = p->y[V] / m->cfg.vehicle.sprocket_radius;
     out[CH_TRACTION] = thrust;
-    if (pm->pt) ts_powertrain_channel_values(&p->out, out + NCH);
+    if (pm->pt) ts_powertrain_channel_values(pm->pt, &p->out, out + NCH);
 }
 
 /* The CVODE path only: the explicit and co-simulated powertrain paths step by

@@ -130,6 +130,11 @@ static void fig19_launch_hesitation_and_multiplication(void **state)
         assert_true(at(&r, "tc.turbine.torque", t) > at(&r, "tc.pump.torque", t));
     assert_close(at(&r, "transmission.gear", 2.0), 1, 0, 0);
     assert_true(at(&r, "vehicle.speed", 2.0) > 0);
+    /* Fig. 21b's channel: the crank-angle engine's piston surface, above the
+     * coolant from the idle start on */
+    for (double t = 0.0; t <= 2.0; t += 0.5)
+        assert_true(at(&r, "piston.surface_temperature", t) >
+                    ts_model_config(r.m)->engine.coolant_temp + 10.0);
     done(&r);
 }
 
@@ -215,6 +220,9 @@ static void pointmass_kinematics_and_channels(void **state)
                      1e-15);
     assert_close(at(&r, "rack", 2.0), 1.0, 0, 0); /* below high idle: the rack as set */
     assert_int_equal(ts_model_dof(r.m), 3);
+    /* the mean-value engine has no wall state: no piston channel (it read 0 K) */
+    assert_int_equal(ts_model_channel_index(r.m, "piston.surface_temperature"), -1);
+    assert_true(ts_model_channel_index(r.m, "engine.fuel_flow") > 0);
     done(&r);
 }
 
