@@ -762,32 +762,51 @@ int tsd_session_is_deleted(tsd_session *s)
 
 ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
 {
-    tsd_session *s = NULL;
-    tsd_registry *g = srv->reg;
-    pthread_mutex_lock(&g->mu);
-    int i = registry_find_locked(g, id);
-    if (i >= 0) {
-        s = g->v[i];
-        memmove(&g->v[i], &g->v[i + 1], sizeof g->v[0] * (size_t)(g->n - i - 1));
-        g->n--;
-    }
-    pthread_mutex_unlock(&g->mu);
+    tsd_session *s = tsd_session_get(srv, id);
     if (!s) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
     /* build_mu: a first-use build in progress finishes before the rows go, and
-     * one queued after finds the session deleted and stores nothing */
+     * one queued after finds the session deleted and stores nothing. The store
+     * marks it deleted first, under mu (no step starts meanwhile), so the 204
+     * holds through a crash (db.c purges marked sessions at the next start);
+     * if the store refuses even that, nothing is deleted. The rows go after:
+     * now when idle, else by its worker (invariant 5). */
     pthread_mutex_lock(&s->build_mu);
     pthread_mutex_lock(&s->mu);
-    s->deleted = 1;
-    atomic_store(&s->cancel, 1);
+    if (s->deleted) { /* a concurrent DELETE got here first */
+        pthread_mutex_unlock(&s->mu);
+        pthread_mutex_unlock(&s->build_mu);
+        tsd_session_put(s);
+        return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
+    }
+    int stored = tsd_db_session_status(srv->db, s->seq, "deleted", NULL);
     int idle = !s->busy;
-    wake_locked(s);
+    if (stored == 0) {
+        s->deleted = 1;
+        atomic_store(&s->cancel, 1);
+        wake_locked(s);
+    }
     pthread_mutex_unlock(&s->mu);
-    if (idle)
-        tsd_db_session_delete(srv->db, s->seq); /* invariant 5 */
-    else /* its worker removes the rows; marked now, so the 204 holds through a crash */
-        tsd_db_session_status(srv->db, s->seq, "deleted", NULL);
+    if (stored == 0 && idle) /* if this fails, the mark has the next start purge them */
+        tsd_db_session_delete(srv->db, s->seq);
+    if (stored == 0) {
+        tsd_registry *g = srv->reg;
+        pthread_mutex_lock(&g->mu);
+        for (int i = 0; i < g->n; i++)
+            if (g->v[i] == s) {
+                memmove(&g->v[i], &g->v[i + 1], sizeof g->v[0] * (size_t)(g->n - i - 1));
+                g->n--;
+                tsd_session_put(s); /* the registry's reference (not the last: ours) */
+                break;
+            }
+        pthread_mutex_unlock(&g->mu);
+    }
     pthread_mutex_unlock(&s->build_mu);
-    tsd_session_put(s);                               /* the registry's reference */
+    tsd_session_put(s);
+    if (stored != 0)
+        return ts_err_set(err, TS_ERR_IO, NULL,
+                          "the store could not record the delete (see the daemon log); "
+                          "session %s is kept",
+                          id);
     return TS_OK;
 }
 

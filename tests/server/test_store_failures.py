@@ -149,3 +149,36 @@ def test_full_store_pauses_the_run_at_its_last_stored_row_then_it_goes_on(small_
         assert idx == list(range(idx[0], idx[-1] + 1))  # no gap, no duplicate
     finally:
         d.stop()
+
+
+def test_delete_the_store_cannot_record_keeps_the_session(tmp_path):
+    """A DELETE whose mark the store refuses (another writer holds its lock
+    past the 5-s busy timeout) was answered 204 with the session gone from
+    the daemon but whole in the store: it came back at the next start. Now
+    nothing is deleted and the answer says so; once the store writes again
+    the DELETE goes through."""
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        sid = requests.post(d.url + "/v1/sessions", json={"preset": "pointmass-prescribed"}).json()["id"]
+        assert requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1}).status_code == 200
+        db = sqlite3.connect(str(tmp_path / "tanksimd.db"), isolation_level=None)
+        try:
+            db.execute("BEGIN IMMEDIATE")  # the write lock, held
+            r = requests.delete(f"{d.url}/v1/sessions/{sid}", timeout=30)
+            db.execute("ROLLBACK")
+        finally:
+            db.close()
+        assert r.status_code == 500 and r.json()["type"].endswith("/problems/io"), r.text
+        assert "is kept" in r.json()["detail"]
+        s = requests.get(f"{d.url}/v1/sessions/{sid}")
+        assert s.status_code == 200 and s.json()["status"] == "paused", s.text
+        assert requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1}).status_code == 200
+        assert requests.delete(f"{d.url}/v1/sessions/{sid}").status_code == 204
+        assert requests.get(f"{d.url}/v1/sessions/{sid}").status_code == 404
+    finally:
+        d.stop()
+    d2 = Daemon(data_dir=str(tmp_path))
+    try:
+        assert requests.get(f"{d2.url}/v1/sessions/{sid}").status_code == 404
+    finally:
+        d2.stop()
