@@ -29,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -48,40 +49,78 @@
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: tanksimd [OPTIONS]\n"
-               "Simulation server for the M1 Abrams track/vehicle/powertrain model.\n\n"
-               "  --bind ADDR      listen address (default 127.0.0.1)\n"
-               "  --port N         TCP port (default 8080)\n"
-               "  --data-dir DIR   sessions and results are kept here (default ./var)\n"
-               "  --threads N      simulation worker threads (default: number of cores)\n"
-               "  --max-body N     largest request body in bytes (default 1048576)\n"
-               "  --timeout S      idle connection timeout in seconds (default 60)\n"
-               "  --token T        require 'Authorization: Bearer T' (all but /v1/health and the\n"
-               "                   dashboard's / and /static/ files); a command line is visible\n"
-               "                   to every local user, so prefer:\n"
-               "  --token-file F   the token from the first line of file F\n"
-               "  (environment)    TANKSIM_TOKEN=T, when neither flag is given\n"
-               "  --web-root DIR   dashboard files served at / (default: web_static/ beside the\n"
-               "                   build directory of this binary, else ./web_static)\n"
-               "  --max-sessions N sessions kept at once (default 1000; more -> 429)\n"
-               "  --max-analyses N engine maps and tunings stored at once, running ones\n"
-               "                   included (default 1000; more -> 429: DELETE /v1/analyses/ID)\n"
-               "  --max-samples N  sample rows per series/FFT response (default 100000)\n"
-               "  --max-rows N     sample rows one session may store: a config whose\n"
-               "                   run.duration x run.sample_rate needs more gets 400\n"
-               "                   (default 1000000, ~0.3 GB for the vehicle runs; 0: none)\n"
-               "  --max-step S     longest synchronous step in simulated seconds (default 10)\n"
-               "  --drain S        after SIGTERM/SIGINT keep answering S seconds (reads served,\n"
-               "                   new work 503 with Retry-After) before closing; a second\n"
-               "                   signal closes at once (default 0)\n"
-               "  --max-run-wall S wall-clock budget of one run operation: past it the run pauses\n"
-               "                   with an error naming this flag (default 0: none)\n"
-               "  --client-files yes|no  let run configs name files on this machine for the daemon\n"
-               "                   to read (/terrain/profile_csv, a course outside the shipped\n"
-               "                   ones); default no: such configs get 400 naming the field\n"
-               "  --routes         print the routing table and exit\n"
-               "  --help           this text\n"
-               "  --version        print the version\n");
+    fprintf(f,
+            "usage: tanksimd [OPTIONS]\n"
+            "Simulation server for the M1 Abrams track/vehicle/powertrain model.\n\n"
+            "  --bind ADDR      listen address (default 127.0.0.1)\n"
+            "  --port N         TCP port (default 8080)\n"
+            "  --data-dir DIR   sessions and results are kept here (default ./var)\n"
+            "  --threads N      simulation worker threads (default: number of cores)\n"
+            "  --max-body N     largest request body in bytes (default 1048576)\n"
+            "  --timeout S      idle connection timeout in seconds (default 60)\n"
+            "  --max-connections N  HTTP connections open at once; more are closed at once\n"
+            "                   (default 4096; the open-file limit is raised to fit, else\n"
+            "                   N is lowered to fit under it, with a message)\n"
+            "  --token T        require 'Authorization: Bearer T' (all but /v1/health and the\n"
+            "                   dashboard's / and /static/ files); a command line is visible\n"
+            "                   to every local user, so prefer:\n"
+            "  --token-file F   the token from the first line of file F\n"
+            "  (environment)    TANKSIM_TOKEN=T, when neither flag is given\n"
+            "  --web-root DIR   dashboard files served at / (default: web_static/ beside the\n"
+            "                   build directory of this binary, else ./web_static)\n"
+            "  --max-sessions N sessions kept at once (default 1000; more -> 429)\n"
+            "  --max-analyses N engine maps and tunings stored at once, running ones\n"
+            "                   included (default 1000; more -> 429: DELETE /v1/analyses/ID)\n"
+            "  --max-samples N  sample rows per series/FFT response (default 100000)\n"
+            "  --max-rows N     sample rows one session may store: a config whose\n"
+            "                   run.duration x run.sample_rate needs more gets 400\n"
+            "                   (default 1000000, ~0.3 GB for the vehicle runs; 0: none)\n"
+            "  --max-step S     longest synchronous step in simulated seconds (default 10)\n"
+            "  --drain S        after SIGTERM/SIGINT keep answering S seconds (reads served,\n"
+            "                   new work 503 with Retry-After) before closing; a second\n"
+            "                   signal closes at once (default 0)\n"
+            "  --max-run-wall S wall-clock budget of one run operation: past it the run pauses\n"
+            "                   with an error naming this flag (default 0: none)\n"
+            "  --client-files yes|no  let run configs name files on this machine for the daemon\n"
+            "                   to read (/terrain/profile_csv, a course outside the shipped\n"
+            "                   ones); default no: such configs get 400 naming the field\n"
+            "  --routes         print the routing table and exit\n"
+            "  --help           this text\n"
+            "  --version        print the version\n");
+}
+
+/* Make room for --max-connections under the open-file limit, keeping
+ * FD_RESERVE descriptors for the store, the dashboard's files and the
+ * renderer: raise the soft limit (up to the hard one) if it is too low, else
+ * lower max_connections to fit, and say so. With the limit too tight the
+ * connections took every descriptor (1024 by default): the daemon stopped
+ * answering, and the store could not open its files. 0, or -1 when not even
+ * FD_RESERVE + 16 fit. */
+#define FD_RESERVE 256
+static int fit_open_files(tsd_options *o)
+{
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_NOFILE, &rl) != 0) return 0; /* leave it to accept() */
+    rlim_t want = (rlim_t)o->max_connections + FD_RESERVE;
+    if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < want) {
+        rlim_t cur = rl.rlim_cur;
+        rl.rlim_cur = rl.rlim_max == RLIM_INFINITY || rl.rlim_max > want ? want : rl.rlim_max;
+        if (setrlimit(RLIMIT_NOFILE, &rl) != 0) rl.rlim_cur = cur;
+    }
+    if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < want) {
+        if (rl.rlim_cur < FD_RESERVE + 16) {
+            fprintf(stderr, "tanksimd: open-file limit %ld: at least %d needed\n",
+                    (long)rl.rlim_cur, FD_RESERVE + 16);
+            return -1;
+        }
+        int n = (int)(rl.rlim_cur - FD_RESERVE);
+        fprintf(stderr,
+                "tanksimd: open-file limit %ld (hard limit %ld): at most %d connections, not "
+                "%d (--max-connections; raise the limit, e.g. LimitNOFILE=)\n",
+                (long)rl.rlim_cur, (long)rl.rlim_max, n, o->max_connections);
+        o->max_connections = n;
+    }
+    return 0;
 }
 
 /* Seconds in [lo, hi], or (lo, hi] when lo_open: 0 and *out set, else -1 with
@@ -210,6 +249,7 @@ int main(int argc, char **argv)
     o->http_threads = 4;
     o->max_body = 1 << 20;
     o->conn_timeout = 60;
+    o->max_connections = 4096;
     o->max_sessions = 1000;
     o->max_analyses = 1000;
     o->max_samples = 100000;
@@ -251,6 +291,9 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--timeout") == 0) {
             if (parse_int(a, v, 1, 86400, &n)) return 2;
             o->conn_timeout = (unsigned)n;
+        } else if (strcmp(a, "--max-connections") == 0) {
+            if (parse_int(a, v, 1, 1000000, &n)) return 2;
+            o->max_connections = (int)n;
         } else if (strcmp(a, "--max-sessions") == 0) {
             if (parse_int(a, v, 1, 1000000, &n)) return 2;
             o->max_sessions = (int)n;
@@ -298,6 +341,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "tanksimd: cannot create data dir %s: %s\n", o->data_dir, strerror(errno));
         return 1;
     }
+    if (fit_open_files(o) != 0) return 1;
     /* held (never closed) while the process lives: released by the kernel at exit */
     if (lock_data_dir(o->data_dir) < 0) return 1;
 

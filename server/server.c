@@ -354,11 +354,12 @@ int tsd_server_start(tsd_server *s, char *err, size_t errlen)
         snprintf(err, errlen, "--bind: '%s' is not an IPv4 or IPv6 address", s->opt.bind);
         return -1;
     }
-    s->mhd = MHD_start_daemon(flags, (uint16_t)s->opt.port, NULL, NULL, access_handler, s,
-                              MHD_OPTION_SOCK_ADDR, addr, MHD_OPTION_URI_LOG_CALLBACK, uri_seen, s,
-                              MHD_OPTION_NOTIFY_COMPLETED, completed, s,
-                              MHD_OPTION_THREAD_POOL_SIZE, (unsigned)s->opt.http_threads,
-                              MHD_OPTION_CONNECTION_TIMEOUT, s->opt.conn_timeout, MHD_OPTION_END);
+    s->mhd = MHD_start_daemon(
+        flags, (uint16_t)s->opt.port, NULL, NULL, access_handler, s, MHD_OPTION_SOCK_ADDR, addr,
+        MHD_OPTION_URI_LOG_CALLBACK, uri_seen, s, MHD_OPTION_NOTIFY_COMPLETED, completed, s,
+        MHD_OPTION_THREAD_POOL_SIZE, (unsigned)s->opt.http_threads, MHD_OPTION_CONNECTION_TIMEOUT,
+        s->opt.conn_timeout, MHD_OPTION_CONNECTION_LIMIT, (unsigned)s->opt.max_connections,
+        MHD_OPTION_END);
     if (!s->mhd) {
         snprintf(err, errlen, "cannot listen on %s port %d (in use, or no permission)", s->opt.bind,
                  s->opt.port);
