@@ -726,20 +726,25 @@ async function main() {
       for (const cb of await page.locator('#session-table input.cmp').all()) await cb.uncheck();
     });
 
-    await check('audit (session 16): keyboard: Tab reaches a session row, Enter opens it, and focus stays on it through a list refresh', async () => {
+    await check('audit (session 16, 19): keyboard: Tab reaches a session\'s open button, Enter opens it, focus stays on it through a list refresh; the row is not a focusable container of the checkbox', async () => {
       const row = page.locator(`#session-table tr[data-id="${secondId}"]`);
-      await row.focus();
+      const open = row.locator('button.open-session');
+      assert((await row.getAttribute('tabindex')) === null, 'the row is focusable again (it holds the checkbox)');
+      await open.focus();
       await page.keyboard.press('Enter');
       await waitFor(() => page.evaluate((id) => window.tanksimDebug.state.session?.id === id, secondId), 'the session opened by Enter', 5000);
-      assert(/open session/.test((await row.getAttribute('aria-label')) || ''), 'the row has no accessible name');
-      await row.focus();
+      assert(/^open session /.test((await open.getAttribute('aria-label')) || ''), 'the open button has no accessible name');
+      await page.keyboard.press('Shift+Tab');
+      assert(await page.evaluate(() => document.activeElement?.classList.contains('cmp')), 'Shift+Tab from the open button does not reach the checkbox');
+      await open.focus();
       await page.evaluate(() => document.querySelectorAll('#session-table tbody tr').forEach((tr) => (tr.dataset.stale = '1')));
       await page.click('#refresh-sessions');
-      await row.focus(); /* the click moved focus to the button: put it back, then poll */
+      await open.focus(); /* the click moved focus to the button: put it back, then poll */
       await page.evaluate(() => document.querySelectorAll('#session-table tbody tr').forEach((tr) => (tr.dataset.stale = '1')));
       await waitFor(async () => (await page.locator('#session-table tbody tr[data-stale]').count()) === 0, 'the list polled again', 8000);
       const focused = await page.evaluate(() => document.activeElement?.closest?.('tr')?.dataset.id || document.activeElement?.tagName);
       assert(focused === secondId, `focus after the list was redrawn: ${focused}`);
+      assert(await page.evaluate(() => document.activeElement?.classList.contains('open-session')), 'focus is not on the open button after the redraw');
     });
 
     await check('analyses: an engine map at mean-value fidelity is drawn (14 speeds, torque and power) with its rated point', async () => {

@@ -1,7 +1,7 @@
 /*
  * session_list.js — the sessions table (GET /v1/sessions, all pages), drawn
- * again on every refresh: a row opens its session, its checkbox ticks it for
- * Compare (a session gone from the list is unticked). An empty table says
+ * again on every refresh: a row's id button (or a click anywhere on the row)
+ * opens its session, its checkbox ticks it for Compare (a session gone from the list is unticked). An empty table says
  * why (none yet, or the daemon refused; a 401 also asks for the token).
  */
 import { allSessions, getToken } from './api.js';
@@ -19,12 +19,6 @@ function listMessage(e) {
 }
 
 const text = (s) => document.createTextNode(s);
-function mono(s) {
-  const e = document.createElement('span');
-  e.className = 'mono';
-  e.textContent = s;
-  return e;
-}
 
 /* view: the open session's {open, snapshot, follow} (session_view.js); ticksChanged: after state.compare changed. */
 export function initSessionList(state, { view, ticksChanged }) {
@@ -64,26 +58,25 @@ export function initSessionList(state, { view, ticksChanged }) {
         else state.compare.delete(s.id);
         ticksChanged();
       });
+      /* keyboard and screen readers: the id is the row's one control that opens
+       * it (the row itself is not focusable: it would hold the checkbox) */
+      const open = document.createElement('button');
+      open.type = 'button';
+      open.className = 'open-session mono';
+      open.textContent = String(s.id).slice(0, 8);
+      open.setAttribute('aria-label', `open session ${String(s.id).slice(0, 8)}, ${s.preset || 'no preset'}, ${s.status}`);
       const cells = [
         cb,
-        mono(String(s.id).slice(0, 8)),
+        open,
         text(s.preset || '—'),
         pill(s.status),
         text(s.t !== undefined ? `${fmt(s.t, 4)}${s.duration ? ` / ${fmt(s.duration)}` : ''}` : '—'),
       ];
       cells.forEach((c, i) => tr.append(cell(c, i === 4 ? 'num' : undefined)));
-      tr.addEventListener('click', () => view.open(s.id));
-      /* keyboard: the row is a control of its own (Tab to it, Enter or Space opens) */
-      tr.tabIndex = 0;
-      tr.setAttribute('aria-label', `open session ${String(s.id).slice(0, 8)}, ${s.preset || 'no preset'}, ${s.status}`);
-      tr.addEventListener('keydown', (ev) => {
-        if (ev.target !== tr || (ev.key !== 'Enter' && ev.key !== ' ')) return;
-        ev.preventDefault();
-        view.open(s.id);
-      });
+      tr.addEventListener('click', () => view.open(s.id)); /* the button's click bubbles here */
       tbody.append(tr);
       /* the poll must not scroll the page back to a row the user scrolled away from */
-      if (focus && focus.id === s.id) (focus.cmp ? cb : tr).focus({ preventScroll: true });
+      if (focus && focus.id === s.id) (focus.cmp ? cb : open).focus({ preventScroll: true });
     }
     $('sessions-empty').hidden = sessions.length > 0;
     const ticked = state.compare.size;
