@@ -58,9 +58,9 @@ static void usage(FILE *f)
             "  --threads N      simulation worker threads (default: number of cores)\n"
             "  --max-body N     largest request body in bytes (default 1048576)\n"
             "  --timeout S      idle connection timeout in seconds (default 60)\n"
-            "  --max-connections N  HTTP connections open at once; more are closed at once\n"
-            "                   (default 4096; the open-file limit is raised to fit, else\n"
-            "                   N is lowered to fit under it, with a message)\n"
+            "  --max-connections N  HTTP connections open at once; more wait in the listen\n"
+            "                   queue (default 4096; the open-file limit is raised to fit\n"
+            "                   2 N + 256, else N is lowered to fit under it, with a message)\n"
             "  --token T        require 'Authorization: Bearer T' (all but /v1/health and the\n"
             "                   dashboard's / and /static/ files); a command line is visible\n"
             "                   to every local user, so prefer:\n"
@@ -89,31 +89,35 @@ static void usage(FILE *f)
             "  --version        print the version\n");
 }
 
-/* Make room for --max-connections under the open-file limit, keeping
- * FD_RESERVE descriptors for the store, the dashboard's files and the
- * renderer: raise the soft limit (up to the hard one) if it is too low, else
- * lower max_connections to fit, and say so. With the limit too tight the
- * connections took every descriptor (1024 by default): the daemon stopped
- * answering, and the store could not open its files. 0, or -1 when not even
- * FD_RESERVE + 16 fit. */
-#define FD_RESERVE 256
+/* Make room for --max-connections under the open-file limit: two
+ * descriptors per connection (its socket, and a dashboard file it may be
+ * sending: static_files.c answers from the file's descriptor) plus FD_RESERVE
+ * for the store, the snapshots and the renderer. Raise the soft limit (up to
+ * the hard one) if it is too low, else lower max_connections to fit, and say
+ * so. With the limit too tight the connections took every descriptor: the
+ * daemon stopped answering, and the store could not open its files. 0, or
+ * -1 when not even MIN_CONNECTIONS fit. */
+#define FD_RESERVE      256
+#define FD_PER_CONN     2
+#define MIN_CONNECTIONS 16
 static int fit_open_files(tsd_options *o)
 {
     struct rlimit rl;
     if (getrlimit(RLIMIT_NOFILE, &rl) != 0) return 0; /* leave it to accept() */
-    rlim_t want = (rlim_t)o->max_connections + FD_RESERVE;
+    rlim_t want = (rlim_t)o->max_connections * FD_PER_CONN + FD_RESERVE;
     if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < want) {
         rlim_t cur = rl.rlim_cur;
         rl.rlim_cur = rl.rlim_max == RLIM_INFINITY || rl.rlim_max > want ? want : rl.rlim_max;
         if (setrlimit(RLIMIT_NOFILE, &rl) != 0) rl.rlim_cur = cur;
     }
     if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < want) {
-        if (rl.rlim_cur < FD_RESERVE + 16) {
+        int n = (int)((rl.rlim_cur - (rl.rlim_cur > FD_RESERVE ? FD_RESERVE : rl.rlim_cur)) /
+                      FD_PER_CONN);
+        if (n < MIN_CONNECTIONS) {
             fprintf(stderr, "tanksimd: open-file limit %ld: at least %d needed\n",
-                    (long)rl.rlim_cur, FD_RESERVE + 16);
+                    (long)rl.rlim_cur, MIN_CONNECTIONS * FD_PER_CONN + FD_RESERVE);
             return -1;
         }
-        int n = (int)(rl.rlim_cur - FD_RESERVE);
         fprintf(stderr,
                 "tanksimd: open-file limit %ld (hard limit %ld): at most %d connections, not "
                 "%d (--max-connections; raise the limit, e.g. LimitNOFILE=)\n",

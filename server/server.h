@@ -36,7 +36,7 @@ typedef struct tsd_options {
     int http_threads;      /* libmicrohttpd thread-pool size */
     size_t max_body;       /* largest request body accepted [bytes] */
     unsigned conn_timeout; /* idle connection timeout [s] */
-    int max_connections;   /* HTTP connections open at once (more are closed at accept) */
+    int max_connections;   /* HTTP connections open at once (more wait in the listen queue) */
     char token[128];       /* bearer token; empty = no authentication */
     int max_sessions;      /* sessions kept at once (create beyond -> 429) */
     int max_analyses;      /* analyses stored at once (a new one beyond -> 429) */

@@ -38,10 +38,10 @@
  *  (4) failed is sticky: ts_advance's error is sticky too, and a failed
  *      session accepts no step or run (409).
  *  (5) A deleted session's rows are removed by whoever releases it last
- *      from busy (the worker) or at once when idle (the handler); a busy one
- *      is marked deleted in the store first, so the DELETE's answer holds
- *      if the daemon dies before the worker gets there (db.c purges it at
- *      the next start).
+ *      from busy (the worker) or at once when idle (the handler); it is
+ *      marked deleted in the store first (no mark, no delete), so the
+ *      DELETE's answer holds if the daemon dies before the rows go (db.c
+ *      purges it at the next start).
  *  (6) A batch the store refuses (a full disk) rolls the state back to the
  *      last stored row: the session is paused there, not failed, and goes
  *      on once the store takes rows again (roll_back_to_store).
@@ -766,26 +766,32 @@ ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
     if (!s) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
     /* build_mu: a first-use build in progress finishes before the rows go, and
      * one queued after finds the session deleted and stores nothing. The store
-     * marks it deleted first, under mu (no step starts meanwhile), so the 204
-     * holds through a crash (db.c purges marked sessions at the next start);
-     * if the store refuses even that, nothing is deleted. The rows go after:
-     * now when idle, else by its worker (invariant 5). */
+     * marks the session deleted first, so the 204 holds through a crash (db.c
+     * purges marked sessions at the next start); if it refuses even that,
+     * nothing is deleted. Not under mu: the write may wait seconds for the
+     * store's lock, and the session list waits for every session's mu. A step
+     * that starts meanwhile is cancelled below; the mark stands against the
+     * status its end writes (status<>'deleted'). The rows go after: now when
+     * idle, else by the worker (invariant 5). */
     pthread_mutex_lock(&s->build_mu);
     pthread_mutex_lock(&s->mu);
-    if (s->deleted) { /* a concurrent DELETE got here first */
+    int gone = s->deleted;
+    pthread_mutex_unlock(&s->mu);
+    int stored = gone ? -1 : tsd_db_session_status(srv->db, s->seq, "deleted", NULL);
+    int idle = 0;
+    if (stored == 0) {
+        pthread_mutex_lock(&s->mu);
+        s->deleted = 1;
+        atomic_store(&s->cancel, 1);
+        idle = !s->busy;
+        wake_locked(s);
         pthread_mutex_unlock(&s->mu);
+    }
+    if (gone) { /* a concurrent DELETE got here first */
         pthread_mutex_unlock(&s->build_mu);
         tsd_session_put(s);
         return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
     }
-    int stored = tsd_db_session_status(srv->db, s->seq, "deleted", NULL);
-    int idle = !s->busy;
-    if (stored == 0) {
-        s->deleted = 1;
-        atomic_store(&s->cancel, 1);
-        wake_locked(s);
-    }
-    pthread_mutex_unlock(&s->mu);
     if (stored == 0 && idle) /* if this fails, the mark has the next start purge them */
         tsd_db_session_delete(srv->db, s->seq);
     if (stored == 0) {

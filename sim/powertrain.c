@@ -32,7 +32,11 @@ struct ts_powertrain {
     double crank_share; /* J_e / (J_e + J_p): the engine's speed derivative rescaled for the pump */
     double macro_step; /* engine co-simulation step [s]; 0: engine in the RK4 */
     int nstate;
+    ts_channel ch[TS_POWERTRAIN_NCHANNEL]; /* this engine's channels (ts_powertrain_channels) */
+    int nch;
 };
+
+static void channels_of(ts_powertrain *pt); /* with the channel table, below */
 
 /* The engine module (engine.h) seen through the port. The converter pump's
  * inertia is added by rescaling the engine's speed derivative with its nominal
@@ -144,6 +148,7 @@ ts_powertrain *ts_powertrain_make_port(const ts_config *cfg, const ts_engine_por
         return NULL;
     }
     pt->engine = *port;
+    channels_of(pt);
     const ts_driveline_config *dc = &cfg->driveline;
     if (ts_torque_converter_init(&pt->tc, dc, err) != TS_OK ||
         ts_transmission_init(&pt->tr, dc, err) != TS_OK ||
@@ -410,16 +415,28 @@ static const ts_channel channels[TS_POWERTRAIN_NCHANNEL] = {
     {"driveshaft.speed", "rad/s", "drive-shaft (= sprocket) speed"},
     {"exhaust.temperature", "K", "exhaust manifold temperature (Fig. 21c)"},
     {"turbo.speed", "rad/s", "turbocharger rotor speed"},
+    {"piston.surface_temperature", "K", "piston gas-side surface temperature (Fig. 21b)"},
     {"engine.fuel_flow", "kg/s", "fuel mass flow, whole engine"},
-    {"piston.surface_temperature", "K",
-     "piston gas-side surface temperature (Fig. 21b; crank-angle engine only)"},
 };
+#define CH_PISTON_T 22 /* channels[]: the one an engine without walls leaves out */
 
-const ts_channel *ts_powertrain_channels(void) { return channels; }
+/* The channels of pt's engine, in the order above (stored sessions match it
+ * by name and order, server/channels.c). */
+static void channels_of(ts_powertrain *pt)
+{
+    pt->nch = 0;
+    for (int i = 0; i < TS_POWERTRAIN_NCHANNEL; i++)
+        if (i != CH_PISTON_T || pt->engine.piston_temp) pt->ch[pt->nch++] = channels[i];
+}
+
+const ts_channel *ts_powertrain_channels(const ts_powertrain *pt)
+{
+    return pt->ch;
+}
 
 int ts_powertrain_nchannel(const ts_powertrain *pt)
 {
-    return TS_POWERTRAIN_NCHANNEL - (pt->engine.piston_temp ? 0 : 1);
+    return pt->nch;
 }
 
 void ts_powertrain_channel_values(const ts_powertrain *pt, const ts_powertrain_out *o, double *v)
@@ -447,10 +464,11 @@ void ts_powertrain_channel_values(const ts_powertrain *pt, const ts_powertrain_o
         o->sprocket_speed,
         o->exhaust_temp,
         o->turbo_speed,
-        o->fuel_flow,
         o->piston_temp,
+        o->fuel_flow /* no trailing comma: clang-format keeps the columns */
     };
-    memcpy(v, row, sizeof row[0] * (size_t)ts_powertrain_nchannel(pt));
+    for (int i = 0, k = 0; i < TS_POWERTRAIN_NCHANNEL; i++)
+        if (i != CH_PISTON_T || pt->engine.piston_temp) v[k++] = row[i];
 }
 
 /* ---- the powertrain on its own integrator ---------------------------------- */

@@ -215,14 +215,13 @@ size_t ts_powertrain_sim_state_size(const ts_powertrain_sim *s);
 void ts_powertrain_sim_save(const ts_powertrain_sim *s, void *buf);
 ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *err);
 
-/* Output channels: names, units and descriptions in channel order, and the
- * values of one row from a ts_powertrain_out. The last channel,
- * piston.surface_temperature, exists only when the engine models its walls
- * (the crank-angle fidelity): ts_powertrain_nchannel is then
- * TS_POWERTRAIN_NCHANNEL, otherwise one less, and channel_values writes that
- * many values. */
+/* Output channels of pt's engine: names, units and descriptions in channel
+ * order (ts_powertrain_nchannel of them), and the values of one row from a
+ * ts_powertrain_out. piston.surface_temperature (the 23rd of the
+ * TS_POWERTRAIN_NCHANNEL) exists only when the engine models its walls (the
+ * crank-angle fidelity); the others keep their order without it. */
 #define TS_POWERTRAIN_NCHANNEL 24
-const ts_channel *ts_powertrain_channels(void); /* TS_POWERTRAIN_NCHANNEL rows */
+const ts_channel *ts_powertrain_channels(const ts_powertrain *pt);
 int ts_powertrain_nchannel(const ts_powertrain *pt);
 void ts_powertrain_channel_values(const ts_powertrain *pt, const ts_powertrain_out *o,
                                   double *values);

@@ -70,7 +70,7 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     ts_rc rc = vm_channels_declare(m, err);
     if (rc == TS_OK) rc = ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
     if (rc == TS_OK)
-        rc = ts_model_add_channels(m, ts_powertrain_channels(),
+        rc = ts_model_add_channels(m, ts_powertrain_channels(ts_coupled_powertrain(c)),
                                    ts_powertrain_nchannel(ts_coupled_powertrain(c)), err);
     return rc;
 }

@@ -36,14 +36,25 @@ enum {
     CH_PHI,
     CH_TURBO,
     CH_ANGLE,
-    CH_RACK,
-    /* the crank-angle fidelity only: the mean-value and map engines have no
-     * cylinder cycle and no wall state, so these channels are not declared */
     CH_CYL_P,
     CH_CYL_T,
     CH_HRR,
-    CH_PISTON_T
+    CH_PISTON_T,
+    CH_RACK
 };
+/* CH_CYL_P..CH_PISTON_T: the crank-angle fidelity only. The mean-value and
+ * map engines have no cylinder cycle and no wall state, so their runs leave
+ * these four out and have rack in CH_CYL_P's place (rack_channel). */
+
+static int crank_angle(const ts_model *m)
+{
+    return ts_engine_get_fidelity(m->impl) == TS_ENGINE_CRANK_ANGLE;
+}
+
+static int rack_channel(const ts_model *m)
+{
+    return crank_angle(m) ? CH_RACK : CH_CYL_P;
+}
 
 typedef struct dyno_data {
     double *x, *xdot, *work;
@@ -79,15 +90,16 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         {"engine.phi", "1", "delivered fuel/air equivalence ratio"},
         {"turbo.speed", "rad/s", "turbocharger rotor speed, mean of the banks"},
         {"engine.crank_angle", "rad", "crank angle from cylinder 1 firing TDC, 0..4 pi"},
-        {"rack", "1", "rack (driver demand)"},
         {"cylinder.pressure", "Pa", "cylinder 1 pressure"},
         {"cylinder.temperature", "K", "cylinder 1 bulk gas temperature"},
         {"cylinder.heat_release", "W", "cylinder 1 fuel energy release rate"},
         {"piston.surface_temperature", "K", "cylinder 1 piston gas-side surface temperature"},
+        {"rack", "1", "rack (driver demand)"},
     };
     int n = (int)(sizeof ch / sizeof ch[0]);
-    if (ts_engine_get_fidelity(e) != TS_ENGINE_CRANK_ANGLE) n = CH_CYL_P - 1;
-    return ts_model_add_channels(m, ch, n, err);
+    if (crank_angle(m)) return ts_model_add_channels(m, ch, n, err);
+    ts_rc rc = ts_model_add_channels(m, ch, CH_CYL_P - 1, err);
+    return rc == TS_OK ? ts_model_add_channels(m, &ch[CH_RACK - 1], 1, err) : rc;
 }
 
 static void model_fini(ts_model *m)
@@ -169,8 +181,8 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     out[CH_PHI] = o.phi;
     out[CH_TURBO] = o.turbo_speed;
     out[CH_ANGLE] = fmod(p->x[TS_ENGINE_X_ANGLE], 4.0 * TS_PI);
-    out[CH_RACK] = in.rack;
-    if (ts_engine_get_fidelity(m->impl) != TS_ENGINE_CRANK_ANGLE) return;
+    out[rack_channel(m)] = in.rack;
+    if (!crank_angle(m)) return;
     out[CH_CYL_P] = o.cyl_pressure;
     out[CH_CYL_T] = o.cyl_temp;
     out[CH_HRR] = o.heat_release;

@@ -165,8 +165,8 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     };
     rc = ts_model_add_channels(m, ch, (int)(sizeof ch / sizeof ch[0]), err);
     if (rc == TS_OK && pm->pt)
-        rc =
-            ts_model_add_channels(m, ts_powertrain_channels(), ts_powertrain_nchannel(pm->pt), err);
+        rc = ts_model_add_channels(m, ts_powertrain_channels(pm->pt),
+                                   ts_powertrain_nchannel(pm->pt), err);
     return rc;
 }
 

@@ -28,12 +28,14 @@ def free_port():
 class Daemon:
     """A running tanksimd; .url is its base URL, .log its captured stderr."""
 
-    def __init__(self, *extra, data_dir=None):
+    def __init__(self, *extra, data_dir=None, preexec_fn=None):
+        """preexec_fn: run in the child before tanksimd (e.g. its own limits)."""
         self.port = free_port()
         self.data_dir = data_dir or tempfile.mkdtemp(prefix="tanksimd-")
         self.log = tempfile.NamedTemporaryFile(prefix="tanksimd-", suffix=".log", delete=False)
         self.args = [TANKSIMD, "--port", str(self.port), "--data-dir", self.data_dir, *extra]
-        self.proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=self.log, text=True)
+        self.proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=self.log, text=True,
+                                     preexec_fn=preexec_fn)
         self.url = f"http://127.0.0.1:{self.port}"
         deadline = time.time() + 20
         while time.time() < deadline:

@@ -18,6 +18,7 @@ import os
 import signal
 import sqlite3
 import subprocess
+import threading
 import time
 
 import pytest
@@ -160,14 +161,26 @@ def test_delete_the_store_cannot_record_keeps_the_session(tmp_path):
     d = Daemon(data_dir=str(tmp_path))
     try:
         sid = requests.post(d.url + "/v1/sessions", json={"preset": "pointmass-prescribed"}).json()["id"]
+        other = requests.post(d.url + "/v1/sessions", json={"preset": "pointmass-prescribed"}).json()["id"]
         assert requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1}).status_code == 200
         db = sqlite3.connect(str(tmp_path / "tanksimd.db"), isolation_level=None)
+        box = {}
         try:
             db.execute("BEGIN IMMEDIATE")  # the write lock, held
-            r = requests.delete(f"{d.url}/v1/sessions/{sid}", timeout=30)
+            t = threading.Thread(target=lambda: box.update(r=requests.delete(f"{d.url}/v1/sessions/{sid}", timeout=30)))
+            t.start()
+            time.sleep(0.5)
+            # the DELETE waits for the store outside the session's lock: the
+            # list and other sessions answer meanwhile (they waited 4-5 s)
+            for url in (f"{d.url}/v1/sessions", f"{d.url}/v1/sessions/{other}", f"{d.url}/v1/sessions/{sid}"):
+                t0 = time.time()
+                assert requests.get(url, timeout=10).status_code == 200
+                assert time.time() - t0 < 1.0, (url, time.time() - t0)
+            t.join(30)
             db.execute("ROLLBACK")
         finally:
             db.close()
+        r = box["r"]
         assert r.status_code == 500 and r.json()["type"].endswith("/problems/io"), r.text
         assert "is kept" in r.json()["detail"]
         s = requests.get(f"{d.url}/v1/sessions/{sid}")

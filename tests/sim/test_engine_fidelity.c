@@ -242,7 +242,8 @@ static void dyno_scenario_map_fidelity(void **state)
     int ip = ts_model_channel_index(m, "engine.power");
     assert_true(it > 0 && is > 0 && ip > 0);
     assert_true(ts_model_channel_index(m, "intake.pressure") > 0);
-    assert_true(ts_model_channel_index(m, "rack") > 0);
+    assert_int_equal(ts_model_channel_index(m, "rack"),
+                     ts_model_channel_index(m, "engine.crank_angle") + 1);
     assert_true(ts_model_channel_index(m, "cylinder.pressure") < 0);
     assert_true(ts_model_channel_index(m, "piston.surface_temperature") < 0);
     assert_string_equal(ts_model_channel(m, it)->unit, "N*m");
@@ -266,6 +267,26 @@ static void dyno_scenario_map_fidelity(void **state)
     ts_model_free(m);
 }
 
+/* EVIDENCE: the crank-angle dynamometer's channels keep the order sessions
+ * stored before session 19 have (server/channels.c matches stored channels by
+ * name and order): the cylinder channels after the crank angle, rack last. */
+static void dyno_scenario_crank_angle_channel_order(void **state)
+{
+    (void)state;
+    ts_config c = et_defaults();
+    c.engine.fidelity = TS_ENGINE_CRANK_ANGLE;
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    assert_non_null(m);
+    int ia = ts_model_channel_index(m, "engine.crank_angle");
+    assert_true(ia > 0);
+    assert_int_equal(ts_model_channel_index(m, "cylinder.pressure"), ia + 1);
+    assert_int_equal(ts_model_channel_index(m, "piston.surface_temperature"), ia + 4);
+    assert_int_equal(ts_model_channel_index(m, "rack"), ia + 5);
+    assert_int_equal(ts_model_nchannel(m), ia + 6);
+    ts_model_free(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -275,6 +296,7 @@ int main(void)
         cmocka_unit_test(caller_integrates_with_cvode),
         cmocka_unit_test(caller_integrates_crank_angle_with_cvode),
         cmocka_unit_test(dyno_scenario_map_fidelity),
+        cmocka_unit_test(dyno_scenario_crank_angle_channel_order),
     };
     return cmocka_run_group_tests_name("engine_fidelity", tests, NULL, NULL);
 }
