@@ -72,11 +72,11 @@ static void store_op(tsd_server *srv, tsd_op *op)
     json_decref(doc);
 }
 
-/* End op with response or error (one of them; stolen), storing its final
- * document first: once a client can see it done it may DELETE it (the row
- * would come back if stored after) and the registry may drop it (op freed). */
-/* The end of a started analysis: its worker is given back first, so a client
- * that sees it done can start the next one at once. */
+/* End op with response or error (one of them; stolen). Its long-job place is
+ * given back first, so a client that sees it done can start the next one at
+ * once; its final document is stored before it is marked done: once a client
+ * can see it done it may DELETE it (the row would come back if stored after)
+ * and the registry may drop it (op freed). */
 static void finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
 {
     tsd_long_job_give(srv);
@@ -122,7 +122,7 @@ static void analysis_run(void *arg)
 }
 
 ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **opdoc,
-                         ts_err *err)
+                         int *retry_after, ts_err *err)
 {
     *opdoc = NULL;
     json_t *request = req->request;
@@ -147,7 +147,7 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
                           "GET /v1/analyses lists them)",
                           srv->opt.max_analyses);
     }
-    ts_rc busy = tsd_long_job_take(srv, NULL, err);
+    ts_rc busy = tsd_long_job_take(srv, retry_after, err);
     if (busy != TS_OK) {
         pthread_mutex_unlock(&srv->analyses_lock);
         json_decref(request);

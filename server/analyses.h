@@ -43,12 +43,12 @@ typedef struct tsd_analysis_req {
 } tsd_analysis_req;
 
 /* Queue the analysis; *opdoc (new reference) is its operation document.
- * req->request is stolen in every case. TS_ERR_LIMIT when the concurrent
- * analyses are at their cap or --max-analyses are stored, TSD_ERR_SHUTDOWN
- * once shutdown began,
+ * req->request is stolen in every case. TS_ERR_LIMIT when --max-analyses
+ * are stored, or when the long jobs are at their cap (then *retry_after is
+ * set, server.h tsd_long_job_take), TSD_ERR_SHUTDOWN once shutdown began,
  * TS_ERR_NOMEM. */
 ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **opdoc,
-                         ts_err *err);
+                         int *retry_after, ts_err *err);
 
 /* Start-up: store every analysis left not done as done with an error.
  * Returns how many, -1 on a store error (logged). */

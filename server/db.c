@@ -247,18 +247,29 @@ int tsd_db_session_status(tsd_db *db, long seq, const char *status, const char *
                   status, error && error[0] ? error : NULL, seq);
 }
 
+/* A script of statements on the writer, its text from printf(fmt, ...) —
+ * integers only (a seq, an index), which are safe to print into SQL. */
+static int exec_script_w(tsd_db *db, const char *what, const char *fmt, ...)
+{
+    char sql[256];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(sql, sizeof sql, fmt, ap);
+    va_end(ap);
+    pthread_mutex_lock(&db->wmu);
+    int rc = exec_script(db->w, sql, what);
+    pthread_mutex_unlock(&db->wmu);
+    return rc;
+}
+
 int tsd_db_session_delete(tsd_db *db, long seq)
 {
     /* one transaction: a crash between separate DELETEs left a session row
-     * without its rows (a seq is an integer: printing it into SQL is safe) */
-    char sql[256];
-    snprintf(sql, sizeof sql,
-             "BEGIN IMMEDIATE; DELETE FROM sessions WHERE seq=%ld; DELETE FROM samples WHERE "
-             "seq=%ld; DELETE FROM snapshots WHERE seq=%ld; COMMIT;",
-             seq, seq, seq);
-    pthread_mutex_lock(&db->wmu);
-    int rc = exec_script(db->w, sql, "delete session");
-    pthread_mutex_unlock(&db->wmu);
+     * without its rows */
+    int rc = exec_script_w(db, "delete session",
+                           "BEGIN IMMEDIATE; DELETE FROM sessions WHERE seq=%ld; DELETE FROM "
+                           "samples WHERE seq=%ld; DELETE FROM snapshots WHERE seq=%ld; COMMIT;",
+                           seq, seq, seq);
     /* The deletes went through the write-ahead log page by page (a long run's
      * rows: hundreds of MB); copy them back and truncate the log, so a delete
      * does not leave the store larger than before it. The freed pages stay in
@@ -272,15 +283,10 @@ int tsd_db_session_delete(tsd_db *db, long seq)
 
 int tsd_db_truncate(tsd_db *db, long seq, long idx)
 {
-    char sql[256]; /* integers only: printing them into SQL is safe */
-    snprintf(sql, sizeof sql,
-             "BEGIN IMMEDIATE; DELETE FROM samples WHERE seq=%ld AND idx>%ld; DELETE FROM "
-             "snapshots WHERE seq=%ld AND idx>%ld; COMMIT;",
-             seq, idx, seq, idx);
-    pthread_mutex_lock(&db->wmu);
-    int rc = exec_script(db->w, sql, "truncate session");
-    pthread_mutex_unlock(&db->wmu);
-    return rc;
+    return exec_script_w(db, "truncate session",
+                         "BEGIN IMMEDIATE; DELETE FROM samples WHERE seq=%ld AND idx>%ld; DELETE "
+                         "FROM snapshots WHERE seq=%ld AND idx>%ld; COMMIT;",
+                         seq, idx, seq, idx);
 }
 
 int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, const double *rows,

@@ -72,8 +72,8 @@ typedef struct frames_ctx {
     double k0, dk; /* sample index of frame i: round(k0 + i dk) */
     long n, i;     /* frames in all, next to draw */
     int single;
-    int apng;    /* draw every frame in one job and answer one APNG */
-    int counted; /* holds a long job (server.h tsd_long_job_take) */
+    int apng;    /* draw every frame in one job and answer one APNG: holds a long job
+                  * (server.h tsd_long_job_take) */
     double fps;  /* frame rate of the APNG */
     int pending; /* a draw job is queued or running */
     ts_data *d;  /* scratch state (draw jobs only) */
@@ -98,7 +98,7 @@ static void frames_free(void *cls)
     free(f->png);
     tsa_buf_free(&f->out);
     tsd_session_put(f->s);
-    if (f->counted) tsd_long_job_give(f->srv);
+    if (f->apng) tsd_long_job_give(f->srv);
     free(f);
 }
 
@@ -323,19 +323,21 @@ enum MHD_Result tsd_frames_reply(tsd_request *r, tsd_session *s, const tsr_view 
 {
     int apng = !single && apng_fps > 0;
     ts_err e;
-    if (apng && tsd_long_job_take(r->srv, &r->retry_after, &e) != TS_OK)
+    if (apng && tsd_long_job_take(r->srv, &r->retry_after, &e) != TS_OK) {
+        size_t k = strlen(e.msg);
+        snprintf(e.msg + k, sizeof e.msg - k,
+                 ", or ask for the frames as format=multipart "
+                 "(one frame per job)");
         return tsd_reply_err(r, &e, NULL);
+    }
     frames_ctx *f = calloc(1, sizeof *f);
     if (!f) {
         if (apng) tsd_long_job_give(r->srv);
         return MHD_NO;
     }
-    f->counted = apng;
     f->srv = r->srv;
     f->s = s;
-    pthread_mutex_lock(&s->mu);
-    s->refs++;
-    pthread_mutex_unlock(&s->mu);
+    tsd_session_hold(s);
     f->conn = r->conn;
     f->view = *v;
     f->k0 = k0;

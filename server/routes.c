@@ -647,15 +647,16 @@ static enum MHD_Result get_stream(tsd_request *r)
     return tsd_stream_reply(r, s, q.idx, q.n, since, ndjson);
 }
 
-/* /fft's window and detrend: the query word, its sim/fft.h value, how the answer names it. */
+/* /fft's window and detrend: the query word, its sim/fft.h value, how the
+ * answer names it (NULL: the word). */
 typedef struct fft_word {
     const char *word;
     int value;
     const char *label;
 } fft_word;
 static const fft_word fft_windows[] = {
-    {"rect", TS_FFT_RECT, "rect"}, {"hann", TS_FFT_HANN, "hann"}, {NULL, 0, NULL}};
-static const fft_word fft_detrends[] = {{"none", TS_FFT_NONE, "none"},
+    {"rect", TS_FFT_RECT, NULL}, {"hann", TS_FFT_HANN, NULL}, {NULL, 0, NULL}};
+static const fft_word fft_detrends[] = {{"none", TS_FFT_NONE, NULL},
                                         {"mean", TS_FFT_MEAN, "mean removed"},
                                         {"linear", TS_FFT_LINEAR, "line removed"},
                                         {NULL, 0, NULL}};
@@ -667,6 +668,25 @@ static const fft_word *fft_word_of(const char *s, const fft_word *list, int dflt
     for (; list->word; list++)
         if (strcmp(s, list->word) == 0) return list;
     return NULL;
+}
+
+static const char *fft_label(const fft_word *w)
+{
+    return w->label ? w->label : w->word;
+}
+
+/* "a, b or c expected" from the list's words. */
+static const char *fft_expected(const fft_word *list, char *buf, size_t n)
+{
+    size_t k = 0;
+    for (const fft_word *w = list; w->word && k < n; w++)
+        k += (size_t)snprintf(buf + k, n - k, "%s%s",
+                              w == list   ? ""
+                              : w[1].word ? ", "
+                                          : " or ",
+                              w->word);
+    if (k < n) snprintf(buf + k, n - k, " expected");
+    return buf;
 }
 
 static enum MHD_Result get_fft(tsd_request *r)
@@ -682,8 +702,11 @@ static enum MHD_Result get_fft(tsd_request *r)
     if (strchr(ch, ',')) return bad_param(r, "channel", "exactly one channel name", ch);
     const char *wn = tsd_arg(r, "window"), *dn = tsd_arg(r, "detrend");
     const fft_word *win = fft_word_of(wn, fft_windows, 0), *det = fft_word_of(dn, fft_detrends, 1);
-    if (!win) return bad_param(r, "window", "rect or hann expected", wn);
-    if (!det) return bad_param(r, "detrend", "none, mean or linear expected", dn);
+    char expected[64];
+    if (!win)
+        return bad_param(r, "window", fft_expected(fft_windows, expected, sizeof expected), wn);
+    if (!det)
+        return bad_param(r, "detrend", fft_expected(fft_detrends, expected, sizeof expected), dn);
     range_q q;
     if (parse_range(r, s, "channel", ch, &q, &ret) < 0) return ret;
     long want = q.to - q.from + 1;
@@ -734,7 +757,7 @@ static enum MHD_Result get_fft(tsd_request *r)
                         "channel", chn->name, "unit", chn->unit, "from",
                         (double)q.from * s->ch.view.period, "to", (double)q.to * s->ch.view.period,
                         "n", (json_int_t)n, "df", 1.0 / ((double)n * s->ch.view.period), "detrend",
-                        det->label, "window", win->label, "frequency", fa, "amplitude", aa);
+                        fft_label(det), "window", fft_label(win), "frequency", fa, "amplitude", aa);
         /* units of every number above: "unit" is the amplitude's (the channel's) */
         json_object_set_new(out, "units",
                             json_pack("{s:s,s:s,s:s,s:s,s:s}", "frequency", "Hz", "df", "Hz",
@@ -935,7 +958,7 @@ static enum MHD_Result start_analysis(tsd_request *r, tsd_analysis_req *q)
         free(q);
         return reply_oom(r);
     }
-    ts_rc rc = tsd_analysis_start(r->srv, q, &op, &e);
+    ts_rc rc = tsd_analysis_start(r->srv, q, &op, &r->retry_after, &e);
     free(q);
     if (rc != TS_OK) return tsd_reply_err(r, &e, NULL);
     snprintf(r->location, sizeof r->location, "/v1/operations/%s",

@@ -121,12 +121,11 @@ ts_rc tsd_long_job_take(tsd_server *s, int *retry_after, ts_err *err)
     int n = atomic_load(&s->long_jobs);
     do {
         if (n >= cap) {
-            if (retry_after) *retry_after = TSD_RETRY_AFTER_BUSY_S;
+            *retry_after = TSD_RETRY_AFTER_BUSY_S;
             return ts_err_set(err, TS_ERR_LIMIT, NULL,
                               "%d long jobs already running (engine maps, tunings, APNG "
                               "animations: at most %d at once with %d worker threads, so that "
-                              "session runs and steps keep one); retry when one is done, or "
-                              "ask for frames as format=multipart (one frame per job)",
+                              "session runs and steps keep one); retry when one is done",
                               n, cap, s->opt.threads);
         }
     } while (!atomic_compare_exchange_weak(&s->long_jobs, &n, n + 1));
@@ -251,8 +250,23 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         r->t_start = tsd_now();
         *con_cls = r;
         atomic_fetch_add(&s->inflight, 1);
-        /* a declared length past the limit is refused now, before any of the
-         * body is read (a chunked body is counted as it arrives, below) */
+        /* what the headers and path alone refuse is refused now, before any
+         * of the body is read */
+        if (cross_site(r))
+            return tsd_reply_problem(r, MHD_HTTP_FORBIDDEN, "/problems/cross-origin",
+                                     "Cross-origin request refused",
+                                     "a page of another origin may not change this daemon's "
+                                     "state (its Origin header names another host); the "
+                                     "dashboard is served by the daemon itself",
+                                     NULL);
+        if (r->bad_path)
+            return tsd_reply_problem(r, MHD_HTTP_BAD_REQUEST, "/problems/bad-path",
+                                     "Bad request path",
+                                     "the path holds an encoded NUL (%00) or slash (%2F); "
+                                     "neither is part of any route",
+                                     NULL);
+        /* a declared length past the limit too (a chunked body is counted as
+         * it arrives, below) */
         const char *cl =
             MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
         if (cl && *cl) {
@@ -262,8 +276,8 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         }
         return MHD_YES;
     }
-    if (*upload_data_size > 0) { /* body chunk */
-        if (!r->body_too_large) {
+    if (*upload_data_size > 0) { /* body chunk (none kept once answered) */
+        if (!r->body_too_large && !r->status) {
             if (r->body_len + *upload_data_size > s->opt.max_body) {
                 r->body_too_large = 1;
             } else {
@@ -285,18 +299,6 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
     }
     if (r->status) return MHD_YES; /* already answered */
     if (r->body_too_large) return reply_too_large(r);
-    if (cross_site(r))
-        return tsd_reply_problem(r, MHD_HTTP_FORBIDDEN, "/problems/cross-origin",
-                                 "Cross-origin request refused",
-                                 "a page of another origin may not change this daemon's state "
-                                 "(its Origin header names another host); the dashboard is "
-                                 "served by the daemon itself",
-                                 NULL);
-    if (r->bad_path)
-        return tsd_reply_problem(r, MHD_HTTP_BAD_REQUEST, "/problems/bad-path", "Bad request path",
-                                 "the path holds an encoded NUL (%00) or slash (%2F); neither "
-                                 "is part of any route",
-                                 NULL);
     return tsd_route(r);
 }
 

@@ -116,7 +116,7 @@ void tsd_session_put(tsd_session *s)
     if (last) session_free(s);
 }
 
-static void ref(tsd_session *s)
+void tsd_session_hold(tsd_session *s)
 {
     pthread_mutex_lock(&s->mu);
     s->refs++;
@@ -531,7 +531,7 @@ tsd_session *tsd_session_get(tsd_server *srv, const char *id)
     int i = registry_find_locked(srv->reg, id);
     if (i >= 0) {
         found = srv->reg->v[i];
-        ref(found);
+        tsd_session_hold(found);
     }
     pthread_mutex_unlock(&srv->reg->mu);
     return found;
@@ -653,7 +653,7 @@ static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolve
     }
     atomic_fetch_add(&srv->metrics.sessions_created, 1);
     atomic_fetch_add(&srv->metrics.samples_stored, 1);
-    ref(s);
+    tsd_session_hold(s);
     *out = s;
     return TS_OK;
 }
@@ -698,7 +698,7 @@ static ts_rc refuse_client_files(const ts_config *cfg, json_t *errors, ts_err *e
  * is refused before it fills the disk. */
 static ts_rc check_rows(const tsd_server *srv, const ts_config *cfg, json_t *errors, ts_err *err)
 {
-    double rows = floor(cfg->run.duration * cfg->run.sample_rate + 1e-9) + 1.0;
+    double rows = (double)ts_grid_row(cfg->run.duration, 1.0 / cfg->run.sample_rate) + 1.0;
     if (srv->opt.max_rows <= 0 || rows <= (double)srv->opt.max_rows) return TS_OK;
     const char *ptr = "/run/duration";
     char msg[TS_ERR_MSG_LEN];
@@ -765,54 +765,48 @@ ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
     tsd_session *s = tsd_session_get(srv, id);
     if (!s) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
     /* build_mu: a first-use build in progress finishes before the rows go, and
-     * one queued after finds the session deleted and stores nothing. The store
-     * marks the session deleted first, so the 204 holds through a crash (db.c
-     * purges marked sessions at the next start); if it refuses even that,
-     * nothing is deleted. Not under mu: the write may wait seconds for the
-     * store's lock, and the session list waits for every session's mu. A step
-     * that starts meanwhile is cancelled below; the mark stands against the
-     * status its end writes (status<>'deleted'). The rows go after: now when
-     * idle, else by the worker (invariant 5). */
+     * one queued after finds the session deleted and stores nothing; two
+     * DELETEs go one after the other. The store marks the session deleted
+     * first, so the 204 holds through a crash (db.c purges marked sessions at
+     * the next start); if it refuses even that, nothing is deleted. Not under
+     * mu: the write may wait seconds for the store's lock, and the session
+     * list waits for every session's mu. A step that starts meanwhile is
+     * cancelled below; the mark stands against the status its end writes
+     * (status<>'deleted'). The rows go after: now when idle, else by the
+     * worker (invariant 5). */
     pthread_mutex_lock(&s->build_mu);
-    pthread_mutex_lock(&s->mu);
-    int gone = s->deleted;
-    pthread_mutex_unlock(&s->mu);
-    int stored = gone ? -1 : tsd_db_session_status(srv->db, s->seq, "deleted", NULL);
-    int idle = 0;
-    if (stored == 0) {
-        pthread_mutex_lock(&s->mu);
-        s->deleted = 1;
-        atomic_store(&s->cancel, 1);
-        idle = !s->busy;
-        wake_locked(s);
-        pthread_mutex_unlock(&s->mu);
-    }
-    if (gone) { /* a concurrent DELETE got here first */
+    ts_rc rc = TS_OK;
+    if (tsd_session_is_deleted(s)) /* the DELETE before this one */
+        rc = ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
+    else if (tsd_db_session_status(srv->db, s->seq, "deleted", NULL) != 0)
+        rc = ts_err_set(err, TS_ERR_IO, NULL,
+                        "the store could not record the delete (see the daemon log); "
+                        "session %s is kept",
+                        id);
+    if (rc != TS_OK) {
         pthread_mutex_unlock(&s->build_mu);
         tsd_session_put(s);
-        return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
+        return rc;
     }
-    if (stored == 0 && idle) /* if this fails, the mark has the next start purge them */
+    pthread_mutex_lock(&s->mu);
+    s->deleted = 1;
+    atomic_store(&s->cancel, 1);
+    int idle = !s->busy;
+    wake_locked(s);
+    pthread_mutex_unlock(&s->mu);
+    if (idle) /* if this fails, the mark has the next start purge the rows */
         tsd_db_session_delete(srv->db, s->seq);
-    if (stored == 0) {
-        tsd_registry *g = srv->reg;
-        pthread_mutex_lock(&g->mu);
-        for (int i = 0; i < g->n; i++)
-            if (g->v[i] == s) {
-                memmove(&g->v[i], &g->v[i + 1], sizeof g->v[0] * (size_t)(g->n - i - 1));
-                g->n--;
-                tsd_session_put(s); /* the registry's reference (not the last: ours) */
-                break;
-            }
-        pthread_mutex_unlock(&g->mu);
+    tsd_registry *g = srv->reg;
+    pthread_mutex_lock(&g->mu);
+    int i = registry_find_locked(g, s->id);
+    if (i >= 0 && g->v[i] == s) {
+        memmove(&g->v[i], &g->v[i + 1], sizeof g->v[0] * (size_t)(g->n - i - 1));
+        g->n--;
+        tsd_session_put(s); /* the registry's reference (not the last: ours) */
     }
+    pthread_mutex_unlock(&g->mu);
     pthread_mutex_unlock(&s->build_mu);
     tsd_session_put(s);
-    if (stored != 0)
-        return ts_err_set(err, TS_ERR_IO, NULL,
-                          "the store could not record the delete (see the daemon log); "
-                          "session %s is kept",
-                          id);
     return TS_OK;
 }
 
@@ -889,10 +883,7 @@ json_t *tsd_session_list(tsd_server *srv, long page_size, long after_seq)
 static int flush(tsd_session *s, const char *status)
 {
     if (s->batch_n == 0) return 0;
-    pthread_mutex_lock(&s->mu);
-    int deleted = s->deleted;
-    pthread_mutex_unlock(&s->mu);
-    if (deleted) {
+    if (tsd_session_is_deleted(s)) {
         s->batch_n = 0;
         return 0;
     }
@@ -1137,7 +1128,7 @@ ts_rc tsd_session_step(tsd_session *s, double duration, json_t **result, ts_err 
         unbusy(s);
         return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     }
-    ref(s);
+    tsd_session_hold(s);
     *j = (step_job_arg){s, duration, result, err, done, ud};
     if (tsd_pool_submit(s->srv->pool, step_job, j, 0) != 0) {
         free(j);
@@ -1271,7 +1262,7 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
         return nomem ? ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory")
                      : ts_err_set(err, TS_ERR_LIMIT, NULL, "too many operations in progress");
     }
-    ref(s);
+    tsd_session_hold(s);
     *j = (run_job_arg){s, op, until, rtf, t0, tsd_now()};
     pthread_mutex_lock(&s->mu);
     tsd_status before = s->status;

@@ -5,7 +5,8 @@
  *
  * Ownership and locking:
  *   - A session is reference-counted: the registry holds one reference,
- *     tsd_session_get adds one, tsd_session_put drops one; the last put frees.
+ *     tsd_session_get (by id) and tsd_session_hold (a session already held) add
+ *     one, tsd_session_put drops one; the last put frees.
  *   - m (ts_model) and config are immutable after creation: any thread may read.
  *   - d (ts_data), the sample batch and the snapshot buffer belong to whoever
  *     holds `busy` (a worker running a step or a run slice) — never an HTTP
@@ -107,6 +108,7 @@ tsd_session *tsd_session_get(tsd_server *srv, const char *id); /* NULL if unknow
  * router builds a deferred session before any handler sees it. */
 int tsd_session_deferred(tsd_session *s);
 void tsd_session_build(tsd_session *s);
+void tsd_session_hold(tsd_session *s); /* one more reference to a session the caller holds */
 void tsd_session_put(tsd_session *s);
 /* Non-zero once s has been deleted (taken under its lock): a reader holding
  * a reference answers 404 instead of what the removed rows would give. */

@@ -123,9 +123,7 @@ enum MHD_Result tsd_stream_reply(tsd_request *r, tsd_session *s, const int *idx,
     memcpy(c->idx, idx, sizeof(int) * (size_t)c->n);
     c->next = since + 1 > 0 ? since + 1 : 0;
     c->ndjson = ndjson;
-    pthread_mutex_lock(&s->mu);
-    s->refs++;
-    pthread_mutex_unlock(&s->mu);
+    tsd_session_hold(s);
     if (!ndjson) {
         tsa_buf_put(&c->buf, "retry: 1000\n\n", 13);
         /* the rows carry names only: say once what they are and in which unit */

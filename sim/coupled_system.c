@@ -49,7 +49,6 @@ struct ts_coupled {
     int ivs_on;
     ts_ivs ivs;
     ts_ivs_gains gains;
-    int governor_on;
     ts_governor gov;
     double r_s;    /* sprocket pitch radius for the speed measurement [m] */
     double target; /* [m/s] */
@@ -77,7 +76,6 @@ static ts_rc build_controller(ts_coupled *c, ts_err *err)
     if (rc != TS_OK) return rc;
     double x = cc->schedule_var == TS_SCHEDULE_GRADE ? c->cfg.vehicle.grade : c->cfg.vehicle.mass;
     c->gains = ts_ivs_gains_at(&c->ivs, x);
-    c->governor_on = cc->governor;
     return ts_governor_of_config(cc, &c->gov, err);
 }
 
@@ -166,7 +164,7 @@ static drive_cmd command(const ts_coupled *c, double rack_fixed, const double *y
         d.demand = ts_ivs_rack(c->gains, d.e, yp[c->npt]);
     }
     double w_e = yp[ts_powertrain_engine_speed_index(c->pt)];
-    d.rack = c->governor_on ? ts_governor_rack(&c->gov, d.demand, w_e) : d.demand;
+    d.rack = ts_governor_rack(&c->gov, d.demand, w_e);
     return d;
 }
 

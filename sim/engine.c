@@ -268,6 +268,10 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
 
 void ts_engine_free(ts_engine *e) { free(e); }
 int ts_engine_get_fidelity(const ts_engine *e) { return e->c.fidelity; }
+int ts_engine_models_cylinders(const ts_engine *e)
+{
+    return e->c.fidelity == TS_ENGINE_CRANK_ANGLE;
+}
 int ts_engine_nstate(const ts_engine *e) { return e->nx; }
 
 int en_bracket(const double *xs, int n, double x)

@@ -92,6 +92,10 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err);
 void ts_engine_free(ts_engine *e);
 
 int ts_engine_get_fidelity(const ts_engine *e); /* ts_engine_fidelity enum value */
+/* 1 when the engine models its cylinders' cycle and walls, so the outputs
+ * cyl_pressure, cyl_temp, heat_release and piston_surface_temp are set (the
+ * crank-angle fidelity); 0 for the mean-value and map engines. */
+int ts_engine_models_cylinders(const ts_engine *e);
 int ts_engine_nstate(const ts_engine *e);       /* length of x */
 
 /* Initial state at crank speed omega [rad/s] and ambient p, T: manifolds at

@@ -20,9 +20,11 @@ typedef struct ts_governor {
     double low_band;  /* speed deficit that calls for full rack [rad/s] */
     double high_idle; /* speed above which fuel is cut [rad/s] */
     double high_band; /* speed excess that cuts fuel to zero [rad/s] */
+    int on;           /* 0: the rack passes as demanded (/control/governor off) */
 } ts_governor;
 
-/* Governed rack for a demanded rack in [0, 1] at engine speed w [rad/s]. */
+/* Governed rack for a demanded rack in [0, 1] at engine speed w [rad/s]
+ * (the demand itself when the governor is off). */
 double ts_governor_rack(const ts_governor *g, double rack, double w);
 
 /* The governor /control describes (its four speeds into *g), for every run

@@ -114,10 +114,18 @@ fail:
     return NULL;
 }
 
+#define GRID_SLACK 1e-6 /* relative: how far off a row a time may be and count as it */
+
+long ts_grid_row(double t, double dt)
+{
+    double n = t / dt;
+    return (long)floor(n + GRID_SLACK * (1.0 + fabs(n)));
+}
+
 ts_rc ts_on_sample_grid(double t, double dt, const char *pointer, ts_err *err)
 {
     double n = t / dt, k = floor(n + 0.5);
-    if (fabs(n - k) <= 1e-6 * (1.0 + fabs(n))) return TS_OK;
+    if (fabs(n - k) <= GRID_SLACK * (1.0 + fabs(n))) return TS_OK;
     return ts_err_set(err, TS_ERR_PARAM, pointer,
                       "%s: a whole number of sample periods expected (samples are %g s apart, "
                       "run.sample_rate %g Hz), got %g s; nearest %g or %g s",
@@ -211,7 +219,7 @@ ts_rc ts_advance(const ts_model *m, ts_data *d, double t_end, ts_sample_fn fn, v
                           ts_rc_name(d->sticky));
     if (t_end > m->cfg.run.duration) t_end = m->cfg.run.duration;
     const double dt = 1.0 / m->cfg.run.sample_rate;
-    const long last = (long)floor(t_end / dt + 1e-9);
+    const long last = ts_grid_row(t_end, dt);
     double t0 = ts_monotonic_seconds();
     ts_rc rc = TS_OK;
     while (d->index < last) {

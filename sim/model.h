@@ -53,6 +53,10 @@ double ts_model_sample_period(const ts_model *m);  /* 1 / run.sample_rate [s] */
  * slack 1e-6), else TS_ERR_PARAM naming pointer with the two nearest times.
  * ts_model_make checks /run/duration with it; callers their own end times. */
 ts_rc ts_on_sample_grid(double t, double dt, const char *pointer, ts_err *err);
+/* Index of the last sample row at or before t, a time within that slack of a
+ * row counting as the row: the row ts_advance(t) ends on (a time that
+ * ts_on_sample_grid accepts ends exactly there). */
+long ts_grid_row(double t, double dt);
 
 /* ---- data: one per running instance -------------------------------------- */
 

@@ -134,7 +134,7 @@ static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err
                              .free = engine_free,
                              .advance = engine_advance,
                              .work_size = ts_engine_work_size(c->e),
-                             .piston_temp = ts_engine_get_fidelity(c->e) == TS_ENGINE_CRANK_ANGLE};
+                             .piston_temp = ts_engine_models_cylinders(c->e)};
     return TS_OK;
 }
 
@@ -420,13 +420,19 @@ static const ts_channel channels[TS_POWERTRAIN_NCHANNEL] = {
 };
 #define CH_PISTON_T 22 /* channels[]: the one an engine without walls leaves out */
 
+/* Whether channel i of the table above is one of pt's (its engine models it). */
+static int present(const ts_powertrain *pt, int i)
+{
+    return i != CH_PISTON_T || pt->engine.piston_temp;
+}
+
 /* The channels of pt's engine, in the order above (stored sessions match it
  * by name and order, server/channels.c). */
 static void channels_of(ts_powertrain *pt)
 {
     pt->nch = 0;
     for (int i = 0; i < TS_POWERTRAIN_NCHANNEL; i++)
-        if (i != CH_PISTON_T || pt->engine.piston_temp) pt->ch[pt->nch++] = channels[i];
+        if (present(pt, i)) pt->ch[pt->nch++] = channels[i];
 }
 
 const ts_channel *ts_powertrain_channels(const ts_powertrain *pt)
@@ -468,7 +474,7 @@ void ts_powertrain_channel_values(const ts_powertrain *pt, const ts_powertrain_o
         o->fuel_flow /* no trailing comma: clang-format keeps the columns */
     };
     for (int i = 0, k = 0; i < TS_POWERTRAIN_NCHANNEL; i++)
-        if (i != CH_PISTON_T || pt->engine.piston_temp) v[k++] = row[i];
+        if (present(pt, i)) v[k++] = row[i];
 }
 
 /* ---- the powertrain on its own integrator ---------------------------------- */

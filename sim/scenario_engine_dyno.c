@@ -42,18 +42,15 @@ enum {
     CH_PISTON_T,
     CH_RACK
 };
-/* CH_CYL_P..CH_PISTON_T: the crank-angle fidelity only. The mean-value and
- * map engines have no cylinder cycle and no wall state, so their runs leave
- * these four out and have rack in CH_CYL_P's place (rack_channel). */
-
-static int crank_angle(const ts_model *m)
+/* CH_CYL_P..CH_PISTON_T exist only where the engine models its cylinders
+ * (the crank-angle fidelity): the mean-value and map engines leave them out,
+ * so rack comes in CH_CYL_P's column. The column of channel c in m's rows, or
+ * -1 when m has no such channel; rows keep the crank-angle order, which
+ * stored sessions match by name and order (server/channels.c). */
+static int column(const ts_model *m, int c)
 {
-    return ts_engine_get_fidelity(m->impl) == TS_ENGINE_CRANK_ANGLE;
-}
-
-static int rack_channel(const ts_model *m)
-{
-    return crank_angle(m) ? CH_RACK : CH_CYL_P;
+    if (c < CH_CYL_P || ts_engine_models_cylinders(m->impl)) return c;
+    return c == CH_RACK ? CH_CYL_P : -1;
 }
 
 typedef struct dyno_data {
@@ -96,10 +93,10 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         {"piston.surface_temperature", "K", "cylinder 1 piston gas-side surface temperature"},
         {"rack", "1", "rack (driver demand)"},
     };
-    int n = (int)(sizeof ch / sizeof ch[0]);
-    if (crank_angle(m)) return ts_model_add_channels(m, ch, n, err);
-    ts_rc rc = ts_model_add_channels(m, ch, CH_CYL_P - 1, err);
-    return rc == TS_OK ? ts_model_add_channels(m, &ch[CH_RACK - 1], 1, err) : rc;
+    ts_rc rc = TS_OK;
+    for (int c = CH_SPEED; c <= CH_RACK && rc == TS_OK; c++)
+        if (column(m, c) >= 0) rc = ts_model_add_channels(m, &ch[c - 1], 1, err);
+    return rc;
 }
 
 static void model_fini(ts_model *m)
@@ -170,23 +167,26 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     ts_engine_inputs in = inputs(m);
     ts_engine_outputs o;
     ts_engine_rhs(m->impl, d->t, p->x, &in, p->xdot, &o);
-    out[CH_SPEED] = o.speed;
-    out[CH_TORQUE] = o.brake_torque;
-    out[CH_POWER] = o.brake_torque * o.speed;
-    out[CH_BOOST] = o.boost;
-    out[CH_EXHAUST_T] = o.exhaust_temp;
-    out[CH_INTAKE_T] = o.intake_temp;
-    out[CH_AIR] = o.air_flow;
-    out[CH_FUEL] = o.fuel_flow;
-    out[CH_PHI] = o.phi;
-    out[CH_TURBO] = o.turbo_speed;
-    out[CH_ANGLE] = fmod(p->x[TS_ENGINE_X_ANGLE], 4.0 * TS_PI);
-    out[rack_channel(m)] = in.rack;
-    if (!crank_angle(m)) return;
-    out[CH_CYL_P] = o.cyl_pressure;
-    out[CH_CYL_T] = o.cyl_temp;
-    out[CH_HRR] = o.heat_release;
-    out[CH_PISTON_T] = o.piston_surface_temp;
+    double row[CH_RACK + 1] = {
+        [CH_SPEED] = o.speed,
+        [CH_TORQUE] = o.brake_torque,
+        [CH_POWER] = o.brake_torque * o.speed,
+        [CH_BOOST] = o.boost,
+        [CH_EXHAUST_T] = o.exhaust_temp,
+        [CH_INTAKE_T] = o.intake_temp,
+        [CH_AIR] = o.air_flow,
+        [CH_FUEL] = o.fuel_flow,
+        [CH_PHI] = o.phi,
+        [CH_TURBO] = o.turbo_speed,
+        [CH_ANGLE] = fmod(p->x[TS_ENGINE_X_ANGLE], 4.0 * TS_PI),
+        [CH_CYL_P] = o.cyl_pressure,
+        [CH_CYL_T] = o.cyl_temp,
+        [CH_HRR] = o.heat_release,
+        [CH_PISTON_T] = o.piston_surface_temp,
+        [CH_RACK] = in.rack,
+    };
+    for (int c = CH_SPEED; c <= CH_RACK; c++)
+        if (column(m, c) >= 0) out[column(m, c)] = row[c];
 }
 
 static size_t state_size(const ts_model *m) { return sizeof(double) * (size_t)m->nstate; }
@@ -209,14 +209,14 @@ static ts_rc state_restore(const ts_model *m, ts_data *d, const void *buf, ts_er
 
 static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
 {
-    int nc = m->nchannel;
+    int nc = m->nchannel, ip = column(m, CH_CYL_P);
     if (nrows < 2 || max < 3) return 0;
     double tq = 0, pw = 0, pk = 0;
     for (long r = 0; r < nrows; r++) {
         const double *v = rows + (size_t)r * (size_t)nc;
         tq += v[CH_TORQUE];
         pw += v[CH_POWER];
-        if (v[CH_CYL_P] > pk) pk = v[CH_CYL_P];
+        if (ip > 0 && v[ip] > pk) pk = v[ip];
     }
     tq /= (double)nrows;
     pw /= (double)nrows;
@@ -229,8 +229,9 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
          "conventional engine calibrated to the paper's 1484 hp: engine.json wg_area)"},
         {"peak_cylinder_pressure", "Pa", pk, "largest sampled cylinder 1 pressure (predicted)"},
     };
-    memcpy(out, mt, sizeof mt);
-    return 3;
+    int n = ip > 0 ? 3 : 2; /* no cylinder pressure without cylinders */
+    memcpy(out, mt, sizeof mt[0] * (size_t)n);
+    return n;
 }
 
 const ts_scenario_ops ts_scenario_engine_dyno = {

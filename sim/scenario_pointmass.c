@@ -51,8 +51,7 @@ typedef struct pm_model {
     ts_powertrain *pt; /* NULL for a prescribed drive */
     int npt;           /* powertrain states */
     double mass_eff;   /* M [kg] */
-    ts_governor gov;   /* /control's two-speed governor, applied when governor_on */
-    int governor_on;
+    ts_governor gov;   /* /control's two-speed governor (off: the rack as set) */
 } pm_model;
 
 typedef struct pm_data {
@@ -81,9 +80,8 @@ static double resistance(const ts_vehicle_config *vc, double v)
 static double governed_rack(const ts_model *m, const double *yp)
 {
     const pm_model *pm = m->impl;
-    double rack = m->cfg.control.rack;
-    if (!pm->governor_on) return rack;
-    return ts_governor_rack(&pm->gov, rack, yp[ts_powertrain_engine_speed_index(pm->pt)]);
+    return ts_governor_rack(&pm->gov, m->cfg.control.rack,
+                            yp[ts_powertrain_engine_speed_index(pm->pt)]);
 }
 
 /* Vehicle derivatives; with the powertrain also its derivatives into ydot + NVEH
@@ -138,7 +136,6 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     m->dof = 1;
     m->nstate = NVEH;
     if (m->cfg.drive.kind == TS_DRIVE_POWERTRAIN) {
-        pm->governor_on = m->cfg.control.governor;
         rc = ts_governor_of_config(&m->cfg.control, &pm->gov, err);
         if (rc != TS_OK) return rc;
         pm->pt = ts_powertrain_make(&m->cfg, err);
@@ -272,15 +269,17 @@ static ts_rc step_to_explicit(const ts_model *m, pm_data *p, double t, ts_err *e
     return TS_OK;
 }
 
-/* Vehicle + turbine derivatives with the engine states held (co-simulation). */
+/* Vehicle + turbine derivatives with the engine states held (co-simulation);
+ * rack: the macro step's, which the engine was advanced with (it only labels
+ * the outputs here). */
 static void derivs_driveline(const ts_model *m, const pm_data *p, double t, const double *y,
-                             double *ydot)
+                             double rack, double *ydot)
 {
     const pm_model *pm = m->impl;
     const ts_vehicle_config *vc = &m->cfg.vehicle;
     ts_powertrain_out o;
-    ts_powertrain_rhs_driveline(pm->pt, &p->ps, t, y + NVEH, y[V] / vc->sprocket_radius,
-                                governed_rack(m, y + NVEH), ydot + NVEH, &o);
+    ts_powertrain_rhs_driveline(pm->pt, &p->ps, t, y + NVEH, y[V] / vc->sprocket_radius, rack,
+                                ydot + NVEH, &o);
     ydot[X] = y[V];
     ydot[V] = (2.0 * o.sprocket_torque / vc->sprocket_radius - resistance(vc, y[V])) / pm->mass_eff;
 }
@@ -289,12 +288,13 @@ static void derivs_driveline(const ts_model *m, const pm_data *p, double t, cons
 typedef struct {
     const ts_model *m;
     const pm_data *p;
+    double rack; /* the macro step's governed rack */
 } held_ctx;
 
 static int rhs_held(double t, const double *y, double *ydot, void *ud)
 {
     const held_ctx *h = ud;
-    derivs_driveline(h->m, h->p, t, y, ydot);
+    derivs_driveline(h->m, h->p, t, y, h->rack, ydot);
     return 0;
 }
 
@@ -306,14 +306,14 @@ static ts_rc step_to_cosim(const ts_model *m, pm_data *p, double t, ts_err *err)
     const double r_s = m->cfg.vehicle.sprocket_radius;
     const int idx[3] = {X, V, p->n - 1}; /* the states the RK4 integrates */
     double *y = p->y, work[15];
-    held_ctx ctx = {m, p};
+    held_ctx ctx = {m, p, 0.0};
     while (p->t_int < t - 1e-12 * (1.0 + t)) {
         double t_end = p->t_int + ts_powertrain_macro_step(pm->pt);
         if (t_end > t - 1e-12 * (1.0 + t)) t_end = t;
         /* the governor acts per macro step, at the engine speed it starts from */
-        double rack = governed_rack(m, y + NVEH);
-        ts_rc rc = ts_powertrain_engine_advance(pm->pt, p->t_int, t_end - p->t_int, y + NVEH, rack,
-                                                p->work, err);
+        ctx.rack = governed_rack(m, y + NVEH);
+        ts_rc rc = ts_powertrain_engine_advance(pm->pt, p->t_int, t_end - p->t_int, y + NVEH,
+                                                ctx.rack, p->work, err);
         if (rc != TS_OK) return rc;
         while (p->t_int < t_end - 1e-12 * (1.0 + t_end)) {
             double h = ts_powertrain_explicit_step(pm->pt, y + NVEH), t0 = p->t_int;

@@ -374,7 +374,9 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
     if (check(o, CVodeSetUserData(o->mem, o), "CVodeSetUserData", err)) goto fail;
     if (opts->atol_v) {
         o->atol_v = N_VNew_Serial(n, o->ctx);
-        if (!o->atol_v || ts_nvector_use_kernels(o->atol_v) != 0) goto nomem;
+        /* no kernels: CVODE keeps a clone of it that it only reads, and an
+         * operation runs with the ops of its output vector (y's clones) */
+        if (!o->atol_v) goto nomem;
         memcpy(N_VGetArrayPointer(o->atol_v), opts->atol_v, (size_t)n * sizeof(double));
         if (check(o, CVodeSVtolerances(o->mem, opts->rtol, o->atol_v), "CVodeSVtolerances", err))
             goto fail;

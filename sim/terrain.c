@@ -161,6 +161,10 @@ ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, d
     *length = 0;
     int line = 0, got;
     char buf[LINE_MAX_CHARS];
+    /* the ranges of the inline fields, from their rows in the parameter table */
+    const ts_param *field[3] = {ts_param_find("/terrain/bump_start"),
+                                ts_param_find("/terrain/bump_height"),
+                                ts_param_find("/terrain/bump_length")};
     while ((got = next_line(&text, buf)) != 0) {
         line++;
         if (got < 0)
@@ -171,7 +175,7 @@ ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, d
         double v[3];
         if (strncmp(s, "length", 6) == 0) {
             if (read_numbers(s + 6, v, 1) != 0 || !(v[0] > 0) ||
-                ts_param_check_number(ts_param_find("/terrain/bump_start"), v[0], NULL) != TS_OK)
+                ts_param_check_number(field[0], v[0], NULL) != TS_OK)
                 return ts_err_set(err, TS_ERR_PARAM, ptr,
                                   "%s: line %d: want 'length METRES', METRES > 0 and within "
                                   "/terrain/bump_start's range",
@@ -183,12 +187,9 @@ ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, d
             return ts_err_set(err, TS_ERR_PARAM, ptr,
                               "%s: line %d: want three numbers 'start_m height_m length_m'", ptr,
                               line);
-        /* the ranges of the inline fields, from their rows in the parameter table */
-        static const char *const field[3] = {"/terrain/bump_start", "/terrain/bump_height",
-                                             "/terrain/bump_length"};
         for (int k = 0; k < 3; k++) {
             ts_err range;
-            if (ts_param_check_number(ts_param_find(field[k]), v[k], &range) != TS_OK)
+            if (ts_param_check_number(field[k], v[k], &range) != TS_OK)
                 return ts_err_set(err, TS_ERR_PARAM, ptr, "%s: line %d: %s", ptr, line,
                                   range.msg);
         }

@@ -337,9 +337,10 @@ int main(int argc, char **argv)
     printf("  bare libmicrohttpd hello      %10.0f req/s (%.0f)\n", r_hello, w_hello);
     printf("  tanksimd GET /v1/health       %10.0f req/s (%.0f)   ratio to hello %.2f\n",
            r_health, w_health, r_health / r_hello);
-    printf("  tanksimd series 10000 samples %10.1f req/s   ratio to hello %.4f, to health %.4f"
-           "  (%zu bytes, %.0f samples/s)\n",
-           r_series, r_series / r_hello, r_series / r_health, series_bytes, 1e4 * r_series);
+    printf("  tanksimd series 10000 samples %10.1f req/s (%.1f)   ratio to hello %.4f, to health "
+           "%.4f  (%zu bytes, %.0f samples/s)\n",
+           r_series, w_series, r_series / r_hello, r_series / r_health, series_bytes,
+           1e4 * r_series);
     rc = (r_hello > 0 && r_health > 0 && r_series > 0) ? 0 : 1;
     goto out;
 out_conn:

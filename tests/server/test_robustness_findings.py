@@ -71,12 +71,13 @@ def test_one_apng_at_a_time_with_two_workers(d2, big_apng_seconds):
     t.start()
     time.sleep(min(0.5, wall / 4))
     p = is_problem(requests.get(url, params=SMALL), 429)
-    assert "at most 1 at once with 2 worker threads" in p["detail"], p
+    assert "at most 1 at once with 2 worker threads" in p["detail"] and "format=multipart" in p["detail"], p
     assert requests.get(url, params=SMALL).headers["Retry-After"] == "2"
     # animations and analyses share the cap: with one of each both workers were taken
-    p = is_problem(requests.post(d2.url + "/v1/engine-map",
-                                 json={"preset": "engine-map-conventional"}), 429)
-    assert "already running" in p["detail"], p
+    r = requests.post(d2.url + "/v1/engine-map", json={"preset": "engine-map-conventional"})
+    p = is_problem(r, 429)
+    assert "already running" in p["detail"] and "multipart" not in p["detail"], p
+    assert r.headers["Retry-After"] == "2"  # as the animation's 429 (it had none)
     # the other worker is still free for physics and single frames
     r = requests.get(f"{d2.url}/v1/sessions/{s}/frame.png", params={"t": 0.5, "width": 64,
                                                                     "height": 64})
@@ -114,6 +115,8 @@ def test_apng_stops_when_the_session_is_deleted(d2, big_apng_seconds):
     t.join()
     took = time.monotonic() - t0
     is_problem(got["r"], 404)
+    # the job's own check between frames, not the next frame's missing snapshot
+    assert "was deleted while its animation was drawn" in got["r"].json()["detail"], got["r"].text
     assert took < max(0.3 + 0.5, wall / 3), (took, wall)
 
 

@@ -280,13 +280,16 @@ static void two_speed_governor(void **state)
 {
     (void)state;
     const double rpm = 3.14159265358979 / 30;
-    ts_governor g = {650 * rpm, 100 * rpm, 2100 * rpm, 150 * rpm};
+    ts_governor g = {650 * rpm, 100 * rpm, 2100 * rpm, 150 * rpm, .on = 1};
     assert_close(ts_governor_rack(&g, 0.3, 1500 * rpm), 0.3, 1e-12, 0);
     assert_close(ts_governor_rack(&g, 0.2, 600 * rpm), 0.6, 1e-12, 0);  /* half the band */
     assert_close(ts_governor_rack(&g, 0.0, 500 * rpm), 1.0, 1e-12, 0);  /* past the band */
     assert_close(ts_governor_rack(&g, 1.0, 2175 * rpm), 0.5, 1e-12, 0); /* half the band */
     assert_close(ts_governor_rack(&g, 1.0, 2300 * rpm), 0.0, 0, 0);
     assert_close(ts_governor_rack(&g, 1.7, 1500 * rpm), 1.0, 0, 0);     /* clamped input */
+    g.on = 0; /* /control/governor off: the demand passes, at any speed */
+    assert_close(ts_governor_rack(&g, 0.2, 500 * rpm), 0.2, 0, 0);
+    assert_close(ts_governor_rack(&g, 1.0, 2300 * rpm), 1.0, 0, 0);
 }
 
 int main(void)

@@ -218,7 +218,7 @@ static void caller_integrates_crank_angle_with_cvode(void **state)
 }
 
 /* EVIDENCE: the engine_dyno scenario through model.h: channels with SI units,
- * speed held at /engine/dyno_speed, no cylinder or wall channels (the map
+ * speed held at /engine/dyno_speed, no cylinder or wall channels or metrics (the map
  * engine has neither: they read 0 K / 0 Pa before they were dropped), and for
  * the map fidelity at rack 1 the
  * sampled torque equals the map's full-load torque (definition, 1e-6) and
@@ -236,7 +236,8 @@ static void dyno_scenario_map_fidelity(void **state)
     ts_data *d = ts_data_make(m, &err);
     assert_non_null(d);
     assert_int_equal(ts_reset(m, d, &err), TS_OK);
-    assert_int_equal(ts_advance(m, d, 0.05, NULL, NULL, &err), TS_OK);
+    ts_rows rows = {0};
+    assert_int_equal(ts_advance(m, d, 0.05, ts_rows_append, &rows, &err), TS_OK);
     int it = ts_model_channel_index(m, "engine.torque");
     int is = ts_model_channel_index(m, "engine.speed");
     int ip = ts_model_channel_index(m, "engine.power");
@@ -263,6 +264,14 @@ static void dyno_scenario_map_fidelity(void **state)
     assert_close(v[it], c.engine.map[0].torque[13], 0.04, 0);
     ts_engine_free(e);
     assert_close(v[ip], v[it] * v[is], 1e-12, 0);
+    /* the rack, in the place the cylinder pressure has for the crank-angle
+     * engine, was read as a 1-Pa peak cylinder pressure: no such metric now */
+    ts_metric mt[8];
+    int nm = ts_model_metrics(m, rows.v, rows.n, mt, 8);
+    assert_int_equal(nm, 2);
+    for (int i = 0; i < nm; i++)
+        assert_string_not_equal(mt[i].name, "peak_cylinder_pressure");
+    ts_rows_free(&rows);
     ts_data_free(d);
     ts_model_free(m);
 }

@@ -176,14 +176,19 @@ static void kernels_are_installed_and_cloned(void **state)
 }
 
 /* EVIDENCE: nvector_kernels.h contract: a vector that is not serial is
- * refused (-1) and left as it was. */
+ * refused (-1), its ops table not touched. */
 static void refuses_other_vectors(void **state)
 {
     pair *p = *state;
     assert_int_equal(ts_nvector_use_kernels(NULL), -1);
     N_Vector e = N_VNewEmpty(p->ctx); /* no ops' vector ID: not a serial vector */
     assert_non_null(e);
+    N_Vector_Ops before = e->ops, copy = malloc(sizeof *copy);
+    assert_non_null(copy);
+    *copy = *before;
     assert_int_equal(ts_nvector_use_kernels(e), -1);
+    assert_true(e->ops == before && memcmp(e->ops, copy, sizeof *copy) == 0);
+    free(copy);
     N_VFreeEmpty(e);
 }
 

@@ -113,6 +113,29 @@ static void too_little_torque_stays_at_rest(void **state)
     ts_model_free(m);
 }
 
+/* EVIDENCE: definition (model.h ts_grid_row): a duration that
+ * ts_on_sample_grid accepts (within its 1e-6 relative slack) runs to the row
+ * it names. 19.99999 s at 500 Hz is 9999.995 periods: accepted, and the run
+ * used to stop at row 9999 (19.998 s), one short, by a second rule. */
+static void duration_within_the_grid_slack_runs_to_its_row(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    c.run.sample_rate = 500;
+    c.run.duration = 19.99999;
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    assert_non_null(m);
+    ts_data *d = ts_data_make(m, &err);
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, c.run.duration, NULL, NULL, &err), TS_OK);
+    assert_int_equal(ts_sample_index(d), 10000);
+    assert_int_equal(ts_grid_row(c.run.duration, 1.0 / 500), 10000);
+    assert_int_equal(ts_grid_row(0.0055, 0.002), 2); /* off the grid: the row before */
+    ts_data_free(d);
+    ts_model_free(m);
+}
+
 /* Save, run on, restore, run again: the same numbers (state round trip). */
 static void state_save_restore_reproduces_the_run(void **state)
 {
@@ -202,6 +225,7 @@ int main(void)
         cmocka_unit_test(constant_torque_no_resistance_is_uniform_acceleration),
         cmocka_unit_test(rolling_resistance_sets_terminal_speed),
         cmocka_unit_test(too_little_torque_stays_at_rest),
+        cmocka_unit_test(duration_within_the_grid_slack_runs_to_its_row),
         cmocka_unit_test(state_save_restore_reproduces_the_run),
         cmocka_unit_test(drive_histories),
         cmocka_unit_test(cancel_from_callback),

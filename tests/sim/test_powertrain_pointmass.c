@@ -178,10 +178,13 @@ static void fig19_three_upshifts_dip_and_sawtooth(void **state)
 }
 
 /* EVIDENCE: Table 2 [P], conventional engine, here with the MAP engine (the
- * crank-angle runs are in bench_pointmass): speed after 20 s 65.67 km/h within
- * 5 %, 0-60 km/h 17.2 s and 20-60 km/h 13.2 s within 10 %. Calibrated input:
- * the presets' constant rolling resistance (speed term 0); final ratio 3.07
- * is the pre-run estimate. The metrics are computed from the series. */
+ * crank-angle runs are in bench_pointmass). CALIBRATION CONSISTENCY, not a
+ * prediction: the speed after 20 s, 65.67 km/h within 5 %, is the figure the
+ * presets' constant rolling resistance and the final ratio 3.07 (scaled from
+ * a point-mass estimate that reaches 65.7 km/h, docs/driveline.md) were chosen
+ * against. The predictions checked are the shape of the launch: 0-60 km/h
+ * 17.2 s and 20-60 km/h 13.2 s within 10 %. The metrics are computed from the
+ * series. */
 static void table2_conventional_map_engine(void **state)
 {
     (void)state;
@@ -216,10 +219,11 @@ static void pointmass_kinematics_and_channels(void **state)
         assert_close(at(&r, "tc.pump.speed", t), at(&r, "engine.speed", t), 0, 0);
     }
     assert_true(at(&r, "intake.pressure", 20.0) > 1.5e5);
-    /* the rack the engine sees: the full rack through the two-speed governor */
-    const ts_control_config *cc = &c->control;
-    ts_governor g = {cc->governor_low_idle, cc->governor_low_band, cc->governor_high_idle,
-                     cc->governor_high_band};
+    /* the rack the engine sees: the full rack through the two-speed governor
+     * (on in the preset; the run passes high idle, where it cuts the rack) */
+    ts_governor g;
+    assert_int_equal(ts_governor_of_config(&c->control, &g, NULL), TS_OK);
+    assert_true(g.on);
     for (double t = 0.5; t <= 20.0; t += 0.5)
         assert_close(at(&r, "rack", t), ts_governor_rack(&g, 1.0, at(&r, "engine.speed", t)), 0,
                      1e-15);

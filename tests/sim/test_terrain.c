@@ -147,7 +147,7 @@ static void terrain_files_are_read_strictly(void **state)
 {
     (void)state;
     ts_err err;
-    int rows;
+    int length_m; /* the profile's last distance [m] */
     const char *bad[] = {"x,z\n0,0\n7,0\n7.5,nan\n200,0\n",
                          "0,inf\n10,0\n",
                          "0,0,5\n10,0.3\n",
@@ -155,17 +155,17 @@ static void terrain_files_are_read_strictly(void **state)
                          "0,0\n10,1e6\n",
                          "0,0\n1e300,0\n"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        assert_int_equal(profile_from(bad[i], &rows, &err), TS_ERR_PARAM);
+        assert_int_equal(profile_from(bad[i], &length_m, &err), TS_ERR_PARAM);
         assert_string_equal(err.pointer, "/terrain/profile_csv");
         assert_non_null(strstr(err.msg, "line "));
     }
-    assert_int_equal(profile_from("x,z\n0,0\n7,0\n7.5,nan\n", &rows, &err), TS_ERR_PARAM);
+    assert_int_equal(profile_from("x,z\n0,0\n7,0\n7.5,nan\n", &length_m, &err), TS_ERR_PARAM);
     assert_non_null(strstr(err.msg, "line 4")); /* the line of the nan, not the next */
-    assert_int_equal(profile_from("0,0\r10,0.3\r200,0.3\r", &rows, &err), TS_OK);
-    assert_int_equal(rows, 200);
-    assert_int_equal(profile_from("x,z\r\n0,0\r\n10 0.3\r\n150, 0.3 # end\r\n", &rows, &err),
+    assert_int_equal(profile_from("0,0\r10,0.3\r200,0.3\r", &length_m, &err), TS_OK);
+    assert_int_equal(length_m, 200);
+    assert_int_equal(profile_from("x,z\r\n0,0\r\n10 0.3\r\n150, 0.3 # end\r\n", &length_m, &err),
                      TS_OK);
-    assert_int_equal(rows, 150);
+    assert_int_equal(length_m, 150);
 
     double s[4], h[4], l[4], len;
     int n;

@@ -9,8 +9,10 @@
  * form's error box in the daemon's words; the progress bar says "refused"
  * for the first (nothing ran), "failed" or "interrupted" for the others.
  * changed(kind, op) hears of each start and end (the stored-analyses list,
- * stored_analyses.js); showStored(op) puts a stored analysis the list draws
- * in this form on its progress bar, unless the form's own one runs.
+ * stored_analyses.js); showStored(op) shows a stored analysis the list hands
+ * over as the form shows its own (a cancel there is an error: the daemon's
+ * words, not this page's doing), on the progress bar unless the form's own
+ * one runs.
  *
  * Elements, by the form's prefix p: p-run, p-cancel, p-error, p-progress
  * (data-percent, data-outcome), p-progress-bar, p-progress-text.
@@ -25,7 +27,8 @@ import { followOperation, operationError, outcomeOf, outcomeSuffix } from './ope
  * draw the result (may throw an ApiError: shown as the form's error); changed(kind, op)
  * (optional): the operation started (op not done) or ended (op: null when its poll failed).
  * Returns {start(begin), showStored(op)}: begin() sends the request and resolves to the
- * operation; op: a done operation (GET /v1/operations/{id}) whose result the form now shows.
+ * operation; op: a done operation (GET /v1/operations/{id}); showStored returns whether
+ * its result was drawn.
  */
 export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {} }) {
   const el = (name) => $(`${prefix}-${name}`);
@@ -105,8 +108,19 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
   }
 
   function showStored(op) {
-    if (state.analyses[kind]) return; /* the bar is the running analysis' */
-    render(op.metadata, outcomeOf(op.error));
+    hideError(box);
+    let outcome = outcomeOf(op.error);
+    let drawn = false;
+    try {
+      if (op.error) throw operationError(op); /* a cancel too: not this page's doing */
+      onDone(op.response);
+      drawn = true;
+    } catch (e) {
+      if (outcome === 'done') outcome = 'failed'; /* onDone could not draw it */
+      showError(box, e);
+    }
+    if (!state.analyses[kind]) render(op.metadata, outcome); /* else the bar is the running one's */
+    return drawn;
   }
 
   el('cancel').addEventListener('click', onCancel);

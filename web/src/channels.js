@@ -5,7 +5,7 @@
  * charts draw it in.
  */
 import { $, fillSelect } from './dom.js';
-import { bracket, choices, display, setDisplay } from './units.js';
+import { bracket, choices, display, setDisplay, UNITS_CHANGED } from './units.js';
 
 /* A session's channels less the time axis. */
 export function channelsOf(s) {
@@ -69,13 +69,7 @@ export function initChannelPicker(state, plots) {
         b.className = `small seg-btn${on ? ' on' : ''}`;
         b.setAttribute('aria-pressed', on ? 'true' : 'false'); /* the chosen unit, for assistive technology too */
         b.textContent = c.label;
-        b.addEventListener('click', () => {
-          setDisplay(u, c.label);
-          renderUnitToggles();
-          renderChannelPicker();
-          for (const sel of [$('fft-channel'), $('compare-channel')]) fillChannelSelect(sel, listed(sel)); /* new unit labels */
-          plots.show(state.store, state.picks);
-        });
+        b.addEventListener('click', () => setDisplay(u, c.label));
         group.append(b);
       }
       box.append(group);
@@ -91,6 +85,13 @@ export function initChannelPicker(state, plots) {
     $('channel-list').replaceChildren();
     $('unit-toggles').replaceChildren();
   }
+
+  /* every display-unit change (units.js), whichever control made it */
+  window.addEventListener(UNITS_CHANGED, () => {
+    render();
+    for (const sel of [$('fft-channel'), $('compare-channel')]) fillChannelSelect(sel, listed(sel)); /* new unit labels */
+    plots.show(state.store, state.picks);
+  });
 
   return { render, clear };
 }

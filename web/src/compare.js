@@ -11,6 +11,7 @@ import { seriesAll } from './api.js';
 import { bracket, display, toDisplay } from './units.js';
 import { chartWidth, color, fmtValue } from './plots.js';
 import { axisValues } from './ticks.js';
+import { shortId } from './dom.js';
 
 const MAX_POINTS = 4000;
 
@@ -97,7 +98,7 @@ export function differingFields(sessions) {
 
 /* "a1b2c3d4 · track/fidelity=coupled · drive/torque=9000" — what tells the sessions apart. */
 export function describe(s, differing = []) {
-  const parts = [String(s.id).slice(0, 8)];
+  const parts = [shortId(s.id)];
   const flat = flatten(s.config);
   for (const k of differing.slice(0, 3)) parts.push(`${k.slice(1)}=${flat[k] === undefined ? '—' : flat[k].replace(/"/g, '')}`);
   if (!differing.length && s.preset) parts.push(s.preset);

@@ -4,7 +4,7 @@
  * that draws them with ComparePanel (compare.js).
  */
 import { api, ApiError } from './api.js';
-import { $ } from './dom.js';
+import { $, shortId } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { channelsOf, fillChannelSelect } from './channels.js';
 
@@ -19,6 +19,16 @@ export function initCompareControls(state, compare) {
   let filled = 0; /* the latest channel-list refresh: one answering late is dropped */
 
   const ticked = () => Promise.all([...state.compare].map((id) => api.session(id)));
+  /* A session's channel list is fixed at its creation: fetched once per id
+   * for the channel select (the Compare button still fetches them fresh). */
+  const channelsKnown = new Map();
+  async function tickedChannels() {
+    const ids = [...state.compare];
+    await Promise.all(
+      ids.filter((id) => !channelsKnown.has(id)).map(async (id) => channelsKnown.set(id, { channels: (await api.session(id)).channels })),
+    );
+    return ids.map((id) => channelsKnown.get(id));
+  }
 
   /* List the channels the sessions have, the one chosen kept while it is still there; returns the choice. */
   function listChannels(sessions) {
@@ -34,7 +44,7 @@ export function initCompareControls(state, compare) {
     const me = ++filled;
     let sessions;
     try {
-      sessions = state.compare.size ? await ticked() : [state.session].filter(Boolean);
+      sessions = state.compare.size ? await tickedChannels() : [state.session].filter(Boolean);
     } catch {
       return; /* a ticked session went: Compare says so when asked */
     }
@@ -58,7 +68,7 @@ export function initCompareControls(state, compare) {
       const sessions = await ticked();
       const channel = listChannels(sessions);
       const r = await compare.show(sessions, channel);
-      const lacking = r.missing.map((s) => String(s.id).slice(0, 8)).join(', ');
+      const lacking = r.missing.map((s) => shortId(s.id)).join(', ');
       $('compare-info').textContent = `${r.series} session${r.series > 1 ? 's' : ''} overlaid${lacking ? ` · not plotted, no channel ${channel}: ${lacking}` : ''}`;
     } catch (e) {
       compare.clear(); /* an overlay of an earlier request would pass for this one */

@@ -6,6 +6,9 @@
  */
 export const $ = (id) => document.getElementById(id);
 
+/* The first 8 characters of a session id: how the page names a session. */
+export const shortId = (id) => String(id).slice(0, 8);
+
 /* <span class="pill st-STATUS">STATUS</span> (style.css colours it by status). */
 export function pill(status) {
   const e = document.createElement('span');

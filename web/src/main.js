@@ -76,30 +76,26 @@ const run = initRunControls(state, { header, stream, refreshList });
 const view = initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, run, refreshList });
 const list = initSessionList(state, { view, ticksChanged: compareControls.updateInfo });
 const form = initCreateForm({ refreshList, open: view.open });
-/* a stored analysis shown in a form goes on that form's progress bar (the controls are made next) */
-const stored = initStoredAnalyses({ engineMap, progress: (kind, op) => ({ engine_map: mapControls, tune: tuneControls })[kind]?.showStored(op) });
+/* a stored analysis is shown by the form of its kind (the forms are made next) */
+const stored = initStoredAnalyses({ engineMap, form: (kind) => ({ engine_map: mapControls, tune: tuneControls })[kind] });
 const mapControls = initEngineMapControls(state, engineMap, { changed: stored.changed });
 const tuneControls = initTuneControls(state, { changed: stored.changed });
 
 /* The health pill follows the daemon: asked again every HEALTH_MS while the
  * page is visible (it said "ok" all the while a stopped daemon was away). */
 const HEALTH_MS = 5000;
-let healthTimer = 0;
 async function checkHealth() {
-  clearTimeout(healthTimer);
-  if (!document.hidden) {
-    try {
-      const h = await api.health();
-      $('health').textContent = `tanksimd ${h.version || ''} · ${h.status || 'ok'}`;
-      $('health').className = 'health ok';
-    } catch (e) {
-      /* a draining daemon answers 503 with its status: say that rather than "unreachable" */
-      const stopping = e.status === 503;
-      $('health').textContent = stopping ? `tanksimd stopping: ${e.message}` : `daemon unreachable: ${e.message}`;
-      $('health').className = 'health bad';
-    }
+  if (document.hidden) return;
+  try {
+    const h = await api.health();
+    $('health').textContent = `tanksimd ${h.version || ''} · ${h.status || 'ok'}`;
+    $('health').className = 'health ok';
+  } catch (e) {
+    /* a draining daemon answers 503 with its status: say that rather than "unreachable" */
+    const stopping = e.status === 503;
+    $('health').textContent = stopping ? `tanksimd stopping: ${e.message}` : `daemon unreachable: ${e.message}`;
+    $('health').className = 'health bad';
   }
-  healthTimer = setTimeout(checkHealth, HEALTH_MS);
 }
 
 async function boot() {
@@ -126,4 +122,6 @@ setInterval(() => {
 setInterval(() => {
   if (!document.hidden) list.refresh();
 }, 3000);
+/* one poll however often boot runs (a token Save boots again) */
+setInterval(checkHealth, HEALTH_MS);
 boot();

@@ -5,7 +5,8 @@
  * session from the daemon first.
  */
 import { api } from './api.js';
-import { $ } from './dom.js';
+import { channelsOf } from './channels.js';
+import { $, shortId } from './dom.js';
 import { showError } from './messages.js';
 import { fmt } from './units.js';
 
@@ -14,15 +15,15 @@ export function initSessionHeader(state) {
   function render(gone) {
     const s = state.session;
     const open = !!s;
-    $('session-title').textContent = open ? `Session ${String(s.id).slice(0, 8)}` : 'No session open';
+    $('session-title').textContent = open ? `Session ${shortId(s.id)}` : 'No session open';
     const st = $('session-status');
     const status = s?.status || (gone ? 'deleted' : '');
     st.className = `pill st-${status || 'none'}`;
     st.textContent = status;
     const dur = s?.config?.run?.duration;
     const kind = s?.config?.run?.kind;
-    /* the track only exists in the multibody vehicle (vehicle, coupled runs) */
-    const fid = kind === 'vehicle' || kind === 'coupled' ? s?.config?.track?.fidelity : undefined;
+    /* the track's fidelity where the run has a track (its channels say so) */
+    const fid = open && channelsOf(s).some((c) => c.name.startsWith('track.')) ? s.config?.track?.fidelity : undefined;
     $('session-meta').textContent = open
       ? [
           `preset ${s.preset || '—'}`,

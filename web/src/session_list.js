@@ -5,7 +5,7 @@
  * why (none yet, or the daemon refused; a 401 also asks for the token).
  */
 import { allSessions, getToken } from './api.js';
-import { $, cell, pill } from './dom.js';
+import { $, cell, pill, shortId } from './dom.js';
 import { askForToken } from './messages.js';
 import { fmt } from './units.js';
 
@@ -44,6 +44,7 @@ export function initSessionList(state, { view, ticksChanged }) {
     tbody.replaceChildren();
     for (const s of sessions) {
       const tr = document.createElement('tr');
+      const short = shortId(s.id);
       tr.dataset.id = s.id;
       if (state.session && state.session.id === s.id) tr.classList.add('selected');
       const cb = document.createElement('input');
@@ -51,7 +52,7 @@ export function initSessionList(state, { view, ticksChanged }) {
       cb.className = 'cmp';
       cb.checked = state.compare.has(s.id);
       cb.title = 'include in Compare';
-      cb.setAttribute('aria-label', `include session ${String(s.id).slice(0, 8)} in Compare`);
+      cb.setAttribute('aria-label', `include session ${short} in Compare`);
       cb.addEventListener('click', (ev) => ev.stopPropagation());
       cb.addEventListener('change', () => {
         if (cb.checked) state.compare.add(s.id);
@@ -63,8 +64,8 @@ export function initSessionList(state, { view, ticksChanged }) {
       const open = document.createElement('button');
       open.type = 'button';
       open.className = 'open-session mono';
-      open.textContent = String(s.id).slice(0, 8);
-      open.setAttribute('aria-label', `open session ${String(s.id).slice(0, 8)}, ${s.preset || 'no preset'}, ${s.status}`);
+      open.textContent = short;
+      open.setAttribute('aria-label', `open session ${short}, ${s.preset || 'no preset'}, ${s.status}`);
       const cells = [
         cb,
         open,

@@ -3,10 +3,10 @@
  * /v1/analyses, newest first): when each was started, its kind, what was
  * asked (from the request the daemon stored: preset, engine fidelity,
  * schedule) and its status. Show fetches the operation (GET
- * /v1/operations/{id}) and draws its response where its form draws one (the
- * engine-map chart, the tuning tables), or puts its error in that form's
- * error box, and has that form's progress bar show its parts and outcome
- * (progress; not while the form's own analysis runs); Delete removes a finished one (DELETE /v1/analyses/{id}). The
+ * /v1/operations/{id}) and hands it to the form of its kind
+ * (analysis_op.js showStored: the response drawn where the form draws its
+ * own, or the error in its error box, and the outcome on its progress bar);
+ * Delete removes a finished one (DELETE /v1/analyses/{id}). The
  * list is drawn again on page load, when a form's analysis starts or ends
  * (refresh / changed) and after a delete, and every POLL_MS while a listed
  * analysis runs (one another client started, say) and the page is not hidden.
@@ -14,8 +14,7 @@
 import { api } from './api.js';
 import { $, cell, pill } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { operationError, outcomeOf } from './operation.js';
-import { showTuning } from './tune.js';
+import { outcomeOf } from './operation.js';
 
 const KIND_LABEL = { engine_map: 'engine map', tune: 'tuning' };
 const POLL_MS = 2000; /* [ms] list refresh while an analysis in it runs */
@@ -39,15 +38,15 @@ function button(label, title, onClick) {
   return b;
 }
 
-/* engineMap: the EngineMapPanel the map form draws in (engine_map.js); progress(kind, op):
-   the form of that kind shows a done operation on its progress bar (analysis_op.js showStored). */
-export function initStoredAnalyses({ engineMap, progress }) {
+/* engineMap: the EngineMapPanel the map form draws in (engine_map.js); form(kind): the
+   analysis form of that kind ({showStored}, analysis_op.js; made after this list). */
+export function initStoredAnalyses({ engineMap, form: formOf }) {
   const box = $('stored-error');
   const tbody = $('stored-table').querySelector('tbody');
-  /* Where each kind's result goes; shown: the id of the analysis it shows, if stored. */
+  /* How each kind's result is taken off screen; shown: the id of the analysis it shows, if stored. */
   const forms = {
-    engine_map: { error: $('map-error'), show: (doc) => engineMap.show(doc), clear: () => engineMap.clear(), shown: null },
-    tune: { error: $('tune-error'), show: (doc) => showTuning($('tune-result'), doc), clear: () => $('tune-result').replaceChildren(), shown: null },
+    engine_map: { clear: () => engineMap.clear(), shown: null },
+    tune: { clear: () => $('tune-result').replaceChildren(), shown: null },
   };
   let drawn = 0; /* the latest refresh: an earlier one answering late is dropped */
   let showing = 0; /* the same for Show */
@@ -127,16 +126,7 @@ export function initStoredAnalyses({ engineMap, progress }) {
     }
     if (me !== showing) return;
     form.clear();
-    form.shown = null;
-    hideError(form.error);
-    try {
-      if (op.error) throw operationError(op);
-      form.show(op.response);
-      form.shown = a.id;
-    } catch (e) {
-      showError(form.error, e);
-    }
-    progress(a.kind, op);
+    form.shown = formOf(a.kind).showStored(op) ? a.id : null;
   }
 
   async function onDelete(a, what) {
