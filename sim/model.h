@@ -50,7 +50,7 @@ int ts_model_channel_index(const ts_model *m, const char *name); /* -1 if unknow
 double ts_model_sample_period(const ts_model *m);  /* 1 / run.sample_rate [s] */
 
 /* Sample rows are dt apart: TS_OK if t is a whole number of them (relative
- * slack 1e-6), else TS_ERR_PARAM naming pointer with the two nearest times.
+ * slack 1e-9), else TS_ERR_PARAM naming pointer with the two nearest times.
  * ts_model_make checks /run/duration with it; callers their own end times. */
 ts_rc ts_on_sample_grid(double t, double dt, const char *pointer, ts_err *err);
 /* Index of the last sample row at or before t, a time within that slack of a

@@ -114,15 +114,15 @@ static void too_little_torque_stays_at_rest(void **state)
 }
 
 /* EVIDENCE: definition (model.h ts_grid_row): a duration that
- * ts_on_sample_grid accepts (within its 1e-6 relative slack) runs to the row
- * it names. 19.99999 s at 500 Hz is 9999.995 periods: accepted, and the run
- * used to stop at row 9999 (19.998 s), one short, by a second rule. */
+ * ts_on_sample_grid accepts (within its 1e-9 relative slack) runs to the row
+ * it names. 20 - 1e-9 s at 500 Hz is 9999.9999995 periods: accepted, and the
+ * run used to stop at row 9999 (19.998 s), one short, by a second rule. */
 static void duration_within_the_grid_slack_runs_to_its_row(void **state)
 {
     (void)state;
     ts_config c = defaults();
     c.run.sample_rate = 500;
-    c.run.duration = 19.99999;
+    c.run.duration = 20.0 - 1e-9;
     ts_err err;
     ts_model *m = ts_model_make(&c, &err);
     assert_non_null(m);
