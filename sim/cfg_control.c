@@ -61,7 +61,8 @@ static const ts_param coupling_rows[] = {
     {"/coupling/method", TS_PT_ENUM, F(method), "", 0, 0, ts_coupling_method_names, 0, 0,
      "monolithic (one integrator) or leading_following (Section IV.A)"},
     {"/coupling/lead", TS_PT_DOUBLE, F(lead), "s", 1e-5, 0.1, NULL, 0, 0,
-     "how far the powertrain may run ahead of the vehicle"},
+     "how far the powertrain may run ahead of the vehicle; at least leader_step and "
+     "follower_step"},
     {"/coupling/predictor_order", TS_PT_INT, F(predictor_order), "1", 0, 1, NULL, 0, 0,
      "sprocket-speed predictor: 0 hold, 1 linear from (omega, alpha)"},
     {"/coupling/leader_step", TS_PT_DOUBLE, F(leader_step), "s", 1e-6, 0.1, NULL, 0, 0,

@@ -26,7 +26,7 @@ typedef struct ts_driveline_config {
     int gear_efficiency_n;
     double gear_efficiency[TS_NGEAR_MAX];     /* mechanical efficiency per gear [1] */
     double shift_speed;                       /* engine speed that triggers an upshift [rad/s] */
-    double downshift_speed;                   /* engine speed below which it downshifts [rad/s] */
+    double downshift_speed; /* downshift engine speed (and lower gear's input) [rad/s] */
     double shift_time;                        /* clutch-to-clutch shift interval [s] */
     double shift_dwell;                       /* re-arm time of the upshift after a shift [s] */
     double shift_hysteresis;                  /* re-arm the upshift this far below shift_speed [rad/s] */

@@ -81,9 +81,9 @@ ts_cosim *ts_cosim_make_sample(const ts_cosim_opts *o, ts_cosim_leader leader,
                                ts_cosim_sample sample0, ts_err *err)
 {
     if (!(o->leader_step > 0) || !(o->follower_step > 0) || !(o->lead >= o->leader_step) ||
-        o->predictor_order < 0 || o->predictor_order > 1) {
+        !(o->lead >= o->follower_step) || o->predictor_order < 0 || o->predictor_order > 1) {
         ts_err_set(err, TS_ERR_PARAM, "/coupling",
-                   "/coupling: steps must be > 0, lead >= leader step, predictor order 0 or 1");
+                   "/coupling: steps must be > 0, lead >= both steps, predictor order 0 or 1");
         return NULL;
     }
     ts_cosim *c = calloc(1, sizeof *c);

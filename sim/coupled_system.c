@@ -237,7 +237,7 @@ static int mono_rhs(double t, const double *y, double *ydot, void *ud)
 static int mono_roots(double t, const double *y, double *g, void *ud)
 {
     const ts_coupled_run *r = ud;
-    ts_powertrain_roots(r->c->pt, &r->ps, t, y + r->c->nv, g);
+    ts_powertrain_roots(r->c->pt, &r->ps, t, y + r->c->nv, sprocket_rel(r->c, y), g);
     return 0;
 }
 
@@ -257,7 +257,7 @@ static int lead_rhs(double t, const double *y, double *ydot, void *ud)
 static int lead_roots(double t, const double *y, double *g, void *ud)
 {
     const ts_coupled_run *r = ud;
-    ts_powertrain_roots(r->c->pt, &r->ps, t, y, g);
+    ts_powertrain_roots(r->c->pt, &r->ps, t, y, lead_w(r, t), g);
     return 0;
 }
 
@@ -637,9 +637,13 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
         if (!r->follow_ode) goto fail;
         ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead,
                             r->co.predictor_order};
-        if (!(co.lead >= co.leader_step)) {
+        /* the follower's step needs the leader's torque to its end: a lead
+         * shorter than either step could not be kept */
+        if (!(co.lead >= co.leader_step) || !(co.lead >= co.follower_step)) {
             ts_err_set(err, TS_ERR_PARAM, "/coupling/lead",
-                       "/coupling/lead: must be at least /coupling/leader_step");
+                       "/coupling/lead: %g s must be at least /coupling/leader_step (%g s) and "
+                       "/coupling/follower_step (%g s)",
+                       co.lead, co.leader_step, co.follower_step);
             goto fail;
         }
     } else {

@@ -364,9 +364,10 @@ int ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_sta
 }
 
 void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
-                         const double *y, double *g)
+                         const double *y, double w_sprocket, double *g)
 {
-    ts_transmission_roots(&pt->tr, &ps->shift, t, y[pt->engine.speed_index], g);
+    ts_transmission_roots(&pt->tr, &ps->shift, t, y[pt->engine.speed_index],
+                          ts_final_drive_output_speed(&pt->fd, w_sprocket), g);
 }
 
 static int update_once(const ts_powertrain *pt, ts_powertrain_state *ps, double t,
@@ -374,10 +375,10 @@ static int update_once(const ts_powertrain *pt, ts_powertrain_state *ps, double 
 {
     double w_e = y[pt->engine.speed_index], w_t = y[pt->engine.nstate];
     /* input torque now, for the shift-clutch capacity */
+    double w_out = ts_final_drive_output_speed(&pt->fd, w_sprocket);
     ts_tr_point tp;
-    ts_transmission_eval(&pt->tr, &ps->shift, t, w_t,
-                         ts_final_drive_output_speed(&pt->fd, w_sprocket), &tp);
-    return ts_transmission_update(&pt->tr, &ps->shift, t, w_e, tp.input_torque);
+    ts_transmission_eval(&pt->tr, &ps->shift, t, w_t, w_out, &tp);
+    return ts_transmission_update(&pt->tr, &ps->shift, t, w_e, w_out, tp.input_torque);
 }
 
 #define MAX_EVENTS_AT_ONCE 8 /* discrete updates at one event time */
@@ -507,7 +508,7 @@ static int sim_rhs(double t, const double *y, double *ydot, void *ud)
 static int sim_roots(double t, const double *y, double *g, void *ud)
 {
     const ts_powertrain_sim *s = ud;
-    ts_powertrain_roots(s->pt, &s->ps, t, y, g);
+    ts_powertrain_roots(s->pt, &s->ps, t, y, sim_w(s, t), g);
     return 0;
 }
 

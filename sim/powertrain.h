@@ -178,9 +178,10 @@ int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, do
                       const double *y, double w_sprocket, double rack, double *ydot,
                       ts_powertrain_out *out);
 
-/* Root functions (ts_powertrain_nroots values). */
+/* Root functions (ts_powertrain_nroots values) at sprocket speed w_sprocket
+ * [rad/s]. */
 void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
-                         const double *y, double *g);
+                         const double *y, double w_sprocket, double *g);
 
 /* Discrete updates at an event, repeated until nothing changes (a completed
  * shift can start the next one); 1 when the state changed (re-init needed). */

@@ -120,7 +120,7 @@ static int roots(double t, const double *y, double *g, void *ud)
 {
     const pm_data *p = ud;
     const pm_model *pm = p->m->impl;
-    ts_powertrain_roots(pm->pt, &p->ps, t, y + NVEH, g);
+    ts_powertrain_roots(pm->pt, &p->ps, t, y + NVEH, y[V] / p->m->cfg.vehicle.sprocket_radius, g);
     return 0;
 }
 

@@ -121,8 +121,24 @@ void ts_transmission_eval(const ts_transmission *tr, const ts_shift_state *st, d
     out->output_torque = o1 + o2;
 }
 
+/* The downshift condition as one function, <= 0 when it holds: the engine at
+ * or below downshift_speed AND the lower gear's input speed at this output
+ * speed, r(g-1) w_out, at or below it too. The second half keeps the downshift
+ * for a slow vehicle: the engine also falls to downshift_speed when the rack
+ * drops at speed, and a downshift there was undone by the next upshift as soon
+ * as the rack came back (a speed controller made the pair hunt, 28 times a
+ * minute at 16 km/h). After the downshift the turbine turns at most at
+ * downshift_speed, and the upshift needs the engine at shift_speed, which the
+ * converter reaches only well above that turbine speed. */
+static double downshift_root(const ts_transmission *tr, const ts_shift_state *st, double w_engine,
+                             double w_out)
+{
+    double lower = tr->ratio[st->gear - 2] * w_out;
+    return fmax(w_engine, lower) - tr->downshift_speed;
+}
+
 void ts_transmission_roots(const ts_transmission *tr, const ts_shift_state *st, double t,
-                           double w_engine, double *g)
+                           double w_engine, double w_out, double *g)
 {
     double rearm = tr->shift_speed - tr->shift_hysteresis;
     if (st->target) {
@@ -135,13 +151,14 @@ void ts_transmission_roots(const ts_transmission *tr, const ts_shift_state *st, 
     /* armed: the upward crossing of shift_speed; disarmed: the fall to the
      * re-arm speed, or the end of the dwell */
     g[0] = st->gear < tr->n ? w_engine - (st->armed ? tr->shift_speed : rearm) : 1.0;
-    g[1] = (st->gear > 1 && tr->downshift_speed > 0) ? w_engine - tr->downshift_speed : 1.0;
+    g[1] =
+        (st->gear > 1 && tr->downshift_speed > 0) ? downshift_root(tr, st, w_engine, w_out) : 1.0;
     g[2] = (!st->armed && st->gear < tr->n) ? st->t_end + tr->shift_dwell - t : 1.0;
     g[3] = st->capacity > 0 ? ramp_end(tr, st) - t : 1.0;
 }
 
-int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double t,
-                           double w_engine, double input_torque)
+int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double t, double w_engine,
+                           double w_out, double input_torque)
 {
     int fell = w_engine <= (tr->shift_speed - tr->shift_hysteresis) * (1 + EVENT_SPEED_TOL);
     if (st->target) {
@@ -176,7 +193,7 @@ int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double
     if (st->armed && st->gear < tr->n && w_engine >= tr->shift_speed * (1 - EVENT_SPEED_TOL))
         to = st->gear + 1;
     else if (st->gear > 1 && tr->downshift_speed > 0 &&
-             w_engine <= tr->downshift_speed * (1 + EVENT_SPEED_TOL))
+             downshift_root(tr, st, w_engine, w_out) <= tr->downshift_speed * EVENT_SPEED_TOL)
         to = st->gear - 1;
     if (!to) return ramp_done;
     double cs = tr->shift_capacity_factor * fabs(input_torque);

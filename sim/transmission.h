@@ -39,14 +39,16 @@
  * or, as a fallback, shift_dwell has passed since the shift ended (so a shift
  * that ends with the engine still above shift_speed does not chain straight
  * into the next one, and an engine that dipped during the shift and climbs
- * back to shift_speed shifts again without waiting for the dwell). A downshift starts when the engine
- * speed falls to downshift_speed (gear > 1).
+ * back to shift_speed shifts again without waiting for the dwell). A downshift starts when the
+ * engine speed falls to downshift_speed (gear > 1) while the lower gear would turn its input no
+ * faster than downshift_speed at the present output speed (a slow vehicle, not a dropped rack: no
+ * downshift-upshift hunting).
  *
  * Events: shift start (engine speed crossings), shift end, dwell end and the
  * end of the post-shift capacity ramp (time; capacity set to 0 = fully
- * applied there, so the clutch law's kink is an integrator restart) are ROOT FUNCTIONS of the caller's ODE (ts_transmission_roots); at a root
- * the caller runs ts_transmission_update (a discrete state machine) and
- * re-initialises its integrator when it returns 1.
+ * applied there, so the clutch law's kink is an integrator restart) are ROOT FUNCTIONS of the
+ * caller's ODE (ts_transmission_roots); at a root the caller runs ts_transmission_update (a
+ * discrete state machine) and re-initialises its integrator when it returns 1.
  */
 #ifndef TS_TRANSMISSION_H
 #define TS_TRANSMISSION_H
@@ -93,6 +95,7 @@ typedef struct ts_tr_point {
 } ts_tr_point;
 
 ts_rc ts_transmission_init(ts_transmission *tr, const ts_driveline_config *c, ts_err *err);
+
 /* Capacity of the engaged clutch at t outside a shift [N*m] (rising after a
  * shift, see above); 0 during a shift. */
 double ts_transmission_applied_capacity(const ts_transmission *tr, const ts_shift_state *st,
@@ -105,19 +108,20 @@ void ts_transmission_reset(const ts_transmission *tr, ts_shift_state *st, int ge
 void ts_transmission_eval(const ts_transmission *tr, const ts_shift_state *st, double t,
                           double w_in, double w_out, ts_tr_point *out);
 
-/* TS_TRANSMISSION_NROOTS root functions of (t, engine speed) for the current
- * discrete state; a sign change marks an event. */
+/* TS_TRANSMISSION_NROOTS root functions of (t, engine speed, output speed
+ * [rad/s]) for the current discrete state; a sign change marks an event. */
 void ts_transmission_roots(const ts_transmission *tr, const ts_shift_state *st, double t,
-                           double w_engine, double *g);
+                           double w_engine, double w_out, double *g);
 
 /* Discrete state machine, run at an event (and once after each re-init): ends a
  * shift whose interval has elapsed, re-arms the upshift (engine below
  * shift_speed - hysteresis, or dwell over), starts an upshift when armed and
- * w_engine >= shift_speed (gear < n) or a downshift when w_engine <=
- * downshift_speed (gear > 1). input_torque = current input-shaft torque (sets
+ * w_engine >= shift_speed (gear < n) or a downshift when w_engine and the
+ * lower gear's input speed at w_out are both <= downshift_speed (gear > 1).
+ * input_torque = current input-shaft torque (sets
  * Cs). Returns 1 when the discrete state changed (the caller must
  * re-initialise its integrator: the root functions changed). */
-int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double t,
-                           double w_engine, double input_torque);
+int ts_transmission_update(const ts_transmission *tr, ts_shift_state *st, double t, double w_engine,
+                           double w_out, double input_torque);
 
 #endif

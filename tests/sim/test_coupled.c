@@ -30,7 +30,7 @@ static ts_config load(const char *preset, const char *track)
 }
 
 /* Sampled histories of one run. */
-#define NMAX 2000
+#define NMAX 4000
 typedef struct hist {
     int n;
     double t[NMAX], w[NMAX], v[NMAX], tension[NMAX], gear[NMAX], defl[NMAX], rack[NMAX],
@@ -99,8 +99,8 @@ static hist h_ref, h_a;
  * engine, 0.6 s, rtol 1e-9 so that the coupling error dominates; macro steps
  * 2, 1, 0.5 ms, lead 2 h, outputs every 20 ms (outputs synchronise the two
  * sides, so they must be far apart for the scheme not to change with h).
- * Predicted: second order, p = log2(e(h)/e(h/2)) ~ 2 (measured 1.89, 1.87,
- * e = 3.3e-3, 8.8e-4, 2.4e-4; the scheme before the fixes in docs/coupled.md
+ * Predicted: second order, p = log2(e(h)/e(h/2)) ~ 2 (measured 1.88, 1.83,
+ * e = 3.9e-3, 1.06e-3, 3.0e-4; the scheme before the fixes in docs/coupled.md
  * gave ~0.8); the test
  * asserts p > 1.6 for both halvings and e(0.5 ms) < 5e-4. Nothing
  * calibrated. */
@@ -199,7 +199,7 @@ static void plain_exchange_is_unstable_interface_inertia_fixes_it(void **state)
 /* EVIDENCE: paper Figs. 29-30 (Section IV.C): a gear shift shows as a spike in
  * the track tension and excites the transverse span vibration. Flat ground,
  * 90 % rack, coupled track (1 + 1 modes per span), leading-following; the
- * 1-2 shift ends at ~3.7 s. Predicted (not calibrated): within 0.3 s after
+ * 1-2 shift ends at ~4.3 s. Predicted (not calibrated): within 0.3 s after
  * the end of the shift the rear-roller tension departs from its level just
  * before by more than 20 % of the static tension, and the peak-to-peak
  * transverse mid-span deflection of the upper span (rear roller -> front
@@ -291,7 +291,8 @@ static void bumps_delay_second_and_third_upshift(void **state)
  * CALIBRATED to Fig. 33's full rack through the launch, ti 4 s [E]: with the
  * earlier kp 0.5 this run never reaches 5 mph in 9 s). Calibrated: the time
  * to 5 mph (through kp). Predicted: the rack at 100 % at launch, back below full after the target,
- * and the speed held within 1 mph on average over the last 3 s. */
+ * and the speed held within 0.1 mph on average over the last 3 s (measured
+ * 0.023 mph; with the integral action off, ti 1e4 s, 0.39 mph). */
 static void ivs_full_rack_at_launch_then_holds_5mph(void **state)
 {
     (void)state;
@@ -313,7 +314,42 @@ static void ivs_full_rack_at_launch_then_holds_5mph(void **state)
     assert_close(rack_launch, 1.0, 0, 1e-9);
     assert_true(t_hit < 8.0);
     assert_true(rack_after < 0.9);
-    assert_true(err_abs / ne < 1.0 * MPH);
+    assert_true(err_abs / ne < 0.1 * MPH);
+}
+
+/* EVIDENCE: no downshift-upshift hunting under the speed controller. Flat
+ * ground, static track, map engine, IVS at 4.5 m/s (16.2 km/h, where 2nd gear
+ * turns the turbine at ~845 rpm and 1st at ~1545 rpm), 60 s. Until the
+ * downshift also required the lower gear to turn its input at most at
+ * downshift_speed (transmission.h), the engine fell below the 1000-rpm
+ * downshift speed whenever the controller cut the rack, the box went down to
+ * 1st, the rack came back, the engine reached the 1750-rpm upshift speed and
+ * it went up again: 28 downshifts and 28 upshifts 1-2 in the minute. Logic
+ * check, nothing calibrated: one 1-2 upshift, no downshift, the speed held. */
+static void ivs_cruise_does_not_hunt_gears(void **state)
+{
+    (void)state;
+    ts_config c;
+    ts_err err;
+    json_t *doc = json_pack("{s:s, s:{s:s}, s:{s:s}, s:{s:s}, s:{s:f}}", "preset",
+                            "bump-coupled-ivs5mph", "terrain", "kind", "flat", "track", "fidelity",
+                            "static", "engine", "fidelity", "map", "control", "target_speed", 4.5);
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    json_decref(doc);
+    assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 60.0, 0.02, &h_a, &err), TS_OK);
+    int up = 0, down = 0, ne = 0;
+    double err_sum = 0;
+    for (int i = 1; i < h_a.n; i++) {
+        up += h_a.gear[i - 1] < 1.5 && h_a.gear[i] >= 1.5;
+        down += h_a.gear[i - 1] >= 1.5 && h_a.gear[i] < 1.5;
+        if (h_a.t[i] >= 30.0) err_sum += h_a.v[i] - c.control.target_speed, ne++;
+    }
+    print_message("1-2 upshifts %d, 2-1 downshifts %d, gear at 60 s %.2f, mean speed error "
+                  "%.4f m/s over 30-60 s\n",
+                  up, down, h_a.gear[h_a.n - 1], err_sum / ne);
+    assert_int_equal(up, 1);
+    assert_int_equal(down, 0);
+    assert_true(fabs(err_sum / ne) < 0.05);
 }
 
 /* EVIDENCE: a launch from standstill starts with the engine at its idle
@@ -387,7 +423,8 @@ static void save_restore_reproduces(void **state)
 }
 
 /* EVIDENCE: Fig. 27 gain schedule by linear interpolation in vehicle mass
- * (closed form), and the config check naming the field. */
+ * (closed form), and the config checks naming the field (the schedule's
+ * lengths; the lead bound of Section IV.A against both macro steps). */
 static void gain_schedule_and_config_errors(void **state)
 {
     (void)state;
@@ -407,6 +444,20 @@ static void gain_schedule_and_config_errors(void **state)
     assert_null(ts_coupled_make(&c, &err));
     assert_int_equal(err.code, TS_ERR_PARAM);
     assert_string_equal(err.pointer, "/control/schedule_kp");
+    /* a lead shorter than the follower's step cannot be kept (the follower
+     * needs torque samples to the end of its step; until session 20 the
+     * leader silently ran a whole follower step ahead) */
+    c = load("flat-coupled-rack90", "static");
+    c.coupling.follower_step = 0.004;
+    c.coupling.leader_step = 0.001;
+    c.coupling.lead = 0.002;
+    cm = ts_coupled_make(&c, &err);
+    assert_non_null(cm);
+    assert_null(ts_coupled_run_make(cm, TS_COUPLING_LEADING_FOLLOWING, &err));
+    assert_int_equal(err.code, TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/coupling/lead");
+    assert_non_null(strstr(err.msg, "follower_step"));
+    ts_coupled_free(cm);
 }
 
 int main(void)
@@ -418,6 +469,7 @@ int main(void)
         cmocka_unit_test(shift_spikes_tension_and_excites_span),
         cmocka_unit_test(bumps_delay_second_and_third_upshift),
         cmocka_unit_test(ivs_full_rack_at_launch_then_holds_5mph),
+        cmocka_unit_test(ivs_cruise_does_not_hunt_gears),
         cmocka_unit_test(launch_starts_from_idle_steady_state),
         cmocka_unit_test(save_restore_reproduces),
         cmocka_unit_test(gain_schedule_and_config_errors),

@@ -18,6 +18,8 @@
 
 #define RPM (3.14159265358979323846 / 30.0)
 
+#define UPSHIFT_W_OUT 40.0 /* [rad/s] output speed where no downshift applies */
+
 static ts_config defaults(void)
 {
     ts_config c;
@@ -211,7 +213,8 @@ static void shift_hands_torque_over_continuously(void **state)
     ts_ode *ode = ts_ode_make(1, shaft_rhs, &s, &o, &err);
     assert_non_null(ode);
     /* the shift starts at t = 0 on the engine-speed event */
-    assert_int_equal(ts_transmission_update(&tr, &st, 0.0, tr.shift_speed + 1, s.t_in), 1);
+    assert_int_equal(
+        ts_transmission_update(&tr, &st, 0.0, tr.shift_speed + 1, UPSHIFT_W_OUT, s.t_in), 1);
     assert_int_equal(st.target, 2);
     assert_close(st.capacity, tr.shift_capacity_factor * s.t_in, 1e-12, 0);
     assert_int_equal(ts_ode_init(ode, 0.0, &y0, &err), TS_OK);
@@ -241,7 +244,7 @@ static void shift_hands_torque_over_continuously(void **state)
     assert_int_equal(checked, 5);
     assert_true(max_jump_torque_phase < 0.03 * r1 * s.t_in);
     /* interval over: the state machine completes the shift, input synchronised */
-    assert_int_equal(ts_transmission_update(&tr, &st, dt, 0.0, 0.0), 1);
+    assert_int_equal(ts_transmission_update(&tr, &st, dt, 0.0, UPSHIFT_W_OUT, 0.0), 1);
     assert_int_equal(st.gear, 2);
     assert_int_equal(st.target, 0);
     /* locked on the on-coming clutch: creep w_s (Cs/C_max) atanh(T_in/Cs) of the
@@ -257,7 +260,8 @@ static void shift_hands_torque_over_continuously(void **state)
  * (sign change of g0), shift-end root at t0 + shift_time, the engine's dip to
  * shift_speed - hysteresis during a shift re-arms the next upshift (a root;
  * no dwell wait), no upshift from the top gear, downshift below
- * downshift_speed. Logic check, nothing calibrated. */
+ * downshift_speed when the lower gear's input would also turn below it (not
+ * on a dropped rack at speed). Logic check, nothing calibrated. */
 static void shift_events_as_roots(void **state)
 {
     (void)state;
@@ -268,42 +272,62 @@ static void shift_events_as_roots(void **state)
     ts_shift_state st;
     ts_transmission_reset(&tr, &st, 1);
     double g[TS_TRANSMISSION_NROOTS], h[TS_TRANSMISSION_NROOTS];
-    ts_transmission_roots(&tr, &st, 1.0, 1849 * RPM, g);
-    ts_transmission_roots(&tr, &st, 1.1, 1851 * RPM, h);
+    ts_transmission_roots(&tr, &st, 1.0, 1849 * RPM, UPSHIFT_W_OUT, g);
+    ts_transmission_roots(&tr, &st, 1.1, 1851 * RPM, UPSHIFT_W_OUT, h);
     assert_true(g[0] < 0 && h[0] > 0);
-    assert_int_equal(ts_transmission_update(&tr, &st, 1.0, 1849 * RPM, 3000), 0);
-    assert_int_equal(ts_transmission_update(&tr, &st, 1.1, 1851 * RPM, 3000), 1);
-    ts_transmission_roots(&tr, &st, 1.1 + 0.5 * tr.shift_time, 0, g);
-    ts_transmission_roots(&tr, &st, 1.1 + 1.01 * tr.shift_time, 0, h);
+    assert_int_equal(ts_transmission_update(&tr, &st, 1.0, 1849 * RPM, UPSHIFT_W_OUT, 3000), 0);
+    assert_int_equal(ts_transmission_update(&tr, &st, 1.1, 1851 * RPM, UPSHIFT_W_OUT, 3000), 1);
+    ts_transmission_roots(&tr, &st, 1.1 + 0.5 * tr.shift_time, 0, UPSHIFT_W_OUT, g);
+    ts_transmission_roots(&tr, &st, 1.1 + 1.01 * tr.shift_time, 0, UPSHIFT_W_OUT, h);
     assert_true(g[0] > 0 && h[0] < 0);
     double w_hi = tr.shift_speed; /* above the re-arm speed: no re-arm event */
-    assert_int_equal(ts_transmission_update(&tr, &st, 1.1 + 0.5 * tr.shift_time, w_hi, 0), 0);
+    assert_int_equal(
+        ts_transmission_update(&tr, &st, 1.1 + 0.5 * tr.shift_time, w_hi, UPSHIFT_W_OUT, 0), 0);
     assert_int_equal(st.armed, 0);
     /* the engine's dip to the re-arm speed during the shift is a root and
      * re-arms the next upshift (no dwell wait after the shift) */
     double rearm = tr.shift_speed - tr.shift_hysteresis;
-    ts_transmission_roots(&tr, &st, 1.1 + 0.6 * tr.shift_time, rearm + 1, g);
-    ts_transmission_roots(&tr, &st, 1.1 + 0.7 * tr.shift_time, rearm - 1, h);
+    ts_transmission_roots(&tr, &st, 1.1 + 0.6 * tr.shift_time, rearm + 1, UPSHIFT_W_OUT, g);
+    ts_transmission_roots(&tr, &st, 1.1 + 0.7 * tr.shift_time, rearm - 1, UPSHIFT_W_OUT, h);
     assert_true(g[1] > 0 && h[1] < 0);
-    assert_int_equal(ts_transmission_update(&tr, &st, 1.1 + 0.7 * tr.shift_time, rearm - 1, 0),
-                     1);
+    assert_int_equal(
+        ts_transmission_update(&tr, &st, 1.1 + 0.7 * tr.shift_time, rearm - 1, UPSHIFT_W_OUT, 0),
+        1);
     assert_int_equal(st.armed, 1);
     assert_int_equal(st.target, 2); /* the shift itself goes on */
-    assert_int_equal(ts_transmission_update(&tr, &st, 1.1 + tr.shift_time, w_hi - 1, 0), 1);
+    assert_int_equal(
+        ts_transmission_update(&tr, &st, 1.1 + tr.shift_time, w_hi - 1, UPSHIFT_W_OUT, 0), 1);
     assert_int_equal(st.gear, 2);
     assert_int_equal(st.shifts, 1);
     /* armed: the engine climbing back to shift_speed starts 2-3 at once */
-    assert_int_equal(ts_transmission_update(&tr, &st, 1.2 + tr.shift_time, w_hi + 1, 3000), 1);
+    assert_int_equal(
+        ts_transmission_update(&tr, &st, 1.2 + tr.shift_time, w_hi + 1, UPSHIFT_W_OUT, 3000), 1);
     assert_int_equal(st.target, 3);
     ts_transmission_reset(&tr, &st, 2);
-    /* downshift when the engine lugs below downshift_speed */
-    assert_int_equal(ts_transmission_update(&tr, &st, 3.0, 0.9 * tr.downshift_speed, 1000), 1);
+    /* downshift when the engine lugs below downshift_speed on a slow vehicle
+     * (1st gear would turn the turbine at 0.9 downshift_speed) */
+    double w_slow = 0.9 * tr.downshift_speed / tr.ratio[0];
+    ts_transmission_roots(&tr, &st, 3.0, 1.1 * tr.downshift_speed, w_slow, g);
+    ts_transmission_roots(&tr, &st, 3.0, 0.9 * tr.downshift_speed, w_slow, h);
+    assert_true(g[1] > 0 && h[1] < 0);
+    assert_int_equal(ts_transmission_update(&tr, &st, 3.0, 0.9 * tr.downshift_speed, w_slow, 1000),
+                     1);
     assert_int_equal(st.target, 1);
+    /* not when the engine falls there because the rack dropped at speed: 1st
+     * gear would turn the turbine at 1.1 downshift_speed (no root either;
+     * tests/sim/test_coupled.c ivs_cruise_does_not_hunt_gears) */
+    ts_transmission_reset(&tr, &st, 2);
+    double w_fast = 1.1 * tr.downshift_speed / tr.ratio[0];
+    ts_transmission_roots(&tr, &st, 3.0, 0.5 * tr.downshift_speed, w_fast, h);
+    assert_true(h[1] > 0);
+    assert_int_equal(ts_transmission_update(&tr, &st, 3.0, 0.5 * tr.downshift_speed, w_fast, 1000),
+                     0);
+    assert_int_equal(st.target, 0);
     /* top gear: no upshift root */
     ts_transmission_reset(&tr, &st, tr.n);
-    ts_transmission_roots(&tr, &st, 0, 3000 * RPM, g);
+    ts_transmission_roots(&tr, &st, 0, 3000 * RPM, UPSHIFT_W_OUT, g);
     assert_true(g[0] > 0);
-    assert_int_equal(ts_transmission_update(&tr, &st, 0, 3000 * RPM, 1000), 0);
+    assert_int_equal(ts_transmission_update(&tr, &st, 0, 3000 * RPM, UPSHIFT_W_OUT, 1000), 0);
 }
 
 /* EVIDENCE: shift-end handover (issue: on-coming clutch slammed shut at full
@@ -323,14 +347,16 @@ static void shift_end_capacity_ramps(void **state)
     ts_transmission_reset(&tr, &st, 1);
     assert_close(ts_transmission_applied_capacity(&tr, &st, 0.0), tr.clutch_capacity, 0, 0);
     double t0 = 2.0, dt = tr.shift_time, t_in = 4000;
-    assert_int_equal(ts_transmission_update(&tr, &st, t0, tr.shift_speed + 1, t_in), 1);
+    assert_int_equal(ts_transmission_update(&tr, &st, t0, tr.shift_speed + 1, UPSHIFT_W_OUT, t_in),
+                     1);
     double cs = st.capacity, w_out = 40.0;
     assert_close(cs, tr.shift_capacity_factor * t_in, 1e-12, 0);
     double r2 = tr.ratio[1], w_slip = r2 * w_out + 30.0; /* on-coming still slipping */
     ts_tr_point p;
     ts_transmission_eval(&tr, &st, t0 + dt * (1 - 1e-9), w_slip, w_out, &p);
     double before = p.input_torque;
-    assert_int_equal(ts_transmission_update(&tr, &st, t0 + dt, tr.shift_speed, 0), 1);
+    assert_int_equal(ts_transmission_update(&tr, &st, t0 + dt, tr.shift_speed, UPSHIFT_W_OUT, 0),
+                     1);
     assert_int_equal(st.gear, 2);
     ts_transmission_eval(&tr, &st, t0 + dt, w_slip, w_out, &p);
     assert_close(p.input_torque, before, 1e-6, 0);
@@ -339,15 +365,15 @@ static void shift_end_capacity_ramps(void **state)
                  0.5 * (cs + tr.clutch_capacity), 1e-12, 0);
     double te = t0 + 2 * dt;
     double g[TS_TRANSMISSION_NROOTS], h[TS_TRANSMISSION_NROOTS];
-    ts_transmission_roots(&tr, &st, te - 1e-3, tr.shift_speed, g);
-    ts_transmission_roots(&tr, &st, te + 1e-3, tr.shift_speed, h);
+    ts_transmission_roots(&tr, &st, te - 1e-3, tr.shift_speed, UPSHIFT_W_OUT, g);
+    ts_transmission_roots(&tr, &st, te + 1e-3, tr.shift_speed, UPSHIFT_W_OUT, h);
     assert_true(g[3] > 0 && h[3] < 0);
     assert_close(ts_transmission_applied_capacity(&tr, &st, te - 1e-3),
                  tr.clutch_capacity - (tr.clutch_capacity - cs) * 1e-3 / dt, 1e-9, 0);
-    assert_int_equal(ts_transmission_update(&tr, &st, te, tr.shift_speed - 1, 0), 1);
+    assert_int_equal(ts_transmission_update(&tr, &st, te, tr.shift_speed - 1, UPSHIFT_W_OUT, 0), 1);
     assert_close(st.capacity, 0, 0, 0);
     assert_close(ts_transmission_applied_capacity(&tr, &st, te + 1.0), tr.clutch_capacity, 0, 0);
-    ts_transmission_roots(&tr, &st, te + 1.0, tr.shift_speed, h);
+    ts_transmission_roots(&tr, &st, te + 1.0, tr.shift_speed, UPSHIFT_W_OUT, h);
     assert_true(h[3] > 0);
 }
 

@@ -82,7 +82,7 @@ static int drive_rhs(double t, const double *y, double *ydot, void *ud)
 static int drive_roots(double t, const double *y, double *g, void *ud)
 {
     drive *d = ud;
-    ts_powertrain_roots(d->pt, &d->ps, t, y, g);
+    ts_powertrain_roots(d->pt, &d->ps, t, y, d->a * t, g);
     return 0;
 }
 
