@@ -68,9 +68,9 @@ static json_t *span_json(const char *name, const ts_span_params *p, double incli
     if (!mc) goto done;
     double L = p->length;
     o = json_pack("{s:s, s:f, s:f, s:f, s:f, s:f, s:f, s:{s:o, s:o, s:o}}", "name", name,
-                  "length_m", L, "inclination_rad", inclination, "sag_m", sp->sag, "lambda2",
+                  "length_m", L, "inclination_rad", inclination, "sag_m", fabs(sp->sag), "lambda2",
                   sp->k2 * L * L / p->tension, "string_f1_hz", sqrt(p->tension / p->rho) / (2 * L),
-                  "kappa_per_m", sp->kappa, "frequencies_hz", "longitudinal", freq_array(ml),
+                  "kappa_per_m", fabs(sp->kappa), "frequencies_hz", "longitudinal", freq_array(ml),
                   "transverse", freq_array(mt), "coupled", freq_array(mc));
 done:
     if (!o && err->code != TS_OK) to_config_pointer(err, override_index);
@@ -192,8 +192,10 @@ json_t *tsa_modes_json(const ts_config *cfg, ts_err *err)
     circ = circuit_json(c, cfg->track.modes_reported, err);
     if (!circ) goto fail;
     doc =
-        json_pack("{s:o, s:o, s:{s:s, s:s, s:s, s:s}, s:{s:i, s:i, s:f, s:f, s:f}}", "spans", spans,
-                  "circuit", circ, "units", "frequencies_hz", "Hz", "length_m", "m", "deflection",
+        json_pack("{s:o, s:o, s:{s:s, s:s, s:s, s:s, s:s, s:s}, s:{s:i, s:i, s:f, s:f, s:f}}",
+                  "spans", spans, "circuit", circ, "units", "frequencies_hz", "Hz", "length_m", "m",
+                  "sag_m", "m (static mid-span sag below the chord, every span sags down)",
+                  "kappa_per_m", "1/m (curvature of the static sag, its size)", "deflection",
                   "1 (mode shape scaled to max |U|,|V| = 1)", "energy_share",
                   "1 (fraction of the mode's kinetic energy, diagonal mass)", "track", "n_long",
                   cfg->track.n_long, "n_trans", cfg->track.n_trans, "tension_n", cfg->track.tension,

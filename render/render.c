@@ -291,8 +291,10 @@ tsr_ctx *tsr_ctx_make(ts_err *err)
         ts_err_set(err, TS_ERR_UNSUPPORTED, NULL, "render: OSMesaMakeCurrent failed");
         return NULL;
     }
-    snprintf(c->gl_renderer, sizeof c->gl_renderer, "%s", (const char *)glGetString(GL_RENDERER));
-    snprintf(c->gl_version, sizeof c->gl_version, "%s", (const char *)glGetString(GL_VERSION));
+    const char *renderer = (const char *)glGetString(GL_RENDERER);
+    const char *version = (const char *)glGetString(GL_VERSION);
+    snprintf(c->gl_renderer, sizeof c->gl_renderer, "%s", renderer ? renderer : "unknown");
+    snprintf(c->gl_version, sizeof c->gl_version, "%s", version ? version : "unknown");
     char log[1024] = "";
     GLuint vs = compile(GL_VERTEX_SHADER, VS, log, sizeof log);
     GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, FS, log, sizeof log) : 0;

@@ -63,6 +63,7 @@ static const double GUN_HEIGHT = 0.50;  /* fraction of deck->roof at the trunnio
 static const double GUN_ROOT = 0.675;   /* fraction of hull length where the barrel leaves */
 
 #define NCOL 3
+#define MAX_SHOES 2048 /* shoes drawn on one loop at most */
 static const unsigned char COL_HULL[NCOL] = {184, 162, 112};     /* desert tan */
 static const unsigned char COL_HULL_DARK[NCOL] = {150, 132, 92};
 static const unsigned char COL_RUBBER[NCOL] = {46, 46, 44};
@@ -249,6 +250,9 @@ static ts_rc check_geom(const ts_geom *g, int *isprocket, int *iidler, ts_err *e
     if (!finite_all(sc, (int)(sizeof sc / sizeof sc[0])) || g->hull_length < 0 ||
         g->hull_height < 0)
         return ts_err_set(err, TS_ERR_PARAM, NULL, "geometry: non-finite or negative hull data");
+    if (!isfinite(g->track_pitch) || g->track_pitch < 0) /* 0: a band without shoes */
+        return ts_err_set(err, TS_ERR_PARAM, NULL, "geometry: track_pitch %g is not a length >= 0",
+                          g->track_pitch);
     *isprocket = *iidler = -1;
     for (int i = 0; i < g->nwheel; i++) {
         const ts_geom_wheel *w = &g->wheel[i];
@@ -387,7 +391,10 @@ static void build_track(mb *b, const ts_geom *g, const tsr_view *v, double phase
         return;
     }
     double orient = area >= 0 ? 1.0 : -1.0; /* +1: counter-clockwise in (x right, z up) */
-    int nshoe = (int)lround(L / g->track_pitch);
+    /* at most MAX_SHOES (a pitch far below the loop's length would make
+     * millions of boxes; the M1 has 78) */
+    double shoes = L / g->track_pitch;
+    int nshoe = shoes > MAX_SHOES ? MAX_SHOES : (int)lround(shoes);
     if (nshoe < 8) nshoe = 8;
     double p = L / nshoe;
     /* Forward rolling (positive sprocket spin) moves the top run forward, i.e.

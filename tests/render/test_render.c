@@ -637,6 +637,19 @@ static void bad_input_is_rejected(void **state)
     bad = s;
     bad.g.nwheel = TS_GEOM_MAX_WHEELS + 1;
     assert_int_equal(tsr_scene_update(sc, &bad.g, &v, &err), TS_ERR_PARAM);
+    /* the shoe pitch: NaN or negative refused (both silently dropped the whole
+     * track until session 20); 0 draws the band without shoes; a pitch far
+     * below the loop's length draws at most MAX_SHOES, not millions */
+    bad = s;
+    bad.g.track_pitch = NAN;
+    assert_int_equal(tsr_scene_update(sc, &bad.g, &v, &err), TS_ERR_PARAM);
+    assert_non_null(strstr(err.msg, "track_pitch"));
+    bad.g.track_pitch = -0.18;
+    assert_int_equal(tsr_scene_update(sc, &bad.g, &v, &err), TS_ERR_PARAM);
+    bad.g.track_pitch = 0;
+    assert_int_equal(tsr_scene_update(sc, &bad.g, &v, &err), TS_OK);
+    bad.g.track_pitch = 1e-300;
+    assert_int_equal(tsr_scene_update(sc, &bad.g, &v, &err), TS_OK);
     assert_int_equal(tsr_scene_update(sc, &s.g, &v, &err), TS_OK);
     tsr_scene_free(sc);
     tsr_scene_free(NULL);
