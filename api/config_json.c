@@ -148,6 +148,9 @@ static ts_rc merge_document(json_t *merged, const json_t *doc, int depth, ts_err
     json_t *val;
     json_object_foreach((json_t *)doc, key, val)
     {
+        if (strcmp(key, "description") == 0 && !json_is_string(val))
+            return ts_err_set(err, TS_ERR_PARAM, "/description",
+                              "/description: a string expected"); /* it was dropped unseen */
         if (strcmp(key, "preset") == 0 || strcmp(key, "description") == 0) continue;
         if (key[0] == '_') continue;
         if (depth > 0 && strcmp(key, "commands") == 0) continue; /* preset metadata */

@@ -196,7 +196,9 @@ static json_t *op_json(const tsd_op *op)
     if (progress < 0) progress = 0;
     if (progress > 1) progress = 1;
     if (op->done && !op->error) progress = 1.0;
-    double wall = op->wall_last - op->wall_start;
+    /* in progress: the time since it started (between two progress reports
+     * a paced run may wait long; its rate must not read as the slice's) */
+    double wall = (op->done ? op->wall_last : tsd_now()) - op->wall_start;
     char name[48];
     snprintf(name, sizeof name, "operations/%s", op->id);
     json_t *j;

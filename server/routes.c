@@ -227,6 +227,58 @@ static enum MHD_Result run_built(tsd_request *r)
 }
 
 static enum MHD_Result get_session(tsd_request *r);
+
+/* q of media type `type` in an Accept header (RFC 9110 section 12.5.1): its
+ * own entry, else its major type with subtype "*", else the all-types range
+ * (most specific wins; exact_only: its own entry only); -1 when none names it. */
+static double accept_q(const char *accept, const char *type, int exact_only)
+{
+    double best = -1;
+    int best_spec = -1;
+    size_t major = strcspn(type, "/");
+    for (const char *p = accept; p && *p;) {
+        while (*p == ' ' || *p == '\t' || *p == ',')
+            p++;
+        if (!*p) break;
+        const char *e = p + strcspn(p, ",");
+        const char *semi = memchr(p, ';', (size_t)(e - p));
+        const char *te = semi ? semi : e;
+        while (te > p && (te[-1] == ' ' || te[-1] == '\t'))
+            te--;
+        size_t len = (size_t)(te - p);
+        int spec = -1;
+        if (len == strlen(type) && strncasecmp(p, type, len) == 0)
+            spec = 2;
+        else if (!exact_only && len == major + 2 && strncasecmp(p, type, major + 1) == 0 &&
+                 p[major + 1] == '*')
+            spec = 1;
+        else if (!exact_only && len == 3 && strncmp(p, "*/*", 3) == 0)
+            spec = 0;
+        if (spec > best_spec) {
+            double q = 1;
+            for (const char *a = semi; a && a < e; a = memchr(a + 1, ';', (size_t)(e - a - 1))) {
+                const char *k = a + 1;
+                while (*k == ' ' || *k == '\t')
+                    k++;
+                if ((k[0] == 'q' || k[0] == 'Q') && k[1] == '=') q = strtod(k + 2, NULL);
+            }
+            best = q, best_spec = spec;
+        }
+        p = e;
+    }
+    return best;
+}
+
+/* The alternative representation alt rather than the default base: alt is
+ * named with q > 0 and not below base's q. A substring test served CSV to
+ * "application/json, text/csv;q=0". */
+static int accept_prefers(const char *accept, const char *alt, const char *base)
+{
+    if (!accept) return 0;
+    double qa = accept_q(accept, alt, 1), qb = accept_q(accept, base, 0);
+    return qa > 0 && qa >= qb;
+}
+
 static enum MHD_Result get_series(tsd_request *r);
 static enum MHD_Result get_fft(tsd_request *r);
 
@@ -586,7 +638,8 @@ static enum MHD_Result get_series(tsd_request *r)
     if (q_integer(r, "page_token", 0, 1L << 62, &token, &ret) < 0) return ret;
     const char *format = tsd_arg(r, "format");
     const char *accept = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Accept");
-    int csv = format ? strcmp(format, "csv") == 0 : (accept && strstr(accept, "text/csv"));
+    int csv = format ? strcmp(format, "csv") == 0
+                     : accept_prefers(accept, "text/csv", "application/json");
     if (format && !csv && strcmp(format, "json") != 0)
         return bad_param(r, "format", "json or csv expected", format);
     long start = token >= 0 ? token : q.from;
@@ -643,7 +696,7 @@ static enum MHD_Result get_stream(tsd_request *r)
     if (format && strcmp(format, "sse") != 0 && strcmp(format, "ndjson") != 0)
         return bad_param(r, "format", "sse or ndjson expected", format);
     int ndjson = format ? strcmp(format, "ndjson") == 0
-                        : accept && strstr(accept, "application/x-ndjson") != NULL;
+                        : accept_prefers(accept, "application/x-ndjson", "text/event-stream");
     return tsd_stream_reply(r, s, q.idx, q.n, since, ndjson);
 }
 
@@ -826,6 +879,30 @@ static enum MHD_Result reply_no_frames(tsd_request *r, tsd_session *s)
     return tsd_reply_err(r, &e, NULL);
 }
 
+/* If-None-Match against our (strong) etag, RFC 9110 section 13.1.2: a
+ * comma-separated list, weak comparison (W/ ignored), "*" matches any. It was
+ * one exact string, so W/"..." or a list got the whole PNG again. */
+static int etag_listed(const char *inm, const char *etag)
+{
+    size_t n = strlen(etag);
+    for (const char *p = inm; *p;) {
+        while (*p == ' ' || *p == '\t' || *p == ',')
+            p++;
+        if (!*p) break;
+        const char *e = p;
+        while (*e && *e != ',')
+            e++;
+        const char *q = e;
+        while (q > p && (q[-1] == ' ' || q[-1] == '\t'))
+            q--;
+        if (q - p == 1 && *p == '*') return 1;
+        if (q - p > 2 && p[0] == 'W' && p[1] == '/') p += 2;
+        if ((size_t)(q - p) == n && strncmp(p, etag, n) == 0) return 1;
+        p = e;
+    }
+    return 0;
+}
+
 static enum MHD_Result get_frame(tsd_request *r)
 {
     tsd_session *s = r->session;
@@ -861,7 +938,7 @@ static enum MHD_Result get_frame(tsd_request *r)
              (unsigned long long)h, TS_VERSION);
     const char *inm = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND,
                                                   MHD_HTTP_HEADER_IF_NONE_MATCH);
-    if (inm && strcmp(inm, r->etag) == 0)
+    if (inm && etag_listed(inm, r->etag))
         return tsd_reply_owned(r, MHD_HTTP_NOT_MODIFIED, "image/png", NULL, 0);
     return tsd_frames_reply(r, s, &v, t * rate, 0, 1, 1, 0);
 }

@@ -67,6 +67,9 @@
 #define PACE_AHEAD                                                                                 \
     0.02 /* a paced run yields once it is this far ahead of real time [s]                          \
             (so a batch holds >= 20 ms of samples, not one row) */
+#define PACE_POLL                                                                                  \
+    0.2 /* a paced run waiting for its next row looks at cancel, shutdown and                      \
+           --max-run-wall at least this often [s] */
 
 typedef struct tsd_registry {
     pthread_mutex_t mu;
@@ -924,6 +927,12 @@ typedef struct advance_ctx {
     adv_reason reason;
 } advance_ctx;
 
+/* Monotonic time at which the row at simulated time t is due under the cap. */
+static double pace_due(const advance_ctx *a, double t)
+{
+    return a->pace_wall0 + (t - a->pace_t0) / a->rtf;
+}
+
 /* ts_sample_fn: batch the row; stop for cancel, shutdown, end of slice, pacing. */
 static int on_sample(void *ud, long index, double t, const double *v, int n)
 {
@@ -946,7 +955,9 @@ static int on_sample(void *ud, long index, double t, const double *v, int n)
     }
     double now = a->slice_end > 0 || a->rtf > 0 ? tsd_now() : 0;
     if (a->rtf > 0) {
-        double due = a->pace_wall0 + (t - a->pace_t0) / a->rtf;
+        /* the NEXT row is computed only when it is due: every row batched
+         * here is, so a flush never publishes a row ahead of real time */
+        double due = pace_due(a, t + ts_model_sample_period(s->m));
         if (due > now + PACE_AHEAD) {
             a->resume_at = due;
             a->reason = ADV_PACE;
@@ -1049,6 +1060,12 @@ static void step_job(void *arg)
     step_job_arg *j = arg;
     tsd_session *s = j->s;
     advance_ctx a = {.s = s, .status = "paused"};
+    /* the batches go to the store as "paused": so does the session in memory
+     * from the start (a GET during a long step said "created" while the
+     * store, and the session after a crash, said "paused") */
+    pthread_mutex_lock(&s->mu);
+    s->status = TSD_PAUSED;
+    pthread_mutex_unlock(&s->mu);
     ts_err err;
     double t0 = ts_time(s->d), w0 = tsd_now();
     ts_rc rc = ts_advance(s->m, s->d, t0 + j->duration, on_sample, &a, &err);
@@ -1189,10 +1206,17 @@ static void run_slice(void *arg)
     ts_err_clear(&err);
     double t0 = ts_time(s->d), w0 = tsd_now();
     ts_rc rc = TS_OK;
-    if (!atomic_load(&srv->stopping) && !atomic_load(&s->cancel))
-        rc = ts_advance(s->m, s->d, j->until, on_sample, &a, &err);
-    else
+    double t_next = t0 + ts_model_sample_period(s->m);
+    if (atomic_load(&srv->stopping) || atomic_load(&s->cancel)) {
         a.reason = atomic_load(&s->cancel) ? ADV_CANCEL : ADV_STOP;
+    } else if (j->rtf > 0 && t_next < j->until + 0.5 * ts_model_sample_period(s->m) &&
+               pace_due(&a, t_next) > w0 + PACE_AHEAD) {
+        /* woken to poll before the next row is due: nothing to compute yet */
+        a.reason = ADV_PACE;
+        a.resume_at = pace_due(&a, t_next);
+    } else {
+        rc = ts_advance(s->m, s->d, j->until, on_sample, &a, &err);
+    }
     int io = flush(s, "running") != 0 || a.reason == ADV_IO;
     add_sim_time(srv, ts_time(s->d) - t0, tsd_now() - w0);
     tsd_op_progress(srv, j->op, ts_time(s->d));
@@ -1213,7 +1237,10 @@ static void run_slice(void *arg)
             run_finish(j, TSD_PAUSED, TS_ERR_LIMIT, &err);
             return;
         }
-        double due = a.reason == ADV_PACE ? a.resume_at : 0;
+        /* paced: back when the next row is due, or sooner to look at
+         * cancel, shutdown and the wall budget (a 1-Hz run capped at 0.02
+         * waited 50 s for its next slice, deaf to a cancel) */
+        double due = a.reason == ADV_PACE ? fmin(a.resume_at, tsd_now() + PACE_POLL) : 0;
         if (tsd_pool_submit(srv->pool, run_slice, j, due) == 0) return;
         a.reason = ADV_STOP;
     }

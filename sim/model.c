@@ -127,13 +127,15 @@ long ts_grid_row(double t, double dt)
     return (long)floor(n + GRID_SLACK * (1.0 + fabs(n)));
 }
 
+/* The suggested times carry 15 digits: with %g a 3-Hz run's "nearest
+ * 0.333333 s" was itself off the grid. */
 ts_rc ts_on_sample_grid(double t, double dt, const char *pointer, ts_err *err)
 {
     double n = t / dt, k = floor(n + 0.5);
     if (fabs(n - k) <= GRID_SLACK * (1.0 + fabs(n))) return TS_OK;
     return ts_err_set(err, TS_ERR_PARAM, pointer,
-                      "%s: a whole number of sample periods expected (samples are %g s apart, "
-                      "run.sample_rate %g Hz), got %g s; nearest %g or %g s",
+                      "%s: a whole number of sample periods expected (samples are %.15g s "
+                      "apart, run.sample_rate %g Hz), got %.15g s; nearest %.15g or %.15g s",
                       pointer, dt, 1.0 / dt, t, floor(n) * dt, (floor(n) + 1) * dt);
 }
 

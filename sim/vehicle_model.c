@@ -225,6 +225,21 @@ static void rot(const kin *k, const double l[2], double w[2])
     w[1] = -l[0] * k->sth + l[1] * k->cth;
 }
 
+/* A list of road-arm stations: whole numbers 1..VM_NRW (a station 9 of 7
+ * wheels, or 1.5, was taken and silently went nowhere or was rounded). */
+static ts_rc check_stations(const double *list, int n, const char *field, ts_err *err)
+{
+    for (int i = 0; i < n; i++)
+        if (!(list[i] >= 1 && list[i] <= VM_NRW) || list[i] != floor(list[i])) {
+            char ptr[64];
+            snprintf(ptr, sizeof ptr, "%s/%d", field, i);
+            return ts_err_set(err, TS_ERR_RANGE, ptr,
+                              "%s: station %g is not a road-arm station 1..%d", ptr, list[i],
+                              VM_NRW);
+        }
+    return TS_OK;
+}
+
 static int is_station(const double *list, int n, int station)
 {
     for (int i = 0; i < n; i++)
@@ -1591,6 +1606,11 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
                    "/vehicle/anchor_station: must be 1..%d", VM_NRW);
         return NULL;
     }
+    if (check_stations(vc->damper_station, vc->damper_station_n, "/vehicle/damper_station",
+                       err) != TS_OK ||
+        check_stations(vc->bump_stop_station, vc->bump_stop_station_n,
+                       "/vehicle/bump_stop_station", err) != TS_OK)
+        return NULL;
     vm *v = calloc(1, sizeof *v);
     if (!v) {
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");

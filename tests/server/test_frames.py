@@ -95,6 +95,13 @@ def test_frames_of_every_drawable_preset(daemon):
                                                       "color": "tension"},
                           headers={"If-None-Match": etag})
         assert nm.status_code == 304 and nm.content == b"" and nm.headers["ETag"] == etag
+        # RFC 9110 13.1.2: a list, weak comparison, "*" (each got the whole PNG
+        # until session 20: the header was compared as one string)
+        for inm in ('W/' + etag, '"other", ' + etag, '*'):
+            nm = requests.get(base + "/frame.png", params={"t": 0.1, "width": 320, "height": 200,
+                                                          "color": "tension"},
+                              headers={"If-None-Match": inm})
+            assert nm.status_code == 304, (inm, nm.status_code)
         other = requests.get(base + "/frame.png", params={"t": 0.1, "width": 320, "height": 200},
                              headers={"If-None-Match": etag})
         assert other.status_code == 200 and other.headers["ETag"] != etag   # other options

@@ -142,3 +142,43 @@ def test_sse_stream_says_the_units_of_its_rows(daemon, sid500):
     assert [(c["name"], c["unit"]) for c in listed] == [("t", "s"), ("vehicle.speed", "m/s")]
     assert all(c["description"] for c in listed), listed
     assert events[1][0] == "sample"
+
+
+@pytest.mark.parametrize("vehicle,pointer", [
+    ({"damper_station": [9]}, "/vehicle/damper_station/0"),       # 7 road wheels
+    ({"damper_station": [1, 1.5]}, "/vehicle/damper_station/1"),  # was rounded to 2
+    ({"bump_stop_station": [0]}, "/vehicle/bump_stop_station/0"),
+])
+def test_road_arm_stations_are_whole_and_exist(daemon, vehicle, pointer):
+    """Review, session 20: a damper at station 9 of 7 was taken (201) and went
+    nowhere; station 1.5 was silently rounded to 2."""
+    r = requests.post(daemon.url + "/v1/sessions",
+                      json={"preset": "bump-prescribed-static", "vehicle": vehicle})
+    p = is_problem(r, 400, pointer)
+    assert "station" in p["detail"], p
+
+
+def test_description_must_be_a_string(daemon):
+    """Review, session 20: "description": 5 was taken (201) and dropped."""
+    r = requests.post(daemon.url + "/v1/sessions",
+                      json={"preset": "pointmass-prescribed", "description": 5})
+    is_problem(r, 400, "/description")
+    r = requests.post(daemon.url + "/v1/sessions",
+                      json={"preset": "pointmass-prescribed", "description": "a note"})
+    assert r.status_code == 201, r.text
+
+
+def test_the_nearest_times_suggested_are_on_the_grid(daemon):
+    """Review, session 20: at 3 Hz a step of 0.333333 s was told "nearest 0 or
+    0.333333 s", and 0.333333 was refused again (6 digits). 15 now."""
+    import re
+    r = requests.post(daemon.url + "/v1/sessions", json={
+        "preset": "pointmass-prescribed", "run": {"duration": 2.0, "sample_rate": 3}})
+    assert r.status_code == 201, r.text
+    s = r.json()
+    p = is_problem(requests.post(daemon.url + s["links"]["step"], json={"duration": 0.333333}),
+                   400, "/duration")
+    m = re.search(r"nearest (\S+) or (\S+) s", p["detail"])
+    assert m, p
+    r = requests.post(daemon.url + s["links"]["step"], json={"duration": float(m.group(2))})
+    assert r.status_code == 200 and r.json()["index"] == 1, r.text

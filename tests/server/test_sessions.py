@@ -115,6 +115,27 @@ def test_step_advances_time_and_returns_latest_values(daemon):
     assert "integrators" not in requests.get(daemon.url + "/v1/sessions").json()["sessions"][0]
 
 
+def test_session_during_a_long_step_says_paused_not_created(daemon):
+    """Review, session 20: during a synchronous step the session said "created"
+    (with t and samples growing) while the store already had it "paused"."""
+    import threading
+    s = create(daemon, "bump-coupled-ivs5mph", engine={"fidelity": "crank_angle"},
+               run={"duration": 10.0, "sample_rate": 200})
+    out = {}
+    th = threading.Thread(target=lambda: out.setdefault(
+        "r", requests.post(daemon.url + s["links"]["step"], json={"duration": 4.0})))
+    th.start()
+    seen = []
+    while th.is_alive():
+        g = requests.get(daemon.url + s["links"]["self"]).json()
+        if g["samples"] > 1:
+            seen.append(g["status"])
+        time.sleep(0.02)
+    th.join()
+    assert out["r"].status_code == 200, out["r"].text
+    assert seen and set(seen) == {"paused"}, seen
+
+
 def test_step_longer_than_limit_points_to_run(daemon):
     s = create(daemon)
     r = requests.post(daemon.url + s["links"]["step"], json={"duration": 11})
@@ -203,6 +224,16 @@ def test_series_json_csv_units_decimation_and_paging(daemon):
     assert lines[0] == "t [s],vehicle.speed [m/s]" and len(lines) == 502
     assert [float(l.split(",")[1]) for l in lines[1:]] == pytest.approx(
         full["channels"][1]["values"], rel=1e-8)
+    # by Accept, with its q values (a substring test served CSV to q=0 until
+    # session 20): CSV when it is named and not below JSON's q
+    for accept, ctype in (("text/csv", "text/csv"),
+                          ("application/json, text/csv;q=0", "application/json"),
+                          ("text/csv;q=0.5, application/json", "application/json"),
+                          ("application/json;q=0.5, text/csv", "text/csv"),
+                          ("*/*", "application/json")):
+        h = requests.get(url, params={"channels": "vehicle.speed", "to": 0.01},
+                         headers={"Accept": accept})
+        assert h.status_code == 200 and h.headers["Content-Type"].startswith(ctype), accept
     # paging: pages of 300 cover all 1001 rows exactly once
     got, token = [], None
     while True:
@@ -287,6 +318,10 @@ def test_ndjson_stream(daemon):
                       headers={"Accept": "text/event-stream"}, timeout=30) as r:
         assert r.headers["Content-Type"] == "application/x-ndjson"
         assert [json.loads(l)["index"] for l in r.iter_lines() if l] == [500]
+    # q=0 refuses NDJSON: SSE (a substring test served NDJSON until session 20)
+    with requests.get(url, params={"since": 499}, stream=True, timeout=30,
+                      headers={"Accept": "text/event-stream, application/x-ndjson;q=0"}) as r:
+        assert r.headers["Content-Type"].startswith("text/event-stream")
     with requests.get(url, params={"format": "sse", "since": 499}, stream=True,
                       headers={"Accept": "application/x-ndjson"}, timeout=30) as r:
         assert r.headers["Content-Type"] == "text/event-stream"
