@@ -43,9 +43,9 @@ typedef struct ts_geom {
                                   centreline: supports' current positions + static sag [m] */
     double track_dx[TS_GEOM_MAX_TRACK], track_dz[TS_GEOM_MAX_TRACK]; /* modal (vibration)
                                   deflection to add, scaled by a renderer's exaggeration [m] */
-    double track_tension[TS_GEOM_MAX_TRACK]; /* dynamic tension at each point [N] */
+    double track_tension[TS_GEOM_MAX_TRACK]; /* total tension P0 + tau at each point [N] */
     double track_static_tension; /* for colour scaling [N] */
-    double track_pitch;        /* shoe pitch, for drawing the shoes [m] */
+    double track_pitch;          /* shoe pitch, for drawing the shoes [m]; 0: a band, no shoes */
     int nterrain;              /* terrain profile under and around the vehicle */
     double terrain_x[TS_GEOM_MAX_TERRAIN], terrain_z[TS_GEOM_MAX_TERRAIN]; /* [m] */
 } ts_geom;

@@ -89,7 +89,9 @@ typedef struct ts_modes {
     int n;         /* modes found (ascending frequency) */
     int ndof;      /* length of each shape */
     double *freq;  /* [n] natural frequencies [Hz] */
-    double *shape; /* [n * ndof] mass-normalised shapes (real part for gyroscopic) */
+    double *shape; /* [n * ndof] shapes: mass-normalised (y^T M y = 1) for the symmetric
+                      problem; for gyroscopic the real part of the complex shape scaled to
+                      max |z| = 1 (not mass-normalised) */
 } ts_modes;
 void ts_modes_free(ts_modes *m);
 
@@ -105,9 +107,10 @@ ts_modes *ts_span_modes(const ts_span *sp, int family, int nmax, ts_err *err);
 /* Modes of the circuit. */
 ts_modes *ts_circuit_modes(const ts_circuit *c, int nmax, ts_err *err);
 
-/* Kinetic-energy shares of one circuit mode: per span transverse and
- * longitudinal (sine modes + their share of the end coordinates), and the
- * wheels' spin. Sums to 1. */
+/* Kinetic-energy shares of one circuit mode (diagonal-mass estimate): per span
+ * transverse and longitudinal (the span's sine modes only), and `wheels`: all
+ * energy of the end coordinates u_w (wheel spin, wrapped track and the spans'
+ * support-shape mass on them), counted as longitudinal. Sums to 1. */
 typedef struct ts_mode_character {
     double trans[TS_CIRCUIT_NSPANS];
     double lon[TS_CIRCUIT_NSPANS];

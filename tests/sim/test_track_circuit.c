@@ -105,7 +105,7 @@ static void track_circuit_idler_spin_oscillator(void **state)
 {
     (void)state;
     /* EVIDENCE: closed form (Rayleigh, static shape): a heavy idler (J = 500
-     * kg m^2) whose neighbours are locked (J = 1e9) turns against the axial
+     * kg m^2) whose neighbours are all but locked (J = 1e6) turns against the axial
      * stiffness of its two spans, f = sqrt(k/m)/2pi with k = EA/L0 + EA/L1 and
      * m = J/r^2 + rho r alpha (wrapped track) + rho (L0 + L1)/3 (consistent
      * span mass). Within 1 %: checks the spin coupling u = r phi of Fig. 5's
@@ -133,6 +133,87 @@ static void track_circuit_idler_spin_oscillator(void **state)
     }
     assert_true(found);
     ts_modes_free(m);
+    ts_circuit_free(c);
+}
+
+static void track_circuit_moving_track_uniform_tension(void **state)
+{
+    (void)state;
+    /* EVIDENCE: as track_circuit_moving_track_gyroscopic, with n_long = 0
+     * (uniform-tension spans, the preset's "transverse" fidelity): the
+     * transverse frequencies are Wickert & Mote's f_n = n c (1 - v^2/c^2)/(2L)
+     * (first 6 within 1 %), and each free wheel's feed u_w carries the moving
+     * bar's constraint stiffness of its two spans, W = (EA - rho v^2)/(2 L_i)
+     * (u1 - u0)^2 (no sag, so no kappa coupling):
+     *   K_ww = (EA - rho v^2)/L_{w-1} + (EA - rho v^2)/L_w,
+     *   K_w,w+1 = -(EA - rho v^2)/L_w.
+     * rho v^2 = 0.07 % of EA; exact (1e-12). Not calibrated. */
+    ts_circuit_params p = m1_params();
+    p.gravity = 0.0;
+    p.translation_terms = 1;
+    p.speed = 11.2;
+    p.n_long = 0;
+    p.quasi_static_stretch = 1;
+    p.n_trans = 8;
+    ts_circuit *c = make(&p);
+    assert_true(c->gyroscopic);
+    ts_err err;
+    ts_modes *m = ts_circuit_modes(c, 6, &err);
+    assert_non_null(m);
+    double f[TS_CIRCUIT_NSPANS * 4];
+    string_frequencies(c, 11.2, f, 4);
+    for (int i = 0; i < 6; i++)
+        assert_close(m->freq[i], f[i], 0.01, 0);
+    double ka = p.ea - p.rho * p.speed * p.speed;
+    int nd = c->ndof;
+    for (int w = 0; w < TS_CIRCUIT_NSUPPORTS - 2; w++) {
+        /* wheel DOF w = support w + 1: end 1 of span w, end 0 of span w + 1 */
+        double want = ka / c->geom[w].length + ka / c->geom[w + 1].length;
+        assert_close(c->K[w * nd + w], want, 1e-12, 0);
+        if (w + 1 < TS_CIRCUIT_NSUPPORTS - 2)
+            assert_close(c->K[w * nd + w + 1], -ka / c->geom[w + 1].length, 1e-12, 0);
+    }
+    print_message("  K(idler) = %.6e N/m, (EA - rho v^2)(1/L0 + 1/L1) = %.6e N/m\n", c->K[0],
+                  ka / c->geom[0].length + ka / c->geom[1].length);
+    ts_modes_free(m);
+    ts_circuit_free(c);
+}
+
+static void track_circuit_wrap_angles(void **state)
+{
+    (void)state;
+    /* EVIDENCE: plane geometry of the Fig. 5 layout (preset m1). The track
+     * wraps a counter-clockwise (side +1) support from the tangent point of
+     * the arriving span to that of the leaving span; the wrap angle is the
+     * angle between the two radii to those points, counter-clockwise,
+     *   alpha_w = atan2(p0[w] - centre) - atan2(p1[w-1] - centre)
+     * (principal value in [-pi/4, 7pi/4) as track_circuit.h), independent of
+     * the chord-angle difference the code uses. Measured on the shipped
+     * layout: idler 163.37, front roller 2.04, rear roller -0.53 (the
+     * straight chords just clear it), sprocket 158.22 deg, asserted within
+     * 0.01 deg (the data's own values, not a paper figure); exact to 1e-9 rad
+     * against the radii. The wheel-feed mass J/r^2 + rho r max(alpha, 0) +
+     * rho (L_{w-1} + L_w)/3 (wrapped track, consistent span mass) to 1e-12. */
+    ts_circuit_params p = m1_params();
+    ts_circuit *c = make(&p);
+    const double deg[TS_CIRCUIT_NSUPPORTS - 2] = {163.37, 2.04, -0.53, 158.22};
+    for (int w = 1; w <= TS_CIRCUIT_NSUPPORTS - 2; w++) {
+        const ts_span_support *s = &p.support[w];
+        double ain = atan2(c->geom[w - 1].p1[1] - s->z, c->geom[w - 1].p1[0] - s->x);
+        double aout = atan2(c->geom[w].p0[1] - s->z, c->geom[w].p0[0] - s->x);
+        double a = fmod(aout - ain + 0.25 * PI, 2 * PI);
+        if (a < 0) a += 2 * PI;
+        a -= 0.25 * PI;
+        print_message("  wrap on %-12s %7.3f deg (radii %7.3f deg)\n", ts_circuit_support_names[w],
+                      c->wrap[w] * 180 / PI, a * 180 / PI);
+        assert_close(c->wrap[w], a, 0, 1e-9);
+        assert_close(c->wrap[w] * 180 / PI, deg[w - 1], 0, 0.01);
+        /* the wheel feed's mass: spin inertia, the wrapped track (none for a
+         * negative wrap) and the support shapes' rho L/3 of both spans */
+        double mw = p.inertia[w] / (s->radius * s->radius) + p.rho * s->radius * fmax(a, 0) +
+                    p.rho * (c->geom[w - 1].length + c->geom[w].length) / 3;
+        assert_close(c->M[(w - 1) * c->ndof + (w - 1)], mw, 1e-12, 0);
+    }
     ts_circuit_free(c);
 }
 
@@ -231,6 +312,8 @@ int main(void)
         cmocka_unit_test(track_circuit_fig5_m1),
         cmocka_unit_test(track_circuit_convergence_monotone),
         cmocka_unit_test(track_circuit_config_errors),
+        cmocka_unit_test(track_circuit_moving_track_uniform_tension),
+        cmocka_unit_test(track_circuit_wrap_angles),
     };
     return cmocka_run_group_tests_name("sim/track_circuit", tests, NULL, NULL);
 }
