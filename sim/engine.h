@@ -204,8 +204,9 @@ typedef struct ts_engine_cycle {
     ts_engine_outputs mean; /* cycle-mean outputs (cylinder fields: cylinder 1 means) */
     double peak_pressure;   /* cylinder 1 peak pressure [Pa] */
     double bsfc;            /* fuel flow / brake power [kg/J] */
-    double eta_v;           /* trapped-air volumetric efficiency vs intake manifold [1] */
-    double eta_i;           /* gross indicated work / fuel energy [1] */
+    double eta_v;           /* volumetric efficiency: net air through the intake valves (overlap
+                               short-circuit included) vs intake-manifold density [1] */
+    double eta_i;           /* net indicated work (p dV over all 720 deg) / fuel energy [1] */
     double q_wall;          /* wall heat / fuel energy [1] */
     double energy_residual; /* (fuel - work - wall heat - net enthalpy out - dE)/fuel [1] */
     double mass_residual;   /* (in + fuel - out - dm)/in over the cycle [1] */

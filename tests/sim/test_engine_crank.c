@@ -49,7 +49,14 @@ static void rated_power_conventional(void **state)
  * cylinder internal energy. The model integrates temperature, not energy, so
  * closure tests the derivation and the integration. Tolerance 1 % of the fuel
  * energy; mass: in + fuel - out - change within 0.1 % of the inducted mass.
- * Also periodicity at steady state: the cylinders' energy changes < 1 %. */
+ * Also periodicity at steady state: the cylinders' energy changes < 1 %.
+ * The ledger's totals integrate the very rates the cylinder states are
+ * integrated from, so closure alone cannot see a wrong term (review, session
+ * 20: the fuel energy raised 30 % still closed to 1e-9). Checked against
+ * quantities outside that loop: the fuel energy is the burned fuel mass times
+ * /engine/lhv (1e-6) and the fuel commanded by Eq. 14 (1 %), and the
+ * indicated work is the cycle-mean gas torque sum p dV/dtheta times 4 pi
+ * (the torque the crankshaft and the brake see; 1e-3). */
 static void cycle_energy_and_mass_balance(void **state)
 {
     rated *r = *state;
@@ -77,14 +84,22 @@ static void cycle_energy_and_mass_balance(void **state)
     assert_true(fabs(c.mass_residual) < 1e-3);
     /* the fuel burned per cycle is the fuel commanded (Watson burn completes) */
     assert_close(l1.fuel_mass - l0.fuel_mass, 12 * c.mean.fuel_per_cycle, 0.01, 0);
+    /* outside the ledger's loop: heating value, Eq. 14's fuel, the gas torque */
+    double lhv = et_defaults().engine.lhv;
+    assert_close(fuel, mf * lhv, 1e-6, 0);
+    assert_close(fuel, 12 * c.mean.fuel_per_cycle * lhv, 0.01, 0);
+    print_message("      indicated work %.0f J vs mean gas torque x 4 pi %.0f J\n", w,
+                  c.mean.indicated_torque * 4 * ET_PI);
+    assert_close(w, c.mean.indicated_torque * 4 * ET_PI, 1e-3, 0);
 }
 
 /* EVIDENCE: plausibility ranges for a highly rated HD diesel (Heywood 1988
  * ch. 1, 14; KTA38 data 207 g/kWh [S13]): peak cylinder pressure 120-230 bar
  * (the paper allows "higher maximum combustion pressure", III.B.3), exhaust
- * manifold 650-950 K, BSFC 190-240 g/kWh, volumetric efficiency 0.8-1.05,
- * in-cylinder heat loss 8-25 % of fuel energy, trapped phi = Eq. 13's 0.45
- * within 2 %. Not calibrated to any of these. */
+ * manifold 650-950 K, BSFC 190-240 g/kWh, volumetric efficiency (air through
+ * the intake valves) 0.8-1.05, in-cylinder heat loss 8-25 % of fuel energy.
+ * Not calibrated to any of these. (The delivered phi equals Eq. 13's target
+ * by construction of Eq. 14 on the same air flow: no longer asserted.) */
 static void rated_point_is_plausible(void **state)
 {
     rated *r = *state;
@@ -97,7 +112,6 @@ static void rated_point_is_plausible(void **state)
     assert_in_range(bsfc, 190, 240);
     assert_in_range(c->eta_v * 100, 80, 105);
     assert_in_range(c->q_wall * 100, 8, 25);
-    assert_close(c->mean.phi, 0.45, 0.02, 0);
 }
 
 /* EVIDENCE: shape of a DI diesel cycle (Heywood Figs. 10-4, 10-8): no heat

@@ -162,7 +162,7 @@ static double lin_load_fn(void *ud, double t, double w)
  * a speed-proportional load T = T_ss + k (w - w_ss) (k = 200 N*m*s/rad, a
  * torque-converter-like slope) started 10 rad/s above the rated steady speed,
  * the crank speed relaxes towards w_ss as J dw/dt = -(k - dT_brake/dw) (w - w_ss)
- * predicts: after 0.25 s (J/k = 0.044 s at the nominal inertia, 5.7 time
+ * predicts: after 0.25 s (J/k = 7.23/200 = 0.036 s, 6.9 time
  * constants) the cycle-mean offset is below 1 rad/s, where with a constant
  * load (only the engine's own torque slope) it is still above 5 rad/s; (4)
  * load_inertia slows the relaxation (J + J_load: offset at least 1.5 x). */
