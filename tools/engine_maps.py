@@ -16,8 +16,12 @@ Part-boost factors: at each spool speed the cycles are binned by
 ratio = boost / map_boost(speed) (bins of width SPOOL_DR centred on
 spool_ratio); each bin's mean of eta_v, eta_i, q_wall and indicated torque is
 divided by the full-load sweep's value at that speed (indicated torque =
-brake + friction). Empty bins take the nearest filled bin at that speed (the
-1000-rpm spool-up stays on the low-boost branch and never fills the high bins).
+brake + friction). Empty bins below the highest one filled take the nearest
+filled bin at that speed; empty bins above it (the 1000-rpm spool-up stays on
+the low-boost branch and never fills the high bins) go straight from the
+highest filled bin to factor 1 at ratio 1, the full-load sweep's point (until
+session 20 they held the low branch's value, so the map engine at 1000 rpm
+and full boost reported 2.89 bar with 2755 N*m where the sweep has 6032).
 The bins near ratio 1 average the spool-up's later cycles, when the walls are
 still warming: the factors carry the launch's cold-wall heat loss.
 spool_lag (map fidelity's boost time constant vs spool_speed): per speed, the
@@ -96,8 +100,17 @@ def part_boost(sweep, spool):
         filled = [j for j, b in enumerate(bins) if b]
         if not filled:
             sys.exit("spool-up at %.1f rad/s fills no ratio bin" % w)
+        top = max(filled)
         for j in range(len(bins)):
-            if not bins[j]:
+            if bins[j]:
+                continue
+            if j > top:
+                # above the highest ratio the spool-up reached (1000 rpm stays on
+                # the low-boost branch): straight on to the full-load point, factor
+                # 1 at ratio 1, as the torque follows the air (constant phi, Eq. 14)
+                f = (SPOOL_RATIO[j] - SPOOL_RATIO[top]) / (1.0 - SPOOL_RATIO[top])
+                bins[j] = {k: bins[top][k] + f * (1.0 - bins[top][k]) for k in bins[top]}
+            else:
                 bins[j] = bins[min(filled, key=lambda i: abs(i - j))]
         for k in tables:
             tables[k] += [round(b[k], 4) for b in bins]

@@ -249,8 +249,8 @@ static void shift_spikes_tension_and_excites_span(void **state)
  * "the second and third gear shifts are delayed" against flat ground, as the
  * obstacles take drive torque. Preset flat-coupled-rack90 (upshift at 1750
  * rpm, engine-speed triggered, [E]) on flat ground and on the bump course,
- * coupled track, leading-following, 9 s. Measured shift starts 3.70 / 5.40 /
- * 8.41 s flat and 3.70 / 5.86 / 8.69 s on bumps. The delay is conditional on the [E]
+ * coupled track, leading-following, 9 s. Measured shift starts 3.69 / 5.39 /
+ * 8.40 s flat and 3.69 / 5.86 / 8.69 s on bumps. The delay is conditional on the [E]
  * upshift speed: a sweep (12-s runs, shifts half done) gives it for both
  * shifts at 1750-1850 rpm, but not for the 2-3 shift at 1650, 1700 and
  * 1900 rpm (at 1700 the 3-4 shift even comes earlier on the bumps). Predicted: the 1-2 shift, still
