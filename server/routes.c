@@ -236,7 +236,7 @@ static double accept_q(const char *accept, const char *type, int exact_only)
     double best = -1;
     int best_spec = -1;
     size_t major = strcspn(type, "/");
-    for (const char *p = accept; p && *p;) {
+    for (const char *p = accept; *p;) { /* accept: non-NULL (accept_prefers) */
         while (*p == ' ' || *p == '\t' || *p == ',')
             p++;
         if (!*p) break;
