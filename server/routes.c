@@ -515,6 +515,14 @@ static enum MHD_Result post_step(tsd_request *r)
     tsa_num_field f[] = {{"duration", 1, 0.0, 1e9, &duration, NULL}};
     if (body_numbers(r, 0, f, 1, &ret) < 0) return ret;
     if (check_on_grid(r, "duration", duration, &ret) < 0) return ret;
+    double dt = r->session->ch.view.period;
+    if (dt > 0 && duration < 0.5 * dt) { /* 0, or 1e-300 "on the grid" at row 0 */
+        ts_err e;
+        ts_err_set(&e, TS_ERR_PARAM, "/duration",
+                   "/duration: at least one sample period (%.15g s) expected, got %g s",
+                   dt, duration);
+        return tsd_reply_err(r, &e, NULL);
+    }
     if (duration > r->srv->opt.max_step) {
         char detail[300];
         snprintf(detail, sizeof detail,

@@ -182,3 +182,12 @@ def test_the_nearest_times_suggested_are_on_the_grid(daemon):
     assert m, p
     r = requests.post(daemon.url + s["links"]["step"], json={"duration": float(m.group(2))})
     assert r.status_code == 200 and r.json()["index"] == 1, r.text
+
+
+@pytest.mark.parametrize("duration", [0, 1e-300])
+def test_a_step_of_no_sample_period_is_400(daemon, sid500, duration):
+    """Review, session 20: a step of 0 or 1e-300 s (on the grid at row 0)
+    answered 200, advanced nothing and turned a created session paused."""
+    p = is_problem(requests.post(f"{daemon.url}/v1/sessions/{sid500}/step",
+                                 json={"duration": duration}), 400, "/duration")
+    assert "at least one sample period" in p["detail"], p
