@@ -67,6 +67,11 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
 {
     ts_config c = *cfg;
     const ts_control_config *cc = &cfg->control;
+    if (cc->tune_window % 2 == 0) /* before the runs, naming the field */
+        return ts_err_set(err, TS_ERR_PARAM, "/control/tune_window",
+                          "/control/tune_window: the slope window is centred on a sample, so an "
+                          "odd number of samples; got %d",
+                          cc->tune_window);
     c.run.kind = TS_RUN_POINTMASS;
     c.drive.kind = TS_DRIVE_POWERTRAIN;
     c.control.mode = TS_CONTROL_RACK;
@@ -130,8 +135,38 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
                         out->v0, out->vb);
         goto done;
     }
+    /* Eq. 11 normalises between two STEADY states: a plant still moving at
+     * either end (a settle or step too short, a vehicle rolling back down a
+     * grade) gave gains with nothing to do with the plant (review, session
+     * 20: v0 = -138 m/s on a 0.6 grade, or kp 49x too large with a 1-s step).
+     * Steady: the speed moves by less than 1e-3 of the step's span per second. */
+    double span = out->vb - out->v0, tol = 1e-3 * span;
+    if (out->v0 < 0) {
+        rc = ts_err_set(err, TS_ERR_RANGE, "/control/tune_rack_low",
+                        "/control/tune_rack_low: at rack %g the vehicle rolls backwards (v0 = %g "
+                        "m/s on grade %g): the driveline model is for forward driving; raise the "
+                        "low rack or lower /vehicle/grade",
+                        cc->tune_rack_low, out->v0, c.vehicle.grade);
+        goto done;
+    }
+    if (!(fabs(out->settle_slope) < tol)) {
+        rc = ts_err_set(err, TS_ERR_RANGE, "/control/tune_settle",
+                        "/control/tune_settle: the low-rack speed is still changing at the step "
+                        "(%.3g m/s^2, steady means below %.3g: 1e-3/s of the step's %.4g m/s); "
+                        "lengthen the settle (%g s)",
+                        out->settle_slope, tol, span, cc->tune_settle);
+        goto done;
+    }
+    if (!(fabs(out->final_slope) < tol)) {
+        rc = ts_err_set(err, TS_ERR_RANGE, "/control/tune_duration",
+                        "/control/tune_duration: the full-rack speed is still changing at the end "
+                        "(%.3g m/s^2, steady means below %.3g: 1e-3/s of the step's %.4g m/s); "
+                        "lengthen the step response (%g s)",
+                        out->final_slope, tol, span, cc->tune_duration);
+        goto done;
+    }
     for (long i = 0; i < s.n; i++)
-        s.v[i] = (s.v[i] - out->v0) / (out->vb - out->v0); /* Eq. 11 */
+        s.v[i] = (s.v[i] - out->v0) / span; /* Eq. 11 */
     rc = ts_zn_reaction_curve(s.t, s.v, (int)s.n, cc->tune_settle, cc->tune_window, cc->ti_factor,
                               &out->zn, err);
     if (rc == TS_OK)

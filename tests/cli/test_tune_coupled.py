@@ -69,3 +69,25 @@ def test_coupled_run_writes_channels(tmp_path):
     assert work["powertrain"]["steps"] > 0
     rack = [float(r[header.index("rack.demand")]) for r in rows[1:]]
     assert rack[1] == 1.0  # IVS: full rack at launch (Fig. 33)
+
+
+def test_tune_refuses_a_plant_that_never_settled(tmp_path):
+    # EVIDENCE: Eq. 11 normalises between two STEADY states (paper: steady state
+    # before the step, b = rated). Review, session 20: gains were printed from a
+    # low-rack state rolling backwards down a 0.6 grade (v0 = -138 m/s) and from a
+    # 1-s step response still accelerating (kp 49x the settled value). Each case is
+    # refused naming the field to change; a grade the low rack holds still tunes.
+    cases = [({"vehicle": {"grade": 0.6}}, "/control/tune_rack_low"),
+             ({"control": {"tune_duration": 1}}, "/control/tune_duration"),
+             ({"control": {"tune_settle": 0.01}}, "/control/tune_settle"),
+             ({"control": {"tune_window": 4}}, "/control/tune_window")]
+    for k, (over, field) in enumerate(cases):
+        cfg = tmp_path / f"c{k}.json"
+        cfg.write_text(json.dumps({"preset": "bump-coupled-ivs5mph", **over}))
+        out = run("tune", str(cfg))
+        assert out.returncode == 1 and field in out.stderr, (over, out.stderr)
+    out = run("tune", "--preset", "bump-coupled-ivs5mph", "--schedule-grade", "0,0.2")
+    assert out.returncode == 1 and "schedule point 2 of 2 (grade 0.2)" in out.stderr, out.stderr
+    out = run("tune", "--preset", "bump-coupled-ivs5mph", "--schedule-grade", "0,0.03")
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["schedule"]["x"] == [0.0, 0.03]
