@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "../sim/terrain.h"
 #include "problem.h"
@@ -467,6 +468,9 @@ ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err)
 ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out, json_t *errors,
                            ts_err *err)
 {
+    struct stat st; /* a directory read as an empty document: say what it is */
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+        return ts_err_set(err, TS_ERR_IO, NULL, "%s: a directory, not a config file", path);
     json_error_t je;
     json_t *doc = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
     if (!doc) {

@@ -21,10 +21,13 @@
  * format) are api/analysis_json.c's table, shared with the daemon's JSON
  * document; this file writes them as CSV. The spool-ups are only here.
  */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "../api/analysis_json.h"
 #include "../sim/constants.h"
@@ -47,6 +50,54 @@
 #define IDLE_RPM 650.0    /* [rpm] */
 #define IDLE_TORQUE 313.0 /* [N*m] */
 
+/* The output is opened before any engine runs (an unwritable path used to
+ * fail only after the whole sweep). A regular file (or a new one) is written
+ * as PATH.tmp and renamed to PATH once complete, so a failure leaves no empty
+ * or half file; anything else that exists (a device, a pipe) is written in
+ * place: renaming onto it would replace the device node itself. */
+typedef struct out_file {
+    FILE *f;
+    char tmp[1100];
+    const char *path;
+    int direct; /* written in place: no tmp, no rename */
+} out_file;
+
+static int out_open(out_file *o, const char *path)
+{
+    struct stat st;
+    o->path = path;
+    o->direct = stat(path, &st) == 0 && !S_ISREG(st.st_mode);
+    if (strlen(path) > sizeof o->tmp - 5) {
+        fprintf(stderr, "tanksim engine-map: %s: path too long\n", path);
+        return -1;
+    }
+    snprintf(o->tmp, sizeof o->tmp, "%s.tmp", path);
+    o->f = fopen(o->direct ? path : o->tmp, "w");
+    if (!o->f) {
+        fprintf(stderr, "tanksim engine-map: cannot write %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+/* ok: the content is complete. Closes, renames (or removes the tmp file). */
+static int out_close(out_file *o, int ok)
+{
+    if (!o->f) return TSC_EXIT_FAIL;
+    int bad = ferror(o->f) != 0;
+    errno = 0;
+    if (fclose(o->f) != 0) bad = 1;
+    o->f = NULL;
+    if (ok && !bad && (o->direct || rename(o->tmp, o->path) == 0)) return TSC_EXIT_OK;
+    if (ok) {
+        int e = errno;
+        fprintf(stderr, "tanksim engine-map: cannot write %s: %s\n", o->path,
+                e ? strerror(e) : "a write failed (a full disk or an I/O error)");
+    }
+    if (!o->direct) unlink(o->tmp);
+    return TSC_EXIT_FAIL;
+}
+
 /* --spool: crank-angle spool-up transients at held speed (see the header). */
 static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
 {
@@ -54,6 +105,7 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
     size_t nx = (size_t)ts_engine_nstate(e);
     double *x0 = calloc(nx, sizeof *x0), *x = calloc(nx, sizeof *x);
     double *work = malloc(sizeof(double) * ts_engine_work_size(e));
+    out_file o = {0};
     FILE *f = NULL;
     int rc = TSC_EXIT_FAIL;
     if (!x0 || !x || !work) {
@@ -66,11 +118,8 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
         tsc_print_err("engine-map", &err);
         goto done;
     }
-    f = fopen(out, "w");
-    if (!f) {
-        fprintf(stderr, "tanksim engine-map: cannot write %s\n", out);
-        goto done;
-    }
+    if (out_open(&o, out) != 0) goto done;
+    f = o.f;
     fprintf(f, "speed_rpm [rpm],time [s],speed [rad/s],boost [Pa],intake_temp [K],fuel_flow [kg/s],"
                "air_flow [kg/s],indicated_torque [N*m],friction_torque [N*m],brake_torque [N*m],"
                "exhaust_temp [K],turbo_speed [rad/s],eta_v [1],eta_i [1],q_wall [1]\n");
@@ -97,7 +146,7 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
     }
     rc = TSC_EXIT_OK;
 done:
-    if (f && fclose(f) != 0) rc = TSC_EXIT_FAIL;
+    if (o.f) rc = out_close(&o, rc == TSC_EXIT_OK);
     free(x0);
     free(x);
     free(work);
@@ -117,13 +166,8 @@ static int sweep_progress(void *ud, int done, int total)
 }
 
 /* The sweep's rows as CSV, ascending speed, columns as in the JSON document. */
-static int write_csv(const char *out, const ts_engine_cycle *rows)
+static void write_csv(FILE *f, const ts_engine_cycle *rows)
 {
-    FILE *f = fopen(out, "w");
-    if (!f) {
-        fprintf(stderr, "tanksim engine-map: cannot write %s\n", out);
-        return TSC_EXIT_FAIL;
-    }
     for (int j = 0; j < TSA_ENGINE_MAP_NCOLUMN; j++)
         fprintf(f, "%s%s [%s]", j ? "," : "", tsa_engine_map_columns[j].name,
                 tsa_engine_map_columns[j].unit);
@@ -137,7 +181,6 @@ static int write_csv(const char *out, const ts_engine_cycle *rows)
         }
         fputc('\n', f);
     }
-    return fclose(f) == 0 ? TSC_EXIT_OK : TSC_EXIT_FAIL;
 }
 
 int tsc_cmd_engine_map(int argc, char **argv)
@@ -165,9 +208,12 @@ int tsc_cmd_engine_map(int argc, char **argv)
         return src;
     }
     ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT];
+    out_file o = {0};
+    if (out_open(&o, out) != 0) return TSC_EXIT_FAIL;
     if (ts_engine_full_load_sweep(&cfg, rows, sweep_progress, rows, &err) != TS_OK) {
         tsc_print_err("engine-map", &err);
-        return TSC_EXIT_FAIL;
+        return out_close(&o, 0);
     }
-    return write_csv(out, rows);
+    write_csv(o.f, rows);
+    return out_close(&o, 1);
 }

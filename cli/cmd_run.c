@@ -8,6 +8,7 @@
  */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,8 +20,18 @@
 #include "cli.h"
 
 /* Rows go to the CSV as they come and are kept for the run's metrics. */
+/* SIGINT / SIGTERM during a run: the sink stops after the row it is writing
+ * (a Ctrl-C had left half a row and no word). Process-wide by nature. */
+static volatile sig_atomic_t stop_signal;
+
+static void on_stop_signal(int sig)
+{
+    stop_signal = sig;
+}
+
 typedef struct {
     FILE *csv;
+    double t_last; /* time of the last row written whole [s] */
     ts_rows rows;
     double until;       /* the run's end [s], for the progress line */
     double wall0, next; /* monotonic start and next progress time [s] */
@@ -54,12 +65,13 @@ static int write_row(void *ud, long index, double t, const double *v, int n)
     for (int i = 0; i < n; i++)
         fprintf(s->csv, i ? ",%.9g" : "%.9g", v[i]);
     fputc('\n', s->csv);
+    s->t_last = t;
     if (ts_rows_append(&s->rows, index, t, v, n) != 0) {
         s->nomem = 1;
         return 1;
     }
     if ((index & 63) == 0) progress(s, t);
-    return ferror(s->csv) ? 1 : 0;
+    return ferror(s->csv) || stop_signal ? 1 : 0;
 }
 
 #define OUT_PATH_MAX 1000 /* [chars] the directory; its file names are added to it */
@@ -114,8 +126,13 @@ int tsc_cmd_run(int argc, char **argv)
     char path[1200];
 
     if (tsc_model_start(&cfg, &m, &d) != 0) goto done; /* a bad config leaves DIR as it was */
+    struct stat st;
     if (make_dirs(out) != 0) {
         fprintf(stderr, "tanksim: cannot create %s: %s\n", out, strerror(errno));
+        goto done;
+    }
+    if (stat(out, &st) != 0 || !S_ISDIR(st.st_mode)) { /* mkdir's EEXIST: maybe a file */
+        fprintf(stderr, "tanksim: --out: %s is not a directory\n", out);
         goto done;
     }
     /* a summary left by an earlier run must not sit beside this run's series */
@@ -138,8 +155,17 @@ int tsc_cmd_run(int argc, char **argv)
     sink.wall0 = ts_monotonic_seconds();
     sink.next = sink.wall0 + PROGRESS_FIRST;
     sink.tty = isatty(fileno(stderr));
+    struct sigaction sa, old_int, old_term;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    stop_signal = 0;
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
     write_row(&sink, 0, 0.0, ts_latest(d), ts_model_nchannel(m));
-    ts_rc arc = ts_advance(m, d, until, write_row, &sink, &err);
+    ts_rc arc = stop_signal ? TS_ERR_CANCELLED : ts_advance(m, d, until, write_row, &sink, &err);
+    sigaction(SIGINT, &old_int, NULL);
+    sigaction(SIGTERM, &old_term, NULL);
     if (sink.shown && sink.tty) fputc('\n', stderr);
     /* ferror sets no errno, and the errno of the write that failed is long gone */
     int write_failed = ferror(csv) != 0, why = 0;
@@ -153,12 +179,22 @@ int tsc_cmd_run(int argc, char **argv)
     else if (write_failed)
         ts_err_set(&err, TS_ERR_IO, NULL, "cannot write %s/series.csv: %s", out,
                    why ? strerror(why) : "a write failed (a full disk or an I/O error)");
-    if (arc != TS_OK || sink.nomem || write_failed) {
+    else if (stop_signal)
+        ts_err_set(&err, TS_ERR_CANCELLED, NULL, "stopped by signal %d at t = %.6g s",
+                   (int)stop_signal, sink.t_last);
+    if (arc != TS_OK || sink.nomem || write_failed || stop_signal) {
         tsc_print_err("run", &err);
-        fprintf(stderr,
-                "tanksim: run: %s/series.csv holds the rows up to t = %.6g s; no summary "
-                "written\n",
-                out, ts_time(d));
+        if (write_failed) /* what reached the disk is not known row by row */
+            fprintf(stderr,
+                    "tanksim: run: %s/series.csv is incomplete (rows were being written up "
+                    "to t = %.6g s, the last may be cut); no summary written\n",
+                    out, sink.t_last);
+        else
+            fprintf(stderr,
+                    "tanksim: run: %s/series.csv holds the rows up to t = %.6g s; no summary "
+                    "written\n",
+                    out, sink.t_last);
+        if (stop_signal) status = 128 + (int)stop_signal;
         goto done;
     }
 
@@ -186,9 +222,18 @@ int tsc_cmd_run(int argc, char **argv)
         "samples", (json_int_t)(ts_sample_index(d) + 1), "wall_time_s", wall, "real_time_factor",
         wall > 0 ? ts_time(d) / wall : 0.0, "integrators", tsa_integrators_json(ist, nist),
         "channels", channels, "metrics", mj);
+    /* 17 digits: the config echo must re-run bit for bit (10 did not); written
+     * beside and renamed, so a failed write leaves no half document */
+    char tmp[1220];
     snprintf(path, sizeof path, "%s/summary.json", out);
-    if (json_dump_file(summary, path, JSON_INDENT(2) | JSON_REAL_PRECISION(10)) != 0) {
-        fprintf(stderr, "tanksim: cannot write %s\n", path);
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    errno = 0;
+    if (json_dump_file(summary, tmp, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
+        rename(tmp, path) != 0) {
+        int e = errno;
+        fprintf(stderr, "tanksim: cannot write %s: %s\n", path,
+                e ? strerror(e) : "a write failed (a full disk or an I/O error)");
+        unlink(tmp);
         json_decref(summary);
         goto done;
     }

@@ -169,3 +169,73 @@ def test_long_run_reports_progress_on_stderr(tmp_path):
     lines = [l for l in out.stderr.splitlines() if l.startswith("tanksim run: t = ")]
     assert lines, out.stderr
     assert " of 200.000 s (" in lines[0] and "x real time" in lines[0], lines
+
+
+def test_ctrl_c_stops_at_a_whole_row_and_says_where(tmp_path):
+    """CLI review, session 20: SIGINT left series.csv ending in half a row
+    (35 of 65 columns) and printed nothing. Now the run stops after the row it
+    is writing, says up to where series.csv holds rows, writes no summary and
+    exits 128 + 2."""
+    import signal
+    import time
+    out = tmp_path / "o"
+    p = subprocess.Popen([TANKSIM, "run", "--preset", "bump-coupled-ivs5mph", "--out", str(out)],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(1.0)
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 130, (p.returncode, err)
+    assert "stopped by signal 2" in err and "holds the rows up to t =" in err, err
+    rows = list(csv.reader(open(out / "series.csv")))
+    assert len(rows) > 2 and all(len(r) == len(rows[0]) for r in rows), len(rows)
+    said = float(err.split("holds the rows up to t = ")[1].split(" s")[0])
+    assert abs(float(rows[-1][0]) - said) < 1e-9, (rows[-1][0], said)
+    assert not (out / "summary.json").exists()
+
+
+def test_summary_config_echo_reruns_bit_for_bit(tmp_path):
+    """CLI review, session 20: the echo kept 10 digits, so a torque of
+    8850.123456789012 came back as 8850.123457 and its re-run differed."""
+    cfg = tmp_path / "c.json"
+    cfg.write_text(json.dumps({"preset": "bump-prescribed-static", "run": {"duration": 2.0},
+                               "drive": {"torque": 8850.123456789012}}))
+    assert run("run", str(cfg), "--out", str(tmp_path / "a")).returncode == 0
+    echo = json.load(open(tmp_path / "a" / "summary.json"))["config"]
+    assert echo["drive"]["torque"] == 8850.123456789012
+    (tmp_path / "e.json").write_text(json.dumps(echo))
+    assert run("run", str(tmp_path / "e.json"), "--out", str(tmp_path / "b")).returncode == 0
+    assert open(tmp_path / "a" / "series.csv").read() == open(tmp_path / "b" / "series.csv").read()
+
+
+def test_out_that_is_a_file_is_named_as_such(tmp_path):
+    f = tmp_path / "f"
+    f.write_text("")
+    out = run("run", "--preset", "pointmass-prescribed", "--out", str(f))
+    assert out.returncode == 1 and "is not a directory" in out.stderr, out.stderr
+
+
+def test_engine_map_output_problems_are_found_first_and_named(tmp_path):
+    """CLI review, session 20: an unwritable --out failed only after the whole
+    sweep with no reason, /dev/full failed silently, and a full disk left an
+    empty file. Now the file is opened first, errors carry strerror, a regular
+    file appears only complete (written beside and renamed), and a device is
+    written in place (never replaced)."""
+    import stat
+    import time
+    t0 = time.time()
+    out = run("engine-map", "--preset", "engine-map-conventional",
+              "--out", str(tmp_path / "no" / "such" / "m.csv"))
+    assert out.returncode == 1 and "No such file or directory" in out.stderr, out.stderr
+    assert time.time() - t0 < 5 and "rpm" not in out.stderr  # no sweep ran
+    out = run("engine-map", "--preset", "bump-coupled-rack90", "--out", "/dev/full")
+    assert out.returncode == 1 and "No space left on device" in out.stderr, out.stderr
+    assert stat.S_ISCHR(os.stat("/dev/full").st_mode)
+    out = run("engine-map", "--preset", "bump-coupled-rack90", "--out", str(tmp_path / "m.csv"))
+    assert out.returncode == 0, out.stderr
+    assert sorted(os.listdir(tmp_path)) == ["m.csv"]
+
+
+def test_a_directory_as_config_is_named_as_such(tmp_path):
+    """CLI review, session 20: it read as a JSON error at line 1."""
+    out = run("modes", str(tmp_path))
+    assert out.returncode == 1 and "a directory, not a config file" in out.stderr, out.stderr
