@@ -73,6 +73,7 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
                           "odd number of samples; got %d",
                           cc->tune_window);
     c.run.kind = TS_RUN_POINTMASS;
+    c.terrain.kind = TS_TERRAIN_FLAT; /* the point-mass plant: level ground or /vehicle/grade */
     c.drive.kind = TS_DRIVE_POWERTRAIN;
     c.control.mode = TS_CONTROL_RACK;
     c.control.rack = cc->tune_rack_low;

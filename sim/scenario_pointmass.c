@@ -128,6 +128,11 @@ static ts_rc model_init(ts_model *m, ts_err *err)
 {
     ts_rc rc = ts_drive_check(&m->cfg.drive, err);
     if (rc != TS_OK) return rc;
+    if (m->cfg.terrain.kind != TS_TERRAIN_FLAT) /* it was ignored without a word */
+        return ts_err_set(err, TS_ERR_PARAM, "/terrain/kind",
+                          "/terrain/kind: the point mass runs on flat ground or a constant "
+                          "/vehicle/grade; bump courses and profiles need the multibody vehicle "
+                          "(run.kind vehicle or coupled)");
     pm_model *pm = calloc(1, sizeof *pm);
     if (!pm) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     m->impl = pm;

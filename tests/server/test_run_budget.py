@@ -58,7 +58,7 @@ def test_paced_run_publishes_no_row_early_and_hears_cancel_and_budget():
         t_cancel = time.time()
         assert requests.post(f"{d.url}/v1/operations/{op['id']}:cancel").status_code == 200
         final = wait_op(d.url, op["id"], timeout=10)
-        assert time.time() - t_cancel < 1.0, final
+        assert time.time() - t_cancel < 2.0, final  # was 49 s; 0.2-s polls, loaded CI
         assert requests.get(f"{d.url}/v1/sessions/{sid}").json()["status"] == "paused"
         # the wall budget: a run waiting 20 s for its next row pauses at 1.5 s
         sid = session()
@@ -67,6 +67,6 @@ def test_paced_run_publishes_no_row_early_and_hears_cancel_and_budget():
                            json={"real_time_factor": 0.05}).json()
         final = wait_op(d.url, op["id"], timeout=10)
         assert "--max-run-wall" in final["error"]["message"], final
-        assert time.time() - t_run < 2.5, final
+        assert time.time() - t_run < 4.0, final  # was 20 s
     finally:
         d.stop()
