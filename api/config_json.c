@@ -317,8 +317,13 @@ static void read_field(const ts_param *p, const json_t *v, char *base, json_t *e
 
 /* A shipped bump course named by /terrain/course is taken from the embedded
  * store (so a daemon or runner started anywhere finds it) and written into
- * the inline bump arrays; a course not in the store is left for sim/terrain.c
- * to read from /terrain/course_dir (user courses on disk). */
+ * the inline bump arrays; a course not in the store, or any course when
+ * /terrain/course_dir names another directory than the shipped one, is left
+ * for sim/terrain.c to read from /terrain/course_dir (user courses on disk:
+ * a user's own apg4-synth.txt there was silently replaced by the shipped
+ * one; CLI review, session 20). */
+#define SHIPPED_COURSE_DIR "sim/data/terrain" /* terrain.json's default, the store's prefix */
+
 static ts_rc fill_course(ts_config *cfg, json_t *errors, ts_err *err)
 {
     ts_terrain_config *tc = &cfg->terrain;
@@ -326,8 +331,9 @@ static ts_rc fill_course(ts_config *cfg, json_t *errors, ts_err *err)
     if (tc->kind != TS_TERRAIN_BUMPS || tc->bump_n > 0 || tc->bump_height_n > 0 ||
         tc->bump_length_n > 0 || !tc->course[0])
         return TS_OK;
+    if (strcmp(tc->course_dir, SHIPPED_COURSE_DIR) != 0) return TS_OK; /* the user's directory */
     char path[TS_NAME_LEN + 64];
-    snprintf(path, sizeof path, "sim/data/terrain/%s.txt", tc->course);
+    snprintf(path, sizeof path, SHIPPED_COURSE_DIR "/%s.txt", tc->course);
     const tsa_file *f = tsa_store_find(path);
     if (!f) return TS_OK;
     double length;

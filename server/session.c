@@ -685,6 +685,15 @@ static ts_rc refuse_client_files(const ts_config *cfg, json_t *errors, ts_err *e
                  "--client-files yes); give the ground inline as bumps (/terrain/bump_start, "
                  "/terrain/bump_height, /terrain/bump_length) or use a shipped course",
                  ptr);
+    } else if (t->kind == TS_TERRAIN_BUMPS && t->bump_n == 0 &&
+               strcmp(t->course_dir, "sim/data/terrain") != 0) {
+        ptr = "/terrain/course_dir"; /* a directory of the client's: read from disk */
+        snprintf(msg, sizeof msg,
+                 "%s: this daemon reads no course file from a directory a client names "
+                 "(started without --client-files yes); leave it out for the shipped courses, "
+                 "or give the bumps inline (/terrain/bump_start, /terrain/bump_height, "
+                 "/terrain/bump_length)",
+                 ptr);
     } else if (t->kind == TS_TERRAIN_BUMPS && t->bump_n == 0) {
         ptr = "/terrain/course";
         snprintf(msg, sizeof msg,

@@ -127,7 +127,8 @@ static const ts_param terrain_rows[] = {
     {"/terrain/course", TS_PT_STRING, F(course), "", 0, 0, NULL, TS_NAME_LEN, 0,
      "name of a shipped bump course (COURSE_DIR/NAME.txt, whitespace table)"},
     {"/terrain/course_dir", TS_PT_STRING, F(course_dir), "", 0, 0, NULL, TS_PATH_LEN, 0,
-     "directory of the shipped courses, relative to the working directory"},
+     "directory of the course files, relative to the working directory; the default "
+     "sim/data/terrain is the shipped one (built in), another is read from disk"},
     {"/terrain/profile_csv", TS_PT_STRING, F(profile_csv), "", 0, 0, NULL, TS_PATH_LEN, 0,
      "path of a CSV terrain profile: distance m, height m per row"},
     {"/terrain/bump_start", TS_PT_DARRAY, F(bump_start), "m", 0, 1e5, NULL, TS_TERRAIN_BUMPS_MAX,

@@ -150,19 +150,27 @@ static void problem_mapping(void **state)
 }
 
 /* The shipped course comes from the embedded store, not the working directory
- * (parameters: apg4-synth, 26 bumps, the first 1 ft x 25 ft at 50 ft). */
+ * (parameters: apg4-synth, 26 bumps, the first 1 ft x 25 ft at 50 ft), with
+ * the default /terrain/course_dir (a relative path that need not exist where
+ * the program runs); a course_dir of the user's own is left for the disk, even
+ * for a shipped name (session 20: it was silently replaced). */
 static void shipped_course_comes_from_the_store(void **state)
 {
     (void)state;
     ts_config c;
     ts_err err;
-    json_t *doc = json_pack("{s:{s:s,s:s,s:s}}", "terrain", "kind", "bumps", "course",
-                            "apg4-synth", "course_dir", "/nonexistent");
+    json_t *doc = json_pack("{s:{s:s,s:s}}", "terrain", "kind", "bumps", "course", "apg4-synth");
     assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    assert_string_equal(c.terrain.course_dir, "sim/data/terrain");
     assert_int_equal(c.terrain.bump_n, 26);
     assert_close(c.terrain.bump_start[0], 50 * 0.3048, 1e-3, 0);
     assert_close(c.terrain.bump_height[0], 0.3048, 1e-2, 0);
     assert_close(c.terrain.bump_length[0], 25 * 0.3048, 1e-3, 0);
+    json_decref(doc);
+    doc = json_pack("{s:{s:s,s:s,s:s}}", "terrain", "kind", "bumps", "course", "apg4-synth",
+                    "course_dir", "/nonexistent");
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    assert_int_equal(c.terrain.bump_n, 0); /* read (and refused) when the model is built */
     json_decref(doc);
 }
 

@@ -239,3 +239,20 @@ def test_a_directory_as_config_is_named_as_such(tmp_path):
     """CLI review, session 20: it read as a JSON error at line 1."""
     out = run("modes", str(tmp_path))
     assert out.returncode == 1 and "a directory, not a config file" in out.stderr, out.stderr
+
+
+def test_course_dir_of_ones_own_is_read_even_for_a_shipped_name(tmp_path):
+    """CLI review, session 20: with /terrain/course_dir set, a course file named
+    like a shipped one (apg4-synth) was ignored for the built-in course, while
+    the summary echoed the directory. Now the directory given is read."""
+    (tmp_path / "apg4-synth.txt").write_text("length 100\n3 0.5 2\n")  # one 0.5-m bump at 3 m
+    def peak(over):
+        cfg = tmp_path / "c.json"
+        cfg.write_text(json.dumps({"preset": "bump-prescribed-static", "run": {"duration": 1.0},
+                                   "terrain": over}))
+        out = run("run", str(cfg), "--out", str(tmp_path / "o"))
+        assert out.returncode == 0, out.stderr
+        return json.load(open(tmp_path / "o" / "summary.json"))["metrics"]["peak_tension"]["value"]
+    shipped = peak({})
+    own = peak({"course_dir": str(tmp_path)})
+    assert own > 2 * shipped, (own, shipped)  # the shipped course's first bump is at 15 m

@@ -31,6 +31,13 @@ def test_client_named_files_are_refused_by_default(daemon, tmp_path):
            "terrain": {"kind": "bumps", "course": "../../../../etc/hostname"}}
     p = is_problem(create(daemon, doc), 400)
     assert pointers(p) == ["/terrain/course"], p
+    # a course directory of the client's (read from disk since session 20, even
+    # for a shipped course name)
+    doc = {"preset": "bump-prescribed-static", "run": {"duration": 0.02},
+           "terrain": {"kind": "bumps", "course": "apg4-synth", "course_dir": str(tmp_path)}}
+    p = is_problem(create(daemon, doc), 400)
+    assert pointers(p) == ["/terrain/course_dir"], p
+    assert "--client-files" in p["errors"][0]["message"]
     # what a client may always use: the shipped course and inline bumps
     assert create(daemon, {"preset": "bump-prescribed-static",
                            "run": {"duration": 0.02}}).status_code == 201
