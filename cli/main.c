@@ -13,17 +13,22 @@
 /* name, handler, usage, help — one row per sub-command. */
 static const tsc_command commands[] = {
     {"run", tsc_cmd_run, "(CONFIG.json | --preset NAME) [--out DIR] [--until T]",
-     "run a scenario; write DIR/series.csv and DIR/summary.json"},
+     "run a scenario; write DIR/series.csv and DIR/summary.json (DIR: ./out unless given)"},
     {"modes", tsc_cmd_modes, "(CONFIG.json | --preset NAME)",
      "track span and upper-circuit eigenanalysis (Table 1, Fig. 5) as JSON"},
     {"render", tsc_cmd_render,
      "(CONFIG.json | --preset NAME) --out FILE.png [--t T] [--width W] [--height H] "
-     "[--view side|three_quarter] [--exaggeration E] [--color tension|plain] [--text S] [--antialias] "
+     "[--view side|three_quarter] [--exaggeration E] [--color tension|plain] [--text S] "
+     "[--antialias] "
      "[--span S] [--no-overlay]",
      "run to time T and draw the tank and its deformed track into a PNG"},
-    {"engine-map", tsc_cmd_engine_map, "(CONFIG.json | --preset NAME) (--out FILE.csv | --spool FILE.csv)",
-     "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18), or with --spool the rack-step spool-ups at held speed that the faster fidelities derive their part-boost tables from"},
-    {"tune", tsc_cmd_tune, "(CONFIG.json | --preset NAME) [--schedule-mass M,.. | --schedule-grade G,..]",
+    {"engine-map", tsc_cmd_engine_map,
+     "(CONFIG.json | --preset NAME) (--out FILE.csv | --spool FILE.csv)",
+     "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18), or with --spool the "
+     "rack-step spool-ups at held speed that the faster fidelities derive their part-boost tables "
+     "from"},
+    {"tune", tsc_cmd_tune,
+     "(CONFIG.json | --preset NAME) [--schedule-mass M,.. | --schedule-grade G,..]",
      "Ziegler-Nichols IVS gains from a simulated rack step (Eqs. 11-12, Figs. 26-27) as JSON"},
     {"schema", tsc_cmd_schema, "",
      "print the JSON Schema of a run config (every field: type, unit, range, default)"},
