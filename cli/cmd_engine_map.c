@@ -177,7 +177,8 @@ static void write_csv(FILE *f, const ts_engine_cycle *rows)
         for (int j = 0; j < TSA_ENGINE_MAP_NCOLUMN; j++) {
             const tsa_engine_map_column *col = &tsa_engine_map_columns[j];
             if (j) fputc(',', f);
-            fprintf(f, col->format, col->get(&rows[k], rpm));
+            double v = col->get(&rows[k], rpm);
+            if (isfinite(v)) fprintf(f, col->format, v); /* not modelled: an empty cell */
         }
         fputc('\n', f);
     }

@@ -803,7 +803,13 @@ static ts_rc cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in
     memset(cyc, 0, sizeof *cyc);
     double *mv = (double *)&cyc->mean;
     for (size_t k = 0; k < OUT_NFIELDS; k++) mv[k] = sum[k] / span;
-    cyc->peak_pressure = peak;
+    /* what this fidelity does not model is NaN, not 0 (a 0-Pa peak pressure or
+     * 0-g/kWh BSFC read as results; CLI review, session 20): peak pressure
+     * without cylinders, the ledger's ratios without a ledger (map), BSFC at
+     * zero or negative brake power */
+    cyc->peak_pressure = ts_engine_models_cylinders(e) ? peak : NAN;
+    cyc->eta_v = cyc->eta_i = cyc->q_wall = NAN;
+    cyc->energy_residual = cyc->mass_residual = NAN;
     ts_engine_ledger_get(e, x, &l1);
     double fuel_e = l1.fuel_energy - l0.fuel_energy, work_i = l1.work - l0.work;
     double wall = l1.wall_heat - l0.wall_heat;
@@ -812,14 +818,14 @@ static ts_rc cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in
     double min = l1.mass_in - l0.mass_in, mout = l1.mass_out - l0.mass_out;
     double mf = l1.fuel_mass - l0.fuel_mass, dm = l1.cyl_mass - l0.cyl_mass;
     double p_brake = cyc->mean.brake_torque * cyc->mean.speed;
-    cyc->bsfc = p_brake > 0 ? cyc->mean.fuel_flow / p_brake : 0.0;
+    cyc->bsfc = p_brake > 0 ? cyc->mean.fuel_flow / p_brake : NAN;
     if (fuel_e > 0) {
         cyc->eta_i = work_i / fuel_e;
         cyc->q_wall = wall / fuel_e;
         cyc->energy_residual = (fuel_e - work_i - wall - hnet - dE) / fuel_e;
     }
     if (min > 0) cyc->mass_residual = (min + mf - mout - dm) / min;
-    if (cyc->mean.boost > 0 && cyc->mean.intake_temp > 0) {
+    if (min > 0 && cyc->mean.boost > 0 && cyc->mean.intake_temp > 0) {
         double rho = cyc->mean.boost / (e->gas.r_a * cyc->mean.intake_temp);
         cyc->eta_v = min / (rho * e->geom.vd * EN_NCYL);
     }

@@ -200,6 +200,9 @@ typedef struct ts_engine_ledger {
 void ts_engine_ledger_get(const ts_engine *e, const double *x, ts_engine_ledger *l);
 
 /* Cycle-mean results of ts_engine_steady (one engine cycle, 4 pi of crank). */
+/* Fields a fidelity does not model are NaN: peak_pressure without cylinders,
+ * eta_v, eta_i, q_wall and the residuals without a ledger (map), bsfc at zero
+ * or negative brake power. */
 typedef struct ts_engine_cycle {
     ts_engine_outputs mean; /* cycle-mean outputs (cylinder fields: cylinder 1 means) */
     double peak_pressure;   /* cylinder 1 peak pressure [Pa] */

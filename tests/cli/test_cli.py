@@ -256,3 +256,18 @@ def test_course_dir_of_ones_own_is_read_even_for_a_shipped_name(tmp_path):
     shipped = peak({})
     own = peak({"course_dir": str(tmp_path)})
     assert own > 2 * shipped, (own, shipped)  # the shipped course's first bump is at 15 m
+
+
+def test_engine_map_leaves_unmodelled_cells_empty(tmp_path):
+    """CLI review, session 20: the map engine's sweep wrote 0 Pa peak pressure
+    and 0 for eta_v/eta_i/q_wall, read as results. Empty now (null in JSON)."""
+    cfg = tmp_path / "c.json"
+    cfg.write_text(json.dumps({"preset": "engine-map-conventional", "engine": {"fidelity": "map"}}))
+    out = run("engine-map", str(cfg), "--out", str(tmp_path / "m.csv"))
+    assert out.returncode == 0, out.stderr
+    rows = list(csv.reader(open(tmp_path / "m.csv")))
+    head = [h.split(" ")[0] for h in rows[0]]
+    for r in rows[1:]:
+        for name in ("peak_pressure", "eta_v", "eta_i", "q_wall", "energy_residual"):
+            assert r[head.index(name)] == "", (name, r)
+        assert float(r[head.index("torque")]) > 0 and float(r[head.index("bsfc")]) > 150

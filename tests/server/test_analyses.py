@@ -72,6 +72,9 @@ def test_engine_map_operation_matches_the_cli_csv(daemon, tmp_path):
     assert rows[0] == [f"{c['name']} [{c['unit']}]" for c in doc["columns"]]
     for got, want in zip(doc["rows"], rows[1:]):
         for g, w in zip(got, want):  # the CSV rounds to its printed digits
+            if w == "":  # not modelled by this fidelity: null in the document
+                assert g is None, (got, want)
+                continue
             assert g == pytest.approx(float(w), rel=2e-3, abs=2e-3 + 1e-3 * abs(float(w)))
     rated = doc["rated"]
     assert rated["speed_rpm"] == 2100
