@@ -32,6 +32,17 @@
 // polls while one runs); one cut short by kill -9 is listed "interrupted",
 // and a form following a map when its daemon shuts down says "interrupted"
 // with the daemon's reason.
+// The second review's defects, each a check that failed before its fix: rows
+// another client steps or runs into the open session reach its plots; FFT
+// Compute waits for two stored samples; a step below one sample period is
+// refused on its field; a reload reopens the session (its id in the address)
+// with its pace; the spectrum, compare and engine-map charts follow the
+// window width and a unit change redraws them (live charts keep their zoom);
+// labels, progressbars and live regions for assistive technology; the compare
+// legend names the fields that tell the sessions apart; deleting the analysis
+// a form shows resets its progress; a map still running after a reload is
+// followed and cancelled from its form; a run's error box follows the daemon
+// away and back (interrupted); a 401 takes the keyboard focus only once.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -108,8 +119,10 @@ function freePort() {
 const startDaemon = (...extra) => startDaemonIn(mkdtempSync(path.join(os.tmpdir(), 'tanksimd-web-')), ...extra);
 
 /* A daemon on `dataDir` (a restart: the data dir of a stopped one). */
-async function startDaemonIn(dataDir, ...extra) {
-  const port = await freePort();
+const startDaemonIn = async (dataDir, ...extra) => startDaemonAt(await freePort(), dataDir, ...extra);
+
+/* A daemon on `port` (a restart where a page waits for it: the port of a stopped one). */
+async function startDaemonAt(port, dataDir, ...extra) {
   const logPath = path.join(OUT, `tanksimd-${port}.log`);
   const log = openSync(logPath, 'w');
   const proc = spawn(path.join(BUILD, 'tanksimd'), ['--port', String(port), '--data-dir', dataDir, ...extra], {
@@ -1092,6 +1105,164 @@ async function main() {
       }
     });
 
+    /* the second review of the dashboard: each check failed before its fix */
+    const postJson = async (url, route, body) => {
+      const r = await fetch(`${url}${route}`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+      return { status: r.status, body: await r.json().catch(() => null) };
+    };
+    const apiSession = async (url, id) => (await fetch(`${url}/v1/sessions/${id}`)).json();
+    let quietId;
+    await check('review 2.1: rows another client steps and runs into the open session reach its plots (no run followed here)', async () => {
+      await presetLoaded(page, () => page.click('#reset-form'));
+      await setField(page, '/run/duration', 4);
+      quietId = await createSession(page);
+      let r = await postJson(d.url, `/v1/sessions/${quietId}/step`, { duration: 1 });
+      assert(r.status === 200, `step -> ${r.status}`);
+      await waitFor(async () => (await sampleCount(page)) === (await apiSession(d.url, quietId)).samples, "the other client's step's rows in the store", 8000);
+      r = await postJson(d.url, `/v1/sessions/${quietId}/run`, {});
+      assert(r.status === 202, `run -> ${r.status}`);
+      await waitFor(async () => (await apiSession(d.url, quietId)).status === 'done', 'the run done', 20000);
+      const want = (await apiSession(d.url, quietId)).samples;
+      await waitFor(async () => (await sampleCount(page)) === want, `the other client's run's ${want} rows in the store`, 8000);
+      const pts = await chartPoints(page);
+      assert(pts.length && pts.every((n) => n === want), `chart points ${pts}, ${want} stored`);
+    });
+
+    await check('review 2.9: FFT Compute waits for 2 stored samples (a hint says to step or run); 2.10: a step below one sample period is refused on the field, naming the period', async () => {
+      const id = await createSession(page);
+      await waitFor(async () => (await sampleCount(page)) === 1, 'the new session open');
+      assert(await page.locator('#fft-btn').isDisabled(), 'Compute enabled with 1 stored sample');
+      assert(/step or run the session first/.test(await text(page, '#fft-hint')), `hint "${await text(page, '#fft-hint')}"`);
+      const sent = recordRequests(page);
+      await page.fill('#step-duration', '1e-300');
+      await page.click('#step-btn');
+      await waitFor(async () => !(await page.locator('#session-error').isHidden()), 'the step error');
+      sent.stop();
+      const msg = await text(page, '#session-error');
+      assert(/step duration/.test(msg) && /0\.005/.test(msg) && /sample period/.test(msg) && /200 Hz/.test(msg), `error "${msg}"`);
+      assert((await page.locator('#step-duration').getAttribute('aria-invalid')) === 'true', 'the step field is not marked');
+      assert(!sent.seen.some((x) => x.endsWith('/step')), `sent: ${sent.seen}`);
+      await page.fill('#step-duration', '0.5');
+      await page.click('#step-btn');
+      await waitFor(async () => !(await page.locator('#fft-btn').isDisabled()), 'Compute enabled after a step');
+      assert(await page.locator('#fft-hint').isHidden(), 'the hint stays');
+      await fetch(`${d.url}/v1/sessions/${id}`, { method: 'DELETE' });
+      await page.click(`#session-table tr[data-id="${quietId}"] td:nth-child(2)`);
+      /* its own id, not a sample count: the deleted session had 101 rows too */
+      await waitFor(async () => (await page.evaluate(() => window.tanksimDebug.state.session?.id)) === quietId, 'the quiet session open again');
+      await waitFor(async () => (await sampleCount(page)) > 10, 'its rows');
+    });
+
+    await check('review 2.6: a reload opens the open session again (its id in the address) and keeps the pace', async () => {
+      await page.selectOption('#run-pace', '5');
+      assert(new URL(page.url()).hash.includes(quietId), `address ${page.url()}`);
+      await page.reload();
+      await waitFor(async () => (await page.evaluate(() => window.tanksimDebug.state.session?.id)) === quietId, 'the session open after the reload');
+      await waitFor(async () => (await sampleCount(page)) > 10, 'its history');
+      assert((await page.locator('#run-pace').inputValue()) === '5', `pace ${await page.locator('#run-pace').inputValue()}`);
+      await page.selectOption('#run-pace', '');
+    });
+
+    await check('review 2.2, 2.3: spectrum, compare and engine-map charts follow the window width, and a unit change redraws them (live charts keep their zoom)', async () => {
+      await page.selectOption('#fft-channel', 'vehicle.speed');
+      await page.click('#fft-btn');
+      await waitFor(async () => (await page.locator('#fft-plot .uplot').count()) === 1, 'the spectrum');
+      for (const id of await page.evaluate(() => [...window.tanksimDebug.state.compare])) await page.uncheck(`#session-table tr[data-id="${id}"] input.cmp`);
+      await page.check(`#session-table tr[data-id="${quietId}"] input.cmp`);
+      await page.selectOption('#compare-channel', 'vehicle.speed');
+      await page.click('#compare-btn');
+      await waitFor(async () => (await page.locator('#compare-plot .uplot').count()) === 1, 'the overlay');
+      await page.selectOption('#map-fidelity', 'mean_value');
+      await page.click('#map-run');
+      await waitFor(async () => (await page.locator('#map-plot .uplot').count()) === 1, 'the engine map', 20000);
+      const widths = () =>
+        page.evaluate(() => {
+          const dbg = window.tanksimDebug;
+          const fit = (p, id) => ({ chart: p.width, box: document.getElementById(id).clientWidth });
+          return { vw: document.documentElement.clientWidth, scroll: document.documentElement.scrollWidth, fft: fit(dbg.fft.plot, 'fft-plot'), compare: fit(dbg.compare.plot, 'compare-plot'), map: fit(dbg.engineMap.plot, 'map-plot') };
+        });
+      const wide = await widths();
+      await page.setViewportSize({ width: 800, height: 1000 });
+      try {
+        await waitFor(async () => {
+          const w = await widths();
+          return w.scroll <= w.vw && ['fft', 'compare', 'map'].every((k) => w[k].chart <= w[k].box && w[k].chart >= w[k].box - 10);
+        }, 'the charts as wide as their boxes at 800 px', 3000).catch(async (e) => {
+          throw new Error(`${e.message}: at 1440 ${JSON.stringify(wide)}, at 800 ${JSON.stringify(await widths())}`);
+        });
+      } finally {
+        await page.setViewportSize({ width: 1440, height: 1000 });
+      }
+      /* zoom the first live chart, then change the speed unit */
+      const over = page.locator('#plots .chart').first().locator('.u-over');
+      await over.scrollIntoViewIfNeeded();
+      const bb = await over.boundingBox();
+      await page.mouse.move(bb.x + bb.width * 0.3, bb.y + bb.height / 2);
+      await page.mouse.down();
+      await page.mouse.move(bb.x + bb.width * 0.6, bb.y + bb.height / 2, { steps: 5 });
+      await page.mouse.up();
+      const xRange = () => page.evaluate(() => window.tanksimDebug.plots.charts.map((c) => [c.zoomed, c.plot.scales.x.min, c.plot.scales.x.max]));
+      const zoomed = await xRange();
+      assert(zoomed[0][0], 'the drag did not zoom');
+      await page.click('#unit-toggles .seg[data-unit="m/s"] button:text-is("km/h")');
+      /* the open session has no power channel (no W toggle): the map's power axis follows the same event */
+      const setUnit = (si, label) =>
+        page.evaluate(([u, l]) => {
+          localStorage.setItem('tanksim.units', JSON.stringify({ ...JSON.parse(localStorage.getItem('tanksim.units') || '{}'), [u]: l }));
+          window.dispatchEvent(new CustomEvent('tanksim-units', { detail: { siUnit: u, label: l } }));
+        }, [si, label]);
+      await setUnit('W', 'W');
+      try {
+        await waitFor(async () => /\[km\/h\]/.test(await page.evaluate(() => window.tanksimDebug.fft.plot?.series[1].label)), 'the spectrum in km/h', 3000);
+        const labels = await page.evaluate(() => ({ fft: window.tanksimDebug.fft.plot.series[1].label, compare: window.tanksimDebug.compare.plot.axes[1].label, map: window.tanksimDebug.engineMap.plot.series[2].label }));
+        assert(/km\/h/.test(labels.fft) && labels.compare === 'km/h' && /\[W\]/.test(labels.map), `labels after the unit change: ${JSON.stringify(labels)}`);
+        const after = await xRange();
+        assert(JSON.stringify(after) === JSON.stringify(zoomed), `x ranges ${JSON.stringify(zoomed)} -> ${JSON.stringify(after)} after the unit change`);
+        const y = await page.evaluate(() => window.tanksimDebug.plots.charts.map((c) => [c.plot.scales.y.min, c.plot.scales.y.max]));
+        assert(y.every(([a, b]) => Number.isFinite(a) && Number.isFinite(b)), `y scales ${JSON.stringify(y)}`);
+      } finally {
+        await page.click('#unit-toggles .seg[data-unit="m/s"] button:text-is("mph")');
+        await setUnit('W', 'kW');
+      }
+    });
+
+    await check('review 2.5: the compare channel select has a label, progress bars are progressbars with a current value, status texts are live regions', async () => {
+      const a11y = await page.evaluate(() => ({
+        label: document.getElementById('compare-channel').labels?.[0]?.textContent || document.getElementById('compare-channel').getAttribute('aria-label') || '',
+        bars: ['run-progress', 'map-progress', 'tune-progress'].map((id) => {
+          const e = document.getElementById(id);
+          return { id, role: e.getAttribute('role'), min: e.getAttribute('aria-valuemin'), max: e.getAttribute('aria-valuemax'), now: e.getAttribute('aria-valuenow'), percent: e.dataset.percent };
+        }),
+        live: ['session-status', 'stream-status', 'progress-text', 'compare-info'].filter((id) => document.getElementById(id).getAttribute('aria-live') !== 'polite'),
+      }));
+      assert(a11y.label.trim(), 'compare-channel has no label');
+      for (const b of a11y.bars) assert(b.role === 'progressbar' && b.min === '0' && b.max === '100' && b.now !== null && Number(b.now) === Number(b.percent ?? 0), `progress bar ${JSON.stringify(b)}`);
+      assert(Number(a11y.bars[0].now) === 100 && Number(a11y.bars[1].now) === 100, `bars ${JSON.stringify(a11y.bars)}`);
+      assert(!a11y.live.length, `not live regions: ${a11y.live}`);
+    });
+
+    await check('review 2.12: the compare legend names the fields that tell the sessions apart (key fields first), not the first three alphabetically', async () => {
+      const base = { preset: 'bump-prescribed-static', run: { duration: 0.1, rtol: 0.001 }, drive: { torque: 8850 } };
+      const ids = [];
+      for (const over of [{}, { track: { fidelity: 'longitudinal' } }, { run: { duration: 0.2, rtol: 0.002 }, drive: { torque: 9000 } }]) {
+        const body = { ...base, ...over, run: { ...base.run, ...over.run }, drive: { ...base.drive, ...over.drive } };
+        const r = await postJson(d.url, '/v1/sessions', body);
+        assert(r.status === 201, `create -> ${r.status} ${JSON.stringify(r.body)}`);
+        ids.push(r.body.id);
+      }
+      await page.click('#refresh-sessions');
+      for (const id of await page.evaluate(() => [...window.tanksimDebug.state.compare])) await page.uncheck(`#session-table tr[data-id="${id}"] input.cmp`);
+      for (const id of ids) await page.check(`#session-table tr[data-id="${id}"] input.cmp`);
+      await page.selectOption('#compare-channel', 'vehicle.speed');
+      await page.click('#compare-btn');
+      await waitFor(async () => (await page.evaluate(() => window.tanksimDebug.compare.ids.length)) === 3, 'the overlay of 3');
+      const labels = await page.evaluate(() => window.tanksimDebug.compare.plot.series.slice(1).map((x) => x.label.split(' · ').slice(1).join(' · ')));
+      assert(new Set(labels).size === 3, `legend labels do not tell the sessions apart: ${JSON.stringify(labels)}`);
+      assert(labels.every((l) => l.startsWith('track/fidelity=')), `track/fidelity not first: ${JSON.stringify(labels)}`);
+      for (const id of ids) await page.uncheck(`#session-table tr[data-id="${id}"] input.cmp`);
+      for (const id of ids) await fetch(`${d.url}/v1/sessions/${id}`, { method: 'DELETE' });
+    });
+
     /* stored analyses outlive their daemon: a map computed by one is listed, shown and deleted by the next on the same --data-dir */
     const da = await startDaemon('--threads', '2');
     const page3 = await newPage(browser);
@@ -1143,6 +1314,20 @@ async function main() {
       assert(left.length === 0, `still stored: ${JSON.stringify(left)}`);
     });
 
+    await check("review 2.11: deleting the stored analysis a form shows takes its progress off the form too (not '14 / 14 parts · 100 %')", async () => {
+      await page3.selectOption('#map-fidelity', 'mean_value');
+      await page3.click('#map-run');
+      await waitFor(async () => (await page3.locator('#map-progress').getAttribute('data-outcome')) === 'done', 'the engine map done', 20000);
+      await waitFor(async () => (await storedRows(page3))[0]?.status === 'done', 'the map listed done', 5000);
+      const id = (await storedRows(page3))[0].id;
+      page3.once('dialog', (dlg) => dlg.accept());
+      await storedButton(page3, id, 'Delete').click();
+      await waitFor(async () => (await storedRows(page3)).length === 0, 'the row gone');
+      assert((await mapShown(page3)).rows === 0, "the deleted map's chart is still on screen");
+      assert((await text(page3, '#map-progress-text')) === '—', `progress "${await text(page3, '#map-progress-text')}"`);
+      assert((await page3.locator('#map-progress').getAttribute('aria-valuenow')) === '0', 'the progress bar value stays');
+    });
+
     /* another client's analysis: listed running after a reload, then followed with no click (the list polls while one runs) */
     const post = async (url, route, body) => {
       const r = await fetch(`${url}${route}`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
@@ -1161,6 +1346,20 @@ async function main() {
       /* no click, no form event: only the list's own polling can bring this */
       await waitFor(async () => (await storedRows(page3))[0]?.status === 'cancelled', 'the row turned cancelled', 6000);
       assert((await storedRows(page3))[0].id === op.id, 'another row on top');
+    });
+
+    await check('review 2.7: after a reload the form follows a map still running (progress, Cancel) and Cancel stops it', async () => {
+      const op = await post(db.url, '/v1/engine-map', { preset: 'engine-map-conventional' }); /* crank-angle: seconds per speed */
+      await page3.reload();
+      await waitFor(async () => !(await page3.locator('#map-cancel').isDisabled()), 'Cancel enabled for the running map', 8000);
+      assert(await page3.locator('#map-run').isDisabled(), 'Run enabled while the map runs');
+      await page3.click('#map-cancel');
+      await waitFor(async () => (await page3.locator('#map-progress').getAttribute('data-outcome')) === 'cancelled', 'the map cancelled on the form', 20000);
+      const done = await opOf(db.url, op.id);
+      assert(done.done && done.error?.code === 1, `operation ${JSON.stringify(done.error)}`);
+      await waitFor(async () => (await storedRows(page3))[0]?.status === 'cancelled', 'the row cancelled', 6000);
+      const r = await fetch(`${db.url}/v1/analyses/${op.id}`, { method: 'DELETE' }); /* the next check counts the maps */
+      assert(r.status === 204, `DELETE -> ${r.status}`);
     });
 
     await check("stored analyses: a map cut short by kill -9 is listed as interrupted (not cancelled) by the next daemon, and Show gives the daemon's reason", async () => {
@@ -1194,6 +1393,27 @@ async function main() {
       assert(/shut down after \d+ of 14 parts/.test(msg), `error shown: "${msg}"`);
       await waitFor(async () => (await storedRows(page3))[0]?.status === 'interrupted', 'the row interrupted', 4000);
     });
+    await check("review 2.8: a run's error box says the daemon is unreachable while it is away, then gives the session's status when it is back (interrupted, not 'Failed to fetch')", async () => {
+      const de = await startDaemon();
+      const port = Number(new URL(de.url).port);
+      const r = await fetch(`${de.url}/v1/sessions`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ preset }) });
+      const { id } = await r.json();
+      await page3.goto(`${de.url}/#session=${id}&pace=1`); /* the address opens it (review 2.6) */
+      await waitFor(async () => (await page3.evaluate(() => window.tanksimDebug.state.session?.id)) === id, 'the session open from the address');
+      assert((await page3.locator('#run-pace').inputValue()) === '1', 'pace from the address');
+      await page3.click('#run-btn');
+      await waitFor(async () => (await sampleCount(page3)) > 20, 'the paced run streaming', 10000);
+      de.proc.kill('SIGKILL');
+      await new Promise((res) => (de.proc.exitCode === null && de.proc.signalCode === null ? de.proc.once('exit', res) : res()));
+      await waitFor(async () => /unreachable/i.test(await text(page3, '#session-error')), 'the error box saying the daemon is unreachable', 8000);
+      await startDaemonAt(port, de.dataDir);
+      await waitFor(async () => (await text(page3, '#session-status')) === 'interrupted', 'the session shown interrupted', 15000);
+      await waitFor(async () => /interrupted/.test(await text(page3, '#session-error')), 'the error box saying why', 5000);
+      const msg = await text(page3, '#session-error');
+      assert(!/unreachable|Failed to fetch/i.test(msg), `error box "${msg}"`);
+      assert(!(await page3.locator('#run-btn').isDisabled()), 'Run disabled after the interrupted run');
+      await shot(page3, '12-run-interrupted');
+    });
     await page3.context().close();
     currentPage = page;
 
@@ -1218,6 +1438,15 @@ async function main() {
       await page2.fill('#token-input', ''); /* back to no token for the next check */
       await page2.click('#token-form button');
       await waitFor(async () => /authentication required/i.test(await empty()), 'the session list asking for the token again');
+    });
+
+    await check("review 2.4: with --token the list's 401 every 3 s does not take the keyboard focus back to the token input", async () => {
+      await page2.goto(`${dt.url}/`);
+      await waitFor(async () => (await page2.evaluate(() => document.activeElement?.id)) === 'token-input', 'the token input focused by the first 401');
+      await page2.focus('#fft-fmax');
+      await page2.waitForTimeout(3500); /* a list poll: another 401 */
+      const focused = await page2.evaluate(() => document.activeElement?.id);
+      assert(focused === 'fft-fmax', `focus moved to ${focused}`);
     });
 
     await check('with --token: the page asks for the token, then works', async () => {

@@ -26,9 +26,10 @@ import { followOperation, operationError, outcomeOf, outcomeSuffix } from './ope
  * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
  * draw the result (may throw an ApiError: shown as the form's error); changed(kind, op)
  * (optional): the operation started (op not done) or ended (op: null when its poll failed).
- * Returns {start(begin), showStored(op)}: begin() sends the request and resolves to the
- * operation; op: a done operation (GET /v1/operations/{id}); showStored returns whether
- * its result was drawn.
+ * Returns {start(begin), showStored(op), attach(id), reset()}: begin() sends the request
+ * and resolves to the operation; op: a done operation (GET /v1/operations/{id});
+ * showStored returns whether its result was drawn; attach follows a running operation
+ * the page did not start; reset empties the progress bar.
  */
 export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {} }) {
   const el = (name) => $(`${prefix}-${name}`);
@@ -40,6 +41,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
     const pct = total ? Math.round((100 * done) / total) : 0;
     el('progress-bar').style.width = `${pct}%`;
     el('progress').dataset.percent = String(pct);
+    el('progress').setAttribute('aria-valuenow', String(pct)); /* role=progressbar, 0-100 */
     if (outcome) el('progress').dataset.outcome = outcome;
     else delete el('progress').dataset.outcome;
     const parts = total ? `${done} / ${total} parts · ${pct} %` : '';
@@ -67,10 +69,16 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
       render(null, 'refused'); /* nothing ran: the daemon's reason is in the error box */
       return;
     }
-    const me = { id: op.id, follower: null };
-    state.analyses[kind] = me;
     changed(kind, op);
-    me.follower = followOperation(op.id, op, 200, {
+    follow(op.id, op);
+  }
+
+  /* Follow operation `id` (`first`: the operation itself when at hand). */
+  function follow(id, first) {
+    const me = { id, follower: null };
+    state.analyses[kind] = me;
+    render(first?.metadata);
+    me.follower = followOperation(id, first, 200, {
       error(e) {
         stop();
         showError(box, e);
@@ -123,7 +131,23 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
     return drawn;
   }
 
+  /* Follow running analysis `id` that this page did not start (one still
+     running when the page was loaded): progress, Cancel and its result as
+     for the form's own. Returns whether it is followed (not when the form
+     already follows one). */
+  function attach(id) {
+    if (state.analyses[kind]) return false;
+    hideError(box);
+    follow(id, null);
+    return true;
+  }
+
+  /* The progress bar back to "—" (the analysis it showed was deleted), unless one runs. */
+  function reset() {
+    if (!state.analyses[kind]) render(null);
+  }
+
   el('cancel').addEventListener('click', onCancel);
   render(null);
-  return { start, showStored };
+  return { start, showStored, attach, reset };
 }

@@ -4,12 +4,15 @@
  * series comes from GET /series, thinned with every= to about 4000 points;
  * uPlot.join aligns the different time bases into one table. Sessions
  * without the channel (another scenario kind) are left out and named; the
- * legend lists the others in the order given (the order they were ticked).
+ * legend lists the others in the order given (the order they were ticked),
+ * each labelled with the config fields that tell them apart (legendFields).
+ * The chart follows its box's width and is drawn again from the same series
+ * when a display unit changes.
  */
 import uPlot from 'uplot';
 import { seriesAll } from './api.js';
-import { bracket, display, toDisplay } from './units.js';
-import { chartWidth, color, fmtValue } from './plots.js';
+import { bracket, display, toDisplay, UNITS_CHANGED } from './units.js';
+import { chartWidth, color, fmtValue, followSize } from './plots.js';
 import { axisValues } from './ticks.js';
 import { shortId } from './dom.js';
 
@@ -20,6 +23,9 @@ export class ComparePanel {
     this.root = root;
     this.plot = null;
     this.ids = []; /* sessions overlaid, in legend order */
+    this.last = null; /* {channel, unit, labels, tables (SI)} of the overlay drawn */
+    followSize(this, 260);
+    window.addEventListener(UNITS_CHANGED, () => this.last && this.draw(this.last)); /* the y axis's unit */
   }
 
   /**
@@ -33,21 +39,30 @@ export class ComparePanel {
     const missing = sessions.filter((s) => !has(s));
     if (!present.length) throw new Error(`none of the ticked sessions has the channel ${channel}`);
     const ch = present[0].channels.find((c) => c.name === channel);
-    const d = display(ch.unit);
-    const differing = differingFields(present);
+    const fields = legendFields(present);
     const tables = [];
     for (const s of present) {
       const rate = s.config?.run?.sample_rate || 500;
       const count = Math.max(1, Math.round((s.t || 0) * rate));
       const every = Math.max(1, Math.ceil(count / MAX_POINTS));
       const ser = await seriesAll(s.id, { channels: channel, every });
-      tables.push([ser.t, toDisplay(ser.cols[channel] || [], d)]);
+      tables.push([ser.t, ser.cols[channel] || []]);
     }
-    const labels = present.map((s) => describe(s, differing));
+    const labels = present.map((s) => describe(s, fields));
+    this.draw({ channel, unit: ch.unit, labels, tables });
+    this.ids = present.map((s) => s.id);
+    return { series: labels.length, missing };
+  }
+
+  /* Draw the SI series `tables` ([t, values] per session) in the display unit of today. */
+  draw(last) {
+    const { channel, unit, labels, tables } = last;
+    const d = display(unit);
+    const ids = this.ids;
     this.clear();
-    const data = uPlot.join(tables);
+    const data = uPlot.join(tables.map(([t, v]) => [t, toDisplay(v, d)]));
     const opts = {
-      title: `${channel}${bracket(d.label)} — ${present.length} sessions`,
+      title: `${channel}${bracket(d.label)} — ${labels.length} sessions`,
       width: chartWidth(this.root),
       height: 260,
       scales: { x: { time: false } },
@@ -62,8 +77,8 @@ export class ComparePanel {
       ],
     };
     this.plot = new uPlot(opts, data, this.root);
-    this.ids = present.map((s) => s.id);
-    return { series: labels.length, missing };
+    this.ids = ids;
+    this.last = last;
   }
 
   /** Whether the overlay shows session `id`. */
@@ -75,6 +90,7 @@ export class ComparePanel {
     this.plot?.destroy();
     this.plot = null;
     this.ids = [];
+    this.last = null;
     this.root.replaceChildren();
   }
 }
@@ -96,11 +112,37 @@ export function differingFields(sessions) {
   return [...keys].filter((k) => new Set(flat.map((f) => f[k])).size > 1).sort();
 }
 
-/* "a1b2c3d4 · track/fidelity=coupled · drive/torque=9000" — what tells the sessions apart. */
-export function describe(s, differing = []) {
+/* The fields that tell runs apart first, in this order (then the others alphabetically). */
+const KEY_FIELDS = ['/track/fidelity', '/engine/fidelity', '/engine/variant', '/terrain/kind', '/control/mode'];
+/* The legend's pseudo-field: the session's preset name. */
+const PRESET = 'preset';
+const MOST_FIELDS = 3;
+
+/* Up to three fields for the legend, each one separating sessions the ones
+ * before it left together (key fields first, the preset name last), until
+ * every session has a label of its own or nothing separates them further. */
+export function legendFields(sessions) {
+  const flat = sessions.map((s) => ({ ...flatten(s.config), [PRESET]: JSON.stringify(s.preset ?? null) }));
+  const differing = differingFields(sessions);
+  const candidates = [...KEY_FIELDS.filter((k) => differing.includes(k)), ...differing.filter((k) => !KEY_FIELDS.includes(k)), PRESET];
+  const groups = (fields) => new Set(flat.map((f) => JSON.stringify(fields.map((k) => f[k])))).size;
+  const chosen = [];
+  for (const k of candidates) {
+    if (chosen.length >= MOST_FIELDS || groups(chosen) === sessions.length) break;
+    if (groups([...chosen, k]) > groups(chosen)) chosen.push(k);
+  }
+  return chosen;
+}
+
+/* "a1b2c3d4 · track/fidelity=coupled · drive/torque=9000" — what tells the sessions apart
+ * (fields: legendFields; "preset" adds the preset's name). */
+export function describe(s, fields = []) {
   const parts = [shortId(s.id)];
   const flat = flatten(s.config);
-  for (const k of differing.slice(0, 3)) parts.push(`${k.slice(1)}=${flat[k] === undefined ? '—' : flat[k].replace(/"/g, '')}`);
-  if (!differing.length && s.preset) parts.push(s.preset);
+  for (const k of fields.slice(0, MOST_FIELDS)) {
+    if (k === PRESET) parts.push(s.preset || 'no preset');
+    else parts.push(`${k.slice(1)}=${flat[k] === undefined ? '—' : flat[k].replace(/"/g, '')}`);
+  }
+  if (!fields.length && s.preset) parts.push(s.preset);
   return parts.join(' · ');
 }

@@ -3,12 +3,14 @@
  * paper Fig. 18) drawn with uPlot: brake torque (left axis) and power (right
  * axis) over engine speed in rpm, one point per speed, and the one-line
  * summary of the rated point. Columns are found by name in the map's column
- * table (name, unit); values are converted for display only (units.js).
+ * table (name, unit); values are converted for display only (units.js),
+ * drawn again from the same map when a display unit changes. The chart
+ * follows its box's width.
  */
 import uPlot from 'uplot';
 import { ApiError } from './api.js';
-import { bracket, display, fmt, toDisplay } from './units.js';
-import { chartWidth, color, fmtValue } from './plots.js';
+import { bracket, display, fmt, toDisplay, UNITS_CHANGED } from './units.js';
+import { chartWidth, color, fmtValue, followSize } from './plots.js';
 import { axisValues } from './ticks.js';
 
 export class EngineMapPanel {
@@ -17,6 +19,9 @@ export class EngineMapPanel {
     this.root = root;
     this.summary = summary;
     this.plot = null;
+    this.doc = null; /* the map drawn */
+    followSize(this, 240);
+    window.addEventListener(UNITS_CHANGED, () => this.doc && this.show(this.doc)); /* torque and power axes' units */
   }
 
   /** Draw map document `doc` (api/openapi.yaml EngineMap); throws when it lacks a column. */
@@ -56,11 +61,13 @@ export class EngineMapPanel {
     const r = doc.rated || {};
     this.summary.textContent = `rated: ${fmt(r.power_w / 1000)} kW (${fmt(r.power_hp)} hp) at ${fmt(r.speed_rpm)} rpm`;
     this.summary.dataset.powerKw = String(r.power_w / 1000);
+    this.doc = doc;
   }
 
   clear() {
     this.plot?.destroy();
     this.plot = null;
+    this.doc = null;
     this.root.replaceChildren();
     this.summary.textContent = '';
     delete this.summary.dataset.powerKw;

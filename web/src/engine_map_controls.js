@@ -3,7 +3,8 @@
  * engine-map preset (the variant: GET /v1/presets' engine_dyno scenarios,
  * setPresets) and the engine fidelity, sent as a run
  * config to POST /v1/engine-map; the operation is followed by analysis_op.js
- * and its map drawn by EngineMapPanel (engine_map.js); changed: see analysis_op.js.
+ * and its map drawn by EngineMapPanel (engine_map.js); changed, showStored,
+ * attach, reset: see analysis_op.js.
  */
 import { api } from './api.js';
 import { $, presetOptions } from './dom.js';
@@ -23,5 +24,7 @@ export function initEngineMapControls(state, engineMap, { changed }) {
   return {
     setPresets: (presets) => presetOptions($('map-preset'), presets.filter((p) => p.kind === 'engine_dyno')),
     showStored: op.showStored,
+    attach: op.attach,
+    reset: op.reset,
   };
 }

@@ -5,17 +5,22 @@
  * frequency in Hz on x, amplitude in the channel's display unit on y.
  * A spectrum that cannot be drawn (the daemon's error, or nothing at or
  * below "show up to") throws; the caller clears the old one and says why.
+ * The chart follows its box's width and is drawn again from the same
+ * document when a display unit changes.
  */
 import uPlot from 'uplot';
 import { api, ApiError } from './api.js';
-import { bracket, display, fmt, toDisplay } from './units.js';
-import { chartWidth, fmtValue } from './plots.js';
+import { bracket, display, fmt, toDisplay, UNITS_CHANGED } from './units.js';
+import { chartWidth, fmtValue, followSize } from './plots.js';
 import { axisValues } from './ticks.js';
 
 export class FftPanel {
   constructor(root) {
     this.root = root;
     this.plot = null;
+    this.last = null; /* {doc, channel, unit, from, to, fmax, log} of the spectrum drawn */
+    followSize(this, 220);
+    window.addEventListener(UNITS_CHANGED, () => this.last && this.draw(this.last)); /* the amplitude axis's unit */
   }
 
   /* fmax: highest frequency shown [Hz] (0/undefined: all); log: logarithmic
@@ -23,8 +28,14 @@ export class FftPanel {
   async compute(session, channel, from, to, { fmax, log } = {}) {
     const ch = (session.channels || []).find((c) => c.name === channel) || { unit: '' };
     const doc = await api.fft(session.id, { channel, from, to });
-    const freq = doc.frequency || []; /* api/openapi.yaml Spectrum */
-    const d = display(doc.unit || ch.unit);
+    this.draw({ doc, channel, unit: doc.unit || ch.unit, from, to, fmax, log });
+  }
+
+  /* Draw spectrum document `doc` (api/openapi.yaml Spectrum) in the display unit of today. */
+  draw(last) {
+    const { doc, channel, unit, from, to, fmax, log } = last;
+    const freq = doc.frequency || [];
+    const d = display(unit);
     /* Leave out the DC bin: the mean dwarfs the vibration content. */
     let xs = freq.slice(1);
     let yy = toDisplay((doc.amplitude || []).slice(1), d);
@@ -59,11 +70,13 @@ export class FftPanel {
       ],
     };
     this.plot = new uPlot(opts, [xs, yy], this.root);
+    this.last = last;
   }
 
   clear() {
     this.plot?.destroy();
     this.plot = null;
+    this.last = null;
     this.root.replaceChildren();
   }
 }

@@ -2,12 +2,16 @@
  * fft_controls.js — the FFT panel's form: channel (the hull's vertical
  * acceleration by default, as in the paper's Figs. 13-14), time window and
  * display limit, read and checked here and drawn by FftPanel (fft.js).
+ * Compute waits until the open session has two stored samples (update).
  */
 import { ApiError } from './api.js';
 import { $ } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { markFromProblem, numberField } from './number_input.js';
 import { fillChannelSelect } from './channels.js';
+
+/* the fewest stored rows a spectrum is computed from */
+const MIN_SAMPLES = 2;
 
 function pickFftDefault(chans) {
   const names = chans.map((c) => c.name);
@@ -36,10 +40,18 @@ export function initFftControls(state, fft) {
     }
   }
 
+  /* Compute is enabled once the open session has stored MIN_SAMPLES rows (a spectrum needs them); the hint says why not. */
+  function update() {
+    const few = !!state.session && (state.store?.length || 0) < MIN_SAMPLES;
+    $('fft-btn').disabled = !state.session || few;
+    $('fft-hint').textContent = few ? 'no spectrum before 2 stored samples: step or run the session first' : '';
+    $('fft-hint').hidden = !few;
+  }
+
   /* A session was opened with channels `chans`. */
   function open(chans) {
     fillChannelSelect($('fft-channel'), chans, pickFftDefault(chans));
-    $('fft-btn').disabled = false;
+    update();
     fft.clear();
     hideError($('fft-error'));
   }
@@ -49,10 +61,10 @@ export function initFftControls(state, fft) {
     fft.clear();
     hideError($('fft-error'));
     $('fft-channel').replaceChildren();
-    $('fft-btn').disabled = true;
+    update();
   }
 
   $('fft-btn').addEventListener('click', onFft);
 
-  return { open, close };
+  return { open, close, update };
 }

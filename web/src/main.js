@@ -8,7 +8,8 @@
  * operation polling), session_stream (live rows), channels (chips, unit
  * toggles), fft_controls and compare_controls (their panels' forms),
  * engine_map_controls and tune_controls (the Analyses panel's forms),
- * stored_analyses (its list of stored analyses, told by the forms).
+ * stored_analyses (its list of stored analyses, told by the forms),
+ * page_state (the open session and the pace, kept across a reload).
  */
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
@@ -33,6 +34,7 @@ import { initEngineMapControls } from './engine_map_controls.js';
 import { initTuneControls } from './tune_controls.js';
 import { initStoredAnalyses } from './stored_analyses.js';
 import { drawnTickLabels } from './ticks.js';
+import { readPageState, writePageState } from './page_state.js';
 
 const state = {
   compare: new Set(), /* ids ticked for Compare */
@@ -110,13 +112,34 @@ async function boot() {
   } catch (e) {
     showError($('create-error'), e);
   }
-  await Promise.all([list.refresh(), stored.refresh()]);
+  await Promise.all([list.refresh(), stored.refresh({ attach: true })]);
+  await reopen();
 }
+
+/* The session open before a reload (page_state.js), if it still exists and none is open. */
+async function reopen() {
+  const { session: id } = readPageState();
+  if (!id || state.session) return;
+  let s;
+  try {
+    s = await api.session(id);
+  } catch (e) {
+    if (e.status === 404) writePageState({ session: null }); /* deleted meanwhile */
+    return;
+  }
+  if (!state.session) await view.open(id, s);
+}
+
+/* The run pace survives a reload too. */
+const pace = readPageState().pace;
+if ([...$('run-pace').options].some((o) => o.value === pace)) $('run-pace').value = pace;
+$('run-pace').addEventListener('change', () => writePageState({ pace: $('run-pace').value }));
 
 /* the sample count and the frame scrubber's range follow the stored rows (close() resets them) */
 setInterval(() => {
   if (!state.session) return;
   stream.updateCount();
+  fftControls.update();
   frames.updateRange(state.store?.length ? state.store.t[state.store.length - 1] : state.session.t || 0);
 }, 300);
 setInterval(() => {

@@ -28,6 +28,17 @@ export function showError(box, err) {
   if (e.status === 401) askForToken();
 }
 
+/* What the API's status `interrupted` means (api/openapi.yaml), for a session without an `error` of its own. */
+const INTERRUPTED = 'the daemon stopped during its run (crash or shutdown); Run to end continues it from the last stored state';
+
+/* A session's own error (the daemon's reason) in `box`, what an interrupted run means
+ * when it has none, or an empty box. */
+export function showSessionError(box, s) {
+  const why = s?.error || (s?.status === 'interrupted' ? INTERRUPTED : '');
+  if (why) showError(box, new ApiError(0, { title: `Session ${s.status}`, detail: why }));
+  else hideError(box);
+}
+
 export const hideError = (box) => {
   box.hidden = true;
   box.replaceChildren();
@@ -39,11 +50,14 @@ function banner(text) {
   b.hidden = !text;
 }
 
-/* A 401: the banner says whether the token is missing or was rejected, and the token input asks for it. */
+/* A 401: the banner says whether the token is missing or was rejected, and the token input asks for it.
+ * Only the first 401 (until Save) takes the keyboard focus: the list's poll meets one every 3 s. */
 export function askForToken() {
   banner(getToken() ? 'The daemon rejected the saved API token: enter the right one at the top right and press Save.' : 'The daemon requires an API token: enter it at the top right and press Save.');
-  $('token-input').classList.add('attention');
-  $('token-input').focus();
+  const input = $('token-input');
+  if (input.classList.contains('attention')) return;
+  input.classList.add('attention');
+  input.focus();
 }
 
 /* The token form: Save keeps the token (api.js) and calls onSaved to load everything again. */

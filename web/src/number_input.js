@@ -32,11 +32,11 @@ function rangeText({ min, max, above }) {
 /**
  * The number in a numeric or text input: {value} or {error}.
  * name: how the message names the field; min/max: inclusive bounds; above:
- * exclusive lower bound; optional: an empty field gives {value: undefined}.
+ * exclusive lower bound; note: what the bound is, in the message; optional: an empty field gives {value: undefined}.
  */
-export function readNumber(input, { name, min, max, above, optional = false } = {}) {
+export function readNumber(input, { name, min, max, above, note, optional = false } = {}) {
   const raw = input.value.trim();
-  const expected = `${name}: number${rangeText({ min, max, above })} expected`;
+  const expected = `${name}: number${rangeText({ min, max, above })}${note ? ` (${note})` : ''} expected`;
   if (input.validity?.badInput) return { error: `${expected}, got an entry that is not a number` };
   if (raw === '') return optional ? { value: undefined } : { error: `${expected}, got nothing` };
   const v = parseNumeral(raw);

@@ -28,21 +28,37 @@ export const outcomeSuffix = (outcome) => (['cancelled', 'failed', 'interrupted'
  * Follow operation `id` every `period` ms; `first`: the operation itself when
  * already at hand (a POST answers with it). on.progress(op) for each answer
  * not yet done, on.done(op) once at the end, on.error(e) when a poll fails
- * (the following then ends). Returns { stop() }.
+ * (the following then ends). With on.unreachable(e) a poll that could not
+ * reach the daemon (ApiError status 0) is told there instead and polled
+ * again with backoff (up to MAX_BACKOFF ms); on.reached() hears of the next
+ * answer. Returns { stop() }.
  */
+const MAX_BACKOFF = 5000;
+
 export function followOperation(id, first, period, on) {
   let timer = null;
   let stopped = false;
+  let wait = 0; /* [ms] the backoff while the daemon is unreachable (0: it answers) */
   const tick = async (op) => {
     try {
       op = op || (await api.operation(id));
     } catch (e) {
       if (stopped) return;
+      if (on.unreachable && e.status === 0) {
+        wait = Math.min(MAX_BACKOFF, wait ? wait * 2 : period);
+        on.unreachable(e, wait);
+        if (!stopped) timer = setTimeout(() => tick(), wait);
+        return;
+      }
       stopped = true;
       on.error(e);
       return;
     }
     if (stopped) return;
+    if (wait) {
+      wait = 0;
+      on.reached?.();
+    }
     if (op.done) {
       stopped = true;
       await on.done(op);

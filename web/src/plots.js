@@ -48,6 +48,15 @@ export function chartWidth(container) {
   return Math.max(280, Math.floor(container.getBoundingClientRect().width) - 4);
 }
 
+/* Keep panel.plot (a uPlot in panel.root, `height` px high) as wide as its box
+ * when the window or the layout changes. */
+export function followSize(panel, height) {
+  new ResizeObserver(() => {
+    const w = chartWidth(panel.root);
+    if (panel.plot && Math.abs(panel.plot.width - w) > 2) panel.plot.setSize({ width: w, height });
+  }).observe(panel.root);
+}
+
 export class LivePlots {
   constructor(root) {
     this.root = root;
@@ -59,8 +68,10 @@ export class LivePlots {
     this.resizeObs.observe(root);
   }
 
-  /** Show the channels `names` of `store`. */
+  /** Show the channels `names` of `store`. Drawn again for the same store (a
+   * unit change, another channel picked), a zoomed chart keeps its x range. */
   show(store, names) {
+    const zooms = store === this.store ? Object.fromEntries(this.charts.filter((c) => c.zoomed).map((c) => [c.name, { min: c.plot.scales.x.min, max: c.plot.scales.x.max }])) : {};
     this.destroyCharts();
     this.store = store;
     this.drawnVersion = -1;
@@ -68,7 +79,9 @@ export class LivePlots {
       const ch = store.channels.find((c) => c.name === name);
       if (ch) this.charts.push(this.makeChart(ch, color(i)));
     });
+    for (const c of this.charts) c.zoomed = !!zooms[c.name]; /* redraw leaves their x scale alone */
     this.redraw(true);
+    for (const c of this.charts) if (zooms[c.name]) c.plot.setScale('x', zooms[c.name]);
     if (!this.timer) this.timer = setInterval(() => this.redraw(false), 250);
   }
 

@@ -7,12 +7,17 @@
  */
 import { api, ApiError } from './api.js';
 import { $ } from './dom.js';
-import { hideError, showError } from './messages.js';
+import { hideError, showError, showSessionError } from './messages.js';
+import { fmt } from './units.js';
 import { markFromProblem, numberField } from './number_input.js';
 import { followOperation, operationError, outcomeOf, outcomeSuffix } from './operation.js';
 
 export function initRunControls(state, { header, stream, refreshList }) {
-  const stepDuration = numberField($('step-duration'), { name: 'step duration [s]', above: 0 });
+  /* at least one sample period of the open session (a shorter step stores nothing) */
+  const stepDuration = numberField($('step-duration'), () => {
+    const rate = state.session?.config?.run?.sample_rate || state.session?.sample_rate;
+    return rate > 0 ? { name: 'step duration [s]', min: 1 / rate, note: `one sample period, 1 / ${fmt(rate)} Hz` } : { name: 'step duration [s]', above: 0 };
+  });
 
   async function onStep() {
     const s = state.session;
@@ -56,17 +61,31 @@ export function initRunControls(state, { header, stream, refreshList }) {
     state.op = me;
     delete $('progress-text').dataset.outcome;
     header.render();
+    let unreachable = false; /* the error box says the daemon cannot be reached */
     me.follower = followOperation(id, first, 300, {
-      error(e) {
-        showError($('session-error'), e);
+      async error(e) {
         stop();
-        header.render();
+        /* the operation is gone (a restarted daemon): the session says how its run ended */
+        await header.refresh();
+        if (state.session && state.session.status !== 'running') showSessionError($('session-error'), state.session);
+        else showError($('session-error'), e);
+        stream.start();
+        refreshList();
+      },
+      unreachable(e, wait) {
+        unreachable = true;
+        showError($('session-error'), new ApiError(0, { ...e.problem, detail: `${e.problem.detail} (trying again in ${fmt(wait / 1000)} s)` }));
+      },
+      reached() {
+        if (unreachable) hideError($('session-error'));
+        unreachable = false;
       },
       async done(op) {
         stop();
         const m = op.metadata || {};
         const outcome = outcomeOf(op.error);
         if (outcome === 'failed' || outcome === 'interrupted') showError($('session-error'), operationError(op));
+        else if (unreachable) hideError($('session-error'));
         await header.refresh();
         header.renderProgress(m);
         if (outcomeSuffix(outcome)) $('progress-text').textContent += ` · ${outcomeSuffix(outcome)}`;

@@ -61,6 +61,7 @@ export function initSessionHeader(state) {
     if (meta?.real_time_factor) txt += ` · ${fmt(meta.real_time_factor, 3)}× real time`;
     $('progress-text').textContent = txt;
     $('progress-bar').parentElement.dataset.percent = pct.toFixed(1);
+    $('run-progress').setAttribute('aria-valuenow', pct.toFixed(1));
   }
 
   function resetProgress() {
@@ -68,6 +69,7 @@ export function initSessionHeader(state) {
     $('progress-text').textContent = '—';
     delete $('progress-text').dataset.outcome;
     delete $('progress-bar').parentElement.dataset.percent;
+    $('run-progress').setAttribute('aria-valuenow', '0');
   }
 
   /* GET the open session again and show it. */

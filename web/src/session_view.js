@@ -2,14 +2,16 @@
  * session_view.js — the open session (state.session): open it (history,
  * charts, every panel, a run in progress followed), close it (every panel
  * drops its data), delete it, and keep it in step with the polled session
- * list when another client runs or deletes it.
+ * list when another client runs or deletes it. The open session's id is kept
+ * in the page's address (page_state.js): a reload opens it again.
  */
 import { api } from './api.js';
 import { $ } from './dom.js';
-import { hideError, showError } from './messages.js';
+import { hideError, showError, showSessionError } from './messages.js';
 import { SeriesStore } from './stream.js';
 import { defaultPicks } from './plots.js';
 import { channelsOf } from './channels.js';
+import { writePageState } from './page_state.js';
 
 /* long histories are thinned to about this many rows; live rows come at full rate */
 const HISTORY_POINTS = 50000;
@@ -32,6 +34,7 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
     stream.stop();
     run.stop();
     state.session = s;
+    writePageState({ session: s.id }); /* a reload opens it again */
     markRow();
     header.render();
     const chans = channelsOf(s);
@@ -49,6 +52,7 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
     $('plots-empty').hidden = true;
     plots.show(state.store, state.picks);
     stream.updateCount();
+    fftControls.update();
     frames.setSession(s);
     compareControls.updateChannels();
     stream.start();
@@ -61,6 +65,7 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
     stream.clear();
     run.stop();
     state.session = null;
+    writePageState({ session: null });
     state.store = null;
     state.picks = [];
     plots.stop();
@@ -108,14 +113,21 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
       close(`Session ${s.id} no longer exists (deleted).`);
       return;
     }
-    if (sum.status === s.status && sum.t === s.t) return;
+    if (sum.status === s.status && sum.t === s.t && !behind(sum)) return;
+    const statusChanged = sum.status !== s.status;
     Object.assign(s, { status: sum.status, t: sum.t, index: sum.index, error: sum.error, operation: sum.operation });
     header.render();
-    if (sum.status === 'running' && sum.operation) {
-      run.poll(sum.operation);
-      stream.start();
-    }
+    /* the daemon's reason (an interrupted run) replaces what the box said about the old status */
+    if (statusChanged) showSessionError($('session-error'), s);
+    if (sum.status === 'running' && sum.operation) run.poll(sum.operation);
+    /* rows stored by another client's step or run: the stream sends them from the
+     * store's last index and ends when the session is not running */
+    if (behind(sum) || sum.status === 'running') stream.start();
   }
+
+  /* The list's summary has rows the store does not. */
+  const behind = (sum) => !!state.store && (sum.samples || 0) > 0 && typeof sum.index === 'number' && sum.index > state.store.lastIndex;
+
 
   $('delete-session').addEventListener('click', onDelete);
 

@@ -10,6 +10,9 @@
  * list is drawn again on page load, when a form's analysis starts or ends
  * (refresh / changed) and after a delete, and every POLL_MS while a listed
  * analysis runs (one another client started, say) and the page is not hidden.
+ * On page load the forms follow the analyses still running (analysis_op.js
+ * attach: progress, Cancel, result), and deleting the analysis a form shows
+ * takes its result and its progress off screen.
  */
 import { api } from './api.js';
 import { $, cell, pill } from './dom.js';
@@ -48,6 +51,12 @@ export function initStoredAnalyses({ engineMap, form: formOf }) {
     engine_map: { clear: () => engineMap.clear(), shown: null },
     tune: { clear: () => $('tune-result').replaceChildren(), shown: null },
   };
+  /* A deleted analysis's result goes, and its form's progress bar with it. */
+  function drop(kind) {
+    forms[kind].clear();
+    forms[kind].shown = null;
+    formOf(kind).reset();
+  }
   let drawn = 0; /* the latest refresh: an earlier one answering late is dropped */
   let showing = 0; /* the same for Show */
   let listFailed = false; /* the error box holds why the list could not be loaded */
@@ -68,7 +77,8 @@ export function initStoredAnalyses({ engineMap, form: formOf }) {
     poll = running ? setTimeout(() => (document.hidden ? schedule() : refresh()), POLL_MS) : 0;
   }
 
-  async function refresh() {
+  /* attach: the forms follow the analyses still running (the page was loaded while they ran). */
+  async function refresh({ attach = false } = {}) {
     const me = ++drawn;
     let list;
     try {
@@ -86,6 +96,8 @@ export function initStoredAnalyses({ engineMap, form: formOf }) {
     tbody.replaceChildren(...list.map((a) => row(a, outcome(a))));
     $('stored-empty').hidden = list.length > 0;
     running = list.some((a) => !a.done);
+    /* oldest first: the daemon runs one at a time, the newest is the one that runs */
+    if (attach) for (const a of [...list].reverse()) if (!a.done && forms[a.kind]) formOf(a.kind).attach(a.id);
     schedule();
   }
 
@@ -139,10 +151,7 @@ export function initStoredAnalyses({ engineMap, form: formOf }) {
       showError(box, e); /* 409: it is running after all; 404: another client deleted it */
       gone = e.status === 404;
     }
-    if (gone && forms[a.kind]?.shown === a.id) {
-      forms[a.kind].clear(); /* no result of a deleted analysis stays on screen */
-      forms[a.kind].shown = null;
-    }
+    if (gone && forms[a.kind]?.shown === a.id) drop(a.kind); /* no result of a deleted analysis stays on screen */
     await refresh();
   }
 
@@ -153,6 +162,6 @@ export function initStoredAnalyses({ engineMap, form: formOf }) {
     refresh();
   }
 
-  $('refresh-analyses').addEventListener('click', refresh);
+  $('refresh-analyses').addEventListener('click', () => refresh());
   return { refresh, changed };
 }

@@ -5,7 +5,7 @@
  * (mass or grade) with its comma-separated values, checked here before
  * anything is sent (number_input.js) and by the daemon again; POST /v1/tune,
  * followed by analysis_op.js, its result shown by showTuning (tune.js);
- * changed: see analysis_op.js.
+ * changed, showStored, attach, reset: see analysis_op.js.
  */
 import { api } from './api.js';
 import { $, presetOptions } from './dom.js';
@@ -64,5 +64,7 @@ export function initTuneControls(state, { changed }) {
   return {
     setPresets: (presets) => presetOptions($('tune-preset'), presets.filter((p) => p.kind === 'coupled')),
     showStored: op.showStored,
+    attach: op.attach,
+    reset: op.reset,
   };
 }
