@@ -63,6 +63,20 @@ static ts_rc advance(const ts_model *m, ts_data *d, double t_end, series *s, ts_
     return rc;
 }
 
+/* TS_OK when a speed slope [m/s^2] is steady for Eq. 11: below 1e-3/s of the
+ * step's span [m/s]; else TS_ERR_RANGE naming field (whose length, seconds,
+ * to raise). */
+static ts_rc steady(double slope, double span, const char *field, const char *which,
+                    const char *when, double seconds, ts_err *err)
+{
+    double tol = 1e-3 * span;
+    if (fabs(slope) < tol) return TS_OK;
+    return ts_err_set(err, TS_ERR_RANGE, field,
+                      "%s: the %s speed is still changing %s (%.3g m/s^2, steady means below "
+                      "%.3g: 1e-3/s of the step's %.4g m/s); lengthen it (%g s)",
+                      field, which, when, slope, tol, span, seconds);
+}
+
 ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
 {
     ts_config c = *cfg;
@@ -141,7 +155,7 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
      * grade) gave gains with nothing to do with the plant (review, session
      * 20: v0 = -138 m/s on a 0.6 grade, or kp 49x too large with a 1-s step).
      * Steady: the speed moves by less than 1e-3 of the step's span per second. */
-    double span = out->vb - out->v0, tol = 1e-3 * span;
+    double span = out->vb - out->v0;
     if (out->v0 < 0) {
         rc = ts_err_set(err, TS_ERR_RANGE, "/control/tune_rack_low",
                         "/control/tune_rack_low: at rack %g the vehicle rolls backwards (v0 = %g "
@@ -150,22 +164,12 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
                         cc->tune_rack_low, out->v0, c.vehicle.grade);
         goto done;
     }
-    if (!(fabs(out->settle_slope) < tol)) {
-        rc = ts_err_set(err, TS_ERR_RANGE, "/control/tune_settle",
-                        "/control/tune_settle: the low-rack speed is still changing at the step "
-                        "(%.3g m/s^2, steady means below %.3g: 1e-3/s of the step's %.4g m/s); "
-                        "lengthen the settle (%g s)",
-                        out->settle_slope, tol, span, cc->tune_settle);
-        goto done;
-    }
-    if (!(fabs(out->final_slope) < tol)) {
-        rc = ts_err_set(err, TS_ERR_RANGE, "/control/tune_duration",
-                        "/control/tune_duration: the full-rack speed is still changing at the end "
-                        "(%.3g m/s^2, steady means below %.3g: 1e-3/s of the step's %.4g m/s); "
-                        "lengthen the step response (%g s)",
-                        out->final_slope, tol, span, cc->tune_duration);
-        goto done;
-    }
+    rc = steady(out->settle_slope, span, "/control/tune_settle", "low-rack", "at the step",
+                cc->tune_settle, err);
+    if (rc == TS_OK)
+        rc = steady(out->final_slope, span, "/control/tune_duration", "full-rack", "at the end",
+                    cc->tune_duration, err);
+    if (rc != TS_OK) goto done;
     for (long i = 0; i < s.n; i++)
         s.v[i] = (s.v[i] - out->v0) / span; /* Eq. 11 */
     rc = ts_zn_reaction_curve(s.t, s.v, (int)s.n, cc->tune_settle, cc->tune_window, cc->ti_factor,
