@@ -191,3 +191,12 @@ def test_a_step_of_no_sample_period_is_400(daemon, sid500, duration):
     p = is_problem(requests.post(f"{daemon.url}/v1/sessions/{sid500}/step",
                                  json={"duration": duration}), 400, "/duration")
     assert "at least one sample period" in p["detail"], p
+
+
+def test_point_mass_refuses_terrain_it_cannot_drive(daemon):
+    """CLI review, session 20: a point-mass run with a bump course or a profile
+    ran on flat ground while its config said otherwise."""
+    r = requests.post(daemon.url + "/v1/sessions", json={
+        "preset": "pointmass-prescribed", "terrain": {"kind": "bumps"}})
+    p = is_problem(r, 400, "/terrain/kind")
+    assert "point mass" in p["detail"], p
