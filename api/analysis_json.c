@@ -203,15 +203,10 @@ static json_t *schedule_doc(const ts_config *cfg, int mass, const double *x, int
                             "tune: cancelled after %d of %d schedule points", i + 1, n);
         if (rc != TS_OK && rc != TS_ERR_CANCELLED && rc != TS_ERR_NOMEM && err) {
             /* say which point of the schedule failed (it did not) */
-            char why[sizeof err->msg], head[64];
+            char why[sizeof err->msg];
             memcpy(why, err->msg, sizeof why);
-            int k = snprintf(head, sizeof head, "schedule point %d of %d (%s %g): ", i + 1, n,
-                             mass ? "mass" : "grade", x[i]);
-            size_t hl = k > 0 && (size_t)k < sizeof head ? (size_t)k : 0, cap = sizeof err->msg;
-            memcpy(err->msg, head, hl);
-            size_t wl = strnlen(why, cap - 1 - hl);
-            memcpy(err->msg + hl, why, wl);
-            err->msg[hl + wl] = '\0';
+            snprintf(err->msg, sizeof err->msg, "schedule point %d of %d (%s %g): %.300s", i + 1, n,
+                     mass ? "mass" : "grade", x[i], why);
         }
         if (rc != TS_OK) {
             json_decref(jx);

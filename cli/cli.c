@@ -8,6 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "../api/config_json.h"
 
@@ -149,4 +151,40 @@ int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
     }
     json_decref(errors);
     return rc == TS_OK ? TSC_EXIT_OK : TSC_EXIT_FAIL;
+}
+
+int tsc_out_open(tsc_out *o, const char *path, const char *what)
+{
+    struct stat st;
+    o->path = path;
+    o->what = what;
+    o->direct = stat(path, &st) == 0 && !S_ISREG(st.st_mode);
+    if (strlen(path) > sizeof o->tmp - 5) {
+        fprintf(stderr, "tanksim %s: %s: path too long\n", what, path);
+        return -1;
+    }
+    snprintf(o->tmp, sizeof o->tmp, "%s.tmp", path);
+    o->f = fopen(o->direct ? path : o->tmp, "w");
+    if (!o->f) {
+        fprintf(stderr, "tanksim %s: cannot write %s: %s\n", what, path, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+int tsc_out_close(tsc_out *o, int complete)
+{
+    if (!o->f) return TSC_EXIT_FAIL;
+    int bad = ferror(o->f) != 0;
+    errno = 0;
+    if (fclose(o->f) != 0) bad = 1;
+    o->f = NULL;
+    if (complete && !bad && (o->direct || rename(o->tmp, o->path) == 0)) return TSC_EXIT_OK;
+    if (complete) {
+        int e = errno;
+        fprintf(stderr, "tanksim %s: cannot write %s: %s\n", o->what, o->path,
+                e ? strerror(e) : "a write failed (a full disk or an I/O error)");
+    }
+    if (!o->direct) unlink(o->tmp);
+    return TSC_EXIT_FAIL;
 }

@@ -1,6 +1,7 @@
 /*
  * cli.h — shared pieces of the tanksim command-line runner: the command table
- * row type and config loading from "CONFIG.json" or "--preset NAME".
+ * row type, config loading from "CONFIG.json" or "--preset NAME", and output
+ * files written whole or not at all.
  */
 #ifndef TSC_CLI_H
 #define TSC_CLI_H
@@ -42,6 +43,25 @@ void tsc_print_err(const char *what, const ts_err *err);
 /* "tanksim: config error: POINTER: MSG" on stderr, the pointer left out
  * when MSG already starts with it (pointer may be NULL or ""). */
 void tsc_print_config_err(const char *pointer, const char *msg);
+
+/* An output file written whole or not at all: a regular (or new) file is
+ * written as PATH.tmp and renamed to PATH once complete, so a failure leaves
+ * no empty or half file; anything else that exists (a device, a pipe) is
+ * written in place (renaming onto it would replace the device node). Open it
+ * before long work, so a bad path fails at once. */
+typedef struct tsc_out {
+    FILE *f;
+    char tmp[1100];
+    const char *path;
+    const char *what; /* the command, for messages */
+    int direct;       /* written in place: no tmp, no rename */
+} tsc_out;
+/* 0, or -1 with "tanksim WHAT: cannot write PATH: reason" on stderr. */
+int tsc_out_open(tsc_out *o, const char *path, const char *what);
+/* complete: the content is whole, so check the writes and put the file in
+ * place (a failure is printed); 0: abandon it (the caller said why). Returns
+ * TSC_EXIT_OK or TSC_EXIT_FAIL. */
+int tsc_out_close(tsc_out *o, int complete);
 
 /* Build the model and its data for cfg and reset it (sample row 0). On failure prints the
  * error, leaves *m / *d as far as they were built (the caller frees them) and returns -1. */

@@ -6,28 +6,23 @@
  * variant and fidelity. Writes one row per speed, ascending, with units in the
  * header. These rows are what /engine/map_* in engine.json are made from.
  *
- * With --spool FILE.csv (instead of --out): the turbo spool-up of a launch instead, the part-boost source
- * of the mean-value and map fidelities (tools/engine_maps.py). The engine
- * starts from an idle steady state (ts_engine_idle_state at IDLE_RPM against
- * IDLE_TORQUE: idle-warm walls, idle turbo), the crank is then held at each of
- * 800, 1000, ..., 2200 rpm and
- * the rack stepped to /control/rack; one row per engine cycle for SPOOL_TIME
- * seconds, real rotor inertia and wall capacities (the walls warm up as in a
- * launch). Columns: time, speed, the cycle means and eta_v, eta_i, q_wall.
- * Ambient: /driveline/ambient_pressure and ambient_temperature (the air the
- * vehicle runs' engine breathes).
+ * With --spool FILE.csv (instead of --out): the turbo spool-up of a launch instead, the part-boost
+ * source of the mean-value and map fidelities (tools/engine_maps.py). The engine starts from an
+ * idle steady state (ts_engine_idle_state at IDLE_RPM against IDLE_TORQUE: idle-warm walls, idle
+ * turbo), the crank is then held at each of 800, 1000, ..., 2200 rpm and the rack stepped to
+ * /control/rack; one row per engine cycle for SPOOL_TIME seconds, real rotor inertia and wall
+ * capacities (the walls warm up as in a launch). Columns: time, speed, the cycle means and eta_v,
+ * eta_i, q_wall. Ambient: /driveline/ambient_pressure and ambient_temperature (the air the vehicle
+ * runs' engine breathes).
  *
  * The full-load sweep is sim/engine_sweep.c and its columns (name, unit,
  * format) are api/analysis_json.c's table, shared with the daemon's JSON
  * document; this file writes them as CSV. The spool-ups are only here.
  */
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include "../api/analysis_json.h"
 #include "../sim/constants.h"
@@ -50,54 +45,6 @@
 #define IDLE_RPM 650.0    /* [rpm] */
 #define IDLE_TORQUE 313.0 /* [N*m] */
 
-/* The output is opened before any engine runs (an unwritable path used to
- * fail only after the whole sweep). A regular file (or a new one) is written
- * as PATH.tmp and renamed to PATH once complete, so a failure leaves no empty
- * or half file; anything else that exists (a device, a pipe) is written in
- * place: renaming onto it would replace the device node itself. */
-typedef struct out_file {
-    FILE *f;
-    char tmp[1100];
-    const char *path;
-    int direct; /* written in place: no tmp, no rename */
-} out_file;
-
-static int out_open(out_file *o, const char *path)
-{
-    struct stat st;
-    o->path = path;
-    o->direct = stat(path, &st) == 0 && !S_ISREG(st.st_mode);
-    if (strlen(path) > sizeof o->tmp - 5) {
-        fprintf(stderr, "tanksim engine-map: %s: path too long\n", path);
-        return -1;
-    }
-    snprintf(o->tmp, sizeof o->tmp, "%s.tmp", path);
-    o->f = fopen(o->direct ? path : o->tmp, "w");
-    if (!o->f) {
-        fprintf(stderr, "tanksim engine-map: cannot write %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    return 0;
-}
-
-/* ok: the content is complete. Closes, renames (or removes the tmp file). */
-static int out_close(out_file *o, int ok)
-{
-    if (!o->f) return TSC_EXIT_FAIL;
-    int bad = ferror(o->f) != 0;
-    errno = 0;
-    if (fclose(o->f) != 0) bad = 1;
-    o->f = NULL;
-    if (ok && !bad && (o->direct || rename(o->tmp, o->path) == 0)) return TSC_EXIT_OK;
-    if (ok) {
-        int e = errno;
-        fprintf(stderr, "tanksim engine-map: cannot write %s: %s\n", o->path,
-                e ? strerror(e) : "a write failed (a full disk or an I/O error)");
-    }
-    if (!o->direct) unlink(o->tmp);
-    return TSC_EXIT_FAIL;
-}
-
 /* --spool: crank-angle spool-up transients at held speed (see the header). */
 static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
 {
@@ -105,7 +52,7 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
     size_t nx = (size_t)ts_engine_nstate(e);
     double *x0 = calloc(nx, sizeof *x0), *x = calloc(nx, sizeof *x);
     double *work = malloc(sizeof(double) * ts_engine_work_size(e));
-    out_file o = {0};
+    tsc_out o = {0};
     FILE *f = NULL;
     int rc = TSC_EXIT_FAIL;
     if (!x0 || !x || !work) {
@@ -118,7 +65,7 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
         tsc_print_err("engine-map", &err);
         goto done;
     }
-    if (out_open(&o, out) != 0) goto done;
+    if (tsc_out_open(&o, out, "engine-map") != 0) goto done;
     f = o.f;
     fprintf(f, "speed_rpm [rpm],time [s],speed [rad/s],boost [Pa],intake_temp [K],fuel_flow [kg/s],"
                "air_flow [kg/s],indicated_torque [N*m],friction_torque [N*m],brake_torque [N*m],"
@@ -146,7 +93,7 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
     }
     rc = TSC_EXIT_OK;
 done:
-    if (o.f) rc = out_close(&o, rc == TSC_EXIT_OK);
+    if (o.f) rc = tsc_out_close(&o, rc == TSC_EXIT_OK);
     free(x0);
     free(x);
     free(work);
@@ -209,12 +156,12 @@ int tsc_cmd_engine_map(int argc, char **argv)
         return src;
     }
     ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT];
-    out_file o = {0};
-    if (out_open(&o, out) != 0) return TSC_EXIT_FAIL;
+    tsc_out o = {0};
+    if (tsc_out_open(&o, out, "engine-map") != 0) return TSC_EXIT_FAIL;
     if (ts_engine_full_load_sweep(&cfg, rows, sweep_progress, rows, &err) != TS_OK) {
         tsc_print_err("engine-map", &err);
-        return out_close(&o, 0);
+        return tsc_out_close(&o, 0);
     }
     write_csv(o.f, rows);
-    return out_close(&o, 1);
+    return tsc_out_close(&o, 1);
 }

@@ -222,22 +222,16 @@ int tsc_cmd_run(int argc, char **argv)
         "samples", (json_int_t)(ts_sample_index(d) + 1), "wall_time_s", wall, "real_time_factor",
         wall > 0 ? ts_time(d) / wall : 0.0, "integrators", tsa_integrators_json(ist, nist),
         "channels", channels, "metrics", mj);
-    /* 17 digits: the config echo must re-run bit for bit (10 did not); written
-     * beside and renamed, so a failed write leaves no half document */
-    char tmp[1220];
+    /* 17 digits: the config echo must re-run bit for bit (10 did not) */
     snprintf(path, sizeof path, "%s/summary.json", out);
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    errno = 0;
-    if (json_dump_file(summary, tmp, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
-        rename(tmp, path) != 0) {
-        int e = errno;
-        fprintf(stderr, "tanksim: cannot write %s: %s\n", path,
-                e ? strerror(e) : "a write failed (a full disk or an I/O error)");
-        unlink(tmp);
-        json_decref(summary);
-        goto done;
+    tsc_out so;
+    int written = tsc_out_open(&so, path, "run") == 0;
+    if (written) {
+        json_dumpf(summary, so.f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)); /* errors: ferror */
+        written = tsc_out_close(&so, 1) == TSC_EXIT_OK;
     }
     json_decref(summary);
+    if (!written) goto done;
     long steps = 0;
     for (int i = 0; i < nist; i++)
         if (ist[i].steps > 0) steps += ist[i].steps;
