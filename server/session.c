@@ -932,14 +932,22 @@ typedef struct advance_ctx {
     double rtf;         /* real-time cap (0 = none) */
     double pace_t0;     /* simulated time at pace_wall0 */
     double pace_wall0;  /* monotonic time the run started */
+    double until;       /* the run's end [s] */
     double resume_at;   /* when paced out: monotonic time to continue */
     adv_reason reason;
 } advance_ctx;
 
-/* Monotonic time at which the row at simulated time t is due under the cap. */
-static double pace_due(const advance_ctx *a, double t)
+/* Pacing, after the row at simulated time t: the next row is computed only
+ * when it is due, so a flush never publishes a row ahead of real time. 1 (and
+ * a->resume_at set) when that row is not due yet at `now`; 0 when it is, when
+ * there is no cap, or when t was the run's last row (nothing to wait for). */
+static int pace_hold(advance_ctx *a, double t, double now)
 {
-    return a->pace_wall0 + (t - a->pace_t0) / a->rtf;
+    if (!(a->rtf > 0)) return 0;
+    double dt = ts_model_sample_period(a->s->m), next = t + dt;
+    if (next > a->until + 0.5 * dt) return 0;
+    a->resume_at = a->pace_wall0 + (next - a->pace_t0) / a->rtf;
+    return a->resume_at > now + PACE_AHEAD;
 }
 
 /* ts_sample_fn: batch the row; stop for cancel, shutdown, end of slice, pacing. */
@@ -963,15 +971,9 @@ static int on_sample(void *ud, long index, double t, const double *v, int n)
         return 1;
     }
     double now = a->slice_end > 0 || a->rtf > 0 ? tsd_now() : 0;
-    if (a->rtf > 0) {
-        /* the NEXT row is computed only when it is due: every row batched
-         * here is, so a flush never publishes a row ahead of real time */
-        double due = pace_due(a, t + ts_model_sample_period(s->m));
-        if (due > now + PACE_AHEAD) {
-            a->resume_at = due;
-            a->reason = ADV_PACE;
-            return 1;
-        }
+    if (pace_hold(a, t, now)) {
+        a->reason = ADV_PACE;
+        return 1;
     }
     if (a->slice_end > 0 && now >= a->slice_end) {
         a->reason = ADV_YIELD;
@@ -1210,19 +1212,16 @@ static void run_slice(void *arg)
                      .slice_end = tsd_now() + SLICE_WALL,
                      .rtf = j->rtf,
                      .pace_t0 = j->t_start,
-                     .pace_wall0 = j->wall_start};
+                     .pace_wall0 = j->wall_start,
+                     .until = j->until};
     ts_err err;
     ts_err_clear(&err);
     double t0 = ts_time(s->d), w0 = tsd_now();
     ts_rc rc = TS_OK;
-    double t_next = t0 + ts_model_sample_period(s->m);
     if (atomic_load(&srv->stopping) || atomic_load(&s->cancel)) {
         a.reason = atomic_load(&s->cancel) ? ADV_CANCEL : ADV_STOP;
-    } else if (j->rtf > 0 && t_next < j->until + 0.5 * ts_model_sample_period(s->m) &&
-               pace_due(&a, t_next) > w0 + PACE_AHEAD) {
-        /* woken to poll before the next row is due: nothing to compute yet */
+    } else if (pace_hold(&a, t0, w0)) { /* woken to poll before the next row is due */
         a.reason = ADV_PACE;
-        a.resume_at = pace_due(&a, t_next);
     } else {
         rc = ts_advance(s->m, s->d, j->until, on_sample, &a, &err);
     }

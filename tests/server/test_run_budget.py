@@ -60,6 +60,15 @@ def test_paced_run_publishes_no_row_early_and_hears_cancel_and_budget():
         final = wait_op(d.url, op["id"], timeout=10)
         assert time.time() - t_cancel < 2.0, final  # was 49 s; 0.2-s polls, loaded CI
         assert requests.get(f"{d.url}/v1/sessions/{sid}").json()["status"] == "paused"
+        # the last row ends the run: no wait for a row past the end (it waited
+        # one more 0.2-s poll and reported 0.91 at a cap of 1)
+        sid = requests.post(d.url + "/v1/sessions", json={
+            "preset": BASE_PRESET, "run": {"duration": 1.0, "sample_rate": 1}}).json()["id"]
+        t_run = time.time()
+        op = requests.post(f"{d.url}/v1/sessions/{sid}/run", json={"real_time_factor": 1}).json()
+        final = wait_op(d.url, op["id"], timeout=10)
+        assert final["response"]["status"] == "done", final
+        assert final["metadata"]["wall_time_s"] < 1.12, final["metadata"]  # was 1.2
         # the wall budget: a run waiting 20 s for its next row pauses at 1.5 s
         sid = session()
         t_run = time.time()
