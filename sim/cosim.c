@@ -76,16 +76,27 @@ ts_cosim *ts_cosim_make(const ts_cosim_opts *o, ts_cosim_leader leader, ts_cosim
     return ts_cosim_make_sample(o, leader, follower, t0, initial, s0, err);
 }
 
+ts_rc ts_cosim_check(const ts_cosim_opts *o, ts_err *err)
+{
+    if (!(o->leader_step > 0) || !(o->follower_step > 0) || o->predictor_order < 0 ||
+        o->predictor_order > 1)
+        return ts_err_set(err, TS_ERR_PARAM, "/coupling",
+                          "/coupling: steps must be > 0, predictor order 0 or 1");
+    /* the follower's step needs the leader's torque to its end: a lead
+     * shorter than either step could not be kept */
+    if (!(o->lead >= o->leader_step) || !(o->lead >= o->follower_step))
+        return ts_err_set(err, TS_ERR_PARAM, "/coupling/lead",
+                          "/coupling/lead: %g s must be at least /coupling/leader_step (%g s) and "
+                          "/coupling/follower_step (%g s)",
+                          o->lead, o->leader_step, o->follower_step);
+    return TS_OK;
+}
+
 ts_cosim *ts_cosim_make_sample(const ts_cosim_opts *o, ts_cosim_leader leader,
                                ts_cosim_follower follower, double t0, ts_cosim_report initial,
                                ts_cosim_sample sample0, ts_err *err)
 {
-    if (!(o->leader_step > 0) || !(o->follower_step > 0) || !(o->lead >= o->leader_step) ||
-        !(o->lead >= o->follower_step) || o->predictor_order < 0 || o->predictor_order > 1) {
-        ts_err_set(err, TS_ERR_PARAM, "/coupling",
-                   "/coupling: steps must be > 0, lead >= both steps, predictor order 0 or 1");
-        return NULL;
-    }
+    if (ts_cosim_check(o, err) != TS_OK) return NULL;
     ts_cosim *c = calloc(1, sizeof *c);
     if (!c) goto nomem;
     c->o = *o;

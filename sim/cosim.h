@@ -79,6 +79,10 @@ typedef struct ts_cosim_opts {
 
 typedef struct ts_cosim ts_cosim;
 
+/* TS_OK when o can be kept: steps > 0, the lead at least both steps,
+ * predictor order 0 or 1; else TS_ERR_PARAM naming the /coupling field. */
+ts_rc ts_cosim_check(const ts_cosim_opts *o, ts_err *err);
+
 /* initial: the follower's state at t0 (ω, α) and the leader's torque at t0. */
 ts_cosim *ts_cosim_make(const ts_cosim_opts *o, ts_cosim_leader leader, ts_cosim_follower follower,
                         double t0, ts_cosim_report initial, double torque0, ts_err *err);

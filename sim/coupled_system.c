@@ -615,6 +615,10 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
         r->mono = ts_ode_make(n, mono_rhs, r, &o, err);
         if (!r->mono) goto fail;
     } else if (method == TS_COUPLING_LEADING_FOLLOWING) {
+        /* the exchange is built at reset: its options are refused here */
+        ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead,
+                            r->co.predictor_order};
+        if (ts_cosim_check(&co, err) != TS_OK) goto fail;
         ts_ode_opts lo = {.rtol = rc->rtol,
                           .atol = rc->atol,
                           .atol_v = atol + c->nv,
@@ -635,17 +639,6 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
                           .jac_eval_frequency = VM_JAC_EVAL_STEPS};
         r->follow_ode = ts_ode_make(c->nv, follow_rhs, r, &fo, err);
         if (!r->follow_ode) goto fail;
-        ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead,
-                            r->co.predictor_order};
-        /* the follower's step needs the leader's torque to its end: a lead
-         * shorter than either step could not be kept */
-        if (!(co.lead >= co.leader_step) || !(co.lead >= co.follower_step)) {
-            ts_err_set(err, TS_ERR_PARAM, "/coupling/lead",
-                       "/coupling/lead: %g s must be at least /coupling/leader_step (%g s) and "
-                       "/coupling/follower_step (%g s)",
-                       co.lead, co.leader_step, co.follower_step);
-            goto fail;
-        }
     } else {
         ts_err_set(err, TS_ERR_PARAM, "/coupling/method", "/coupling/method: unknown method %d",
                    method);

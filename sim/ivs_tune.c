@@ -131,6 +131,14 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
     }
     out->v0 = s.v[s.n - 1];
     out->settle_slope = tail_slope(&s, 0.0);
+    if (out->v0 < 0) { /* known before the step: no full-rack run for nothing */
+        rc = ts_err_set(err, TS_ERR_RANGE, "/control/tune_rack_low",
+                        "/control/tune_rack_low: at rack %g the vehicle rolls backwards (v0 = %g "
+                        "m/s on grade %g): the driveline model is for forward driving; raise the "
+                        "low rack or lower /vehicle/grade",
+                        cc->tune_rack_low, out->v0, c.vehicle.grade);
+        goto done;
+    }
     s.n = 0;
     rc = ts_state_save(m0, d0, buf, nbuf, err);
     if (rc == TS_OK) rc = ts_state_restore(m1, d1, buf, nbuf, err); /* same layout: rack differs */
@@ -150,20 +158,12 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
                         out->v0, out->vb);
         goto done;
     }
-    /* Eq. 11 normalises between two STEADY states: a plant still moving at
-     * either end (a settle or step too short, a vehicle rolling back down a
-     * grade) gave gains with nothing to do with the plant (review, session
-     * 20: v0 = -138 m/s on a 0.6 grade, or kp 49x too large with a 1-s step).
-     * Steady: the speed moves by less than 1e-3 of the step's span per second. */
+    /* Eq. 11 normalises between two STEADY states (and a forward v0, above):
+     * a plant still moving at either end (a settle or step too short, a
+     * vehicle rolling back down a grade) gave gains with nothing to do with the plant (review,
+     * session 20: v0 = -138 m/s on a 0.6 grade, or kp 49x too large with a 1-s step). Steady: the
+     * speed moves by less than 1e-3 of the step's span per second. */
     double span = out->vb - out->v0;
-    if (out->v0 < 0) {
-        rc = ts_err_set(err, TS_ERR_RANGE, "/control/tune_rack_low",
-                        "/control/tune_rack_low: at rack %g the vehicle rolls backwards (v0 = %g "
-                        "m/s on grade %g): the driveline model is for forward driving; raise the "
-                        "low rack or lower /vehicle/grade",
-                        cc->tune_rack_low, out->v0, c.vehicle.grade);
-        goto done;
-    }
     rc = steady(out->settle_slope, span, "/control/tune_settle", "low-rack", "at the step",
                 cc->tune_settle, err);
     if (rc == TS_OK)

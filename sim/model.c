@@ -121,10 +121,16 @@ fail:
  * 72 periods either way. */
 #define GRID_SLACK 1e-9
 
+/* The slack at n sample periods [periods]. */
+static double grid_slack(double n)
+{
+    return GRID_SLACK * (1.0 + fabs(n));
+}
+
 long ts_grid_row(double t, double dt)
 {
     double n = t / dt;
-    return (long)floor(n + GRID_SLACK * (1.0 + fabs(n)));
+    return (long)floor(n + grid_slack(n));
 }
 
 /* The suggested times carry 15 digits: with %g a 3-Hz run's "nearest
@@ -132,7 +138,7 @@ long ts_grid_row(double t, double dt)
 ts_rc ts_on_sample_grid(double t, double dt, const char *pointer, ts_err *err)
 {
     double n = t / dt, k = floor(n + 0.5);
-    if (fabs(n - k) <= GRID_SLACK * (1.0 + fabs(n))) return TS_OK;
+    if (fabs(n - k) <= grid_slack(n)) return TS_OK;
     return ts_err_set(err, TS_ERR_PARAM, pointer,
                       "%s: a whole number of sample periods expected (samples are %.15g s "
                       "apart, run.sample_rate %g Hz), got %.15g s; nearest %.15g or %.15g s",

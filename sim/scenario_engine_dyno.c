@@ -210,7 +210,8 @@ static ts_rc state_restore(const ts_model *m, ts_data *d, const void *buf, ts_er
 static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
 {
     int nc = m->nchannel, ip = column(m, CH_CYL_P);
-    if (nrows < 2 || max < 3) return 0;
+    int n = ip > 0 ? 3 : 2; /* no cylinder pressure without cylinders */
+    if (nrows < 2 || max < n) return 0;
     double tq = 0, pw = 0, pk = 0;
     for (long r = 0; r < nrows; r++) {
         const double *v = rows + (size_t)r * (size_t)nc;
@@ -222,14 +223,13 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     pw /= (double)nrows;
     ts_metric mt[3] = {
         {"brake_torque_mean", "N*m", tq,
-         "mean brake torque over the sampled rows (predicted; at 2100 rpm full rack of the "
-         "conventional engine calibrated to the paper's 1484 hp: engine.json wg_area)"},
+         "mean brake torque over the sampled rows (predicted but for the conventional "
+         "engine at 2100 rpm, full rack: calibrated to 1484 hp)"},
         {"brake_power_mean", "W", pw,
-         "mean brake power over the sampled rows (predicted; at 2100 rpm full rack of the "
-         "conventional engine calibrated to the paper's 1484 hp: engine.json wg_area)"},
+         "mean brake power over the sampled rows (predicted but for the conventional "
+         "engine at 2100 rpm, full rack: calibrated to 1484 hp)"},
         {"peak_cylinder_pressure", "Pa", pk, "largest sampled cylinder 1 pressure (predicted)"},
     };
-    int n = ip > 0 ? 3 : 2; /* no cylinder pressure without cylinders */
     memcpy(out, mt, sizeof mt[0] * (size_t)n);
     return n;
 }

@@ -32,13 +32,15 @@ ts_rc ts_torque_converter_init(ts_torque_converter *tc, const ts_driveline_confi
             return ts_err_set(err, TS_ERR_PARAM, "/driveline/tc_speed_ratio",
                               "/driveline/tc_speed_ratio: must increase and stay below 1 "
                               "(row %d)", i);
-    if (c->tc_torque_ratio[n - 1] < 1.0)
+    /* the coupling range: TR holds its last value up to SR 1, where it must
+     * be 1 (below, the coupling would lose torque; above, create power) */
+    if (c->tc_torque_ratio[n - 1] != 1.0)
         return ts_err_set(err, TS_ERR_PARAM, "/driveline/tc_torque_ratio",
-                          "/driveline/tc_torque_ratio: the last row must be >= 1 "
-                          "(coupling range)");
-    /* no more power out than in: TR * SR <= 1 at every row, at the top of
-     * each segment's parabola (TR linear in SR between rows), and up to SR 1
-     * above the last row, where TR stays at its last value */
+                          "/driveline/tc_torque_ratio: the last row must be 1 (coupling range), "
+                          "got %g",
+                          c->tc_torque_ratio[n - 1]);
+    /* no more power out than in: TR * SR <= 1 at every row and at the top of
+     * each segment's parabola (TR linear in SR between rows) */
     const double *sr = c->tc_speed_ratio, *tr = c->tc_torque_ratio;
     for (int i = 0; i < n; i++) {
         double e = tr[i] * sr[i], e_seg = 0;
@@ -46,8 +48,6 @@ ts_rc ts_torque_converter_init(ts_torque_converter *tc, const ts_driveline_confi
             double b = (tr[i + 1] - tr[i]) / (sr[i + 1] - sr[i]), a = tr[i] - b * sr[i];
             double s_top = b < 0 ? -a / (2 * b) : -1;
             if (s_top > sr[i] && s_top < sr[i + 1]) e_seg = (a + b * s_top) * s_top;
-        } else {
-            e_seg = tr[i]; /* at SR 1 */
         }
         if (e > 1.0 + 1e-12 || e_seg > 1.0 + 1e-12)
             return ts_err_set(err, TS_ERR_PARAM, "/driveline/tc_torque_ratio",

@@ -1,6 +1,7 @@
 /*
  * test_util.h — what every cmocka test includes: cmocka's required headers in
- * its required order, and a relative-tolerance check that prints both numbers.
+ * its required order, a relative-tolerance check that prints both numbers, and
+ * reproducible random test data.
  *
  * Physics tests begin with an EVIDENCE comment: source (Eq./Table/Fig. or
  * closed-form reference), quantity, tolerance, and whether the input was
@@ -26,5 +27,13 @@
         if (!(fabs(g_ - w_) <= tol_))                                                              \
             fail_msg("%s = %.9g, want %.9g (tolerance %.3g)", #got, g_, w_, tol_);                 \
     } while (0)
+
+/* Deterministic pseudo-random test data in [-1, 1) from state *s (a fixed
+ * LCG: reproducible, not for statistics). */
+static inline double test_urand(unsigned *s)
+{
+    *s = *s * 1664525u + 1013904223u;
+    return (double)(*s >> 8) / (double)(1u << 23) - 1.0;
+}
 
 #endif

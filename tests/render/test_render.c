@@ -16,6 +16,7 @@
 
 #include "render/m1_fixture.h"
 #include "render/render.h"
+#include "render/scene.h" /* nv: how much a scene built */
 
 /* ---- helpers ------------------------------------------------------------------ */
 
@@ -648,8 +649,15 @@ static void bad_input_is_rejected(void **state)
     assert_int_equal(tsr_scene_update(sc, &bad.g, &v, &err), TS_ERR_PARAM);
     bad.g.track_pitch = 0;
     assert_int_equal(tsr_scene_update(sc, &bad.g, &v, &err), TS_OK);
-    bad.g.track_pitch = 1e-300;
+    assert_int_equal(tsr_scene_update(sc, &s.g, &v, &err), TS_OK);
+    int nv_m1 = sc->nv;       /* 78 shoes */
+    bad.g.track_pitch = 1e-5; /* ~1.4 million shoes uncapped */
     assert_int_equal(tsr_scene_update(sc, &bad.g, &v, &err), TS_OK);
+    int nv_capped = sc->nv;
+    bad.g.track_pitch = 1e-6;
+    assert_int_equal(tsr_scene_update(sc, &bad.g, &v, &err), TS_OK);
+    assert_int_equal(sc->nv, nv_capped);                      /* the cap, not the pitch */
+    assert_true(nv_capped > nv_m1 && nv_capped < 40 * nv_m1); /* 2048 of them */
     assert_int_equal(tsr_scene_update(sc, &s.g, &v, &err), TS_OK);
     tsr_scene_free(sc);
     tsr_scene_free(NULL);

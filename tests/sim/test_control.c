@@ -258,18 +258,30 @@ static void cosim_converges_to_monolithic(void **state)
     assert_true(e1[3] < 1e-3);
 }
 
-/* Bad options are rejected naming the coupling section. */
+/* Bad options are rejected naming the field: a lead shorter than either step
+ * (/coupling/lead), a step that is not positive or a predictor order beyond 1
+ * (/coupling). */
 static void cosim_rejects_bad_options(void **state)
 {
     (void)state;
     leader_st ls = {0, 0};
     follower_st fs = {0, 0};
-    ts_cosim_opts o = {1e-3, 1e-3, 5e-4, 1}; /* lead < leader step */
-    ts_err err;
-    assert_null(ts_cosim_make(&o, (ts_cosim_leader){&ls, leader_adv},
-                              (ts_cosim_follower){&fs, follower_adv}, 0,
-                              (ts_cosim_report){0, 0, 0}, 0, &err));
-    assert_string_equal(err.pointer, "/coupling");
+    const struct {
+        ts_cosim_opts o;
+        const char *pointer;
+    } bad[] = {
+        {{1e-3, 1e-3, 5e-4, 1}, "/coupling/lead"}, /* lead < leader step */
+        {{1e-3, 4e-3, 2e-3, 1}, "/coupling/lead"}, /* lead < follower step */
+        {{0, 1e-3, 2e-3, 1}, "/coupling"},
+        {{1e-3, 1e-3, 2e-3, 2}, "/coupling"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        ts_err err;
+        assert_null(ts_cosim_make(&bad[i].o, (ts_cosim_leader){&ls, leader_adv},
+                                  (ts_cosim_follower){&fs, follower_adv}, 0,
+                                  (ts_cosim_report){0, 0, 0}, 0, &err));
+        assert_string_equal(err.pointer, bad[i].pointer);
+    }
 }
 
 /* EVIDENCE: §IV.B.2 two-speed governor: rack passes unchanged between the

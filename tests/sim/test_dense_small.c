@@ -12,12 +12,6 @@
 
 #define NMAX 40
 
-static double urand(unsigned *s)
-{
-    *s = *s * 1103515245u + 12345u;
-    return ((*s >> 8) & 0xffff) / 65535.0 - 0.5;
-}
-
 /* max |A x - b| / (|A| |x| + |b|), A column-major n x n */
 static double residual(const double *A, int n, const double *x, const double *b)
 {
@@ -44,10 +38,10 @@ static void lu_solves_random_systems(void **state)
         double A[NMAX * NMAX], F[NMAX * NMAX], b[NMAX], x[NMAX];
         int piv[NMAX];
         for (int i = 0; i < n * n; i++)
-            A[i] = urand(&seed);
+            A[i] = 0.5 * test_urand(&seed);
         A[0] = 0.0; /* forces a row swap at step 0 */
         for (int i = 0; i < n; i++)
-            b[i] = urand(&seed);
+            b[i] = 0.5 * test_urand(&seed);
         if (n == 1) A[0] = 0.5;
         memcpy(F, A, sizeof(double) * (size_t)(n * n));
         memcpy(x, b, sizeof(double) * (size_t)n);
@@ -94,12 +88,12 @@ static void lu_solve_blocked_is_the_plain_sweep(void **state)
             double F[NMAX * NMAX], x[NMAX], xr[NMAX];
             int piv[NMAX];
             for (int i = 0; i < n * n; i++)
-                F[i] = urand(&seed);
+                F[i] = 0.5 * test_urand(&seed);
             for (int i = 0; i < n; i++)
                 F[i + i * n] += 2.0;
             assert_int_equal(ts_lu_factor(F, n, piv), 0);
             for (int i = 0; i < n; i++)
-                x[i] = zeros && (i < n / 2 || i % 3 == 1) ? 0.0 : urand(&seed);
+                x[i] = zeros && (i < n / 2 || i % 3 == 1) ? 0.0 : 0.5 * test_urand(&seed);
             memcpy(xr, x, sizeof(double) * (size_t)n);
             ts_lu_solve(F, n, piv, x);
             plain_lu_solve(F, n, piv, xr);
@@ -158,7 +152,7 @@ static void cholesky_solves_spd_and_refuses_indefinite(void **state)
             double A[NMAX * NMAX], R[NMAX * NMAX], F[NMAX * NMAX], b[NMAX], x[NMAX];
             if (pass == 0) {
                 for (int i = 0; i < n * n; i++)
-                    R[i] = urand(&seed);
+                    R[i] = 0.5 * test_urand(&seed);
                 for (int i = 0; i < n; i++)
                     for (int j = 0; j < n; j++) {
                         double s = i == j ? n : 0;
@@ -169,16 +163,16 @@ static void cholesky_solves_spd_and_refuses_indefinite(void **state)
             } else {
                 memset(A, 0, sizeof A);
                 for (int i = 0; i < n; i++)
-                    A[i + i * n] = 4.0 + urand(&seed);
+                    A[i + i * n] = 4.0 + 0.5 * test_urand(&seed);
                 for (int h = n - 3 > 0 ? n - 3 : 0; h < n; h++)
                     for (int i = 0; i < n; i++)
                         if (i != h) {
-                            double c = 0.3 * urand(&seed) / sqrt((double)n);
+                            double c = 0.15 * test_urand(&seed) / sqrt((double)n);
                             A[i + h * n] = A[h + i * n] = c;
                         }
             }
             for (int i = 0; i < n; i++)
-                b[i] = urand(&seed);
+                b[i] = 0.5 * test_urand(&seed);
             memcpy(F, A, sizeof(double) * (size_t)(n * n));
             memcpy(x, b, sizeof(double) * (size_t)n);
             int pat[NMAX * (NMAX + 1)];
@@ -225,17 +219,17 @@ static void reversed_cholesky_is_the_reversed_copys(void **state)
             int nn = n * n;
             memset(A, 0, sizeof A);
             for (int i = 0; i < n; i++)
-                A[i + i * n] = 4.0 + urand(&seed);
+                A[i + i * n] = 4.0 + 0.5 * test_urand(&seed);
             for (int h = 0; h < (pass ? n : (n < 3 ? n : 3)); h++) /* dense rows 0..2 */
                 for (int i = 0; i < n; i++)
                     if (i != h) {
-                        double c = 0.3 * urand(&seed) / sqrt((double)n);
+                        double c = 0.15 * test_urand(&seed) / sqrt((double)n);
                         A[i + h * n] = A[h + i * n] = c;
                     }
             for (int k = 0; k < nn; k++)
                 R[k] = A[nn - 1 - k];
             for (int i = 0; i < n; i++)
-                b[i] = urand(&seed);
+                b[i] = 0.5 * test_urand(&seed);
             for (int i = 0; i < n; i++)
                 xr[i] = b[n - 1 - i];
             int pat[NMAX * (NMAX + 1)], patr[NMAX * (NMAX + 1)];

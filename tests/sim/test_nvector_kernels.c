@@ -26,12 +26,6 @@ typedef struct pair {
     N_Vector own[NV]; /* the same data, the project's kernels */
 } pair;
 
-static double urand(unsigned *s)
-{
-    *s = *s * 1103515245u + 12345u;
-    return ((*s >> 8) & 0xffff) / 6553.5 - 5.0;
-}
-
 static int setup(void **state)
 {
     pair *p = calloc(1, sizeof *p);
@@ -66,7 +60,7 @@ static void fill(pair *p, unsigned seed)
     for (int v = 0; v < NV; v++) {
         double *r = N_VGetArrayPointer(p->ref[v]), *o = N_VGetArrayPointer(p->own[v]);
         for (int i = 0; i < N; i++) {
-            r[i] = (i + v) % 11 == 3 ? 0.0 : urand(&seed);
+            r[i] = (i + v) % 11 == 3 ? 0.0 : 5.0 * test_urand(&seed);
             o[i] = r[i];
         }
     }

@@ -208,11 +208,11 @@ static void table2_conventional_map_engine(void **state)
  * ground; M_eff = rotating_mass_factor m + J_out / r_s^2). Over the run the
  * turbine shaft's work equals its kinetic energy, int (T_t - T_in) w_t dt =
  * J_t (w_t(20)^2 - w_t(0)^2) / 2, and the vehicle's int M_eff a v dt =
- * M_eff v(20)^2 / 2, each within 1e-4 of the turbine's throughput int T_t w_t
- * dt (trapezoids at 1 kHz across the shifts). A wrong efficiency direction, a
- * both-sides torque reported per side or a wrong inertia breaks one of them;
- * the balance closes to ~7e-5 of the 18.4-MJ brake energy (review, session 20).
- * Closed form, nothing calibrated. The channel set: the rack through the
+ * M_eff v(20)^2 / 2, within 1 % of the turbine's 14.7-kJ kinetic energy and
+ * 1e-4 of the vehicle's 10.5 MJ (trapezoids at 1 kHz across the shifts;
+ * measured 0.37 % and 1.0e-5). A wrong efficiency direction or a both-sides
+ * torque reported per side breaks a loss sign; a turbine inertia 10 % off
+ * breaks the shaft balance. Closed form, nothing calibrated. The channel set: the rack through the
  * two-speed governor, 3 DOF, no piston channel for an engine without walls. */
 static void pointmass_driveline_conserves_energy(void **state)
 {
@@ -267,12 +267,12 @@ static void pointmass_driveline_conserves_energy(void **state)
     const double *x0 = r.s.v, *x1 = r.s.v + (n - 1) * r.nc;
     double ke_t = 0.5 * jt * (x1[col[WT]] * x1[col[WT]] - x0[col[WT]] * x0[col[WT]]);
     double ke_v = 0.5 * m_eff * (x1[col[V]] * x1[col[V]] - x0[col[V]] * x0[col[V]]);
-    print_message("turbine shaft: work %.1f J, kinetic energy %.1f J; vehicle: %.4e J vs %.4e J; "
+    print_message("turbine shaft: work %.1f J, kinetic energy %.1f J; vehicle: %.7e J vs %.7e J; "
                   "turbine throughput %.4e J\n",
                   shaft, ke_t, road, ke_v, through);
     assert_true(through > 1e7);
-    assert_close(shaft, ke_t, 0, 1e-4 * through);
-    assert_close(road, ke_v, 0, 1e-4 * through);
+    assert_close(shaft, ke_t, 0.01, 0);
+    assert_close(road, ke_v, 1e-4, 0);
     assert_true(at(&r, "intake.pressure", 20.0) > 1.5e5);
     /* the rack the engine sees: the full rack through the two-speed governor
      * (on in the preset; the run passes high idle, where it cuts the rack) */

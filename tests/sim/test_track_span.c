@@ -618,13 +618,6 @@ static double span_vx(const ts_span *sp, const double *x, double s)
     return vx;
 }
 
-/* Deterministic pseudo-random numbers in [-1, 1) (a fixed LCG, reproducible). */
-static double urand(unsigned *st)
-{
-    *st = *st * 1664525u + 1013904223u;
-    return (double)(*st >> 8) / (double)(1u << 23) - 1.0;
-}
-
 static void check_energy_and_end_force(int nl, int quasi_static)
 {
     ts_err err;
@@ -638,12 +631,12 @@ static void check_energy_and_end_force(int nl, int quasi_static)
     double x[2 + 2 * TS_SPAN_MAX_MODES], xd[2 + 2 * TS_SPAN_MAX_MODES] = {0};
     double f[2 + 2 * TS_SPAN_MAX_MODES];
     unsigned st = 20260u + (unsigned)(nl * 7 + quasi_static);
-    x[0] = 1e-3 * urand(&st);
-    x[1] = 2e-3 + 1e-3 * urand(&st); /* net stretch u1 - u0 != 0 */
+    x[0] = 1e-3 * test_urand(&st);
+    x[1] = 2e-3 + 1e-3 * test_urand(&st); /* net stretch u1 - u0 != 0 */
     for (int i = 2; i < sp->i_trans; i++)
-        x[i] = 2e-4 * urand(&st);
+        x[i] = 2e-4 * test_urand(&st);
     for (int i = sp->i_trans; i < n; i++)
-        x[i] = 2e-2 * urand(&st);
+        x[i] = 2e-2 * test_urand(&st);
     x[sp->i_trans] = 3e-2; /* a first-mode sag change: \int V != 0 */
     double xkx = 0;
     for (int i = 0; i < n; i++)
@@ -885,8 +878,7 @@ static void track_span_modal_damping(void **state)
      * m_j = rho L/2, omega_j = j pi/L sqrt(P0/rho) (transverse) or
      * j pi/L sqrt(EA/rho) (longitudinal), so C_jj = zeta j pi sqrt(P0 rho)
      * resp. zeta j pi sqrt(EA rho), C zero off the diagonal and on the support
-     * rows; with sag, C_jj / (2 sqrt(K_jj M_jj)) = zeta on every sine mode;
-     * and the force carries -C x_d. zeta = 0.05; 1e-9. Not calibrated. */
+     * rows, and the force carries -C x_d. zeta = 0.05; 1e-9. Not calibrated. */
     ts_err err;
     const double L = 1.6, zeta = 0.05;
     ts_span_params p = base(L, 0.0, 3, 4);
@@ -910,14 +902,6 @@ static void track_span_modal_damping(void **state)
     xd[sp->i_trans + 1] = 0.3;
     ts_span_force(sp, NULL, x, xd, f);
     assert_close(f[sp->i_trans + 1], -0.3 * zeta * 2 * PI * sqrt(P0 * RHO), 1e-9, 0);
-    ts_span_free(sp);
-    ts_span_params ps = base(L, G0, 3, 4);
-    ps.damping_ratio = zeta;
-    sp = ts_span_make(&ps, &err);
-    assert_non_null(sp);
-    for (int i = 2; i < n; i++)
-        assert_close(sp->C[i * n + i] / (2 * sqrt(sp->K[i * n + i] * sp->M[i * n + i])), zeta,
-                     1e-12, 0);
     ts_span_free(sp);
 }
 
