@@ -324,6 +324,11 @@ static void read_field(const ts_param *p, const json_t *v, char *base, json_t *e
  * one; CLI review, session 20). */
 #define SHIPPED_COURSE_DIR "sim/data/terrain" /* terrain.json's default, the store's prefix */
 
+int tsa_course_dir_is_shipped(const ts_terrain_config *t)
+{
+    return strcmp(t->course_dir, SHIPPED_COURSE_DIR) == 0;
+}
+
 static ts_rc fill_course(ts_config *cfg, json_t *errors, ts_err *err)
 {
     ts_terrain_config *tc = &cfg->terrain;
@@ -331,7 +336,7 @@ static ts_rc fill_course(ts_config *cfg, json_t *errors, ts_err *err)
     if (tc->kind != TS_TERRAIN_BUMPS || tc->bump_n > 0 || tc->bump_height_n > 0 ||
         tc->bump_length_n > 0 || !tc->course[0])
         return TS_OK;
-    if (strcmp(tc->course_dir, SHIPPED_COURSE_DIR) != 0) return TS_OK; /* the user's directory */
+    if (!tsa_course_dir_is_shipped(tc)) return TS_OK; /* the user's directory */
     char path[TS_NAME_LEN + 64];
     snprintf(path, sizeof path, SHIPPED_COURSE_DIR "/%s.txt", tc->course);
     const tsa_file *f = tsa_store_find(path);

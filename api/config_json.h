@@ -71,4 +71,9 @@ int tsa_is_decimal(const char *v, int integer);
 ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out,
                            json_t *errors, ts_err *err);
 
+/* 1 when /terrain/course_dir is the shipped courses' directory (whose courses
+ * come from the embedded store), 0 for a directory of the user's, read from
+ * disk. */
+int tsa_course_dir_is_shipped(const ts_terrain_config *t);
+
 #endif

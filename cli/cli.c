@@ -153,12 +153,12 @@ int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
     return rc == TS_OK ? TSC_EXIT_OK : TSC_EXIT_FAIL;
 }
 
-int tsc_out_open(tsc_out *o, const char *path, const char *what)
+int tsc_out_open(tsc_out *o, const char *path, const char *what, int in_place)
 {
     struct stat st;
     o->path = path;
     o->what = what;
-    o->direct = stat(path, &st) == 0 && !S_ISREG(st.st_mode);
+    o->direct = in_place || (stat(path, &st) == 0 && !S_ISREG(st.st_mode));
     if (strlen(path) > sizeof o->tmp - 5) {
         fprintf(stderr, "tanksim %s: %s: path too long\n", what, path);
         return -1;

@@ -56,11 +56,12 @@ typedef struct tsc_out {
     const char *what; /* the command, for messages */
     int direct;       /* written in place: no tmp, no rename */
 } tsc_out;
-/* 0, or -1 with "tanksim WHAT: cannot write PATH: reason" on stderr. */
-int tsc_out_open(tsc_out *o, const char *path, const char *what);
+/* 0, or -1 with "tanksim WHAT: cannot write PATH: reason" on stderr.
+ * in_place: write PATH itself (a file whose rows up to a stop are kept). */
+int tsc_out_open(tsc_out *o, const char *path, const char *what, int in_place);
 /* complete: the content is whole, so check the writes and put the file in
- * place (a failure is printed); 0: abandon it (the caller said why). Returns
- * TSC_EXIT_OK or TSC_EXIT_FAIL. */
+ * place (a failure is printed); 0: abandon it (the caller said why; a file
+ * written in place is left as it is). Returns TSC_EXIT_OK or TSC_EXIT_FAIL. */
 int tsc_out_close(tsc_out *o, int complete);
 
 /* Build the model and its data for cfg and reset it (sample row 0). On failure prints the

@@ -65,7 +65,7 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
         tsc_print_err("engine-map", &err);
         goto done;
     }
-    if (tsc_out_open(&o, out, "engine-map") != 0) goto done;
+    if (tsc_out_open(&o, out, "engine-map", 0) != 0) goto done;
     f = o.f;
     fprintf(f, "speed_rpm [rpm],time [s],speed [rad/s],boost [Pa],intake_temp [K],fuel_flow [kg/s],"
                "air_flow [kg/s],indicated_torque [N*m],friction_torque [N*m],brake_torque [N*m],"
@@ -157,7 +157,7 @@ int tsc_cmd_engine_map(int argc, char **argv)
     }
     ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT];
     tsc_out o = {0};
-    if (tsc_out_open(&o, out, "engine-map") != 0) return TSC_EXIT_FAIL;
+    if (tsc_out_open(&o, out, "engine-map", 0) != 0) return TSC_EXIT_FAIL;
     if (ts_engine_full_load_sweep(&cfg, rows, sweep_progress, rows, &err) != TS_OK) {
         tsc_print_err("engine-map", &err);
         return tsc_out_close(&o, 0);

@@ -7,7 +7,6 @@
  * Scenarios without running gear (the point-mass one) have no geometry: the
  * command then says so (TS_ERR_UNSUPPORTED) and writes nothing.
  */
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -79,13 +78,20 @@ int tsc_cmd_render(int argc, char **argv)
     tsr_ctx *c = NULL;
     unsigned char *png = NULL;
     size_t len = 0;
-    FILE *f = NULL;
+    tsc_out o = {0};
     ts_geom *g = malloc(sizeof *g);
     if (!g) {
         fprintf(stderr, "tanksim: out of memory\n");
         return TSC_EXIT_FAIL;
     }
     if (tsc_model_start(&cfg, &m, &d) != 0) goto done;
+    /* before the run: a model without geometry (the point mass) and a path
+     * that cannot be written fail at once, not after simulating to --t */
+    if (ts_geometry(m, d, g, &err) != TS_OK) {
+        tsc_print_err("geometry", &err);
+        goto done;
+    }
+    if (tsc_out_open(&o, out, "render", 0) != 0) goto done;
     if (t > 0 && ts_advance(m, d, t, NULL, NULL, &err) != TS_OK) {
         tsc_print_err("run", &err);
         goto done;
@@ -103,18 +109,13 @@ int tsc_cmd_render(int argc, char **argv)
         tsc_print_err("render", &err);
         goto done;
     }
-    f = fopen(out, "wb");
-    if (!f || fwrite(png, 1, len, f) != len || fclose(f) != 0) {
-        fprintf(stderr, "tanksim: cannot write %s: %s\n", out, strerror(errno));
-        f = NULL;
-        goto done;
-    }
-    f = NULL;
+    fwrite(png, 1, len, o.f); /* a short write shows in ferror: tsc_out_close says it */
+    if (tsc_out_close(&o, 1) != TSC_EXIT_OK) goto done;
     printf("%s: t = %.3f s, %dx%d %s view -> %s (%zu bytes)\n", ts_model_kind(m), ts_time(d),
            v.width, v.height, tsr_view_kind_name(v.kind), out, len);
     status = TSC_EXIT_OK;
 done:
-    if (f) fclose(f);
+    if (o.f) tsc_out_close(&o, 0);
     free(png);
     free(g);
     tsr_ctx_free(c);

@@ -120,7 +120,7 @@ int tsc_cmd_run(int argc, char **argv)
 
     ts_model *m = NULL;
     ts_data *d = NULL;
-    FILE *csv = NULL;
+    tsc_out series = {0}; /* in place: rows up to a stop stay */
     run_sink sink = {0};
     int status = TSC_EXIT_FAIL;
     char path[1200];
@@ -142,15 +142,11 @@ int tsc_cmd_run(int argc, char **argv)
         goto done;
     }
     snprintf(path, sizeof path, "%s/series.csv", out);
-    csv = fopen(path, "w");
-    if (!csv) {
-        fprintf(stderr, "tanksim: cannot write %s: %s\n", path, strerror(errno));
-        goto done;
-    }
+    if (tsc_out_open(&series, path, "run", 1) != 0) goto done;
     for (int i = 0; i < ts_model_nchannel(m); i++)
-        fprintf(csv, i ? ",%s" : "%s", ts_model_channel(m, i)->name);
-    fputc('\n', csv);
-    sink.csv = csv;
+        fprintf(series.f, i ? ",%s" : "%s", ts_model_channel(m, i)->name);
+    fputc('\n', series.f);
+    sink.csv = series.f;
     sink.until = until;
     sink.wall0 = ts_monotonic_seconds();
     sink.next = sink.wall0 + PROGRESS_FIRST;
@@ -167,23 +163,18 @@ int tsc_cmd_run(int argc, char **argv)
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
     if (sink.shown && sink.tty) fputc('\n', stderr);
-    /* ferror sets no errno, and the errno of the write that failed is long gone */
-    int write_failed = ferror(csv) != 0, why = 0;
-    if (fclose(csv) != 0) write_failed = 1, why = errno;
-    csv = NULL;
+    /* a write that failed is said by tsc_out_close */
+    int write_failed = tsc_out_close(&series, 1) != TSC_EXIT_OK;
     if (sink.nomem) /* the sink stopped the run: say why, not "stopped by the caller" */
         ts_err_set(&err, TS_ERR_NOMEM, NULL,
                    "out of memory keeping the rows for the metrics at t = %.6g s (%ld rows of "
                    "%d channels); lower /run/sample_rate or /run/duration",
                    ts_time(d), sink.rows.n, ts_model_nchannel(m));
-    else if (write_failed)
-        ts_err_set(&err, TS_ERR_IO, NULL, "cannot write %s/series.csv: %s", out,
-                   why ? strerror(why) : "a write failed (a full disk or an I/O error)");
     else if (stop_signal)
         ts_err_set(&err, TS_ERR_CANCELLED, NULL, "stopped by signal %d at t = %.6g s",
                    (int)stop_signal, sink.t_last);
     if (arc != TS_OK || sink.nomem || write_failed || stop_signal) {
-        tsc_print_err("run", &err);
+        if (!write_failed) tsc_print_err("run", &err);
         if (write_failed) /* what reached the disk is not known row by row */
             fprintf(stderr,
                     "tanksim: run: %s/series.csv is incomplete (rows were being written up "
@@ -225,7 +216,7 @@ int tsc_cmd_run(int argc, char **argv)
     /* 17 digits: the config echo must re-run bit for bit (10 did not) */
     snprintf(path, sizeof path, "%s/summary.json", out);
     tsc_out so;
-    int written = tsc_out_open(&so, path, "run") == 0;
+    int written = tsc_out_open(&so, path, "run", 0) == 0;
     if (written) {
         json_dumpf(summary, so.f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)); /* errors: ferror */
         written = tsc_out_close(&so, 1) == TSC_EXIT_OK;
@@ -242,7 +233,7 @@ int tsc_cmd_run(int argc, char **argv)
            work, out);
     status = TSC_EXIT_OK;
 done:
-    if (csv) fclose(csv);
+    if (series.f) tsc_out_close(&series, 0);
     ts_rows_free(&sink.rows);
     ts_data_free(d);
     ts_model_free(m);

@@ -228,6 +228,18 @@ static enum MHD_Result run_built(tsd_request *r)
 
 static enum MHD_Result get_session(tsd_request *r);
 
+/* The next item of a comma-separated header list from p (leading blanks and
+ * empty items skipped): its start, with *len the bytes up to the next comma
+ * (trailing blanks included), or NULL at the end. */
+static const char *list_item(const char *p, size_t *len)
+{
+    while (*p == ' ' || *p == '\t' || *p == ',')
+        p++;
+    if (!*p) return NULL;
+    *len = strcspn(p, ",");
+    return p;
+}
+
 /* q of media type `type` in an Accept header (RFC 9110 section 12.5.1): its
  * own entry, else its major type with subtype "*", else the all-types range
  * (most specific wins; exact_only: its own entry only); -1 when none names it. */
@@ -235,17 +247,12 @@ static double accept_q(const char *accept, const char *type, int exact_only)
 {
     double best = -1;
     int best_spec = -1;
-    size_t major = strcspn(type, "/");
-    for (const char *p = accept; *p;) { /* accept: non-NULL (accept_prefers) */
-        while (*p == ' ' || *p == '\t' || *p == ',')
-            p++;
-        if (!*p) break;
-        const char *e = p + strcspn(p, ",");
-        const char *semi = memchr(p, ';', (size_t)(e - p));
-        const char *te = semi ? semi : e;
-        while (te > p && (te[-1] == ' ' || te[-1] == '\t'))
-            te--;
-        size_t len = (size_t)(te - p);
+    size_t major = strcspn(type, "/"), item;
+    for (const char *p = accept; (p = list_item(p, &item)); p += item) {
+        const char *e = p + item, *semi = memchr(p, ';', item);
+        size_t len = (size_t)((semi ? semi : e) - p);
+        while (len > 0 && (p[len - 1] == ' ' || p[len - 1] == '\t'))
+            len--;
         int spec = -1;
         if (len == strlen(type) && strncasecmp(p, type, len) == 0)
             spec = 2;
@@ -264,7 +271,6 @@ static double accept_q(const char *accept, const char *type, int exact_only)
             }
             best = q, best_spec = spec;
         }
-        p = e;
     }
     return best;
 }
@@ -370,11 +376,15 @@ static enum MHD_Result get_metrics(tsd_request *r)
                    "# HELP tanksimd_jobs_pending Worker-pool jobs queued or running.\n"
                    "# TYPE tanksimd_jobs_pending gauge\n"
                    "tanksimd_jobs_pending %d\n"
+                   "# HELP tanksimd_long_jobs Analyses and APNG animations holding a worker.\n"
+                   "# TYPE tanksimd_long_jobs gauge\n"
+                   "tanksimd_long_jobs %d\n"
                    "# HELP tanksimd_http_requests_total HTTP requests answered, by status.\n"
                    "# TYPE tanksimd_http_requests_total counter\n",
                    atomic_load(&m->steps), 1e-6 * (double)atomic_load(&m->sim_microseconds),
                    1e-6 * (double)atomic_load(&m->wall_microseconds),
-                   atomic_load(&m->samples_stored), tsd_pool_pending(s->pool));
+                   atomic_load(&m->samples_stored), tsd_pool_pending(s->pool),
+                   atomic_load(&s->long_jobs));
     for (int c = 1; c < 6; c++)
         for (int k = 0; k < 100; k++) {
             long n = atomic_load(&m->requests[c][k]);
@@ -482,7 +492,7 @@ static enum MHD_Result get_session(tsd_request *r)
 static enum MHD_Result delete_session(tsd_request *r)
 {
     ts_err e;
-    if (tsd_session_delete(r->srv, r->params[0], &e) != TS_OK) return tsd_reply_err(r, &e, NULL);
+    if (tsd_session_delete(r->session, &e) != TS_OK) return tsd_reply_err(r, &e, NULL);
     return tsd_reply_text(r, MHD_HTTP_NO_CONTENT, "application/json", "", 0);
 }
 
@@ -496,14 +506,20 @@ static void step_done(void *ud)
  * run stops on one: a duration or end time between them would be rounded
  * down without a word (0.0015 s at 500 Hz: no step at all). 0, or -1 with a
  * 400 naming field queued. */
-static int check_on_grid(tsd_request *r, const char *field, double x, enum MHD_Result *ret)
+static int check_on_grid(tsd_request *r, const char *field, double x, long min_rows,
+                         enum MHD_Result *ret)
 {
     double dt = r->session->ch.view.period;
     if (!(dt > 0)) return 0;
     ts_err e;
     char ptr[64];
     snprintf(ptr, sizeof ptr, "/%s", field);
-    if (ts_on_sample_grid(x, dt, ptr, &e) == TS_OK) return 0;
+    if (ts_on_sample_grid(x, dt, ptr, &e) == TS_OK) {
+        if (ts_grid_row(x, dt) >= min_rows) return 0;
+        ts_err_set(&e, TS_ERR_PARAM, ptr, /* a step of 0, or 1e-300 "on the grid" at row 0 */
+                   "%s: at least %ld sample period(s) of %.15g s expected, got %g s", ptr, min_rows,
+                   dt, x);
+    }
     *ret = tsd_reply_err(r, &e, NULL);
     return -1;
 }
@@ -514,15 +530,7 @@ static enum MHD_Result post_step(tsd_request *r)
     double duration = 0;
     tsa_num_field f[] = {{"duration", 1, 0.0, 1e9, &duration, NULL}};
     if (body_numbers(r, 0, f, 1, &ret) < 0) return ret;
-    if (check_on_grid(r, "duration", duration, &ret) < 0) return ret;
-    double dt = r->session->ch.view.period;
-    if (dt > 0 && duration < 0.5 * dt) { /* 0, or 1e-300 "on the grid" at row 0 */
-        ts_err e;
-        ts_err_set(&e, TS_ERR_PARAM, "/duration",
-                   "/duration: at least one sample period (%.15g s) expected, got %g s",
-                   dt, duration);
-        return tsd_reply_err(r, &e, NULL);
-    }
+    if (check_on_grid(r, "duration", duration, 1, &ret) < 0) return ret;
     if (duration > r->srv->opt.max_step) {
         char detail[300];
         snprintf(detail, sizeof detail,
@@ -558,7 +566,7 @@ static enum MHD_Result post_run(tsd_request *r)
     double end = s->m ? ts_model_config(s->m)->run.duration : 0;
     if (until < 0)
         until = end;
-    else if (until < end && check_on_grid(r, "until", until, &ret) < 0) /* past it: the end */
+    else if (until < end && check_on_grid(r, "until", until, 0, &ret) < 0) /* past it: the end */
         return ret;
     ts_err e;
     json_t *op = NULL;
@@ -892,21 +900,15 @@ static enum MHD_Result reply_no_frames(tsd_request *r, tsd_session *s)
  * one exact string, so W/"..." or a list got the whole PNG again. */
 static int etag_listed(const char *inm, const char *etag)
 {
-    size_t n = strlen(etag);
-    for (const char *p = inm; *p;) {
-        while (*p == ' ' || *p == '\t' || *p == ',')
-            p++;
-        if (!*p) break;
-        const char *e = p;
-        while (*e && *e != ',')
-            e++;
-        const char *q = e;
-        while (q > p && (q[-1] == ' ' || q[-1] == '\t'))
-            q--;
-        if (q - p == 1 && *p == '*') return 1;
-        if (q - p > 2 && p[0] == 'W' && p[1] == '/') p += 2;
-        if ((size_t)(q - p) == n && strncmp(p, etag, n) == 0) return 1;
-        p = e;
+    size_t n = strlen(etag), item;
+    for (const char *p = inm; (p = list_item(p, &item)); p += item) {
+        const char *tag = p;
+        size_t len = item;
+        while (len > 0 && (tag[len - 1] == ' ' || tag[len - 1] == '\t'))
+            len--;
+        if (len == 1 && *tag == '*') return 1;
+        if (len > 2 && tag[0] == 'W' && tag[1] == '/') tag += 2, len -= 2;
+        if (len == n && strncmp(tag, etag, n) == 0) return 1;
     }
     return 0;
 }

@@ -110,14 +110,14 @@ enum MHD_Result tsd_reply_problem_json(tsd_request *r, unsigned status, json_t *
     return reply_dump(r, status, p, "application/problem+json");
 }
 
-int tsd_long_job_cap(const tsd_server *s)
+static int long_job_cap(const tsd_server *s)
 {
     return s->opt.threads > 1 ? s->opt.threads - 1 : 1;
 }
 
 ts_rc tsd_long_job_take(tsd_server *s, int *retry_after, ts_err *err)
 {
-    int cap = tsd_long_job_cap(s);
+    int cap = long_job_cap(s);
     int n = atomic_load(&s->long_jobs);
     do {
         if (n >= cap) {

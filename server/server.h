@@ -118,12 +118,11 @@ typedef struct tsd_request {
 
 /* Long jobs — engine maps, tunings (analyses.c) and APNG animations
  * (frames.c) — each hold a worker for seconds to minutes. Together at most
- * tsd_long_job_cap(s) = max(1, threads - 1) run at once, so session runs and
+ * max(1, threads - 1) run at once, so session runs and
  * steps keep a worker. take: TS_OK, or TS_ERR_LIMIT with the message and
  * *retry_after set to the Retry-After of its 429; every take that
  * succeeded is given back once, when the job ends. */
 #define TSD_RETRY_AFTER_BUSY_S 2 /* [s] Retry-After of the 429 at the long-job cap */
-int tsd_long_job_cap(const tsd_server *s);
 ts_rc tsd_long_job_take(tsd_server *s, int *retry_after, ts_err *err);
 void tsd_long_job_give(tsd_server *s);
 

@@ -685,22 +685,24 @@ static ts_rc refuse_client_files(const ts_config *cfg, json_t *errors, ts_err *e
                  "--client-files yes); give the ground inline as bumps (/terrain/bump_start, "
                  "/terrain/bump_height, /terrain/bump_length) or use a shipped course",
                  ptr);
-    } else if (t->kind == TS_TERRAIN_BUMPS && t->bump_n == 0 &&
-               strcmp(t->course_dir, "sim/data/terrain") != 0) {
-        ptr = "/terrain/course_dir"; /* a directory of the client's: read from disk */
-        snprintf(msg, sizeof msg,
-                 "%s: this daemon reads no course file from a directory a client names "
-                 "(started without --client-files yes); leave it out for the shipped courses, "
-                 "or give the bumps inline (/terrain/bump_start, /terrain/bump_height, "
-                 "/terrain/bump_length)",
-                 ptr);
-    } else if (t->kind == TS_TERRAIN_BUMPS && t->bump_n == 0) {
-        ptr = "/terrain/course";
-        snprintf(msg, sizeof msg,
-                 "%s: no shipped course named '%.64s', and this daemon reads no course file "
-                 "named by a client (started without --client-files yes); give the bumps inline "
-                 "(/terrain/bump_start, /terrain/bump_height, /terrain/bump_length)",
-                 ptr, t->course);
+    } else if (t->kind == TS_TERRAIN_BUMPS && t->bump_n == 0) { /* a course read from disk */
+        if (!tsa_course_dir_is_shipped(t)) {
+            ptr = "/terrain/course_dir";
+            snprintf(msg, sizeof msg,
+                     "%s: this daemon reads no course file from a directory a client names "
+                     "(started without --client-files yes); leave it out for the shipped "
+                     "courses, or give the bumps inline (/terrain/bump_start, "
+                     "/terrain/bump_height, /terrain/bump_length)",
+                     ptr);
+        } else {
+            ptr = "/terrain/course";
+            snprintf(msg, sizeof msg,
+                     "%s: no shipped course named '%.64s', and this daemon reads no course "
+                     "file named by a client (started without --client-files yes); give the "
+                     "bumps inline (/terrain/bump_start, /terrain/bump_height, "
+                     "/terrain/bump_length)",
+                     ptr, t->course);
+        }
     }
     return ptr ? refuse(errors, err, ptr, msg) : TS_OK;
 }
@@ -772,10 +774,10 @@ int tsd_session_is_deleted(tsd_session *s)
     return deleted;
 }
 
-ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
+ts_rc tsd_session_delete(tsd_session *s, ts_err *err)
 {
-    tsd_session *s = tsd_session_get(srv, id);
-    if (!s) return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "no session '%s'", id);
+    tsd_server *srv = s->srv;
+    const char *id = s->id;
     /* build_mu: a first-use build in progress finishes before the rows go, and
      * one queued after finds the session deleted and stores nothing; two
      * DELETEs go one after the other. The store marks the session deleted
@@ -797,7 +799,6 @@ ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
                         id);
     if (rc != TS_OK) {
         pthread_mutex_unlock(&s->build_mu);
-        tsd_session_put(s);
         return rc;
     }
     pthread_mutex_lock(&s->mu);
@@ -810,15 +811,12 @@ ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err)
         tsd_db_session_delete(srv->db, s->seq);
     tsd_registry *g = srv->reg;
     pthread_mutex_lock(&g->mu);
-    int i = registry_find_locked(g, s->id);
-    if (i >= 0 && g->v[i] == s) {
-        memmove(&g->v[i], &g->v[i + 1], sizeof g->v[0] * (size_t)(g->n - i - 1));
-        g->n--;
-        tsd_session_put(s); /* the registry's reference (not the last: ours) */
-    }
+    int i = registry_find_locked(g, s->id); /* there: only this, once, under build_mu, removes */
+    memmove(&g->v[i], &g->v[i + 1], sizeof g->v[0] * (size_t)(g->n - i - 1));
+    g->n--;
     pthread_mutex_unlock(&g->mu);
     pthread_mutex_unlock(&s->build_mu);
-    tsd_session_put(s);
+    tsd_session_put(s); /* the registry's reference (not the last: the caller's) */
     return TS_OK;
 }
 

@@ -113,7 +113,9 @@ void tsd_session_put(tsd_session *s);
 /* Non-zero once s has been deleted (taken under its lock): a reader holding
  * a reference answers 404 instead of what the removed rows would give. */
 int tsd_session_is_deleted(tsd_session *s);
-ts_rc tsd_session_delete(tsd_server *srv, const char *id, ts_err *err);
+/* Delete s (the caller holds a reference): 404 when it already is, IO when the
+ * store will not record it (the session is kept). */
+ts_rc tsd_session_delete(tsd_session *s, ts_err *err);
 
 /* Session object (session_json.h shape), taken under the lock. */
 json_t *tsd_session_json(tsd_session *s, int summary);

@@ -181,7 +181,12 @@ def test_ctrl_c_stops_at_a_whole_row_and_says_where(tmp_path):
     out = tmp_path / "o"
     p = subprocess.Popen([TANKSIM, "run", "--preset", "bump-coupled-ivs5mph", "--out", str(out)],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    time.sleep(1.0)
+    # rows on disk (stdio's first flush, 4 kB) mean the handler is installed:
+    # a fixed sleep could land before it on a loaded machine
+    deadline = time.time() + 60
+    while time.time() < deadline and not (
+            (out / "series.csv").exists() and (out / "series.csv").stat().st_size > 4096):
+        time.sleep(0.02)
     p.send_signal(signal.SIGINT)
     _, err = p.communicate(timeout=60)
     assert p.returncode == 130, (p.returncode, err)

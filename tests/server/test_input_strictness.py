@@ -190,7 +190,7 @@ def test_a_step_of_no_sample_period_is_400(daemon, sid500, duration):
     answered 200, advanced nothing and turned a created session paused."""
     p = is_problem(requests.post(f"{daemon.url}/v1/sessions/{sid500}/step",
                                  json={"duration": duration}), 400, "/duration")
-    assert "at least one sample period" in p["detail"], p
+    assert "at least 1 sample period" in p["detail"], p
 
 
 def test_point_mass_refuses_terrain_it_cannot_drive(daemon):
