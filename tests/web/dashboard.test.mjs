@@ -1123,9 +1123,13 @@ async function main() {
       assert(r.status === 202, `run -> ${r.status}`);
       await waitFor(async () => (await apiSession(d.url, quietId)).status === 'done', 'the run done', 20000);
       const want = (await apiSession(d.url, quietId)).samples;
-      await waitFor(async () => (await sampleCount(page)) === want, `the other client's run's ${want} rows in the store`, 8000);
-      const pts = await chartPoints(page);
-      assert(pts.length && pts.every((n) => n === want), `chart points ${pts}, ${want} stored`);
+      /* the charts redraw every 250 ms: wait for that, not only for the store */
+      await waitFor(async () => {
+        const pts = await chartPoints(page);
+        return pts.length > 0 && pts.every((n) => n === want);
+      }, `the other client's run's ${want} rows in every chart`, 8000).catch(async (e) => {
+        throw new Error(`${e.message}: chart points ${await chartPoints(page)}, ${await sampleCount(page)} in the store`);
+      });
     });
 
     await check('review 2.9: FFT Compute waits for 2 stored samples (a hint says to step or run); 2.10: a step below one sample period is refused on the field, naming the period', async () => {
@@ -1193,52 +1197,63 @@ async function main() {
       } finally {
         await page.setViewportSize({ width: 1440, height: 1000 });
       }
-      /* zoom the first live chart, then change the speed unit */
-      const over = page.locator('#plots .chart').first().locator('.u-over');
+      /* zoom the live chart of a speed (m/s), shown in mph, then change the speed unit */
+      const setUnit = (si, label) => page.evaluate(([u, l]) => window.tanksimDebug.setUnit(u, l), [si, label]);
+      await setUnit('m/s', 'mph');
+      const speedChart = await page.evaluate(() => window.tanksimDebug.plots.charts.find((c) => c.unit === 'm/s')?.name);
+      assert(speedChart, 'no live chart in m/s');
+      const liveLabel = () => page.evaluate((name) => window.tanksimDebug.plots.charts.find((c) => c.name === name).plot.series[1].label, speedChart);
+      assert(/\[mph\]/.test(await liveLabel()), `the speed chart before the change: ${await liveLabel()}`);
+      const over = page.locator(`#plots .chart[data-channel="${speedChart}"] .u-over`);
       await over.scrollIntoViewIfNeeded();
       const bb = await over.boundingBox();
       await page.mouse.move(bb.x + bb.width * 0.3, bb.y + bb.height / 2);
       await page.mouse.down();
       await page.mouse.move(bb.x + bb.width * 0.6, bb.y + bb.height / 2, { steps: 5 });
       await page.mouse.up();
-      const xRange = () => page.evaluate(() => window.tanksimDebug.plots.charts.map((c) => [c.zoomed, c.plot.scales.x.min, c.plot.scales.x.max]));
+      const xRange = () => page.evaluate(() => window.tanksimDebug.plots.charts.map((c) => [c.name, c.zoomed, c.plot.scales.x.min, c.plot.scales.x.max]));
       const zoomed = await xRange();
-      assert(zoomed[0][0], 'the drag did not zoom');
-      await page.click('#unit-toggles .seg[data-unit="m/s"] button:text-is("km/h")');
-      /* the open session has no power channel (no W toggle): the map's power axis follows the same event */
-      const setUnit = (si, label) =>
-        page.evaluate(([u, l]) => {
-          localStorage.setItem('tanksim.units', JSON.stringify({ ...JSON.parse(localStorage.getItem('tanksim.units') || '{}'), [u]: l }));
-          window.dispatchEvent(new CustomEvent('tanksim-units', { detail: { siUnit: u, label: l } }));
-        }, [si, label]);
-      await setUnit('W', 'W');
+      assert(zoomed.find((c) => c[0] === speedChart)[1], 'the drag did not zoom');
       try {
+        /* another quantity's unit leaves the m/s spectrum and overlay as drawn (their zoom too) */
+        await page.evaluate(() => (window.panelsBefore = [window.tanksimDebug.fft.plot, window.tanksimDebug.compare.plot]));
+        await setUnit('rad/s', 'rad/s');
+        assert(await page.evaluate(() => window.panelsBefore[0] === window.tanksimDebug.fft.plot && window.panelsBefore[1] === window.tanksimDebug.compare.plot), 'a rotation unit change redrew the m/s spectrum or overlay');
+        await page.click('#unit-toggles .seg[data-unit="m/s"] button:text-is("km/h")');
+        /* the open session has no power channel (no W toggle): the map's power axis follows the same event */
+        await setUnit('W', 'W');
         await waitFor(async () => /\[km\/h\]/.test(await page.evaluate(() => window.tanksimDebug.fft.plot?.series[1].label)), 'the spectrum in km/h', 3000);
         const labels = await page.evaluate(() => ({ fft: window.tanksimDebug.fft.plot.series[1].label, compare: window.tanksimDebug.compare.plot.axes[1].label, map: window.tanksimDebug.engineMap.plot.series[2].label }));
-        assert(/km\/h/.test(labels.fft) && labels.compare === 'km/h' && /\[W\]/.test(labels.map), `labels after the unit change: ${JSON.stringify(labels)}`);
+        labels.live = await liveLabel();
+        assert(/km\/h/.test(labels.fft) && labels.compare === 'km/h' && /\[W\]/.test(labels.map) && /\[km\/h\]/.test(labels.live), `labels after the unit change: ${JSON.stringify(labels)}`);
+        /* the live charts were drawn again (km/h) and kept their zoom */
         const after = await xRange();
+        assert(after.find((c) => c[0] === speedChart)[1], 'the speed chart no longer zoomed');
         assert(JSON.stringify(after) === JSON.stringify(zoomed), `x ranges ${JSON.stringify(zoomed)} -> ${JSON.stringify(after)} after the unit change`);
         const y = await page.evaluate(() => window.tanksimDebug.plots.charts.map((c) => [c.plot.scales.y.min, c.plot.scales.y.max]));
         assert(y.every(([a, b]) => Number.isFinite(a) && Number.isFinite(b)), `y scales ${JSON.stringify(y)}`);
       } finally {
         await page.click('#unit-toggles .seg[data-unit="m/s"] button:text-is("mph")');
         await setUnit('W', 'kW');
+        await setUnit('rad/s', 'rpm');
       }
     });
 
-    await check('review 2.5: the compare channel select has a label, progress bars are progressbars with a current value, status texts are live regions', async () => {
+    await check('review 2.5: the compare channel select has a label, progress bars are progressbars with a current value, status texts are live regions (not the run progress text, rewritten every 300 ms)', async () => {
       const a11y = await page.evaluate(() => ({
         label: document.getElementById('compare-channel').labels?.[0]?.textContent || document.getElementById('compare-channel').getAttribute('aria-label') || '',
         bars: ['run-progress', 'map-progress', 'tune-progress'].map((id) => {
           const e = document.getElementById(id);
           return { id, role: e.getAttribute('role'), min: e.getAttribute('aria-valuemin'), max: e.getAttribute('aria-valuemax'), now: e.getAttribute('aria-valuenow'), percent: e.dataset.percent };
         }),
-        live: ['session-status', 'stream-status', 'progress-text', 'compare-info'].filter((id) => document.getElementById(id).getAttribute('aria-live') !== 'polite'),
+        live: ['session-status', 'stream-status', 'compare-info'].filter((id) => document.getElementById(id).getAttribute('aria-live') !== 'polite'),
+        progressLive: document.getElementById('progress-text').closest('[aria-live]')?.id ?? null,
       }));
       assert(a11y.label.trim(), 'compare-channel has no label');
       for (const b of a11y.bars) assert(b.role === 'progressbar' && b.min === '0' && b.max === '100' && b.now !== null && Number(b.now) === Number(b.percent ?? 0), `progress bar ${JSON.stringify(b)}`);
       assert(Number(a11y.bars[0].now) === 100 && Number(a11y.bars[1].now) === 100, `bars ${JSON.stringify(a11y.bars)}`);
       assert(!a11y.live.length, `not live regions: ${a11y.live}`);
+      assert(a11y.progressLive === null, `the progress text is in live region #${a11y.progressLive}`);
     });
 
     await check('review 2.12: the compare legend names the fields that tell the sessions apart (key fields first), not the first three alphabetically', async () => {
@@ -1255,7 +1270,7 @@ async function main() {
       for (const id of ids) await page.check(`#session-table tr[data-id="${id}"] input.cmp`);
       await page.selectOption('#compare-channel', 'vehicle.speed');
       await page.click('#compare-btn');
-      await waitFor(async () => (await page.evaluate(() => window.tanksimDebug.compare.ids.length)) === 3, 'the overlay of 3');
+      await waitFor(async () => page.evaluate((ids) => ids.every((id) => window.tanksimDebug.compare.shows(id)), ids), 'the overlay of 3');
       const labels = await page.evaluate(() => window.tanksimDebug.compare.plot.series.slice(1).map((x) => x.label.split(' · ').slice(1).join(' · ')));
       assert(new Set(labels).size === 3, `legend labels do not tell the sessions apart: ${JSON.stringify(labels)}`);
       assert(labels.every((l) => l.startsWith('track/fidelity=')), `track/fidelity not first: ${JSON.stringify(labels)}`);
@@ -1444,7 +1459,10 @@ async function main() {
       await page2.goto(`${dt.url}/`);
       await waitFor(async () => (await page2.evaluate(() => document.activeElement?.id)) === 'token-input', 'the token input focused by the first 401');
       await page2.focus('#fft-fmax');
-      await page2.waitForTimeout(3500); /* a list poll: another 401 */
+      /* the list's next poll meets another 401: wait for it, then give the page a moment to handle it */
+      const r = await page2.waitForResponse((res) => new URL(res.url()).pathname === '/v1/sessions' && res.status() === 401, { timeout: 8000 });
+      await r.finished();
+      await page2.evaluate(() => new Promise((res) => setTimeout(res, 100)));
       const focused = await page2.evaluate(() => document.activeElement?.id);
       assert(focused === 'fft-fmax', `focus moved to ${focused}`);
     });

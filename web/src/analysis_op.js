@@ -8,40 +8,42 @@
  * a failed or interrupted (the daemon stopped) operation is shown in the
  * form's error box in the daemon's words; the progress bar says "refused"
  * for the first (nothing ran), "failed" or "interrupted" for the others.
- * changed(kind, op) hears of each start and end (the stored-analyses list,
+ * changed() hears of each start and end (the stored-analyses list,
  * stored_analyses.js); showStored(op) shows a stored analysis the list hands
  * over as the form shows its own (a cancel there is an error: the daemon's
  * words, not this page's doing), on the progress bar unless the form's own
- * one runs.
+ * one runs. The form's result is taken away (onClear) when a run starts and
+ * before an ended one is shown; shown() is the id of the analysis whose
+ * result is on screen, reset() takes it away (it was deleted).
  *
  * Elements, by the form's prefix p: p-run, p-cancel, p-error, p-progress
- * (data-percent, data-outcome), p-progress-bar, p-progress-text.
+ * (data-percent, data-outcome; the bar: its .bar), p-progress-text.
  */
 import { api } from './api.js';
-import { $ } from './dom.js';
+import { $, setBar } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { followOperation, operationError, outcomeOf, outcomeSuffix } from './operation.js';
 
 /**
  * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
- * draw the result (may throw an ApiError: shown as the form's error); changed(kind, op)
- * (optional): the operation started (op not done) or ended (op: null when its poll failed).
- * Returns {start(begin), showStored(op), attach(id), reset()}: begin() sends the request
- * and resolves to the operation; op: a done operation (GET /v1/operations/{id});
- * showStored returns whether its result was drawn; attach follows a running operation
- * the page did not start; reset empties the progress bar.
+ * draw the result (may throw an ApiError: shown as the form's error); onClear(): take
+ * the result off screen; changed() (optional): an operation started or ended.
+ * Returns {start(begin), showStored(op), attach(id), reset(), shown()}: begin() sends the
+ * request and resolves to the operation; op: a done operation (GET /v1/operations/{id});
+ * attach follows a running operation the page did not start; reset takes the result
+ * shown and the progress bar away; shown: the id of the analysis whose result is shown
+ * (null: none).
  */
-export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {} }) {
+export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed = () => {} }) {
   const el = (name) => $(`${prefix}-${name}`);
   const box = el('error');
+  let shownId = null; /* the analysis whose result is on screen */
 
   function render(meta, outcome) {
     const total = meta?.parts_total;
     const done = meta?.parts_done ?? 0;
     const pct = total ? Math.round((100 * done) / total) : 0;
-    el('progress-bar').style.width = `${pct}%`;
-    el('progress').dataset.percent = String(pct);
-    el('progress').setAttribute('aria-valuenow', String(pct)); /* role=progressbar, 0-100 */
+    setBar(el('progress'), pct);
     if (outcome) el('progress').dataset.outcome = outcome;
     else delete el('progress').dataset.outcome;
     const parts = total ? `${done} / ${total} parts · ${pct} %` : '';
@@ -49,6 +51,29 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
     const running = state.analyses[kind] !== null;
     el('run').disabled = running;
     el('cancel').disabled = !running;
+  }
+
+  function clear() {
+    onClear();
+    shownId = null;
+  }
+
+  /* Show ended operation `op` in place of the last result: its response drawn,
+     or its error in the daemon's words (a cancel only when cancelShown). Returns
+     its outcome ('failed' when onDone could not draw it). */
+  function showEnded(op, cancelShown) {
+    clear();
+    let outcome = outcomeOf(op.error);
+    try {
+      /* failed or interrupted: the daemon's words (the latter say to start it again) */
+      if (op.error && (cancelShown || outcome !== 'cancelled')) throw operationError(op);
+      if (outcome === 'done') onDone(op.response);
+    } catch (e) {
+      if (outcome === 'done') outcome = 'failed'; /* onDone could not draw it */
+      showError(box, e);
+    }
+    if (outcome === 'done') shownId = op.id;
+    return outcome;
   }
 
   function stop() {
@@ -59,6 +84,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
   async function start(begin) {
     hideError(box);
     stop();
+    clear(); /* the last result is not the answer to this request */
     render(null);
     el('run').disabled = true; /* until the daemon answers */
     let op;
@@ -69,7 +95,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
       render(null, 'refused'); /* nothing ran: the daemon's reason is in the error box */
       return;
     }
-    changed(kind, op);
+    changed();
     follow(op.id, op);
   }
 
@@ -83,21 +109,12 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
         stop();
         showError(box, e);
         render(null, 'failed');
-        changed(kind, null);
+        changed();
       },
       done(cur) {
         stop();
-        let outcome = outcomeOf(cur.error);
-        try {
-          /* failed or interrupted: the daemon's words (the latter say to start it again) */
-          if (outcome !== 'cancelled' && cur.error) throw operationError(cur);
-          if (outcome === 'done') onDone(cur.response);
-        } catch (e) {
-          if (outcome === 'done') outcome = 'failed'; /* onDone could not draw it */
-          showError(box, e);
-        }
-        render(cur.metadata, outcome);
-        changed(kind, cur);
+        render(cur.metadata, showEnded(cur, false)); /* a cancel: this page's or another client's doing, not an error */
+        changed();
       },
       progress(cur) {
         render(cur.metadata);
@@ -117,18 +134,8 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
 
   function showStored(op) {
     hideError(box);
-    let outcome = outcomeOf(op.error);
-    let drawn = false;
-    try {
-      if (op.error) throw operationError(op); /* a cancel too: not this page's doing */
-      onDone(op.response);
-      drawn = true;
-    } catch (e) {
-      if (outcome === 'done') outcome = 'failed'; /* onDone could not draw it */
-      showError(box, e);
-    }
+    const outcome = showEnded(op, true); /* a cancel too: not this page's doing */
     if (!state.analyses[kind]) render(op.metadata, outcome); /* else the bar is the running one's */
-    return drawn;
   }
 
   /* Follow running analysis `id` that this page did not start (one still
@@ -142,12 +149,13 @@ export function initAnalysisOp(state, kind, prefix, { onDone, changed = () => {}
     return true;
   }
 
-  /* The progress bar back to "—" (the analysis it showed was deleted), unless one runs. */
+  /* The result shown and the progress bar back to "—" (the analysis they showed was deleted), the bar unless one runs. */
   function reset() {
+    clear();
     if (!state.analyses[kind]) render(null);
   }
 
   el('cancel').addEventListener('click', onCancel);
   render(null);
-  return { start, showStored, attach, reset };
+  return { start, showStored, attach, reset, shown: () => shownId };
 }

@@ -12,9 +12,9 @@ export function channelsOf(s) {
   return (s.channels || []).filter((c) => c.name !== 't');
 }
 
-/* Options "name [display unit]": the unit the charts draw the channel in. */
+/* Options "name [display unit]": the unit the charts draw the channel in; `selected` (by default the current one) stays chosen while listed (fillSelect). */
 export function fillChannelSelect(sel, chans, selected) {
-  fillSelect(sel, chans, (c) => ({ value: c.name, text: `${c.name}${bracket(display(c.unit).label)}`, data: { unit: c.unit } }), selected || sel.value);
+  fillSelect(sel, chans, (c) => ({ value: c.name, text: `${c.name}${bracket(display(c.unit).label)}`, data: { unit: c.unit } }), selected);
 }
 
 /* The channels a select lists, as it was filled. */

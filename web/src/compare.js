@@ -7,27 +7,18 @@
  * legend lists the others in the order given (the order they were ticked),
  * each labelled with the config fields that tell them apart (legendFields).
  * The chart follows its box's width and is drawn again from the same series
- * when a display unit changes.
+ * when the channel's display unit changes (ChartPanel, plots.js).
  */
 import uPlot from 'uplot';
 import { seriesAll } from './api.js';
-import { bracket, display, toDisplay, UNITS_CHANGED } from './units.js';
-import { chartWidth, color, fmtValue, followSize } from './plots.js';
+import { bracket, display, toDisplay } from './units.js';
+import { ChartPanel, color, fmtValue } from './plots.js';
 import { axisValues } from './ticks.js';
 import { shortId } from './dom.js';
 
 const MAX_POINTS = 4000;
 
-export class ComparePanel {
-  constructor(root) {
-    this.root = root;
-    this.plot = null;
-    this.ids = []; /* sessions overlaid, in legend order */
-    this.last = null; /* {channel, unit, labels, tables (SI)} of the overlay drawn */
-    followSize(this, 260);
-    window.addEventListener(UNITS_CHANGED, () => this.last && this.draw(this.last)); /* the y axis's unit */
-  }
-
+export class ComparePanel extends ChartPanel {
   /**
    * sessions: full session objects (with channels, t, config), in legend order.
    * Returns {series, missing: [sessions without the channel]};
@@ -49,21 +40,17 @@ export class ComparePanel {
       tables.push([ser.t, ser.cols[channel] || []]);
     }
     const labels = present.map((s) => describe(s, fields));
-    this.draw({ channel, unit: ch.unit, labels, tables });
-    this.ids = present.map((s) => s.id);
+    this.draw({ channel, unit: ch.unit, ids: present.map((s) => s.id), labels, tables });
     return { series: labels.length, missing };
   }
 
-  /* Draw the SI series `tables` ([t, values] per session) in the display unit of today. */
-  draw(last) {
-    const { channel, unit, labels, tables } = last;
+  /* Draw overlay.tables ([t, SI values] per session of overlay.ids, in legend order) in the display unit of today. */
+  draw(overlay) {
+    const { channel, unit, labels, tables } = overlay;
     const d = display(unit);
-    const ids = this.ids;
-    this.clear();
     const data = uPlot.join(tables.map(([t, v]) => [t, toDisplay(v, d)]));
     const opts = {
       title: `${channel}${bracket(d.label)} — ${labels.length} sessions`,
-      width: chartWidth(this.root),
       height: 260,
       scales: { x: { time: false } },
       cursor: { drag: { x: true, y: false } },
@@ -76,22 +63,12 @@ export class ComparePanel {
         ...labels.map((label, i) => ({ label, stroke: color(i), width: 1.5, spanGaps: true, value: fmtValue })),
       ],
     };
-    this.plot = new uPlot(opts, data, this.root);
-    this.ids = ids;
-    this.last = last;
+    this.plotted(opts, data, overlay, [unit]);
   }
 
   /** Whether the overlay shows session `id`. */
   shows(id) {
-    return this.ids.includes(id);
-  }
-
-  clear() {
-    this.plot?.destroy();
-    this.plot = null;
-    this.ids = [];
-    this.last = null;
-    this.root.replaceChildren();
+    return !!this.drawn?.from.ids.includes(id);
   }
 }
 
@@ -105,13 +82,6 @@ function flatten(doc, prefix = '', out = {}) {
   return out;
 }
 
-/* JSON Pointers whose values differ between the sessions' resolved configs. */
-export function differingFields(sessions) {
-  const flat = sessions.map((s) => flatten(s.config));
-  const keys = new Set(flat.flatMap((f) => Object.keys(f)));
-  return [...keys].filter((k) => new Set(flat.map((f) => f[k])).size > 1).sort();
-}
-
 /* The fields that tell runs apart first, in this order (then the others alphabetically). */
 const KEY_FIELDS = ['/track/fidelity', '/engine/fidelity', '/engine/variant', '/terrain/kind', '/control/mode'];
 /* The legend's pseudo-field: the session's preset name. */
@@ -123,8 +93,9 @@ const MOST_FIELDS = 3;
  * every session has a label of its own or nothing separates them further. */
 export function legendFields(sessions) {
   const flat = sessions.map((s) => ({ ...flatten(s.config), [PRESET]: JSON.stringify(s.preset ?? null) }));
-  const differing = differingFields(sessions);
-  const candidates = [...KEY_FIELDS.filter((k) => differing.includes(k)), ...differing.filter((k) => !KEY_FIELDS.includes(k)), PRESET];
+  const others = new Set(flat.flatMap((f) => Object.keys(f)).filter((k) => k !== PRESET && !KEY_FIELDS.includes(k)));
+  /* a field with one value for all never separates: the test below skips it */
+  const candidates = [...KEY_FIELDS, ...[...others].sort(), PRESET];
   const groups = (fields) => new Set(flat.map((f) => JSON.stringify(fields.map((k) => f[k])))).size;
   const chosen = [];
   for (const k of candidates) {
@@ -139,7 +110,7 @@ export function legendFields(sessions) {
 export function describe(s, fields = []) {
   const parts = [shortId(s.id)];
   const flat = flatten(s.config);
-  for (const k of fields.slice(0, MOST_FIELDS)) {
+  for (const k of fields) {
     if (k === PRESET) parts.push(s.preset || 'no preset');
     else parts.push(`${k.slice(1)}=${flat[k] === undefined ? '—' : flat[k].replace(/"/g, '')}`);
   }

@@ -2,7 +2,8 @@
  * dom.js — `$(id)`: an element of index.html by its id. The dashboard's
  * panels are fixed in index.html; each module looks up its own elements.
  * Also the pieces the lists build their rows from: a status pill, a cell;
- * and the preset selects' options (presetOptions).
+ * the preset selects' options (presetOptions); and a progress bar's value
+ * (setBar).
  */
 export const $ = (id) => document.getElementById(id);
 
@@ -48,4 +49,15 @@ export function presetOptions(sel, presets, unusable = () => '') {
     const why = unusable(p);
     return { value: p.name, text: why ? `${p.name} (${why})` : p.name, title: p.description || '', disabled: Boolean(why) };
   });
+}
+
+/* Progress bar `el` (role=progressbar, its .bar inside) at `pct` % shown with
+   `digits` decimals: the bar's width, data-percent and aria-valuenow; pct
+   null: empty, with no data-percent. */
+export function setBar(el, pct, digits = 0) {
+  const v = pct === null ? '0' : pct.toFixed(digits);
+  el.querySelector('.bar').style.width = `${v}%`;
+  if (pct === null) delete el.dataset.percent;
+  else el.dataset.percent = v;
+  el.setAttribute('aria-valuenow', v);
 }

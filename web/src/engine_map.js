@@ -4,33 +4,28 @@
  * axis) over engine speed in rpm, one point per speed, and the one-line
  * summary of the rated point. Columns are found by name in the map's column
  * table (name, unit); values are converted for display only (units.js),
- * drawn again from the same map when a display unit changes. The chart
- * follows its box's width.
+ * drawn again from the same map when the display unit of a column it plots
+ * changes. The chart follows its box's width (ChartPanel, plots.js).
  */
-import uPlot from 'uplot';
 import { ApiError } from './api.js';
-import { bracket, display, fmt, toDisplay, UNITS_CHANGED } from './units.js';
-import { chartWidth, color, fmtValue, followSize } from './plots.js';
+import { bracket, display, fmt, toDisplay } from './units.js';
+import { ChartPanel, color, fmtValue } from './plots.js';
 import { axisValues } from './ticks.js';
 
-export class EngineMapPanel {
+export class EngineMapPanel extends ChartPanel {
   /* root: the chart's container; summary: the element of the rated-point line */
   constructor(root, summary) {
-    this.root = root;
+    super(root);
     this.summary = summary;
-    this.plot = null;
-    this.doc = null; /* the map drawn */
-    followSize(this, 240);
-    window.addEventListener(UNITS_CHANGED, () => this.doc && this.show(this.doc)); /* torque and power axes' units */
   }
 
   /** Draw map document `doc` (api/openapi.yaml EngineMap); throws when it lacks a column. */
-  show(doc) {
+  draw(doc) {
     const cols = doc.columns || [];
     const find = (name) => {
       const i = cols.findIndex((c) => c.name === name);
       if (i < 0) throw new ApiError(0, { title: 'Unexpected engine map', detail: `no column ${name} in the daemon's answer` });
-      return { i, d: display(cols[i].unit) };
+      return { i, unit: cols[i].unit, d: display(cols[i].unit) };
     };
     const speed = find('speed_rpm');
     const torque = find('torque');
@@ -39,10 +34,8 @@ export class EngineMapPanel {
     const column = ({ i, d }) => toDisplay(rows.map((r) => r[i]), d);
     const tLabel = `brake torque${bracket(torque.d.label)}`;
     const pLabel = `power${bracket(power.d.label)}`;
-    this.clear();
     const opts = {
       title: `Full-load map: ${doc.variant}, ${doc.fidelity}, rack ${fmt(doc.rack)}`,
-      width: chartWidth(this.root),
       height: 240,
       scales: { x: { time: false }, torque: {}, power: {} },
       cursor: { drag: { x: true, y: false } },
@@ -57,18 +50,14 @@ export class EngineMapPanel {
         { label: pLabel, scale: 'power', stroke: color(1), width: 1.5, points: { show: true }, value: fmtValue },
       ],
     };
-    this.plot = new uPlot(opts, [column(speed), column(torque), column(power)], this.root);
+    this.plotted(opts, [column(speed), column(torque), column(power)], doc, [speed.unit, torque.unit, power.unit]);
     const r = doc.rated || {};
     this.summary.textContent = `rated: ${fmt(r.power_w / 1000)} kW (${fmt(r.power_hp)} hp) at ${fmt(r.speed_rpm)} rpm`;
     this.summary.dataset.powerKw = String(r.power_w / 1000);
-    this.doc = doc;
   }
 
   clear() {
-    this.plot?.destroy();
-    this.plot = null;
-    this.doc = null;
-    this.root.replaceChildren();
+    super.clear();
     this.summary.textContent = '';
     delete this.summary.dataset.powerKw;
   }

@@ -4,18 +4,17 @@
  * setPresets) and the engine fidelity, sent as a run
  * config to POST /v1/engine-map; the operation is followed by analysis_op.js
  * and its map drawn by EngineMapPanel (engine_map.js); changed, showStored,
- * attach, reset: see analysis_op.js.
+ * attach, reset, shown: see analysis_op.js.
  */
 import { api } from './api.js';
 import { $, presetOptions } from './dom.js';
 import { initAnalysisOp } from './analysis_op.js';
 
 export function initEngineMapControls(state, engineMap, { changed }) {
-  const op = initAnalysisOp(state, 'engine_map', 'map', { onDone: (doc) => engineMap.show(doc), changed });
+  const op = initAnalysisOp(state, 'engine_map', 'map', { onDone: (doc) => engineMap.draw(doc), onClear: () => engineMap.clear(), changed });
 
   function onRun() {
     const doc = { preset: $('map-preset').value, engine: { fidelity: $('map-fidelity').value } };
-    engineMap.clear(); /* the last map is not the answer to this request */
     op.start(() => api.engineMap(doc));
   }
 
@@ -26,5 +25,6 @@ export function initEngineMapControls(state, engineMap, { changed }) {
     showStored: op.showStored,
     attach: op.attach,
     reset: op.reset,
+    shown: op.shown,
   };
 }

@@ -6,23 +6,14 @@
  * A spectrum that cannot be drawn (the daemon's error, or nothing at or
  * below "show up to") throws; the caller clears the old one and says why.
  * The chart follows its box's width and is drawn again from the same
- * document when a display unit changes.
+ * document when the channel's display unit changes (ChartPanel, plots.js).
  */
-import uPlot from 'uplot';
 import { api, ApiError } from './api.js';
-import { bracket, display, fmt, toDisplay, UNITS_CHANGED } from './units.js';
-import { chartWidth, fmtValue, followSize } from './plots.js';
+import { bracket, display, fmt, toDisplay } from './units.js';
+import { ChartPanel, fmtValue } from './plots.js';
 import { axisValues } from './ticks.js';
 
-export class FftPanel {
-  constructor(root) {
-    this.root = root;
-    this.plot = null;
-    this.last = null; /* {doc, channel, unit, from, to, fmax, log} of the spectrum drawn */
-    followSize(this, 220);
-    window.addEventListener(UNITS_CHANGED, () => this.last && this.draw(this.last)); /* the amplitude axis's unit */
-  }
-
+export class FftPanel extends ChartPanel {
   /* fmax: highest frequency shown [Hz] (0/undefined: all); log: logarithmic
    * amplitude axis. */
   async compute(session, channel, from, to, { fmax, log } = {}) {
@@ -31,9 +22,9 @@ export class FftPanel {
     this.draw({ doc, channel, unit: doc.unit || ch.unit, from, to, fmax, log });
   }
 
-  /* Draw spectrum document `doc` (api/openapi.yaml Spectrum) in the display unit of today. */
-  draw(last) {
-    const { doc, channel, unit, from, to, fmax, log } = last;
+  /* Draw spec.doc (api/openapi.yaml Spectrum) of spec.channel (SI spec.unit) in the display unit of today. */
+  draw(spec) {
+    const { doc, channel, unit, from, to, fmax, log } = spec;
     const freq = doc.frequency || [];
     const d = display(unit);
     /* Leave out the DC bin: the mean dwarfs the vibration content. */
@@ -53,10 +44,8 @@ export class FftPanel {
         yy = yy.slice(0, n);
       }
     }
-    this.clear();
     const opts = {
       title: `Amplitude spectrum of ${channel} (${fmt(doc.from ?? from ?? 0)}–${fmt(doc.to ?? to ?? 0)} s, ${freq.length} bins)`,
-      width: chartWidth(this.root),
       height: 220,
       scales: { x: { time: false }, y: log ? { distr: 3 } : {} },
       cursor: { drag: { x: true, y: false } },
@@ -69,14 +58,6 @@ export class FftPanel {
         { label: `|${channel}|${bracket(d.label)}`, stroke: '#7c3aed', width: 1.5, fill: 'rgba(124,58,237,0.08)', value: fmtValue },
       ],
     };
-    this.plot = new uPlot(opts, [xs, yy], this.root);
-    this.last = last;
-  }
-
-  clear() {
-    this.plot?.destroy();
-    this.plot = null;
-    this.last = null;
-    this.root.replaceChildren();
+    this.plotted(opts, [xs, yy], spec, [unit]);
   }
 }

@@ -44,7 +44,7 @@ export function initFftControls(state, fft) {
   function update() {
     const few = !!state.session && (state.store?.length || 0) < MIN_SAMPLES;
     $('fft-btn').disabled = !state.session || few;
-    $('fft-hint').textContent = few ? 'no spectrum before 2 stored samples: step or run the session first' : '';
+    $('fft-hint').textContent = few ? `no spectrum before ${MIN_SAMPLES} stored samples: step or run the session first` : '';
     $('fft-hint').hidden = !few;
   }
 

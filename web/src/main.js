@@ -35,6 +35,7 @@ import { initTuneControls } from './tune_controls.js';
 import { initStoredAnalyses } from './stored_analyses.js';
 import { drawnTickLabels } from './ticks.js';
 import { readPageState, writePageState } from './page_state.js';
+import { setDisplay } from './units.js';
 
 const state = {
   compare: new Set(), /* ids ticked for Compare */
@@ -64,8 +65,8 @@ const frames = new FrameViewer({
   status: $('frame-status'),
 });
 
-/* Read-only handle for the browser test (tests/web/dashboard.test.mjs). */
-window.tanksimDebug = { state, plots, compare, fft, engineMap, tickLabels: drawnTickLabels };
+/* Handle for the browser test (tests/web/dashboard.test.mjs): read-only, but for setUnit (units.js setDisplay). */
+window.tanksimDebug = { state, plots, compare, fft, engineMap, tickLabels: drawnTickLabels, setUnit: setDisplay };
 
 initTokenForm(boot);
 const refreshList = () => list.refresh(); /* list is made last: it shows the open session */
@@ -79,7 +80,7 @@ const view = initSessionView(state, { plots, frames, header, stream, picker, fft
 const list = initSessionList(state, { view, ticksChanged: compareControls.updateInfo });
 const form = initCreateForm({ refreshList, open: view.open });
 /* a stored analysis is shown by the form of its kind (the forms are made next) */
-const stored = initStoredAnalyses({ engineMap, form: (kind) => ({ engine_map: mapControls, tune: tuneControls })[kind] });
+const stored = initStoredAnalyses({ form: (kind) => ({ engine_map: mapControls, tune: tuneControls })[kind] });
 const mapControls = initEngineMapControls(state, engineMap, { changed: stored.changed });
 const tuneControls = initTuneControls(state, { changed: stored.changed });
 

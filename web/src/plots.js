@@ -1,10 +1,13 @@
 /*
  * plots.js — live time-series charts (uPlot) for the chosen channels of one
  * session, with synchronized cursors, drag-to-zoom (double-click resets) and
- * display-unit conversion (SI in the data; mph / rpm only on screen).
+ * display-unit conversion (SI in the data; mph / rpm only on screen). Also
+ * what every chart shares: its width (followWidth: the box's, when the window
+ * or the layout changes), colours and legend values, and ChartPanel, the base
+ * of the one-chart panels (fft.js, compare.js, engine_map.js).
  */
 import uPlot from 'uplot';
-import { bracket, display, fmt, toDisplay } from './units.js';
+import { bracket, display, fmt, toDisplay, UNITS_CHANGED } from './units.js';
 import { axisValues } from './ticks.js';
 
 /* Channels picked by default when a session opens: the paper's plotted
@@ -44,17 +47,51 @@ export const color = (i) => COLORS[i % COLORS.length];
 /* uPlot legend values shared by every chart (axis ticks: ticks.js). */
 export const fmtValue = (u, v) => fmt(v);
 
-export function chartWidth(container) {
+function chartWidth(container) {
   return Math.max(280, Math.floor(container.getBoundingClientRect().width) - 4);
 }
 
-/* Keep panel.plot (a uPlot in panel.root, `height` px high) as wide as its box
- * when the window or the layout changes. */
-export function followSize(panel, height) {
+/* Keep the uPlots in `root` (plots(): the current ones) as wide as root, each
+ * at its own height, when the window or the layout changes. */
+export function followWidth(root, plots) {
   new ResizeObserver(() => {
-    const w = chartWidth(panel.root);
-    if (panel.plot && Math.abs(panel.plot.width - w) > 2) panel.plot.setSize({ width: w, height });
-  }).observe(panel.root);
+    const w = chartWidth(root);
+    for (const p of plots()) if (Math.abs(p.width - w) > 2) p.setSize({ width: w, height: p.height });
+  }).observe(root);
+}
+
+/* A panel of one chart drawn from one answer (a spectrum, an overlay, an
+ * engine map): this.plot, a uPlot in this.root, follows the box's width.
+ * A subclass's draw(from) builds the chart from `from` in today's display
+ * units and hands it to plotted(); when the display unit of a quantity the
+ * chart shows changes (units.js UNITS_CHANGED, detail.siUnit), draw(from)
+ * runs again (other changes leave the chart, and its zoom, alone). clear()
+ * takes the chart and what it was drawn from away. */
+export class ChartPanel {
+  constructor(root) {
+    this.root = root;
+    this.plot = null;
+    this.drawn = null; /* {from, units}: what the chart was drawn from, and the SI units of what it shows */
+    followWidth(root, () => (this.plot ? [this.plot] : []));
+    window.addEventListener(UNITS_CHANGED, ({ detail }) => {
+      if (this.drawn && (!detail?.siUnit || this.drawn.units.includes(detail.siUnit))) this.draw(this.drawn.from);
+    });
+  }
+
+  /* The chart becomes uPlot(opts, data), drawn from `from`; units: the SI units of the quantities it shows. */
+  plotted(opts, data, from, units) {
+    this.plot?.destroy();
+    this.root.replaceChildren();
+    this.plot = new uPlot({ width: chartWidth(this.root), ...opts }, data, this.root);
+    this.drawn = { from, units };
+  }
+
+  clear() {
+    this.plot?.destroy();
+    this.plot = null;
+    this.drawn = null;
+    this.root.replaceChildren();
+  }
 }
 
 export class LivePlots {
@@ -64,8 +101,7 @@ export class LivePlots {
     this.store = null;
     this.drawnVersion = -1;
     this.timer = null;
-    this.resizeObs = new ResizeObserver(() => this.resize());
-    this.resizeObs.observe(root);
+    followWidth(root, () => this.charts.map((c) => c.plot));
   }
 
   /** Show the channels `names` of `store`. Drawn again for the same store (a
@@ -137,11 +173,6 @@ export class LivePlots {
     if (!this.store || (!force && this.store.version === this.drawnVersion)) return;
     this.drawnVersion = this.store.version;
     for (const c of this.charts) c.plot.setData(this.data(c), !c.zoomed);
-  }
-
-  resize() {
-    const w = chartWidth(this.root);
-    for (const c of this.charts) if (Math.abs(c.plot.width - w) > 2) c.plot.setSize({ width: w, height: 190 });
   }
 
   destroyCharts() {

@@ -61,7 +61,6 @@ export function initRunControls(state, { header, stream, refreshList }) {
     state.op = me;
     delete $('progress-text').dataset.outcome;
     header.render();
-    let unreachable = false; /* the error box says the daemon cannot be reached */
     me.follower = followOperation(id, first, 300, {
       async error(e) {
         stop();
@@ -73,19 +72,16 @@ export function initRunControls(state, { header, stream, refreshList }) {
         refreshList();
       },
       unreachable(e, wait) {
-        unreachable = true;
         showError($('session-error'), new ApiError(0, { ...e.problem, detail: `${e.problem.detail} (trying again in ${fmt(wait / 1000)} s)` }));
       },
       reached() {
-        if (unreachable) hideError($('session-error'));
-        unreachable = false;
+        hideError($('session-error')); /* it said the daemon could not be reached */
       },
       async done(op) {
         stop();
         const m = op.metadata || {};
         const outcome = outcomeOf(op.error);
         if (outcome === 'failed' || outcome === 'interrupted') showError($('session-error'), operationError(op));
-        else if (unreachable) hideError($('session-error'));
         await header.refresh();
         header.renderProgress(m);
         if (outcomeSuffix(outcome)) $('progress-text').textContent += ` · ${outcomeSuffix(outcome)}`;

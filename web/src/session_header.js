@@ -6,7 +6,7 @@
  */
 import { api } from './api.js';
 import { channelsOf } from './channels.js';
-import { $, shortId } from './dom.js';
+import { $, setBar, shortId } from './dom.js';
 import { showError } from './messages.js';
 import { fmt } from './units.js';
 
@@ -55,21 +55,17 @@ export function initSessionHeader(state) {
 
   function setProgress(frac, meta) {
     const pct = Math.max(0, Math.min(100, frac * 100));
-    $('progress-bar').style.width = `${pct}%`;
+    setBar($('run-progress'), pct, 1);
     let txt = `${pct.toFixed(pct >= 99.95 || pct === 0 ? 0 : 1)} %`;
     if (meta?.t !== undefined) txt += ` · t = ${fmt(meta.t)} s`;
     if (meta?.real_time_factor) txt += ` · ${fmt(meta.real_time_factor, 3)}× real time`;
     $('progress-text').textContent = txt;
-    $('progress-bar').parentElement.dataset.percent = pct.toFixed(1);
-    $('run-progress').setAttribute('aria-valuenow', pct.toFixed(1));
   }
 
   function resetProgress() {
-    $('progress-bar').style.width = '0';
+    setBar($('run-progress'), null);
     $('progress-text').textContent = '—';
     delete $('progress-text').dataset.outcome;
-    delete $('progress-bar').parentElement.dataset.percent;
-    $('run-progress').setAttribute('aria-valuenow', '0');
   }
 
   /* GET the open session again and show it. */

@@ -12,7 +12,7 @@
  * analysis runs (one another client started, say) and the page is not hidden.
  * On page load the forms follow the analyses still running (analysis_op.js
  * attach: progress, Cancel, result), and deleting the analysis a form shows
- * takes its result and its progress off screen.
+ * (its shown()) takes its result and its progress off screen (its reset()).
  */
 import { api } from './api.js';
 import { $, cell, pill } from './dom.js';
@@ -41,22 +41,11 @@ function button(label, title, onClick) {
   return b;
 }
 
-/* engineMap: the EngineMapPanel the map form draws in (engine_map.js); form(kind): the
-   analysis form of that kind ({showStored}, analysis_op.js; made after this list). */
-export function initStoredAnalyses({ engineMap, form: formOf }) {
+/* form(kind): the analysis form of that kind ({showStored, attach, reset, shown},
+   analysis_op.js; made after this list), undefined for a kind the page has no form for. */
+export function initStoredAnalyses({ form: formOf }) {
   const box = $('stored-error');
   const tbody = $('stored-table').querySelector('tbody');
-  /* How each kind's result is taken off screen; shown: the id of the analysis it shows, if stored. */
-  const forms = {
-    engine_map: { clear: () => engineMap.clear(), shown: null },
-    tune: { clear: () => $('tune-result').replaceChildren(), shown: null },
-  };
-  /* A deleted analysis's result goes, and its form's progress bar with it. */
-  function drop(kind) {
-    forms[kind].clear();
-    forms[kind].shown = null;
-    formOf(kind).reset();
-  }
   let drawn = 0; /* the latest refresh: an earlier one answering late is dropped */
   let showing = 0; /* the same for Show */
   let listFailed = false; /* the error box holds why the list could not be loaded */
@@ -97,7 +86,7 @@ export function initStoredAnalyses({ engineMap, form: formOf }) {
     $('stored-empty').hidden = list.length > 0;
     running = list.some((a) => !a.done);
     /* oldest first: the daemon runs one at a time, the newest is the one that runs */
-    if (attach) for (const a of [...list].reverse()) if (!a.done && forms[a.kind]) formOf(a.kind).attach(a.id);
+    if (attach) for (const a of [...list].reverse()) if (!a.done) formOf(a.kind)?.attach(a.id);
     schedule();
   }
 
@@ -113,7 +102,7 @@ export function initStoredAnalyses({ engineMap, form: formOf }) {
     what.title = JSON.stringify(a.request);
     const kind = KIND_LABEL[a.kind] || a.kind;
     const show = button('Show', `show the ${kind} of ${time.textContent}`, () => onShow(a));
-    show.disabled = !a.done || !forms[a.kind];
+    show.disabled = !a.done || !formOf(a.kind);
     const del = button('Delete', `delete the ${kind} of ${time.textContent}`, () => onDelete(a, `${kind} of ${time.textContent}`));
     del.classList.add('danger');
     del.disabled = !a.done; /* the daemon refuses a running one (409) */
@@ -125,7 +114,6 @@ export function initStoredAnalyses({ engineMap, form: formOf }) {
 
   async function onShow(a) {
     const me = ++showing;
-    const form = forms[a.kind];
     clearBox();
     let op;
     try {
@@ -137,8 +125,7 @@ export function initStoredAnalyses({ engineMap, form: formOf }) {
       return;
     }
     if (me !== showing) return;
-    form.clear();
-    form.shown = formOf(a.kind).showStored(op) ? a.id : null;
+    formOf(a.kind).showStored(op);
   }
 
   async function onDelete(a, what) {
@@ -151,17 +138,12 @@ export function initStoredAnalyses({ engineMap, form: formOf }) {
       showError(box, e); /* 409: it is running after all; 404: another client deleted it */
       gone = e.status === 404;
     }
-    if (gone && forms[a.kind]?.shown === a.id) drop(a.kind); /* no result of a deleted analysis stays on screen */
+    const form = formOf(a.kind);
+    if (gone && form?.shown() === a.id) form.reset(); /* no result of a deleted analysis stays on screen */
     await refresh();
   }
 
-  /* A form's analysis of `kind` started (op not done: the form cleared its last result),
-     ended (op done), or could not be followed (op null). */
-  function changed(kind, op) {
-    if (forms[kind]) forms[kind].shown = op?.done && op.response ? op.id : null;
-    refresh();
-  }
-
   $('refresh-analyses').addEventListener('click', () => refresh());
-  return { refresh, changed };
+  /* changed: a form's analysis started or ended */
+  return { refresh, changed: () => refresh() };
 }

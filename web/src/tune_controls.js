@@ -5,7 +5,7 @@
  * (mass or grade) with its comma-separated values, checked here before
  * anything is sent (number_input.js) and by the daemon again; POST /v1/tune,
  * followed by analysis_op.js, its result shown by showTuning (tune.js);
- * changed, showStored, attach, reset: see analysis_op.js.
+ * changed, showStored, attach, reset, shown: see analysis_op.js.
  */
 import { api } from './api.js';
 import { $, presetOptions } from './dom.js';
@@ -25,7 +25,7 @@ const SCHEDULE = {
 const MOST = 16;
 
 export function initTuneControls(state, { changed }) {
-  const op = initAnalysisOp(state, 'tune', 'tune', { onDone: (doc) => showTuning($('tune-result'), doc), changed });
+  const op = initAnalysisOp(state, 'tune', 'tune', { onDone: (doc) => showTuning($('tune-result'), doc), onClear: () => $('tune-result').replaceChildren(), changed });
   const input = $('tune-values');
   const fields = Object.fromEntries(
     Object.entries(SCHEDULE).map(([k, s]) => [k, numberListField(input, () => ({ name: s.name, most: MOST, ...fieldRange(state.schema, s.pointer) }), $('tune-values-error'))]),
@@ -46,7 +46,6 @@ export function initTuneControls(state, { changed }) {
     const read = s ? fields[v]() : { value: undefined };
     if (read.error) return; /* shown on the field */
     const params = s ? { [s.param]: read.value.join(',') } : {};
-    $('tune-result').replaceChildren(); /* the last result is not the answer to this request */
     op.start(async () => {
       try {
         return await api.tune({ preset: $('tune-preset').value }, params);
@@ -66,5 +65,6 @@ export function initTuneControls(state, { changed }) {
     showStored: op.showStored,
     attach: op.attach,
     reset: op.reset,
+    shown: op.shown,
   };
 }
