@@ -105,6 +105,28 @@ static void rated_point_is_plausible(void **state)
     assert_in_range(c->q_wall * 100, 8, 25);
 }
 
+/* A copy of the rated state to advance, with the rhs and work buffers. */
+typedef struct scratch {
+    double *x, *xd, *work;
+} scratch;
+
+static scratch scratch_of(const rated *r)
+{
+    size_t n = (size_t)ts_engine_nstate(r->e);
+    scratch s = {malloc(sizeof(double) * n), malloc(sizeof(double) * n),
+                 malloc(sizeof(double) * ts_engine_work_size(r->e))};
+    assert_true(s.x && s.xd && s.work);
+    memcpy(s.x, r->x, sizeof(double) * n);
+    return s;
+}
+
+static void scratch_free(scratch *s)
+{
+    free(s->x);
+    free(s->xd);
+    free(s->work);
+}
+
 /* EVIDENCE: shape of a DI diesel cycle (Heywood Figs. 10-4, 10-8): no heat
  * release before injection, an ignition delay after start of injection,
  * pressure peak within 0-25 deg after firing TDC above the compression
@@ -115,10 +137,8 @@ static void crank_angle_trace_is_a_diesel_cycle(void **state)
 {
     rated *r = *state;
     const ts_engine *e = r->e;
-    int n = ts_engine_nstate(e);
-    double *x = malloc(sizeof(double) * (size_t)n), *xd = malloc(sizeof(double) * (size_t)n);
-    double *work = malloc(sizeof(double) * ts_engine_work_size(e));
-    memcpy(x, r->x, sizeof(double) * (size_t)n);
+    scratch sc = scratch_of(r);
+    double *x = sc.x, *xd = sc.xd, *work = sc.work;
     ts_engine_inputs in = et_full_load();
     ts_err err;
     /* advance to cylinder 1's -180 deg (BDC before firing TDC) */
@@ -155,9 +175,7 @@ static void crank_angle_trace_is_a_diesel_cycle(void **state)
     assert_true(a_hrr > -10 && a_hrr < 10); /* SOI -10 deg + a short delay */
     assert_true(q_60 > 0.8 * q_total);
     assert_true(p_evo_after < 0.5 * p_evo_before); /* blowdown */
-    free(x);
-    free(xd);
-    free(work);
+    scratch_free(&sc);
 }
 
 /* Cylinder volume [m^3] at crank angle th from firing TDC: the slider-crank
@@ -185,10 +203,8 @@ static void indicated_work_is_the_pressure_loop(void **state)
     rated *r = *state;
     const ts_engine *e = r->e;
     ts_engine_config g = et_defaults().engine;
-    int n = ts_engine_nstate(e);
-    double *x = malloc(sizeof(double) * (size_t)n), *xd = malloc(sizeof(double) * (size_t)n);
-    double *work = malloc(sizeof(double) * ts_engine_work_size(e));
-    memcpy(x, r->x, sizeof(double) * (size_t)n);
+    scratch sc = scratch_of(r);
+    double *x = sc.x, *xd = sc.xd, *work = sc.work;
     ts_engine_inputs in = et_full_load();
     ts_err err;
     double w = x[TS_ENGINE_X_SPEED], step = 0.25 * ET_PI / 180;
@@ -211,9 +227,7 @@ static void indicated_work_is_the_pressure_loop(void **state)
                   "J (ratio %.4f)\n",
                   ledger, 12 * loop, 12 * loop / ledger);
     assert_close(12 * loop, ledger, 0.01, 0);
-    free(x);
-    free(xd);
-    free(work);
+    scratch_free(&sc);
 }
 
 int main(void)
