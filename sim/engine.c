@@ -228,6 +228,18 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
             }
         }
     }
+    /* The crank-angle engine's inertia varies with crank angle: c->inertia +
+     * sum recip_mass (dx/dtheta)^2 (engine_crank.c). The cycle-averaged
+     * fidelities use its mean: twelve times one cylinder's mean over a
+     * revolution (dx/dtheta repeats each turn; midpoint rule, exact to
+     * rounding for this smooth periodic integrand). */
+    double jr = 0;
+    for (int i = 0; i < 360; i++) {
+        en_kin k;
+        en_kinematics(g, (i + 0.5) * 2.0 * EN_PI / 360, &k);
+        jr += k.dxdth * k.dxdth;
+    }
+    e->mean_inertia = c->inertia + EN_NCYL * c->recip_mass * jr / 360;
     e->turbo_inertia_scale = 1.0;
     e->thermal_scale = 1.0;
     e->off_bank = e->off_ledger = e->off_cyl = e->off_wall = e->off_coolant = e->off_lag = -1;
@@ -273,6 +285,11 @@ int ts_engine_models_cylinders(const ts_engine *e)
     return e->c.fidelity == TS_ENGINE_CRANK_ANGLE;
 }
 int ts_engine_nstate(const ts_engine *e) { return e->nx; }
+
+double ts_engine_mean_inertia(const ts_engine *e)
+{
+    return e->mean_inertia;
+}
 
 int en_bracket(const double *xs, int n, double x)
 {

@@ -97,6 +97,10 @@ int ts_engine_get_fidelity(const ts_engine *e); /* ts_engine_fidelity enum value
  * crank-angle fidelity); 0 for the mean-value and map engines. */
 int ts_engine_models_cylinders(const ts_engine *e);
 int ts_engine_nstate(const ts_engine *e);       /* length of x */
+/* Cycle-mean inertia of the crank train [kg*m^2]: /engine/inertia plus the mean
+ * of the reciprocating parts' crank-angle-varying share (the inertia the
+ * mean-value and map fidelities use; the crank-angle one varies about it). */
+double ts_engine_mean_inertia(const ts_engine *e);
 
 /* Initial state at crank speed omega [rad/s] and ambient p, T: manifolds at
  * ambient, turbos at /engine/turbo_idle_speed, walls at coolant temperature,

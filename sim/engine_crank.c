@@ -149,7 +149,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         bf[b].m_ex = bf[b].h_ex = bf[b].mf_ex = 0.0;
         bf[b].omega = w;
         bf[b].have_co = 1;
-        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &bf[b].co);
+        en_compressor(&e->turbo, g, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &bf[b].co);
         air += bf[b].co.mdot;
         en_bank_read(e, xb, &bo[b]);
         bf[b].have_gas = 1;

@@ -300,8 +300,10 @@ typedef struct en_comp_out {
 typedef struct en_turb_out {
     double mdot, power, eta;
 } en_turb_out;
-/* Compressor from p01, T01 to p02 at rotor speed w [rad/s]. */
-void en_compressor(const en_turbo *t, double w, double p01, double T01, double p02, en_comp_out *o);
+/* Compressor from p01, T01 to p02 at rotor speed w [rad/s]; g gives the
+ * outlet's air enthalpy (h(T_out) - h(T01) = power / mdot). */
+void en_compressor(const en_turbo *t, const en_gas *g, double w, double p01, double T01, double p02,
+                   en_comp_out *o);
 /* Turbine of effective nozzle area a_t [m^2] from p03, T03 (gas R, cp) to
  * p4 at rotor speed w. */
 void en_turbine(const en_turbo *t, double a_t, double w, double p03, double T03, double R,
@@ -362,6 +364,7 @@ struct ts_engine {
     /* crank_angle: the error-controlled stepper's scale of each non-wall state
      * (ts_engine_atol at 1; the ledger's infinite: not controlled), built once */
     double bs_scale[EN_CRANK_NGAS];
+    double mean_inertia;        /* crankshaft + cycle mean of the reciprocating parts' [kg*m^2] */
     double turbo_inertia_scale; /* 1, shrunk by ts_engine_steady (rotor inertia, map boost lag) */
     double thermal_scale;       /* 1, shrunk by ts_engine_steady (coolant, oil capacities) */
 };

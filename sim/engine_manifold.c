@@ -92,11 +92,19 @@ void en_exhaust_outflow(const ts_engine *e, double omega, double w_tc, const en_
     double area = tg.gate * en_wastegate_open(c, o->p_im) * c->wg_area + tg.bypass;
     double g_em = cp_em / (cp_em - R_em); /* en_turbine's gamma (the same operations) */
     /* turbine nozzle and bypass see the same upstream gas and pressure ratio:
-     * one psi for both (the values en_orifice gives each; the turbine's reverse
-     * flow carries the manifold temperature, the bypass's the ambient one) */
+     * one psi for both (the values en_orifice gives each). Below ambient
+     * pressure the turbine draws ambient air back into the manifold (the
+     * bypass is a check valve: its reverse value is dropped below) */
+    double R2 = R_em, g2 = g_em;
+    if (o->p_em < p_amb) {
+        en_gas_state s_amb;
+        en_gas_eval(&e->gas, T_amb, 0, &s_amb);
+        R2 = s_amb.R;
+        g2 = s_amb.cp / s_amb.cv;
+    }
     double m_t, m;
-    en_orifice_pair(tg.a_t, area, o->p_em, o->T_em, R_em, g_em, p_amb, o->T_em, T_amb, R_em, g_em,
-                    &m_t, &m);
+    en_orifice_pair(tg.a_t, area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, T_amb, R2, g2, &m_t,
+                    &m);
     en_turbine_flow(&e->turbo, m_t, w_tc, o->p_em, o->T_em, R_em, cp_em, p_amb, to);
     *m_wg = m > 0 ? m : 0;
 }
@@ -114,7 +122,7 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     if (f->have_co)
         co = f->co;
     else
-        en_compressor(&e->turbo, xb[BX_TC], p_amb, T_amb, p_ic, &co);
+        en_compressor(&e->turbo, g, xb[BX_TC], p_amb, T_amb, p_ic, &co);
     en_gas_state s_ic, s_im, s_em, s_c;
     en_gas_eval(g, T_ic, 0, &s_ic);
     if (f->have_gas) { /* the caller's evaluation at this state (same values) */
@@ -151,10 +159,12 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     double m_out = to.mdot + m_wg;
     double m_em = xb[BX_EMM];
     double dm_em = f->m_ex - m_out;
-    double dmF_em = f->mf_ex - m_out * o->F_em;
+    /* outflow leaves with the manifold's gas; a reverse flow brings ambient air */
+    double mF_out = m_out >= 0 ? m_out * o->F_em : 0.0;
+    double h_t = m_out >= 0 ? m_out * s_em.h : m_out * en_gas_h(g, T_amb, 0);
+    double dmF_em = f->mf_ex - mF_out;
     double dF_em = (dmF_em - o->F_em * dm_em) / m_em;
     double q_em = c->exhaust_ua * (o->T_em - T_amb);
-    double h_t = m_out * s_em.h;
     xd[BX_EMM] = dm_em;
     xd[BX_EMF] = dF_em;
     xd[BX_EMT] = en_gas_dTdt_s(&s_em, m_em, f->h_ex - h_t - q_em, dm_em, dF_em);

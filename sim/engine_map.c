@@ -61,8 +61,8 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
     double t_ind = f * (tq_fl + t_fric);
     double t_brake = t_ind - t_fric;
     double lag = en_spool_lag(e, w) * e->turbo_inertia_scale; /* shrunk in ts_engine_steady */
-    xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) /
-                                                        (c->inertia + in->load_inertia);
+    xdot[TS_ENGINE_X_SPEED] =
+        in->hold_speed ? 0.0 : (t_brake - in->load_torque) / (e->mean_inertia + in->load_inertia);
     xdot[TS_ENGINE_X_ANGLE] = w;
     xdot[e->off_lag] = (target - x[e->off_lag]) / lag;
     if (out) {

@@ -41,7 +41,7 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         /* compressor flow is needed for Eq. 14 before the bank derivatives
          * (and handed on to en_bank_rhs) */
         double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
-        en_compressor(&e->turbo, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &co[b]);
+        en_compressor(&e->turbo, g, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &co[b]);
         air += co[b].mdot;
         en_bank_read(e, xb, &bo[b]);
     }
@@ -86,8 +86,8 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
     }
     double t_fric = en_friction_torque(e, w);
     double t_brake = t_ind - t_fric;
-    xdot[TS_ENGINE_X_SPEED] = in->hold_speed ? 0.0 : (t_brake - in->load_torque) /
-                                                        (c->inertia + in->load_inertia);
+    xdot[TS_ENGINE_X_SPEED] =
+        in->hold_speed ? 0.0 : (t_brake - in->load_torque) / (e->mean_inertia + in->load_inertia);
     xdot[TS_ENGINE_X_ANGLE] = w;
     xl[LX_FUEL_E] = fuel_rate * c->lhv;
     xl[LX_WORK] = t_ind * wp;

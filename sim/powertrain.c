@@ -126,7 +126,7 @@ static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err
     *port = (ts_engine_port){.ctx = c,
                              .nstate = ts_engine_nstate(c->e),
                              .speed_index = TS_ENGINE_X_SPEED,
-                             .inertia = cfg->engine.inertia,
+                             .inertia = ts_engine_mean_inertia(c->e),
                              .reset = engine_reset,
                              .rhs = engine_rhs,
                              .scale = engine_scale,

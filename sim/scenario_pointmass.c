@@ -8,7 +8,8 @@
  * Equations (x forward, v = dx/dt):
  *   M dv/dt = 2 T_s / r_s - m g (f_r(v) cos(grade) s(v) + sin(grade)) - 1/2 rho CdA v |v|
  *   f_r(v) = f0 + f1 |v|,   s(v) = tanh(v / v_eps)
- *   M = rotating_mass_factor m (+ J_out / r_s^2 with the powertrain)
+ *   M = rotating_mass_factor m (+ (J_out - 2 J_sprocket) / r_s^2 with the
+ *       powertrain: the factor already holds the sprockets)
  * Two sprockets (one per track) each carry T_s. Sprocket speed and vehicle
  * speed are tied by the pitch radius, w_s = v / r_s (no track slip). s(v)
  * smooths the sign of rolling resistance through standstill so that a vehicle
@@ -146,8 +147,13 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         pm->pt = ts_powertrain_make(&m->cfg, err);
         if (!pm->pt) return err ? err->code : TS_ERR_INTERNAL;
         pm->npt = ts_powertrain_nstate(pm->pt);
+        /* the driveline's output inertia includes both sprockets, which
+         * rotating_mass_factor already counts: only the rest is added (the
+         * multibody model takes the larger of the two per sprocket,
+         * coupled_system.c) */
         double r = vc->sprocket_radius;
-        pm->mass_eff += ts_powertrain_output_inertia(pm->pt) / (r * r);
+        double j_rest = ts_powertrain_output_inertia(pm->pt) - 2.0 * vc->sprocket_inertia;
+        if (j_rest > 0) pm->mass_eff += j_rest / (r * r);
         m->dof = 3; /* vehicle, crankshaft + pump, turbine + transmission input */
         m->nstate = NVEH + pm->npt;
         /* the launch starts from standstill with the engine at its idle

@@ -241,8 +241,10 @@ static void pointmass_driveline_conserves_energy(void **state)
         assert_true(col[k] >= 0);
     }
     double r_s = c->vehicle.sprocket_radius, jt = c->driveline.turbine_inertia;
+    /* the sprockets are in rotating_mass_factor; the output inertia adds the
+     * rest of the driveline's (scenario_pointmass.c) */
     double m_eff = c->vehicle.rotating_mass_factor * c->vehicle.mass +
-                   c->driveline.output_inertia / (r_s * r_s);
+                   (c->driveline.output_inertia - 2 * c->vehicle.sprocket_inertia) / (r_s * r_s);
     double dt = ts_model_sample_period(r.m), shaft = 0, road = 0, through = 0, prev[3] = {0};
     long n = r.s.n;
     assert_true(n == 20001);
