@@ -4,6 +4,7 @@
 #include "config_json.h"
 
 #include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -653,4 +654,14 @@ int tsa_is_decimal(const char *v, int integer)
         while (isdigit((unsigned char)*s)) s++;
     }
     return *s == '\0';
+}
+
+int tsa_parse_integer(const char *v, long lo, long hi, long *out)
+{
+    if (!tsa_is_decimal(v, 1)) return -1;
+    errno = 0; /* ERANGE: beyond a long */
+    long x = strtol(v, NULL, 10);
+    if (errno || x < lo || x > hi) return -1;
+    *out = x;
+    return 0;
 }

@@ -66,6 +66,11 @@ ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err);
  * a number typed as text (query value, CLI option) means what it reads in
  * decimal. */
 int tsa_is_decimal(const char *v, int integer);
+/* v as an integer in [lo, hi] into *out: 0, or -1 when v is not a plain
+ * decimal integer (tsa_is_decimal with integer: "640.5", "6.4e2", " 640",
+ * "640px" are refused, not cut) or is outside [lo, hi]. The daemon's query
+ * integers and the CLI's integer options. */
+int tsa_parse_integer(const char *v, long lo, long hi, long *out);
 
 /* Read a config from a file path (a JSON document as above). */
 ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out,

@@ -5,6 +5,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,6 +49,13 @@ int tsc_number(const char *s, const char *name, double lo, double hi, double *ou
     return 0;
 }
 
+int tsc_integer(const char *s, const char *name, long lo, long hi, long *out)
+{
+    if (tsa_parse_integer(s, lo, hi, out) == 0) return 0;
+    fprintf(stderr, "tanksim: %s: integer in [%ld, %ld], got '%s'\n", name, lo, hi, s);
+    return -1;
+}
+
 /* "tanksim: LEAD: POINTER: MSG (CODE)" on stderr: the field at fault first, as
  * cli.h promises (a user fixes the config by its pointer), left out when MSG
  * already starts with it, as many messages do; no CODE when code is NULL. */
@@ -67,6 +75,42 @@ void tsc_print_err(const char *what, const ts_err *err)
 void tsc_print_config_err(const char *pointer, const char *msg)
 {
     print_line("config error", pointer, msg, NULL);
+}
+
+void tsc_progress_start(tsc_progress *p, const char *what, double every)
+{
+    p->what = what;
+    p->wall0 = ts_monotonic_seconds();
+    p->next = p->wall0 + TSC_PROGRESS_FIRST;
+    p->every = every;
+    p->tty = isatty(fileno(stderr));
+    p->shown = 0;
+}
+
+int tsc_progress_due(const tsc_progress *p, double *wall)
+{
+    double now = ts_monotonic_seconds();
+    *wall = now - p->wall0;
+    return now >= p->next;
+}
+
+void tsc_progress_say(tsc_progress *p, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "%stanksim %s: ", p->tty ? "\r" : "", p->what);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputs(p->tty ? "   " : "\n", stderr);
+    fflush(stderr);
+    p->shown = 1;
+    p->next = ts_monotonic_seconds() + (p->tty ? 0.5 : p->every);
+}
+
+void tsc_progress_end(tsc_progress *p)
+{
+    if (p->shown && p->tty) fputc('\n', stderr);
+    p->shown = 0;
 }
 
 int tsc_model_start(const ts_config *cfg, ts_model **m, ts_data **d)

@@ -37,6 +37,11 @@ int tsc_flag(int argc, char **argv, const char *name);
 /* Parse s as a finite number in [lo, hi] into *out; else print
  * "tanksim: NAME: number in [lo, hi], got 'S'" and return -1. */
 int tsc_number(const char *s, const char *name, double lo, double hi, double *out);
+/* Parse s as an integer in [lo, hi] into *out (a plain decimal integer:
+ * "640.5", "6.4e2", "640px" are refused, not cut to 640); else print
+ * "tanksim: NAME: integer in [lo, hi], got 'S'" and return -1. Every integer
+ * option goes through here (a usage error, TSC_EXIT_USAGE, for the caller). */
+int tsc_integer(const char *s, const char *name, long lo, long hi, long *out);
 
 /* Print a ts_err as "tanksim: <pointer>: message" to stderr. */
 void tsc_print_err(const char *what, const ts_err *err);
@@ -63,6 +68,27 @@ int tsc_out_open(tsc_out *o, const char *path, const char *what, int in_place);
  * place (a failure is printed); 0: abandon it (the caller said why; a file
  * written in place is left as it is). Returns TSC_EXIT_OK or TSC_EXIT_FAIL. */
 int tsc_out_close(tsc_out *o, int complete);
+
+/* Progress of a long command on stderr, so that stdout keeps only its result:
+ * lines "tanksim WHAT: TEXT". A command done within TSC_PROGRESS_FIRST wall
+ * seconds prints none; after that a line at most every `every` seconds, or,
+ * when stderr is a terminal, one line redrawn in place (at most every 0.5 s).
+ * `run` (simulated time) and `tune` (step responses) report through it. */
+#define TSC_PROGRESS_FIRST 2.0 /* [s] wall time before the first line */
+typedef struct tsc_progress {
+    const char *what;   /* the command, for the lines */
+    double wall0, next; /* monotonic start and the earliest next line [s] */
+    double every;       /* [s] between lines when stderr is not a terminal */
+    int tty;            /* stderr is a terminal: the line is redrawn */
+    int shown;          /* a line was printed */
+} tsc_progress;
+void tsc_progress_start(tsc_progress *p, const char *what, double every);
+/* 1 with *wall the seconds since the start when a line is due now, else 0. */
+int tsc_progress_due(const tsc_progress *p, double *wall);
+/* Print "tanksim WHAT: " and the printf text as the progress line. */
+void tsc_progress_say(tsc_progress *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* The command is done: end a line redrawn in place with its newline. */
+void tsc_progress_end(tsc_progress *p);
 
 /* Build the model and its data for cfg and reset it (sample row 0). On failure prints the
  * error, leaves *m / *d as far as they were built (the caller frees them) and returns -1. */

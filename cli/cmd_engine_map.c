@@ -18,11 +18,24 @@
  * The full-load sweep is sim/engine_sweep.c and its columns (name, unit,
  * format) are api/analysis_json.c's table, shared with the daemon's JSON
  * document; this file writes them as CSV. The spool-ups are only here.
+ *
+ * Beside either CSV goes a sidecar, its name with ".json" added (FILE.csv ->
+ * FILE.csv.json: not FILE.json, which is often the config the map was made
+ * from, e.g. tools/wastegate_sweep.py's), saying what produced it, as run's
+ * summary.json does: {"kind": "engine_map" | "engine_spool", "csv", "variant",
+ * "fidelity", "rack", "ambient_pressure", "ambient_temperature", (the spool-ups:
+ * "idle_speed_rpm", "idle_torque", "spool_time"), "units", "columns": [{"name",
+ * "unit"}], "config": the resolved config echo}. The CSV stays as it was (its
+ * readers: tools/engine_maps.py, tools/wastegate_sweep.py, the tests). The two
+ * are put in place together; a CSV written to a device or pipe (/dev/stdout)
+ * has no sidecar.
  */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../api/analysis_json.h"
 #include "../sim/constants.h"
@@ -45,15 +58,35 @@
 #define IDLE_RPM 650.0    /* [rpm] */
 #define IDLE_TORQUE 313.0 /* [N*m] */
 
-/* --spool: crank-angle spool-up transients at held speed (see the header). */
-static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
+/* The spool-ups' CSV columns, in order: "name [unit]" in the header. */
+static const struct {
+    const char *name, *unit;
+} spool_columns[] = {
+    {"speed_rpm", "rpm"},
+    {"time", "s"},
+    {"speed", "rad/s"},
+    {"boost", "Pa"},
+    {"intake_temp", "K"},
+    {"fuel_flow", "kg/s"},
+    {"air_flow", "kg/s"},
+    {"indicated_torque", "N*m"},
+    {"friction_torque", "N*m"},
+    {"brake_torque", "N*m"},
+    {"exhaust_temp", "K"},
+    {"turbo_speed", "rad/s"},
+    {"eta_v", "1"},
+    {"eta_i", "1"},
+    {"q_wall", "1"},
+};
+#define NSPOOL_COLUMN ((int)(sizeof spool_columns / sizeof spool_columns[0]))
+
+/* --spool: crank-angle spool-up transients at held speed (see the header), as CSV rows into f. */
+static int spool(const ts_engine *e, const ts_config *cfg, FILE *f)
 {
     ts_err err;
     size_t nx = (size_t)ts_engine_nstate(e);
     double *x0 = calloc(nx, sizeof *x0), *x = calloc(nx, sizeof *x);
     double *work = malloc(sizeof(double) * ts_engine_work_size(e));
-    tsc_out o = {0};
-    FILE *f = NULL;
     int rc = TSC_EXIT_FAIL;
     if (!x0 || !x || !work) {
         fprintf(stderr, "tanksim engine-map: out of memory\n");
@@ -65,11 +98,9 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
         tsc_print_err("engine-map", &err);
         goto done;
     }
-    if (tsc_out_open(&o, out, "engine-map", 0) != 0) goto done;
-    f = o.f;
-    fprintf(f, "speed_rpm [rpm],time [s],speed [rad/s],boost [Pa],intake_temp [K],fuel_flow [kg/s],"
-               "air_flow [kg/s],indicated_torque [N*m],friction_torque [N*m],brake_torque [N*m],"
-               "exhaust_temp [K],turbo_speed [rad/s],eta_v [1],eta_i [1],q_wall [1]\n");
+    for (int j = 0; j < NSPOOL_COLUMN; j++)
+        fprintf(f, "%s%s [%s]", j ? "," : "", spool_columns[j].name, spool_columns[j].unit);
+    fputc('\n', f);
     ts_engine_inputs in = {.rack = cfg->control.rack, .fuel_per_cycle = -1, .p_amb = p_amb,
                            .T_amb = T_amb, .hold_speed = 1};
     for (int rpm = SPOOL_RPM_LO; rpm <= SPOOL_RPM_HI; rpm += SPOOL_RPM_STEP) {
@@ -93,7 +124,6 @@ static int spool(const ts_engine *e, const ts_config *cfg, const char *out)
     }
     rc = TSC_EXIT_OK;
 done:
-    if (o.f) rc = tsc_out_close(&o, rc == TSC_EXIT_OK);
     free(x0);
     free(x);
     free(work);
@@ -131,37 +161,134 @@ static void write_csv(FILE *f, const ts_engine_cycle *rows)
     }
 }
 
+/* The sidecar's path, csv + ".json": 0, or -1 with a message when too long. */
+static int sidecar_path(const char *csv, char *buf, size_t size)
+{
+    if ((size_t)snprintf(buf, size, "%s.json", csv) < size) return 0;
+    fprintf(stderr, "tanksim engine-map: %s: path too long\n", csv);
+    return -1;
+}
+
+/* The sidecar document (see the header); NULL when out of memory. */
+static json_t *sidecar_doc(const ts_config *cfg, json_t *resolved, const char *csv, int spool_ups)
+{
+    const char *base = strrchr(csv, '/');
+    json_t *cols = json_array();
+    int n = spool_ups ? NSPOOL_COLUMN : TSA_ENGINE_MAP_NCOLUMN;
+    for (int j = 0; cols && j < n; j++) {
+        const char *name = spool_ups ? spool_columns[j].name : tsa_engine_map_columns[j].name;
+        const char *unit = spool_ups ? spool_columns[j].unit : tsa_engine_map_columns[j].unit;
+        if (json_array_append_new(cols, json_pack("{s:s, s:s}", "name", name, "unit", unit)) != 0) {
+            json_decref(cols);
+            return NULL;
+        }
+    }
+    /* jansson steals "o" references even when the pack fails */
+    json_t *doc =
+        json_pack("{s:s, s:s, s:s, s:s, s:f, s:f, s:f, s:{s:s, s:s, s:s}, s:o, s:O}", "kind",
+                  spool_ups ? "engine_spool" : "engine_map", "csv", base ? base + 1 : csv,
+                  "variant", ts_engine_variant_names[cfg->engine.variant], "fidelity",
+                  ts_engine_fidelity_names[cfg->engine.fidelity], "rack", cfg->control.rack,
+                  "ambient_pressure", cfg->driveline.ambient_pressure, "ambient_temperature",
+                  cfg->driveline.ambient_temperature, "units", "rack", "1", "ambient_pressure",
+                  "Pa", "ambient_temperature", "K", "columns", cols, "config", resolved);
+    if (doc && spool_ups) {
+        json_t *units = json_object_get(doc, "units");
+        if (json_object_set_new(doc, "idle_speed_rpm", json_real(IDLE_RPM)) != 0 ||
+            json_object_set_new(doc, "idle_torque", json_real(IDLE_TORQUE)) != 0 ||
+            json_object_set_new(doc, "spool_time", json_real(SPOOL_TIME)) != 0 ||
+            json_object_set_new(units, "idle_speed_rpm", json_string("rpm")) != 0 ||
+            json_object_set_new(units, "idle_torque", json_string("N*m")) != 0 ||
+            json_object_set_new(units, "spool_time", json_string("s")) != 0) {
+            json_decref(doc);
+            return NULL;
+        }
+    }
+    return doc;
+}
+
+/* Put the CSV and its sidecar (side->f NULL: none) in place, or abandon both
+ * when !complete. The CSV first: when it fails, both stay as they were; when
+ * the sidecar then fails, an earlier sidecar there would describe another
+ * run, so it is removed. TSC_EXIT_OK or TSC_EXIT_FAIL (said on stderr). */
+static int close_pair(tsc_out *csv, tsc_out *side, int complete)
+{
+    if (!side->f) return tsc_out_close(csv, complete);
+    if (tsc_out_close(csv, complete) != TSC_EXIT_OK) {
+        tsc_out_close(side, 0);
+        return TSC_EXIT_FAIL;
+    }
+    if (tsc_out_close(side, 1) == TSC_EXIT_OK) return TSC_EXIT_OK;
+    if (!side->direct && unlink(side->path) != 0 && errno != ENOENT)
+        fprintf(stderr, "tanksim engine-map: cannot remove the earlier %s: %s\n", side->path,
+                strerror(errno));
+    fprintf(stderr, "tanksim engine-map: %s was written without its sidecar %s\n", csv->path,
+            side->path);
+    return TSC_EXIT_FAIL;
+}
+
 int tsc_cmd_engine_map(int argc, char **argv)
 {
     const char *out = tsc_option(argc, argv, "--out");
     const char *spool_out = tsc_option(argc, argv, "--spool");
     ts_config cfg;
-    int lrc = tsc_load_config(argc, argv, &cfg, NULL);
-    if (lrc != TSC_EXIT_OK) return lrc;
+    json_t *resolved = NULL;
+    int rc = tsc_load_config(argc, argv, &cfg, &resolved);
+    if (rc != TSC_EXIT_OK) return rc;
     if (!out == !spool_out) { /* the usage's alternatives: one of them */
         fprintf(stderr, "tanksim engine-map: %s\n",
                 out ? "give --out FILE.csv (the map) or --spool FILE.csv (the spool-ups), not both"
                     : "--out FILE.csv is required");
+        json_decref(resolved);
         return TSC_EXIT_USAGE;
     }
+    const char *path = spool_out ? spool_out : out;
     ts_err err;
-    if (spool_out) {
-        ts_engine *e = ts_engine_make(&cfg, &err);
-        if (!e) {
-            tsc_print_err("engine-map", &err);
-            return TSC_EXIT_FAIL;
-        }
-        int src = spool(e, &cfg, spool_out);
-        ts_engine_free(e);
-        return src;
-    }
-    ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT];
-    tsc_out o = {0};
-    if (tsc_out_open(&o, out, "engine-map", 0) != 0) return TSC_EXIT_FAIL;
-    if (ts_engine_full_load_sweep(&cfg, rows, sweep_progress, rows, &err) != TS_OK) {
+    ts_engine *e = NULL;
+    tsc_out o = {0}, side = {0};
+    char side_path[sizeof o.tmp];
+    json_t *doc = NULL;
+    rc = TSC_EXIT_FAIL;
+    if (spool_out && !(e = ts_engine_make(&cfg, &err))) {
         tsc_print_err("engine-map", &err);
-        return tsc_out_close(&o, 0);
+        goto done;
     }
-    write_csv(o.f, rows);
-    return tsc_out_close(&o, 1);
+    /* both opened before the long work, so a bad path fails at once */
+    if (tsc_out_open(&o, path, "engine-map", 0) != 0) goto done;
+    if (!o.direct && (sidecar_path(path, side_path, sizeof side_path) != 0 ||
+                      tsc_out_open(&side, side_path, "engine-map", 0) != 0))
+        goto done;
+    if (spool_out) {
+        rc = spool(e, &cfg, o.f);
+    } else {
+        ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT];
+        if (ts_engine_full_load_sweep(&cfg, rows, sweep_progress, rows, &err) != TS_OK)
+            tsc_print_err("engine-map", &err);
+        else {
+            write_csv(o.f, rows);
+            rc = TSC_EXIT_OK;
+        }
+    }
+    if (rc == TSC_EXIT_OK && side.f) {
+        doc = sidecar_doc(&cfg, resolved, path, spool_out != NULL);
+        errno = 0;
+        /* 17 digits: the config echo re-runs bit for bit (run's summary.json). A sidecar
+         * that fails here takes the CSV with it: neither is put in place. */
+        if (!doc || json_dumpf(doc, side.f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
+            fputc('\n', side.f) == EOF || fflush(side.f) != 0) {
+            fprintf(stderr, "tanksim engine-map: cannot write %s: %s; %s not written either\n",
+                    side_path, doc ? (errno ? strerror(errno) : "a write failed") : "out of memory",
+                    path);
+            rc = TSC_EXIT_FAIL;
+        }
+    }
+done:
+    if (o.f)
+        rc = close_pair(&o, &side, rc == TSC_EXIT_OK);
+    else if (side.f)
+        tsc_out_close(&side, 0);
+    json_decref(doc);
+    json_decref(resolved);
+    ts_engine_free(e);
+    return rc;
 }

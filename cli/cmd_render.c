@@ -31,18 +31,21 @@ int tsc_cmd_render(int argc, char **argv)
 
     tsr_view v;
     tsr_view_default(&v);
-    double t = 0, x;
+    double t = 0;
+    long px;
     if (!out) {
         fprintf(stderr, "tanksim: render: --out FILE.png is required\n");
         return TSC_EXIT_USAGE;
     }
     if (w_s) {
-        if (tsc_number(w_s, "--width", TSR_MIN_SIZE, TSR_MAX_SIZE, &x) != 0) return TSC_EXIT_USAGE;
-        v.width = (int)x;
+        if (tsc_integer(w_s, "--width", TSR_MIN_SIZE, TSR_MAX_SIZE, &px) != 0)
+            return TSC_EXIT_USAGE;
+        v.width = (int)px;
     }
     if (h_s) {
-        if (tsc_number(h_s, "--height", TSR_MIN_SIZE, TSR_MAX_SIZE, &x) != 0) return TSC_EXIT_USAGE;
-        v.height = (int)x;
+        if (tsc_integer(h_s, "--height", TSR_MIN_SIZE, TSR_MAX_SIZE, &px) != 0)
+            return TSC_EXIT_USAGE;
+        v.height = (int)px;
     }
     if (view_s && (v.kind = tsr_view_kind_parse(view_s)) < 0) {
         fprintf(stderr, "tanksim: --view: side or three_quarter, got '%s'\n", view_s);

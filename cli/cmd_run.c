@@ -33,30 +33,22 @@ typedef struct {
     FILE *csv;
     double t_last; /* time of the last row written whole [s] */
     ts_rows rows;
-    double until;       /* the run's end [s], for the progress line */
-    double wall0, next; /* monotonic start and next progress time [s] */
-    int tty;            /* stderr is a terminal: the progress line is redrawn */
-    int shown;          /* a progress line was printed */
-    int nomem;          /* the rows kept for the metrics could not grow */
+    double until;      /* the run's end [s], for the progress line */
+    tsc_progress prog; /* cli.h */
+    int nomem;         /* the rows kept for the metrics could not grow */
 } run_sink;
 
-#define PROGRESS_FIRST 2.0 /* wall seconds before the first progress line */
-#define PROGRESS_EVERY 5.0 /* ... and between lines when stderr is not a terminal */
+#define PROGRESS_EVERY 5.0 /* [s] between progress lines when stderr is not a terminal */
 
 /* Long runs say how far they are on stderr (stdout keeps the one summary
  * line): simulated time, share of the run, real-time factor. Short runs,
- * done before PROGRESS_FIRST, print nothing. */
+ * done before TSC_PROGRESS_FIRST, print nothing. */
 static void progress(run_sink *s, double t)
 {
-    double now = ts_monotonic_seconds();
-    if (now < s->next) return;
-    double wall = now - s->wall0;
-    fprintf(stderr, "%stanksim run: t = %.3f of %.3f s (%.1f %%), %.1fx real time%s",
-            s->tty ? "\r" : "", t, s->until, s->until > 0 ? 100.0 * t / s->until : 100.0,
-            wall > 0 ? t / wall : 0.0, s->tty ? "   " : "\n");
-    fflush(stderr);
-    s->shown = 1;
-    s->next = now + (s->tty ? 0.5 : PROGRESS_EVERY);
+    double wall;
+    if (!tsc_progress_due(&s->prog, &wall)) return;
+    tsc_progress_say(&s->prog, "t = %.3f of %.3f s (%.1f %%), %.1fx real time", t, s->until,
+                     s->until > 0 ? 100.0 * t / s->until : 100.0, wall > 0 ? t / wall : 0.0);
 }
 
 static int write_row(void *ud, long index, double t, const double *v, int n)
@@ -148,9 +140,7 @@ int tsc_cmd_run(int argc, char **argv)
     fputc('\n', series.f);
     sink.csv = series.f;
     sink.until = until;
-    sink.wall0 = ts_monotonic_seconds();
-    sink.next = sink.wall0 + PROGRESS_FIRST;
-    sink.tty = isatty(fileno(stderr));
+    tsc_progress_start(&sink.prog, "run", PROGRESS_EVERY);
     struct sigaction sa, old_int, old_term;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_stop_signal;
@@ -162,7 +152,7 @@ int tsc_cmd_run(int argc, char **argv)
     ts_rc arc = stop_signal ? TS_ERR_CANCELLED : ts_advance(m, d, until, write_row, &sink, &err);
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
-    if (sink.shown && sink.tty) fputc('\n', stderr);
+    tsc_progress_end(&sink.prog);
     /* a write that failed is said by tsc_out_close */
     int write_failed = tsc_out_close(&series, 1) != TSC_EXIT_OK;
     if (sink.nomem) /* the sink stopped the run: say why, not "stopped by the caller" */

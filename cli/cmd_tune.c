@@ -21,13 +21,40 @@
  * The schedule block is there with --schedule-mass M1,M2,... [kg] or
  * --schedule-grade G1,G2,... [rad]; its arrays fit /control/schedule_*.
  * The plant step is sim/ivs_tune.c and the document api/analysis_json.c
- * (shared with the daemon); this file parses the options and prints.
+ * (shared with the daemon); this file parses the options and prints. A tune
+ * that takes long (the crank-angle engine: seconds per step response) says on
+ * stderr which step response (base, schedule point) is done, as `run` says
+ * its simulated time (cli.h's tsc_progress); stdout keeps the document.
  */
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "../api/analysis_json.h"
 #include "cli.h"
+
+/* What the progress lines name: the schedule, if any. */
+typedef struct {
+    tsc_progress prog;
+    const char *var;  /* "mass", "grade" or NULL */
+    const double *xs; /* the schedule's values */
+} tune_progress;
+
+/* ts_progress_fn of tsa_tune_json: done 1 is the base tune, done 2 + i the
+ * schedule point xs[i], of total 1 + n step responses. */
+static int on_step_done(void *ud, int done, int total)
+{
+    tune_progress *tp = ud;
+    double wall;
+    int last = done == total && tp->prog.shown; /* once lines were shown, the last is too */
+    if (!tsc_progress_due(&tp->prog, &wall) && !last) return 0;
+    char what[96] = "base config";
+    if (done > 1 && tp->var)
+        snprintf(what, sizeof what, "schedule %s %g %s", tp->var, tp->xs[done - 2],
+                 tp->var[0] == 'm' ? "kg" : "rad");
+    tsc_progress_say(&tp->prog, "step response %d of %d done (%s), %.0f %%, %.1f s wall", done,
+                     total, what, 100.0 * done / total, wall);
+    return 0;
+}
 
 int tsc_cmd_tune(int argc, char **argv)
 {
@@ -53,7 +80,10 @@ int tsc_cmd_tune(int argc, char **argv)
         }
     }
     ts_err err = {0};
-    json_t *doc = tsa_tune_json(&cfg, var, xs, nx, NULL, NULL, &err);
+    tune_progress tp = {.var = var, .xs = xs};
+    tsc_progress_start(&tp.prog, "tune", 0); /* a line per step response after the first 2 s */
+    json_t *doc = tsa_tune_json(&cfg, var, xs, nx, on_step_done, &tp, &err);
+    tsc_progress_end(&tp.prog);
     if (!doc) {
         tsc_print_err("tune", &err);
         return TSC_EXIT_FAIL;

@@ -26,7 +26,7 @@ static const tsc_command commands[] = {
      "(CONFIG.json | --preset NAME) (--out FILE.csv | --spool FILE.csv)",
      "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18), or with --spool the "
      "rack-step spool-ups at held speed that the faster fidelities derive their part-boost tables "
-     "from"},
+     "from; FILE.csv.json beside it records the config and units"},
     {"tune", tsc_cmd_tune,
      "(CONFIG.json | --preset NAME) [--schedule-mass M,.. | --schedule-grade G,..]",
      "Ziegler-Nichols IVS gains from a simulated rack step (Eqs. 11-12, Figs. 26-27) as JSON"},

@@ -99,24 +99,13 @@ static int q_number(tsd_request *r, const char *name, double lo, double hi, doub
     return 1;
 }
 
-/* Whole decimal string v as an integer in [lo, hi]: 0, or -1 when it is not. */
-static int parse_integer(const char *v, long lo, long hi, long *out)
-{
-    if (!tsa_is_decimal(v, 1)) return -1;
-    errno = 0;
-    long x = strtol(v, NULL, 10);
-    if (errno || x < lo || x > hi) return -1;
-    *out = x;
-    return 0;
-}
-
 /* Optional query integer in [lo, hi]: 1 present, 0 absent, -1 replied 400. */
 static int q_integer(tsd_request *r, const char *name, long lo, long hi, long *out,
                      enum MHD_Result *ret)
 {
     const char *v = tsd_arg(r, name);
     if (!v) return 0; /* an empty value was refused by check_query */
-    if (parse_integer(v, lo, hi, out) != 0) {
+    if (tsa_parse_integer(v, lo, hi, out) != 0) {
         char what[96];
         snprintf(what, sizeof what, "integer in [%ld, %ld] expected", lo, hi);
         *ret = bad_param(r, name, what, v);
@@ -700,7 +689,7 @@ static enum MHD_Result get_stream(tsd_request *r)
     long since = -1;
     const char *last_id = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND, "Last-Event-ID");
     if (q_integer(r, "since", -1, 1L << 62, &since, &ret) < 0) return ret;
-    if (last_id && *last_id && parse_integer(last_id, -1, 1L << 62, &since) != 0) {
+    if (last_id && *last_id && tsa_parse_integer(last_id, -1, 1L << 62, &since) != 0) {
         ts_err e; /* a header, not a query parameter: bad_param's wording does not fit */
         ts_err_set(&e, TS_ERR_PARAM, "/Last-Event-ID",
                    "header Last-Event-ID: sample index in [-1, %ld] expected, got '%.100s'",

@@ -237,7 +237,7 @@ def test_engine_map_output_problems_are_found_first_and_named(tmp_path):
     assert stat.S_ISCHR(os.stat("/dev/full").st_mode)
     out = run("engine-map", "--preset", "bump-coupled-rack90", "--out", str(tmp_path / "m.csv"))
     assert out.returncode == 0, out.stderr
-    assert sorted(os.listdir(tmp_path)) == ["m.csv"]
+    assert sorted(os.listdir(tmp_path)) == ["m.csv", "m.csv.json"]  # and its sidecar, no .tmp
 
 
 def test_a_directory_as_config_is_named_as_such(tmp_path):

@@ -38,6 +38,27 @@ def test_bad_options_are_usage_errors(tmp_path, args, field):
     assert r.returncode == 2 and field in r.stderr
 
 
+@pytest.mark.parametrize("opt", ["--width", "--height"])
+@pytest.mark.parametrize("value", ["640.5", "640.0", "6.4e2", "640px", " 640", "0x280", "",
+                                   "99999999999999999999", "4097"])
+def test_integer_options_refuse_non_integers(tmp_path, opt, value):
+    # --width 640.5 was cut to 640 without a word (tsc_number then (int)); every
+    # integer option now goes through tsc_integer: a plain decimal integer in range
+    out = tmp_path / "f.png"
+    r = run("render", "--preset", "bump-prescribed-static", "--out", str(out), opt, value)
+    assert r.returncode == 2, (value, r.stderr)
+    assert f"tanksim: {opt}: integer in [16, 4096], got '{value}'" in r.stderr, r.stderr
+    assert not out.exists()
+
+
+def test_integer_options_take_integers(tmp_path):
+    out = tmp_path / "f.png"
+    r = run("render", "--preset", "bump-prescribed-static", "--out", str(out), "--width", "+322",
+            "--height", "0180")
+    assert r.returncode == 0, r.stderr
+    assert struct.unpack(">II", out.read_bytes()[16:24]) == (322, 180)
+
+
 def test_missing_out_is_a_usage_error():
     r = run("render", "--preset", "pointmass-prescribed")
     assert r.returncode == 2 and "--out" in r.stderr

@@ -3,6 +3,7 @@ per 100 rpm from 800 to 2100 rpm with units in the header; the engine-map
 presets run as engine_dyno scenarios with crank-angle cylinder channels."""
 import csv
 import json
+import os
 import subprocess
 
 from conftest import TANKSIM
@@ -39,6 +40,50 @@ def test_engine_map_mean_value_sweep(tmp_path):
         assert abs(float(r[2]) * float(r[1]) - float(r[3])) < 1e-3 * abs(float(r[3])) + 1
 
 
+def test_engine_map_writes_a_sidecar(tmp_path):
+    """The CSV said nothing of what made it (variant, fidelity, rack, ambient air).
+    Beside it now goes FILE.csv.json, as run's summary.json: those, every column's
+    unit and the resolved config, which re-runs to the same CSV. The CSV itself is
+    unchanged (tools/engine_maps.py reads it). Not FILE.json: a config of the same
+    stem (map.json here, tools/wastegate_sweep.py's VARIANT.json) is left alone."""
+    cfg = tmp_path / "map.json"
+    cfg.write_text(json.dumps({"run": {"kind": "engine_dyno"},
+                               "engine": {"variant": "lhr05", "fidelity": "mean_value"},
+                               "control": {"rack": 0.8},
+                               "driveline": {"ambient_temperature": 310.0}}))
+    before = cfg.read_text()
+    out = run("engine-map", str(cfg), "--out", str(tmp_path / "map.csv"))
+    assert out.returncode == 0, out.stderr
+    assert cfg.read_text() == before
+    side = json.load(open(tmp_path / "map.csv.json"))
+    assert side["kind"] == "engine_map" and side["csv"] == "map.csv"
+    assert (side["variant"], side["fidelity"], side["rack"]) == ("lhr05", "mean_value", 0.8)
+    assert side["ambient_temperature"] == 310.0 and side["ambient_pressure"] > 9e4
+    assert side["units"] == {"rack": "1", "ambient_pressure": "Pa", "ambient_temperature": "K"}
+    head = next(csv.reader(open(tmp_path / "map.csv")))
+    assert [f"{c['name']} [{c['unit']}]" for c in side["columns"]] == head
+    assert side["config"]["engine"]["variant"] == "lhr05"
+    echo = tmp_path / "echo.json"
+    echo.write_text(json.dumps(side["config"]))
+    out = run("engine-map", str(echo), "--out", str(tmp_path / "again.csv"))
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "again.csv").read_bytes() == (tmp_path / "map.csv").read_bytes()
+
+
+def test_engine_map_sidecar_fails_with_its_csv(tmp_path):
+    # the pair is put in place together: a sidecar that cannot be written takes the
+    # CSV with it (exit 1), so no CSV stands without its record
+    cfg = mean_value_dyno(tmp_path)
+    os.symlink("/dev/full", tmp_path / "m.csv.json")
+    out = run("engine-map", str(cfg), "--out", str(tmp_path / "m.csv"))
+    assert out.returncode == 1 and "m.csv.json" in out.stderr and "not written" in out.stderr
+    assert not (tmp_path / "m.csv").exists()
+    # a CSV written to a pipe or device has no name to put a sidecar beside
+    out = run("engine-map", str(cfg), "--out", "/dev/stdout")
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith("speed_rpm [rpm],") and not os.path.exists("/dev/stdout.json")
+
+
 def test_engine_map_needs_out(tmp_path):
     out = run("engine-map", "--preset", "engine-map-conventional")
     assert out.returncode == 2 and "--out" in out.stderr
@@ -73,6 +118,10 @@ def test_engine_map_spool_rows(tmp_path):
     head = [h.split(" ")[0] for h in rows[0]]
     for col in ("speed_rpm", "time", "boost", "eta_v", "eta_i", "q_wall", "indicated_torque"):
         assert col in head
+    side = json.load(open(tmp_path / "spool.csv.json"))  # what made it, as for the map
+    assert side["kind"] == "engine_spool" and side["fidelity"] == "mean_value"
+    assert side["rack"] == 1.0 and side["spool_time"] == 6.0 and side["units"]["spool_time"] == "s"
+    assert [f"{c['name']} [{c['unit']}]" for c in side["columns"]] == rows[0]
     data = [dict(zip(head, map(float, r))) for r in rows[1:]]
     assert sorted({int(r["speed_rpm"]) for r in data}) == list(range(800, 2201, 200))
     for rpm in (1400, 2200):

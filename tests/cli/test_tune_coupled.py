@@ -40,6 +40,24 @@ def test_tune_schedule_over_mass():
     assert all(t > 0 for t in s["ti"])
 
 
+def test_long_tune_reports_each_step_response_on_stderr(tmp_path):
+    # A tune printed nothing until its end: with the crank-angle engine each step
+    # response takes ~4 s here, a 16-point schedule over a minute. Past 2 s of wall
+    # time (run's rule, cli.h's tsc_progress) each finished step response is a line
+    # on stderr naming it; stdout keeps the JSON document alone.
+    cfg = tmp_path / "ca.json"
+    cfg.write_text(json.dumps({"preset": "bump-coupled-ivs5mph",
+                               "engine": {"fidelity": "crank_angle"}}))
+    out = run("tune", str(cfg), "--schedule-mass", "50000")
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["schedule"]["x"] == [50000.0]
+    lines = [l for l in out.stderr.splitlines() if l.startswith("tanksim tune: step response ")]
+    # the last one at least is past 2 s (two step responses of ~4 s each here)
+    assert lines and lines[-1].startswith(
+        "tanksim tune: step response 2 of 2 done (schedule mass 50000 kg), 100 %, "), out.stderr
+    assert all(l.endswith(" s wall") for l in lines), lines
+
+
 def test_tune_rejects_bad_schedule():
     # the CLI reads the schedule as the daemon's ?schedule_mass= does
     # (tsa_tune_schedule_parse): plain decimals within /vehicle/mass's range
