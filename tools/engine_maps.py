@@ -47,6 +47,7 @@ turb_area_ref=0.00152); pulse energy and the cycle's flow variations are left ou
 import csv
 import json
 import math
+import os
 import statistics
 import subprocess
 import sys
@@ -230,6 +231,14 @@ def main():
             procs = [subprocess.Popen(j) for j in jobs[i:i + PARALLEL]]
             if any(p.wait() for p in procs):
                 sys.exit("engine-map failed")
+        # engine-map writes a provenance sidecar (FILE.csv.json: the resolved
+        # config, tables included) beside each CSV; here the provenance is this
+        # script and the presets, and every file under sim/data is embedded in
+        # the binaries (Makefile STORE_FILES), so they are not kept
+        for j in jobs:
+            side = j[-1] + ".json"
+            if os.path.exists(side):
+                os.remove(side)
     path = "sim/data/defaults/engine.json"
     doc = json.load(open(path))  # _sources are kept as they are
     t63 = {}
