@@ -937,8 +937,7 @@ static enum MHD_Result get_frame(tsd_request *r)
              (unsigned long long)h, TS_VERSION);
     const char *inm = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND,
                                                   MHD_HTTP_HEADER_IF_NONE_MATCH);
-    if (inm && etag_listed(inm, r->etag))
-        return tsd_reply_owned(r, MHD_HTTP_NOT_MODIFIED, "image/png", NULL, 0);
+    if (inm && etag_listed(inm, r->etag)) return tsd_reply_not_modified(r);
     return tsd_frames_reply(r, s, &v, t * rate, 0, 1, 1, 0);
 }
 

@@ -24,7 +24,7 @@ static enum MHD_Result queue(tsd_request *r, unsigned status, struct MHD_Respons
                              const char *content_type, size_t len)
 {
     if (!resp) return MHD_NO;
-    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
+    if (content_type) MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
     if (r->etag[0] && (status == 200 || status == 304)) { /* a stored sample's frame never changes */
         MHD_add_response_header(resp, MHD_HTTP_HEADER_ETAG, r->etag);
         MHD_add_response_header(resp, "Cache-Control", "private, max-age=31536000, immutable");
@@ -105,6 +105,38 @@ enum MHD_Result tsd_reply_owned(tsd_request *r, unsigned status, const char *con
     return queue(r, status, resp, content_type, len);
 }
 
+static ssize_t no_body(void *cls, uint64_t pos, char *buf, size_t max)
+{
+    (void)cls;
+    (void)pos;
+    (void)buf;
+    (void)max;
+    return MHD_CONTENT_READER_END_OF_STREAM;
+}
+
+/* RFC 9110 §8.6: a 304 may carry Content-Length only if it is the length the
+ * 200 would have had, which for a frame is known only by drawing it. In
+ * libmicrohttpd 0.9.75 a response of known size always gets its own
+ * Content-Length, also on a 304 ("Content-Length: 0" for an empty buffer;
+ * MHD_RF_INSANITY_HEADER_CONTENT_LENGTH only lets the application add a
+ * second one beside it), and one of unknown size is sent chunked, its last
+ * chunk "0\r\n\r\n" following the 304's header as stray bytes. Unknown size
+ * in its HTTP/1.0-compatible mode is the one combination with neither: the
+ * end of the (empty) answer is then the connection closing ("Connection:
+ * close" is sent), and the reader is never called. Content-Type, which
+ * describes a body, is left out too (§15.4.5). */
+enum MHD_Result tsd_reply_not_modified(tsd_request *r)
+{
+    struct MHD_Response *resp =
+        MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 16, no_body, NULL, NULL);
+    if (resp &&
+        MHD_set_response_options(resp, MHD_RF_HTTP_1_0_COMPATIBLE_STRICT, MHD_RO_END) != MHD_YES) {
+        MHD_destroy_response(resp);
+        resp = NULL;
+    }
+    return queue(r, MHD_HTTP_NOT_MODIFIED, resp, NULL, 0);
+}
+
 enum MHD_Result tsd_reply_problem_json(tsd_request *r, unsigned status, json_t *p)
 {
     return reply_dump(r, status, p, "application/problem+json");
@@ -180,23 +212,75 @@ enum MHD_Result tsd_reply_problem(tsd_request *r, unsigned status, const char *t
                       "application/problem+json");
 }
 
+/* Each connection's requests are parsed in one memory pool of CONN_MEMORY
+ * bytes (libmicrohttpd's default, set here because the limits below depend on
+ * it): the bytes received, then a 64-byte record for each query parameter and
+ * each header, then the response's header. libmicrohttpd 0.9.75 answers a
+ * request line that does not fit at all with its own 414 (an HTML body) and
+ * too many headers with its own 431, but when the query parameters do not fit
+ * it drops the 431 it has queued and waits for the connection timeout
+ * (parse_initial_message_line() ignores the failure and moves the connection
+ * on to reading headers, with reading stopped): from ~460 short parameters,
+ * or fewer long ones, up to a request line of ~32 KiB. So a target longer than
+ * MAX_TARGET bytes or with more than MAX_QUERY_PARAMS parameters has its query
+ * dropped unread (uri_seen) and is answered 414. Within both limits the line
+ * is read into the first half of the pool (plus at most one growth step) and
+ * its parameter records take at most 8 KiB, leaving ~6 KiB for headers. */
+#define CONN_MEMORY      (32 * 1024)
+#define MAX_TARGET       (16 * 1024) /* [bytes] of the request target */
+#define MAX_QUERY_PARAMS 128         /* no route reads more than 12 */
+#define ARG_RECORD       64          /* [bytes] libmicrohttpd 0.9.75 pool use per parameter */
+_Static_assert(MAX_TARGET + 2 * 1024 + MAX_QUERY_PARAMS * ARG_RECORD + 6 * 1024 <= CONN_MEMORY,
+               "the request target limits must leave room in the connection's pool");
+
 /* The raw request target, before libmicrohttpd decodes the path in place
  * for the access handler: a %00 would end the path early (".../ID%00/frames"
  * routed as ".../ID") and a %2F would add a segment, so either in the path is
- * refused (400) instead of routed. The request object starts here; completed()
- * frees it, also for a request libmicrohttpd itself rejects later. */
+ * refused (400) instead of routed. A target past the limits above is refused
+ * (414) and its query cut off here: uri is libmicrohttpd's own request-line
+ * buffer, from which it splits the query right after this call, so an empty
+ * query there gives no parameters and takes no pool memory. The request
+ * object starts here; completed() frees it, also for a request libmicrohttpd
+ * itself rejects later. */
 static void *uri_seen(void *cls, const char *uri, struct MHD_Connection *conn)
 {
     (void)cls;
     (void)conn;
     tsd_request *r = calloc(1, sizeof *r);
     if (!r) return NULL; /* the access handler then closes the connection */
+    if (!uri) return r;  /* libmicrohttpd refuses a request line without one first */
     size_t n = strcspn(uri, "?");
     for (size_t i = 0; i + 2 < n; i++)
         if (uri[i] == '%' && ((uri[i + 1] == '0' && uri[i + 2] == '0') ||
                               (uri[i + 1] == '2' && (uri[i + 2] | 0x20) == 'f')))
             r->bad_path = 1;
+    r->target_len = n + strlen(uri + n);
+    if (uri[n] == '?' && uri[n + 1]) { /* as MHD_parse_arguments_: one per '&', plus one */
+        r->target_params = 1;
+        for (const char *c = uri + n + 1; *c; c++)
+            r->target_params += *c == '&';
+    }
+    if (r->target_len > MAX_TARGET || r->target_params > MAX_QUERY_PARAMS) {
+        r->target_too_long = 1;
+        if (uri[n] == '?') ((char *)uri)[n + 1] = '\0';
+    }
     return r;
+}
+
+static enum MHD_Result reply_target_too_long(tsd_request *r)
+{
+    char detail[160];
+    if (r->target_params > MAX_QUERY_PARAMS)
+        snprintf(detail, sizeof detail,
+                 "the request has %zu query parameters; at most %d are read (no route takes "
+                 "more than a few)",
+                 r->target_params, MAX_QUERY_PARAMS);
+    else
+        snprintf(detail, sizeof detail,
+                 "the request target (path and query) is %zu bytes long; at most %d are read",
+                 r->target_len, MAX_TARGET);
+    return tsd_reply_problem(r, MHD_HTTP_URI_TOO_LONG, "/problems/uri-too-long",
+                             "Request target too long", detail, NULL);
 }
 
 static enum MHD_Result reply_too_large(tsd_request *r)
@@ -259,6 +343,7 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
                                      "state (its Origin header names another host); the "
                                      "dashboard is served by the daemon itself",
                                      NULL);
+        if (r->target_too_long) return reply_target_too_long(r);
         if (r->bad_path)
             return tsd_reply_problem(r, MHD_HTTP_BAD_REQUEST, "/problems/bad-path",
                                      "Bad request path",
@@ -361,7 +446,7 @@ int tsd_server_start(tsd_server *s, char *err, size_t errlen)
         MHD_OPTION_URI_LOG_CALLBACK, uri_seen, s, MHD_OPTION_NOTIFY_COMPLETED, completed, s,
         MHD_OPTION_THREAD_POOL_SIZE, (unsigned)s->opt.http_threads, MHD_OPTION_CONNECTION_TIMEOUT,
         s->opt.conn_timeout, MHD_OPTION_CONNECTION_LIMIT, (unsigned)s->opt.max_connections,
-        MHD_OPTION_END);
+        MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)CONN_MEMORY, MHD_OPTION_END);
     if (!s->mhd) {
         snprintf(err, errlen, "cannot listen on %s port %d (in use, or no permission)", s->opt.bind,
                  s->opt.port);

@@ -114,6 +114,9 @@ typedef struct tsd_request {
     int www_authenticate;          /* add WWW-Authenticate: Bearer (401) */
     int retry_after;               /* add Retry-After: N seconds (0 = none) */
     int bad_path;                  /* the raw path had %00 or %2F (server.c refuses it) */
+    size_t target_len;             /* bytes of the raw request target (uri_seen, server.c) */
+    size_t target_params;          /* its query parameters, counted as libmicrohttpd splits them */
+    int target_too_long;           /* past either limit: its query was dropped unread, 414 */
 } tsd_request;
 
 /* Long jobs — engine maps, tunings (analyses.c) and APNG animations
@@ -141,6 +144,10 @@ enum MHD_Result tsd_reply_text(tsd_request *r, unsigned status, const char *cont
                                const char *text, size_t len);
 enum MHD_Result tsd_reply_problem(tsd_request *r, unsigned status, const char *type,
                                   const char *title, const char *detail, json_t *errors);
+/* 304 Not Modified for r->etag: no body, no Content-Length (the 200's length
+ * is not known without drawing it), and the connection closes after it (the
+ * only framing libmicrohttpd 0.9.75 offers for that; server.c). */
+enum MHD_Result tsd_reply_not_modified(tsd_request *r);
 
 /* Reply with a malloc'd buffer, which the response takes over. */
 enum MHD_Result tsd_reply_owned(tsd_request *r, unsigned status, const char *content_type,
