@@ -35,6 +35,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "../api/config_json.h"
 #include "../sim/version.h"
 #include "analyses.h"
 #include "db.h"
@@ -127,14 +128,15 @@ static int fit_open_files(tsd_options *o)
     return 0;
 }
 
-/* Seconds in [lo, hi], or (lo, hi] when lo_open: 0 and *out set, else -1 with
- * a message naming the flag. */
+/* Seconds in [lo, hi], or (lo, hi] when lo_open, written as a plain decimal
+ * number (tsa_is_decimal: no blanks, hex, inf or nan): 0 and *out set, else -1
+ * with a message naming the flag. */
 static int parse_seconds(const char *flag, const char *s, double lo, int lo_open, double hi,
                          double *out)
 {
     char *end;
     double x = strtod(s, &end);
-    if (*end || !(lo_open ? x > lo : x >= lo) || !(x <= hi)) {
+    if (!tsa_is_decimal(s, 0) || *end || !(lo_open ? x > lo : x >= lo) || !(x <= hi)) {
         fprintf(stderr, "tanksimd: %s: seconds in %c%g, %g] expected, got '%s'\n", flag,
                 lo_open ? '(' : '[', lo, hi, s);
         return -1;
@@ -143,18 +145,13 @@ static int parse_seconds(const char *flag, const char *s, double lo, int lo_open
     return 0;
 }
 
+/* A plain decimal integer in [lo, hi] (tsa_parse_integer: "", " 2", "2.5",
+ * "0x10" refused, as the CLI's and the query's integers). */
 static int parse_int(const char *flag, const char *s, long lo, long hi, long *out)
 {
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (errno || *end || v < lo || v > hi) {
-        fprintf(stderr, "tanksimd: %s: integer in [%ld, %ld] expected, got '%s'\n", flag, lo, hi,
-                s);
-        return -1;
-    }
-    *out = v;
-    return 0;
+    if (tsa_parse_integer(s, lo, hi, out) == 0) return 0;
+    fprintf(stderr, "tanksimd: %s: integer in [%ld, %ld] expected, got '%s'\n", flag, lo, hi, s);
+    return -1;
 }
 
 /* The bearer token from a flag, the environment or a file's first line: 0, or

@@ -60,7 +60,12 @@ def test_sigterm_and_sigint_shut_down_cleanly():
 
 @pytest.mark.parametrize("flag,value", [
     ("--port", "99999"), ("--max-step", "0"), ("--drain", "-1"), ("--max-run-wall", "-1"),
-    ("--max-run-wall", "x"), ("--client-files", "maybe")])
+    ("--max-run-wall", "x"), ("--client-files", "maybe"),
+    # numbers are read as written in decimal, as query values and CLI options
+    # are: before session 21 " 2" started 2 workers, "" was 0 and seconds took
+    # hex ("0x10" = 16) and leading blanks
+    ("--threads", " 2"), ("--threads", ""), ("--threads", "2.5"), ("--port", ""),
+    ("--max-step", "0x10"), ("--drain", " 1")])
 def test_bad_flag_value_is_refused_naming_the_flag(flag, value, tmp_path):
     out = subprocess.run([TANKSIMD, flag, value, "--data-dir", str(tmp_path)],
                          capture_output=True, text=True, timeout=20)
