@@ -28,11 +28,19 @@ static ts_span_params base(double L, double g_y, int nl, int nt)
     return p;
 }
 
-static ts_modes *modes_of(const ts_span_params *p, int family, int nmax)
+/* The span of p, or the test fails with ts_span_make's message. */
+static ts_span *span_of(const ts_span_params *p)
 {
     ts_err err;
     ts_span *sp = ts_span_make(p, &err);
     if (!sp) fail_msg("ts_span_make: %s %s", err.pointer, err.msg);
+    return sp;
+}
+
+static ts_modes *modes_of(const ts_span_params *p, int family, int nmax)
+{
+    ts_err err;
+    ts_span *sp = span_of(p);
     ts_modes *m = ts_span_modes(sp, family, nmax, &err);
     if (!m) fail_msg("ts_span_modes: %s", err.msg);
     ts_span_free(sp);
@@ -128,8 +136,7 @@ static void track_span_matrices_and_eq9(void **state)
     ts_span_params p = base(2.0, G0, 3, 3);
     p.translation_terms = 1;
     p.speed = 5.0;
-    ts_span *sp = ts_span_make(&p, &err);
-    assert_non_null(sp);
+    ts_span *sp = span_of(&p);
     double kappa = RHO * G0 / P0;
     assert_close(sp->kappa, kappa, 1e-14, 0);
     assert_close(sp->m, RHO * 2.0, 1e-14, 0);
@@ -345,8 +352,7 @@ static void track_span_end_forces_static(void **state)
     ts_err err;
     const double L = 2.0;
     ts_span_params p = base(L, G0, 4, 4);
-    ts_span *sp = ts_span_make(&p, &err);
-    assert_non_null(sp);
+    ts_span *sp = span_of(&p);
     double x[10] = {0}, xd[10] = {0}, f[10];
     ts_span_end_forces ef;
     ts_span_end_forces_eval(sp, x, &ef);
@@ -395,8 +401,7 @@ static void track_span_slack_law(void **state)
      *   (a (pi - th0) - c sin th0) / pi.
      * The 48-point rule integrates across the kink; tolerance 2e-4 of P0. */
     ts_span_params p = base(L, 0.0, 1, 1);
-    ts_span *sp = ts_span_make(&p, &err);
-    assert_non_null(sp);
+    ts_span *sp = span_of(&p);
     double x[4] = {0, -0.5 * P0 / EA * L, 0.9 * P0 / EA * L / PI, 0}, f[4] = {0};
     double a = P0 + EA * x[1] / L, c = EA * x[2] * PI / L, th0 = acos(-a / c);
     assert_int_equal(ts_span_slack_force(sp, x, NULL, 0, f), 1);
@@ -507,11 +512,9 @@ static void track_span_support_motion_loads(void **state)
      *  - chord spin theta_d: EA U'' = -rho s theta_d^2 -> U(L/2) = rho theta_d^2 L^3/(16 EA)
      *  - a change of gravity along e_y acts like -a (equivalence principle).
      * 12 modes per family; within 0.5 %. Not calibrated. */
-    ts_err err;
     const double L = 1.8, a = 3.0, thdd = 2.0, thd = 4.0;
     ts_span_params p = base(L, 0.0, 12, 12);
-    ts_span *sp = ts_span_make(&p, &err);
-    assert_non_null(sp);
+    ts_span *sp = span_of(&p);
     double x[2 + 2 * TS_SPAN_MAX_MODES], U, V, tau;
     ts_span_motion mo = {.a0y = a};
     static_response(sp, &mo, x);
@@ -620,12 +623,10 @@ static double span_vx(const ts_span *sp, const double *x, double s)
 
 static void check_energy_and_end_force(int nl, int quasi_static)
 {
-    ts_err err;
     const double L = 1.7;
     ts_span_params p = base(L, G0, nl, 6);
     p.quasi_static_stretch = quasi_static;
-    ts_span *sp = ts_span_make(&p, &err);
-    assert_non_null(sp);
+    ts_span *sp = span_of(&p);
     assert_true(sp->kappa > 0); /* a sagging span: the kappa terms are live */
     int n = sp->n;
     double x[2 + 2 * TS_SPAN_MAX_MODES], xd[2 + 2 * TS_SPAN_MAX_MODES] = {0};
@@ -687,12 +688,10 @@ static void track_span_energy_tension_consistency(void **state)
  * transverse and longitudinal modes small enough that sigma < 0 everywhere. */
 static void check_slack_sagging(int nl, int quasi_static)
 {
-    ts_err err;
     const double L = 1.5;
     ts_span_params p = base(L, G0, nl, 4);
     p.quasi_static_stretch = quasi_static;
-    ts_span *sp = ts_span_make(&p, &err);
-    assert_non_null(sp);
+    ts_span *sp = span_of(&p);
     int n = sp->n;
     double x[2 + 2 * TS_SPAN_MAX_MODES] = {0}, xd[2 + 2 * TS_SPAN_MAX_MODES] = {0};
     double f[2 + 2 * TS_SPAN_MAX_MODES];
@@ -792,8 +791,7 @@ static void track_span_end_force_shear(void **state)
     ts_err err;
     const double L = 2.0, a = 0.01, b = 0.004, e = 1e-3;
     ts_span_params p = base(L, G0, 2, 3);
-    ts_span *sp = ts_span_make(&p, &err);
-    assert_non_null(sp);
+    ts_span *sp = span_of(&p);
     double kap = sp->kappa, x[7] = {0};
     x[1] = e * L;
     x[sp->i_trans] = a;
@@ -842,11 +840,9 @@ static void track_span_rotation_loads_profile(void **state)
      * track_span_support_motion_loads). A lever arm from end 1 (L - s) swaps
      * the quarter-point values (40 % apart). 12 modes per family; sine
      * coefficients of the cubic fall as 1/k^3, within 0.2 %. Not calibrated. */
-    ts_err err;
     const double L = 1.8, thdd = 2.0, thd = 4.0;
     ts_span_params p = base(L, 0.0, 12, 12);
-    ts_span *sp = ts_span_make(&p, &err);
-    assert_non_null(sp);
+    ts_span *sp = span_of(&p);
     double x[2 + 2 * TS_SPAN_MAX_MODES], U, V;
     double l3 = L * L * L;
     ts_span_motion mt = {.theta_dd = thdd};
@@ -879,12 +875,10 @@ static void track_span_modal_damping(void **state)
      * j pi/L sqrt(EA/rho) (longitudinal), so C_jj = zeta j pi sqrt(P0 rho)
      * resp. zeta j pi sqrt(EA rho), C zero off the diagonal and on the support
      * rows, and the force carries -C x_d. zeta = 0.05; 1e-9. Not calibrated. */
-    ts_err err;
     const double L = 1.6, zeta = 0.05;
     ts_span_params p = base(L, 0.0, 3, 4);
     p.damping_ratio = zeta;
-    ts_span *sp = ts_span_make(&p, &err);
-    assert_non_null(sp);
+    ts_span *sp = span_of(&p);
     int n = sp->n;
     for (int i = 0; i < n; i++)
         for (int j = 0; j < n; j++) {
@@ -913,14 +907,12 @@ static void track_span_moving_uniform_tension(void **state)
      * K_00 = K_11 = (EA - rho c^2)/L, K_01 = -(EA - rho c^2)/L; the -rho c^2
      * softening of translation_terms (track_span.h). c = 11.2 m/s: 0.07 %
      * below EA/L; 1e-12. Not calibrated. */
-    ts_err err;
     const double L = 1.5, c = 11.2;
     ts_span_params p = base(L, 0.0, 0, 2);
     p.quasi_static_stretch = 1;
     p.translation_terms = 1;
     p.speed = c;
-    ts_span *sp = ts_span_make(&p, &err);
-    assert_non_null(sp);
+    ts_span *sp = span_of(&p);
     int n = sp->n;
     double k = (EA - RHO * c * c) / L;
     assert_close(sp->K[0], k, 1e-12, 0);
