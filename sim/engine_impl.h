@@ -82,6 +82,16 @@ static inline void en_gas_eval(const en_gas *g, double T, double F, en_gas_state
     s->cv = s->cp - s->R;
     s->dudF = (hb - g->r_b * T) - (ha - g->r_a * T);
 }
+/* Fresh air's sensible enthalpy h [J/kg] and cp [J/kg/K] at T: en_gas_eval's
+ * values at F = 0 without the burned-gas polynomials (the compressor's
+ * outlet, solved for on every right-hand side). */
+static inline void en_air_eval(const en_gas *g, double T, double *h, double *cp)
+{
+    double Tc = T < 150 ? 150 : T > 3500 ? 3500 : T; /* clampT, as en_gas_eval */
+    const double *a = g->cpT_a, *ha = g->hT_a;
+    *cp = a[0] + Tc * (a[1] + Tc * (a[2] + Tc * a[3]));
+    *h = ha[0] + T * (ha[1] + T * (ha[2] + T * (ha[3] + T * ha[4])));
+}
 /* dT/dt of a control volume (m, T, F) from its energy rate dE/dt = d(m u)/dt,
  * mass rate and composition rate; s evaluated at (T, F). */
 static inline double en_gas_dTdt_s(const en_gas_state *s, double m, double dEdt, double dmdt,
@@ -296,6 +306,7 @@ typedef struct en_turbo {
 } en_turbo;
 typedef struct en_comp_out {
     double mdot, T_out, power, eta;
+    double h_out, cp_out; /* outlet air's sensible enthalpy [J/kg] and cp [J/kg/K] */
 } en_comp_out;
 typedef struct en_turb_out {
     double mdot, power, eta;

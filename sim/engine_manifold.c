@@ -123,7 +123,7 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
         co = f->co;
     else
         en_compressor(&e->turbo, g, xb[BX_TC], p_amb, T_amb, p_ic, &co);
-    en_gas_state s_ic, s_im, s_em, s_c;
+    en_gas_state s_ic, s_im, s_em;
     en_gas_eval(g, T_ic, 0, &s_ic);
     if (f->have_gas) { /* the caller's evaluation at this state (same values) */
         s_im = f->s_im;
@@ -132,15 +132,14 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
         en_gas_eval(g, o->T_im, o->F_im, &s_im);
         en_gas_eval(g, o->T_em, o->F_em, &s_em);
     }
-    en_gas_eval(g, co.T_out, 0, &s_c);
     /* intercooler outlet orifice -> intake manifold (reverse flow carries F_im) */
     double g_ic = s_ic.cp / s_ic.cv, g_im = s_im.cp / s_im.cv;
     double m_ici = en_orifice(c->ic_cda, p_ic, T_ic, g->r_a, g_ic, o->p_im, o->T_im, s_im.R, g_im);
     double h_ici = m_ici >= 0 ? m_ici * s_ic.h : m_ici * s_im.h;
     double F_ici = m_ici >= 0 ? 0.0 : m_ici * o->F_im;
     /* intercooler volume: heat to the wall from the compressed stream */
-    double q_ic = en_intercooler_heat(c->ic_ua, co.mdot, s_c.cp, co.T_out, c->ic_wall_temp);
-    double h_c = co.mdot >= 0 ? co.mdot * s_c.h : co.mdot * s_ic.h;
+    double q_ic = en_intercooler_heat(c->ic_ua, co.mdot, co.cp_out, co.T_out, c->ic_wall_temp);
+    double h_c = co.mdot >= 0 ? co.mdot * co.h_out : co.mdot * s_ic.h;
     double dm_ic = co.mdot - m_ici;
     xd[BX_ICM] = dm_ic;
     xd[BX_ICT] = en_gas_dTdt_s(&s_ic, m_ic, h_c - h_ici - q_ic, dm_ic, 0);

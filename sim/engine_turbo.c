@@ -52,20 +52,22 @@
 #define CP_AIR_TURBO TS_CP_AIR_MAP /* map convention, constants.h */
 #define GAMMA_AIR TS_GAMMA_AIR_MAP
 
-/* Air temperature whose sensible enthalpy is h(T01) + dh [K] (Newton on the
- * cp polynomial from the constant-cp guess; cp changes by < 3 % over a
- * compressor's rise, so three steps reach rounding). */
-static double air_temperature_after(const en_gas *g, double T01, double dh)
+/* The outlet air of o whose sensible enthalpy is h(T01) + dh: T_out by Newton
+ * on the cp polynomial from the inlet-cp guess (a guess within ~2 K over a
+ * 200-K rise, cp changing < 3 %: two steps reach rounding); h_out is the
+ * target itself, cp_out cp(T_out). */
+static void outlet_air(const en_gas *g, double T01, double h01, double cp01, double dh,
+                       en_comp_out *o)
 {
-    en_gas_state s;
-    en_gas_eval(g, T01, 0, &s);
-    double target = s.h + dh;
-    double T = T01 + dh / s.cp;
-    for (int i = 0; i < 3; i++) {
-        en_gas_eval(g, T, 0, &s);
-        T -= (s.h - target) / s.cp;
+    double target = h01 + dh, T = T01 + dh / cp01, h, cp = cp01;
+    for (int i = 0; i < 2; i++) {
+        en_air_eval(g, T, &h, &cp);
+        T -= (h - target) / cp;
     }
-    return T;
+    en_air_eval(g, T, &h, &cp);
+    o->T_out = T;
+    o->h_out = target;
+    o->cp_out = cp;
 }
 
 void en_compressor(const en_turbo *t, const en_gas *g, double w, double p01, double T01, double p02,
@@ -91,11 +93,15 @@ void en_compressor(const en_turbo *t, const en_gas *g, double w, double p01, dou
     if (eta < t->eta_min) eta = t->eta_min;
     o->mdot = mdot;
     o->eta = eta;
+    double h01, cp01;
+    en_air_eval(g, T01, &h01, &cp01);
     if (dh > 0) {
-        o->T_out = air_temperature_after(g, T01, dh / eta);
+        outlet_air(g, T01, h01, cp01, dh / eta, o);
         o->power = mdot * dh / eta;
     } else { /* throttling through the wheel: no work, isenthalpic */
         o->T_out = T01;
+        o->h_out = h01;
+        o->cp_out = cp01;
         o->power = 0.0;
     }
 }

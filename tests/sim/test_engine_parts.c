@@ -201,6 +201,8 @@ static void turbo_maps(void **state)
     en_compressor(&t, &gas, w, p1, T1, pr * p1, &o);
     assert_true(o.power > 0);
     assert_close(en_gas_h(&gas, o.T_out, 0) - en_gas_h(&gas, T1, 0), o.power / o.mdot, 1e-12, 0);
+    assert_close(o.h_out, en_gas_h(&gas, o.T_out, 0), 1e-12, 0); /* what the volume receives */
+    assert_close(o.cp_out, en_gas_cp(&gas, o.T_out, 0), 1e-12, 0);
     assert_true(o.T_out > T1 + 0.5 * dh / 1005);
     assert_close(o.mdot, rho * 0.01 * 0.22 * sqrt(U * U - dh / 0.9), 1e-9, 0);
     /* efficiency: island in phi times the tip-Mach fall-off (M = 1.30 here) */
