@@ -9,7 +9,7 @@
  */
 #include "analysis_json.h"
 
-#include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -242,9 +242,10 @@ ts_rc tsa_tune_schedule_parse(const char *text, const char *var, double *x, int 
         if (*n == TSA_TUNE_SCHEDULE_MAX || len == 0 || len >= sizeof item) break;
         memcpy(item, s, len);
         item[len] = '\0';
-        errno = 0;
-        double v = tsa_is_decimal(item, 0) ? strtod(item, NULL) : NAN;
-        if (errno || !isfinite(v) || ts_param_check_number(field, v, NULL) != TS_OK) break;
+        double v;
+        if (tsa_parse_number(item, -DBL_MAX, DBL_MAX, &v) != 0 ||
+            ts_param_check_number(field, v, NULL) != TS_OK)
+            break;
         if (*n > 0 && !(v > x[*n - 1])) /* /control/schedule_x must increase (ivs_controller.c) */
             return ts_err_set(err, TS_ERR_PARAM, field->pointer,
                               "the %s values must increase (they become /control/schedule_x), "

@@ -656,6 +656,16 @@ int tsa_is_decimal(const char *v, int integer)
     return *s == '\0';
 }
 
+int tsa_parse_number(const char *v, double lo, double hi, double *out)
+{
+    if (!tsa_is_decimal(v, 0)) return -1;
+    errno = 0; /* ERANGE: beyond a double, or below its normal range */
+    double x = strtod(v, NULL);
+    if (errno || !isfinite(x) || x < lo || x > hi) return -1;
+    *out = x;
+    return 0;
+}
+
 int tsa_parse_integer(const char *v, long lo, long hi, long *out)
 {
     if (!tsa_is_decimal(v, 1)) return -1;

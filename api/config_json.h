@@ -71,6 +71,11 @@ int tsa_is_decimal(const char *v, int integer);
  * "640px" are refused, not cut) or is outside [lo, hi]. The daemon's query
  * integers and the CLI's integer options. */
 int tsa_parse_integer(const char *v, long lo, long hi, long *out);
+/* v as a number in [lo, hi] into *out: 0, or -1 when v is not a plain decimal
+ * numeral (tsa_is_decimal), is beyond a double or below its normal range
+ * (ERANGE), or is outside [lo, hi]. The daemon's query numbers and flags, the
+ * CLI's number options, the tune schedule lists. */
+int tsa_parse_number(const char *v, double lo, double hi, double *out);
 
 /* Read a config from a file path (a JSON document as above). */
 ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out,

@@ -38,15 +38,10 @@ int tsc_flag(int argc, char **argv, const char *name)
 
 int tsc_number(const char *s, const char *name, double lo, double hi, double *out)
 {
-    errno = 0;
     /* a plain decimal numeral, as the daemon's query numbers: no blanks, no hexadecimal */
-    double v = tsa_is_decimal(s, 0) ? strtod(s, NULL) : NAN;
-    if (errno || !isfinite(v) || v < lo || v > hi) {
-        fprintf(stderr, "tanksim: %s: number in [%g, %g], got '%s'\n", name, lo, hi, s);
-        return -1;
-    }
-    *out = v;
-    return 0;
+    if (tsa_parse_number(s, lo, hi, out) == 0) return 0;
+    fprintf(stderr, "tanksim: %s: number in [%g, %g], got '%s'\n", name, lo, hi, s);
+    return -1;
 }
 
 int tsc_integer(const char *s, const char *name, long lo, long hi, long *out)
@@ -202,7 +197,9 @@ int tsc_out_open(tsc_out *o, const char *path, const char *what, int in_place)
     struct stat st;
     o->path = path;
     o->what = what;
-    o->direct = in_place || (stat(path, &st) == 0 && !S_ISREG(st.st_mode));
+    /* lstat: a symlink (/dev/stdout, a user's link) is written through, in
+     * place; renaming a tmp file onto it would replace the link itself */
+    o->direct = in_place || (lstat(path, &st) == 0 && !S_ISREG(st.st_mode));
     if (strlen(path) > sizeof o->tmp - 5) {
         fprintf(stderr, "tanksim %s: %s: path too long\n", what, path);
         return -1;
@@ -214,6 +211,14 @@ int tsc_out_open(tsc_out *o, const char *path, const char *what, int in_place)
         return -1;
     }
     return 0;
+}
+
+int tsc_out_json(tsc_out *o, const json_t *doc)
+{
+    return json_dumpf(doc, o->f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) == 0 &&
+                   fputc('\n', o->f) != EOF
+               ? 0
+               : -1;
 }
 
 int tsc_out_close(tsc_out *o, int complete)

@@ -51,8 +51,9 @@ void tsc_print_config_err(const char *pointer, const char *msg);
 
 /* An output file written whole or not at all: a regular (or new) file is
  * written as PATH.tmp and renamed to PATH once complete, so a failure leaves
- * no empty or half file; anything else that exists (a device, a pipe) is
- * written in place (renaming onto it would replace the device node). Open it
+ * no empty or half file; anything else that exists (a device, a pipe, a
+ * symlink) is written in place, through it (renaming onto it would replace
+ * the device node or the link). Open it
  * before long work, so a bad path fails at once. */
 typedef struct tsc_out {
     FILE *f;
@@ -68,6 +69,10 @@ int tsc_out_open(tsc_out *o, const char *path, const char *what, int in_place);
  * place (a failure is printed); 0: abandon it (the caller said why; a file
  * written in place is left as it is). Returns TSC_EXIT_OK or TSC_EXIT_FAIL. */
 int tsc_out_close(tsc_out *o, int complete);
+/* Write doc to o as indented JSON with 17 significant digits (a config echo
+ * re-runs bit for bit) and a final newline: 0, or -1 when jansson or a write
+ * failed (then abandon o: tsc_out_close(o, 0)). */
+int tsc_out_json(tsc_out *o, const json_t *doc);
 
 /* Progress of a long command on stderr, so that stdout keeps only its result:
  * lines "tanksim WHAT: TEXT". A command done within TSC_PROGRESS_FIRST wall

@@ -58,25 +58,27 @@
 #define IDLE_RPM 650.0    /* [rpm] */
 #define IDLE_TORQUE 313.0 /* [N*m] */
 
-/* The spool-ups' CSV columns, in order: "name [unit]" in the header. */
+/* The spool-ups' CSV columns, in order: "name [unit]" in the header, each
+ * row's value (spool()) in format; a value the fidelity does not model (NaN)
+ * is an empty cell, as in the map's CSV. */
 static const struct {
-    const char *name, *unit;
+    const char *name, *unit, *format;
 } spool_columns[] = {
-    {"speed_rpm", "rpm"},
-    {"time", "s"},
-    {"speed", "rad/s"},
-    {"boost", "Pa"},
-    {"intake_temp", "K"},
-    {"fuel_flow", "kg/s"},
-    {"air_flow", "kg/s"},
-    {"indicated_torque", "N*m"},
-    {"friction_torque", "N*m"},
-    {"brake_torque", "N*m"},
-    {"exhaust_temp", "K"},
-    {"turbo_speed", "rad/s"},
-    {"eta_v", "1"},
-    {"eta_i", "1"},
-    {"q_wall", "1"},
+    {"speed_rpm", "rpm", "%.0f"},
+    {"time", "s", "%.4f"},
+    {"speed", "rad/s", "%.4f"},
+    {"boost", "Pa", "%.0f"},
+    {"intake_temp", "K", "%.1f"},
+    {"fuel_flow", "kg/s", "%.6f"},
+    {"air_flow", "kg/s", "%.5f"},
+    {"indicated_torque", "N*m", "%.2f"},
+    {"friction_torque", "N*m", "%.2f"},
+    {"brake_torque", "N*m", "%.2f"},
+    {"exhaust_temp", "K", "%.1f"},
+    {"turbo_speed", "rad/s", "%.0f"},
+    {"eta_v", "1", "%.4f"},
+    {"eta_i", "1", "%.4f"},
+    {"q_wall", "1", "%.4f"},
 };
 #define NSPOOL_COLUMN ((int)(sizeof spool_columns / sizeof spool_columns[0]))
 
@@ -115,10 +117,27 @@ static int spool(const ts_engine *e, const ts_config *cfg, FILE *f)
                 goto done;
             }
             t += 4 * PI / w;
-            fprintf(f, "%d,%.4f,%.4f,%.0f,%.1f,%.6f,%.5f,%.2f,%.2f,%.2f,%.1f,%.0f,%.4f,%.4f,%.4f\n", rpm,
-                    t, w, c.mean.boost, c.mean.intake_temp, c.mean.fuel_flow, c.mean.air_flow,
-                    c.mean.indicated_torque, c.mean.friction_torque, c.mean.brake_torque,
-                    c.mean.exhaust_temp, c.mean.turbo_speed, c.eta_v, c.eta_i, c.q_wall);
+            const double v[] = {rpm,
+                                t,
+                                w,
+                                c.mean.boost,
+                                c.mean.intake_temp,
+                                c.mean.fuel_flow,
+                                c.mean.air_flow,
+                                c.mean.indicated_torque,
+                                c.mean.friction_torque,
+                                c.mean.brake_torque,
+                                c.mean.exhaust_temp,
+                                c.mean.turbo_speed,
+                                c.eta_v,
+                                c.eta_i,
+                                c.q_wall};
+            _Static_assert(sizeof v / sizeof v[0] == NSPOOL_COLUMN, "one value per column");
+            for (int j = 0; j < NSPOOL_COLUMN; j++) {
+                if (j) fputc(',', f);
+                if (isfinite(v[j])) fprintf(f, spool_columns[j].format, v[j]);
+            }
+            fputc('\n', f);
         }
         fprintf(stderr, "  spool %4d rpm done\n", rpm);
     }
@@ -161,14 +180,6 @@ static void write_csv(FILE *f, const ts_engine_cycle *rows)
     }
 }
 
-/* The sidecar's path, csv + ".json": 0, or -1 with a message when too long. */
-static int sidecar_path(const char *csv, char *buf, size_t size)
-{
-    if ((size_t)snprintf(buf, size, "%s.json", csv) < size) return 0;
-    fprintf(stderr, "tanksim engine-map: %s: path too long\n", csv);
-    return -1;
-}
-
 /* The sidecar document (see the header); NULL when out of memory. */
 static json_t *sidecar_doc(const ts_config *cfg, json_t *resolved, const char *csv, int spool_ups)
 {
@@ -207,23 +218,21 @@ static json_t *sidecar_doc(const ts_config *cfg, json_t *resolved, const char *c
     return doc;
 }
 
-/* Put the CSV and its sidecar (side->f NULL: none) in place, or abandon both
- * when !complete. The CSV first: when it fails, both stay as they were; when
- * the sidecar then fails, an earlier sidecar there would describe another
- * run, so it is removed. TSC_EXIT_OK or TSC_EXIT_FAIL (said on stderr). */
+/* Put the sidecar (side->f NULL: none), then the CSV in place, or abandon
+ * both when !complete: a new CSV never stands without its record. When the
+ * CSV then fails, the new sidecar is removed again (it would describe a CSV
+ * that is not there). TSC_EXIT_OK or TSC_EXIT_FAIL (said on stderr). */
 static int close_pair(tsc_out *csv, tsc_out *side, int complete)
 {
     if (!side->f) return tsc_out_close(csv, complete);
-    if (tsc_out_close(csv, complete) != TSC_EXIT_OK) {
-        tsc_out_close(side, 0);
+    if (tsc_out_close(side, complete) != TSC_EXIT_OK) {
+        tsc_out_close(csv, 0);
+        if (complete) fprintf(stderr, "tanksim engine-map: %s not written either\n", csv->path);
         return TSC_EXIT_FAIL;
     }
-    if (tsc_out_close(side, 1) == TSC_EXIT_OK) return TSC_EXIT_OK;
+    if (tsc_out_close(csv, 1) == TSC_EXIT_OK) return TSC_EXIT_OK;
     if (!side->direct && unlink(side->path) != 0 && errno != ENOENT)
-        fprintf(stderr, "tanksim engine-map: cannot remove the earlier %s: %s\n", side->path,
-                strerror(errno));
-    fprintf(stderr, "tanksim engine-map: %s was written without its sidecar %s\n", csv->path,
-            side->path);
+        fprintf(stderr, "tanksim engine-map: cannot remove %s: %s\n", side->path, strerror(errno));
     return TSC_EXIT_FAIL;
 }
 
@@ -246,7 +255,7 @@ int tsc_cmd_engine_map(int argc, char **argv)
     ts_err err;
     ts_engine *e = NULL;
     tsc_out o = {0}, side = {0};
-    char side_path[sizeof o.tmp];
+    char side_path[sizeof o.tmp + 8]; /* tsc_out_open refuses what does not fit its tmp */
     json_t *doc = NULL;
     rc = TSC_EXIT_FAIL;
     if (spool_out && !(e = ts_engine_make(&cfg, &err))) {
@@ -255,9 +264,8 @@ int tsc_cmd_engine_map(int argc, char **argv)
     }
     /* both opened before the long work, so a bad path fails at once */
     if (tsc_out_open(&o, path, "engine-map", 0) != 0) goto done;
-    if (!o.direct && (sidecar_path(path, side_path, sizeof side_path) != 0 ||
-                      tsc_out_open(&side, side_path, "engine-map", 0) != 0))
-        goto done;
+    snprintf(side_path, sizeof side_path, "%s.json", path);
+    if (!o.direct && tsc_out_open(&side, side_path, "engine-map", 0) != 0) goto done;
     if (spool_out) {
         rc = spool(e, &cfg, o.f);
     } else {
@@ -270,15 +278,11 @@ int tsc_cmd_engine_map(int argc, char **argv)
         }
     }
     if (rc == TSC_EXIT_OK && side.f) {
+        /* a sidecar that fails takes the CSV with it: neither is put in place */
         doc = sidecar_doc(&cfg, resolved, path, spool_out != NULL);
-        errno = 0;
-        /* 17 digits: the config echo re-runs bit for bit (run's summary.json). A sidecar
-         * that fails here takes the CSV with it: neither is put in place. */
-        if (!doc || json_dumpf(doc, side.f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
-            fputc('\n', side.f) == EOF || fflush(side.f) != 0) {
-            fprintf(stderr, "tanksim engine-map: cannot write %s: %s; %s not written either\n",
-                    side_path, doc ? (errno ? strerror(errno) : "a write failed") : "out of memory",
-                    path);
+        if (!doc || tsc_out_json(&side, doc) != 0) {
+            fprintf(stderr, "tanksim engine-map: cannot write %s; %s not written either\n",
+                    side_path, path);
             rc = TSC_EXIT_FAIL;
         }
     }

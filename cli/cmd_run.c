@@ -144,6 +144,7 @@ int tsc_cmd_run(int argc, char **argv)
     struct sigaction sa, old_int, old_term;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_stop_signal;
+    sa.sa_flags = SA_RESETHAND; /* a second Ctrl-C ends the program at once */
     sigemptyset(&sa.sa_mask);
     stop_signal = 0;
     sigaction(SIGINT, &sa, &old_int);
@@ -208,8 +209,9 @@ int tsc_cmd_run(int argc, char **argv)
     tsc_out so;
     int written = tsc_out_open(&so, path, "run", 0) == 0;
     if (written) {
-        json_dumpf(summary, so.f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)); /* errors: ferror */
-        written = tsc_out_close(&so, 1) == TSC_EXIT_OK;
+        int ok = summary && tsc_out_json(&so, summary) == 0;
+        if (!ok) fprintf(stderr, "tanksim run: cannot write %s\n", path);
+        written = tsc_out_close(&so, ok) == TSC_EXIT_OK;
     }
     json_decref(summary);
     if (!written) goto done;

@@ -134,9 +134,8 @@ static int fit_open_files(tsd_options *o)
 static int parse_seconds(const char *flag, const char *s, double lo, int lo_open, double hi,
                          double *out)
 {
-    char *end;
-    double x = strtod(s, &end);
-    if (!tsa_is_decimal(s, 0) || *end || !(lo_open ? x > lo : x >= lo) || !(x <= hi)) {
+    double x;
+    if (tsa_parse_number(s, lo, hi, &x) != 0 || (lo_open && x == lo)) {
         fprintf(stderr, "tanksimd: %s: seconds in %c%g, %g] expected, got '%s'\n", flag,
                 lo_open ? '(' : '[', lo, hi, s);
         return -1;

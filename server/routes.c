@@ -24,7 +24,6 @@
  */
 #define _GNU_SOURCE
 #include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -87,16 +86,11 @@ static int q_number(tsd_request *r, const char *name, double lo, double hi, doub
 {
     const char *v = tsd_arg(r, name);
     if (!v) return 0; /* an empty value was refused by check_query */
-    errno = 0; /* ERANGE: beyond a double, or below its normal range */
-    double x = tsa_is_decimal(v, 0) ? strtod(v, NULL) : NAN;
-    if (!isfinite(x) || errno || x < lo || x > hi) {
-        char what[96];
-        snprintf(what, sizeof what, "number in [%g, %g] expected", lo, hi);
-        *ret = bad_param(r, name, what, v);
-        return -1;
-    }
-    *out = x;
-    return 1;
+    if (tsa_parse_number(v, lo, hi, out) == 0) return 1;
+    char what[96];
+    snprintf(what, sizeof what, "number in [%g, %g] expected", lo, hi);
+    *ret = bad_param(r, name, what, v);
+    return -1;
 }
 
 /* Optional query integer in [lo, hi]: 1 present, 0 absent, -1 replied 400. */

@@ -55,13 +55,45 @@ int tsd_request_is_head(const tsd_request *r)
     return strcmp(r->method, "HEAD") == 0;
 }
 
+static ssize_t no_body(void *cls, uint64_t pos, char *buf, size_t max)
+{
+    (void)cls;
+    (void)pos;
+    (void)buf;
+    (void)max;
+    return MHD_CONTENT_READER_END_OF_STREAM;
+}
+
+/* An answer without a body and WITHOUT Content-Length: a 304, or the HEAD of
+ * a streamed (chunked) GET. RFC 9110 §8.6: Content-Length there may only be
+ * the length the 200's content would have had, which is unknown (a frame not
+ * drawn, a stream not yet made). In libmicrohttpd 0.9.75 a response of known
+ * size always gets its own Content-Length ("0" for an empty buffer;
+ * MHD_RF_INSANITY_HEADER_CONTENT_LENGTH only lets the application add a second
+ * one), and one of unknown size is sent chunked, its last chunk "0\r\n\r\n"
+ * following the header as stray bytes. Unknown size in its HTTP/1.0-compatible
+ * mode is the one combination with neither: the end of the (empty) answer is
+ * the connection closing ("Connection: close" is sent), and the reader is
+ * never called. content_type NULL: none. */
+static enum MHD_Result reply_no_length(tsd_request *r, unsigned status, const char *content_type)
+{
+    struct MHD_Response *resp =
+        MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 16, no_body, NULL, NULL);
+    if (resp &&
+        MHD_set_response_options(resp, MHD_RF_HTTP_1_0_COMPATIBLE_STRICT, MHD_RO_END) != MHD_YES) {
+        MHD_destroy_response(resp);
+        resp = NULL;
+    }
+    return queue(r, status, resp, content_type, 0);
+}
+
 enum MHD_Result tsd_reply_chunked(tsd_request *r, const char *content_type, size_t block,
                                   MHD_ContentReaderCallback reader, void *ctx,
                                   MHD_ContentReaderFreeCallback release)
 {
-    if (tsd_request_is_head(r)) {
+    if (tsd_request_is_head(r)) { /* its GET has no length to give: none (no_length) */
         release(ctx);
-        return tsd_reply_text(r, MHD_HTTP_OK, content_type, "", 0);
+        return reply_no_length(r, MHD_HTTP_OK, content_type);
     }
     struct MHD_Response *resp =
         MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, block, reader, ctx, release);
@@ -105,36 +137,9 @@ enum MHD_Result tsd_reply_owned(tsd_request *r, unsigned status, const char *con
     return queue(r, status, resp, content_type, len);
 }
 
-static ssize_t no_body(void *cls, uint64_t pos, char *buf, size_t max)
-{
-    (void)cls;
-    (void)pos;
-    (void)buf;
-    (void)max;
-    return MHD_CONTENT_READER_END_OF_STREAM;
-}
-
-/* RFC 9110 §8.6: a 304 may carry Content-Length only if it is the length the
- * 200 would have had, which for a frame is known only by drawing it. In
- * libmicrohttpd 0.9.75 a response of known size always gets its own
- * Content-Length, also on a 304 ("Content-Length: 0" for an empty buffer;
- * MHD_RF_INSANITY_HEADER_CONTENT_LENGTH only lets the application add a
- * second one beside it), and one of unknown size is sent chunked, its last
- * chunk "0\r\n\r\n" following the 304's header as stray bytes. Unknown size
- * in its HTTP/1.0-compatible mode is the one combination with neither: the
- * end of the (empty) answer is then the connection closing ("Connection:
- * close" is sent), and the reader is never called. Content-Type, which
- * describes a body, is left out too (§15.4.5). */
 enum MHD_Result tsd_reply_not_modified(tsd_request *r)
 {
-    struct MHD_Response *resp =
-        MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 16, no_body, NULL, NULL);
-    if (resp &&
-        MHD_set_response_options(resp, MHD_RF_HTTP_1_0_COMPATIBLE_STRICT, MHD_RO_END) != MHD_YES) {
-        MHD_destroy_response(resp);
-        resp = NULL;
-    }
-    return queue(r, MHD_HTTP_NOT_MODIFIED, resp, NULL, 0);
+    return reply_no_length(r, MHD_HTTP_NOT_MODIFIED, NULL); /* no Content-Type either (§15.4.5) */
 }
 
 enum MHD_Result tsd_reply_problem_json(tsd_request *r, unsigned status, json_t *p)
@@ -242,6 +247,12 @@ _Static_assert(MAX_TARGET + 2 * 1024 + MAX_QUERY_PARAMS * ARG_RECORD + 6 * 1024 
  * query there gives no parameters and takes no pool memory. The request
  * object starts here; completed() frees it, also for a request libmicrohttpd
  * itself rejects later. */
+/* Past either limit: the query is dropped unread and the answer is 414. */
+static int target_too_long(const tsd_request *r)
+{
+    return r->target_len > MAX_TARGET || r->target_params > MAX_QUERY_PARAMS;
+}
+
 static void *uri_seen(void *cls, const char *uri, struct MHD_Connection *conn)
 {
     (void)cls;
@@ -260,8 +271,7 @@ static void *uri_seen(void *cls, const char *uri, struct MHD_Connection *conn)
         for (const char *c = uri + n + 1; *c; c++)
             r->target_params += *c == '&';
     }
-    if (r->target_len > MAX_TARGET || r->target_params > MAX_QUERY_PARAMS) {
-        r->target_too_long = 1;
+    if (target_too_long(r)) {
         if (uri[n] == '?') ((char *)uri)[n + 1] = '\0';
     }
     return r;
@@ -343,7 +353,7 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
                                      "state (its Origin header names another host); the "
                                      "dashboard is served by the daemon itself",
                                      NULL);
-        if (r->target_too_long) return reply_target_too_long(r);
+        if (target_too_long(r)) return reply_target_too_long(r);
         if (r->bad_path)
             return tsd_reply_problem(r, MHD_HTTP_BAD_REQUEST, "/problems/bad-path",
                                      "Bad request path",

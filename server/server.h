@@ -116,7 +116,6 @@ typedef struct tsd_request {
     int bad_path;                  /* the raw path had %00 or %2F (server.c refuses it) */
     size_t target_len;             /* bytes of the raw request target (uri_seen, server.c) */
     size_t target_params;          /* its query parameters, counted as libmicrohttpd splits them */
-    int target_too_long;           /* past either limit: its query was dropped unread, 414 */
 } tsd_request;
 
 /* Long jobs — engine maps, tunings (analyses.c) and APNG animations
@@ -175,9 +174,9 @@ int tsd_request_is_head(const tsd_request *r);
 /* 200 with a body made as it goes (chunked, unknown length: live streams,
  * multipart frames): reader fills blocks of up to block bytes from ctx,
  * release(ctx) frees it (also here, on failure or HEAD). A HEAD gets the
- * headers only: libmicrohttpd 0.9.75 would still send a chunked reply's last
- * chunk "0\r\n\r\n" after them, which a keep-alive client would read as the
- * start of its next response. */
+ * headers only, without Content-Length (the GET has no length to give; "0"
+ * would be wrong, RFC 9110 §8.6), and the connection closes after it (as the
+ * 304's: the only framing libmicrohttpd 0.9.75 offers for it, server.c). */
 enum MHD_Result tsd_reply_chunked(tsd_request *r, const char *content_type, size_t block,
                                   MHD_ContentReaderCallback reader, void *ctx,
                                   MHD_ContentReaderFreeCallback release);

@@ -84,6 +84,19 @@ def test_engine_map_sidecar_fails_with_its_csv(tmp_path):
     assert out.stdout.startswith("speed_rpm [rpm],") and not os.path.exists("/dev/stdout.json")
 
 
+def test_engine_map_writes_through_a_symlink(tmp_path):
+    # a symlink is written through, in place: renaming the tmp file onto it
+    # replaced the link itself (as root even /dev/stdout's), session 21
+    cfg = mean_value_dyno(tmp_path)
+    (tmp_path / "real.csv").write_text("old\n")
+    os.symlink(tmp_path / "real.csv", tmp_path / "link.csv")
+    out = run("engine-map", str(cfg), "--out", str(tmp_path / "link.csv"))
+    assert out.returncode == 0, out.stderr
+    assert os.path.islink(tmp_path / "link.csv")
+    assert open(tmp_path / "real.csv").read().startswith("speed_rpm [rpm],")
+    assert not (tmp_path / "link.csv.json").exists()  # written in place: no sidecar
+
+
 def test_engine_map_needs_out(tmp_path):
     out = run("engine-map", "--preset", "engine-map-conventional")
     assert out.returncode == 2 and "--out" in out.stderr
@@ -130,6 +143,21 @@ def test_engine_map_spool_rows(tmp_path):
         assert all(b > a for a, b in zip(t, t[1:])) and 5.9 < t[-1] < 6.2
         assert abs(t[0] - 4 * 3.14159265 / cyc[0]["speed"]) < 1e-3  # one cycle per row
         assert cyc[0]["boost"] < 1.3e5 < 3e5 < cyc[-1]["boost"]
+
+
+def test_engine_map_spool_leaves_unmodelled_cells_empty(tmp_path):
+    # the map fidelity has no eta_v / eta_i / q_wall: empty cells, as in the map's
+    # CSV (the spool rows printed "nan" until session 21)
+    cfg = tmp_path / "map.json"
+    cfg.write_text(json.dumps({"run": {"kind": "engine_dyno"}, "engine": {"fidelity": "map"},
+                               "control": {"rack": 1.0}}))
+    out = run("engine-map", str(cfg), "--spool", str(tmp_path / "spool.csv"))
+    assert out.returncode == 0, out.stderr
+    text = open(tmp_path / "spool.csv").read()
+    assert "nan" not in text
+    rows = list(csv.reader(text.splitlines()))
+    col = rows[0].index("eta_v [1]")
+    assert all(r[col] == "" for r in rows[1:]) and all(r[0] for r in rows[1:])
 
 
 def test_engine_maps_tool_reproduces_defaults(tmp_path):

@@ -64,11 +64,11 @@ def test_paced_run_publishes_no_row_early_and_hears_cancel_and_budget():
         # one more 0.2-s poll and reported 0.91 at a cap of 1)
         sid = requests.post(d.url + "/v1/sessions", json={
             "preset": BASE_PRESET, "run": {"duration": 1.0, "sample_rate": 1}}).json()["id"]
-        t_run = time.time()
         op = requests.post(f"{d.url}/v1/sessions/{sid}/run", json={"real_time_factor": 1}).json()
         final = wait_op(d.url, op["id"], timeout=10)
         assert final["response"]["status"] == "done", final
-        assert final["metadata"]["wall_time_s"] < 1.12, final["metadata"]  # was 1.2
+        # 1.0 s ideal (measured 1.001); the extra 0.2-s poll gave >= 1.2
+        assert final["metadata"]["wall_time_s"] < 1.15, final["metadata"]
         # the wall budget: a run waiting 20 s for its next row pauses at 1.5 s
         sid = session()
         t_run = time.time()

@@ -176,6 +176,8 @@ def test_delete_the_store_cannot_record_keeps_the_session(tmp_path):
                 t0 = time.time()
                 assert requests.get(url, timeout=10).status_code == 200
                 assert time.time() - t0 < 1.0, (url, time.time() - t0)
+            # and the DELETE was waiting all along (else the checks above proved nothing)
+            assert t.is_alive()
             t.join(30)
             db.execute("ROLLBACK")
         finally:
