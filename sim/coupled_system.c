@@ -242,6 +242,13 @@ static int mono_roots(double t, const double *y, double *g, void *ud)
 }
 
 /* leader: powertrain side with the predicted sprocket speed */
+/* The exchange's options from the run's coupling parameters. */
+static ts_cosim_opts cosim_opts(const ts_coupled_run *r)
+{
+    return (ts_cosim_opts){r->co.leader_step, r->co.follower_step, r->co.lead,
+                           r->co.predictor_order};
+}
+
 static double lead_w(const ts_coupled_run *r, double t)
 {
     return ts_cosim_predict(&r->last, r->last_order, t);
@@ -616,8 +623,7 @@ ts_coupled_run *ts_coupled_run_make(const ts_coupled *c, int method, ts_err *err
         if (!r->mono) goto fail;
     } else if (method == TS_COUPLING_LEADING_FOLLOWING) {
         /* the exchange is built at reset: its options are refused here */
-        ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead,
-                            r->co.predictor_order};
+        ts_cosim_opts co = cosim_opts(r);
         if (ts_cosim_check(&co, err) != TS_OK) goto fail;
         ts_ode_opts lo = {.rtol = rc->rtol,
                           .atol = rc->atol,
@@ -675,7 +681,7 @@ static ts_rc restart(ts_coupled_run *r, ts_cosim_report rep, ts_cosim_report pre
     if (rc != TS_OK) return rc;
     r->follow_stop = r->t;
     ts_cosim_free(r->cosim);
-    ts_cosim_opts co = {r->co.leader_step, r->co.follower_step, r->co.lead, r->co.predictor_order};
+    ts_cosim_opts co = cosim_opts(r);
     r->cosim = ts_cosim_make_sample(&co, (ts_cosim_leader){r, lead_advance},
                                     (ts_cosim_follower){r, follow_advance}, r->t, rep, pub, err);
     return r->cosim ? TS_OK : (err ? err->code : TS_ERR_INTERNAL);

@@ -58,6 +58,16 @@ double en_gas_r(const en_gas *g, double F);
 double en_gas_cp(const en_gas *g, double T, double F);
 double en_gas_h(const en_gas *g, double T, double F);
 double en_gas_u(const en_gas *g, double T, double F);
+/* Fresh air's sensible enthalpy h [J/kg] and cp [J/kg/K] at T: the air half
+ * of en_gas_eval (which calls it), alone for the compressor's outlet, solved
+ * for on every right-hand side. */
+static inline void en_air_eval(const en_gas *g, double T, double *h, double *cp)
+{
+    double Tc = T < 150 ? 150 : T > 3500 ? 3500 : T; /* clampT, as en_gas_eval */
+    const double *a = g->cpT_a, *ha = g->hT_a;
+    *cp = a[0] + Tc * (a[1] + Tc * (a[2] + Tc * a[3]));
+    *h = ha[0] + T * (ha[1] + T * (ha[2] + T * (ha[3] + T * ha[4])));
+}
 /* Every property of one mixture at (T, F) from a single evaluation of the
  * species polynomials (the right-hand side's hot path; same values as the
  * separate functions). */
@@ -70,10 +80,10 @@ static inline void en_gas_eval(const en_gas *g, double T, double F, en_gas_state
 {
     F = F < 0 ? 0 : F > 1 ? 1 : F;
     double Tc = T < 150 ? 150 : T > 3500 ? 3500 : T; /* clampT */
-    const double *a = g->cpT_a, *b = g->cpT_b, *ha_ = g->hT_a, *hb_ = g->hT_b;
-    double cpa = a[0] + Tc * (a[1] + Tc * (a[2] + Tc * a[3]));
+    const double *b = g->cpT_b, *hb_ = g->hT_b;
+    double ha, cpa;
+    en_air_eval(g, T, &ha, &cpa);
     double cpb = b[0] + Tc * (b[1] + Tc * (b[2] + Tc * b[3]));
-    double ha = ha_[0] + T * (ha_[1] + T * (ha_[2] + T * (ha_[3] + T * ha_[4])));
     double hb = hb_[0] + T * (hb_[1] + T * (hb_[2] + T * (hb_[3] + T * hb_[4])));
     s->R = (1 - F) * g->r_a + F * g->r_b;
     s->cp = (1 - F) * cpa + F * cpb;
@@ -81,16 +91,6 @@ static inline void en_gas_eval(const en_gas *g, double T, double F, en_gas_state
     s->u = s->h - s->R * T;
     s->cv = s->cp - s->R;
     s->dudF = (hb - g->r_b * T) - (ha - g->r_a * T);
-}
-/* Fresh air's sensible enthalpy h [J/kg] and cp [J/kg/K] at T: en_gas_eval's
- * values at F = 0 without the burned-gas polynomials (the compressor's
- * outlet, solved for on every right-hand side). */
-static inline void en_air_eval(const en_gas *g, double T, double *h, double *cp)
-{
-    double Tc = T < 150 ? 150 : T > 3500 ? 3500 : T; /* clampT, as en_gas_eval */
-    const double *a = g->cpT_a, *ha = g->hT_a;
-    *cp = a[0] + Tc * (a[1] + Tc * (a[2] + Tc * a[3]));
-    *h = ha[0] + T * (ha[1] + T * (ha[2] + T * (ha[3] + T * ha[4])));
 }
 /* dT/dt of a control volume (m, T, F) from its energy rate dE/dt = d(m u)/dt,
  * mass rate and composition rate; s evaluated at (T, F). */

@@ -139,7 +139,7 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     double F_ici = m_ici >= 0 ? 0.0 : m_ici * o->F_im;
     /* intercooler volume: heat to the wall from the compressed stream */
     double q_ic = en_intercooler_heat(c->ic_ua, co.mdot, co.cp_out, co.T_out, c->ic_wall_temp);
-    double h_c = co.mdot >= 0 ? co.mdot * co.h_out : co.mdot * s_ic.h;
+    double h_c = co.mdot * co.h_out; /* the compressor passes no reverse flow (engine_turbo.c) */
     double dm_ic = co.mdot - m_ici;
     xd[BX_ICM] = dm_ic;
     xd[BX_ICT] = en_gas_dTdt_s(&s_ic, m_ic, h_c - h_ici - q_ic, dm_ic, 0);

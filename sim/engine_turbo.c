@@ -59,7 +59,7 @@
 static void outlet_air(const en_gas *g, double T01, double h01, double cp01, double dh,
                        en_comp_out *o)
 {
-    double target = h01 + dh, T = T01 + dh / cp01, h, cp = cp01;
+    double target = h01 + dh, T = T01 + dh / cp01, h, cp;
     for (int i = 0; i < 2; i++) {
         en_air_eval(g, T, &h, &cp);
         T -= (h - target) / cp;

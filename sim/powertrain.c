@@ -39,9 +39,10 @@ struct ts_powertrain {
 static void channels_of(ts_powertrain *pt); /* with the channel table, below */
 
 /* The engine module (engine.h) seen through the port. The converter pump's
- * inertia is added by rescaling the engine's speed derivative with its nominal
- * inertia /engine/inertia (the crank-angle engine's small reciprocating-mass
- * variation is kept in its own derivative). */
+ * inertia is added by rescaling the engine's speed derivative with its
+ * cycle-mean inertia (ts_engine_mean_inertia: /engine/inertia plus the
+ * reciprocating parts' mean; the crank-angle engine's variation about it is
+ * kept in its own derivative). */
 typedef struct engine_ctx {
     ts_engine *e;
     double w0, p_amb, T_amb;

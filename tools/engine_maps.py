@@ -173,12 +173,22 @@ def match_table(argv):
             y = (mach - c["comp_mach_opt"]) / c["comp_mach_width"]
             eta *= 1 - y * y
         eta = max(eta, c["comp_eta_min"])
-        return u, m * dh / eta, eta, ta + dh / (eta * cp)
+        return u, m * dh / eta, eta, air_after(ta, dh / eta)
 
     def cp_gas(t, f):
         tt = t / 1000.0
         return sum(((1 - f) * a + f * b) * tt ** j
                    for j, (a, b) in enumerate(zip(c["cp_air"], c["cp_burned"])))
+
+    def h_air(t):  # sensible enthalpy of air from 0 K (differences only), the cp polynomial's integral
+        tt = t / 1000.0
+        return 1000.0 * sum(a * tt ** (j + 1) / (j + 1) for j, a in enumerate(c["cp_air"]))
+
+    def air_after(t1, dh):  # engine_turbo.c outlet_air: h(T2) = h(T1) + dh
+        t = t1 + dh / cp_gas(t1, 0)
+        for _ in range(3):
+            t -= (h_air(t) - h_air(t1) - dh) / cp_gas(t, 0)
+        return t
 
     print("%s, per bank: boost [bar]: turbine power x eta_m / compressor power [kW], "
           "q = their ratio" % variant)
@@ -196,7 +206,8 @@ def match_table(argv):
                 m = eta_v * p_im / (r_air * t_im) * vd_bank * w / (4 * math.pi)
                 p_ic = upstream(c["ic_cda"], m, t_im, p_im, g, r_air)
                 u, p_c, eta_c, t_c = compressor(m, p_ic / pa)
-                t_im = t_c - (1 - math.exp(-c["ic_ua"] / (m * cp))) * (t_c - c["ic_wall_temp"])
+                cp_c = cp_gas(t_c, 0)  # engine_manifold.c: the outlet air's cp
+                t_im = t_c - (1 - math.exp(-c["ic_ua"] / (m * cp_c))) * (t_c - c["ic_wall_temp"])
             t3 = t_im + d_exh
             r_ex = c["r_burned"]
             cp_ex = cp_gas(t3, min(phi, 1))

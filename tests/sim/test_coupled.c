@@ -253,9 +253,9 @@ static void shift_spikes_tension_and_excites_span(void **state)
  * 8.43 s flat and 3.70 / 5.87 / 9.28 s on bumps (8.69 s until session 21's
  * engine corrections: the 3-4 shift on the bumps waits for the engine to
  * reach 1750 rpm between bumps). The delay is conditional on the [E]
- * upshift speed: a sweep (12-s runs, shifts half done) gives it for both
- * shifts at 1750-1850 rpm, but not for the 2-3 shift at 1650, 1700 and
- * 1900 rpm (at 1700 the 3-4 shift even comes earlier on the bumps). Predicted: the 1-2 shift, still
+ * upshift speed: a sweep (12-s runs, shifts half done, session 21) gives it
+ * for both shifts at 1750-1800 rpm, at 1850 rpm for the 2-3 shift by 0.08 s
+ * only, and not for the 2-3 shift at 1650, 1700 and 1900 rpm (at 1700 the 3-4 shift even comes earlier on the bumps). Predicted: the 1-2 shift, still
  * on the flat run-in before the first bump, at the same time (within 0.05 s); the 2-3 and 3-4
  * shifts each at least 0.15 s later on bumps. */
 static double shift_start(const hist *h, double gear)

@@ -97,8 +97,8 @@ static void map_crank_dynamics_settle_on_load(void **state)
 /* EVIDENCE: slider-crank kinematics (Heywood 1988, Sec. 2.2; Taylor 1985,
  * Vol. 2 Ch. 8): a reciprocating mass m on crank radius a with rod l (lambda =
  * a/l) has the crank-referred inertia m (dx/dtheta)^2, whose mean over a
- * revolution is m a^2 (1/2 + lambda^2/8) to O(lambda^4) (the next term is
- * -6e-4 relative at lambda 0.265). Twelve cylinders: the cycle-averaged
+ * revolution is m a^2 (1/2 + lambda^2/8) to O(lambda^4) (the exact mean is
+ * 6.3e-4 above it at lambda 0.265). Twelve cylinders: the cycle-averaged
  * fidelities' inertia is /engine/inertia + 12 m a^2 (1/2 + lambda^2/8)
  * within 1e-3 (0.2317 kg*m^2 here), and their crankshaft equation uses it:
  * J dw/dt = T_brake - T_load (the mean-value and map engines used the bare

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "api/config_json.h"
+#include "sim/constants.h"
 #include "sim/governor.h"
 #include "sim/tanksim.h"
 
@@ -201,25 +202,29 @@ static void table2_conventional_map_engine(void **state)
 }
 
 /* EVIDENCE: energy conservation through the driveline [P III.B.2], the
- * mean-value engine's Table 2 launch (20 s, sampled at 1 kHz). At every
+ * mean-value engine's Table 2 launch (20 s, sampled at 10 kHz). At every
  * sample each element's loss power is >= 0: converter T_p w_e - T_t w_t,
  * gearbox (clutch torques) w_t - T_out w_out, final drive T_out w_out -
- * 2 T_s w_s, road 2 T_s w_s - M_eff a v (rolling resistance and drag on flat
- * ground; M_eff = rotating_mass_factor m + J_out / r_s^2). Over the run the
- * turbine shaft's work equals its kinetic energy, int (T_t - T_in) w_t dt =
- * J_t (w_t(20)^2 - w_t(0)^2) / 2, and the vehicle's int M_eff a v dt =
- * M_eff v(20)^2 / 2, within 1 % of the turbine's 14.7-kJ kinetic energy and
- * 1e-4 of the vehicle's 10.5 MJ (trapezoids at 1 kHz across the shifts;
- * measured 0.37 % and 1.0e-5). A wrong efficiency direction or a both-sides
- * torque reported per side breaks a loss sign; a turbine inertia 10 % off
- * breaks the shaft balance. Closed form, nothing calibrated. The channel set: the rack through the
+ * 2 T_s w_s; and the road's is exactly the resistance's power, 2 T_s w_s -
+ * M_eff a v = v (m g f_r(v) tanh(v / v_eps) + 1/2 rho CdA v |v|) on flat
+ * ground (scenario_pointmass.c), to 1e-6 of the sprocket power, with M_eff =
+ * rotating_mass_factor m + (J_out - 2 J_sprocket) / r_s^2: the sprockets are
+ * in the factor (counted twice until session 21, 178 kg too much, which this
+ * equality refuses). Over the run the turbine shaft's work equals its kinetic
+ * energy, int (T_t - T_in) w_t dt = J_t (w_t(20)^2 - w_t(0)^2) / 2, within
+ * 1 % of its 14.7-kJ kinetic energy (trapezoids at 10 kHz across the shifts:
+ * measured 0.27 %; at 1 kHz the quadrature alone moved it 0.4-1.0 %), and the
+ * vehicle's int M_eff a v dt = M_eff v(20)^2 / 2 within 1e-4 of its 10.5 MJ. A
+ * wrong efficiency direction or a both-sides torque reported per side breaks
+ * a loss sign; a turbine inertia 10 % off breaks the shaft balance. Closed
+ * form, nothing calibrated. The channel set: the rack through the
  * two-speed governor, 3 DOF, no piston channel for an engine without walls. */
 static void pointmass_driveline_conserves_energy(void **state)
 {
     (void)state;
     ts_config cfg = load("accel-pointmass-conventional", "mean_value");
     cfg.run.duration = 20.0;
-    cfg.run.sample_rate = 1000.0;
+    cfg.run.sample_rate = 10000.0;
     run_result r = run_config(&cfg);
     const ts_config *c = ts_model_config(r.m);
     const char *names[] = {"engine.speed",
@@ -247,7 +252,8 @@ static void pointmass_driveline_conserves_energy(void **state)
                    (c->driveline.output_inertia - 2 * c->vehicle.sprocket_inertia) / (r_s * r_s);
     double dt = ts_model_sample_period(r.m), shaft = 0, road = 0, through = 0, prev[3] = {0};
     long n = r.s.n;
-    assert_true(n == 20001);
+    assert_true(n == 200001);
+    const ts_vehicle_config *vc = &c->vehicle;
     for (long i = 0; i < n; i++) {
         const double *x = r.s.v + i * r.nc;
         double p_pump = x[col[TP]] * x[col[WE]], p_turb = x[col[TT]] * x[col[WT]];
@@ -257,7 +263,12 @@ static void pointmass_driveline_conserves_energy(void **state)
         assert_true(p_pump - p_turb >= -tol);
         assert_true(p_in - p_out >= -tol);
         assert_true(p_out - p_sp >= -tol);
-        assert_true(p_sp - p_kin >= -tol);
+        double v = x[col[V]];
+        double resist = vc->mass * TS_GRAVITY *
+                            (vc->rolling_resistance + vc->rolling_resistance_speed * fabs(v)) *
+                            tanh(v / vc->rolling_resistance_smoothing) +
+                        0.5 * vc->air_density * vc->cda * v * fabs(v);
+        assert_close(p_sp - p_kin, resist * v, 0, 1e-6 * fabs(p_sp) + 1e-6);
         double now[3] = {p_turb - p_in, p_kin, p_turb};
         if (i > 0) {
             shaft += 0.5 * dt * (now[0] + prev[0]);

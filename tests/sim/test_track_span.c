@@ -349,7 +349,6 @@ static void track_span_end_forces_static(void **state)
      * carries half the span weight normal to the chord (rho g_y L / 2) and P0
      * along it; a uniform stretch e gives tension P0 + EA e at both ends and
      * the generalised end forces -+(P0 + EA e). Exact. */
-    ts_err err;
     const double L = 2.0;
     ts_span_params p = base(L, G0, 4, 4);
     ts_span *sp = span_of(&p);
@@ -375,8 +374,7 @@ static void track_span_end_forces_static(void **state)
      * tension for the stretch, and the sag term for a first-mode deflection */
     ts_span_params pq = base(L, G0, 0, 4);
     pq.quasi_static_stretch = 1;
-    ts_span *sq = ts_span_make(&pq, &err);
-    assert_non_null(sq);
+    ts_span *sq = span_of(&pq);
     double xq[6] = {0, 1e-3 * L, 0.01, 0, 0, 0}, tq;
     ts_span_eval(sq, xq, 0.3, NULL, NULL, &tq);
     assert_close(tq, EA / L * (1e-3 * L + sq->kappa * 0.01 * 2 * L / PI), 1e-12, 0);
@@ -392,7 +390,6 @@ static void track_span_end_forces_static(void **state)
 static void track_span_slack_law(void **state)
 {
     (void)state;
-    ts_err err;
     const double L = 1.5;
     /* EVIDENCE: closed form. A straight span (g_y = 0, kappa = 0) with one
      * longitudinal mode: sigma(s) = a + c cos(pi s / L), a = P0 + EA x1 / L,
@@ -412,8 +409,7 @@ static void track_span_slack_law(void **state)
     /* the force is the gradient of ts_span_slack_energy (same points): central
      * differences on every coordinate, kinked field included; 1e-6 relative */
     ts_span_params pc = base(L, G0, 2, 2);
-    ts_span *sc = ts_span_make(&pc, &err);
-    assert_non_null(sc);
+    ts_span *sc = span_of(&pc);
     double y[6] = {0, -0.3 * P0 / EA * L, 0.8 * P0 / EA * L / PI, -0.1 * P0 / EA * L / PI, 0.02,
                    -0.01};
     double g[6] = {0};
@@ -447,8 +443,7 @@ static void track_span_slack_law(void **state)
     /* the uniform-tension (Irvine) variant: one stress for the whole span */
     ts_span_params pq = base(L, G0, 0, 2);
     pq.quasi_static_stretch = 1;
-    ts_span *sq = ts_span_make(&pq, &err);
-    assert_non_null(sq);
+    ts_span *sq = span_of(&pq);
     double u[4] = {0, -2.0 * P0 / EA * L, 0, 0}, fu[4], ud[4] = {0};
     assert_close(ts_span_slack_energy(sq, u), L * P0 * P0 / (2 * EA), 1e-12, 0);
     ts_span_force(sq, NULL, u, ud, fu);
@@ -788,7 +783,6 @@ static void track_span_end_force_shear(void **state)
      * -kappa L/2, V_x(L) = -a pi/L + b 2pi/L). The symmetric mode a loads
      * both supports alike, the antisymmetric b oppositely. Uniform tension:
      * tau = EA (e + kappa a 2/pi) at both ends. Exact (1e-12). */
-    ts_err err;
     const double L = 2.0, a = 0.01, b = 0.004, e = 1e-3;
     ts_span_params p = base(L, G0, 2, 3);
     ts_span *sp = span_of(&p);
@@ -811,8 +805,7 @@ static void track_span_end_force_shear(void **state)
     /* uniform tension: tau = EA (e + kappa a (2L/pi)/L) at both ends */
     ts_span_params pq = base(L, G0, 0, 3);
     pq.quasi_static_stretch = 1;
-    ts_span *sq = ts_span_make(&pq, &err);
-    assert_non_null(sq);
+    ts_span *sq = span_of(&pq);
     double xq[5] = {0, e * L, a, b, 0};
     ts_span_end_forces_eval(sq, xq, &ef);
     double tq = EA * (e + kap * a * 2 / PI);
