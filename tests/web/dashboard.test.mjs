@@ -1459,10 +1459,12 @@ async function main() {
       await page2.goto(`${dt.url}/`);
       await waitFor(async () => (await page2.evaluate(() => document.activeElement?.id)) === 'token-input', 'the token input focused by the first 401');
       await page2.focus('#fft-fmax');
-      /* the list's next poll meets another 401: wait for it, then give the page a moment to handle it */
+      /* the list's next poll meets another 401: wait for it, then for the page to
+         have handled it (refresh() redraws the table: a marker row there goes) */
+      await page2.evaluate(() => document.querySelector('#session-table tbody').append(Object.assign(document.createElement('tr'), { id: 'stale-marker' })));
       const r = await page2.waitForResponse((res) => new URL(res.url()).pathname === '/v1/sessions' && res.status() === 401, { timeout: 8000 });
       await r.finished();
-      await page2.evaluate(() => new Promise((res) => setTimeout(res, 100)));
+      await waitFor(async () => (await page2.locator('#stale-marker').count()) === 0, 'the list redrawn after the 401');
       const focused = await page2.evaluate(() => document.activeElement?.id);
       assert(focused === 'fft-fmax', `focus moved to ${focused}`);
     });

@@ -42,7 +42,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed =
   function render(meta, outcome) {
     const total = meta?.parts_total;
     const done = meta?.parts_done ?? 0;
-    const pct = total ? Math.round((100 * done) / total) : 0;
+    const pct = total ? Math.round((100 * done) / total) : null;
     setBar(el('progress'), pct);
     if (outcome) el('progress').dataset.outcome = outcome;
     else delete el('progress').dataset.outcome;
@@ -140,13 +140,11 @@ export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed =
 
   /* Follow running analysis `id` that this page did not start (one still
      running when the page was loaded): progress, Cancel and its result as
-     for the form's own. Returns whether it is followed (not when the form
-     already follows one). */
+     for the form's own; nothing when the form already follows one. */
   function attach(id) {
-    if (state.analyses[kind]) return false;
+    if (state.analyses[kind]) return;
     hideError(box);
     follow(id, null);
-    return true;
   }
 
   /* The result shown and the progress bar back to "—" (the analysis they showed was deleted), the bar unless one runs. */

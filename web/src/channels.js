@@ -86,11 +86,13 @@ export function initChannelPicker(state, plots) {
     $('unit-toggles').replaceChildren();
   }
 
-  /* every display-unit change (units.js), whichever control made it */
-  window.addEventListener(UNITS_CHANGED, () => {
+  /* every display-unit change (units.js), whichever control made it; the
+   * live charts are rebuilt only when one of them shows that quantity */
+  window.addEventListener(UNITS_CHANGED, ({ detail }) => {
+    if (!state.session) return;
     render();
     for (const sel of [$('fft-channel'), $('compare-channel')]) fillChannelSelect(sel, listed(sel)); /* new unit labels */
-    plots.show(state.store, state.picks);
+    if (!detail?.siUnit || plots.charts.some((c) => c.unit === detail.siUnit)) plots.show(state.store, state.picks);
   });
 
   return { render, clear };

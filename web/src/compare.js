@@ -91,7 +91,7 @@ const MOST_FIELDS = 3;
 /* Up to three fields for the legend, each one separating sessions the ones
  * before it left together (key fields first, the preset name last), until
  * every session has a label of its own or nothing separates them further. */
-export function legendFields(sessions) {
+function legendFields(sessions) {
   const flat = sessions.map((s) => ({ ...flatten(s.config), [PRESET]: JSON.stringify(s.preset ?? null) }));
   const others = new Set(flat.flatMap((f) => Object.keys(f)).filter((k) => k !== PRESET && !KEY_FIELDS.includes(k)));
   /* a field with one value for all never separates: the test below skips it */
@@ -107,7 +107,7 @@ export function legendFields(sessions) {
 
 /* "a1b2c3d4 · track/fidelity=coupled · drive/torque=9000" — what tells the sessions apart
  * (fields: legendFields; "preset" adds the preset's name). */
-export function describe(s, fields = []) {
+function describe(s, fields = []) {
   const parts = [shortId(s.id)];
   const flat = flatten(s.config);
   for (const k of fields) {

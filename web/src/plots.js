@@ -53,7 +53,7 @@ function chartWidth(container) {
 
 /* Keep the uPlots in `root` (plots(): the current ones) as wide as root, each
  * at its own height, when the window or the layout changes. */
-export function followWidth(root, plots) {
+function followWidth(root, plots) {
   new ResizeObserver(() => {
     const w = chartWidth(root);
     for (const p of plots()) if (Math.abs(p.width - w) > 2) p.setSize({ width: w, height: p.height });

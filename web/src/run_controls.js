@@ -84,7 +84,8 @@ export function initRunControls(state, { header, stream, refreshList }) {
         if (outcome === 'failed' || outcome === 'interrupted') showError($('session-error'), operationError(op));
         await header.refresh();
         header.renderProgress(m);
-        if (outcomeSuffix(outcome)) $('progress-text').textContent += ` · ${outcomeSuffix(outcome)}`;
+        const end = outcomeSuffix(outcome);
+        if (end) $('progress-text').textContent += ` · ${end}`;
         $('progress-text').dataset.outcome = outcome;
         stream.start(); /* catch up on rows stored after the stream last closed */
         refreshList();

@@ -85,8 +85,9 @@ export function initStoredAnalyses({ form: formOf }) {
     tbody.replaceChildren(...list.map((a) => row(a, outcome(a))));
     $('stored-empty').hidden = list.length > 0;
     running = list.some((a) => !a.done);
-    /* oldest first: the daemon runs one at a time, the newest is the one that runs */
-    if (attach) for (const a of [...list].reverse()) if (!a.done) formOf(a.kind)?.attach(a.id);
+    /* a form follows one analysis: of several running (long jobs run
+       max(1, threads - 1) at once), the newest, the first in the list */
+    if (attach) for (const a of list) if (!a.done) formOf(a.kind)?.attach(a.id);
     schedule();
   }
 
