@@ -1132,6 +1132,57 @@ async function main() {
       });
     });
 
+    await check('live charts convert only the rows added since the last redraw (a point drawn is not converted again), and a unit change converts every point', async () => {
+      const id = await createSession(page);
+      const rate = await page.evaluate(() => window.tanksimDebug.state.session.config.run.sample_rate);
+      const unit = (label) => page.click(`#unit-toggles .seg[data-unit="m/s"] button:text-is("${label}")`);
+      /* the speed chart: the store's SI column and the values drawn */
+      const speed = () =>
+        page.evaluate(() => {
+          const { plots, state } = window.tanksimDebug;
+          const c = plots.charts.find((x) => x.unit === 'm/s');
+          return c && { label: c.d.label, factor: c.d.factor, si: [...state.store.cols[c.name]], y: [...c.plot.data[1]] };
+        });
+      const drawn = (rows, label) => waitFor(async () => {
+        const s = await speed();
+        return s && s.label === label && s.si.length === rows && s.y.length === rows && s;
+      }, `${rows} rows drawn in ${label}`, 8000);
+      const close = (a, b) => (a === null ? b === null : Math.abs(a - b) <= 1e-12 * Math.max(1, Math.abs(b)));
+      /* the rows from `from` on drawn as their SI value times the unit's factor */
+      const convertedFrom = (s, from) => s.y.every((v, i) => i < from || close(v, s.si[i] === null ? null : s.si[i] * s.factor));
+      const step = async (rows) => {
+        await page.fill('#step-duration', '0.5');
+        await page.click('#step-btn');
+        await waitFor(async () => (await sampleCount(page)) === rows, `${rows} stored rows`, 8000);
+      };
+      try {
+        await unit('mph');
+        const n1 = Math.round(0.5 * rate) + 1;
+        await step(n1);
+        const before = await drawn(n1, 'mph');
+        assert(convertedFrom(before, 0), 'the first rows are not drawn in mph');
+        /* change the first SI value in the store behind the charts' back: a redraw
+           that converted the whole column again (every 250 ms) would draw it */
+        await page.evaluate(() => {
+          const { plots, state } = window.tanksimDebug;
+          state.store.cols[plots.charts.find((x) => x.unit === 'm/s').name][0] += 100;
+        });
+        const n2 = 2 * n1 - 1;
+        await step(n2);
+        const after = await drawn(n2, 'mph');
+        assert(after.y[0] === before.y[0], `the first point was converted again: ${before.y[0]} -> ${after.y[0]} mph`);
+        assert(convertedFrom(after, 1), 'the rows a step added are not drawn in mph');
+        /* a unit change draws every point from the store, the changed one too */
+        await unit('km/h');
+        const kmh = await drawn(n2, 'km/h');
+        assert(convertedFrom(kmh, 0) && close(kmh.y[0], (before.si[0] + 100) * 3.6), `after the change to km/h: first point ${kmh.y[0]}, SI ${kmh.si[0]}`);
+      } finally {
+        await unit('mph');
+        await fetch(`${d.url}/v1/sessions/${id}`, { method: 'DELETE' });
+        await waitFor(async () => (await text(page, '#session-status')) === 'deleted', 'the session shown deleted', 8000);
+      }
+    });
+
     await check('review 2.9: FFT Compute waits for 2 stored samples (a hint says to step or run); 2.10: a step below one sample period is refused on the field, naming the period', async () => {
       const id = await createSession(page);
       await waitFor(async () => (await sampleCount(page)) === 1, 'the new session open');

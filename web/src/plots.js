@@ -7,7 +7,7 @@
  * of the one-chart panels (fft.js, compare.js, engine_map.js).
  */
 import uPlot from 'uplot';
-import { bracket, display, fmt, toDisplay, UNITS_CHANGED } from './units.js';
+import { bracket, display, extendDisplay, fmt, UNITS_CHANGED } from './units.js';
 import { axisValues } from './ticks.js';
 
 /* Channels picked by default when a session opens: the paper's plotted
@@ -97,7 +97,7 @@ export class ChartPanel {
 export class LivePlots {
   constructor(root) {
     this.root = root;
-    this.charts = []; /* {name, unit, plot, zoomed, el} */
+    this.charts = []; /* {name, unit, d, plot, zoomed, el, col, shown}: shown, the store's column col in display unit d */
     this.store = null;
     this.drawnVersion = -1;
     this.timer = null;
@@ -127,7 +127,7 @@ export class LivePlots {
     box.className = 'chart';
     box.dataset.channel = ch.name;
     this.root.append(box);
-    const entry = { name: ch.name, unit: ch.unit, d, zoomed: false, el: box };
+    const entry = { name: ch.name, unit: ch.unit, d, zoomed: false, el: box, col: null, shown: [] };
     const opts = {
       title: `${ch.name}${bracket(d.label)}${ch.description ? ' — ' + ch.description : ''}`,
       width: chartWidth(this.root),
@@ -165,8 +165,15 @@ export class LivePlots {
     return entry;
   }
 
+  /* [t, the channel in the chart's display unit]. Each redraw converts only
+   * the rows the store gained since the last (entry.shown grows with the
+   * column); a unit or channel change makes new charts (show), converted
+   * from the first row. */
   data(entry) {
-    return [this.store.t, toDisplay(this.store.cols[entry.name] || [], entry.d)];
+    const col = this.store.cols[entry.name] || [];
+    if (entry.d.factor === 1) return [this.store.t, col];
+    if (entry.col !== col) Object.assign(entry, { col, shown: [] }); /* the first redraw, or a column the store replaced: from the start */
+    return [this.store.t, extendDisplay(entry.shown, col, entry.d)];
   }
 
   redraw(force) {

@@ -74,8 +74,16 @@ export function convertible(siUnit) {
 }
 
 /** SI values (null = no sample) in the display unit {factor}. */
-export function toDisplay(values, { factor }) {
-  return factor === 1 ? values : values.map((v) => (v === null ? null : v * factor));
+export function toDisplay(values, d) {
+  return d.factor === 1 ? values : extendDisplay([], values, d);
+}
+
+/** `shown`, the first shown.length of `values` in the display unit {factor},
+ * with the rest of `values` appended, converted: a column that grows costs
+ * only its new rows. */
+export function extendDisplay(shown, values, { factor }) {
+  for (let i = shown.length; i < values.length; i++) shown.push(values[i] === null ? null : values[i] * factor);
+  return shown;
 }
 
 /** Format a number compactly for tables and labels: `digits` significant
