@@ -245,6 +245,28 @@ async function assertCleared(page, id) {
   assert(meta.includes(id) && /deleted/.test(meta), `the header does not say ${id} is gone: "${meta}"`);
 }
 
+/* The elements `ids` are not written to while the page's 300-ms tick (main.js)
+   runs twice: the sample counter, rewritten by every tick, tells the ticks. */
+async function assertLeftAlone(page, ids, when) {
+  await page.evaluate((ids) => {
+    const seen = (window.leftAlone = { writes: [], ticks: 0, observers: [] });
+    const observe = (e, fn) => {
+      const o = new MutationObserver(fn);
+      o.observe(e, { childList: true, characterData: true, subtree: true, attributes: true });
+      seen.observers.push(o);
+    };
+    for (const id of ids) observe(document.getElementById(id), (records) => seen.writes.push(...records.map((r) => `${id}: ${r.type} ${r.attributeName || ''}`)));
+    observe(document.getElementById('sample-count'), () => seen.ticks++);
+  }, ids);
+  try {
+    await waitFor(() => page.evaluate(() => window.leftAlone.ticks >= 2), 'two ticks of the sample counter', 5000);
+    const writes = await page.evaluate(() => window.leftAlone.writes);
+    assert(!writes.length, `${when}, written though unchanged: ${writes.join(', ')}`);
+  } finally {
+    await page.evaluate(() => window.leftAlone.observers.forEach((o) => o.disconnect()));
+  }
+}
+
 const sampleCount = (page) => page.evaluate(() => window.tanksimDebug.state.store?.length || 0);
 const chartPoints = (page) => page.evaluate(() => window.tanksimDebug.plots.charts.map((c) => c.plot.data[0].length));
 
@@ -1183,11 +1205,12 @@ async function main() {
       }
     });
 
-    await check('review 2.9: FFT Compute waits for 2 stored samples (a hint says to step or run); 2.10: a step below one sample period is refused on the field, naming the period', async () => {
+    await check('review 2.9: FFT Compute waits for 2 stored samples (a hint says to step or run; the 300-ms tick writes neither while they stay the same); 2.10: a step below one sample period is refused on the field, naming the period', async () => {
       const id = await createSession(page);
       await waitFor(async () => (await sampleCount(page)) === 1, 'the new session open');
       assert(await page.locator('#fft-btn').isDisabled(), 'Compute enabled with 1 stored sample');
       assert(/step or run the session first/.test(await text(page, '#fft-hint')), `hint "${await text(page, '#fft-hint')}"`);
+      await assertLeftAlone(page, ['fft-hint', 'fft-btn'], 'with 1 sample');
       const sent = recordRequests(page);
       await page.fill('#step-duration', '1e-300');
       await page.click('#step-btn');
@@ -1201,6 +1224,7 @@ async function main() {
       await page.click('#step-btn');
       await waitFor(async () => !(await page.locator('#fft-btn').isDisabled()), 'Compute enabled after a step');
       assert(await page.locator('#fft-hint').isHidden(), 'the hint stays');
+      await assertLeftAlone(page, ['fft-hint', 'fft-btn'], 'after the step');
       await fetch(`${d.url}/v1/sessions/${id}`, { method: 'DELETE' });
       await page.click(`#session-table tr[data-id="${quietId}"] td:nth-child(2)`);
       /* its own id, not a sample count: the deleted session had 101 rows too */

@@ -40,12 +40,18 @@ export function initFftControls(state, fft) {
     }
   }
 
-  /* Compute is enabled once the open session has stored MIN_SAMPLES rows (a spectrum needs them); the hint says why not. */
+  /* Compute is enabled once the open session has stored MIN_SAMPLES rows (a
+   * spectrum needs them); the hint says why not. Called every 300 ms (main.js):
+   * the button and the hint are written only when they change. */
   function update() {
     const few = !!state.session && (state.store?.length || 0) < MIN_SAMPLES;
-    $('fft-btn').disabled = !state.session || few;
-    $('fft-hint').textContent = few ? `no spectrum before ${MIN_SAMPLES} stored samples: step or run the session first` : '';
-    $('fft-hint').hidden = !few;
+    const off = !state.session || few;
+    if ($('fft-btn').disabled !== off) $('fft-btn').disabled = off;
+    const hint = few ? `no spectrum before ${MIN_SAMPLES} stored samples: step or run the session first` : '';
+    if ($('fft-hint').textContent !== hint) {
+      $('fft-hint').textContent = hint;
+      $('fft-hint').hidden = !hint;
+    }
   }
 
   /* A session was opened with channels `chans`. */
