@@ -20,8 +20,12 @@ export function initCompareControls(state, compare) {
 
   const ticked = () => Promise.all([...state.compare].map((id) => api.session(id)));
   /* A session's channel list is fixed at its creation: fetched once per id
-   * for the channel select (the Compare button still fetches them fresh). */
+   * for the channel select (the Compare button still fetches them fresh),
+   * kept while the session is ticked (the list unticks a deleted one). */
   const channelsKnown = new Map();
+  const forgetUnticked = () => {
+    for (const id of channelsKnown.keys()) if (!state.compare.has(id)) channelsKnown.delete(id);
+  };
   async function tickedChannels() {
     const ids = [...state.compare];
     await Promise.all(
@@ -42,6 +46,7 @@ export function initCompareControls(state, compare) {
      session is open. */
   async function updateChannels() {
     const me = ++filled;
+    forgetUnticked();
     let sessions;
     try {
       sessions = state.compare.size ? await tickedChannels() : [state.session].filter(Boolean);
