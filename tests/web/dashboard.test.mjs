@@ -43,6 +43,8 @@
 // a form shows resets its progress; a map still running after a reload is
 // followed and cancelled from its form; a run's error box follows the daemon
 // away and back (interrupted); a 401 takes the keyboard focus only once.
+// Live charts convert only the rows a redraw adds (a unit change converts
+// every point); the 300-ms tick leaves an unchanged FFT hint alone.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -204,6 +206,16 @@ function recordRequests(page) {
   return { seen, stop: () => page.off('request', on) };
 }
 
+/* Once this returns, every request the page sent before the call has been
+   reported (to recordRequests): a marker request sent now has been, and they
+   are reported in the order sent. For the checks that nothing was sent. */
+async function requestsReported(page) {
+  const mark = `/v1/health?mark=${Date.now()}`;
+  const reported = page.waitForRequest((r) => r.url().endsWith(mark));
+  await page.evaluate((url) => fetch(url).catch(() => {}), mark);
+  await reported;
+}
+
 /* The tick labels uPlot drew on every axis of every chart (what each axis's values(), ticks.js, last returned). */
 const axisLabels = (page) =>
   page.evaluate(() => {
@@ -357,8 +369,7 @@ async function main() {
       await waitFor(async () => /tanksimd/.test(await text(page, '#health')), 'the health line');
       await waitFor(async () => (await page.locator('#preset-select option').count()) === list.length && list.length > 0, 'presets in the select');
       assert((await page.locator('#preset-select').inputValue()) === list[0].name, 'first preset not selected');
-      await page.selectOption('#preset-select', preset);
-      await page.waitForTimeout(300);
+      await page.selectOption('#preset-select', preset); /* in the form: the next check waits for it */
     });
 
     await check("the analysis forms' preset lists come from /v1/presets: the map form's are its engine_dyno presets, the tuning form's its coupled ones, each with its description", async () => {
@@ -480,7 +491,7 @@ async function main() {
           assert(/step duration/.test(msg), `the error does not name the step duration: "${msg}"`);
           assert((await page.locator('#step-duration').getAttribute('class'))?.includes('invalid'), 'the step duration input is not marked');
         }
-        await page.waitForTimeout(300);
+        await requestsReported(page);
         const steps = rec.seen.filter((r) => r.startsWith('POST') && r.endsWith('/step'));
         assert(steps.length === 0, `${steps.length} step request(s) sent: ${steps}`);
         assert((await page.evaluate(() => window.tanksimDebug.state.session.t)) === t0, 'the session time moved');
@@ -517,7 +528,7 @@ async function main() {
       assert(pts.length > 0 && pts.every((n) => n >= want), `chart points ${pts}, want >= ${want}`);
       const prog = await text(page, '#progress-text');
       assert(prog.startsWith('100'), `progress text: ${prog}`);
-      await page.waitForTimeout(300); /* let the bar's width transition finish */
+      await waitFor(() => page.evaluate(() => !document.querySelector('#run-progress .bar').getAnimations().length), "the bar's width transition over", 3000);
       await shot(page, '03-run-done');
     });
 
@@ -604,8 +615,10 @@ async function main() {
       if (await page.locator('#frame-img').isVisible())
         await waitFor(async () => Math.abs(Number(await page.locator('#frame-img').getAttribute('data-t')) - max / 2) < 1e-3, 'frame at the scrubbed time');
       await page.click('#play-btn');
-      await page.waitForTimeout(400);
-      await page.click('#play-btn');
+      /* Play moves the scrubber on from the middle (without frames it pauses at once); then Pause */
+      const paused = async () => (await text(page, '#play-btn')).includes('Play');
+      await waitFor(async () => Number(await page.locator('#scrub').inputValue()) > max / 2 || (await paused()), 'Play to move the scrubber', 5000);
+      if (!(await paused())) await page.click('#play-btn');
       await shot(page, '04-scrubbed');
     });
 
@@ -675,8 +688,11 @@ async function main() {
       await page.check('#fft-log');
       await page.click('#fft-btn');
       await waitFor(async () => (await page.evaluate(() => window.tanksimDebug.fft.plot?.scales.y.distr)) === 3, 'the log-axis spectrum');
-      await page.waitForTimeout(100);
-      const labels = await page.evaluate(() => window.tanksimDebug.tickLabels(window.tanksimDebug.fft.plot)[1]);
+      /* its axes are labelled when uPlot draws it */
+      const labels = await waitFor(() => page.evaluate(() => {
+        const l = window.tanksimDebug.tickLabels(window.tanksimDebug.fft.plot)[1];
+        return l.length && l;
+      }), 'the log axis drawn', 3000);
       const shown = labels.filter((l) => l !== '');
       assert(shown.length >= 2, `log axis labels: ${JSON.stringify(labels)}`);
       assert(shown.every((l) => Number.isFinite(Number(l))), `log axis labels that are not numbers: ${JSON.stringify(labels)}`);
@@ -854,7 +870,7 @@ async function main() {
         await page.fill('#tune-values', bad);
         const rec = recordRequests(page);
         await page.click('#tune-run');
-        await page.waitForTimeout(300);
+        await requestsReported(page);
         rec.stop();
         const sent = rec.seen.filter((r) => r.startsWith('POST /v1/tune'));
         assert(!sent.length, `"${bad}": sent ${sent}`);
@@ -932,9 +948,13 @@ async function main() {
     });
 
     await check('review 10: every chart axis labels its ticks with numbers in one format', async () => {
-      await page.waitForTimeout(300);
-      const axes = await axisLabels(page);
-      assert(axes.length >= 6, `only ${axes.length} axes`);
+      /* every chart drawn: each axis has labels (an axis with none fails below too) */
+      const axes = await waitFor(async () => {
+        const a = await axisLabels(page);
+        return a.length >= 6 && a.every((x) => x.labels.some((l) => l !== '')) && a;
+      }, 'six or more axes, each labelled', 3000).catch(async (e) => {
+        throw new Error(`${e.message}: ${JSON.stringify(await axisLabels(page))}`);
+      });
       const mixed = axes.map((a) => ({ ...a, styles: tickStyles(a.labels) })).filter((a) => a.styles.length !== 1);
       assert(!mixed.length, mixed.map((a) => `${a.chart} axis ${a.axis}: ${a.styles} (${a.labels.join(' ')})`).join('; '));
     });
@@ -965,9 +985,10 @@ async function main() {
       assert(st === 'paused', `status after cancel: ${st}`);
       const pct = Number(await page.locator('#run-progress').getAttribute('data-percent'));
       assert(pct > 0 && pct < 100, `progress after cancel ${pct} %`);
-      const n1 = await sampleCount(page);
-      await page.waitForTimeout(800);
-      assert((await sampleCount(page)) === n1, 'samples kept arriving after cancel');
+      /* the daemon ends the stream once the session is not running and its rows are sent */
+      await waitFor(async () => (await text(page, '#stream-status')) === 'stream: ended', 'the stream ended after cancel', 5000);
+      const stored = (await (await fetch(`${d.url}/v1/sessions/${id}`)).json()).samples;
+      assert((await sampleCount(page)) === stored, `${await sampleCount(page)} rows on the page, ${stored} stored: samples kept arriving after cancel`);
       assert(!(await page.locator('#run-btn').isDisabled()), 'Run not re-enabled after cancel');
       notes.push(`paced run (5x): sample counts while streaming ${[...new Set(seen)].join(' -> ')}; cancelled at ${pct} %`);
       await shot(page, '07-cancelled');
@@ -1103,8 +1124,8 @@ async function main() {
         await narrow.fill('#tune-values', '0,0.05');
         await narrow.click('#tune-run');
         await waitFor(async () => (await narrow.locator('#tune-result .tune-schedule tbody tr').count()) === 2, 'the tuning', 20000);
-        await narrow.waitForTimeout(300);
-        const res = await narrow.evaluate(() => {
+        /* what overflows, once the charts followed the width (ResizeObserver) and the layout settled */
+        const overflow = () => narrow.evaluate(() => {
           const vw = document.documentElement.clientWidth;
           const out = [];
           for (const e of document.querySelectorAll('body *')) {
@@ -1117,6 +1138,11 @@ async function main() {
           }
           return { vw, scroll: document.documentElement.scrollWidth, out };
         });
+        let res;
+        await waitFor(async () => {
+          res = await overflow();
+          return res.scroll <= res.vw && !res.out.length;
+        }, 'nothing overflowing', 3000).catch(() => {}); /* the asserts say what overflows */
         assert(res.scroll <= res.vw, `the page scrolls sideways: ${res.scroll} > ${res.vw} px`);
         assert(!res.out.length, `${res.out.length} overflowing: ${res.out.slice(0, 6).join('; ')}`);
         await narrow.evaluate(() => window.scrollTo(0, 0));
