@@ -373,17 +373,21 @@ static void tangent(const vm *v, const kin *k, int el, elem *e)
 
 /* ---- mass matrix pieces ---------------------------------------------------- */
 
+/* Entry (i, j) of M's lower triangle, row-major: the one forces() assembles. */
+static double *mass_at(double *M, int nq, int i, int j)
+{
+    return i >= j ? &M[i * nq + j] : &M[j * nq + i];
+}
+
 static void add_point_mass(const vm *v, double *M, double *Q, double m, const jcol *j,
                            const double bias[2], double g_on)
 {
     int nq = v->nq;
     for (int r = 0; r < j->n; r++) {
-        if (M) /* NULL: Q only; the symmetric block's upper triangle, mirrored */
-            for (int c = r; c < j->n; c++) {
-                double e = m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
-                M[j->idx[r] * nq + j->idx[c]] += e;
-                if (c != r) M[j->idx[c] * nq + j->idx[r]] += e;
-            }
+        if (M) /* NULL: Q only; the symmetric block's lower triangle (mass_at) */
+            for (int c = r; c < j->n; c++)
+                *mass_at(M, nq, j->idx[r], j->idx[c]) +=
+                    m * (j->v[r][0] * j->v[c][0] + j->v[r][1] * j->v[c][1]);
         /* -m J^T (bias) + gravity */
         Q[j->idx[r]] -= m * (j->v[r][0] * bias[0] + j->v[r][1] * bias[1]);
         Q[j->idx[r]] -= g_on * m * GRAVITY * j->v[r][1];
@@ -444,15 +448,14 @@ static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M
         if (!M) continue;
         M[ia * nq + ia] += v->i_arm_cg;
         M[QT * nq + QT] += v->i_arm_cg;
-        M[ia * nq + QT] -= v->i_arm_cg;
-        M[QT * nq + ia] -= v->i_arm_cg;
+        M[ia * nq + QT] -= v->i_arm_cg; /* ia > QT: lower triangle */
     }
     if (!M) return;
     for (int b = 0; b < VM_NB; b++)
         M[(QS0 + b) * nq + QS0 + b] += v->j_b[b];
     if (v->fidelity == TS_TRACK_QUASI_STATIC)
         for (int a = 0; a < 4; a++)
-            for (int b = 0; b < 4; b++)
+            for (int b = 0; b <= a; b++)
                 M[(QS0 + a) * nq + QS0 + b] += v->mqs[a][b];
 }
 
@@ -477,6 +480,14 @@ static int chol_solve(vm_work *w, double *b, int n)
 static void chol_resolve(vm_work *w, double *b, int n)
 {
     ts_chol_solve_rev(w->P, n, w->pat, b);
+}
+
+/* M's upper triangle from its lower one (forces assembles the lower alone). */
+static void mass_mirror(double *M, int nq)
+{
+    for (int i = 0; i < nq; i++)
+        for (int j = 0; j < i; j++)
+            M[j * nq + i] = M[i * nq + j];
 }
 
 /* ---- forces ----------------------------------------------------------------- */
@@ -516,7 +527,11 @@ static double quasi_static_tension(const vm *v, double g, double tau)
 
 /* Generalised forces Q at (t, q, qd), the inertial velocity terms included
  * (none when qd is NULL: the static residual), and the mass matrix M unless
- * M is NULL (vm_rhs's factor cache, the equilibrium, the geometry). */
+ * M is NULL (vm_rhs's factor cache, the equilibrium, the geometry). Only M's
+ * lower triangle (row >= column, row-major: mass_at) is assembled, the half
+ * the reversed Cholesky reads, so the upper one is neither cleared nor
+ * written (mass_mirror completes M for the callers that read all of it);
+ * clearing the whole 31 x 31 M was ~8 % of a vehicle run's instructions. */
 static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
                    double *Q, int drive_on, vm_diag *diag)
 {
@@ -524,7 +539,9 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     kin k;
     kinematics(v, q, qd, &k);
     memset(Q, 0, (size_t)nq * sizeof *Q);
-    if (M) memset(M, 0, (size_t)nq * nq * sizeof *M);
+    if (M)
+        for (int i = 0; i < nq; i++)
+            memset(M + (size_t)i * nq, 0, (size_t)(i + 1) * sizeof *M);
     rigid_inertia(v, &k, qd, M, Q);
     /* track elements */
     span_base sb_store;
@@ -1001,13 +1018,9 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
             }
         }
         if (M) /* each entry of M gets one term from this span: the order is free */
-            for (int c1 = 0; c1 < cs.n; c1++) {
-                double *mr = M + (size_t)cs.idx[c1] * (size_t)nq;
-                for (int c2 = c1; c2 < cs.n; c2++) {
-                    mr[cs.idx[c2]] += Mc[c1][c2];
-                    if (c2 != c1) M[(size_t)cs.idx[c2] * (size_t)nq + (size_t)cs.idx[c1]] += Mc[c1][c2];
-                }
-            }
+            for (int c1 = 0; c1 < cs.n; c1++)
+                for (int c2 = c1; c2 < cs.n; c2++)
+                    *mass_at(M, nq, cs.idx[c1], cs.idx[c2]) += Mc[c1][c2];
         if (sb) span_pitch_terms(sb, &cs, Mc, (int)(se - v->span), Q);
     }
     if (diag) {
@@ -1840,8 +1853,7 @@ static int rhs_cached(const vm *v, vm_work *w, double t, const double *y, int dr
         int is = QS0 + VM_SPROCKET;
         M[is * nq + is] += sprocket_inertia;
         M[QT * nq + QT] += sprocket_inertia;
-        M[is * nq + QT] -= sprocket_inertia;
-        M[QT * nq + is] -= sprocket_inertia;
+        M[is * nq + QT] -= sprocket_inertia; /* lower triangle, as forces() */
     }
     int rc = first_order(v, w, y, ydot);
     if (rc == 0) {
@@ -1868,6 +1880,7 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
     int nq = v->nq;
     const double *q = y, *qd = y + nq;
     forces(v, w, 0.0, q, qd, w->M, w->Q, 0, NULL);
+    mass_mirror(w->M, nq);
     double ke = 0;
     for (int i = 0; i < nq; i++)
         for (int j = 0; j < nq; j++)
@@ -2047,5 +2060,6 @@ void vm_forces(const vm *v, vm_work *w, double t, const double *y, int drive_on,
 void vm_mass(const vm *v, vm_work *w, const double *y, double *M)
 {
     forces(v, w, 0.0, y, y + v->nq, w->M, w->Q, 0, NULL);
+    mass_mirror(w->M, v->nq);
     memcpy(M, w->M, (size_t)v->nq * (size_t)v->nq * sizeof(double));
 }
