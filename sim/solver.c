@@ -87,6 +87,7 @@ typedef struct schur_ls {
     double *J;    /* ext: the Jacobian (column-major n x n) */
     double *Mbl;  /* ext, !full: -gamma J21 (column-major h x h), formed once per factorisation */
     double gamma; /* ext: of the current factorisation */
+    int checked;  /* ext: full was decided on the J now in the array (schur_form) */
     int *piv;
     long last_flag;
 } schur_ls;
@@ -110,29 +111,33 @@ static int schur_initialize(SUNLinearSolver ls)
 }
 
 /* Factor I - gamma J from the solver's own J (ext mode): its Schur
- * complement when J = [0 I'; J21 J22] with I' diagonal, else the full LU. */
+ * complement when J = [0 I'; J21 J22] with I' diagonal, else the full LU.
+ * The structure is checked once per J (c->checked): CVODE refactors the same
+ * J with a new gamma ~10 times per Jacobian. */
 static int schur_form(schur_ls *c, double gamma)
 {
     const double *J = c->J;
     int n = c->n, h = c->h;
     c->gamma = gamma;
-    c->full = 0;
-    for (int j = 0; j < h && !c->full; j++) /* top-left block of J == 0 */
-        for (int i = 0; i < h; i++)
-            if (J[(size_t)j * n + i] != 0.0) {
-                c->full = 1;
-                break;
-            }
-    for (int j = 0; j < h && !c->full; j++) /* top-right block diagonal */
-        for (int i = 0; i < h; i++) {
-            double e = J[(size_t)(h + j) * n + i];
-            if (i == j)
-                c->d[j] = -gamma * e;
-            else if (e != 0.0) {
-                c->full = 1;
-                break;
-            }
-        }
+    if (!c->checked) {
+        c->full = 0;
+        for (int j = 0; j < h && !c->full; j++) /* top-left block of J == 0 */
+            for (int i = 0; i < h; i++)
+                if (J[(size_t)j * n + i] != 0.0) {
+                    c->full = 1;
+                    break;
+                }
+        for (int j = 0; j < h && !c->full; j++) /* top-right block diagonal */
+            for (int i = 0; i < h; i++)
+                if (i != j && J[(size_t)(h + j) * n + i] != 0.0) {
+                    c->full = 1;
+                    break;
+                }
+        c->checked = 1;
+    }
+    if (!c->full)
+        for (int j = 0; j < h; j++)
+            c->d[j] = -gamma * J[(size_t)(h + j) * n + j];
     int info;
     if (c->full) {
         for (int j = 0; j < n; j++)
@@ -305,6 +310,7 @@ static int schur_linsys(sunrealtype t, N_Vector yv, N_Vector fyv, SUNMatrix A, s
         const double uround = SUN_UNIT_ROUNDOFF, srur = sqrt(uround);
         double fnorm = N_VWrmsNorm(fyv, tmp1);
         double min_inc = fnorm != 0.0 ? DQ_MIN_INC_MULT * fabs(hcur) * uround * n * fnorm : 1.0;
+        c->checked = 0; /* J is rewritten from here on */
         for (int j = 0; j < n; j++) {
             double keep = y[j], inc = fmax(srur * fabs(keep), min_inc / ewt[j]);
             y[j] += inc;
