@@ -127,13 +127,14 @@ void ts_lu_solve(const double *a, int n, const int *piv, double *b)
  * array's LAST element: the matrix with its rows and columns in reverse
  * order, J A J, without a copy). Inlined with a constant sg, so each entry
  * gets the same operations in the same order either way. */
-static inline int chol_factor_s(double *a0, long sg, int n, int *pat)
+static inline int chol_factor_s(double *a0, long sg, int n, const int *cand, int *pat)
 {
     /* right-looking, column-major lower: column j is scaled, then each trailing
      * column k with L_kj != 0 gets L_ij L_kj subtracted on the rows i >= k
      * where L_ij != 0. The rows are gathered per column (nz), so a sparse
      * matrix ordered for little fill costs ~sum over j of nnz_j^2; the skipped
-     * terms are exact zeros, so the result is that of the dense loop. */
+     * terms are exact zeros, so the result is that of the dense loop. With
+     * cand, only its rows are looked at (the others are zeros of L). */
     for (int j = 0; j < n; j++) {
         double *cj = a0 + sg * (long)j * n;
         double d = cj[sg * j];
@@ -143,11 +144,19 @@ static inline int chol_factor_s(double *a0, long sg, int n, int *pat)
         double inv = 1.0 / d;
         int *nz = pat + (long)j * (n + 1) + 1;
         int m = 0;
-        for (int i = j + 1; i < n; i++)
-            if (cj[sg * i] != 0.0) {
-                cj[sg * i] *= inv;
-                nz[m++] = i;
-            }
+        if (cand) {
+            const int *cr = cand + (long)j * (n + 1);
+            for (int t = 1; t <= cr[0]; t++)
+                if (cj[sg * cr[t]] != 0.0) {
+                    cj[sg * cr[t]] *= inv;
+                    nz[m++] = cr[t];
+                }
+        } else
+            for (int i = j + 1; i < n; i++)
+                if (cj[sg * i] != 0.0) {
+                    cj[sg * i] *= inv;
+                    nz[m++] = i;
+                }
         nz[-1] = m;
         for (int r = 0; r < m; r++) {
             int k = nz[r];
@@ -184,7 +193,7 @@ static inline void chol_solve_s(const double *a0, long sg, int n, const int *pat
 
 int ts_chol_factor(double *a, int n, int *pat)
 {
-    return chol_factor_s(a, 1, n, pat);
+    return chol_factor_s(a, 1, n, NULL, pat);
 }
 
 void ts_chol_solve(const double *a, int n, const int *pat, double *b)
@@ -194,7 +203,30 @@ void ts_chol_solve(const double *a, int n, const int *pat, double *b)
 
 int ts_chol_factor_rev(double *a, int n, int *pat)
 {
-    return chol_factor_s(a + (long)n * n - 1, -1, n, pat);
+    return chol_factor_s(a + (long)n * n - 1, -1, n, NULL, pat);
+}
+
+int ts_chol_factor_rev_cand(double *a, int n, const int *cand, int *pat)
+{
+    return chol_factor_s(a + (long)n * n - 1, -1, n, cand, pat);
+}
+
+void ts_chol_symbolic_rev(unsigned char *mask, int n, int *cand)
+{
+    /* mask[i' + j' n] for the reversed indices, i' = n - 1 - i: symmetric, so
+     * a's row-major or column-major mask read backwards. Column j' of L has
+     * the rows of A's column j' below the diagonal and, for every earlier
+     * column k' with L_j'k' != 0, that column's rows below j' (its update). */
+    unsigned char *s = mask + (long)n * n - 1; /* s[-(i' + j' n)] */
+    for (int j = 0; j < n; j++) {
+        int *cr = cand + (long)j * (n + 1), m = 0;
+        for (int i = j + 1; i < n; i++)
+            if (s[-(i + (long)j * n)]) cr[++m] = i;
+        cr[0] = m;
+        for (int r = 1; r <= m; r++) /* fill: column cr[r] gets rows cr[t], t >= r */
+            for (int t = r; t <= m; t++)
+                s[-(cr[t] + (long)cr[r] * n)] = s[-(cr[r] + (long)cr[t] * n)] = 1;
+    }
 }
 
 void ts_chol_solve_rev(const double *a, int n, const int *pat, double *b)

@@ -45,4 +45,14 @@ void ts_chol_solve(const double *a, int n, const int *pat, double *b);
 int ts_chol_factor_rev(double *a, int n, int *pat);
 void ts_chol_solve_rev(const double *a, int n, const int *pat, double *b);
 
+/* For a matrix with a fixed sparsity: the rows where column j of the
+ * reversed factor's L can be nonzero, fill included (cand, pat's layout,
+ * n (n + 1) ints), from the structural nonzeros of a (mask, n x n, 1 where
+ * a can be nonzero, symmetric; updated in place to the structure of L + L^T).
+ * ts_chol_factor_rev_cand is ts_chol_factor_rev looking at those rows only,
+ * instead of scanning every row of every column for nonzeros: the same L and
+ * pat bit for bit, provided a's nonzeros lie within mask. */
+void ts_chol_symbolic_rev(unsigned char *mask, int n, int *cand);
+int ts_chol_factor_rev_cand(double *a, int n, const int *cand, int *pat);
+
 #endif

@@ -190,6 +190,7 @@ struct vm {
     /* equilibrium */
     double *y_eq;
     double *rate; /* per coordinate: sqrt(K_ii / M_ii) at the equilibrium, 0 when K_ii <= 0 */
+    int *mass_cand; /* the rows M's reversed Cholesky factor can fill (mass_structure) */
     double t_static;
     double g_eq;           /* loop geometric stretch at the equilibrium [m] */
     double c_loop, c_tail; /* compliance of the loop and of anchor wheel -> sprocket [m/N] */
@@ -469,9 +470,9 @@ static void rigid_inertia(const vm *v, const kin *k, const double *qd, double *M
  * triangular sweeps skip its zeros too (same result). The reversal is
  * ts_chol_factor_rev's view of M, no copy: M (in w->P) is overwritten by its
  * factor. Uses w->P, w->pat. */
-static int chol_solve(vm_work *w, double *b, int n)
+static int chol_solve(const vm *v, vm_work *w, double *b, int n)
 {
-    if (ts_chol_factor_rev(w->P, n, w->pat) != 0) return 1;
+    if (ts_chol_factor_rev_cand(w->P, n, v->mass_cand, w->pat) != 0) return 1;
     ts_chol_solve_rev(w->P, n, w->pat, b);
     return 0;
 }
@@ -1042,6 +1043,52 @@ static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *s
 
 /* ---- construction and static equilibrium ---------------------------------- */
 
+static void mark_pairs(unsigned char *nz, int nq, const int *idx, int n)
+{
+    for (int r = 0; r < n; r++)
+        for (int c = 0; c < n; c++)
+            nz[idx[r] * nq + idx[c]] = 1;
+}
+
+/* Where M can be nonzero, whatever the state: the index sets every write to
+ * M goes through (forces: the body Jacobians, hull included, the spin
+ * inertias, the quasi-static spin coupling, each span's compact columns;
+ * rhs_cached: the sprocket inertia on theta), and from it the rows its
+ * reversed Cholesky factor can fill (v->mass_cand): chol_solve looks at
+ * those alone instead of scanning all of each column of M for nonzeros (a
+ * third of the factorisation's instructions; ~100 of the 465 below the
+ * diagonal are nonzero). A new write to M must be added here;
+ * tests/sim/test_vehicle_rhs_paths.c checks vm_rhs against a full-scan
+ * factorisation of vm_mass. */
+static ts_rc mass_structure(vm *v, ts_err *err)
+{
+    int nq = v->nq;
+    unsigned char *nz = calloc((size_t)nq * (size_t)nq, 1);
+    v->mass_cand = malloc(sizeof(int) * (size_t)nq * (size_t)(nq + 1));
+    if (!nz || !v->mass_cand) {
+        free(nz);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+    }
+    double q0[VM_NQ_RIGID] = {0};
+    kin k;
+    kinematics_of(v, q0, NULL, ALL_BODIES, &k); /* only the column indices are read */
+    for (int b = 0; b < VM_NB; b++) {
+        mark_pairs(nz, nq, k.j[b].idx, k.j[b].n);
+        int spin[4] = {QS0 + b, QS0 + b, QS0 + b, QS0 + b};
+        if (v->fidelity == TS_TRACK_QUASI_STATIC && b < 4) /* mqs: spins 0..3 */
+            for (int a = 0; a < 4; a++)
+                spin[a] = QS0 + a;
+        mark_pairs(nz, nq, spin, 4);
+    }
+    int sprocket[2] = {QT, QS0 + VM_SPROCKET};
+    mark_pairs(nz, nq, sprocket, 2);
+    for (int s = 0; s < VM_NSPAN; s++)
+        if (v->span[s].sp) mark_pairs(nz, nq, v->span[s].cs.idx, v->span[s].cs.n);
+    ts_chol_symbolic_rev(nz, nq, v->mass_cand);
+    free(nz);
+    return TS_OK;
+}
+
 void vm_free(vm *v)
 {
     if (!v) return;
@@ -1050,6 +1097,7 @@ void vm_free(vm *v)
         ts_span_free(v->span[s].sp);
     free(v->y_eq);
     free(v->rate);
+    free(v->mass_cand);
     free(v);
 }
 
@@ -1793,6 +1841,7 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         goto fail;
     }
+    if (mass_structure(v, err) != TS_OK) goto fail;
     if (equilibrium(v, err) != TS_OK) goto fail;
     if (compensation_reach(v, err) != TS_OK) goto fail;
     return v;
@@ -1810,7 +1859,7 @@ static int first_order(const vm *v, vm_work *w, const double *y, double *ydot)
     w->qf_ok = 0;
     memcpy(ydot, y + nq, (size_t)nq * sizeof(double));
     memcpy(ydot + nq, w->Q, (size_t)nq * sizeof(double));
-    return chol_solve(w, ydot + nq, nq);
+    return chol_solve(v, w, ydot + nq, nq);
 }
 
 /* The right-hand side with the mass matrix's factor cache: M depends on the
