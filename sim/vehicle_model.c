@@ -92,6 +92,8 @@ enum { QX, QZ, QT, QA0, QS0 = QA0 + VM_NRW };
  * nor the span modes (M's span blocks are built from the tangent geometry and
  * the spans' constant chord-frame matrices). */
 #define VM_NQ_MASS QS0
+/* [rad] the forward-difference step of the span velocity terms in the arms */
+#define SPAN_ARM_EPS 1e-5
 
 const int vm_span_element[VM_NSPAN] = {0, 1, 2, 3, 10};
 const char *const vm_span_names[VM_NSPAN] = {"sprocket_rear_roller", "rear_roller_front_roller",
@@ -196,8 +198,11 @@ struct vm {
     double c_loop, c_tail; /* compliance of the loop and of anchor wheel -> sprocket [m/N] */
 };
 
+typedef struct geom geom; /* forces()'s geometry at q (geom_eval) */
+
 struct vm_work {
     double *M, *Q;
+    geom *geo;      /* rhs_cached's: the geometry at the factor's coordinates (qf) */
     double *P;      /* nq x nq: vm_rhs's mass matrix, then its Cholesky factor (chol_solve) */
     int *pat;       /* nq (nq + 1): the factor's column patterns (dense_small.h) */
     double qf[VM_NQ_MASS + 1]; /* the mass coordinates and extra inertia of the factor in P */
@@ -217,6 +222,32 @@ typedef struct kin {
 typedef struct elem {
     double u[2], n[2], ell, dpsi;
 } elem;
+
+/* The span's velocity map: x_d = B q_d (compact columns cs), and the frame
+ * velocities f_x = rx . q_d (end 0 along the chord), f_y0 = ry0 . q_d,
+ * f_y1 = ry1 . q_d (ends 0, 1 normal to it). Only B's dense rows 0, 1 (the
+ * end feeds u0, u1) are stored: row 2 + m is the unit vector on the modal
+ * coordinate q0 + m, whose compact column is cs.n - nm + m (the modal columns
+ * come last). */
+typedef struct span_map {
+    cset cs;
+    double B[2][8 + 2 * TS_SPAN_MAX_MODES];
+    double rx[8 + 2 * TS_SPAN_MAX_MODES], ry0[8 + 2 * TS_SPAN_MAX_MODES],
+        ry1[8 + 2 * TS_SPAN_MAX_MODES];
+} span_map;
+
+/* The geometry forces() takes from geom_eval: everything that depends on the
+ * coordinates M depends on alone (VM_NQ_MASS), so rhs_cached keeps the one
+ * of its factor (w->geo) and reuses it on the factor's hits (the
+ * difference-quotient Jacobian's columns of the spins, span modes and
+ * rates). */
+struct geom {
+    kin k;                  /* body centres, Jacobians; rates set by forces() */
+    elem e[VM_NB];          /* tangent lines */
+    span_map mp[VM_NSPAN];  /* span maps at q */
+    span_map mpe[VM_NSPAN]; /* those of the spans ending on a road arm (span_arm) with
+                             * every arm at + SPAN_ARM_EPS (span_velocity_terms) */
+};
 
 /* ---- small helpers -------------------------------------------------------- */
 
@@ -281,6 +312,25 @@ static double comp_travel(const vm *v, double alpha, double *slope)
 
 #define ALL_BODIES ((1u << VM_NB) - 1)
 
+/* The rates of kinematics_of: theta_d and the body centres' velocities (qd
+ * NULL: at rest), from the Jacobians already in k. */
+static void kin_rates(const double *qd, unsigned mask, kin *k)
+{
+    k->thd = qd ? qd[QT] : 0;
+    double xd = qd ? qd[QX] : 0, zd = qd ? qd[QZ] : 0;
+    for (int b = 0; b < VM_NB; b++) {
+        if (!(mask >> b & 1u)) continue;
+        const jcol *j = &k->j[b];
+        k->v[b][0] = xd + k->thd * j->v[2][0];
+        k->v[b][1] = zd + k->thd * j->v[2][1];
+        if (j->n == 4) {
+            double ad = qd ? qd[j->idx[3]] : 0;
+            k->v[b][0] += ad * j->v[3][0];
+            k->v[b][1] += ad * j->v[3][1];
+        }
+    }
+}
+
 /* Body centres, velocities and Jacobians; only the bodies in mask (bit b =
  * body b) are filled (the span velocity terms need only the spans' ends). */
 static void kinematics_of(const vm *v, const double *q, const double *qd, unsigned mask, kin *k)
@@ -288,8 +338,6 @@ static void kinematics_of(const vm *v, const double *q, const double *qd, unsign
     k->th = q[QT];
     k->cth = cos(k->th);
     k->sth = sin(k->th);
-    k->thd = qd ? qd[QT] : 0;
-    double xd = qd ? qd[QX] : 0, zd = qd ? qd[QZ] : 0;
     for (int b = 0; b < VM_NB; b++) {
         if (!(mask >> b & 1u)) continue;
         jcol *j = &k->j[b];
@@ -332,14 +380,8 @@ static void kinematics_of(const vm *v, const double *q, const double *qd, unsign
         j->v[2][1] = -k->w[b][0];
         k->c[b][0] = q[QX] + k->w[b][0];
         k->c[b][1] = q[QZ] + k->w[b][1];
-        k->v[b][0] = xd + k->thd * j->v[2][0];
-        k->v[b][1] = zd + k->thd * j->v[2][1];
-        if (j->n == 4) {
-            double ad = qd ? qd[j->idx[3]] : 0;
-            k->v[b][0] += ad * j->v[3][0];
-            k->v[b][1] += ad * j->v[3][1];
-        }
     }
+    kin_rates(qd, mask, k);
 }
 
 static void kinematics(const vm *v, const double *q, const double *qd, kin *k)
@@ -504,14 +546,17 @@ typedef struct span_base {
     cset cols[VM_NSPAN];
 } span_base;
 
-/* Span part of one element: maps, forces and inertia (and the base point of
- * the velocity terms when sb is non-NULL). Defined with the spans. */
-static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
-                         int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         vm_diag *diag, span_base *sb);
+/* Defined with the spans. */
+static void geom_eval(const vm *v, const double *q, int arm_maps, geom *g);
+
+/* Span part of one element: forces and inertia from its map mp (and the base
+ * point of the velocity terms when sb is non-NULL). */
+static void span_element(const vm *v, vm_work *w, const span_map *mp, const span_el *se,
+                         const elem *e, int a, int b, const double *q, const double *qd, double *M,
+                         double *Q, vm_diag *diag, span_base *sb);
 
 static span_base *span_base_init(const vm *v, const double *qd, span_base *sb);
-static void span_velocity_terms(const vm *v, const double *q, const span_base *sb, double *Q);
+static void span_velocity_terms(const vm *v, const geom *g, const span_base *sb, double *Q);
 
 /* Quasi-static rear-roller tension of the massless track (vm_diag) for the
  * loop's geometric stretch g and the sprocket torque tau. Free wheels carry
@@ -528,22 +573,24 @@ static double quasi_static_tension(const vm *v, double g, double tau)
 
 /* Generalised forces Q at (t, q, qd), the inertial velocity terms included
  * (none when qd is NULL: the static residual), and the mass matrix M unless
- * M is NULL (vm_rhs's factor cache, the equilibrium, the geometry). Only M's
+ * M is NULL (vm_rhs's factor cache, the equilibrium, the geometry), with g
+ * the geometry at q (geom_eval; the displaced maps when qd is given and the
+ * spans are dynamic); forces_at evaluates it. Only M's
  * lower triangle (row >= column, row-major: mass_at) is assembled, the half
  * the reversed Cholesky reads, so the upper one is neither cleared nor
  * written (mass_mirror completes M for the callers that read all of it);
  * clearing the whole 31 x 31 M was ~8 % of a vehicle run's instructions. */
-static void forces(const vm *v, vm_work *w, double t, const double *q, const double *qd, double *M,
-                   double *Q, int drive_on, vm_diag *diag)
+static void forces(const vm *v, vm_work *w, geom *g, double t, const double *q, const double *qd,
+                   double *M, double *Q, int drive_on, vm_diag *diag)
 {
     int nq = v->nq;
-    kin k;
-    kinematics(v, q, qd, &k);
+    kin *k = &g->k; /* positions from g (geom_eval at q), rates set here */
+    kin_rates(qd, ALL_BODIES, k);
     memset(Q, 0, (size_t)nq * sizeof *Q);
     if (M)
         for (int i = 0; i < nq; i++)
             memset(M + (size_t)i * nq, 0, (size_t)(i + 1) * sizeof *M);
-    rigid_inertia(v, &k, qd, M, Q);
+    rigid_inertia(v, k, qd, M, Q);
     /* track elements */
     span_base sb_store;
     span_base *sb = qd && v->dynamic ? span_base_init(v, qd, &sb_store) : NULL;
@@ -553,14 +600,13 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     double loop_stretch = 0;
     for (int el = 0; el < VM_NB; el++) {
         int a = el, b = (el + 1) % VM_NB;
-        elem e;
-        tangent(v, &k, el, &e);
+        const elem *e = &g->e[el];
         /* geometric stretch: the chord's and the wraps' (the spins come below) */
-        double g_el = (e.ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e.dpsi;
+        double g_el = (e->ell - v->ell0[el]) + (v->rho_b[b] - v->rho_b[a]) * e->dpsi;
         loop_stretch += g_el;
         const span_el *se = v->span_of[el];
         if (se) {
-            span_element(v, w, &k, se, &e, a, b, q, qd, M, Q, diag, sb);
+            span_element(v, w, &g->mp[se - v->span], se, e, a, b, q, qd, M, Q, diag, sb);
             if (diag && (a == VM_REAR_ROLLER || b == VM_REAR_ROLLER)) {
                 /* end force of the span on the rear roller (chord axes -> world) */
                 ts_span_end_forces ef;
@@ -569,18 +615,18 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
                 double fy = b == VM_REAR_ROLLER ? ef.f1y : ef.f0y;
                 double te = b == VM_REAR_ROLLER ? ef.tension1 : ef.tension0;
                 if (v->no_compression && te < 0) fx = fy = 0; /* slack at the roller */
-                rr_force[0] += fx * e.u[0] + fy * e.n[0];
-                rr_force[1] += fx * e.u[1] + fy * e.n[1];
+                rr_force[0] += fx * e->u[0] + fy * e->n[0];
+                rr_force[1] += fx * e->u[1] + fy * e->n[1];
             }
             continue;
         }
-        double vrel = (k.v[b][0] - k.v[a][0]) * e.u[0] + (k.v[b][1] - k.v[a][1]) * e.u[1];
+        double vrel = (k->v[b][0] - k->v[a][0]) * e->u[0] + (k->v[b][1] - k->v[a][1]) * e->u[1];
         double s = g_el + v->rho_b[b] * q[QS0 + b] - v->rho_b[a] * q[QS0 + a];
         double sd = vrel + (qd ? v->rho_b[b] * qd[QS0 + b] - v->rho_b[a] * qd[QS0 + a] : 0);
         double kel = v->k_el[el];
         double tn = v->p0 + kel * s + v->dscale * kel * v->tau_d * sd;
         if (tn < 0) tn = 0;
-        double f[2] = {tn * e.u[0], tn * e.u[1]};
+        double f[2] = {tn * e->u[0], tn * e->u[1]};
         fr[a][0] += f[0], fr[a][1] += f[1];
         fr[b][0] -= f[0], fr[b][1] -= f[1];
         Q[QS0 + a] += tn * v->rho_b[a];
@@ -590,23 +636,23 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         if (diag) diag->tension[el] = diag->tension_end0[el] = diag->tension_end1[el] = tn;
     }
     for (int b = 0; b < VM_NB; b++)
-        add_force(Q, &k.j[b], fr[b]);
-    if (sb) span_velocity_terms(v, q, sb, Q);
+        add_force(Q, &k->j[b], fr[b]);
+    if (sb) span_velocity_terms(v, g, sb, Q);
     /* foundation and anchor */
     for (int i = 0; i < VM_NRW; i++) {
         int b = VM_RW1 + i;
-        double slope, h = ts_terrain_height(v->terrain, k.c[b][0], &slope);
+        double slope, h = ts_terrain_height(v->terrain, k->c[b][0], &slope);
         h *= v->ground_scale, slope *= v->ground_scale;
-        double d = h + v->wheel_ground - k.c[b][1];
+        double d = h + v->wheel_ground - k->c[b][1];
         double nload = 0;
         if (d > 0) {
-            double dd = slope * k.v[b][0] - k.v[b][1];
+            double dd = slope * k->v[b][0] - k->v[b][1];
             nload = v->kf * d + v->kf3 * d * d * d + v->dscale * v->cf * dd;
             if (nload < 0) nload = 0;
             /* terrain tangent (tx, tz); the normal force acts along (-tz, tx) */
             double tx = 1.0 / sqrt(1.0 + slope * slope), tz = slope * tx;
             double f[2] = {-slope * nload * tx, nload * tx};
-            add_force(Q, &k.j[b], f);
+            add_force(Q, &k->j[b], f);
             if (nload > 0 && qd) {
                 /* running-gear rolling resistance: f N against the wheel
                  * centre's velocity along the terrain, from the ground (the
@@ -614,11 +660,11 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
                  * by a contact force N e / r; the track under the wheel grips
                  * the ground, so the force goes to the ground, not along the
                  * track to the anchor) */
-                double vt = k.v[b][0] * tx + k.v[b][1] * tz;
+                double vt = k->v[b][0] * tx + k->v[b][1] * tz;
                 double f_roll =
                     v->dscale * (v->rr0 + v->rr1 * fabs(vt)) * nload * tanh(vt / v->rr_v0);
                 double fr_t[2] = {-f_roll * tx, -f_roll * tz};
-                add_force(Q, &k.j[b], fr_t);
+                add_force(Q, &k->j[b], fr_t);
             }
         }
         if (diag) {
@@ -633,11 +679,11 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
     }
     {
         int b = VM_RW1 + v->anchor;
-        double xi = k.c[b][0] - v->rho_b[b] * q[QS0 + b] - v->x_anchor0;
-        double xid = k.v[b][0] - (qd ? v->rho_b[b] * qd[QS0 + b] : 0);
+        double xi = k->c[b][0] - v->rho_b[b] * q[QS0 + b] - v->x_anchor0;
+        double xid = k->v[b][0] - (qd ? v->rho_b[b] * qd[QS0 + b] : 0);
         double fa = -v->ka * xi - v->dscale * v->ca * xid;
         double f[2] = {fa, 0};
-        add_force(Q, &k.j[b], f);
+        add_force(Q, &k->j[b], f);
         Q[QS0 + b] -= v->rho_b[b] * fa;
         if (diag) diag->anchor_force = fa;
     }
@@ -651,9 +697,18 @@ static void forces(const vm *v, vm_work *w, double t, const double *q, const dou
         diag->drive_torque = tau;
         diag->loop_stretch = loop_stretch;
         diag->tension_quasi_static = quasi_static_tension(v, loop_stretch, tau);
-        double up[2] = {k.sth, k.cth};
+        double up[2] = {k->sth, k->cth};
         diag->rear_roller_normal = -(rr_force[0] * up[0] + rr_force[1] * up[1]);
     }
+}
+
+/* forces() with its geometry evaluated here (every caller but rhs_cached). */
+static void forces_at(const vm *v, vm_work *w, double t, const double *q, const double *qd,
+                      double *M, double *Q, int drive_on, vm_diag *diag)
+{
+    geom g;
+    geom_eval(v, q, qd && v->dynamic, &g);
+    forces(v, w, &g, t, q, qd, M, Q, drive_on, diag);
 }
 
 /* ---- dynamic spans (track_span.h elements) ---------------------------------- */
@@ -665,19 +720,6 @@ static int cset_add(cset *c, int i)
     c->idx[c->n] = i;
     return c->n++;
 }
-
-/* The span's velocity map: x_d = B q_d (compact columns cs), and the frame
- * velocities f_x = rx . q_d (end 0 along the chord), f_y0 = ry0 . q_d,
- * f_y1 = ry1 . q_d (ends 0, 1 normal to it). Only B's dense rows 0, 1 (the
- * end feeds u0, u1) are stored: row 2 + m is the unit vector on the modal
- * coordinate q0 + m, whose compact column is cs.n - nm + m (the modal columns
- * come last). */
-typedef struct span_map {
-    cset cs;
-    double B[2][8 + 2 * TS_SPAN_MAX_MODES];
-    double rx[8 + 2 * TS_SPAN_MAX_MODES], ry0[8 + 2 * TS_SPAN_MAX_MODES],
-        ry1[8 + 2 * TS_SPAN_MAX_MODES];
-} span_map;
 
 static void span_map_build(const vm *v, const kin *k, const span_el *se, const elem *e, int a,
                            int b, span_map *mp)
@@ -798,24 +840,45 @@ static int span_arm(const vm *v, int a, int b)
     return -1;
 }
 
-/* Evaluate the maps of the spans ending on a road wheel at coordinates qs:
- * kinetic energy t[s] and momentum p[s][c] (only those spans' end bodies are
- * placed). */
-static void arm_spans_at(const vm *v, const double *qs, const double *qd, double t[VM_NSPAN],
-                         double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES])
+/* The geometry at q; the displaced maps mpe only with arm_maps (the velocity
+ * terms' need: q_d given, dynamic spans). */
+static void geom_eval(const vm *v, const double *q, int arm_maps, geom *g)
 {
-    kin k;
+    kinematics_of(v, q, NULL, ALL_BODIES, &g->k);
+    for (int el = 0; el < VM_NB; el++)
+        tangent(v, &g->k, el, &g->e[el]);
+    for (int s = 0; s < VM_NSPAN; s++) {
+        const span_el *se = &v->span[s];
+        if (se->sp)
+            span_map_build(v, &g->k, se, &g->e[se->elem], se->elem, (se->elem + 1) % VM_NB,
+                           &g->mp[s]);
+    }
+    if (!arm_maps) return;
+    double qs[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
+    memcpy(qs, q, (size_t)v->nq * sizeof *qs);
+    for (int i = 0; i < VM_NRW; i++) /* no span ends on two road wheels */
+        qs[QA0 + i] += SPAN_ARM_EPS;
+    kin k; /* only the spans' end bodies are placed */
     kinematics_of(v, qs, NULL, v->arm_span_bodies, &k);
     for (int s = 0; s < VM_NSPAN; s++) {
         const span_el *se = &v->span[s];
-        if (!se->sp) continue;
         int a = se->elem, b = (se->elem + 1) % VM_NB;
-        if (span_arm(v, a, b) < 0) continue;
+        if (!se->sp || span_arm(v, a, b) < 0) continue;
         elem e;
-        span_map mp;
         tangent(v, &k, se->elem, &e);
-        span_map_build(v, &k, se, &e, a, b, &mp);
-        t[s] = span_ke(se, &mp, qd, p[s], mp.cs.n);
+        span_map_build(v, &k, se, &e, a, b, &g->mpe[s]);
+    }
+}
+
+/* Kinetic energy t[s] and momentum p[s][c] of the spans ending on a road arm
+ * at the displaced maps g->mpe. */
+static void arm_spans_at(const vm *v, const geom *g, const double *qd, double t[VM_NSPAN],
+                         double p[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES])
+{
+    for (int s = 0; s < VM_NSPAN; s++) {
+        const span_el *se = &v->span[s];
+        if (!se->sp || span_arm(v, se->elem, (se->elem + 1) % VM_NB) < 0) continue;
+        t[s] = span_ke(se, &g->mpe[s], qd, p[s], g->mpe[s].cs.n);
     }
 }
 
@@ -839,19 +902,14 @@ static span_base *span_base_init(const vm *v, const double *qd, span_base *sb)
  * (dM/dt) q_d = sum alpha_d dp/dalpha over the spans' end arms. Truncation
  * error ~eps/2 relative (1e-5 rad against geometry that changes over ~1 rad),
  * far below the integration tolerances. */
-static void span_velocity_terms(const vm *v, const double *q, const span_base *sb, double *Q)
+static void span_velocity_terms(const vm *v, const geom *g, const span_base *sb, double *Q)
 {
-    const double eps = 1e-5; /* [rad], differencing step */
-    int nq = v->nq;
+    const double eps = SPAN_ARM_EPS;
     const double *qd = sb->qdv;
-    double qs[VM_NQ_RIGID + VM_NSPAN * 2 * TS_SPAN_MAX_MODES];
     double tp[VM_NSPAN] = {0};
     double pp[VM_NSPAN][8 + 2 * TS_SPAN_MAX_MODES];
-    memcpy(qs, q, (size_t)nq * sizeof *qs);
-    for (int i = 0; i < VM_NRW; i++) /* no span ends on two road wheels */
-        qs[QA0 + i] += eps;
     /* cppcheck-suppress legacyUninitvar */
-    arm_spans_at(v, qs, qd, tp, pp);
+    arm_spans_at(v, g, qd, tp, pp);
     for (int s = 0; s < VM_NSPAN; s++) {
         if (!v->span[s].sp) continue;
         int a = v->span[s].elem, b = (a + 1) % VM_NB;
@@ -900,25 +958,23 @@ static void span_pitch_terms(const span_base *sb, const cset *cs,
     Q[QZ] += thd * p[cx];
 }
 
-static void span_element(const vm *v, vm_work *w, const kin *k, const span_el *se, const elem *e,
-                         int a, int b, const double *q, const double *qd, double *M, double *Q,
-                         vm_diag *diag, span_base *sb)
+static void span_element(const vm *v, vm_work *w, const span_map *mp, const span_el *se,
+                         const elem *e, int a, int b, const double *q, const double *qd, double *M,
+                         double *Q, vm_diag *diag, span_base *sb)
 {
     const ts_span *sp = se->sp;
     int n = sp->n, nq = v->nq;
-    span_map mp;
-    span_map_build(v, k, se, e, a, b, &mp);
     if (sb) {
         int s = (int)(se - v->span);
         /* the spans between hull-mounted bodies enter only the pitch terms,
          * which read p on the x, z columns (compact 0, 1) alone */
-        int np = span_arm(v, a, b) < 0 ? 2 : mp.cs.n;
-        sb->t[s] = span_ke(se, &mp, sb->qdv, sb->p[s], np);
-        sb->cols[s] = mp.cs;
+        int np = span_arm(v, a, b) < 0 ? 2 : mp->cs.n;
+        sb->t[s] = span_ke(se, mp, sb->qdv, sb->p[s], np);
+        sb->cols[s] = mp->cs;
     }
-    const cset cs = mp.cs;
-    double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp.B;
-    const double *rx = mp.rx, *ry0 = mp.ry0, *ry1 = mp.ry1;
+    const cset cs = mp->cs;
+    const double(*B)[8 + 2 * TS_SPAN_MAX_MODES] = mp->B;
+    const double *rx = mp->rx, *ry0 = mp->ry0, *ry1 = mp->ry1;
     double ell = e->ell;
     /* local state */
     double *x = w->sx, *xd = w->sxd, *f = w->sf;
@@ -1196,7 +1252,8 @@ vm_work *vm_work_make(const vm *v)
     w->Q = calloc(nq, sizeof(double));
     w->P = calloc(nq * nq, sizeof(double));
     w->pat = calloc(nq * (nq + 1), sizeof(int));
-    if (!w->M || !w->Q || !w->P || !w->pat) {
+    w->geo = malloc(sizeof *w->geo);
+    if (!w->M || !w->Q || !w->P || !w->pat || !w->geo) {
         vm_work_free(w);
         return NULL;
     }
@@ -1210,6 +1267,7 @@ void vm_work_free(vm_work *w)
     free(w->Q);
     free(w->P);
     free(w->pat);
+    free(w->geo);
     free(w);
 }
 
@@ -1240,7 +1298,7 @@ static void eq_residual(vm *v, vm_work *w, const double *u, double *q, double *r
 {
     eq_apply(v, u, q);
     vm_diag dg;
-    forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, &dg);
+    forces_at(v, w, 0.0, q, NULL, NULL, w->Q, 0, &dg);
     int p = 0;
     r[p++] = w->Q[QX];
     r[p++] = w->Q[QZ];
@@ -1372,7 +1430,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
     eq_apply(v, u, q);
     {
         vm_diag dg;
-        forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, &dg);
+        forces_at(v, w, 0.0, q, NULL, NULL, w->Q, 0, &dg);
         v->t_static = dg.tension_end1[0];
         v->g_eq = dg.loop_stretch;
     }
@@ -1389,11 +1447,11 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         _Static_assert(3 + VM_NB - 1 + VM_NRW + 1 == VM_NQ_RIGID,
                        "equilibrium unknowns: one per rigid coordinate");
         double *Q0 = r2;
-        forces(v, w, 0.0, q, NULL, w->M, Q0, 0, NULL);
+        forces_at(v, w, 0.0, q, NULL, w->M, Q0, 0, NULL);
         for (int i = 0; i < nq; i++) {
             double keep = q[i], mii = w->M[(size_t)i * nq + i];
             q[i] = keep + h;
-            forces(v, w, 0.0, q, NULL, NULL, w->Q, 0, NULL);
+            forces_at(v, w, 0.0, q, NULL, NULL, w->Q, 0, NULL);
             q[i] = keep;
             double kii = -(w->Q[i] - Q0[i]) / h;
             v->rate[i] = kii > 0 && mii > 0 ? sqrt(kii / mii) : 0.0;
@@ -1866,9 +1924,10 @@ static int first_order(const vm *v, vm_work *w, const double *y, double *ydot)
  * VM_NQ_MASS coordinates alone (and the extra sprocket inertia), so when they
  * are bit for bit those of the factor left by the previous call (a
  * difference-quotient Jacobian's columns of the spins, span modes and every
- * velocity), M is neither assembled nor factored again; the result is the
- * same to the bit. drive_on: the prescribed /drive (vm_rhs); otherwise the
- * caller's sprocket torque and inertia (vm_rhs_torque). */
+ * velocity), M is neither assembled nor factored again, nor is forces()'s
+ * geometry (w->geo) evaluated; the result is the same to the bit. drive_on:
+ * the prescribed /drive (vm_rhs); otherwise the caller's sprocket torque and
+ * inertia (vm_rhs_torque). */
 static int rhs_cached(const vm *v, vm_work *w, double t, const double *y, int drive_on,
                       double sprocket_torque, double sprocket_inertia, double *ydot,
                       vm_diag *diag)
@@ -1878,7 +1937,8 @@ static int rhs_cached(const vm *v, vm_work *w, double t, const double *y, int dr
     int hit = w->qf_ok && memcmp(w->qf, y, msz) == 0 && w->qf[VM_NQ_MASS] == sprocket_inertia;
     /* M is assembled straight into w->P, where it is factored in place */
     double *M = hit ? NULL : w->P;
-    forces(v, w, t, y, y + nq, M, w->Q, drive_on, diag);
+    if (!hit) geom_eval(v, y, v->dynamic, w->geo);
+    forces(v, w, w->geo, t, y, y + nq, M, w->Q, drive_on, diag);
     if (!drive_on) {
         /* the caller's torque on the sprocket spin, its reaction on the hull
          * (as the drive in forces) */
@@ -1928,7 +1988,7 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
 {
     int nq = v->nq;
     const double *q = y, *qd = y + nq;
-    forces(v, w, 0.0, q, qd, w->M, w->Q, 0, NULL);
+    forces_at(v, w, 0.0, q, qd, w->M, w->Q, 0, NULL);
     mass_mirror(w->M, nq);
     double ke = 0;
     for (int i = 0; i < nq; i++)
@@ -2017,7 +2077,7 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
     memset(g, 0, sizeof *g);
     vm_diag dg;
     memset(&dg, 0, sizeof dg);
-    forces(v, w, t, q, qd, NULL, w->Q, 1, &dg); /* the diagnostics only */
+    forces_at(v, w, t, q, qd, NULL, w->Q, 1, &dg); /* the diagnostics only */
     kin k;
     kinematics(v, q, qd, &k);
     g->t = t;
@@ -2102,13 +2162,13 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
 
 void vm_forces(const vm *v, vm_work *w, double t, const double *y, int drive_on, double *Q)
 {
-    forces(v, w, t, y, y + v->nq, w->M, w->Q, drive_on, NULL);
+    forces_at(v, w, t, y, y + v->nq, w->M, w->Q, drive_on, NULL);
     memcpy(Q, w->Q, (size_t)v->nq * sizeof(double));
 }
 
 void vm_mass(const vm *v, vm_work *w, const double *y, double *M)
 {
-    forces(v, w, 0.0, y, y + v->nq, w->M, w->Q, 0, NULL);
+    forces_at(v, w, 0.0, y, y + v->nq, w->M, w->Q, 0, NULL);
     mass_mirror(w->M, v->nq);
     memcpy(M, w->M, (size_t)v->nq * (size_t)v->nq * sizeof(double));
 }
