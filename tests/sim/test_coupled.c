@@ -13,21 +13,11 @@
 #include <string.h>
 
 #include "api/config_json.h"
+#include "preset_config.h"
 #include "sim/coupled_system.h"
 #include "sim/tanksim.h"
 
 #define MPH 0.44704
-
-static ts_config load(const char *preset, const char *track)
-{
-    ts_config c;
-    ts_err err;
-    json_t *doc = json_pack("{s:s}", "preset", preset);
-    if (track) json_object_set_new(doc, "track", json_pack("{s:s}", "fidelity", track));
-    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
-    json_decref(doc);
-    return c;
-}
 
 /* Sampled histories of one run. */
 #define NMAX 4000
@@ -107,7 +97,7 @@ static hist h_ref, h_a;
 static void leading_following_is_second_order(void **state)
 {
     (void)state;
-    ts_config c = load("flat-coupled-rack90", "static");
+    ts_config c = test_preset_config("flat-coupled-rack90", "static");
     c.run.rtol = 1e-9;
     c.run.atol = 1e-11;
     const double t_end = 0.6, dt = 0.02;
@@ -145,7 +135,7 @@ static void leading_following_is_second_order(void **state)
 static void leader_not_restarted_follower_reuses_jacobian(void **state)
 {
     (void)state;
-    ts_config c = load("flat-coupled-rack90", "static");
+    ts_config c = test_preset_config("flat-coupled-rack90", "static");
     ts_coupled *cm;
     ts_coupled_run *r = started(&c, TS_COUPLING_LEADING_FOLLOWING, 0.5, &cm);
     ts_coupled_stats st;
@@ -182,7 +172,7 @@ static void leader_not_restarted_follower_reuses_jacobian(void **state)
 static void plain_exchange_is_unstable_interface_inertia_fixes_it(void **state)
 {
     (void)state;
-    ts_config c = load("flat-coupled-rack90", "static");
+    ts_config c = test_preset_config("flat-coupled-rack90", "static");
     ts_err err;
     assert_int_equal(run(&c, TS_COUPLING_MONOLITHIC, 0.5, 0.01, &h_ref, &err), TS_OK);
     assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 0.5, 0.01, &h_a, &err), TS_OK);
@@ -207,7 +197,7 @@ static void plain_exchange_is_unstable_interface_inertia_fixes_it(void **state)
 static void shift_spikes_tension_and_excites_span(void **state)
 {
     (void)state;
-    ts_config c = load("flat-coupled-rack90", NULL);
+    ts_config c = test_preset_config("flat-coupled-rack90", NULL);
     ts_err err;
     assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 4.6, 0.005, &h_a, &err), TS_OK);
     int ie = -1;
@@ -268,7 +258,7 @@ static double shift_start(const hist *h, double gear)
 static void bumps_delay_second_and_third_upshift(void **state)
 {
     (void)state;
-    ts_config c = load("flat-coupled-rack90", NULL);
+    ts_config c = test_preset_config("flat-coupled-rack90", NULL);
     ts_err err;
     assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 10.0, 0.01, &h_ref, &err), TS_OK);
     c.terrain.kind = TS_TERRAIN_BUMPS;
@@ -298,7 +288,7 @@ static void bumps_delay_second_and_third_upshift(void **state)
 static void ivs_full_rack_at_launch_then_holds_5mph(void **state)
 {
     (void)state;
-    ts_config c = load("bump-coupled-ivs5mph", "static");
+    ts_config c = test_preset_config("bump-coupled-ivs5mph", "static");
     c.terrain.kind = TS_TERRAIN_FLAT;
     ts_err err;
     assert_int_equal(run(&c, TS_COUPLING_LEADING_FOLLOWING, 9.0, 0.02, &h_a, &err), TS_OK);
@@ -367,7 +357,7 @@ static void ivs_cruise_does_not_hunt_gears(void **state)
 static void launch_starts_from_idle_steady_state(void **state)
 {
     (void)state;
-    ts_config c = load("flat-coupled-rack90", "static");
+    ts_config c = test_preset_config("flat-coupled-rack90", "static");
     ts_err err;
     ts_coupled *cm;
     ts_coupled_run *r = started(&c, TS_COUPLING_LEADING_FOLLOWING, 0.0, &cm);
@@ -398,7 +388,7 @@ static void launch_starts_from_idle_steady_state(void **state)
 static void save_restore_reproduces(void **state)
 {
     (void)state;
-    ts_config c = load("flat-coupled-rack90", "static");
+    ts_config c = test_preset_config("flat-coupled-rack90", "static");
     c.run.rtol = 1e-9;
     c.run.atol = 1e-11;
     ts_err err;
@@ -430,7 +420,7 @@ static void save_restore_reproduces(void **state)
 static void gain_schedule_and_config_errors(void **state)
 {
     (void)state;
-    ts_config c = load("flat-coupled-rack90", "static");
+    ts_config c = test_preset_config("flat-coupled-rack90", "static");
     c.control.schedule_n = c.control.schedule_kp_n = c.control.schedule_ti_n = 2;
     c.control.schedule_x[0] = 50000, c.control.schedule_x[1] = 70000;
     c.control.schedule_kp[0] = 0.2, c.control.schedule_kp[1] = 0.4;
@@ -449,7 +439,7 @@ static void gain_schedule_and_config_errors(void **state)
     /* a lead shorter than the follower's step cannot be kept (the follower
      * needs torque samples to the end of its step; until session 20 the
      * leader silently ran a whole follower step ahead) */
-    c = load("flat-coupled-rack90", "static");
+    c = test_preset_config("flat-coupled-rack90", "static");
     c.coupling.follower_step = 0.004;
     c.coupling.leader_step = 0.001;
     c.coupling.lead = 0.002;

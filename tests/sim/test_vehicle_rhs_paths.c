@@ -12,17 +12,15 @@
 #include <string.h>
 
 #include "api/config_json.h"
+#include "preset_config.h"
 #include "sim/dense_small.h"
 #include "sim/tanksim.h"
 #include "sim/vehicle_model.h"
 
 static vm *make_vm(const char *preset)
 {
-    ts_config c;
+    ts_config c = test_preset_config(preset, NULL);
     ts_err err;
-    json_t *doc = json_pack("{s:s}", "preset", preset);
-    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
-    json_decref(doc);
     vm *v = vm_make(&c, &err);
     assert_non_null(v);
     return v;
@@ -110,12 +108,8 @@ static void factor_reuse_coupled(void **state)
  * structure. fidelity NULL: the preset's; comp: /vehicle/idler_compensation. */
 static void structure_covers(const char *preset, const char *fidelity, double comp)
 {
-    ts_config c;
+    ts_config c = test_preset_config(preset, fidelity);
     ts_err err;
-    json_t *doc = json_pack("{s:s}", "preset", preset);
-    if (fidelity) json_object_set_new(doc, "track", json_pack("{s:s}", "fidelity", fidelity));
-    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
-    json_decref(doc);
     c.vehicle.idler_compensation = comp;
     vm *v = vm_make(&c, &err);
     assert_non_null(v);
