@@ -45,6 +45,7 @@
 // away and back (interrupted); a 401 takes the keyboard focus only once.
 // Live charts convert only the rows a redraw adds (a unit change converts
 // every point); the 300-ms tick leaves an unchanged FFT hint alone.
+// A preset's document that arrives after another preset was chosen is dropped.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -408,6 +409,43 @@ async function main() {
       await page.click('#schema-form .all-params summary');
       await shot(page, '01b-all-parameters');
       await page.click('#schema-form .all-params summary');
+    });
+
+    await check("a preset's document that arrives after another preset was chosen is dropped: the form keeps the values of the preset the dropdown shows", async () => {
+      const kind = () => page.locator('#schema-form [data-pointer="/run/kind"] select').inputValue();
+      const rate = async () => Number(await page.locator('#schema-form [data-pointer="/run/sample_rate"] input').inputValue());
+      const want = (await (await fetch(`${d.url}/v1/presets/${preset}`)).json()).config;
+      assert(want.run.kind !== 'pointmass', `${preset} is a point-mass preset: the check needs another kind`);
+      /* hold the point-mass preset's document until the second choice is in the form */
+      const url = '**/v1/presets/pointmass-prescribed';
+      let held = false;
+      let release;
+      const gate = new Promise((r) => (release = r));
+      const hold = async (route) => {
+        held = true;
+        await gate;
+        return route.continue();
+      };
+      await page.route(url, hold);
+      try {
+        await page.selectOption('#preset-select', 'pointmass-prescribed');
+        await waitFor(() => held, 'the point-mass preset requested');
+        await presetLoaded(page, () => page.selectOption('#preset-select', preset));
+        await page.locator('#schema-form .field[data-pointer="/run/duration"] input').dispatchEvent('input'); /* cleared if a late setBase() comes */
+        const answered = page.waitForResponse((r) => r.url().endsWith('/v1/presets/pointmass-prescribed'));
+        release();
+        await (await answered).finished();
+        await page.waitForTimeout(300); /* time for a wrong reaction to the answer to show */
+        const shown = { select: await page.locator('#preset-select').inputValue(), kind: await kind(), rate: await rate() };
+        const edited = await page.locator('#schema-form .field.edited').count();
+        assert(shown.select === preset && shown.kind === want.run.kind && shown.rate === want.run.sample_rate && edited === 1,
+          `after the late point-mass answer: ${JSON.stringify(shown)}, ${edited} field(s) marked edited; want ${preset}, ${want.run.kind}, ${want.run.sample_rate} Hz, 1 (the form kept)`);
+        assert(!(await page.locator('#create-error').isVisible()), `an error is shown: ${await text(page, '#create-error')}`);
+      } finally {
+        release();
+        await page.unroute(url, hold);
+        await presetLoaded(page, () => page.click('#reset-form')); /* the chosen preset in the form, also after a failure */
+      }
     });
 
     await check('API error shown in words on the named field (out-of-range /track/n_trans)', async () => {

@@ -31,19 +31,26 @@ export function initCreateForm({ refreshList, open }) {
     return schema;
   }
 
+  /* Put the chosen preset's values in the form. Only the latest call's answer
+     is used: a slower answer to an earlier choice (or Reset) is dropped. */
+  let presetSeq = 0;
   async function loadPreset(list) {
+    const seq = ++presetSeq;
     const name = $('preset-select').value;
     const meta = list.find((p) => p.name === name);
     $('preset-desc').textContent = [meta?.kind && `scenario ${meta.kind}.`, meta?.description].filter(Boolean).join(' ');
     hideError($('create-error'));
     let doc = {};
+    let error = null;
     if (name) {
       try {
         doc = (await api.preset(name)).config; /* the resolved document (GET /v1/presets/{name}) */
       } catch (e) {
-        showError($('create-error'), e);
+        error = e;
       }
     }
+    if (seq !== presetSeq) return;
+    if (error) showError($('create-error'), error);
     form.setBase(doc);
   }
 
