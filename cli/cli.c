@@ -4,12 +4,14 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "../api/config_json.h"
@@ -192,20 +194,60 @@ int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
     return rc == TS_OK ? TSC_EXIT_OK : TSC_EXIT_FAIL;
 }
 
+/* Create o->tmp as "PATH.XXXXXX" (6 characters from [0-9A-Za-z]) with
+ * O_CREAT | O_EXCL and mode 0666, so the umask (and a default ACL) applies as
+ * to a plain fopen(PATH, "w"): mkstemp's 0600 would make outputs private. A
+ * name that exists (another run's temporary, anyone's file or link) is never
+ * opened: the next one is tried. The descriptor, or -1 with errno. */
+static int create_tmp(tsc_out *o)
+{
+    static const char digits[] = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz";
+    size_t n = strlen(o->tmp);
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    unsigned long long x = (unsigned long long)ts.tv_nsec ^ ((unsigned long long)ts.tv_sec << 30) ^
+                           ((unsigned long long)getpid() << 12);
+    for (int attempt = 0; attempt < 100; attempt++) {
+        x = x * 6364136223846793005ULL + 1442695040888963407ULL; /* an LCG step */
+        unsigned long long y = x >> 16;
+        for (size_t i = n - 6; i < n; i++, y /= 62)
+            o->tmp[i] = digits[y % 62];
+        int fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0 || errno != EEXIST) return fd;
+    }
+    return -1; /* errno EEXIST */
+}
+
 int tsc_out_open(tsc_out *o, const char *path, const char *what, int in_place)
 {
     struct stat st;
     o->path = path;
     o->what = what;
+    o->f = NULL;
+    o->tmp[0] = '\0';
     /* lstat: a symlink (/dev/stdout, a user's link) is written through, in
      * place; renaming a tmp file onto it would replace the link itself */
     o->direct = in_place || (lstat(path, &st) == 0 && !S_ISREG(st.st_mode));
-    if (strlen(path) > sizeof o->tmp - 5) {
+    if (strlen(path) > sizeof o->tmp - 8) {
         fprintf(stderr, "tanksim %s: %s: path too long\n", what, path);
         return -1;
     }
-    snprintf(o->tmp, sizeof o->tmp, "%s.tmp", path);
-    o->f = fopen(o->direct ? path : o->tmp, "w");
+    if (o->direct) {
+        o->f = fopen(path, "w");
+    } else {
+        /* a temporary of this run's own beside PATH: a fixed PATH.tmp was
+         * shared by two runs writing one output (the second truncated the
+         * first's, and one rename then failed) and clobbered a PATH.tmp of
+         * the user's, or wrote through a link of that name */
+        snprintf(o->tmp, sizeof o->tmp, "%s.XXXXXX", path);
+        int fd = create_tmp(o);
+        if (fd >= 0 && !(o->f = fdopen(fd, "w"))) {
+            int e = errno;
+            close(fd);
+            unlink(o->tmp);
+            errno = e;
+        }
+    }
     if (!o->f) {
         fprintf(stderr, "tanksim %s: cannot write %s: %s\n", what, path, strerror(errno));
         return -1;

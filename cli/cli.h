@@ -50,14 +50,16 @@ void tsc_print_err(const char *what, const ts_err *err);
 void tsc_print_config_err(const char *pointer, const char *msg);
 
 /* An output file written whole or not at all: a regular (or new) file is
- * written as PATH.tmp and renamed to PATH once complete, so a failure leaves
- * no empty or half file; anything else that exists (a device, a pipe, a
- * symlink) is written in place, through it (renaming onto it would replace
- * the device node or the link). Open it
- * before long work, so a bad path fails at once. */
+ * written as a temporary of its own beside it, PATH.XXXXXX (created new, with
+ * the mode a plain create gives: 0666 less the umask), and renamed to PATH
+ * once complete, so a failure leaves no empty or half file and two runs
+ * writing one PATH share no temporary; anything else that exists (a device, a
+ * pipe, a symlink) is written in place, through it (renaming onto it would
+ * replace the device node or the link). Open it before long work, so a bad
+ * path fails at once. */
 typedef struct tsc_out {
     FILE *f;
-    char tmp[1100];
+    char tmp[1100]; /* the temporary's name (not direct) */
     const char *path;
     const char *what; /* the command, for messages */
     int direct;       /* written in place: no tmp, no rename */

@@ -97,6 +97,59 @@ def test_engine_map_writes_through_a_symlink(tmp_path):
     assert not (tmp_path / "link.csv.json").exists()  # written in place: no sidecar
 
 
+def test_engine_map_temporary_is_its_own(tmp_path):
+    # the CSV and its sidecar were written as the fixed FILE.tmp and renamed: a
+    # FILE.tmp of the user's was overwritten and moved onto the output, and a
+    # link of that name was written through (and then itself renamed into place).
+    # Each output now gets a new temporary beside it (FILE.XXXXXX, O_EXCL)
+    cfg = mean_value_dyno(tmp_path)
+    (tmp_path / "m.csv.tmp").write_text("mine\n")
+    (tmp_path / "victim").write_text("victim\n")
+    os.symlink(tmp_path / "victim", tmp_path / "m.csv.json.tmp")
+    out = run("engine-map", str(cfg), "--out", str(tmp_path / "m.csv"))
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "m.csv.tmp").read_text() == "mine\n"
+    assert (tmp_path / "victim").read_text() == "victim\n"
+    assert os.path.islink(tmp_path / "m.csv.json.tmp")
+    assert not os.path.islink(tmp_path / "m.csv.json")
+    assert open(tmp_path / "m.csv").read().startswith("speed_rpm [rpm],")
+    assert json.load(open(tmp_path / "m.csv.json"))["kind"] == "engine_map"
+    assert sorted(os.listdir(tmp_path)) == ["cfg.json", "m.csv", "m.csv.json", "m.csv.json.tmp",
+                                            "m.csv.tmp", "victim"]  # no temporary left
+
+
+def test_engine_map_concurrent_writers_of_one_csv(tmp_path):
+    # two runs writing one --out shared FILE.tmp: the second truncated the first's
+    # file, and whichever renamed second found no FILE.tmp (exit 1). Both succeed
+    # now, and the CSV is one run's whole
+    cfg = mean_value_dyno(tmp_path)
+    procs = [subprocess.Popen([TANKSIM, "engine-map", str(cfg), "--out", str(tmp_path / "m.csv")],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+             for _ in range(2)]
+    for p in procs:
+        _, err = p.communicate(timeout=300)
+        assert p.returncode == 0, err
+    out = run("engine-map", str(cfg), "--out", str(tmp_path / "one.csv"))
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "m.csv").read_bytes() == (tmp_path / "one.csv").read_bytes()
+    assert sorted(os.listdir(tmp_path)) == ["cfg.json", "m.csv", "m.csv.json", "one.csv",
+                                            "one.csv.json"]
+
+
+def test_engine_map_output_mode_follows_the_umask(tmp_path):
+    # what a plain create gives (0666 less the umask), as before the temporaries:
+    # mkstemp's 0600 would make every output private
+    cfg = mean_value_dyno(tmp_path)
+    for umask, mode in ((0o022, 0o644), (0o077, 0o600), (0o002, 0o664)):
+        path = tmp_path / f"m{umask:o}.csv"
+        out = subprocess.run([TANKSIM, "engine-map", str(cfg), "--out", str(path)],
+                             capture_output=True, text=True, timeout=300,
+                             preexec_fn=lambda u=umask: os.umask(u))
+        assert out.returncode == 0, out.stderr
+        for f in (path, tmp_path / (path.name + ".json")):
+            assert os.stat(f).st_mode & 0o777 == mode, (f, oct(os.stat(f).st_mode), oct(umask))
+
+
 def test_engine_map_needs_out(tmp_path):
     out = run("engine-map", "--preset", "engine-map-conventional")
     assert out.returncode == 2 and "--out" in out.stderr
