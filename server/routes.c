@@ -223,13 +223,32 @@ static const char *list_item(const char *p, size_t *len)
     return p;
 }
 
-/* q of media type `type` in an Accept header (RFC 9110 section 12.5.1): its
- * own entry, else its major type with subtype "*", else the all-types range
- * (most specific wins; exact_only: its own entry only); -1 when none names it. */
-static double accept_q(const char *accept, const char *type, int exact_only)
+/* The qvalue of len bytes at s in thousandths (RFC 9110 section 12.4.2:
+ * "0" ["." 0*3DIGIT] / "1" ["." 0*3("0")]), or -1 when it is not one. A bare
+ * strtod read "0.5x" as 0.5, "2" and "1e0" as weights, "0x1" as 1 and "nan". */
+static int qvalue(const char *s, size_t len)
 {
-    double best = -1;
-    int best_spec = -1;
+    if (len == 0 || (s[0] != '0' && s[0] != '1')) return -1;
+    int q = (s[0] - '0') * 1000;
+    if (len == 1) return q;
+    if (s[1] != '.' || len > 5) return -1;
+    for (size_t i = 2, scale = 100; i < len; i++, scale /= 10) {
+        if (s[i] < '0' || s[i] > '9') return -1;
+        q += (s[i] - '0') * (int)scale;
+    }
+    return q <= 1000 ? q : -1;
+}
+
+/* q (in thousandths) of media type `type` in an Accept header (RFC 9110
+ * section 12.5.1): its own entry, else its major type with subtype "*", else
+ * the all-types range (most specific wins; exact_only: its own entry only); -1
+ * when none names it. A range whose q parameter is not a qvalue is left out,
+ * as if not sent: the daemon answers what no range accepts with its default
+ * representation rather than 406 (section 12.5.1 allows either), so a range it
+ * cannot read is disregarded the same way, not refused with a 400. */
+static int accept_q(const char *accept, const char *type, int exact_only)
+{
+    int best = -1, best_spec = -1;
     size_t major = strcspn(type, "/"), item;
     for (const char *p = accept; (p = list_item(p, &item)); p += item) {
         const char *e = p + item, *semi = memchr(p, ';', item);
@@ -244,16 +263,20 @@ static double accept_q(const char *accept, const char *type, int exact_only)
             spec = 1;
         else if (!exact_only && len == 3 && strncmp(p, "*/*", 3) == 0)
             spec = 0;
-        if (spec > best_spec) {
-            double q = 1;
-            for (const char *a = semi; a && a < e; a = memchr(a + 1, ';', (size_t)(e - a - 1))) {
-                const char *k = a + 1;
-                while (*k == ' ' || *k == '\t')
-                    k++;
-                if ((k[0] == 'q' || k[0] == 'Q') && k[1] == '=') q = strtod(k + 2, NULL);
-            }
-            best = q, best_spec = spec;
+        if (spec <= best_spec) continue;
+        int q = 1000;
+        for (const char *a = semi; a && a < e && q >= 0;
+             a = memchr(a + 1, ';', (size_t)(e - a - 1))) {
+            const char *k = a + 1, *end = memchr(k, ';', (size_t)(e - k));
+            while (k < e && (*k == ' ' || *k == '\t'))
+                k++;
+            if (!end) end = e;
+            while (end > k && (end[-1] == ' ' || end[-1] == '\t'))
+                end--;
+            if (end - k >= 2 && (k[0] == 'q' || k[0] == 'Q') && k[1] == '=')
+                q = qvalue(k + 2, (size_t)(end - k - 2));
         }
+        if (q >= 0) best = q, best_spec = spec;
     }
     return best;
 }
@@ -264,7 +287,7 @@ static double accept_q(const char *accept, const char *type, int exact_only)
 static int accept_prefers(const char *accept, const char *alt, const char *base)
 {
     if (!accept) return 0;
-    double qa = accept_q(accept, alt, 1), qb = accept_q(accept, base, 0);
+    int qa = accept_q(accept, alt, 1), qb = accept_q(accept, base, 0);
     return qa > 0 && qa >= qb;
 }
 
