@@ -81,7 +81,7 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
 {
     ts_config c = *cfg;
     const ts_control_config *cc = &cfg->control;
-    if (cc->tune_window % 2 == 0) /* before the runs, naming the field */
+    if (!ts_zn_window_centred(cc->tune_window)) /* before the runs, naming the field */
         return ts_err_set(err, TS_ERR_PARAM, "/control/tune_window",
                           "/control/tune_window: the slope window is centred on a sample, so an "
                           "odd number of samples; got %d",
@@ -152,7 +152,7 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
     out->vb = s.v[s.n - 1];
     out->final_slope = tail_slope(&s, cc->tune_settle);
     if (!(out->vb - out->v0 > 0)) {
-        rc = ts_err_set(err, TS_ERR_PARAM, "/control/tune_rack_low",
+        rc = ts_err_set(err, TS_ERR_RANGE, "/control/tune_rack_low",
                         "/control/tune_rack_low: full rack is not faster than the low rack "
                         "(v0 = %g, vb = %g m/s)",
                         out->v0, out->vb);

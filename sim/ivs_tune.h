@@ -34,7 +34,11 @@ typedef struct ts_ivs_tune_result {
  * (how steady they are), zn the reaction curve (t_inflection measured from the
  * start of the settle), kp = zn.kp_norm in rack per m/s (Eq. 11 scalings).
  * Errors: the model's (config pointer and message); TS_ERR_PARAM at
- * /control/tune_rack_low when full rack is not faster than the low rack;
+ * /control/tune_window when it is even; TS_ERR_RANGE (a value in its range
+ * that does not work for this plant) at /control/tune_rack_low when the low
+ * rack rolls the vehicle backwards or full rack is not faster, at
+ * /control/tune_settle when the settle gives fewer than two samples, and at
+ * /control/tune_settle or tune_duration when either speed is not steady;
  * ts_zn_reaction_curve's when the response is not S-shaped; TS_ERR_NOMEM. */
 ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err);
 

@@ -5,11 +5,16 @@
 
 #include <math.h>
 
+int ts_zn_window_centred(int window)
+{
+    return window % 2 != 0;
+}
+
 ts_rc ts_zn_reaction_curve(const double *t, const double *v, int n, double t_step, int window,
                            double ti_factor, ts_zn_result *out, ts_err *err)
 {
     if (n < 5) return ts_err_set(err, TS_ERR_PARAM, NULL, "step response: need >= 5 samples");
-    if (window < 3 || window % 2 == 0 || window > n)
+    if (window < 3 || !ts_zn_window_centred(window) || window > n)
         return ts_err_set(err, TS_ERR_PARAM, NULL, "step response: window must be odd, 3..n");
     if (!(ti_factor > 0)) return ts_err_set(err, TS_ERR_PARAM, NULL, "ti_factor must be > 0");
     int h = window / 2;

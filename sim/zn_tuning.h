@@ -34,6 +34,10 @@ typedef struct ts_zn_result {
 ts_rc ts_zn_reaction_curve(const double *t, const double *v, int n, double t_step, int window,
                            double ti_factor, ts_zn_result *out, ts_err *err);
 
+/* 1 when a slope window of `window` samples is centred on one (odd): the
+ * rule ts_zn_reaction_curve applies, and ts_ivs_tune before its runs. */
+int ts_zn_window_centred(int window);
+
 /* Normalised K_p to physical gain [rack per (m/s)], Eq. 11 scalings. */
 double ts_zn_kp_physical(double kp_norm, double rack0, double rack_b, double v0, double v_b);
 

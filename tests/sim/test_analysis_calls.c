@@ -324,6 +324,31 @@ static void ivs_tune_needs_a_settle(void **state)
     assert_string_equal(err.pointer, "/control/tune_settle");
 }
 
+/* The two refusals of /control/tune_rack_low are one kind of input (a value
+ * in its range that does not work for this plant, as the unsteady settle or
+ * step) and carry one code, TS_ERR_RANGE: "not faster" was TS_ERR_PARAM. At
+ * grade 0.2 and full rack from rest the speed overshoots: 5.60 m/s at 15 s,
+ * 5.45 m/s one second later, so a full-rack "step" is slower. */
+static void ivs_tune_rack_low_refusals_share_a_code(void **state)
+{
+    (void)state;
+    ts_config cfg = load("bump-coupled-ivs5mph");
+    ts_ivs_tune_result o;
+    ts_err err;
+    cfg.vehicle.grade = 0.6; /* rolls backwards at the low rack */
+    assert_int_equal(ts_ivs_tune(&cfg, &o, &err), TS_ERR_RANGE);
+    assert_string_equal(err.pointer, "/control/tune_rack_low");
+    assert_non_null(strstr(err.msg, "rolls backwards"));
+    cfg.vehicle.grade = 0.2;
+    cfg.control.tune_rack_low = 1.0;
+    cfg.control.tune_settle = 15.0;
+    cfg.control.tune_duration = 1.0;
+    assert_int_equal(ts_ivs_tune(&cfg, &o, &err), TS_ERR_RANGE);
+    assert_string_equal(err.pointer, "/control/tune_rack_low");
+    assert_non_null(strstr(err.msg, "not faster"));
+    assert_true(o.vb < o.v0 - 0.05); /* slower by a margin, not by round-off */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -335,6 +360,7 @@ int main(void)
         cmocka_unit_test(tune_document_and_progress),
         cmocka_unit_test(tune_rejects_bad_schedule),
         cmocka_unit_test(ivs_tune_needs_a_settle),
+        cmocka_unit_test(ivs_tune_rack_low_refusals_share_a_code),
         cmocka_unit_test(schedule_parse),
         cmocka_unit_test(sweep_validates_config),
     };

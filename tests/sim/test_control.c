@@ -128,6 +128,10 @@ static void zn_two_lag_inflection(void **state)
     /* a response that never rises is an error, not a number */
     for (int i = 0; i < N; i++) v[i] = 0;
     assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 11, 3.0, &r, &err), TS_ERR_STATE);
+    /* the window is centred on a sample (ts_zn_window_centred, which
+     * ts_ivs_tune also applies to /control/tune_window): an even one is refused */
+    assert_true(ts_zn_window_centred(11) && !ts_zn_window_centred(10));
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 10, 3.0, &r, &err), TS_ERR_PARAM);
 }
 
 /* ---- co-simulation on a linear two-inertia drive ------------------------ */
