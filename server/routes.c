@@ -722,27 +722,26 @@ static enum MHD_Result get_stream(tsd_request *r)
     return tsd_stream_reply(r, s, q.idx, q.n, since, ndjson);
 }
 
-/* /fft's window and detrend: the query word, its sim/fft.h value, how the
- * answer names it (NULL: the word). */
+/* /fft's window and detrend words, each at its sim/fft.h value (ts_fft_window,
+ * ts_fft_detrend), and how the answer names it (label NULL: the word). */
 typedef struct fft_word {
-    const char *word;
-    int value;
-    const char *label;
+    const char *word, *label;
 } fft_word;
 static const fft_word fft_windows[] = {
-    {"rect", TS_FFT_RECT, NULL}, {"hann", TS_FFT_HANN, NULL}, {NULL, 0, NULL}};
-static const fft_word fft_detrends[] = {{"none", TS_FFT_NONE, NULL},
-                                        {"mean", TS_FFT_MEAN, "mean removed"},
-                                        {"linear", TS_FFT_LINEAR, "line removed"},
-                                        {NULL, 0, NULL}};
+    [TS_FFT_RECT] = {"rect", NULL}, [TS_FFT_HANN] = {"hann", NULL}, {NULL, NULL}};
+static const fft_word fft_detrends[] = {[TS_FFT_NONE] = {"none", NULL},
+                                        [TS_FFT_MEAN] = {"mean", "mean removed"},
+                                        [TS_FFT_LINEAR] = {"linear", "line removed"},
+                                        {NULL, NULL}};
 
-/* The entry named s (list ended by a NULL word), list[dflt] when s is NULL, NULL when unknown. */
-static const fft_word *fft_word_of(const char *s, const fft_word *list, int dflt)
+/* The index (sim/fft.h value) of the word s in list (ended by a NULL word),
+ * dflt when s is NULL, -1 when unknown. */
+static int fft_word_of(const char *s, const fft_word *list, int dflt)
 {
-    if (!s) return &list[dflt];
-    for (; list->word; list++)
-        if (strcmp(s, list->word) == 0) return list;
-    return NULL;
+    if (!s) return dflt;
+    for (int i = 0; list[i].word; i++)
+        if (strcmp(s, list[i].word) == 0) return i;
+    return -1;
 }
 
 static const char *fft_label(const fft_word *w)
@@ -776,11 +775,12 @@ static enum MHD_Result get_fft(tsd_request *r)
     }
     if (strchr(ch, ',')) return bad_param(r, "channel", "exactly one channel name", ch);
     const char *wn = tsd_arg(r, "window"), *dn = tsd_arg(r, "detrend");
-    const fft_word *win = fft_word_of(wn, fft_windows, 0), *det = fft_word_of(dn, fft_detrends, 1);
+    int win = fft_word_of(wn, fft_windows, TS_FFT_RECT);
+    int det = fft_word_of(dn, fft_detrends, TS_FFT_MEAN);
     char expected[64];
-    if (!win)
+    if (win < 0)
         return bad_param(r, "window", fft_expected(fft_windows, expected, sizeof expected), wn);
-    if (!det)
+    if (det < 0)
         return bad_param(r, "detrend", fft_expected(fft_detrends, expected, sizeof expected), dn);
     range_q q;
     if (parse_range(r, s, "channel", ch, &q, &ret) < 0) return ret;
@@ -816,8 +816,8 @@ static enum MHD_Result get_fft(tsd_request *r)
         for (long k = 0; k < n; k++)
             x[k] = rows[(size_t)k * (size_t)s->nch + (size_t)c];
         pthread_mutex_lock(&r->srv->fft_lock);
-        rc = tsa_amplitude_spectrum(x, n, 1.0 / s->ch.view.period, (ts_fft_detrend)det->value,
-                                    (ts_fft_window)win->value, freq, amp, &e);
+        rc = tsa_amplitude_spectrum(x, n, 1.0 / s->ch.view.period, (ts_fft_detrend)det,
+                                    (ts_fft_window)win, freq, amp, &e);
         pthread_mutex_unlock(&r->srv->fft_lock);
     }
     json_t *out = NULL;
@@ -832,7 +832,8 @@ static enum MHD_Result get_fft(tsd_request *r)
                         "channel", chn->name, "unit", chn->unit, "from",
                         (double)q.from * s->ch.view.period, "to", (double)q.to * s->ch.view.period,
                         "n", (json_int_t)n, "df", 1.0 / ((double)n * s->ch.view.period), "detrend",
-                        fft_label(det), "window", fft_label(win), "frequency", fa, "amplitude", aa);
+                        fft_label(&fft_detrends[det]), "window", fft_label(&fft_windows[win]),
+                        "frequency", fa, "amplitude", aa);
         /* units of every number above: "unit" is the amplitude's (the channel's) */
         json_object_set_new(out, "units",
                             json_pack("{s:s,s:s,s:s,s:s,s:s}", "frequency", "Hz", "df", "Hz",

@@ -348,6 +348,40 @@ def test_fft_amplitude_spectrum(daemon):
     is_problem(requests.get(daemon.url + s["links"]["fft"]), 400, "/channel")
 
 
+def test_fft_window_and_detrend_words(daemon):
+    # each query word picks its sim/fft.h window or detrend and is named back
+    # (api: "mean removed", "line removed"); the defaults are rect and mean;
+    # an unknown word is a 400 listing the words (server/routes.c fft_windows,
+    # fft_detrends)
+    s = create(daemon)
+    requests.post(daemon.url + s["links"]["step"], json={"duration": 1.0})
+    url = daemon.url + s["links"]["fft"]
+
+    def fft(**words):
+        r = requests.get(url, params={"channel": "vehicle.speed", **words})
+        assert r.status_code == 200, r.text
+        return r.json()
+
+    got = {(w, d): fft(window=w, detrend=d) for w in ("rect", "hann")
+           for d in ("none", "mean", "linear")}
+    for (w, d), f in got.items():
+        assert f["window"] == w
+        assert f["detrend"] == {"none": "none", "mean": "mean removed",
+                                "linear": "line removed"}[d]
+    # the speed's mean stays at 0 Hz without detrend (rect: removed exactly)
+    assert got[("rect", "mean")]["amplitude"][0] == pytest.approx(0, abs=1e-12)
+    for w in ("rect", "hann"):
+        assert got[(w, "none")]["amplitude"][0] > 10 * got[(w, "mean")]["amplitude"][0]
+        assert got[(w, "linear")]["amplitude"][1] != got[(w, "mean")]["amplitude"][1]
+    for d in ("none", "mean", "linear"):  # the window changes the spectrum
+        assert got[("rect", d)]["amplitude"][2] != got[("hann", d)]["amplitude"][2]
+    assert fft() == got[("rect", "mean")]
+    p = is_problem(requests.get(url, params={"channel": "t", "window": "kaiser"}), 400, "/window")
+    assert "rect or hann expected" in p["detail"], p
+    p = is_problem(requests.get(url, params={"channel": "t", "detrend": "cubic"}), 400, "/detrend")
+    assert "none, mean or linear expected" in p["detail"], p
+
+
 def test_list_sessions_paged(daemon):
     ids = {create(daemon)["id"] for _ in range(5)}
     seen, token = [], None
