@@ -82,10 +82,18 @@ static const struct {
 };
 #define NSPOOL_COLUMN ((int)(sizeof spool_columns / sizeof spool_columns[0]))
 
-/* --spool: crank-angle spool-up transients at held speed (see the header), as CSV rows into f. */
+#define NSPOOL_SPEED ((SPOOL_RPM_HI - SPOOL_RPM_LO) / SPOOL_RPM_STEP + 1)
+
+/* --spool: crank-angle spool-up transients at held speed (see the header), as
+ * CSV rows into f. Progress through cli.h's tsc_progress, as run's and tune's:
+ * a line per spool-up done after the first 2 s (the crank-angle spool-ups take
+ * ~1 s each; the other fidelities are done before then), the last one always
+ * once lines were shown. Nothing reads these lines (the sweep's are read). */
 static int spool(const ts_engine *e, const ts_config *cfg, FILE *f)
 {
     ts_err err;
+    tsc_progress prog;
+    tsc_progress_start(&prog, "engine-map", 0);
     size_t nx = (size_t)ts_engine_nstate(e);
     double *x0 = calloc(nx, sizeof *x0), *x = calloc(nx, sizeof *x);
     double *work = malloc(sizeof(double) * ts_engine_work_size(e));
@@ -113,6 +121,7 @@ static int spool(const ts_engine *e, const ts_config *cfg, FILE *f)
         while (t < SPOOL_TIME) {
             ts_engine_cycle c;
             if (ts_engine_cycle_run(e, x, &in, work, &c, &err) != TS_OK) {
+                tsc_progress_end(&prog); /* a redrawn line ends before the error */
                 tsc_print_err("engine-map", &err);
                 goto done;
             }
@@ -139,8 +148,13 @@ static int spool(const ts_engine *e, const ts_config *cfg, FILE *f)
             }
             fputc('\n', f);
         }
-        fprintf(stderr, "  spool %4d rpm done\n", rpm);
+        int k = (rpm - SPOOL_RPM_LO) / SPOOL_RPM_STEP + 1;
+        double wall;
+        if (tsc_progress_due(&prog, &wall) || (k == NSPOOL_SPEED && prog.shown))
+            tsc_progress_say(&prog, "spool-up at %d rpm done (%d of %d), %.0f %%, %.1f s wall", rpm,
+                             k, NSPOOL_SPEED, 100.0 * k / NSPOOL_SPEED, wall);
     }
+    tsc_progress_end(&prog);
     rc = TSC_EXIT_OK;
 done:
     free(x0);
@@ -149,7 +163,13 @@ done:
     return rc;
 }
 
-/* ts_progress_fn of the sweep: one line per speed on stderr, from rated down. */
+/* ts_progress_fn of the sweep: one line per speed on stderr, from rated down.
+ * Not through tsc_progress: these lines are the map's results as they come
+ * (speed, torque, power: a table on a terminal), every one of them printed
+ * at once, and tools/wastegate_sweep.py reads the first (rated power) and
+ * stops the run there. The helper would hold the first 2 s back (the whole
+ * mean-value sweep, most of a crank-angle one), print rows only as due and
+ * redraw them over each other on a terminal. */
 static int sweep_progress(void *ud, int done, int total)
 {
     const ts_engine_cycle *rows = ud;

@@ -248,6 +248,14 @@ def value(text):
 def main():
     global CAL
     args = sys.argv[1:]
+    if "-h" in args or "--help" in args:
+        print(__doc__)
+        return
+    bad = [a for i, a in enumerate(args) if "=" not in a and a != "--table2" and a != "--cal"
+           and (i == 0 or args[i - 1] != "--cal")]
+    if bad or args[-1:] == ["--cal"]:
+        sys.exit("wastegate_sweep.py: KEY=VALUE, --cal KEY or --table2 expected, got %s "
+                 "(--help)" % (" ".join(bad) or "--cal without a KEY"))
     if "--cal" in args:
         i = args.index("--cal")
         CAL = args[i + 1]

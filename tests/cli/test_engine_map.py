@@ -198,6 +198,22 @@ def test_engine_map_spool_rows(tmp_path):
         assert cyc[0]["boost"] < 1.3e5 < 3e5 < cyc[-1]["boost"]
 
 
+def test_engine_map_spool_progress_is_the_shared_helpers(tmp_path):
+    # the spool-ups printed "  spool 1600 rpm done" themselves; they report through
+    # cli.h's tsc_progress now, as run and tune do: "tanksim engine-map: ..." lines
+    # after the first 2 s, the last always once any was shown. The crank-angle
+    # spool-ups (tools/engine_maps.py's) take ~1 s each here, 8 to 12 s in all
+    out = run("engine-map", "--preset", "engine-map-conventional",
+              "--spool", str(tmp_path / "spool.csv"))
+    assert out.returncode == 0, out.stderr
+    lines = out.stderr.splitlines()
+    assert lines and all(l.startswith("tanksim engine-map: spool-up at ") for l in lines), lines
+    done = [int(l.split("(")[1].split(" of ")[0]) for l in lines]
+    assert done == sorted(set(done)) and done[-1] == 8, lines
+    assert lines[-1].startswith("tanksim engine-map: spool-up at 2200 rpm done (8 of 8), 100 %, ")
+    assert lines[-1].endswith(" s wall"), lines
+
+
 def test_engine_map_spool_leaves_unmodelled_cells_empty(tmp_path):
     # the map fidelity has no eta_v / eta_i / q_wall: empty cells, as in the map's
     # CSV (the spool rows printed "nan" until session 21)
