@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -194,6 +195,45 @@ int tsc_load_config(int argc, char **argv, ts_config *cfg, json_t **resolved)
     return rc == TS_OK ? TSC_EXIT_OK : TSC_EXIT_FAIL;
 }
 
+/* The temporaries now open, for on_kill_signal: a run killed by SIGINT,
+ * SIGTERM or SIGHUP removes them (each name is unique, so no later run would
+ * reuse and replace one). Process-wide by nature: signals are. */
+#define TMP_SLOTS 4
+static const char *volatile live_tmp[TMP_SLOTS];
+
+static void on_kill_signal(int sig)
+{
+    for (int i = 0; i < TMP_SLOTS; i++)
+        if (live_tmp[i]) unlink(live_tmp[i]);
+    signal(sig, SIG_DFL); /* then die of it as before (async-signal-safe calls only) */
+    raise(sig);
+}
+
+/* Register (on != 0) or drop o->tmp; the handler goes on the signals still
+ * at their default action at the first registration (a command's own
+ * handler, as run's, is left in place). */
+static void track_tmp(tsc_out *o, int on)
+{
+    static int installed;
+    if (on && !installed) {
+        installed = 1;
+        const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+        for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
+            struct sigaction old, sa;
+            if (sigaction(sigs[i], NULL, &old) != 0 || old.sa_handler != SIG_DFL) continue;
+            memset(&sa, 0, sizeof sa);
+            sa.sa_handler = on_kill_signal;
+            sigemptyset(&sa.sa_mask);
+            sigaction(sigs[i], &sa, NULL);
+        }
+    }
+    for (int i = 0; i < TMP_SLOTS; i++)
+        if (on ? !live_tmp[i] : live_tmp[i] == o->tmp) {
+            live_tmp[i] = on ? o->tmp : NULL;
+            return;
+        }
+}
+
 /* Create o->tmp as "PATH.XXXXXX" (6 characters from [0-9A-Za-z]) with
  * O_CREAT | O_EXCL and mode 0666, so the umask (and a default ACL) applies as
  * to a plain fopen(PATH, "w"): mkstemp's 0600 would make outputs private. A
@@ -241,10 +281,20 @@ int tsc_out_open(tsc_out *o, const char *path, const char *what, int in_place)
          * the user's, or wrote through a link of that name */
         snprintf(o->tmp, sizeof o->tmp, "%s.XXXXXX", path);
         int fd = create_tmp(o);
+        if (fd < 0 && errno == ENAMETOOLONG) {
+            /* PATH's name is within 6 bytes of the file-name limit: a short
+             * hidden name in the same directory (rename stays within it) */
+            const char *slash = strrchr(path, '/');
+            int dir = slash ? (int)(slash - path + 1) : 0;
+            snprintf(o->tmp, sizeof o->tmp, "%.*s.tanksim-XXXXXX", dir, path);
+            fd = create_tmp(o);
+        }
+        if (fd >= 0) track_tmp(o, 1);
         if (fd >= 0 && !(o->f = fdopen(fd, "w"))) {
             int e = errno;
             close(fd);
             unlink(o->tmp);
+            track_tmp(o, 0);
             errno = e;
         }
     }
@@ -270,12 +320,18 @@ int tsc_out_close(tsc_out *o, int complete)
     errno = 0;
     if (fclose(o->f) != 0) bad = 1;
     o->f = NULL;
-    if (complete && !bad && (o->direct || rename(o->tmp, o->path) == 0)) return TSC_EXIT_OK;
+    if (complete && !bad && (o->direct || rename(o->tmp, o->path) == 0)) {
+        if (!o->direct) track_tmp(o, 0);
+        return TSC_EXIT_OK;
+    }
     if (complete) {
         int e = errno;
         fprintf(stderr, "tanksim %s: cannot write %s: %s\n", o->what, o->path,
                 e ? strerror(e) : "a write failed (a full disk or an I/O error)");
     }
-    if (!o->direct) unlink(o->tmp);
+    if (!o->direct) {
+        unlink(o->tmp);
+        track_tmp(o, 0);
+    }
     return TSC_EXIT_FAIL;
 }

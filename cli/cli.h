@@ -56,7 +56,10 @@ void tsc_print_config_err(const char *pointer, const char *msg);
  * writing one PATH share no temporary; anything else that exists (a device, a
  * pipe, a symlink) is written in place, through it (renaming onto it would
  * replace the device node or the link). Open it before long work, so a bad
- * path fails at once. */
+ * path fails at once. A name within 6 bytes of the file-name limit gets the
+ * temporary DIR/.tanksim-XXXXXX instead; SIGINT, SIGTERM or SIGHUP (where the
+ * command has no handler of its own) removes the open temporaries and ends
+ * the process as the signal would. */
 typedef struct tsc_out {
     FILE *f;
     char tmp[1100]; /* the temporary's name (not direct) */

@@ -4,7 +4,9 @@ presets run as engine_dyno scenarios with crank-angle cylinder channels."""
 import csv
 import json
 import os
+import signal
 import subprocess
+import time
 
 from conftest import TANKSIM
 
@@ -134,6 +136,35 @@ def test_engine_map_concurrent_writers_of_one_csv(tmp_path):
     assert (tmp_path / "m.csv").read_bytes() == (tmp_path / "one.csv").read_bytes()
     assert sorted(os.listdir(tmp_path)) == ["cfg.json", "m.csv", "m.csv.json", "one.csv",
                                             "one.csv.json"]
+
+
+def test_engine_map_name_near_the_limit(tmp_path):
+    # PATH.XXXXXX is 3 bytes longer than the former PATH.tmp: a CSV named with
+    # 250 bytes (its sidecar 255, the limit) got "File name too long". Such
+    # names take a short hidden temporary in the same directory
+    cfg = mean_value_dyno(tmp_path)
+    name = "m" * 246 + ".csv"
+    out = run("engine-map", str(cfg), "--out", str(tmp_path / name))
+    assert out.returncode == 0, out.stderr
+    assert open(tmp_path / name).read().startswith("speed_rpm [rpm],")
+    assert json.load(open(tmp_path / (name + ".json")))["kind"] == "engine_map"
+    assert sorted(os.listdir(tmp_path)) == sorted(["cfg.json", name, name + ".json"])
+
+
+def test_engine_map_killed_leaves_no_temporary(tmp_path):
+    # each temporary has a name of its own, so one a killed run left would never
+    # be reused and replaced: SIGTERM (or SIGINT, SIGHUP) removes them, and the
+    # process still ends by that signal
+    cfg = mean_value_dyno(tmp_path)
+    p = subprocess.Popen([TANKSIM, "engine-map", str(cfg), "--out", str(tmp_path / "m.csv")],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 60
+    while not [n for n in os.listdir(tmp_path) if n.startswith("m.csv.")]:
+        assert p.poll() is None and time.monotonic() < deadline, "no temporary appeared"
+        time.sleep(0.005)
+    p.send_signal(signal.SIGTERM)
+    assert p.wait(timeout=60) == -signal.SIGTERM
+    assert os.listdir(tmp_path) == ["cfg.json"]
 
 
 def test_engine_map_output_mode_follows_the_umask(tmp_path):
