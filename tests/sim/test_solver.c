@@ -99,6 +99,43 @@ static void half_size_solve_matches_full_lu(void **state)
     assert_close(z[0], (1 - 1.0 / 49) * exp(-25.0) + exp(-0.5) / 49, 1e-6, 1e-12);
 }
 
+/* The damped chain whose x1' gains a -300 x1 term from t = 0.3 on: from then
+ * on the top-left block of J (d x1' / d x1) is nonzero, so the system no
+ * longer has the second-order form the Schur solve needs. */
+static int chain_losing_form(double t, const double *y, double *yd, void *ud)
+{
+    chain(t, y, yd, ud);
+    if (t >= 0.3) yd[0] -= 300 * y[0];
+    return 0;
+}
+
+/* EVIDENCE: the Schur solver decides "second-order form or full LU" once per
+ * Jacobian (c->checked) and must decide again each time schur_linsys rewrites
+ * J (the c->checked = 0 reset there). Every other Jacobian in this file has
+ * one structure for the whole run, so a missing reset would go unseen; here J
+ * changes structure at t = 0.3 and the Schur run must still solve the same
+ * Newton systems as the full LU: the same state (1e-6 relative) and the same
+ * step and Newton-iteration counts (1 %) over 1 s. Without the reset the
+ * run keeps the Schur solve with the now nonzero block ignored: measured
+ * 1686 steps vs 1643 (+2.6 %), 1837 Newton iterations vs 1768 (+3.9 %),
+ * 8 convergence failures vs 1 (with the reset the counts are equal). Over
+ * 1.5 s the mutant's counts come back within 1 % (+0.3 %, +0.9 %), hence 1 s. */
+static void schur_rechecks_structure_when_jacobian_changes(void **state)
+{
+    (void)state;
+    double y0[N] = {0.01, -0.02, 0.1, 0}, a[N], b[N];
+    ts_ode_stats sa, sb;
+    run(N, chain_losing_form, (void *)1, 0, y0, 1.0, a, &sa);
+    run(N, chain_losing_form, (void *)1, 1, y0, 1.0, b, &sb);
+    for (int i = 0; i < N; i++)
+        assert_close(b[i], a[i], 1e-6, 1e-10);
+    printf("# full LU: %ld steps %ld Newton iterations %ld convergence failures; "
+           "half-size: %ld, %ld, %ld\n",
+           sa.steps, sa.nonlin_iters, sa.nonlin_fails, sb.steps, sb.nonlin_iters, sb.nonlin_fails);
+    assert_close((double)sb.steps, (double)sa.steps, 0.01, 0);
+    assert_close((double)sb.nonlin_iters, (double)sa.nonlin_iters, 0.01, 0);
+}
+
 /* Roots: x1 of the undamped chain from rest at x1 = 0.01 first crosses zero
  * before a quarter of the slowest period and after a quarter of the fastest. */
 static int root_x1(double t, const double *y, double *g, void *ud)
@@ -323,6 +360,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(oscillator_conserves_energy),
         cmocka_unit_test(half_size_solve_matches_full_lu),
+        cmocka_unit_test(schur_rechecks_structure_when_jacobian_changes),
         cmocka_unit_test(root_is_found_and_reported),
         cmocka_unit_test(stop_time_is_never_passed),
         cmocka_unit_test(small_dense_and_jacobian_reuse_match_default),
