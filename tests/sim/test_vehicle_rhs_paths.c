@@ -101,11 +101,21 @@ static void factor_reuse_coupled(void **state)
     factor_reuse_is_exact("bump-prescribed-coupled");
 }
 
+/* q's indices (vehicle_model.h): theta, and the sprocket's spin (the first
+ * of the spins, after x, z, theta and the road-arm angles). */
+enum { Q_THETA = 2, Q_SPROCKET_SPIN = 3 + VM_NRW + VM_SPROCKET };
+
 /* vm_rhs's accelerations, whose factorisation looks only at the rows
  * mass_structure listed, against the full-scan ts_chol_factor_rev of
  * vm_mass's M with vm_forces's Q, at states well off the equilibrium (arms,
  * pitch and modes moved): identical bits, so no write to M lies outside the
- * structure. fidelity NULL: the preset's; comp: /vehicle/idler_compensation. */
+ * structure. The same for vm_rhs_torque with an extra sprocket inertia, the
+ * one write to M outside forces (rhs_cached: the pair theta, sprocket spin;
+ * vm_rhs never makes it, so without this a structure missing that pair went
+ * unseen; the fidelities without spans have no other write to that pair):
+ * M and Q get the inertia and the torque as rhs_cached adds them, same
+ * entries, same order (the factor reads M's lower triangle alone).
+ * fidelity NULL: the preset's; comp: /vehicle/idler_compensation. */
 static void structure_covers(const char *preset, const char *fidelity, double comp)
 {
     ts_config c = test_preset_config(preset, fidelity);
@@ -126,6 +136,21 @@ static void structure_covers(const char *preset, const char *fidelity, double co
         assert_int_equal(vm_rhs(v, w, 0.1, y, yd, NULL), 0);
         vm_forces(v, w, 0.1, y, 1, Q);
         vm_mass(v, w, y, M);
+        assert_int_equal(ts_chol_factor_rev(M, nq, pat), 0);
+        ts_chol_solve_rev(M, nq, pat, Q);
+        assert_memory_equal(yd + nq, Q, sizeof(double) * (size_t)nq);
+
+        /* another inertia than vm_rhs's 0: no factor reuse, M factored anew */
+        const double torque = 4000.0, inertia = 2.5;
+        const int is = Q_SPROCKET_SPIN;
+        assert_int_equal(vm_rhs_torque(v, w, 0.1, y, torque, inertia, yd, NULL), 0);
+        vm_forces(v, w, 0.1, y, 0, Q);
+        Q[is] += torque;
+        Q[Q_THETA] -= torque;
+        vm_mass(v, w, y, M);
+        M[is * nq + is] += inertia;
+        M[Q_THETA * nq + Q_THETA] += inertia;
+        M[is * nq + Q_THETA] -= inertia;
         assert_int_equal(ts_chol_factor_rev(M, nq, pat), 0);
         ts_chol_solve_rev(M, nq, pat, Q);
         assert_memory_equal(yd + nq, Q, sizeof(double) * (size_t)nq);
