@@ -327,6 +327,7 @@ void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double
         double R = e->gas.r_a;
         xb[BX_ICT] = T_amb;
         xb[BX_ICM] = p_amb * e->c.ic_volume / (R * T_amb);
+        xb[BX_ICF] = 0.0;
         xb[BX_IMT] = T_amb;
         xb[BX_IMM] = p_amb * e->c.intake_volume / (R * T_amb);
         xb[BX_IMF] = 0.0;

@@ -13,10 +13,10 @@
  *   crank_angle  twelve 0-D cylinders, valves, Watson burning, K-k heat
  *                transfer, layered walls, two turbo banks with intercoolers and
  *                filling-and-emptying manifolds, Millington-Hartles friction,
- *                crank-angle-varying inertia (510 states). ts_engine_advance
+ *                crank-angle-varying inertia (512 states). ts_engine_advance
  *                integrates it with an error-controlled MULTIRATE scheme at
  *                ~12-17x real time at rated (2 cores shared; bench_engine);
- *                a caller's RK4 of all 510 states at the 0.5-deg
+ *                a caller's RK4 of all 512 states at the 0.5-deg
  *                /engine/ca_step costs ~10x more, CVODE ~100x more again. A
  *                caller that integrates a powertrain around the engine
  *                should co-simulate it with ts_engine_advance_load.
@@ -145,7 +145,7 @@ int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine
  * /engine/ca_step / 4 and 8 x ca_step; every second step each wall stack
  * by one implicit Crank-Nicolson step with the mean heat flux of those steps.
  * Agrees with an RK4 of
- * all 510 states at ca_step within 0.3 % in torque, work and heat per cycle
+ * all 512 states at ca_step within 0.3 % in torque, work and heat per cycle
  * (closer to the converged solution than that RK4: tests/sim/
  * test_engine_regression.c, report of issue 6/10). work:
  * ts_engine_work_size(e) doubles owned by the caller (scratch: the result
@@ -166,7 +166,7 @@ typedef double (*ts_engine_load_fn)(void *ud, double t, double omega);
  * held; this is ts_engine_advance).
  *
  * Powertrain co-simulation (the intended use, issue 10): integrating the
- * crank-angle engine's 510 states inside the powertrain's ODE forces the
+ * crank-angle engine's 512 states inside the powertrain's ODE forces the
  * powertrain's integrator onto the engine's crank-angle step and evaluates the
  * walls in every stage; instead, per macro step H of the powertrain (e.g. 1 ms,
  * ~13 deg at 2100 rpm; the engine sub-steps itself):

@@ -144,14 +144,13 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         if (!(xb[BX_IMM] > 0 && xb[BX_EMM] > 0 && xb[BX_ICM] > 0 && xb[BX_IMT] > 100 &&
               xb[BX_EMT] > 100 && xb[BX_ICT] > 100))
             return 1;
-        double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
+        en_bank_read(e, xb, &bo[b]);
         bf[b].m_in = bf[b].h_in = bf[b].mf_in = 0.0; /* the cylinders' sums */
         bf[b].m_ex = bf[b].h_ex = bf[b].mf_ex = 0.0;
         bf[b].omega = w;
         bf[b].have_co = 1;
-        en_compressor(&e->turbo, g, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &bf[b].co);
+        en_compressor(&e->turbo, g, xb[BX_TC], in->p_amb, in->T_amb, bo[b].p_ic, &bf[b].co);
         air += bf[b].co.mdot;
-        en_bank_read(e, xb, &bo[b]);
         bf[b].have_gas = 1;
         const en_gas_state *si = &bf[b].s_im, *se = &bf[b].s_em;
         en_gas_eval(g, bo[b].T_im, bo[b].F_im, &bf[b].s_im);

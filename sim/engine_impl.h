@@ -344,8 +344,8 @@ double en_friction_torque(const ts_engine *e, double omega);
 /* ---- the model ------------------------------------------------------------ */
 /* Offsets of the state vector. Per cylinder (EN_CYL_NX): */
 enum { CX_M, CX_T, CX_MB, CX_IGN, CX_BURN, CX_KMEAN, CX_KTURB, EN_CYL_NX };
-/* Per bank (EN_BANK_NX): intercooler (m, T), intake (m, T, F), exhaust (m, T, F), rotor. */
-enum { BX_ICM, BX_ICT, BX_IMM, BX_IMT, BX_IMF, BX_EMM, BX_EMT, BX_EMF, BX_TC, EN_BANK_NX };
+/* Per bank (EN_BANK_NX): intercooler (m, T, F), intake (m, T, F), exhaust (m, T, F), rotor. */
+enum { BX_ICM, BX_ICT, BX_ICF, BX_IMM, BX_IMT, BX_IMF, BX_EMM, BX_EMT, BX_EMF, BX_TC, EN_BANK_NX };
 /* Ledger (cumulative integrals), order of ts_engine_ledger's first fields. */
 enum { LX_FUEL_E, LX_WORK, LX_WALL, LX_HIN, LX_HOUT, LX_MIN, LX_MOUT, LX_MFUEL, EN_LEDGER_NX };
 /* crank_angle: states before the walls (off_wall) and wall nodes: compile-time
@@ -504,12 +504,13 @@ typedef struct en_bank_flows {
     en_gas_state s_im, s_em;
 } en_bank_flows;
 typedef struct en_bank_out {
+    double p_ic, T_ic, F_ic; /* intercooler volume (compressor outlet) */
     double p_im, T_im, F_im, p_em, T_em, F_em, air_flow, turbo_speed;
 } en_bank_out;
 /* The bank-level channels of out (boost, intake and exhaust temperature: bank
  * means; air flow: sum; turbo speed: mean) from both banks' en_bank_out. */
 void en_bank_outputs(const en_bank_out *bo, ts_engine_outputs *out);
-/* Read the bank's manifold states (p, T, F) without derivatives. */
+/* Read the bank's intercooler and manifold states (p, T, F) without derivatives. */
 void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o);
 /* Open fraction of the wastegate [0, 1] at intake manifold pressure p_boost [Pa]. */
 double en_wastegate_open(const ts_engine_config *c, double p_boost);

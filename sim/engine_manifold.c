@@ -59,6 +59,9 @@ double en_wastegate_open(const ts_engine_config *c, double p_boost)
 void en_bank_read(const ts_engine *e, const double *xb, en_bank_out *o)
 {
     const en_gas *g = &e->gas;
+    o->T_ic = xb[BX_ICT];
+    o->F_ic = en_atmost(en_atleast(xb[BX_ICF], 0), 1);
+    o->p_ic = xb[BX_ICM] * en_gas_r(g, o->F_ic) * o->T_ic / e->c.ic_volume;
     o->T_im = xb[BX_IMT];
     o->F_im = en_atmost(en_atleast(xb[BX_IMF], 0), 1);
     o->p_im = xb[BX_IMM] * en_gas_r(g, o->F_im) * o->T_im / e->c.intake_volume;
@@ -115,8 +118,7 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     const en_gas *g = &e->gas;
     const ts_engine_config *c = &e->c;
     if (!f->have_gas) en_bank_read(e, xb, o); /* else the caller read o at this state */
-    double m_ic = xb[BX_ICM], T_ic = xb[BX_ICT];
-    double p_ic = m_ic * g->r_a * T_ic / c->ic_volume;
+    double m_ic = xb[BX_ICM], T_ic = o->T_ic, F_ic = o->F_ic, p_ic = o->p_ic;
     /* compressor: ambient -> intercooler volume */
     en_comp_out co;
     if (f->have_co)
@@ -124,7 +126,7 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
     else
         en_compressor(&e->turbo, g, xb[BX_TC], p_amb, T_amb, p_ic, &co);
     en_gas_state s_ic, s_im, s_em;
-    en_gas_eval(g, T_ic, 0, &s_ic);
+    en_gas_eval(g, T_ic, F_ic, &s_ic);
     if (f->have_gas) { /* the caller's evaluation at this state (same values) */
         s_im = f->s_im;
         s_em = f->s_em;
@@ -132,17 +134,22 @@ void en_bank_rhs(const ts_engine *e, const double *xb, const en_bank_flows *f, d
         en_gas_eval(g, o->T_im, o->F_im, &s_im);
         en_gas_eval(g, o->T_em, o->F_em, &s_em);
     }
-    /* intercooler outlet orifice -> intake manifold (reverse flow carries F_im) */
+    /* intercooler outlet orifice -> intake manifold: each direction carries
+     * the upstream volume's gas (h and F), so burned mass the intake manifold
+     * pushes back stays in the intercooler volume */
     double g_ic = s_ic.cp / s_ic.cv, g_im = s_im.cp / s_im.cv;
-    double m_ici = en_orifice(c->ic_cda, p_ic, T_ic, g->r_a, g_ic, o->p_im, o->T_im, s_im.R, g_im);
+    double m_ici = en_orifice(c->ic_cda, p_ic, T_ic, s_ic.R, g_ic, o->p_im, o->T_im, s_im.R, g_im);
     double h_ici = m_ici >= 0 ? m_ici * s_ic.h : m_ici * s_im.h;
-    double F_ici = m_ici >= 0 ? 0.0 : m_ici * o->F_im;
-    /* intercooler volume: heat to the wall from the compressed stream */
+    double F_ici = m_ici >= 0 ? m_ici * F_ic : m_ici * o->F_im;
+    /* intercooler volume: fresh air from the compressor (F = 0), heat to the
+     * wall from the compressed stream */
     double q_ic = en_intercooler_heat(c->ic_ua, co.mdot, co.cp_out, co.T_out, c->ic_wall_temp);
     double h_c = co.mdot * co.h_out; /* the compressor passes no reverse flow (engine_turbo.c) */
     double dm_ic = co.mdot - m_ici;
+    double dF_ic = (-F_ici - F_ic * dm_ic) / m_ic;
     xd[BX_ICM] = dm_ic;
-    xd[BX_ICT] = en_gas_dTdt_s(&s_ic, m_ic, h_c - h_ici - q_ic, dm_ic, 0);
+    xd[BX_ICF] = dF_ic;
+    xd[BX_ICT] = en_gas_dTdt_s(&s_ic, m_ic, h_c - h_ici - q_ic, dm_ic, dF_ic);
     /* intake manifold */
     double m_im = xb[BX_IMM];
     double dm_im = m_ici - f->m_in;

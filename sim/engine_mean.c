@@ -40,10 +40,9 @@ int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_i
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
         /* compressor flow is needed for Eq. 14 before the bank derivatives
          * (and handed on to en_bank_rhs) */
-        double p_ic = xb[BX_ICM] * g->r_a * xb[BX_ICT] / c->ic_volume;
-        en_compressor(&e->turbo, g, xb[BX_TC], in->p_amb, in->T_amb, p_ic, &co[b]);
-        air += co[b].mdot;
         en_bank_read(e, xb, &bo[b]);
+        en_compressor(&e->turbo, g, xb[BX_TC], in->p_amb, in->T_amb, bo[b].p_ic, &co[b]);
+        air += co[b].mdot;
     }
     double mf_cyc = en_fuel_command(e, in, air, wp);
     const ts_engine_map_table *mt = en_map_table(e);

@@ -105,7 +105,7 @@ int main(void)
             in.load_torque = cyc.mean.brake_torque;
             double Tr = 0.05, t = 0;
             c0 = cpu();
-            while (t < Tr) { /* classical RK4 of all 510 states, as a caller would */
+            while (t < Tr) { /* classical RK4 of all 512 states, as a caller would */
                 double h = c.engine.ca_step / x[0], *k1 = k, *k2 = k + n, *k3 = k + 2 * n;
                 double *k4 = k + 3 * n, *xt = k + 4 * n;
                 ts_engine_rhs(e, t, x, &in, k1, NULL);

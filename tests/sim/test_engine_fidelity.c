@@ -233,7 +233,7 @@ static void caller_integrates_with_cvode(void **state)
     free(work);
 }
 
-/* EVIDENCE: engine.h's contract for the crank-angle fidelity: its 510 states
+/* EVIDENCE: engine.h's contract for the crank-angle fidelity: its 512 states
  * (12 cylinders with ignition/burn clocks that re-arm continuously, walls,
  * banks) form one ODE that a caller's stiff integrator can take. From the
  * rated steady state, 15 ms (three firings of cylinder 1's bank neighbours,

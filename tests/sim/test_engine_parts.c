@@ -277,6 +277,87 @@ static void exhaust_backflow_brings_ambient_air(void **state)
     ts_engine_free(e);
 }
 
+/* Burned mass in the intercooler volume (kg/s): d(m_ic F_ic)/dt = dm F + m dF. */
+static double ic_burned_rate(const double *xb, const double *xd)
+{
+    return xd[BX_ICM] * xb[BX_ICF] + xb[BX_ICM] * xd[BX_ICF];
+}
+
+/* EVIDENCE: conservation across the intercooler-outlet orifice
+ * (filling-and-emptying, Watson & Janota 1982): the intercooler volume and
+ * the intake manifold exchange gas, so over both
+ *   mass         d(m_ic)/dt + d(m_im)/dt = m_c - m_in
+ *   burned mass  d(m_ic F_ic)/dt + d(m_im F_im)/dt = 0 * m_c - mf_in
+ *   energy       d(m_ic u_ic)/dt + d(m_im u_im)/dt = H_c - Q_ic - H_in
+ * (compressor: fresh air F = 0, enthalpy H_c; the cylinders take m_in, mf_in,
+ * H_in; the stream through the orifice carries the upstream volume's F and h
+ * and cancels). Formerly the intercooler volume had no F: a reverse
+ * flow (intake manifold above the intercooler) took burned mass m_ici F_im out
+ * of the intake manifold that appeared nowhere, and the pressure of a burned
+ * intercooler charge used air's R. Both directions, to round-off. */
+static void intercooler_backflow_conserves_burned_mass(void **state)
+{
+    (void)state;
+    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_MEAN_VALUE);
+    const ts_engine_config *c = &e->c;
+    const en_gas *g = &e->gas;
+    double p_amb = 101325, T_amb = 298.15;
+    double T_ic = 330, T_im = 360, F_im = 0.3, p_ic = 2.0e5;
+    /* reverse flow into clean air, reverse and forward with burned gas there */
+    const double F_ics[] = {0, 0.1, 0.1}, p_ims[] = {1.05 * p_ic, 1.05 * p_ic, 0.95 * p_ic};
+    for (int k = 0; k < 3; k++) {
+        double F_ic = F_ics[k], p_im = p_ims[k];
+        int reverse = p_im > p_ic;
+        double xb[EN_BANK_NX] = {0}, xd[EN_BANK_NX];
+        xb[BX_ICM] = p_ic * c->ic_volume / (en_gas_r(g, F_ic) * T_ic);
+        xb[BX_ICT] = T_ic;
+        xb[BX_ICF] = F_ic;
+        xb[BX_IMM] = p_im * c->intake_volume / (en_gas_r(g, F_im) * T_im);
+        xb[BX_IMT] = T_im;
+        xb[BX_IMF] = F_im;
+        xb[BX_EMM] = p_amb * c->exhaust_volume / (en_gas_r(g, 0.5) * 700);
+        xb[BX_EMT] = 700;
+        xb[BX_EMF] = 0.5;
+        xb[BX_TC] = 0;
+        en_gas_state s_ic, s_im, s_c;
+        en_gas_eval(g, T_ic, F_ic, &s_ic);
+        en_gas_eval(g, T_im, F_im, &s_im);
+        double T_c = 400; /* the compressor's air, given */
+        en_gas_eval(g, T_c, 0, &s_c);
+        en_comp_out co = {.mdot = 0.3, .T_out = T_c, .h_out = s_c.h, .cp_out = s_c.cp};
+        double m_in = 0.5;
+        en_bank_flows f = {.m_in = m_in,
+                           .h_in = m_in * s_im.h,
+                           .mf_in = m_in * F_im,
+                           .omega = ET_RPM(1500),
+                           .have_co = 1,
+                           .co = co};
+        en_bank_out o;
+        en_bank_rhs(e, xb, &f, p_amb, T_amb, xd, &o);
+        /* the orifice sees the intercooler at the mixture's R */
+        double m_ici = en_orifice(c->ic_cda, p_ic, T_ic, s_ic.R, s_ic.cp / s_ic.cv, p_im, T_im,
+                                  s_im.R, s_im.cp / s_im.cv);
+        assert_true(reverse ? m_ici < 0 : m_ici > 0);
+        assert_close(xd[BX_ICM], co.mdot - m_ici, 1e-12, 0);
+        double scale = fabs(m_ici) + m_in; /* the largest mass flow [kg/s] */
+        assert_close(xd[BX_ICM] + xd[BX_IMM], co.mdot - m_in, 0, 1e-13 * scale);
+        /* burned mass: what the cylinders take and nothing else */
+        double mf_im = xd[BX_IMM] * F_im + xb[BX_IMM] * xd[BX_IMF];
+        assert_close(ic_burned_rate(xb, xd) + mf_im, -f.mf_in, 0, 1e-13 * scale);
+        /* energy: d(m u)/dt = m cv dT/dt + u dm/dt + m du/dF dF/dt of each volume */
+        double q_ic = en_intercooler_heat(c->ic_ua, co.mdot, co.cp_out, co.T_out, c->ic_wall_temp);
+        double dE_ic =
+            xb[BX_ICM] * (s_ic.cv * xd[BX_ICT] + s_ic.dudF * xd[BX_ICF]) + s_ic.u * xd[BX_ICM];
+        double dE_im =
+            xb[BX_IMM] * (s_im.cv * xd[BX_IMT] + s_im.dudF * xd[BX_IMF]) + s_im.u * xd[BX_IMM];
+        double dE = co.mdot * co.h_out - q_ic - f.h_in;
+        assert_close(dE_ic + dE_im, dE, 0, 1e-12 * scale * s_c.h);
+        /* the stream carries the upstream gas's enthalpy */
+        assert_close(dE_im, m_ici * (reverse ? s_im.h : s_ic.h) - f.h_in, 0, 1e-12 * scale * s_c.h);
+    }
+    ts_engine_free(e);
+}
+
 /* EVIDENCE: closed form of the wastegate actuator (engine_manifold.c; a
  * pneumatic diaphragm against a preloaded linear spring, Watson & Janota
  * 1982 [R11]): the open fraction is (p - crack) / (full - crack), exactly, away
@@ -435,6 +516,7 @@ int main(void)
         cmocka_unit_test(turbo_maps),
         cmocka_unit_test(friction_and_fuel_law),
         cmocka_unit_test(exhaust_backflow_brings_ambient_air),
+        cmocka_unit_test(intercooler_backflow_conserves_burned_mass),
         cmocka_unit_test(wastegate_actuator_linear),
         cmocka_unit_test(wastegate_range_is_checked),
         cmocka_unit_test(turbine_schedule_interpolates),
