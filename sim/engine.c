@@ -284,6 +284,10 @@ int ts_engine_models_cylinders(const ts_engine *e)
 {
     return e->c.fidelity == TS_ENGINE_CRANK_ANGLE;
 }
+int ts_engine_models_manifolds(const ts_engine *e)
+{
+    return e->c.fidelity != TS_ENGINE_MAP;
+}
 int ts_engine_nstate(const ts_engine *e) { return e->nx; }
 
 double ts_engine_mean_inertia(const ts_engine *e)

@@ -96,6 +96,10 @@ int ts_engine_get_fidelity(const ts_engine *e); /* ts_engine_fidelity enum value
  * cyl_pressure, cyl_temp, heat_release and piston_surface_temp are set (the
  * crank-angle fidelity); 0 for the mean-value and map engines. */
 int ts_engine_models_cylinders(const ts_engine *e);
+/* 1 when the engine models its manifolds and turbochargers, so the outputs
+ * intake_temp, exhaust_temp and turbo_speed are set (crank-angle and
+ * mean-value); 0 for the map engine, which leaves them NaN. */
+int ts_engine_models_manifolds(const ts_engine *e);
 int ts_engine_nstate(const ts_engine *e);       /* length of x */
 /* Cycle-mean inertia of the crank train [kg*m^2]: /engine/inertia plus the mean
  * of the reciprocating parts' crank-angle-varying share (the inertia the

@@ -73,7 +73,8 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
         out->indicated_torque = t_ind;
         out->friction_torque = t_fric;
         out->boost = boost;
-        out->intake_temp = c->ic_wall_temp;
+        /* no manifolds or turbochargers: not modelled (ts_engine_models_manifolds) */
+        out->intake_temp = out->exhaust_temp = out->turbo_speed = NAN;
         out->fuel_flow = fuel;
         out->air_flow = fuel_fl * c->afr_stoich / phi * (out->boost / boost_fl);
         out->fuel_per_cycle = cycles_per_s > 0 ? fuel / (EN_NCYL * cycles_per_s) : 0.0;

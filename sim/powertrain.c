@@ -135,7 +135,8 @@ static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err
                              .free = engine_free,
                              .advance = engine_advance,
                              .work_size = ts_engine_work_size(c->e),
-                             .piston_temp = ts_engine_models_cylinders(c->e)};
+                             .piston_temp = ts_engine_models_cylinders(c->e),
+                             .manifolds = ts_engine_models_manifolds(c->e)};
     return TS_OK;
 }
 
@@ -420,11 +421,15 @@ static const ts_channel channels[TS_POWERTRAIN_NCHANNEL] = {
     {"piston.surface_temperature", "K", "piston gas-side surface temperature (Fig. 21b)"},
     {"engine.fuel_flow", "kg/s", "fuel mass flow, whole engine"},
 };
-#define CH_PISTON_T 22 /* channels[]: the one an engine without walls leaves out */
+/* channels[]: those an engine without manifolds (map) or walls leaves out */
+#define CH_EXHAUST_T 20
+#define CH_TURBO     21
+#define CH_PISTON_T  22
 
 /* Whether channel i of the table above is one of pt's (its engine models it). */
 static int present(const ts_powertrain *pt, int i)
 {
+    if (i == CH_EXHAUST_T || i == CH_TURBO) return pt->engine.manifolds;
     return i != CH_PISTON_T || pt->engine.piston_temp;
 }
 

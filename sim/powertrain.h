@@ -72,6 +72,8 @@ typedef struct ts_engine_port {
                      ts_err *err);
     size_t work_size;
     int piston_temp; /* 1: the engine models its walls, obs.piston_temp is set */
+    int manifolds;   /* 1: it models manifolds and turbochargers, obs.exhaust_temp and
+                      * obs.turbo_speed are set */
 } ts_engine_port;
 
 typedef struct ts_powertrain ts_powertrain;
@@ -218,9 +220,11 @@ ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *e
 
 /* Output channels of pt's engine: names, units and descriptions in channel
  * order (ts_powertrain_nchannel of them), and the values of one row from a
- * ts_powertrain_out. piston.surface_temperature (the 23rd of the
- * TS_POWERTRAIN_NCHANNEL) exists only when the engine models its walls (the
- * crank-angle fidelity); the others keep their order without it. */
+ * ts_powertrain_out. exhaust.temperature and turbo.speed (the 21st and 22nd
+ * of the TS_POWERTRAIN_NCHANNEL) exist only when the engine models its
+ * manifolds and turbochargers (port.manifolds: not the map engine),
+ * piston.surface_temperature (the 23rd) only when it models its walls (the
+ * crank-angle fidelity); the others keep their order without them. */
 #define TS_POWERTRAIN_NCHANNEL 24
 const ts_channel *ts_powertrain_channels(const ts_powertrain *pt);
 int ts_powertrain_nchannel(const ts_powertrain *pt);

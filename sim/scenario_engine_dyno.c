@@ -42,15 +42,28 @@ enum {
     CH_PISTON_T,
     CH_RACK
 };
-/* CH_CYL_P..CH_PISTON_T exist only where the engine models its cylinders
- * (the crank-angle fidelity): the mean-value and map engines leave them out,
- * so rack comes in CH_CYL_P's column. The column of channel c in m's rows, or
- * -1 when m has no such channel; rows keep the crank-angle order, which
- * stored sessions match by name and order (server/channels.c). */
+/* Whether m's engine models channel c: CH_CYL_P..CH_PISTON_T need its
+ * cylinders (the crank-angle fidelity), the manifold temperatures and the
+ * turbo speed its manifolds and turbochargers (not the map engine). */
+static int modelled(const ts_model *m, int c)
+{
+    if (c >= CH_CYL_P && c <= CH_PISTON_T) return ts_engine_models_cylinders(m->impl);
+    if (c == CH_EXHAUST_T || c == CH_INTAKE_T || c == CH_TURBO)
+        return ts_engine_models_manifolds(m->impl);
+    return 1;
+}
+
+/* The column of channel c in m's rows (column 0 is time), or -1 when m has
+ * no such channel: the channels m's engine does not model are left out and
+ * the others keep the crank-angle order, which stored sessions match by name
+ * and order (server/channels.c). */
 static int column(const ts_model *m, int c)
 {
-    if (c < CH_CYL_P || ts_engine_models_cylinders(m->impl)) return c;
-    return c == CH_RACK ? CH_CYL_P : -1;
+    if (!modelled(m, c)) return -1;
+    int k = 0;
+    for (int i = CH_SPEED; i <= c; i++)
+        k += modelled(m, i);
+    return k;
 }
 
 typedef struct dyno_data {
@@ -210,13 +223,14 @@ static ts_rc state_restore(const ts_model *m, ts_data *d, const void *buf, ts_er
 static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
 {
     int nc = m->nchannel, ip = column(m, CH_CYL_P);
+    int itq = column(m, CH_TORQUE), ipw = column(m, CH_POWER);
     int n = ip > 0 ? 3 : 2; /* no cylinder pressure without cylinders */
     if (nrows < 2 || max < n) return 0;
     double tq = 0, pw = 0, pk = 0;
     for (long r = 0; r < nrows; r++) {
         const double *v = rows + (size_t)r * (size_t)nc;
-        tq += v[CH_TORQUE];
-        pw += v[CH_POWER];
+        tq += v[itq];
+        pw += v[ipw];
         if (ip > 0 && v[ip] > pk) pk = v[ip];
     }
     tq /= (double)nrows;

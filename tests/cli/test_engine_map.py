@@ -42,6 +42,28 @@ def test_engine_map_mean_value_sweep(tmp_path):
         assert abs(float(r[2]) * float(r[1]) - float(r[3])) < 1e-3 * abs(float(r[3])) + 1
 
 
+def test_engine_map_map_fidelity_leaves_manifold_cells_empty(tmp_path):
+    # the map engine has no manifolds or turbochargers: its exhaust and intake
+    # temperatures and turbo speed are empty cells, as its peak pressure is
+    # (they read 0.0 K, the intercooler wall's 325.0 K and 0 until session 22);
+    # the mean-value engine, which models them, fills them
+    for fidelity, empty in (("map", True), ("mean_value", False)):
+        cfg = tmp_path / f"{fidelity}.json"
+        cfg.write_text(json.dumps({"run": {"kind": "engine_dyno"},
+                                   "engine": {"fidelity": fidelity}, "control": {"rack": 1.0}}))
+        out = run("engine-map", str(cfg), "--out", str(tmp_path / f"{fidelity}.csv"))
+        assert out.returncode == 0, out.stderr
+        rows = list(csv.reader(open(tmp_path / f"{fidelity}.csv")))
+        head = rows[0]
+        for col in ("exhaust_temp [K]", "intake_temp [K]", "turbo_speed [rad/s]"):
+            cells = [r[head.index(col)] for r in rows[1:]]
+            if empty:
+                assert cells == [""] * len(cells), (col, cells)
+            else:
+                assert all(float(c) > 0 for c in cells), (col, cells)
+        assert all(float(r[head.index("torque [N*m]")]) > 0 for r in rows[1:])
+
+
 def test_engine_map_writes_a_sidecar(tmp_path):
     """The CSV said nothing of what made it (variant, fidelity, rack, ambient air).
     Beside it now goes FILE.csv.json, as run's summary.json: those, every column's

@@ -282,7 +282,10 @@ static void caller_integrates_crank_angle_with_cvode(void **state)
 
 /* EVIDENCE: the engine_dyno scenario through model.h: channels with SI units,
  * speed held at /engine/dyno_speed, no cylinder or wall channels or metrics (the map
- * engine has neither: they read 0 K / 0 Pa before they were dropped), and for
+ * engine has neither: they read 0 K / 0 Pa before they were dropped), no
+ * manifold temperature or turbo speed channels (it has no manifolds or
+ * turbochargers: exhaust 0 K, intake the intercooler wall's 325 K and turbo
+ * 0 rad/s until session 22; its outputs are NaN), and for
  * the map fidelity at rack 1 the
  * sampled torque equals the map's full-load torque (definition, 1e-6) and
  * power = torque x speed. */
@@ -310,6 +313,11 @@ static void dyno_scenario_map_fidelity(void **state)
                      ts_model_channel_index(m, "engine.crank_angle") + 1);
     assert_true(ts_model_channel_index(m, "cylinder.pressure") < 0);
     assert_true(ts_model_channel_index(m, "piston.surface_temperature") < 0);
+    assert_true(ts_model_channel_index(m, "exhaust.temperature") < 0);
+    assert_true(ts_model_channel_index(m, "intake.temperature") < 0);
+    assert_true(ts_model_channel_index(m, "turbo.speed") < 0);
+    assert_int_equal(ts_model_channel_index(m, "engine.air_flow"),
+                     ts_model_channel_index(m, "intake.pressure") + 1);
     assert_string_equal(ts_model_channel(m, it)->unit, "N*m");
     const double *v = ts_latest(d);
     assert_close(v[is], ET_RPM(2100), 1e-12, 0);
@@ -321,6 +329,8 @@ static void dyno_scenario_map_fidelity(void **state)
     ts_engine_outputs o;
     ts_engine_inputs full = et_full_load();
     ts_engine_rhs(e, 0, xs, &full, xd, &o);
+    assert_false(ts_engine_models_manifolds(e));
+    assert_true(isnan(o.intake_temp) && isnan(o.exhaust_temp) && isnan(o.turbo_speed));
     double a = fmin(1.0, en_pb_interp(e, c.engine.map[0].pb_torque, ET_RPM(2100), 1.0));
     double tf = o.friction_torque;
     assert_close(v[it], a * (c.engine.map[0].torque[13] + tf) - tf, 1e-6, 0);
@@ -351,11 +361,24 @@ static void dyno_scenario_crank_angle_channel_order(void **state)
     ts_model *m = ts_model_make(&c, &err);
     assert_non_null(m);
     int ia = ts_model_channel_index(m, "engine.crank_angle");
-    assert_true(ia > 0);
+    assert_int_equal(ia, 11);
+    assert_int_equal(ts_model_channel_index(m, "exhaust.temperature"), 5);
+    assert_int_equal(ts_model_channel_index(m, "intake.temperature"), 6);
+    assert_int_equal(ts_model_channel_index(m, "turbo.speed"), 10);
     assert_int_equal(ts_model_channel_index(m, "cylinder.pressure"), ia + 1);
     assert_int_equal(ts_model_channel_index(m, "piston.surface_temperature"), ia + 4);
     assert_int_equal(ts_model_channel_index(m, "rack"), ia + 5);
     assert_int_equal(ts_model_nchannel(m), ia + 6);
+    ts_model_free(m);
+    /* the mean-value engine models its manifolds and turbochargers: their
+     * channels stay, in the same places; the cylinder ones go */
+    c.engine.fidelity = TS_ENGINE_MEAN_VALUE;
+    m = ts_model_make(&c, &err);
+    assert_non_null(m);
+    assert_int_equal(ts_model_channel_index(m, "exhaust.temperature"), 5);
+    assert_int_equal(ts_model_channel_index(m, "turbo.speed"), 10);
+    assert_int_equal(ts_model_channel_index(m, "rack"), 12);
+    assert_int_equal(ts_model_nchannel(m), 13);
     ts_model_free(m);
 }
 

@@ -198,6 +198,12 @@ static void table2_conventional_map_engine(void **state)
     assert_close(metric(&r, "t_20_60_kmh_s"), 13.2, 0.10, 0);
     /* the metric agrees with the series it came from */
     assert_close(metric(&r, "speed_at_20s_kmh"), 3.6 * at(&r, "vehicle.speed", 20.0), 1e-9, 0);
+    /* the map engine has no manifolds or turbochargers: no exhaust temperature
+     * or turbo speed channel (they read 0 K and 0 rad/s until session 22) */
+    assert_int_equal(ts_model_channel_index(r.m, "exhaust.temperature"), -1);
+    assert_int_equal(ts_model_channel_index(r.m, "turbo.speed"), -1);
+    assert_int_equal(ts_model_channel_index(r.m, "engine.fuel_flow"),
+                     ts_model_channel_index(r.m, "driveshaft.speed") + 1);
     done(&r);
 }
 
