@@ -71,27 +71,37 @@ static void oscillator_conserves_energy(void **state)
 #undef ENERGY
 }
 
+/* The Schur-complement run of rhs from y0 to t_end against the full LU's:
+ * the same state (to the tolerance) and, as the same Newton systems solved
+ * exactly take the same steps, the same step and Newton-iteration counts (1 %)
+ * and convergence failures (+-1). The state alone cannot show a wrong Newton
+ * solve: modified Newton converges with an inexact matrix, only slower. */
+static void assert_schur_matches_lu(ts_rhs_fn rhs, const double *y0, double t_end)
+{
+    double a[N], b[N];
+    ts_ode_stats sa, sb;
+    run(N, rhs, (void *)1, 0, y0, t_end, a, &sa);
+    run(N, rhs, (void *)1, 1, y0, t_end, b, &sb);
+    for (int i = 0; i < N; i++)
+        assert_close(b[i], a[i], 1e-6, 1e-10);
+    printf("# full LU: %ld steps %ld Newton iterations %ld convergence failures; "
+           "half-size: %ld, %ld, %ld\n",
+           sa.steps, sa.nonlin_iters, sa.nonlin_fails, sb.steps, sb.nonlin_iters, sb.nonlin_fails);
+    assert_close((double)sb.steps, (double)sa.steps, 0.01, 0);
+    assert_close((double)sb.nonlin_iters, (double)sa.nonlin_iters, 0.01, 0);
+    assert_close((double)sb.nonlin_fails, (double)sa.nonlin_fails, 0, 1);
+}
+
 /* EVIDENCE: the Schur-complement solve is an exact rewriting of the Newton
- * system: the damped chain integrates to the same state with and without it
- * (to the tolerance) with the same step and Newton-iteration counts (1 %), and
- * a system without the second-order form falls back to the
+ * system: the damped chain matches the full LU (assert_schur_matches_lu; a
+ * Schur solve with the x1 back-substitution halved took +14 % steps, checked
+ * when written), and a system without the second-order form falls back to the
  * full LU and still matches its exact solution. */
 static void half_size_solve_matches_full_lu(void **state)
 {
     (void)state;
-    double y0[N] = {0.01, -0.02, 0.1, 0}, a[N], b[N];
-    ts_ode_stats sa, sb;
-    run(N, chain, (void *)1, 0, y0, 1.5, a, &sa);
-    run(N, chain, (void *)1, 1, y0, 1.5, b, &sb);
-    for (int i = 0; i < N; i++) assert_close(b[i], a[i], 1e-6, 1e-10);
-    printf("# full LU: %ld steps %ld Newton iterations; half-size: %ld, %ld\n", sa.steps,
-           sa.nonlin_iters, sb.steps, sb.nonlin_iters);
-    /* the state alone cannot show a wrong Newton solve (modified Newton
-     * converges with an inexact matrix, only slower); the same Newton systems
-     * solved exactly take the same steps and iterations (a Schur solve with
-     * the x1 back-substitution halved: +14 % steps, checked when written) */
-    assert_close((double)sb.steps, (double)sa.steps, 0.01, 0);
-    assert_close((double)sb.nonlin_iters, (double)sa.nonlin_iters, 0.01, 0);
+    double y0[N] = {0.01, -0.02, 0.1, 0};
+    assert_schur_matches_lu(chain, y0, 1.5);
     /* fallback: exact y2 = e^-t, y1 = (y1_0 - 1/49) e^-50t + e^-t / 49 */
     double z0[2] = {1, 1}, z[2];
     run(2, first_order, NULL, 1, z0, 0.5, z, NULL);
@@ -113,27 +123,16 @@ static int chain_losing_form(double t, const double *y, double *yd, void *ud)
  * Jacobian (c->checked) and must decide again each time schur_linsys rewrites
  * J (the c->checked = 0 reset there). Every other Jacobian in this file has
  * one structure for the whole run, so a missing reset would go unseen; here J
- * changes structure at t = 0.3 and the Schur run must still solve the same
- * Newton systems as the full LU: the same state (1e-6 relative) and the same
- * step and Newton-iteration counts (1 %) over 1 s. Without the reset the
- * run keeps the Schur solve with the now nonzero block ignored: measured
- * 1686 steps vs 1643 (+2.6 %), 1837 Newton iterations vs 1768 (+3.9 %),
- * 8 convergence failures vs 1 (with the reset the counts are equal). Over
- * 1.5 s the mutant's counts come back within 1 % (+0.3 %, +0.9 %), hence 1 s. */
+ * changes structure at t = 0.3 and the Schur run must still match the full LU
+ * (assert_schur_matches_lu, over the same 1.5 s as the test above). Without
+ * the reset the run keeps the Schur solve with the now nonzero block ignored:
+ * measured 10 convergence failures against 1 over 1.5 s (8 vs 1 over 1 s,
+ * where the steps were also +2.6 % and the Newton iterations +3.9 %). */
 static void schur_rechecks_structure_when_jacobian_changes(void **state)
 {
     (void)state;
-    double y0[N] = {0.01, -0.02, 0.1, 0}, a[N], b[N];
-    ts_ode_stats sa, sb;
-    run(N, chain_losing_form, (void *)1, 0, y0, 1.0, a, &sa);
-    run(N, chain_losing_form, (void *)1, 1, y0, 1.0, b, &sb);
-    for (int i = 0; i < N; i++)
-        assert_close(b[i], a[i], 1e-6, 1e-10);
-    printf("# full LU: %ld steps %ld Newton iterations %ld convergence failures; "
-           "half-size: %ld, %ld, %ld\n",
-           sa.steps, sa.nonlin_iters, sa.nonlin_fails, sb.steps, sb.nonlin_iters, sb.nonlin_fails);
-    assert_close((double)sb.steps, (double)sa.steps, 0.01, 0);
-    assert_close((double)sb.nonlin_iters, (double)sa.nonlin_iters, 0.01, 0);
+    double y0[N] = {0.01, -0.02, 0.1, 0};
+    assert_schur_matches_lu(chain_losing_form, y0, 1.5);
 }
 
 /* Roots: x1 of the undamped chain from rest at x1 = 0.01 first crosses zero
