@@ -108,7 +108,7 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     };
     ts_rc rc = TS_OK;
     for (int c = CH_SPEED; c <= CH_RACK && rc == TS_OK; c++)
-        if (column(m, c) >= 0) rc = ts_model_add_channels(m, &ch[c - 1], 1, err);
+        if (modelled(m, c)) rc = ts_model_add_channels(m, &ch[c - 1], 1, err);
     return rc;
 }
 
@@ -198,8 +198,8 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
         [CH_PISTON_T] = o.piston_surface_temp,
         [CH_RACK] = in.rack,
     };
-    for (int c = CH_SPEED; c <= CH_RACK; c++)
-        if (column(m, c) >= 0) out[column(m, c)] = row[c];
+    for (int c = CH_SPEED, k = CH_SPEED; c <= CH_RACK; c++)
+        if (modelled(m, c)) out[k++] = row[c]; /* k: column(m, c) */
 }
 
 static size_t state_size(const ts_model *m) { return sizeof(double) * (size_t)m->nstate; }
