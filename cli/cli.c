@@ -85,11 +85,11 @@ void tsc_progress_start(tsc_progress *p, const char *what, double every)
     p->shown = 0;
 }
 
-int tsc_progress_due(const tsc_progress *p, double *wall)
+int tsc_progress_due(const tsc_progress *p, double *wall, int last)
 {
     double now = ts_monotonic_seconds();
     *wall = now - p->wall0;
-    return now >= p->next;
+    return now >= p->next || (last && p->shown);
 }
 
 void tsc_progress_say(tsc_progress *p, const char *fmt, ...)

@@ -83,7 +83,8 @@ int tsc_out_json(tsc_out *o, const json_t *doc);
  * lines "tanksim WHAT: TEXT". A command done within TSC_PROGRESS_FIRST wall
  * seconds prints none; after that a line at most every `every` seconds, or,
  * when stderr is a terminal, one line redrawn in place (at most every 0.5 s).
- * `run` (simulated time) and `tune` (step responses) report through it. */
+ * `run` (simulated time), `tune` (step responses) and `engine-map --spool`
+ * (spool-ups) report through it. */
 #define TSC_PROGRESS_FIRST 2.0 /* [s] wall time before the first line */
 typedef struct tsc_progress {
     const char *what;   /* the command, for the lines */
@@ -93,8 +94,10 @@ typedef struct tsc_progress {
     int shown;          /* a line was printed */
 } tsc_progress;
 void tsc_progress_start(tsc_progress *p, const char *what, double every);
-/* 1 with *wall the seconds since the start when a line is due now, else 0. */
-int tsc_progress_due(const tsc_progress *p, double *wall);
+/* 1 with *wall the seconds since the start when a line is due now, else 0;
+ * last: the final unit of work, due once any line was shown (so the lines
+ * end at 100 %). */
+int tsc_progress_due(const tsc_progress *p, double *wall, int last);
 /* Print "tanksim WHAT: " and the printf text as the progress line. */
 void tsc_progress_say(tsc_progress *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* The command is done: end a line redrawn in place with its newline. */

@@ -58,29 +58,45 @@
 #define IDLE_RPM 650.0    /* [rpm] */
 #define IDLE_TORQUE 313.0 /* [N*m] */
 
-/* The spool-ups' CSV columns, in order: "name [unit]" in the header, each
- * row's value (spool()) in format; a value the fidelity does not model (NaN)
- * is an empty cell, as in the map's CSV. */
-static const struct {
-    const char *name, *unit, *format;
-} spool_columns[] = {
-    {"speed_rpm", "rpm", "%.0f"},
-    {"time", "s", "%.4f"},
-    {"speed", "rad/s", "%.4f"},
-    {"boost", "Pa", "%.0f"},
-    {"intake_temp", "K", "%.1f"},
-    {"fuel_flow", "kg/s", "%.6f"},
-    {"air_flow", "kg/s", "%.5f"},
-    {"indicated_torque", "N*m", "%.2f"},
-    {"friction_torque", "N*m", "%.2f"},
-    {"brake_torque", "N*m", "%.2f"},
-    {"exhaust_temp", "K", "%.1f"},
-    {"turbo_speed", "rad/s", "%.0f"},
-    {"eta_v", "1", "%.4f"},
-    {"eta_i", "1", "%.4f"},
-    {"q_wall", "1", "%.4f"},
+/* The spool-ups' CSV columns, in order (the map's column type; each row's
+ * values are computed in place, so no get). */
+static const tsa_engine_map_column spool_columns[] = {
+    {"speed_rpm", "rpm", "%.0f", 1, NULL},
+    {"time", "s", "%.4f", 0, NULL},
+    {"speed", "rad/s", "%.4f", 0, NULL},
+    {"boost", "Pa", "%.0f", 0, NULL},
+    {"intake_temp", "K", "%.1f", 0, NULL},
+    {"fuel_flow", "kg/s", "%.6f", 0, NULL},
+    {"air_flow", "kg/s", "%.5f", 0, NULL},
+    {"indicated_torque", "N*m", "%.2f", 0, NULL},
+    {"friction_torque", "N*m", "%.2f", 0, NULL},
+    {"brake_torque", "N*m", "%.2f", 0, NULL},
+    {"exhaust_temp", "K", "%.1f", 0, NULL},
+    {"turbo_speed", "rad/s", "%.0f", 0, NULL},
+    {"eta_v", "1", "%.4f", 0, NULL},
+    {"eta_i", "1", "%.4f", 0, NULL},
+    {"q_wall", "1", "%.4f", 0, NULL},
 };
 #define NSPOOL_COLUMN ((int)(sizeof spool_columns / sizeof spool_columns[0]))
+
+/* A CSV header "name [unit],..." of n columns. */
+static void put_header(FILE *f, const tsa_engine_map_column *cols, int n)
+{
+    for (int j = 0; j < n; j++)
+        fprintf(f, "%s%s [%s]", j ? "," : "", cols[j].name, cols[j].unit);
+    fputc('\n', f);
+}
+
+/* A CSV row of n values in their columns' formats; a value the fidelity does
+ * not model (NaN) is an empty cell. */
+static void put_cells(FILE *f, const tsa_engine_map_column *cols, const double *v, int n)
+{
+    for (int j = 0; j < n; j++) {
+        if (j) fputc(',', f);
+        if (isfinite(v[j])) fprintf(f, cols[j].format, v[j]);
+    }
+    fputc('\n', f);
+}
 
 #define NSPOOL_SPEED ((SPOOL_RPM_HI - SPOOL_RPM_LO) / SPOOL_RPM_STEP + 1)
 
@@ -108,9 +124,7 @@ static int spool(const ts_engine *e, const ts_config *cfg, FILE *f)
         tsc_print_err("engine-map", &err);
         goto done;
     }
-    for (int j = 0; j < NSPOOL_COLUMN; j++)
-        fprintf(f, "%s%s [%s]", j ? "," : "", spool_columns[j].name, spool_columns[j].unit);
-    fputc('\n', f);
+    put_header(f, spool_columns, NSPOOL_COLUMN);
     ts_engine_inputs in = {.rack = cfg->control.rack, .fuel_per_cycle = -1, .p_amb = p_amb,
                            .T_amb = T_amb, .hold_speed = 1};
     for (int rpm = SPOOL_RPM_LO; rpm <= SPOOL_RPM_HI; rpm += SPOOL_RPM_STEP) {
@@ -142,15 +156,11 @@ static int spool(const ts_engine *e, const ts_config *cfg, FILE *f)
                                 c.eta_i,
                                 c.q_wall};
             _Static_assert(sizeof v / sizeof v[0] == NSPOOL_COLUMN, "one value per column");
-            for (int j = 0; j < NSPOOL_COLUMN; j++) {
-                if (j) fputc(',', f);
-                if (isfinite(v[j])) fprintf(f, spool_columns[j].format, v[j]);
-            }
-            fputc('\n', f);
+            put_cells(f, spool_columns, v, NSPOOL_COLUMN);
         }
         int k = (rpm - SPOOL_RPM_LO) / SPOOL_RPM_STEP + 1;
         double wall;
-        if (tsc_progress_due(&prog, &wall) || (k == NSPOOL_SPEED && prog.shown))
+        if (tsc_progress_due(&prog, &wall, k == NSPOOL_SPEED))
             tsc_progress_say(&prog, "spool-up at %d rpm done (%d of %d), %.0f %%, %.1f s wall", rpm,
                              k, NSPOOL_SPEED, 100.0 * k / NSPOOL_SPEED, wall);
     }
@@ -184,19 +194,13 @@ static int sweep_progress(void *ud, int done, int total)
 /* The sweep's rows as CSV, ascending speed, columns as in the JSON document. */
 static void write_csv(FILE *f, const ts_engine_cycle *rows)
 {
-    for (int j = 0; j < TSA_ENGINE_MAP_NCOLUMN; j++)
-        fprintf(f, "%s%s [%s]", j ? "," : "", tsa_engine_map_columns[j].name,
-                tsa_engine_map_columns[j].unit);
-    fputc('\n', f);
+    put_header(f, tsa_engine_map_columns, TSA_ENGINE_MAP_NCOLUMN);
     for (int k = 0; k < TS_ENGINE_SWEEP_NPOINT; k++) {
         int rpm = TS_ENGINE_SWEEP_RPM_LO + k * TS_ENGINE_SWEEP_RPM_STEP;
-        for (int j = 0; j < TSA_ENGINE_MAP_NCOLUMN; j++) {
-            const tsa_engine_map_column *col = &tsa_engine_map_columns[j];
-            if (j) fputc(',', f);
-            double v = col->get(&rows[k], rpm);
-            if (isfinite(v)) fprintf(f, col->format, v); /* not modelled: an empty cell */
-        }
-        fputc('\n', f);
+        double v[TSA_ENGINE_MAP_NCOLUMN];
+        for (int j = 0; j < TSA_ENGINE_MAP_NCOLUMN; j++)
+            v[j] = tsa_engine_map_columns[j].get(&rows[k], rpm);
+        put_cells(f, tsa_engine_map_columns, v, TSA_ENGINE_MAP_NCOLUMN);
     }
 }
 
@@ -205,11 +209,11 @@ static json_t *sidecar_doc(const ts_config *cfg, json_t *resolved, const char *c
 {
     const char *base = strrchr(csv, '/');
     json_t *cols = json_array();
+    const tsa_engine_map_column *col = spool_ups ? spool_columns : tsa_engine_map_columns;
     int n = spool_ups ? NSPOOL_COLUMN : TSA_ENGINE_MAP_NCOLUMN;
     for (int j = 0; cols && j < n; j++) {
-        const char *name = spool_ups ? spool_columns[j].name : tsa_engine_map_columns[j].name;
-        const char *unit = spool_ups ? spool_columns[j].unit : tsa_engine_map_columns[j].unit;
-        if (json_array_append_new(cols, json_pack("{s:s, s:s}", "name", name, "unit", unit)) != 0) {
+        if (json_array_append_new(
+                cols, json_pack("{s:s, s:s}", "name", col[j].name, "unit", col[j].unit)) != 0) {
             json_decref(cols);
             return NULL;
         }

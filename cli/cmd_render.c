@@ -99,7 +99,7 @@ int tsc_cmd_render(int argc, char **argv)
         tsc_print_err("run", &err);
         goto done;
     }
-    if (ts_geometry(m, d, g, &err) != TS_OK) {
+    if (t > 0 && ts_geometry(m, d, g, &err) != TS_OK) { /* at t = 0: the one above */
         tsc_print_err("geometry", &err);
         goto done;
     }

@@ -46,7 +46,7 @@ typedef struct {
 static void progress(run_sink *s, double t)
 {
     double wall;
-    if (!tsc_progress_due(&s->prog, &wall)) return;
+    if (!tsc_progress_due(&s->prog, &wall, 0)) return;
     tsc_progress_say(&s->prog, "t = %.3f of %.3f s (%.1f %%), %.1fx real time", t, s->until,
                      s->until > 0 ? 100.0 * t / s->until : 100.0, wall > 0 ? t / wall : 0.0);
 }
@@ -165,7 +165,10 @@ int tsc_cmd_run(int argc, char **argv)
         ts_err_set(&err, TS_ERR_CANCELLED, NULL, "stopped by signal %d at t = %.6g s",
                    (int)stop_signal, sink.t_last);
     if (arc != TS_OK || sink.nomem || write_failed || stop_signal) {
-        if (!write_failed) tsc_print_err("run", &err);
+        /* a failed write stops the run as its caller ("stopped by the caller"):
+         * tsc_out_close said why; a lack of memory or a signal is said too */
+        if (sink.nomem || stop_signal || (arc != TS_OK && !write_failed))
+            tsc_print_err("run", &err);
         if (write_failed) /* what reached the disk is not known row by row */
             fprintf(stderr,
                     "tanksim: run: %s/series.csv is incomplete (rows were being written up "

@@ -45,8 +45,7 @@ static int on_step_done(void *ud, int done, int total)
 {
     tune_progress *tp = ud;
     double wall;
-    int last = done == total && tp->prog.shown; /* once lines were shown, the last is too */
-    if (!tsc_progress_due(&tp->prog, &wall) && !last) return 0;
+    if (!tsc_progress_due(&tp->prog, &wall, done == total)) return 0;
     char what[96] = "base config";
     if (done > 1 && tp->var)
         snprintf(what, sizeof what, "schedule %s %g %s", tp->var, tp->xs[done - 2],
