@@ -238,6 +238,12 @@ enum MHD_Result tsd_reply_problem(tsd_request *r, unsigned status, const char *t
 _Static_assert(MAX_TARGET + 2 * 1024 + MAX_QUERY_PARAMS * ARG_RECORD + 6 * 1024 <= CONN_MEMORY,
                "the request target limits must leave room in the connection's pool");
 
+/* Past either limit: the query is dropped unread and the answer is 414. */
+static int target_too_long(const tsd_request *r)
+{
+    return r->target_len > MAX_TARGET || r->target_params > MAX_QUERY_PARAMS;
+}
+
 /* The raw request target, before libmicrohttpd decodes the path in place
  * for the access handler: a %00 would end the path early (".../ID%00/frames"
  * routed as ".../ID") and a %2F would add a segment, so either in the path is
@@ -247,12 +253,6 @@ _Static_assert(MAX_TARGET + 2 * 1024 + MAX_QUERY_PARAMS * ARG_RECORD + 6 * 1024 
  * query there gives no parameters and takes no pool memory. The request
  * object starts here; completed() frees it, also for a request libmicrohttpd
  * itself rejects later. */
-/* Past either limit: the query is dropped unread and the answer is 414. */
-static int target_too_long(const tsd_request *r)
-{
-    return r->target_len > MAX_TARGET || r->target_params > MAX_QUERY_PARAMS;
-}
-
 static void *uri_seen(void *cls, const char *uri, struct MHD_Connection *conn)
 {
     (void)cls;
@@ -265,7 +265,7 @@ static void *uri_seen(void *cls, const char *uri, struct MHD_Connection *conn)
         if (uri[i] == '%' && ((uri[i + 1] == '0' && uri[i + 2] == '0') ||
                               (uri[i + 1] == '2' && (uri[i + 2] | 0x20) == 'f')))
             r->bad_path = 1;
-    r->target_len = n + strlen(uri + n);
+    r->target_len = strlen(uri);
     if (uri[n] == '?' && uri[n + 1]) { /* as MHD_parse_arguments_: one per '&', plus one */
         r->target_params = 1;
         for (const char *c = uri + n + 1; *c; c++)

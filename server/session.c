@@ -49,6 +49,7 @@
 #define _GNU_SOURCE
 #include "session.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -812,6 +813,7 @@ ts_rc tsd_session_delete(tsd_session *s, ts_err *err)
     tsd_registry *g = srv->reg;
     pthread_mutex_lock(&g->mu);
     int i = registry_find_locked(g, s->id); /* there: only this, once, under build_mu, removes */
+    assert(i >= 0 && g->v[i] == s);
     memmove(&g->v[i], &g->v[i + 1], sizeof g->v[0] * (size_t)(g->n - i - 1));
     g->n--;
     pthread_mutex_unlock(&g->mu);

@@ -92,7 +92,7 @@ export function initChannelPicker(state, plots) {
     if (!state.session) return;
     render();
     for (const sel of [$('fft-channel'), $('compare-channel')]) fillChannelSelect(sel, listed(sel)); /* new unit labels */
-    if (!detail?.siUnit || plots.charts.some((c) => c.unit === detail.siUnit)) plots.show(state.store, state.picks);
+    if (plots.charts.some((c) => c.unit === detail.siUnit)) plots.show(state.store, state.picks);
   });
 
   return { render, clear };

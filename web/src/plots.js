@@ -74,7 +74,7 @@ export class ChartPanel {
     this.drawn = null; /* {from, units}: what the chart was drawn from, and the SI units of what it shows */
     followWidth(root, () => (this.plot ? [this.plot] : []));
     window.addEventListener(UNITS_CHANGED, ({ detail }) => {
-      if (this.drawn && (!detail?.siUnit || this.drawn.units.includes(detail.siUnit))) this.draw(this.drawn.from);
+      if (this.drawn && this.drawn.units.includes(detail.siUnit)) this.draw(this.drawn.from);
     });
   }
 

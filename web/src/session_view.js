@@ -113,7 +113,8 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
       close(`Session ${s.id} no longer exists (deleted).`);
       return;
     }
-    if (sum.status === s.status && sum.t === s.t && !behind(sum)) return;
+    const lagging = behind(sum);
+    if (sum.status === s.status && sum.t === s.t && !lagging) return;
     const statusChanged = sum.status !== s.status;
     Object.assign(s, { status: sum.status, t: sum.t, index: sum.index, error: sum.error, operation: sum.operation });
     header.render();
@@ -122,12 +123,11 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
     if (sum.status === 'running' && sum.operation) run.poll(sum.operation);
     /* rows stored by another client's step or run: the stream sends them from the
      * store's last index and ends when the session is not running */
-    if (behind(sum) || sum.status === 'running') stream.start();
+    if (lagging || sum.status === 'running') stream.start();
   }
 
   /* The list's summary has rows the store does not. */
   const behind = (sum) => !!state.store && (sum.samples || 0) > 0 && typeof sum.index === 'number' && sum.index > state.store.lastIndex;
-
 
   $('delete-session').addEventListener('click', onDelete);
 
