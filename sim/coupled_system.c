@@ -241,7 +241,6 @@ static int mono_roots(double t, const double *y, double *g, void *ud)
     return 0;
 }
 
-/* leader: powertrain side with the predicted sprocket speed */
 /* The exchange's options from the run's coupling parameters. */
 static ts_cosim_opts cosim_opts(const ts_coupled_run *r)
 {
@@ -249,6 +248,7 @@ static ts_cosim_opts cosim_opts(const ts_coupled_run *r)
                            r->co.predictor_order};
 }
 
+/* leader: powertrain side with the predicted sprocket speed */
 static double lead_w(const ts_coupled_run *r, double t)
 {
     return ts_cosim_predict(&r->last, r->last_order, t);

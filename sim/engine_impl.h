@@ -168,8 +168,7 @@ static inline double en_orifice(double cda, double p1, double T1, double R1, dou
  * gives each (bitwise), with one evaluation of the pressure-ratio function
  * for forward flow (the turbine nozzle and the wastegate bypass). */
 void en_orifice_pair(double cda_a, double cda_b, double p1, double T1, double R1, double g1,
-                     double p2, double T2a, double T2b, double R2, double g2, double *m_a,
-                     double *m_b);
+                     double p2, double T2, double R2, double g2, double *m_a, double *m_b);
 
 /* ---- cylinder kinematics and valves (engine_cylinder.c) ------------------- */
 typedef struct en_geom {

@@ -25,12 +25,11 @@
  * valve. */
 
 void en_orifice_pair(double cda_a, double cda_b, double p1, double T1, double R1, double g1,
-                     double p2, double T2a, double T2b, double R2, double g2, double *m_a,
-                     double *m_b)
+                     double p2, double T2, double R2, double g2, double *m_a, double *m_b)
 {
-    if (p1 < p2 || cda_a <= 0 || cda_b <= 0) { /* reverse (downstream T differs) or one shut */
-        *m_a = en_orifice(cda_a, p1, T1, R1, g1, p2, T2a, R2, g2);
-        *m_b = en_orifice(cda_b, p1, T1, R1, g1, p2, T2b, R2, g2);
+    if (p1 < p2 || cda_a <= 0 || cda_b <= 0) { /* reverse or one shut */
+        *m_a = en_orifice(cda_a, p1, T1, R1, g1, p2, T2, R2, g2);
+        *m_b = en_orifice(cda_b, p1, T1, R1, g1, p2, T2, R2, g2);
         return;
     }
     en_flow_ratio r = en_ratio_of(p1, g1, p2);
@@ -106,8 +105,7 @@ void en_exhaust_outflow(const ts_engine *e, double omega, double w_tc, const en_
         g2 = s_amb.cp / s_amb.cv;
     }
     double m_t, m;
-    en_orifice_pair(tg.a_t, area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, T_amb, R2, g2, &m_t,
-                    &m);
+    en_orifice_pair(tg.a_t, area, o->p_em, o->T_em, R_em, g_em, p_amb, T_amb, R2, g2, &m_t, &m);
     en_turbine_flow(&e->turbo, m_t, w_tc, o->p_em, o->T_em, R_em, cp_em, p_amb, to);
     *m_wg = m > 0 ? m : 0;
 }

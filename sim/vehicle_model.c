@@ -1130,10 +1130,10 @@ static ts_rc mass_structure(vm *v, ts_err *err)
     kinematics_of(v, q0, NULL, ALL_BODIES, &k); /* only the column indices are read */
     for (int b = 0; b < VM_NB; b++) {
         mark_pairs(nz, nq, k.j[b].idx, k.j[b].n);
-        int spin[4] = {QS0 + b, QS0 + b, QS0 + b, QS0 + b};
-        if (v->fidelity == TS_TRACK_QUASI_STATIC && b < 4) /* mqs: spins 0..3 */
-            for (int a = 0; a < 4; a++)
-                spin[a] = QS0 + a;
+        nz[(QS0 + b) * nq + QS0 + b] = 1; /* its spin inertia */
+    }
+    if (v->fidelity == TS_TRACK_QUASI_STATIC) { /* mqs couples spins 0..3 */
+        int spin[4] = {QS0, QS0 + 1, QS0 + 2, QS0 + 3};
         mark_pairs(nz, nq, spin, 4);
     }
     int sprocket[2] = {QT, QS0 + VM_SPROCKET};

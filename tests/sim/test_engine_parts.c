@@ -344,6 +344,9 @@ static void intercooler_backflow_conserves_burned_mass(void **state)
         /* burned mass: what the cylinders take and nothing else */
         double mf_im = xd[BX_IMM] * F_im + xb[BX_IMM] * xd[BX_IMF];
         assert_close(ic_burned_rate(xb, xd) + mf_im, -f.mf_in, 0, 1e-13 * scale);
+        /* and the stream carries the upstream volume's burned fraction (the sum
+         * above holds for any F on the stream) */
+        assert_close(mf_im, m_ici * (reverse ? F_im : xb[BX_ICF]) - f.mf_in, 0, 1e-13 * scale);
         /* energy: d(m u)/dt = m cv dT/dt + u dm/dt + m du/dF dF/dt of each volume */
         double q_ic = en_intercooler_heat(c->ic_ua, co.mdot, co.cp_out, co.T_out, c->ic_wall_temp);
         double dE_ic =

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "api/config_json.h"
+#include "preset_config.h"
 #include "sim/track_circuit.h"
 
 #define PI 3.14159265358979323846
@@ -17,11 +18,7 @@
 static ts_circuit_params m1_params(void)
 {
     ts_err err;
-    ts_config cfg;
-    json_t *doc = json_pack("{s:s}", "preset", "m1");
-    if (tsa_config_load(doc, &cfg, NULL, NULL, &err) != TS_OK)
-        fail_msg("preset m1: %s %s", err.pointer, err.msg);
-    json_decref(doc);
+    ts_config cfg = test_preset_config("m1", NULL);
     ts_circuit_params p;
     assert_int_equal(ts_circuit_params_from_config(&cfg, &p, &err), TS_OK);
     return p;
@@ -283,10 +280,7 @@ static void track_circuit_config_errors(void **state)
     (void)state;
     /* Contract: config errors name the field (errors.h). */
     ts_err err;
-    ts_config cfg;
-    json_t *doc = json_pack("{s:s}", "preset", "m1");
-    assert_int_equal(tsa_config_load(doc, &cfg, NULL, NULL, &err), TS_OK);
-    json_decref(doc);
+    ts_config cfg = test_preset_config("m1", NULL);
     cfg.track.span_n = 1;
     cfg.track.span_length[0] = 1.0;
     cfg.track.span_inclination_n = 0;
