@@ -280,13 +280,16 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
 
 void ts_engine_free(ts_engine *e) { free(e); }
 int ts_engine_get_fidelity(const ts_engine *e) { return e->c.fidelity; }
-int ts_engine_models_cylinders(const ts_engine *e)
+unsigned ts_engine_models(const ts_engine *e)
 {
-    return e->c.fidelity == TS_ENGINE_CRANK_ANGLE;
-}
-int ts_engine_models_manifolds(const ts_engine *e)
-{
-    return e->c.fidelity != TS_ENGINE_MAP;
+    switch (e->c.fidelity) {
+    case TS_ENGINE_CRANK_ANGLE:
+        return TS_ENGINE_MODELS_CYLINDERS | TS_ENGINE_MODELS_MANIFOLDS;
+    case TS_ENGINE_MEAN_VALUE:
+        return TS_ENGINE_MODELS_MANIFOLDS;
+    default:
+        return 0; /* map */
+    }
 }
 int ts_engine_nstate(const ts_engine *e) { return e->nx; }
 
@@ -829,7 +832,7 @@ static ts_rc cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in
      * 0-g/kWh BSFC read as results; CLI review, session 20): peak pressure
      * without cylinders, the ledger's ratios without a ledger (map), BSFC at
      * zero or negative brake power */
-    cyc->peak_pressure = ts_engine_models_cylinders(e) ? peak : NAN;
+    cyc->peak_pressure = ts_engine_models(e) & TS_ENGINE_MODELS_CYLINDERS ? peak : NAN;
     cyc->eta_v = cyc->eta_i = cyc->q_wall = NAN;
     cyc->energy_residual = cyc->mass_residual = NAN;
     ts_engine_ledger_get(e, x, &l1);

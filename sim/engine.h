@@ -92,14 +92,14 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err);
 void ts_engine_free(ts_engine *e);
 
 int ts_engine_get_fidelity(const ts_engine *e); /* ts_engine_fidelity enum value */
-/* 1 when the engine models its cylinders' cycle and walls, so the outputs
- * cyl_pressure, cyl_temp, heat_release and piston_surface_temp are set (the
- * crank-angle fidelity); 0 for the mean-value and map engines. */
-int ts_engine_models_cylinders(const ts_engine *e);
-/* 1 when the engine models its manifolds and turbochargers, so the outputs
- * intake_temp, exhaust_temp and turbo_speed are set (crank-angle and
- * mean-value); 0 for the map engine, which leaves them NaN. */
-int ts_engine_models_manifolds(const ts_engine *e);
+/* What an engine models, as bits of ts_engine_models, so that a channel table
+ * can say what each channel needs. CYLINDERS: the cylinders' cycle and walls,
+ * so the outputs cyl_pressure, cyl_temp, heat_release and piston_surface_temp
+ * are set (the crank-angle fidelity). MANIFOLDS: the manifolds and
+ * turbochargers, so intake_temp, exhaust_temp and turbo_speed are set
+ * (crank-angle and mean-value; the map engine leaves them NaN). */
+enum { TS_ENGINE_MODELS_CYLINDERS = 1u, TS_ENGINE_MODELS_MANIFOLDS = 2u };
+unsigned ts_engine_models(const ts_engine *e);
 int ts_engine_nstate(const ts_engine *e);       /* length of x */
 /* Cycle-mean inertia of the crank train [kg*m^2]: /engine/inertia plus the mean
  * of the reciprocating parts' crank-angle-varying share (the inertia the

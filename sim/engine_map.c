@@ -73,7 +73,7 @@ int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_in
         out->indicated_torque = t_ind;
         out->friction_torque = t_fric;
         out->boost = boost;
-        /* no manifolds or turbochargers: not modelled (ts_engine_models_manifolds) */
+        /* no manifolds or turbochargers: not modelled (ts_engine_models) */
         out->intake_temp = out->exhaust_temp = out->turbo_speed = NAN;
         out->fuel_flow = fuel;
         out->air_flow = fuel_fl * c->afr_stoich / phi * (out->boost / boost_fl);

@@ -135,8 +135,7 @@ static ts_rc bind_engine(const ts_config *cfg, ts_engine_port *port, ts_err *err
                              .free = engine_free,
                              .advance = engine_advance,
                              .work_size = ts_engine_work_size(c->e),
-                             .piston_temp = ts_engine_models_cylinders(c->e),
-                             .manifolds = ts_engine_models_manifolds(c->e)};
+                             .models = ts_engine_models(c->e)};
     return TS_OK;
 }
 
@@ -394,43 +393,47 @@ int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, doubl
     return changed;
 }
 
-static const ts_channel channels[TS_POWERTRAIN_NCHANNEL] = {
-    {"engine.speed", "rad/s", "crankshaft speed (= converter pump speed)"},
-    {"engine.torque", "N*m", "engine brake torque"},
-    {"engine.power", "W", "engine brake power"},
-    {"intake.pressure", "Pa", "intake manifold pressure (boost)"},
-    {"rack", "1", "fuel rack (driver demand) seen by the engine"},
-    {"tc.pump.speed", "rad/s", "torque-converter pump speed"},
-    {"tc.turbine.speed", "rad/s", "torque-converter turbine speed (= transmission input)"},
-    {"tc.pump.torque", "N*m", "torque-converter pump torque (load on the engine)"},
-    {"tc.turbine.torque", "N*m", "torque-converter turbine (output) torque"},
-    {"tc.speed_ratio", "1", "converter speed ratio turbine/pump"},
-    {"tc.torque_ratio", "1", "converter torque ratio turbine/pump"},
-    {"tc.efficiency", "1", "converter efficiency TR*SR"},
-    {"tc.slip", "rad/s", "converter slip, pump minus turbine speed"},
-    {"transmission.gear", "1", "engaged gear (fractional while a shift is in progress)"},
-    {"transmission.out.speed", "rad/s", "transmission output speed"},
-    {"transmission.out.torque", "N*m", "transmission output (propshaft) torque"},
-    {"transmission.clutch.offgoing", "N*m", "engaged/off-going range-clutch torque, input side"},
-    {"transmission.clutch.oncoming", "N*m",
-     "on-coming range-clutch torque during a shift, input side"},
-    {"driveshaft.torque", "N*m", "torque in each drive shaft, differential to sprocket"},
-    {"driveshaft.speed", "rad/s", "drive-shaft (= sprocket) speed"},
-    {"exhaust.temperature", "K", "exhaust manifold temperature (Fig. 21c)"},
-    {"turbo.speed", "rad/s", "turbocharger rotor speed"},
-    {"piston.surface_temperature", "K", "piston gas-side surface temperature (Fig. 21b)"},
-    {"engine.fuel_flow", "kg/s", "fuel mass flow, whole engine"},
+/* Each channel and what the engine must model for it (engine.h TS_ENGINE_MODELS_*
+ * bits; 0: every engine). */
+static const struct {
+    ts_channel ch;
+    unsigned needs;
+} channels[TS_POWERTRAIN_NCHANNEL] = {
+    {{"engine.speed", "rad/s", "crankshaft speed (= converter pump speed)"}, 0},
+    {{"engine.torque", "N*m", "engine brake torque"}, 0},
+    {{"engine.power", "W", "engine brake power"}, 0},
+    {{"intake.pressure", "Pa", "intake manifold pressure (boost)"}, 0},
+    {{"rack", "1", "fuel rack (driver demand) seen by the engine"}, 0},
+    {{"tc.pump.speed", "rad/s", "torque-converter pump speed"}, 0},
+    {{"tc.turbine.speed", "rad/s", "torque-converter turbine speed (= transmission input)"}, 0},
+    {{"tc.pump.torque", "N*m", "torque-converter pump torque (load on the engine)"}, 0},
+    {{"tc.turbine.torque", "N*m", "torque-converter turbine (output) torque"}, 0},
+    {{"tc.speed_ratio", "1", "converter speed ratio turbine/pump"}, 0},
+    {{"tc.torque_ratio", "1", "converter torque ratio turbine/pump"}, 0},
+    {{"tc.efficiency", "1", "converter efficiency TR*SR"}, 0},
+    {{"tc.slip", "rad/s", "converter slip, pump minus turbine speed"}, 0},
+    {{"transmission.gear", "1", "engaged gear (fractional while a shift is in progress)"}, 0},
+    {{"transmission.out.speed", "rad/s", "transmission output speed"}, 0},
+    {{"transmission.out.torque", "N*m", "transmission output (propshaft) torque"}, 0},
+    {{"transmission.clutch.offgoing", "N*m", "engaged/off-going range-clutch torque, input side"},
+     0},
+    {{"transmission.clutch.oncoming", "N*m",
+      "on-coming range-clutch torque during a shift, input side"},
+     0},
+    {{"driveshaft.torque", "N*m", "torque in each drive shaft, differential to sprocket"}, 0},
+    {{"driveshaft.speed", "rad/s", "drive-shaft (= sprocket) speed"}, 0},
+    {{"exhaust.temperature", "K", "exhaust manifold temperature (Fig. 21c)"},
+     TS_ENGINE_MODELS_MANIFOLDS},
+    {{"turbo.speed", "rad/s", "turbocharger rotor speed"}, TS_ENGINE_MODELS_MANIFOLDS},
+    {{"piston.surface_temperature", "K", "piston gas-side surface temperature (Fig. 21b)"},
+     TS_ENGINE_MODELS_CYLINDERS},
+    {{"engine.fuel_flow", "kg/s", "fuel mass flow, whole engine"}, 0},
 };
-/* channels[]: those an engine without manifolds (map) or walls leaves out */
-#define CH_EXHAUST_T 20
-#define CH_TURBO     21
-#define CH_PISTON_T  22
 
 /* Whether channel i of the table above is one of pt's (its engine models it). */
 static int present(const ts_powertrain *pt, int i)
 {
-    if (i == CH_EXHAUST_T || i == CH_TURBO) return pt->engine.manifolds;
-    return i != CH_PISTON_T || pt->engine.piston_temp;
+    return (channels[i].needs & ~pt->engine.models) == 0;
 }
 
 /* The channels of pt's engine, in the order above (stored sessions match it
@@ -439,7 +442,7 @@ static void channels_of(ts_powertrain *pt)
 {
     pt->nch = 0;
     for (int i = 0; i < TS_POWERTRAIN_NCHANNEL; i++)
-        if (present(pt, i)) pt->ch[pt->nch++] = channels[i];
+        if (present(pt, i)) pt->ch[pt->nch++] = channels[i].ch;
 }
 
 const ts_channel *ts_powertrain_channels(const ts_powertrain *pt)

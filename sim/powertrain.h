@@ -40,7 +40,7 @@ typedef struct ts_engine_obs {
     double boost;        /* intake manifold pressure [Pa] */
     double exhaust_temp; /* exhaust manifold temperature [K] */
     double turbo_speed;  /* turbocharger rotor speed [rad/s] */
-    double piston_temp;  /* piston gas-side surface temperature [K] (if port.piston_temp) */
+    double piston_temp; /* piston gas-side surface temperature [K] (if port.models has CYLINDERS) */
     double fuel_flow;    /* whole engine [kg/s] */
 } ts_engine_obs;
 
@@ -71,9 +71,8 @@ typedef struct ts_engine_port {
                      double (*load)(void *lud, double t, double speed), void *lud, double *work,
                      ts_err *err);
     size_t work_size;
-    int piston_temp; /* 1: the engine models its walls, obs.piston_temp is set */
-    int manifolds;   /* 1: it models manifolds and turbochargers, obs.exhaust_temp and
-                      * obs.turbo_speed are set */
+    unsigned models; /* engine.h TS_ENGINE_MODELS_* bits: CYLINDERS, obs.piston_temp
+                      * is set; MANIFOLDS, obs.exhaust_temp and obs.turbo_speed are */
 } ts_engine_port;
 
 typedef struct ts_powertrain ts_powertrain;
@@ -222,7 +221,7 @@ ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *e
  * order (ts_powertrain_nchannel of them), and the values of one row from a
  * ts_powertrain_out. exhaust.temperature and turbo.speed (the 21st and 22nd
  * of the TS_POWERTRAIN_NCHANNEL) exist only when the engine models its
- * manifolds and turbochargers (port.manifolds: not the map engine),
+ * manifolds and turbochargers (port.models: not the map engine),
  * piston.surface_temperature (the 23rd) only when it models its walls (the
  * crank-angle fidelity); the others keep their order without them. */
 #define TS_POWERTRAIN_NCHANNEL 24

@@ -42,15 +42,47 @@ enum {
     CH_PISTON_T,
     CH_RACK
 };
-/* Whether m's engine models channel c: CH_CYL_P..CH_PISTON_T need its
- * cylinders (the crank-angle fidelity), the manifold temperatures and the
- * turbo speed its manifolds and turbochargers (not the map engine). */
+/* Each channel and what the engine must model for it (engine.h
+ * TS_ENGINE_MODELS_* bits; 0: every engine): the cylinder channels need the
+ * crank-angle engine, the manifold temperatures and the turbo speed an engine
+ * with manifolds and turbochargers (not the map engine). */
+static const struct {
+    ts_channel ch;
+    unsigned needs;
+} channels[CH_RACK + 1] = {
+    [CH_SPEED] = {{"engine.speed", "rad/s", "crankshaft speed (held by the dynamometer)"}, 0},
+    [CH_TORQUE] = {{"engine.torque", "N*m", "brake torque, instantaneous (indicated - friction)"},
+                   0},
+    [CH_POWER] = {{"engine.power", "W", "brake power, instantaneous"}, 0},
+    [CH_BOOST] = {{"intake.pressure", "Pa", "intake manifold pressure (boost), mean of the banks"},
+                  0},
+    [CH_EXHAUST_T] = {{"exhaust.temperature", "K",
+                       "exhaust manifold temperature, mean of the banks"},
+                      TS_ENGINE_MODELS_MANIFOLDS},
+    [CH_INTAKE_T] = {{"intake.temperature", "K", "intake manifold temperature, mean of the banks"},
+                     TS_ENGINE_MODELS_MANIFOLDS},
+    [CH_AIR] = {{"engine.air_flow", "kg/s", "compressor air mass flow, both banks"}, 0},
+    [CH_FUEL] = {{"engine.fuel_flow", "kg/s", "fuel mass flow injected"}, 0},
+    [CH_PHI] = {{"engine.phi", "1", "delivered fuel/air equivalence ratio"}, 0},
+    [CH_TURBO] = {{"turbo.speed", "rad/s", "turbocharger rotor speed, mean of the banks"},
+                  TS_ENGINE_MODELS_MANIFOLDS},
+    [CH_ANGLE] = {{"engine.crank_angle", "rad", "crank angle from cylinder 1 firing TDC, 0..4 pi"},
+                  0},
+    [CH_CYL_P] = {{"cylinder.pressure", "Pa", "cylinder 1 pressure"}, TS_ENGINE_MODELS_CYLINDERS},
+    [CH_CYL_T] = {{"cylinder.temperature", "K", "cylinder 1 bulk gas temperature"},
+                  TS_ENGINE_MODELS_CYLINDERS},
+    [CH_HRR] = {{"cylinder.heat_release", "W", "cylinder 1 fuel energy release rate"},
+                TS_ENGINE_MODELS_CYLINDERS},
+    [CH_PISTON_T] = {{"piston.surface_temperature", "K",
+                      "cylinder 1 piston gas-side surface temperature"},
+                     TS_ENGINE_MODELS_CYLINDERS},
+    [CH_RACK] = {{"rack", "1", "rack (driver demand)"}, 0},
+};
+
+/* Whether m's engine models channel c. */
 static int modelled(const ts_model *m, int c)
 {
-    if (c >= CH_CYL_P && c <= CH_PISTON_T) return ts_engine_models_cylinders(m->impl);
-    if (c == CH_EXHAUST_T || c == CH_INTAKE_T || c == CH_TURBO)
-        return ts_engine_models_manifolds(m->impl);
-    return 1;
+    return (channels[c].needs & ~ts_engine_models(m->impl)) == 0;
 }
 
 /* The column of channel c in m's rows (column 0 is time), or -1 when m has
@@ -88,27 +120,9 @@ static ts_rc model_init(ts_model *m, ts_err *err)
     m->impl = e;
     m->dof = 1;
     m->nstate = ts_engine_nstate(e);
-    static const ts_channel ch[] = {
-        {"engine.speed", "rad/s", "crankshaft speed (held by the dynamometer)"},
-        {"engine.torque", "N*m", "brake torque, instantaneous (indicated - friction)"},
-        {"engine.power", "W", "brake power, instantaneous"},
-        {"intake.pressure", "Pa", "intake manifold pressure (boost), mean of the banks"},
-        {"exhaust.temperature", "K", "exhaust manifold temperature, mean of the banks"},
-        {"intake.temperature", "K", "intake manifold temperature, mean of the banks"},
-        {"engine.air_flow", "kg/s", "compressor air mass flow, both banks"},
-        {"engine.fuel_flow", "kg/s", "fuel mass flow injected"},
-        {"engine.phi", "1", "delivered fuel/air equivalence ratio"},
-        {"turbo.speed", "rad/s", "turbocharger rotor speed, mean of the banks"},
-        {"engine.crank_angle", "rad", "crank angle from cylinder 1 firing TDC, 0..4 pi"},
-        {"cylinder.pressure", "Pa", "cylinder 1 pressure"},
-        {"cylinder.temperature", "K", "cylinder 1 bulk gas temperature"},
-        {"cylinder.heat_release", "W", "cylinder 1 fuel energy release rate"},
-        {"piston.surface_temperature", "K", "cylinder 1 piston gas-side surface temperature"},
-        {"rack", "1", "rack (driver demand)"},
-    };
     ts_rc rc = TS_OK;
     for (int c = CH_SPEED; c <= CH_RACK && rc == TS_OK; c++)
-        if (modelled(m, c)) rc = ts_model_add_channels(m, &ch[c - 1], 1, err);
+        if (modelled(m, c)) rc = ts_model_add_channels(m, &channels[c].ch, 1, err);
     return rc;
 }
 
