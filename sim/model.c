@@ -347,6 +347,24 @@ double ts_rows_first_crossing(const double *rows, long nrows, int nc, int col, d
     return NAN;
 }
 
+int ts_metric_add_upshifts(const double *rows, long nrows, int nc, int gear_col, ts_metric *out,
+                           int n, int max)
+{
+    char name[48], desc[96];
+    for (int g = 1; g <= 3; g++) {
+        snprintf(name, sizeof name, "shift_%d_%d_began_s", g, g + 1);
+        snprintf(desc, sizeof desc, "time the %d-%d upshift began (gear leaves %d)", g, g + 1, g);
+        n = ts_metric_add(out, n, max, name, "s",
+                          ts_rows_first_crossing(rows, nrows, nc, gear_col, g + 1e-6), desc);
+        snprintf(name, sizeof name, "shift_%d_%d_half_s", g, g + 1);
+        snprintf(desc, sizeof desc, "time the %d-%d upshift is half done (gear passes %d.5)", g,
+                 g + 1, g);
+        n = ts_metric_add(out, n, max, name, "s",
+                          ts_rows_first_crossing(rows, nrows, nc, gear_col, g + 0.5), desc);
+    }
+    return n;
+}
+
 /* Saved state = header (t, index) + the scenario's own bytes. */
 typedef struct {
     double t;

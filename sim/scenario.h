@@ -84,6 +84,13 @@ int ts_metric_add(ts_metric *out, int n, int max, const char *name, const char *
 /* First time the sampled column col crosses level upwards (rows: nrows rows
  * of nc values, time in column 0; linear interpolation), NAN if never. */
 double ts_rows_first_crossing(const double *rows, long nrows, int nc, int col, double level);
+/* The three upshifts' times from the fractional gear column gear_col (the
+ * transmission's gear, g + shift fraction during a g -> g+1 shift), the same
+ * pair for every scenario that has a transmission: shift_G_H_began_s (gear
+ * leaves g) and shift_G_H_half_s (gear passes g + 0.5). Appends to out[n..];
+ * returns the new count. */
+int ts_metric_add_upshifts(const double *rows, long nrows, int nc, int gear_col, ts_metric *out,
+                           int n, int max);
 
 /* A CVODE handle's counters (ts_ode_get_stats) as one ts_integrator_stats entry;
  * name and method must outlive it (string literals). */

@@ -190,14 +190,7 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     n = ts_metric_add(out, n, max, "peak_sprocket_torque", "N*m", tq_max,
                       "peak torque at each sprocket (Fig. 28 converter multiplication)");
     n = vm_channels_span_metrics(rows, nrows, nc, CH_V0, out, n, max);
-    char name[64], desc[160];
-    for (int g = 1; g <= 3; g++) {
-        snprintf(name, sizeof name, "shift_%d_%d_time", g, g + 1);
-        snprintf(desc, sizeof desc, "time the %d-%d upshift is half done (gear passes %d.5)", g,
-                 g + 1, g);
-        n = ts_metric_add(out, n, max, name, "s",
-                          ts_rows_first_crossing(rows, nrows, nc, CH_PT0 + PT_GEAR, g + 0.5), desc);
-    }
+    n = ts_metric_add_upshifts(rows, nrows, nc, CH_PT0 + PT_GEAR, out, n, max);
     if (m->cfg.control.mode == TS_CONTROL_IVS) {
         double vt = m->cfg.control.target_speed;
         double t_hit = ts_rows_first_crossing(rows, nrows, nc, CH_SPEED, vt);

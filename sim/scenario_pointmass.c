@@ -461,13 +461,7 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
                       rows[(nrows - 1) * nc + CH_SPEED] * 3.6,
                       "vehicle speed at the end of the run");
     int ig = ts_model_channel_index(m, "transmission.gear");
-    if (ig > 0) { /* start times of the first three shifts, from the fractional gear */
-        static const char *const names[] = {"shift_1_2_s", "shift_2_3_s", "shift_3_4_s"};
-        for (int k = 0; k < 3; k++)
-            n = ts_metric_add(out, n, max, names[k], "s",
-                              ts_rows_first_crossing(rows, nrows, nc, ig, (k + 1) + 1e-6),
-                              "time the upshift began (gear leaves its integer value)");
-    }
+    if (ig > 0) n = ts_metric_add_upshifts(rows, nrows, nc, ig, out, n, max);
     return n;
 }
 

@@ -70,14 +70,14 @@ def main():
     pres, mp = run("bump-prescribed-coupled-nopowertrain",
                    preset="bump-prescribed-coupled-nopowertrain", out=out)
     print("\nFigs. 28-30 (flat, 90 % rack):")
-    print("  shifts (half done) at", [round(mf[f"shift_{g}_{g+1}_time"], 2) for g in (1, 2, 3)],
+    print("  shifts (half done) at", [round(mf[f"shift_{g}_{g+1}_half_s"], 2) for g in (1, 2, 3)],
           "s; peak sprocket torque", round(mf["peak_sprocket_torque"]), "N m; final speed",
           round(mf["final_speed_mph"], 1), "mph; peak tension", round(mf["peak_tension"] / 1e3, 1),
           "kN")
     shifts_report(flat, "flat")
     print("\nFig. 31 (bump vs flat, 90 % rack):")
-    print("  shifts flat", [round(mf[f"shift_{g}_{g+1}_time"], 2) for g in (1, 2, 3)],
-          "bump", [round(mb[f"shift_{g}_{g+1}_time"], 2) for g in (1, 2, 3)])
+    print("  shifts flat", [round(mf[f"shift_{g}_{g+1}_half_s"], 2) for g in (1, 2, 3)],
+          "bump", [round(mb[f"shift_{g}_{g+1}_half_s"], 2) for g in (1, 2, 3)])
     tq_f, tq_b = flat["sprocket.torque"], bump["sprocket.torque"]
     diff = max(abs(a - b) for a, b in zip(tq_f, tq_b))
     print(f"  largest |sprocket torque bump - flat| {diff:.0f} N m; mean torque 5-30 s flat "
@@ -118,7 +118,7 @@ def main():
             "preset": "flat-coupled-rack90", "terrain": {"kind": ter},
             "driveline": {"shift_speed": 204.2}}, out=out)
         print(f"1950-rpm upshift, {ter}: shifts",
-              [round(m[f"shift_{g}_{g+1}_time"], 2) for g in (1, 2, 3)])
+              [round(m[f"shift_{g}_{g+1}_half_s"], 2) for g in (1, 2, 3)])
 
 
 if __name__ == "__main__":

@@ -156,11 +156,19 @@ static void fig19_three_upshifts_dip_and_sawtooth(void **state)
 {
     (void)state;
     run_result r = run_preset("accel-pointmass-conventional", "map", 20.0);
-    static const char *const names[] = {"shift_1_2_s", "shift_2_3_s", "shift_3_4_s"};
+    static const char *const names[] = {"shift_1_2_began_s", "shift_2_3_began_s",
+                                        "shift_3_4_began_s"};
     double prev = 0, spike[3];
     for (int k = 0; k < 3; k++) {
         double ts = metric(&r, names[k]);
         assert_true(isfinite(ts) && ts > prev + 0.6);
+        /* the same shift's half-way time, as the coupled runs also report it
+         * (model.c ts_metric_add_upshifts): after the start, within the shift */
+        char half[32];
+        snprintf(half, sizeof half, "shift_%d_%d_half_s", k + 1, k + 2);
+        double th = metric(&r, half);
+        print_message("      shift %d half done %.3f s after it began\n", k + 1, th - ts);
+        assert_close(th - ts, 0.5 * 0.6, 0, 0.05); /* driveline.json shift_time 0.6 s */
         prev = ts;
         assert_close(at(&r, "engine.speed", ts) / RPM, 1850, 5e-3, 0);
         double lo, hi;
