@@ -164,7 +164,7 @@ static void fig19_three_upshifts_dip_and_sawtooth(void **state)
         assert_true(isfinite(ts) && ts > prev + 0.6);
         /* the same shift's half-way time, as the coupled runs also report it
          * (model.c ts_metric_add_upshifts): after the start, within the shift */
-        char half[32];
+        char half[48];
         snprintf(half, sizeof half, "shift_%d_%d_half_s", k + 1, k + 2);
         double th = metric(&r, half);
         print_message("      shift %d half done %.3f s after it began\n", k + 1, th - ts);
