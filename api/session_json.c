@@ -387,6 +387,56 @@ json_t *tsa_integrators_json(const ts_integrator_stats *s, int n)
     return a;
 }
 
+/* ---- run figures ------------------------------------------------------------ */
+
+ts_rc tsa_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metric **out, int *n,
+                        ts_err *err)
+{
+    *out = NULL;
+    *n = 0;
+    int cap = TSA_METRICS_FIRST;
+    for (int attempt = 0; attempt < 2; attempt++) {
+        ts_metric *mt = malloc(sizeof *mt * (size_t)cap);
+        if (!mt)
+            return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory for %d run figures", cap);
+        int k = ts_model_metrics(m, rows, nrows, mt, cap);
+        if (k <= cap) {
+            *out = mt;
+            *n = k;
+            return TS_OK;
+        }
+        free(mt); /* k figures, room for cap: once more with room for all */
+        cap = k;
+    }
+    return ts_err_set(err, TS_ERR_INTERNAL, NULL,
+                      "the %s model's figure count changed between two calls over the same rows",
+                      ts_model_kind(m));
+}
+
+json_t *tsa_metrics_json(const ts_metric *mt, int n)
+{
+    json_t *a = json_array();
+    for (int i = 0; a && i < n; i++) {
+        json_t *o = json_pack("{s:s,s:s,s:o,s:s}", "name", mt[i].name, "unit", mt[i].unit, "value",
+                              isfinite(mt[i].value) ? json_real(mt[i].value) : json_null(),
+                              "description", mt[i].description);
+        if (!o || json_array_append_new(a, o) != 0) {
+            json_decref(a);
+            return NULL;
+        }
+    }
+    return a;
+}
+
+json_t *tsa_run_summary_json(const tsa_run_summary *v)
+{
+    json_t *metrics = tsa_metrics_json(v->metrics, v->nmetric);
+    if (!metrics) return NULL;
+    return json_pack("{s:s,s:s,s:s,s:b,s:f,s:I,s:i,s:o}", "id", v->id, "kind", v->kind, "status",
+                     v->status, "complete", v->complete, "t", v->t, "rows", (json_int_t)v->rows,
+                     "dof", v->dof, "metrics", metrics);
+}
+
 /* ---- session ---------------------------------------------------------------- */
 
 json_t *tsa_session_json(const tsa_session_view *v, int summary)
@@ -395,7 +445,7 @@ json_t *tsa_session_json(const tsa_session_view *v, int summary)
     snprintf(base, sizeof base, "/v1/sessions/%s", v->id);
     json_t *links = json_object();
     json_object_set_new(links, "self", json_string(base));
-    static const char *const rel[] = {"step", "run", "series", "stream", "fft"};
+    static const char *const rel[] = {"step", "run", "series", "stream", "fft", "summary"};
     for (size_t i = 0; i < sizeof rel / sizeof rel[0]; i++) {
         char u[200];
         snprintf(u, sizeof u, "%s/%s", base, rel[i]);

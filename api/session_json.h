@@ -126,6 +126,41 @@ void tsa_series_json(tsa_buf *b, const char *session, const tsa_channels *c, con
  * null where the method has none (ts_integrator_stats: -1). New reference. */
 json_t *tsa_integrators_json(const ts_integrator_stats *s, int n);
 
+/* ---- run figures ------------------------------------------------------------- */
+
+/* How many figures tsa_model_metrics makes room for at first; a scenario with
+ * more gets a second, exact-size call (ts_model_metrics counts past its max). */
+#define TSA_METRICS_FIRST 32
+
+/* Every figure ts_model_metrics gives for rows (nrows rows of the model's
+ * channels), none dropped: *out malloc'd (the caller frees it, also when *n
+ * is 0), *n their count. TS_ERR_NOMEM, or TS_ERR_INTERNAL when the count
+ * changed between the two calls. Threads: as ts_model_metrics (serialise it
+ * with every FFT user). */
+ts_rc tsa_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metric **out, int *n,
+                        ts_err *err);
+
+/* [{"name","unit","value","description"}] of n figures in order, value null
+ * when not finite (the run did not reach it). New reference. */
+json_t *tsa_metrics_json(const ts_metric *mt, int n);
+
+/* GET /v1/sessions/{id}/summary: a session's figures over its stored rows. */
+typedef struct tsa_run_summary {
+    const char *id;
+    const char *kind;   /* scenario kind */
+    const char *status; /* session status when the rows were read */
+    int complete;       /* 1: the run reached run.duration (status done) */
+    double t;           /* time of the last row used [s] */
+    long rows;          /* rows used: indexes 0..rows-1 */
+    int dof;            /* ts_model_dof */
+    const ts_metric *metrics;
+    int nmetric;
+} tsa_run_summary;
+
+/* {"id","kind","status","complete","t","rows","dof","metrics":[tsa_metrics_json]}.
+ * New reference (NULL when out of memory). */
+json_t *tsa_run_summary_json(const tsa_run_summary *v);
+
 /* ---- the session resource ------------------------------------------------ */
 
 typedef struct tsa_session_view {

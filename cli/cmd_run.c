@@ -189,8 +189,17 @@ int tsc_cmd_run(int argc, char **argv)
         json_array_append_new(channels, json_pack("{s:s,s:s,s:s}", "name", c->name, "unit", c->unit,
                                                   "description", c->description));
     }
-    ts_metric metrics[32];
-    int nmetric = ts_model_metrics(m, sink.rows.v, sink.rows.n, metrics, 32);
+    ts_metric *metrics; /* every figure the scenario has, however many (api/session_json.h) */
+    int nmetric;
+    if (tsa_model_metrics(m, sink.rows.v, sink.rows.n, &metrics, &nmetric, &err) != TS_OK) {
+        json_decref(channels);
+        tsc_print_err("run", &err);
+        fprintf(stderr,
+                "tanksim: run: %s/series.csv holds the rows up to t = %.6g s; no summary "
+                "written\n",
+                out, sink.t_last);
+        goto done;
+    }
     json_t *mj = json_object();
     for (int i = 0; i < nmetric; i++)
         json_object_set_new(
@@ -198,6 +207,7 @@ int tsc_cmd_run(int argc, char **argv)
             json_pack("{s:o,s:s,s:s}", "value",
                       isfinite(metrics[i].value) ? json_real(metrics[i].value) : json_null(),
                       "unit", metrics[i].unit, "description", metrics[i].description));
+    free(metrics);
     double wall = ts_wall_seconds(d);
     ts_integrator_stats ist[TS_MAX_INTEGRATORS];
     int nist = ts_integrator_stats_get(m, d, ist, TS_MAX_INTEGRATORS);

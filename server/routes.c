@@ -848,6 +848,72 @@ static enum MHD_Result get_fft(tsd_request *r)
     return tsd_reply_json(r, MHD_HTTP_OK, out);
 }
 
+/* ---- run summary ------------------------------------------------------------------- */
+
+/* The figures `tanksim run` writes to summary.json (tsa_model_metrics: top
+ * speed, peak tension, spectral peaks, shift times, ...) over the rows the
+ * session has stored, 0 to the last, read now: a run in progress gives those
+ * of the rows stored so far, with "complete": false (true once the session is
+ * done). A new session has row 0 only: 200 with what the model makes of one
+ * row (often nothing), as /series answers what is stored. The session's model
+ * computes them, so a stored session this build cannot rebuild (unrestored)
+ * answers 409 with the reason, as its frames do. Post-processing of stored
+ * rows like /fft, so on this HTTP thread, under fft_lock (the vehicle kind's
+ * spectral figures plan FFTs). Printed with 17 digits: the same doubles as
+ * the CLI's summary.json over the same rows. */
+static enum MHD_Result get_summary(tsd_request *r)
+{
+    tsd_session *s = r->session;
+    ts_err e;
+    /* unrestored is immutable once a handler sees the session; so is m */
+    if (s->unrestored || !s->m || s->nch != ts_model_nchannel(s->m)) {
+        ts_err_set(&e, TS_ERR_STATE, NULL, "session %s has no summary here: %s", s->id,
+                   s->error[0] ? s->error : "its model cannot be built by this build");
+        return tsd_reply_err(r, &e, NULL);
+    }
+    pthread_mutex_lock(&s->mu);
+    tsd_status status = s->status;
+    long last = s->index;
+    pthread_mutex_unlock(&s->mu);
+    long *index;
+    double *rows;
+    int more;
+    long n = read_rows(r, s, 0, last, 1, last >= 0 ? last + 1 : 1, &index, &rows, &more, &e);
+    if (n >= 0 && n != last + 1) { /* rows are never removed but with the session */
+        ts_err_set(&e, TS_ERR_IO, NULL, "could read %ld of the %ld stored rows", n, last + 1);
+        n = -1;
+    }
+    ts_metric *mt = NULL;
+    int nmt = 0;
+    ts_rc rc = n < 0 ? e.code : TS_OK;
+    if (rc == TS_OK) {
+        pthread_mutex_lock(&r->srv->fft_lock);
+        rc = tsa_model_metrics(s->m, rows, n, &mt, &nmt, &e);
+        pthread_mutex_unlock(&r->srv->fft_lock);
+    }
+    char *text = NULL;
+    if (rc == TS_OK) {
+        tsa_run_summary v = {.id = s->id,
+                             .kind = ts_model_kind(s->m),
+                             .status = tsd_status_name(status),
+                             .complete = status == TSD_DONE,
+                             .t = n > 0 ? rows[(size_t)(n - 1) * (size_t)s->nch] : 0.0,
+                             .rows = n,
+                             .dof = ts_model_dof(s->m),
+                             .metrics = mt,
+                             .nmetric = nmt};
+        json_t *j = tsa_run_summary_json(&v);
+        text = j ? json_dumps(j, JSON_COMPACT | JSON_REAL_PRECISION(17)) : NULL;
+        json_decref(j);
+        if (!text) rc = ts_err_set(&e, TS_ERR_NOMEM, NULL, "out of memory for the summary");
+    }
+    free(index);
+    free(rows);
+    free(mt);
+    if (rc != TS_OK) return tsd_reply_err(r, &e, NULL);
+    return tsd_reply_owned(r, MHD_HTTP_OK, "application/json", text, strlen(text));
+}
+
 /* ---- frames ------------------------------------------------------------------------ */
 
 /* View from query parameters: width, height, view, exaggeration, color, text,
@@ -1184,6 +1250,8 @@ static const tsd_route_row routes[] = {
      "Live samples (SSE or NDJSON)"},
     {"GET", "/v1/sessions/{id}/fft", get_fft, RF_SESSION, "channel from to window detrend",
      "Amplitude spectrum of a channel"},
+    {"GET", "/v1/sessions/{id}/summary", get_summary, RF_SESSION, "",
+     "Figures of the stored rows (tanksim run's summary metrics)"},
     {"GET", "/v1/sessions/{id}/frame.png", get_frame, RF_SESSION | RF_WORK, "t " Q_VIEW,
      "One rendered frame (PNG)"},
     {"GET", "/v1/sessions/{id}/frames", get_frames, RF_SESSION | RF_WORK,

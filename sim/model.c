@@ -319,14 +319,14 @@ void ts_rows_free(ts_rows *r)
 
 int ts_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max)
 {
-    if (!m->ops->metrics || !rows || nrows <= 0 || max <= 0) return 0;
-    return m->ops->metrics(m, rows, nrows, out, max);
+    if (!m->ops->metrics || !rows || nrows <= 0) return 0;
+    return m->ops->metrics(m, rows, nrows, out, max > 0 && out ? max : 0);
 }
 
 int ts_metric_add(ts_metric *out, int n, int max, const char *name, const char *unit, double value,
                   const char *desc)
 {
-    if (n >= max) return n;
+    if (n >= max) return n + 1; /* counted, not written: the caller's out is full */
     ts_metric *mt = &out[n];
     snprintf(mt->name, sizeof mt->name, "%s", name);
     snprintf(mt->unit, sizeof mt->unit, "%s", unit);

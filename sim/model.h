@@ -123,7 +123,7 @@ typedef struct ts_metric {
     char name[64];         /* e.g. "speed_at_20s_kmh" */
     char unit[16];         /* unit of value ("km/h", "s", "N") */
     double value;          /* NAN when the run does not reach it */
-    char description[160]; /* one line, says "predicted" or "calibrated to" where it matters */
+    char description[256]; /* one line, says "predicted" or "calibrated to" where it matters */
 } ts_metric;
 
 /* A growing copy of a run's sample rows, for ts_model_metrics: pass
@@ -138,11 +138,16 @@ void ts_rows_free(ts_rows *r);
 
 /* Scenario-specific figures computed from a run's sample rows (nrows rows of
  * ts_model_nchannel values, row-major, as ts_advance produced them), e.g. the
- * Table 2 acceleration times. Writes at most max metrics; returns the count.
+ * Table 2 acceleration times. Returns how many figures the scenario has for
+ * these rows and writes the first min(that, max) of them to out (as snprintf
+ * does): a return above max means out was too small and the rest is missing,
+ * so call again with a larger out (max 0 and out NULL: the count only, at
+ * the cost of computing every figure). How many there are depends on the
+ * scenario and its config (a gear channel, the IVS controller, cylinders).
  * The one call on a shared model that is NOT safe on several threads at once:
  * the vehicle kind's spectrum figures plan FFTs (fft.h: FFTW's planner is not
- * thread-safe), so serialise it with every other FFT user (tanksimd does not
- * call it; its /fft route holds tsd_server.fft_lock). */
+ * thread-safe), so serialise it with every other FFT user (tanksimd holds
+ * tsd_server.fft_lock around it in /summary, as around its /fft route). */
 int ts_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max);
 
 /* ---- state snapshots (persistence, re-rendering past times) --------------- */

@@ -35,7 +35,8 @@ typedef struct ts_scenario_ops {
     size_t (*state_size)(const ts_model *m);
     ts_rc (*state_save)(const ts_model *m, const ts_data *d, void *buf, ts_err *err);
     ts_rc (*state_restore)(const ts_model *m, ts_data *d, const void *buf, ts_err *err);
-    /* Optional: figures of a finished run (see ts_model_metrics). */
+    /* Optional: figures of a finished run; returns how many there are, writing
+     * at most max (see ts_model_metrics; ts_metric_add counts past max). */
     int (*metrics)(const ts_model *m, const double *rows, long nrows, ts_metric *out, int max);
     /* Optional (NULL: TS_ERR_UNSUPPORTED). */
     ts_rc (*geometry)(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err);
@@ -78,7 +79,8 @@ ts_rc ts_model_add_channels(ts_model *m, const ts_channel *rows, int n, ts_err *
 
 /* Helpers for a scenario's metrics (ts_scenario_ops.metrics). */
 /* out[n] = {name, unit, value, desc} (strings truncated to the fields) when
- * n < max; returns the new count n + 1, or n when out is full. */
+ * n < max; returns the new count n + 1 either way, so a metrics function
+ * returns how many figures it has even when out is full (ts_model_metrics). */
 int ts_metric_add(ts_metric *out, int n, int max, const char *name, const char *unit, double value,
                   const char *desc);
 /* First time the sampled column col crosses level upwards (rows: nrows rows

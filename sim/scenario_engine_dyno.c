@@ -239,7 +239,7 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     int nc = m->nchannel, ip = column(m, CH_CYL_P);
     int itq = column(m, CH_TORQUE), ipw = column(m, CH_POWER);
     int n = ip > 0 ? 3 : 2; /* no cylinder pressure without cylinders */
-    if (nrows < 2 || max < n) return 0;
+    if (nrows < 2) return 0;
     double tq = 0, pw = 0, pk = 0;
     for (long r = 0; r < nrows; r++) {
         const double *v = rows + (size_t)r * (size_t)nc;
@@ -258,8 +258,8 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
          "engine at 2100 rpm, full rack: calibrated to 1484 hp)"},
         {"peak_cylinder_pressure", "Pa", pk, "largest sampled cylinder 1 pressure (predicted)"},
     };
-    memcpy(out, mt, sizeof mt[0] * (size_t)n);
-    return n;
+    if (max > 0) memcpy(out, mt, sizeof mt[0] * (size_t)(max < n ? max : n));
+    return n; /* how many there are, even when out holds fewer (ts_model_metrics) */
 }
 
 const ts_scenario_ops ts_scenario_engine_dyno = {

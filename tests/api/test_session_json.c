@@ -12,6 +12,7 @@
 #include "api/session_json.h"
 #include "api/spectrum.h"
 #include "sim/tanksim.h"
+#include "tests/sim/preset_config.h"
 
 #define PI 3.14159265358979323846
 
@@ -277,6 +278,73 @@ static void buffer_grows_past_first_block(void **state)
     free(p);
 }
 
+/* The run figures of 2 s of the 21-DOF vehicle over the bump course (25
+ * figures: more than the 4 given below). */
+static ts_model *vehicle_rows(ts_rows *r)
+{
+    ts_config c = test_preset_config("bump-prescribed-static", NULL);
+    c.run.duration = 2.0;
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    assert_non_null(m);
+    ts_data *d = ts_data_make(m, &err);
+    assert_non_null(d);
+    *r = (ts_rows){0};
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_int_equal(ts_rows_append(r, 0, 0, ts_latest(d), ts_model_nchannel(m)), 0);
+    assert_int_equal(ts_advance(m, d, c.run.duration, ts_rows_append, r, &err), TS_OK);
+    ts_data_free(d);
+    return m;
+}
+
+/* No figure is dropped: ts_model_metrics says how many there are when out is
+ * too small (the first max are the same), and tsa_model_metrics returns them
+ * all whatever its first guess; no text fills its field (a description cut
+ * at 159 characters went unseen); a figure the run did not reach is null. */
+static void every_figure_is_kept(void **state)
+{
+    (void)state;
+    ts_rows r;
+    ts_model *m = vehicle_rows(&r);
+    ts_metric few[4], all[64];
+    int n = ts_model_metrics(m, r.v, r.n, all, 64);
+    assert_true(n > 4 && n < 64);
+    assert_int_equal(ts_model_metrics(m, r.v, r.n, few, 4), n);
+    assert_int_equal(ts_model_metrics(m, r.v, r.n, NULL, 0), n);
+    for (int i = 0; i < 4; i++) {
+        assert_string_equal(few[i].name, all[i].name);
+        assert_memory_equal(&few[i].value, &all[i].value, sizeof all[i].value);
+    }
+    ts_metric *mt;
+    int k;
+    ts_err err;
+    assert_int_equal(tsa_model_metrics(m, r.v, r.n, &mt, &k, &err), TS_OK);
+    assert_int_equal(k, n);
+    for (int i = 0; i < n; i++) {
+        assert_string_equal(mt[i].name, all[i].name);
+        assert_string_equal(mt[i].description, all[i].description);
+        assert_memory_equal(&mt[i].value, &all[i].value, sizeof all[i].value);
+        assert_true(strlen(mt[i].name) < sizeof mt[i].name - 1);
+        assert_true(strlen(mt[i].unit) < sizeof mt[i].unit - 1);
+        assert_true(strlen(mt[i].description) < sizeof mt[i].description - 1);
+    }
+    mt[1].value = NAN;
+    json_t *a = tsa_metrics_json(mt, k);
+    assert_int_equal(json_array_size(a), (size_t)n);
+    json_t *o = json_array_get(a, 1);
+    assert_string_equal(json_string_value(json_object_get(o, "name")), all[1].name);
+    assert_true(json_is_null(json_object_get(o, "value")));
+    assert_true(json_real_value(json_object_get(json_array_get(a, 0), "value")) == all[0].value);
+    json_decref(a);
+    free(mt);
+    /* no rows: no figures, and an array to free all the same */
+    assert_int_equal(tsa_model_metrics(m, r.v, 0, &mt, &k, &err), TS_OK);
+    assert_int_equal(k, 0);
+    free(mt);
+    ts_rows_free(&r);
+    ts_model_free(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -286,6 +354,7 @@ int main(void)
         cmocka_unit_test(shapes_from_a_plain_channel_array),
         cmocka_unit_test(model_table_larger_than_store_is_refused),
         cmocka_unit_test(buffer_grows_past_first_block),
+        cmocka_unit_test(every_figure_is_kept),
     };
     return cmocka_run_group_tests_name("api/session_json", tests, NULL, NULL);
 }
