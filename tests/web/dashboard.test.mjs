@@ -46,6 +46,11 @@
 // Live charts convert only the rows a redraw adds (a unit change converts
 // every point); the 300-ms tick leaves an unchanged FFT hint alone.
 // A preset's document that arrives after another preset was chosen is dropped.
+// The analysis forms' follower: polls that fail for a passing reason (fetch
+// rejected, a proxy's 502, 503) are tried again with backoff while the bar
+// says "reconnecting", and the result is shown when the daemon answers (across
+// a daemon restart: its outcome, interrupted); a 4xx ends the following at
+// once; with no answer for followLimits.patience it gives up ("connection lost").
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -302,6 +307,35 @@ const storedRows = (page) =>
 const storedButton = (page, id, name) => page.locator(`#stored-table tr[data-id="${id}"] button:text-is("${name}")`);
 /* The engine map on screen: rows plotted and the rated-point line. */
 const mapShown = (page) => page.evaluate(() => ({ rows: window.tanksimDebug.engineMap.plot?.data[0].length ?? 0, summary: document.getElementById('map-summary').textContent }));
+
+/* Route the page's polls of operations (GET /v1/operations/{id}) through
+   answer(n) (n counts them from 0): 'abort' (the fetch rejects, as when the
+   daemon is away), an HTTP status (a problem document, or for 502 a proxy's
+   HTML page) or undefined (passed on). times: when each poll was sent [ms]. */
+async function routePolls(page, answer) {
+  const times = [];
+  const handler = (route) => {
+    if (route.request().method() !== 'GET') return route.continue(); /* a cancel */
+    times.push(Date.now());
+    const how = answer(times.length - 1);
+    if (how === 'abort') return route.abort('connectionrefused');
+    if (how === 502) return route.fulfill({ status: 502, contentType: 'text/html', body: '<html><body>502 Bad Gateway</body></html>' });
+    if (how) return route.fulfill({ status: how, contentType: 'application/problem+json', body: JSON.stringify({ title: `test ${how}`, status: how, detail: 'answered by the test' }) });
+    return route.continue();
+  };
+  await page.route('**/v1/operations/*', handler);
+  return { times, stop: () => page.unroute('**/v1/operations/*', handler) };
+}
+
+/* Click `button` (an analysis form's Run) and return the operation the daemon's POST answered with. */
+async function startedOp(page, button) {
+  const posted = page.waitForResponse((r) => r.request().method() === 'POST' && /\/v1\/(engine-map|tune)/.test(r.url()));
+  await page.click(button);
+  return (await posted).json();
+}
+
+/* Wait until operation `id` of the daemon at `url` is done (the next analysis would get a 429). */
+const opDone = (url, id) => waitFor(async () => (await (await fetch(`${url}/v1/operations/${id}`)).json()).done, `operation ${id} done`, 30000);
 
 async function runToEnd(page, { watchGrowth = false } = {}) {
   const counts = [];
@@ -985,6 +1019,69 @@ async function main() {
       await shot(page, '06f-stored-analyses');
     });
 
+    /* the analysis forms' follower (operation.js): it ends at a 4xx, waits out a passing failure, gives up after followLimits.patience */
+    const outcome = (p, prefix) => p.locator(`#${prefix}-progress`).getAttribute('data-outcome');
+    await check("analysis follower: a 4xx for its operation ends the following at once (no retry): 'failed' and the answer in the error box", async () => {
+      await page.selectOption('#map-fidelity', 'mean_value');
+      const polls = await routePolls(page, () => 404);
+      let op;
+      try {
+        op = await startedOp(page, '#map-run');
+        await waitFor(async () => (await outcome(page, 'map')) === 'failed', 'the map form failed', 5000);
+        assert(/test 404/.test(await text(page, '#map-error')), `error "${await text(page, '#map-error')}"`);
+        await page.waitForTimeout(1000); /* a retry would come within 200 ms */
+        assert(polls.times.length === 1, `${polls.times.length} polls after a 404`);
+        assert(await page.locator('#map-run').isEnabled(), 'Run disabled after the 404');
+      } finally {
+        await polls.stop();
+        if (op) await opDone(d.url, op.id);
+      }
+    });
+
+    await check("analysis follower: after followLimits.patience with no answer it gives up: 'connection lost' on the bar, why in the error box, Run enabled, no more polls", async () => {
+      const polls = await routePolls(page, () => 'abort');
+      let op;
+      try {
+        await page.evaluate(() => (window.tanksimDebug.followLimits.patience = 1500));
+        op = await startedOp(page, '#map-run');
+        await waitFor(async () => (await outcome(page, 'map')) === 'lost', 'the map form giving up', 6000);
+        const msg = await text(page, '#map-error');
+        assert(/Lost contact with the daemon/.test(msg) && msg.includes(op.id) && /may still be running/.test(msg), `error "${msg}"`);
+        assert(/connection lost/.test(await text(page, '#map-progress-text')), `progress "${await text(page, '#map-progress-text')}"`);
+        assert((await page.locator('#map-run').isEnabled()) && (await page.locator('#map-cancel').isDisabled()), 'Run / Cancel after giving up');
+        const n = polls.times.length;
+        await page.waitForTimeout(800);
+        assert(polls.times.length === n, `${polls.times.length - n} polls after giving up`);
+      } finally {
+        await page.evaluate(() => (window.tanksimDebug.followLimits.patience = 60000)).catch(() => {});
+        await polls.stop();
+        if (op) await opDone(d.url, op.id);
+      }
+    });
+
+    await check("analysis follower: polls that fail for a passing reason (fetch rejected, a proxy's 502, 503) are tried again with backoff, the bar says reconnecting, and the map is drawn when the daemon answers", async () => {
+      let failing = true;
+      const kinds = ['abort', 502, 503];
+      const polls = await routePolls(page, (n) => (failing ? kinds[n % kinds.length] : undefined));
+      try {
+        await page.click('#map-run');
+        await waitFor(async () => polls.times.length >= 4 && (await outcome(page, 'map')) === 'reconnecting', 'the form reconnecting after 4 failed polls', 5000);
+        const bar = await text(page, '#map-progress-text');
+        assert(/reconnecting · next try in [\d.]+ s/.test(bar), `progress "${bar}"`);
+        assert(await page.locator('#map-error').isHidden(), `error shown while reconnecting: ${await text(page, '#map-error')}`);
+        assert((await page.locator('#map-run').isDisabled()) && (await page.locator('#map-cancel').isEnabled()), 'Run / Cancel while reconnecting');
+        const gaps = polls.times.slice(1).map((t, i) => t - polls.times[i]);
+        assert(gaps[2] > 2 * gaps[0], `no backoff between the failed polls: ${gaps} ms`);
+        notes.push(`analysis follower: gaps between failed polls ${gaps.join(', ')} ms`);
+      } finally {
+        failing = false;
+        await polls.stop();
+      }
+      await waitFor(async () => (await outcome(page, 'map')) === 'done', 'the engine map done', 15000);
+      assert(await page.locator('#map-error').isHidden(), `error: ${await text(page, '#map-error')}`);
+      assert((await mapShown(page)).rows === 14 && (await text(page, '#map-progress-text')).startsWith('14 / 14'), `map ${JSON.stringify(await mapShown(page))}, progress "${await text(page, '#map-progress-text')}"`);
+    });
+
     await check('review 10: every chart axis labels its ticks with numbers in one format', async () => {
       /* every chart drawn: each axis has labels (an axis with none fails below too) */
       const axes = await waitFor(async () => {
@@ -1546,6 +1643,24 @@ async function main() {
       const msg = await text(page3, '#map-error');
       assert(/shut down after \d+ of 14 parts/.test(msg), `error shown: "${msg}"`);
       await waitFor(async () => (await storedRows(page3))[0]?.status === 'interrupted', 'the row interrupted', 4000);
+    });
+    await check("analysis follower: a map the page follows when its daemon restarts (kill -9, started again on its port): 'reconnecting' while it is away, then the daemon's outcome (interrupted, with its reason)", async () => {
+      const dr = await startDaemon('--threads', '2');
+      const port = Number(new URL(dr.url).port);
+      await page3.goto(`${dr.url}/`);
+      await waitFor(async () => (await page3.locator('#map-preset option').count()) > 0, 'the map presets');
+      await page3.selectOption('#map-fidelity', 'crank_angle');
+      await page3.click('#map-run');
+      await waitFor(async () => Number(await page3.locator('#map-progress').getAttribute('data-percent')) > 0, 'a speed point done', 30000);
+      const pct = await page3.locator('#map-progress').getAttribute('data-percent');
+      dr.proc.kill('SIGKILL');
+      await new Promise((res) => (dr.proc.exitCode === null && dr.proc.signalCode === null ? dr.proc.once('exit', res) : res()));
+      await waitFor(async () => (await outcome(page3, 'map')) === 'reconnecting', 'the form reconnecting', 5000);
+      assert((await page3.locator('#map-progress').getAttribute('data-percent')) === pct, 'the parts done went while reconnecting');
+      await startDaemonAt(port, dr.dataDir, '--threads', '2');
+      await waitFor(async () => (await outcome(page3, 'map')) === 'interrupted', 'the map interrupted', 15000);
+      const msg = await text(page3, '#map-error');
+      assert(/killed or crashed/.test(msg) && /of 14 parts/.test(msg), `error shown: "${msg}"`);
     });
     await check("review 2.8: a run's error box says the daemon is unreachable while it is away, then gives the session's status when it is back (interrupted, not 'Failed to fetch')", async () => {
       const de = await startDaemon();

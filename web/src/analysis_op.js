@@ -8,6 +8,11 @@
  * a failed or interrupted (the daemon stopped) operation is shown in the
  * form's error box in the daemon's words; the progress bar says "refused"
  * for the first (nothing ran), "failed" or "interrupted" for the others.
+ * While polls fail for a passing reason (the daemon restarting, a proxy's
+ * 502 / 503: operation.js) the bar says "reconnecting" and when the next try
+ * is, keeping the parts done; the result is still shown when the daemon
+ * answers again. After followLimits.patience without an answer the form
+ * gives up: "connection lost" on the bar, the reason in the error box.
  * changed() hears of each start and end (the stored-analyses list,
  * stored_analyses.js); showStored(op) shows a stored analysis the list hands
  * over as the form shows its own (a cancel there is an error: the daemon's
@@ -23,6 +28,7 @@ import { api } from './api.js';
 import { $, setBar } from './dom.js';
 import { hideError, showError } from './messages.js';
 import { followOperation, operationError, outcomeOf, outcomeSuffix } from './operation.js';
+import { fmt } from './units.js';
 
 /**
  * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
@@ -39,7 +45,8 @@ export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed =
   const box = el('error');
   let shownId = null; /* the analysis whose result is on screen */
 
-  function render(meta, outcome) {
+  /* The bar at meta's parts; outcome: how it ended, or the follower's state (outcomeSuffix); note: said after it. */
+  function render(meta, outcome, note) {
     const total = meta?.parts_total;
     const done = meta?.parts_done ?? 0;
     const pct = total ? Math.round((100 * done) / total) : null;
@@ -47,7 +54,7 @@ export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed =
     if (outcome) el('progress').dataset.outcome = outcome;
     else delete el('progress').dataset.outcome;
     const parts = total ? `${done} / ${total} parts · ${pct} %` : '';
-    el('progress-text').textContent = [parts, outcomeSuffix(outcome)].filter(Boolean).join(' · ') || '—';
+    el('progress-text').textContent = [parts, outcomeSuffix(outcome), note].filter(Boolean).join(' · ') || '—';
     const running = state.analyses[kind] !== null;
     el('run').disabled = running;
     el('cancel').disabled = !running;
@@ -101,15 +108,21 @@ export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed =
 
   /* Follow operation `id` (`first`: the operation itself when at hand). */
   function follow(id, first) {
-    const me = { id, follower: null };
+    const me = { id, follower: null, meta: first?.metadata }; /* meta: the last answer's */
     state.analyses[kind] = me;
-    render(first?.metadata);
+    render(me.meta);
     me.follower = followOperation(id, first, 200, {
       error(e) {
         stop();
         showError(box, e);
-        render(null, 'failed');
+        render(e.lost ? me.meta : null, e.lost ? 'lost' : 'failed'); /* lost: the parts it last heard of */
         changed();
+      },
+      unreachable(e, wait) {
+        render(me.meta, 'reconnecting', `next try in ${fmt(wait / 1000)} s`);
+      },
+      reached() {
+        render(me.meta); /* the answer's own render follows */
       },
       done(cur) {
         stop();
@@ -117,7 +130,8 @@ export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed =
         changed();
       },
       progress(cur) {
-        render(cur.metadata);
+        me.meta = cur.metadata;
+        render(me.meta);
       },
     });
   }

@@ -34,6 +34,7 @@ import { initEngineMapControls } from './engine_map_controls.js';
 import { initTuneControls } from './tune_controls.js';
 import { initStoredAnalyses } from './stored_analyses.js';
 import { drawnTickLabels } from './ticks.js';
+import { followLimits } from './operation.js';
 import { readPageState, writePageState } from './page_state.js';
 import { setDisplay } from './units.js';
 
@@ -65,8 +66,9 @@ const frames = new FrameViewer({
   status: $('frame-status'),
 });
 
-/* Handle for the browser test (tests/web/dashboard.test.mjs): read-only, but for setUnit (units.js setDisplay). */
-window.tanksimDebug = { state, plots, compare, fft, engineMap, tickLabels: drawnTickLabels, setUnit: setDisplay };
+/* Handle for the browser test (tests/web/dashboard.test.mjs): read-only, but for setUnit (units.js setDisplay)
+ * and followLimits (operation.js: the test shortens how long a follower waits for an unreachable daemon). */
+window.tanksimDebug = { state, plots, compare, fft, engineMap, tickLabels: drawnTickLabels, setUnit: setDisplay, followLimits };
 
 initTokenForm(boot);
 const refreshList = () => list.refresh(); /* list is made last: it shows the open session */

@@ -72,7 +72,8 @@ export function initRunControls(state, { header, stream, refreshList }) {
         refreshList();
       },
       unreachable(e, wait) {
-        showError($('session-error'), new ApiError(0, { ...e.problem, detail: `${e.problem.detail} (trying again in ${fmt(wait / 1000)} s)` }));
+        const again = `trying again in ${fmt(wait / 1000)} s`;
+        showError($('session-error'), new ApiError(e.status, { ...e.problem, detail: e.problem.detail ? `${e.problem.detail} (${again})` : again }));
       },
       reached() {
         hideError($('session-error')); /* it said the daemon could not be reached */
