@@ -51,6 +51,8 @@
 // says "reconnecting", and the result is shown when the daemon answers (across
 // a daemon restart: its outcome, interrupted); a 4xx ends the following at
 // once; with no answer for followLimits.patience it gives up ("connection lost").
+// Compare: a session unticked while its channel list is fetched is not cached
+// when the answer comes.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -847,6 +849,45 @@ async function main() {
       await page.locator(`#session-table tr[data-id="${firstId}"] input.cmp`).check();
       await waitFor(async () => (await options()).includes('track.tension.rear_roller'), 'the vehicle channels added', 5000);
       for (const cb of await page.locator('#session-table input.cmp').all()) await cb.uncheck();
+    });
+
+    await check("compare: a session unticked while its channel list is being fetched is not cached when the answer comes (the cache keeps ticked sessions only)", async () => {
+      const row = page.locator('#session-table tbody tr', { hasText: 'pointmass-prescribed' }).first();
+      const id = await row.getAttribute('data-id');
+      const cached = () => page.evaluate(() => window.tanksimDebug.compareCached());
+      for (const cb of await page.locator('#session-table input.cmp').all()) await cb.uncheck();
+      await waitFor(async () => (await cached()).length === 0, 'no channel list cached with none ticked', 3000);
+      /* hold the session's GET until it is unticked */
+      const url = `**/v1/sessions/${id}`;
+      let held = false;
+      let release;
+      const gate = new Promise((r) => (release = r));
+      const hold = async (route) => {
+        held = true;
+        await gate;
+        return route.continue();
+      };
+      await page.route(url, hold);
+      try {
+        await row.locator('input.cmp').check();
+        await waitFor(() => held, "the ticked session's channel list requested", 3000);
+        await row.locator('input.cmp').uncheck();
+        const answered = page.waitForResponse((r) => new URL(r.url()).pathname === `/v1/sessions/${id}`);
+        release();
+        await (await answered).finished();
+        await page.waitForTimeout(300); /* time for the answer to be handled */
+        const left = await cached();
+        assert(!left.includes(id), `the unticked session's channels were cached when its answer came: ${JSON.stringify(left)}`);
+        assert((await page.evaluate(() => window.tanksimDebug.state.compare.size)) === 0, 'a session still ticked');
+      } finally {
+        release();
+        await page.unroute(url, hold);
+      }
+      /* ticked again: fetched anew, cached while ticked, gone when unticked */
+      await row.locator('input.cmp').check();
+      await waitFor(async () => JSON.stringify(await cached()) === JSON.stringify([id]), 'the ticked session cached', 3000);
+      await row.locator('input.cmp').uncheck();
+      await waitFor(async () => (await cached()).length === 0, 'the cache emptied by the untick', 3000);
     });
 
     await check('audit (session 16, 19): keyboard: Tab reaches a session\'s open button, Enter opens it, focus stays on it through a list refresh; the row is not a focusable container of the checkbox', async () => {

@@ -21,18 +21,25 @@ export function initCompareControls(state, compare) {
   const ticked = () => Promise.all([...state.compare].map((id) => api.session(id)));
   /* A session's channel list is fixed at its creation: fetched once per id
    * for the channel select (the Compare button still fetches them fresh),
-   * kept while the session is ticked (the list unticks a deleted one). */
+   * kept while the session is ticked (the list unticks a deleted one). An
+   * entry is its fetch (a promise of {channels}), in the map from the moment
+   * it is sent: unticking deletes it, and an answer that comes after that
+   * adds nothing back (it once stored the unticked session again); a fetch
+   * that fails takes away its own entry only, not a newer one. */
   const channelsKnown = new Map();
   const forgetUnticked = () => {
     for (const id of channelsKnown.keys()) if (!state.compare.has(id)) channelsKnown.delete(id);
   };
-  async function tickedChannels() {
-    const ids = [...state.compare];
-    await Promise.all(
-      ids.filter((id) => !channelsKnown.has(id)).map(async (id) => channelsKnown.set(id, { channels: (await api.session(id)).channels })),
-    );
-    return ids.map((id) => channelsKnown.get(id));
+  function channelsFor(id) {
+    let entry = channelsKnown.get(id);
+    if (!entry) {
+      entry = api.session(id).then((s) => ({ channels: s.channels }));
+      channelsKnown.set(id, entry);
+      entry.catch(() => channelsKnown.get(id) === entry && channelsKnown.delete(id));
+    }
+    return entry;
   }
+  const tickedChannels = () => Promise.all([...state.compare].map(channelsFor));
 
   /* List the channels the sessions have, the one chosen kept while it is still there; returns the choice. */
   function listChannels(sessions) {
@@ -89,5 +96,6 @@ export function initCompareControls(state, compare) {
   $('compare-btn').addEventListener('click', onCompare);
   updateInfo();
 
-  return { updateInfo, updateChannels, close };
+  /* cached(): the ids whose channel lists are kept (for the browser test) */
+  return { updateInfo, updateChannels, close, cached: () => [...channelsKnown.keys()] };
 }

@@ -66,7 +66,7 @@ const frames = new FrameViewer({
   status: $('frame-status'),
 });
 
-/* Handle for the browser test (tests/web/dashboard.test.mjs): read-only, but for setUnit (units.js setDisplay)
+/* Handle for the browser test (tests/web/dashboard.test.mjs; compareCached is added below): read-only, but for setUnit (units.js setDisplay)
  * and followLimits (operation.js: the test shortens how long a follower waits for an unreachable daemon). */
 window.tanksimDebug = { state, plots, compare, fft, engineMap, tickLabels: drawnTickLabels, setUnit: setDisplay, followLimits };
 
@@ -77,6 +77,7 @@ const stream = initSessionStream(state);
 const picker = initChannelPicker(state, plots);
 const fftControls = initFftControls(state, fft);
 const compareControls = initCompareControls(state, compare);
+window.tanksimDebug.compareCached = compareControls.cached;
 const run = initRunControls(state, { header, stream, refreshList });
 const view = initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, run, refreshList });
 const list = initSessionList(state, { view, ticksChanged: compareControls.updateInfo });
