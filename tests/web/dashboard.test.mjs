@@ -53,6 +53,8 @@
 // once; with no answer for followLimits.patience it gives up ("connection lost").
 // Compare: a session unticked while its channel list is fetched is not cached
 // when the answer comes.
+// Live charts redraw as often as drawing stays within ~5 % of wall time
+// (made dearer on purpose: 36 charts, 2 ms more each), and the last rows are drawn.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -1405,6 +1407,62 @@ async function main() {
         await fetch(`${d.url}/v1/sessions/${id}`, { method: 'DELETE' });
         await waitFor(async () => (await text(page, '#session-status')) === 'deleted', 'the session shown deleted', 8000);
       }
+    });
+
+    await check('live charts: the redraw cadence follows the draw cost (36 charts of 40,000 rows, each made 2 ms dearer): drawing takes at most ~5 % of wall time while rows stream in, no row is dropped and the last state is drawn', async () => {
+      const r = await page.evaluate(async () => {
+        const { plots } = window.tanksimDebug;
+        const [C, N] = [36, 40000];
+        const channels = Array.from({ length: C }, (_, i) => ({ name: `ch${i}`, unit: i % 2 ? 'm/s' : 'N' }));
+        const store = { channels, t: [], cols: Object.fromEntries(channels.map((c) => [c.name, []])), version: 0 };
+        const push = (n) => {
+          for (let k = 0; k < n; k++) {
+            const i = store.t.length;
+            store.t.push(i / 500);
+            channels.forEach((c, j) => store.cols[c.name].push(Math.sin(i * 1e-3 * (j + 1)) + j));
+          }
+          store.version++;
+        };
+        push(N);
+        /* a cost that does not depend on the machine: 2 ms more per chart and redraw */
+        const busy = (ms) => {
+          for (const end = performance.now() + ms; performance.now() < end; );
+        };
+        const proto = Object.getPrototypeOf(plots);
+        plots.data = function (entry) {
+          busy(2);
+          return proto.data.call(this, entry);
+        };
+        /* each redraw that draws, timed to the end of uPlot's drawing (a microtask queued after it) */
+        const draws = [];
+        plots.redraw = function (force) {
+          const [v, t0] = [this.drawnVersion, performance.now()];
+          proto.redraw.call(this, force);
+          if (this.drawnVersion !== v) queueMicrotask(() => draws.push([t0, performance.now()]));
+        };
+        try {
+          plots.show(store, channels.map((c) => c.name));
+          const start = performance.now();
+          await new Promise((res) => {
+            const iv = setInterval(() => (push(25), performance.now() - start >= 5000 && (clearInterval(iv), res())), 50); /* 500 rows/s for 5 s */
+          });
+          const end = performance.now();
+          const n = store.t.length;
+          const drawnAll = () => plots.charts.every((c) => c.plot.scales.x.max === store.t[n - 1] && c.plot.data[1].length === n);
+          while (!drawnAll() && performance.now() - end < 8000) await new Promise((res) => setTimeout(res, 20));
+          const lastOk = plots.charts.every((c) => Math.abs(c.plot.data[1][n - 1] - store.cols[c.name][n - 1] * c.d.factor) < 1e-9 * Math.max(1, Math.abs(c.plot.data[1][n - 1])));
+          const inWin = draws.filter(([a]) => a >= start && a < end).map(([a, b]) => b - a);
+          return { rows: n, draws: inWin.length, ms: inWin.map(Math.round), share: inWin.reduce((x, y) => x + y, 0) / (end - start), drawnAll: drawnAll(), lastOk, after: Math.round(performance.now() - end) };
+        } finally {
+          delete plots.data;
+          delete plots.redraw;
+          plots.stop();
+        }
+      });
+      notes.push(`live charts, 36 x ${r.rows} rows, 2 ms more per chart: ${r.draws} redraws in 5 s (${r.ms.join(', ')} ms), ${(100 * r.share).toFixed(1)} % of wall time drawing; last state drawn ${r.after} ms after the last row`);
+      assert(r.drawnAll && r.lastOk, `the last state is not drawn (${r.after} ms after the last row): ${JSON.stringify(r)}`);
+      assert(r.draws >= 2, `the charts did not move while rows came: ${JSON.stringify(r)}`);
+      assert(r.share <= 0.1, `drawing took ${(100 * r.share).toFixed(1)} % of wall time (${r.draws} redraws: ${r.ms.join(', ')} ms)`);
     });
 
     await check('review 2.9: FFT Compute waits for 2 stored samples (a hint says to step or run; the 300-ms tick writes neither while they stay the same); 2.10: a step below one sample period is refused on the field, naming the period', async () => {
