@@ -234,6 +234,25 @@ static void track_tmp(tsc_out *o, int on)
         }
 }
 
+/* Hold SIGINT, SIGTERM and SIGHUP (block != 0, the old mask saved in *old)
+ * or restore *old: a temporary is created and registered, or renamed or
+ * removed and dropped, as one step, so a signal between the two can neither
+ * leave a file the handler does not know nor remove a name no longer ours
+ * (the CLI is single-threaded: the mask is the process's). */
+static void hold_kill_signals(int block, sigset_t *old)
+{
+    if (!block) {
+        sigprocmask(SIG_SETMASK, old, NULL);
+        return;
+    }
+    sigset_t s;
+    sigemptyset(&s);
+    sigaddset(&s, SIGINT);
+    sigaddset(&s, SIGTERM);
+    sigaddset(&s, SIGHUP);
+    sigprocmask(SIG_BLOCK, &s, old);
+}
+
 /* Create o->tmp as "PATH.XXXXXX" (6 characters from [0-9A-Za-z]) with
  * O_CREAT | O_EXCL and mode 0666, so the umask (and a default ACL) applies as
  * to a plain fopen(PATH, "w"): mkstemp's 0600 would make outputs private. A
@@ -280,6 +299,8 @@ int tsc_out_open(tsc_out *o, const char *path, const char *what, int in_place)
          * first's, and one rename then failed) and clobbered a PATH.tmp of
          * the user's, or wrote through a link of that name */
         snprintf(o->tmp, sizeof o->tmp, "%s.XXXXXX", path);
+        sigset_t mask;
+        hold_kill_signals(1, &mask);
         int fd = create_tmp(o);
         if (fd < 0 && errno == ENAMETOOLONG) {
             /* PATH's name is within 6 bytes of the file-name limit: a short
@@ -297,6 +318,9 @@ int tsc_out_open(tsc_out *o, const char *path, const char *what, int in_place)
             track_tmp(o, 0);
             errno = e;
         }
+        int e = errno;
+        hold_kill_signals(0, &mask);
+        errno = e;
     }
     if (!o->f) {
         fprintf(stderr, "tanksim %s: cannot write %s: %s\n", what, path, strerror(errno));
@@ -320,8 +344,13 @@ int tsc_out_close(tsc_out *o, int complete)
     errno = 0;
     if (fclose(o->f) != 0) bad = 1;
     o->f = NULL;
+    sigset_t mask;
+    if (!o->direct) hold_kill_signals(1, &mask);
     if (complete && !bad && (o->direct || rename(o->tmp, o->path) == 0)) {
-        if (!o->direct) track_tmp(o, 0);
+        if (!o->direct) {
+            track_tmp(o, 0);
+            hold_kill_signals(0, &mask);
+        }
         return TSC_EXIT_OK;
     }
     if (complete) {
@@ -332,6 +361,7 @@ int tsc_out_close(tsc_out *o, int complete)
     if (!o->direct) {
         unlink(o->tmp);
         track_tmp(o, 0);
+        hold_kill_signals(0, &mask);
     }
     return TSC_EXIT_FAIL;
 }
