@@ -734,6 +734,28 @@ async function main() {
       await shot(page, '05-fft');
     });
 
+    await check("run figures: Compute shows the session's /summary figures (as tanksim run's summary.json), each name with its value and unit", async () => {
+      await page.click('#figures-btn');
+      await waitFor(async () => (await page.locator('#figures-table tr').count()) > 0 || !(await page.locator('#figures-error').isHidden()), 'figures or error');
+      assert(await page.locator('#figures-error').isHidden(), `figures error: ${await text(page, '#figures-error').catch(() => '')}`);
+      const doc = await page.evaluate(async () => {
+        const id = window.tanksimDebug.state.session.id;
+        return (await fetch(`/v1/sessions/${id}/summary`)).json();
+      });
+      assert(doc.metrics.length > 0, 'the open session has no figures');
+      const rows = await page.locator('#figures-table tr').evaluateAll((trs) => trs.map((tr) => [tr.dataset.name, tr.children[1].textContent, tr.children[2].textContent]));
+      assert(rows.length === doc.metrics.length, `${rows.length} rows for ${doc.metrics.length} figures`);
+      for (const [i, m] of doc.metrics.entries()) {
+        assert(rows[i][0] === m.name, `row ${i} is ${rows[i][0]}, not ${m.name}`);
+        if (m.value !== null) assert(Math.abs(Number(rows[i][1]) - m.value) <= 1e-4 * Math.abs(m.value), `${m.name}: shown ${rows[i][1]}, daemon ${m.value}`);
+        assert(rows[i][2] === (m.unit === '1' ? '' : m.unit), `${m.name}: unit ${rows[i][2]}`);
+      }
+      const note = await text(page, '#figures-note');
+      assert(note.includes(`${doc.rows} rows`) && note.includes(`${doc.dof} DOF`), `note: ${note}`);
+      await page.locator('#figures-panel').scrollIntoViewIfNeeded();
+      await shot(page, '05c-figures');
+    });
+
     await check("review 7: a failed FFT shows the daemon's message and clears the old spectrum; show-up-to below the first bin is an error", async () => {
       assert((await page.locator('#fft-plot .uplot').count()) === 1, 'no spectrum to start from');
       await page.fill('#fft-from', '3');

@@ -110,6 +110,7 @@ export const api = {
   operation: (opId) => request('GET', `/v1/operations/${enc(opId)}`),
   cancel: (opId) => request('POST', `/v1/operations/${enc(opId)}:cancel`),
   series: (id, params) => request('GET', `/v1/sessions/${enc(id)}/series${qs({ format: 'json', ...params })}`),
+  summary: (id) => request('GET', `/v1/sessions/${enc(id)}/summary`),
   fft: (id, params) => request('GET', `/v1/sessions/${enc(id)}/fft${qs(params)}`),
   streamUrl: (id, params) => `/v1/sessions/${enc(id)}/stream${qs(params)}`,
   frameUrl: (id, params) => `/v1/sessions/${enc(id)}/frame.png${qs(params)}`,

@@ -25,6 +25,7 @@ import { initSessionHeader } from './session_header.js';
 import { initSessionStream } from './session_stream.js';
 import { initChannelPicker } from './channels.js';
 import { initFftControls } from './fft_controls.js';
+import { initRunFigures } from './run_figures.js';
 import { initCompareControls } from './compare_controls.js';
 import { initRunControls } from './run_controls.js';
 import { initSessionView } from './session_view.js';
@@ -79,7 +80,8 @@ const fftControls = initFftControls(state, fft);
 const compareControls = initCompareControls(state, compare);
 window.tanksimDebug.compareCached = compareControls.cached;
 const run = initRunControls(state, { header, stream, refreshList });
-const view = initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, run, refreshList });
+const figures = initRunFigures(state);
+const view = initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, figures, run, refreshList });
 const list = initSessionList(state, { view, ticksChanged: compareControls.updateInfo });
 const form = initCreateForm({ refreshList, open: view.open });
 /* a stored analysis is shown by the form of its kind (the forms are made next) */

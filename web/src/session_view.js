@@ -16,7 +16,7 @@ import { writePageState } from './page_state.js';
 /* long histories are thinned to about this many rows; live rows come at full rate */
 const HISTORY_POINTS = 50000;
 
-export function initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, run, refreshList }) {
+export function initSessionView(state, { plots, frames, header, stream, picker, fftControls, compareControls, figures, run, refreshList }) {
   /* The open session's row in the list is highlighted (none when none is open). */
   function markRow() {
     for (const tr of $('session-table').querySelectorAll('tr[data-id]')) tr.classList.toggle('selected', tr.dataset.id === state.session?.id);
@@ -42,6 +42,7 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
     state.picks = defaultPicks(chans);
     picker.render();
     fftControls.open(chans);
+    figures.open();
     try {
       const every = Math.max(1, Math.ceil((s.index || 0) / HISTORY_POINTS));
       if ((s.t || 0) > 0 || (s.index || 0) > 0) await state.store.loadHistory(s.id, every);
@@ -71,6 +72,7 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
     plots.stop();
     frames.clear();
     fftControls.close();
+    figures.clear();
     compareControls.close(id);
     hideError($('session-error'));
     $('plots-empty').hidden = false;

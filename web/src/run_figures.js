@@ -1,0 +1,68 @@
+/*
+ * run_figures.js — the "Run figures" panel: the open session's summary
+ * figures (GET /v1/sessions/{id}/summary: top speed, peak track tension,
+ * spectral peaks, shift times, IVS figures...), the same as `tanksim run`
+ * writes to summary.json. Computed on request (Compute), since the daemon
+ * reads every stored row for them; a run still going gives the figures of
+ * the rows stored so far, and the note says so. Values are shown in the
+ * units the daemon names.
+ */
+import { api } from './api.js';
+import { $, cell } from './dom.js';
+import { hideError, showError } from './messages.js';
+import { fmt } from './units.js';
+
+export function initRunFigures(state) {
+  let asked = 0; /* the latest request: an older answer is dropped */
+
+  function clear() {
+    asked++;
+    $('figures-table').replaceChildren();
+    $('figures-note').textContent = '';
+    hideError($('figures-error'));
+  }
+
+  function render(doc) {
+    const rows = (doc.metrics || []).map((m) => {
+      const tr = document.createElement('tr');
+      tr.dataset.name = m.name;
+      tr.title = m.description || '';
+      tr.append(cell(m.name, 'mono'), cell(m.value === null ? '—' : fmt(m.value, 5), 'num'), cell(m.unit === '1' ? '' : m.unit, 'muted'));
+      return tr;
+    });
+    $('figures-table').replaceChildren(...rows);
+    const parts = [`${doc.rows} rows to t = ${fmt(doc.t)} s`, `${doc.dof} DOF`];
+    if (!doc.complete) parts.push(`the session is ${doc.status}: figures of the rows stored so far`);
+    if (!rows.length) parts.push('no figures for this scenario at this length');
+    $('figures-note').textContent = parts.join(' · ');
+  }
+
+  async function compute() {
+    const s = state.session;
+    if (!s) return;
+    const mine = ++asked;
+    hideError($('figures-error'));
+    $('figures-btn').disabled = true;
+    try {
+      const doc = await api.summary(s.id);
+      if (mine === asked && state.session === s) render(doc);
+    } catch (e) {
+      if (mine === asked) {
+        $('figures-table').replaceChildren();
+        $('figures-note').textContent = '';
+        showError($('figures-error'), e);
+      }
+    } finally {
+      $('figures-btn').disabled = !state.session;
+    }
+  }
+
+  /* a session was opened, or none is: the figures shown were another's */
+  function open() {
+    clear();
+    $('figures-btn').disabled = !state.session;
+  }
+
+  $('figures-btn').addEventListener('click', compute);
+  return { open, clear: open };
+}
