@@ -108,7 +108,7 @@ def test_figures_equal_the_cli_summary(d, tmp_path, case):
     assert_same_figures(got, cli_summary(tmp_path, body))
     if case == "coupled":
         shifts = {m["name"]: m["value"] for m in got["metrics"] if m["name"].startswith("shift_")}
-        assert 3.5 < shifts["shift_1_2_time"] < 4.5 and shifts["shift_3_4_time"] is None
+        assert 3.5 < shifts["shift_1_2_half_s"] < 4.5 and shifts["shift_3_4_half_s"] is None
     else:
         names = [m["name"] for m in got["metrics"]]
         assert "peak_tension" in names and "tension_peak_13_20hz" in names
