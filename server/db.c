@@ -568,7 +568,7 @@ out:
 }
 
 long tsd_db_rows(tsd_db *db, long seq, long from, long to, long every, long max, int nchannel,
-                 long *index, double *rows, int *more)
+                 const int *cols, int ncol, long *index, double *rows, int *more)
 {
     sqlite3_stmt *st = NULL;
     long n = -1;
@@ -596,9 +596,19 @@ long tsd_db_rows(tsd_db *db, long seq, long from, long to, long every, long max,
         index[n] = (long)sqlite3_column_int64(st, 0);
         const void *b = sqlite3_column_blob(st, 1);
         size_t nb = (size_t)sqlite3_column_bytes(st, 1);
-        double *dst = rows + (size_t)n * (size_t)nchannel;
-        memset(dst, 0, rowbytes);
-        if (b) memcpy(dst, b, nb < rowbytes ? nb : rowbytes);
+        if (!cols) {
+            double *dst = rows + (size_t)n * (size_t)nchannel;
+            memset(dst, 0, rowbytes);
+            if (b) memcpy(dst, b, nb < rowbytes ? nb : rowbytes);
+        } else { /* the blob's doubles may be unaligned: copy each */
+            double *dst = rows + (size_t)n * (size_t)ncol;
+            for (int j = 0; j < ncol; j++) {
+                size_t off = sizeof(double) * (size_t)cols[j];
+                dst[j] = 0.0;
+                if (b && cols[j] >= 0 && cols[j] < nchannel && off + sizeof(double) <= nb)
+                    memcpy(&dst[j], (const char *)b + off, sizeof(double));
+            }
+        }
         n++;
     }
     if (s != SQLITE_ROW && s != SQLITE_DONE) n = -1;

@@ -101,9 +101,12 @@ int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row, int
 int tsd_db_truncate(tsd_db *db, long seq, long idx);
 
 /* Read rows with from <= index <= to and (index - from) % every == 0, in
- * index order, at most max rows: index[] and rows[max][nchannel] (caller
- * allocated). Returns the count, or -1. *more = 1 when further rows match. */
+ * index order, at most max rows: index[] and rows[max][ncol] (caller
+ * allocated), row k's value j being stored channel cols[j] (cols NULL: all
+ * nchannel stored channels, ncol = nchannel), so a reader of a few channels
+ * allocates for those only. Returns the count, or -1. *more = 1 when further
+ * rows match. */
 long tsd_db_rows(tsd_db *db, long seq, long from, long to, long every, long max, int nchannel,
-                 long *index, double *rows, int *more);
+                 const int *cols, int ncol, long *index, double *rows, int *more);
 
 #endif

@@ -626,20 +626,25 @@ static int parse_range(tsd_request *r, tsd_session *s, const char *param, const 
 }
 
 /* Stored rows of s with from <= index <= to, every-th, at most max, into
- * malloc'd *index and *rows (the caller frees both, also on failure). The
- * count, or -1 with err set (TS_ERR_NOMEM, TS_ERR_IO). */
+ * malloc'd *index and *rows (the caller frees both, also on failure): of
+ * each row the ncol stored channels cols[] only, rows[k * ncol + j] (so the
+ * buffer is max x ncol, not max x every stored channel). The count, or -1
+ * with err set (TS_ERR_NOMEM, TS_ERR_IO, TS_ERR_NOTFOUND). */
 static long read_rows(tsd_request *r, tsd_session *s, long from, long to, long every, long max,
-                      long **index, double **rows, int *more, ts_err *err)
+                      const int *cols, int ncol, long **index, double **rows, int *more,
+                      ts_err *err)
 {
     *more = 0;
-    *index = malloc(sizeof(long) * (size_t)max);
-    *rows = malloc(sizeof(double) * (size_t)max * (size_t)s->nch);
+    size_t cap = max > 0 ? (size_t)max : 1; /* malloc(0) may answer NULL */
+    *index = malloc(sizeof(long) * cap);
+    *rows = malloc(sizeof(double) * cap * (size_t)(ncol > 0 ? ncol : 1));
     if (!*index || !*rows) {
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory for %ld rows", max);
         return -1;
     }
-    if (from > to) return 0;
-    long n = tsd_db_rows(r->srv->db, s->seq, from, to, every, max, s->nch, *index, *rows, more);
+    if (from > to || max < 1) return 0;
+    long n = tsd_db_rows(r->srv->db, s->seq, from, to, every, max, s->nch, cols, ncol, *index,
+                         *rows, more);
     /* a DELETE that landed meanwhile took the rows, or some of them: the
      * session is gone, not empty (nor an I/O failure) */
     if (tsd_session_is_deleted(s))
@@ -647,6 +652,15 @@ static long read_rows(tsd_request *r, tsd_session *s, long from, long to, long e
     if (n < 0) ts_err_set(err, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
     return n;
 }
+
+/* Cells (rows x (channels + the index column)) of one /series page at most;
+ * a page that would hold more ends early with next_page_token (api/openapi.yaml,
+ * README). 10^6 cells are ~11 MB of JSON (17 MB at worst: every number at
+ * full width) and 8 MB of rows read, built in ~0.2 s. Without it a page of a
+ * wide session was the whole --max-samples rows: 100001 rows x 65 channels
+ * took 1.3 s on an HTTP thread, 52 MB of rows and a 70 MB answer held until
+ * the client read it, and eight such requests held /v1/health 6.4 s. */
+#define SERIES_PAGE_CELLS 1000000L
 
 static enum MHD_Result get_series(tsd_request *r)
 {
@@ -665,26 +679,38 @@ static enum MHD_Result get_series(tsd_request *r)
     if (format && !csv && strcmp(format, "json") != 0)
         return bad_param(r, "format", "json or csv expected", format);
     long start = token >= 0 ? token : q.from;
+    long rows_cap = SERIES_PAGE_CELLS / (q.n + 1); /* q.n <= MAX_CHANNELS_SELECT: >= 1 */
+    if (page_size > rows_cap) page_size = rows_cap;
+    /* what the range still holds, not page_size: ?to=0 allocates one row */
+    long need = start <= q.to ? (q.to - start) / every + 1 : 0;
+    long max = need < page_size ? need : page_size;
     long *index;
     double *rows;
     int more;
     ts_err e;
-    long n = read_rows(r, s, start, q.to, every, page_size, &index, &rows, &more, &e);
+    long n = read_rows(r, s, start, q.to, every, max, q.idx, q.n, &index, &rows, &more, &e);
     if (n < 0) {
         free(index);
         free(rows);
         return tsd_reply_err(r, &e, NULL);
     }
+    /* rows hold the selected channels only: describe them as a table of q.n */
+    ts_channel sel[MAX_CHANNELS_SELECT];
+    int ident[MAX_CHANNELS_SELECT];
+    for (int i = 0; i < q.n; i++) {
+        sel[i] = s->ch.view.v[q.idx[i]];
+        ident[i] = i;
+    }
+    tsa_channels view = {sel, q.n, s->ch.view.period};
     char next[32] = "";
     if (more && n > 0) snprintf(next, sizeof next, "%ld", index[n - 1] + every);
     tsa_buf b = {0};
     if (csv) {
-        tsa_csv_header(&b, &s->ch.view, q.idx, q.n);
+        tsa_csv_header(&b, &view, ident, q.n);
         for (long k = 0; k < n; k++)
-            tsa_csv_row(&b, rows + (size_t)k * (size_t)s->nch, q.idx, q.n);
+            tsa_csv_row(&b, rows + (size_t)k * (size_t)q.n, ident, q.n);
     } else {
-        tsa_series_json(&b, s->id, &s->ch.view, q.idx, q.n, index, rows, n, every,
-                        next[0] ? next : NULL);
+        tsa_series_json(&b, s->id, &view, ident, q.n, index, rows, n, every, next[0] ? next : NULL);
     }
     free(index);
     free(rows);
@@ -802,7 +828,8 @@ static enum MHD_Result get_fft(tsd_request *r)
     long *index;
     double *rows;
     int more;
-    long n = read_rows(r, s, q.from, q.to, 1, want, &index, &rows, &more, &e);
+    int c = q.idx[q.n - 1]; /* the named channel (t is always idx[0]) */
+    long n = read_rows(r, s, q.from, q.to, 1, want, &c, 1, &index, &rows, &more, &e);
     double *x = malloc(sizeof(double) * (size_t)want);
     long nf = want / 2 + 1;
     double *freq = malloc(sizeof(double) * (size_t)nf), *amp = malloc(sizeof(double) * (size_t)nf);
@@ -811,10 +838,9 @@ static enum MHD_Result get_fft(tsd_request *r)
         rc = ts_err_set(&e, TS_ERR_NOMEM, NULL, "out of memory for a %ld-point spectrum", want);
     if (rc == TS_OK && n != want)
         rc = ts_err_set(&e, TS_ERR_IO, NULL, "could not read %ld samples", want);
-    int c = q.idx[q.n - 1]; /* the named channel (t is always idx[0]) */
     if (rc == TS_OK) {
         for (long k = 0; k < n; k++)
-            x[k] = rows[(size_t)k * (size_t)s->nch + (size_t)c];
+            x[k] = rows[k];
         pthread_mutex_lock(&r->srv->fft_lock);
         rc = tsa_amplitude_spectrum(x, n, 1.0 / s->ch.view.period, (ts_fft_detrend)det,
                                     (ts_fft_window)win, freq, amp, &e);
@@ -878,7 +904,8 @@ static enum MHD_Result get_summary(tsd_request *r)
     long *index;
     double *rows;
     int more;
-    long n = read_rows(r, s, 0, last, 1, last >= 0 ? last + 1 : 1, &index, &rows, &more, &e);
+    long n = read_rows(r, s, 0, last, 1, last >= 0 ? last + 1 : 1, NULL, s->nch, &index, &rows,
+                       &more, &e);
     if (n >= 0 && n != last + 1) { /* rows are never removed but with the session */
         ts_err_set(&e, TS_ERR_IO, NULL, "could read %ld of the %ld stored rows", n, last + 1);
         n = -1;

@@ -34,7 +34,7 @@ static void refill(stream_ctx *c)
     tsd_session *s = c->s;
     int more;
     long got = tsd_db_rows(c->srv->db, s->seq, c->next, c->next + CHUNK_ROWS - 1, 1, CHUNK_ROWS,
-                           s->nch, c->index, c->rows, &more);
+                           s->nch, NULL, s->nch, c->index, c->rows, &more);
     if (got < 0) { /* database error: cut the stream, so that the client sees it is
                       incomplete (a clean end would claim every row was sent) */
         c->failed = 1;
