@@ -105,6 +105,62 @@ enum MHD_Result tsd_reply_chunked(tsd_request *r, const char *content_type, size
     return queue(r, MHD_HTTP_OK, resp, content_type, 0);
 }
 
+/* A counted answer (server.h TSD_REPLY_BUDGET): its bytes are given back to
+ * the budget when libmicrohttpd frees the response (sent, or the connection
+ * closed or timed out). */
+typedef struct held_reply {
+    tsd_server *srv;
+    char *text;
+    size_t len;
+} held_reply;
+
+static void held_free(void *cls)
+{
+    held_reply *h = cls;
+    atomic_fetch_sub(&h->srv->reply_bytes, h->len);
+    free(h->text);
+    free(h);
+}
+
+/* Queue the malloc'd text (taken over) as the answer: counted against the
+ * reply budget when large, and replaced by a 503 /problems/busy when the
+ * budget cannot take it. */
+static enum MHD_Result reply_buffer(tsd_request *r, unsigned status, const char *content_type,
+                                    char *text, size_t len)
+{
+    struct MHD_Response *resp;
+    if (len < TSD_REPLY_COUNTED_MIN) {
+        resp = MHD_create_response_from_buffer(len, text, MHD_RESPMEM_MUST_FREE);
+        if (!resp) free(text);
+        return queue(r, status, resp, content_type, len);
+    }
+    tsd_server *srv = r->srv;
+    size_t held = atomic_fetch_add(&srv->reply_bytes, len) + len;
+    if (held > TSD_REPLY_BUDGET && held > len) { /* others are held: this one waits */
+        atomic_fetch_sub(&srv->reply_bytes, len);
+        free(text);
+        char detail[256];
+        snprintf(detail, sizeof detail,
+                 "%zu MB of answers are waiting for their clients to read them; this one (%zu "
+                 "kB) would pass the daemon's %zu MB for them: retry shortly",
+                 (held - len) >> 20, len >> 10, TSD_REPLY_BUDGET >> 20);
+        r->next_token[0] = r->etag[0] = r->location[0] = '\0'; /* of the answer not sent */
+        r->retry_after = TSD_RETRY_AFTER_BUSY_S;
+        return tsd_reply_problem(r, MHD_HTTP_SERVICE_UNAVAILABLE, "/problems/busy",
+                                 "Too many answers waiting to be read", detail, NULL);
+    }
+    held_reply *h = malloc(sizeof *h);
+    if (!h) {
+        atomic_fetch_sub(&srv->reply_bytes, len);
+        free(text);
+        return MHD_NO;
+    }
+    *h = (held_reply){srv, text, len};
+    resp = MHD_create_response_from_buffer_with_free_callback_cls(len, text, held_free, h);
+    if (!resp) held_free(h);
+    return queue(r, status, resp, content_type, len);
+}
+
 enum MHD_Result tsd_reply_text(tsd_request *r, unsigned status, const char *content_type,
                                const char *text, size_t len)
 {
@@ -123,18 +179,13 @@ static enum MHD_Result reply_dump(tsd_request *r, unsigned status, json_t *body,
                                   "\"status\":500,\"detail\":\"could not build the response\"}";
         return tsd_reply_text(r, 500, "application/problem+json", oom, sizeof oom - 1);
     }
-    size_t len = strlen(text);
-    struct MHD_Response *resp = MHD_create_response_from_buffer(len, text, MHD_RESPMEM_MUST_FREE);
-    if (!resp) free(text);
-    return queue(r, status, resp, content_type, len);
+    return reply_buffer(r, status, content_type, text, strlen(text));
 }
 
 enum MHD_Result tsd_reply_owned(tsd_request *r, unsigned status, const char *content_type,
                                 char *text, size_t len)
 {
-    struct MHD_Response *resp = MHD_create_response_from_buffer(len, text, MHD_RESPMEM_MUST_FREE);
-    if (!resp) free(text);
-    return queue(r, status, resp, content_type, len);
+    return reply_buffer(r, status, content_type, text, len);
 }
 
 enum MHD_Result tsd_reply_not_modified(tsd_request *r)

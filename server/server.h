@@ -78,6 +78,7 @@ typedef struct tsd_server {
     atomic_int inflight;             /* requests between arrival and completion (shutdown
                                         waits for them, bounded, before stopping MHD) */
     atomic_int long_jobs;            /* analyses and APNG animations holding a worker */
+    atomic_size_t reply_bytes;       /* bytes of counted answers not yet sent (server.c) */
 } tsd_server;
 
 typedef struct tsd_request {
@@ -127,6 +128,18 @@ typedef struct tsd_request {
 #define TSD_RETRY_AFTER_BUSY_S 2 /* [s] Retry-After of the 429 at the long-job cap */
 ts_rc tsd_long_job_take(tsd_server *s, int *retry_after, ts_err *err);
 void tsd_long_job_give(tsd_server *s);
+
+/* Answers made whole before they are sent (a /series page, a spectrum, a
+ * PNG) stay in memory until the client has read them, or until the
+ * connection times out (--timeout): clients that ask and never read held
+ * one each, without bound (20 such /series requests: +600 MB). Every buffered
+ * answer of at least TSD_REPLY_COUNTED_MIN bytes counts against
+ * TSD_REPLY_BUDGET for as long as it is held; one that would pass it is
+ * answered 503 /problems/busy with Retry-After: TSD_RETRY_AFTER_BUSY_S
+ * instead (unless nothing else is held: a single answer is always sent).
+ * Smaller answers (health, errors, session documents) are never refused. */
+#define TSD_REPLY_COUNTED_MIN ((size_t)64 << 10)
+#define TSD_REPLY_BUDGET      ((size_t)128 << 20) /* ~12 full /series pages */
 
 /* Start listening as configured; 0 on success, -1 with a message in err. */
 int tsd_server_start(tsd_server *s, char *err, size_t errlen);
