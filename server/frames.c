@@ -106,6 +106,8 @@ static void frames_free(void *cls)
 static ts_rc state_at(frames_ctx *f, long k)
 {
     const ts_model *m = f->s->m;
+    if (tsd_session_is_deleted(f->s)) /* also unrestored when deleted before its build */
+        return ts_err_set(&f->err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", f->s->id);
     if (f->s->unrestored) /* its snapshots do not fit this build (session.c) */
         return ts_err_set(&f->err, TS_ERR_STATE, NULL, "session %s has no frames here: %s",
                           f->s->id, f->s->error);
@@ -115,6 +117,9 @@ static ts_rc state_at(frames_ctx *f, long k)
     long sidx = -1;
     if (tsd_db_snapshot_at(f->srv->db, f->s->seq, k, &blob, &n, &sidx) != 0 || !blob) {
         free(blob);
+        if (tsd_session_is_deleted(
+                f->s)) /* a DELETE took the snapshots meanwhile: not /t's fault */
+            return ts_err_set(&f->err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", f->s->id);
         return ts_err_set(&f->err, TS_ERR_NOTFOUND, "/t",
                           "/t: no stored state at or before t = %g s",
                           (double)k * ts_model_sample_period(m));

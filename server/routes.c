@@ -891,6 +891,10 @@ static enum MHD_Result get_summary(tsd_request *r)
 {
     tsd_session *s = r->session;
     ts_err e;
+    if (tsd_session_is_deleted(s)) { /* deleted while its first-use build was queued */
+        ts_err_set(&e, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id);
+        return tsd_reply_err(r, &e, NULL);
+    }
     /* unrestored is immutable once a handler sees the session; so is m */
     if (s->unrestored || !s->m || s->nch != ts_model_nchannel(s->m)) {
         ts_err_set(&e, TS_ERR_STATE, NULL, "session %s has no summary here: %s", s->id,
@@ -991,7 +995,10 @@ static int parse_view(tsd_request *r, tsr_view *v, enum MHD_Result *ret)
 static enum MHD_Result reply_no_frames(tsd_request *r, tsd_session *s)
 {
     ts_err e;
-    ts_err_set(&e, TS_ERR_STATE, NULL, "session %s has no frames here: %s", s->id, s->error);
+    if (tsd_session_is_deleted(s)) /* its rows are gone, not kept: 404 as for a step */
+        ts_err_set(&e, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id);
+    else
+        ts_err_set(&e, TS_ERR_STATE, NULL, "session %s has no frames here: %s", s->id, s->error);
     return tsd_reply_err(r, &e, NULL);
 }
 

@@ -1119,6 +1119,12 @@ static void step_job(void *arg)
 /* Take busy for a step or run: 409 unless created | paused | interrupted. */
 static ts_rc acquire(tsd_session *s, ts_err *err)
 {
+    /* deleted before unrestored: a session deleted while its first-use build
+     * was queued is marked unrestored too (tsd_session_build), but its rows
+     * are gone — 404, as a step a DELETE cuts short, not a 409 saying the
+     * rows are kept */
+    if (tsd_session_is_deleted(s))
+        return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id);
     if (s->unrestored) /* immutable once the session is built: no lock needed */
         return ts_err_set(err, TS_ERR_STATE, NULL,
                           "session %s cannot be advanced by this daemon: %s (its stored rows "

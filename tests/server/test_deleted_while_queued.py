@@ -1,0 +1,104 @@
+"""A session deleted while the first-use rebuild of its model (after a
+restart) was queued behind other work: the requests that waited for that
+rebuild — a step, a frame, a summary — answered 409 "cannot be advanced by
+this daemon: the session was deleted (its stored rows are kept and can be
+read)" / "has no frames here", which is false: the rows are gone. They now
+answer 404 "session ... was deleted", as a step a DELETE cuts short does.
+A frame whose session is deleted while it is drawn answers the same 404, not
+one naming /t ("no stored state at or before t")."""
+import random
+import socket
+import tempfile
+import threading
+import time
+
+import pytest
+import requests
+
+import conftest
+from conftest import Daemon, is_problem, wait_op
+
+PORTS = range(18800, 18900)
+
+
+def port_in_range():
+    for port in random.sample(PORTS, len(PORTS)):
+        with socket.socket() as s:
+            try:
+                s.bind(("127.0.0.1", port))
+            except OSError:
+                continue
+            return port
+    raise RuntimeError("no free port in 18800-18899")
+
+
+def start(*args, **kw):
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(conftest, "free_port", port_in_range)
+        return Daemon(*args, **kw)
+
+
+def make_session(url):
+    r = requests.post(url + "/v1/sessions",
+                      json={"preset": "bump-prescribed-coupled", "run": {"duration": 1.0, "sample_rate": 50}})
+    assert r.status_code == 201, r.text
+    sid = r.json()["id"]
+    assert requests.post(f"{url}/v1/sessions/{sid}/step", json={"duration": 0.2}).status_code == 200
+    return sid
+
+
+def test_requests_queued_behind_the_rebuild_of_a_deleted_session_answer_404():
+    dd = tempfile.mkdtemp(prefix="tanksimd-")
+    with start("--threads", "1", data_dir=dd) as d:
+        sid = make_session(d.url)
+    with start("--threads", "1", data_dir=dd) as d:
+        # the one worker is busy with an engine map: the rebuild waits behind it
+        r = requests.post(d.url + "/v1/engine-map", json={"preset": "engine-map-conventional"})
+        assert r.status_code == 202, r.text
+        op = r.json()["id"]
+        answers = {}
+
+        def ask(name, method, path, **kw):
+            answers[name] = requests.request(method, d.url + path, timeout=60, **kw)
+
+        threads = [threading.Thread(target=ask, args=a) for a in [
+            ("step", "POST", f"/v1/sessions/{sid}/step", ),
+            ("frame", "GET", f"/v1/sessions/{sid}/frame.png?t=0.1"),
+            ("summary", "GET", f"/v1/sessions/{sid}/summary"),
+        ]]
+        threads[0] = threading.Thread(target=ask, args=("step", "POST", f"/v1/sessions/{sid}/step"),
+                                      kwargs={"json": {"duration": 0.1}})
+        for t in threads:
+            t.start()
+        time.sleep(0.5)  # all three wait for the rebuild
+        assert not answers, {k: (v.status_code, v.text) for k, v in answers.items()}
+        assert requests.delete(f"{d.url}/v1/sessions/{sid}").status_code == 204
+        requests.post(f"{d.url}/v1/operations/{op}:cancel")
+        for t in threads:
+            t.join(60)
+        wait_op(d.url, op, timeout=60)
+        for name, r in answers.items():
+            p = is_problem(r, 404)
+            assert "was deleted" in p["detail"] and "kept" not in p["detail"], (name, p)
+            assert not p.get("errors"), (name, p)
+        assert requests.get(f"{d.url}/v1/sessions/{sid}").status_code == 404
+
+
+def test_frame_of_a_loaded_session_deleted_before_it_is_drawn_is_404_without_t():
+    with start("--threads", "1") as d:
+        sid = make_session(d.url)  # built: no first-use rebuild
+        r = requests.post(d.url + "/v1/engine-map", json={"preset": "engine-map-conventional"})
+        assert r.status_code == 202, r.text
+        op = r.json()["id"]
+        got = []
+        t = threading.Thread(target=lambda: got.append(
+            requests.get(f"{d.url}/v1/sessions/{sid}/frame.png?t=0.1", timeout=60)))
+        t.start()
+        time.sleep(0.5)  # the draw waits behind the engine map
+        assert not got
+        assert requests.delete(f"{d.url}/v1/sessions/{sid}").status_code == 204  # rows go now
+        requests.post(f"{d.url}/v1/operations/{op}:cancel")
+        t.join(60)
+        wait_op(d.url, op, timeout=60)
+        p = is_problem(got[0], 404)
+        assert "was deleted" in p["detail"] and not p.get("errors"), p
