@@ -1006,9 +1006,25 @@ static void unbusy(tsd_session *s)
 }
 
 /* Release busy with the new status and error (NULL: none — the stored error
- * column is cleared the same way); store it; wake streams; delete if asked. */
+ * column is cleared the same way); store it; wake streams; delete if asked.
+ *
+ * The status is stored BEFORE busy is cleared, while this holder still
+ * owns the session. It used to be stored after: in the gap a run could
+ * acquire the session and store "running" (tsd_session_run), and this
+ * late write then replaced it with the previous step's or run's "paused"
+ * and its stale error — a daemon killed during that run would bring the
+ * session back as paused with an old error instead of interrupted. Stored
+ * first, the store's status follows the order of the busy holders: the
+ * next holder's "running" can only come after ours. A DELETE meanwhile is
+ * safe either way: its 'deleted' mark is never overwritten (db.c writes
+ * WHERE status<>'deleted') and the rows go below (invariant 5). A status
+ * write that fails (db.c logs it) leaves the stored one, as before. The
+ * in-memory status changes after the write: a GET in between still shows
+ * the holder's (e.g. "running") for the time of one UPDATE. */
 static void release(tsd_session *s, tsd_status st, const char *error)
 {
+    if (!tsd_session_is_deleted(s))
+        tsd_db_session_status(s->srv->db, s->seq, tsd_status_name(st), error);
     pthread_mutex_lock(&s->mu);
     s->status = st;
     snprintf(s->error, sizeof s->error, "%s", error ? error : "");
@@ -1016,10 +1032,7 @@ static void release(tsd_session *s, tsd_status st, const char *error)
     int deleted = s->deleted;
     wake_locked(s);
     pthread_mutex_unlock(&s->mu);
-    if (deleted)
-        tsd_db_session_delete(s->srv->db, s->seq); /* invariant 5 */
-    else
-        tsd_db_session_status(s->srv->db, s->seq, tsd_status_name(st), error);
+    if (deleted) tsd_db_session_delete(s->srv->db, s->seq); /* invariant 5 */
 }
 
 /* ---- step -------------------------------------------------------------------- */
