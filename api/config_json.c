@@ -55,6 +55,26 @@ static void strip_comments(json_t *j)
     }
 }
 
+void tsa_strip_comments(json_t *j)
+{
+    size_t i;
+    json_t *v;
+    if (json_is_array(j)) {
+        json_array_foreach(j, i, v) tsa_strip_comments(v);
+        return;
+    }
+    if (!json_is_object(j)) return;
+    const char *key;
+    void *tmp;
+    json_object_foreach_safe(j, tmp, key, v)
+    {
+        if (key[0] == '_')
+            json_object_del(j, key);
+        else
+            tsa_strip_comments(v);
+    }
+}
+
 /* dst <- src, objects merged key by key, everything else replaced. */
 static void deep_merge(json_t *dst, const json_t *src)
 {

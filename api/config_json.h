@@ -25,6 +25,11 @@
 /* Parse a JSON file of the embedded store ("sim/data/presets/x.json"). */
 json_t *tsa_store_json(const char *path, ts_err *err);
 
+/* Remove comment keys ("_...", read and ignored by the loader) from j in
+ * place, in objects at any depth, arrays' elements included. The daemon
+ * keeps a request without them (a comment may be most of a body). */
+void tsa_strip_comments(json_t *j);
+
 /* The defaults document {section: {field: value}} with comment keys removed. */
 json_t *tsa_config_defaults(ts_err *err);
 

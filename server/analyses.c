@@ -35,12 +35,23 @@ static const char *kind_name(tsd_analysis_kind k)
 }
 
 /* Store an analysis' operation document: 0, or -1 when the store refused it
- * (db.c logged why) or memory ran out. */
+ * (db.c logged why) or memory ran out. The request goes to its own column
+ * only: the stored document leaves metadata.request out (a shallow copy
+ * without it), and tsd_analysis_stored puts it back. It used to be stored
+ * twice, in the column and in the document, and rewritten twice after each
+ * part. */
 static int put_doc(tsd_server *srv, json_t *doc)
 {
     json_t *md = json_object_get(doc, "metadata");
-    char *text = json_dumps(doc, JSON_COMPACT);
-    char *req = json_dumps(json_object_get(md, "request"), JSON_COMPACT | JSON_ENCODE_ANY);
+    json_t *md2 = json_copy(md), *doc2 = json_copy(doc);
+    char *text = NULL, *req = NULL;
+    if (md2 && doc2 && json_object_del(md2, "request") == 0 &&
+        json_object_set(doc2, "metadata", md2) == 0) {
+        text = json_dumps(doc2, JSON_COMPACT);
+        req = json_dumps(json_object_get(md, "request"), JSON_COMPACT | JSON_ENCODE_ANY);
+    }
+    json_decref(md2);
+    json_decref(doc2);
     int rc = -1;
     if (text && req)
         rc = tsd_db_analysis_put(srv->db, json_string_value(json_object_get(doc, "id")),
@@ -206,8 +217,8 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
 
 json_t *tsd_analysis_stored(tsd_server *srv, const char *id, ts_err *err)
 {
-    char *text = NULL;
-    if (tsd_db_analysis_get(srv->db, id, &text) != 0) {
+    char *text = NULL, *request = NULL;
+    if (tsd_db_analysis_get(srv->db, id, &text, &request) != 0) {
         ts_err_set(err, TS_ERR_IO, NULL, "cannot read analysis '%s' from the store", id);
         return NULL;
     }
@@ -220,6 +231,14 @@ json_t *tsd_analysis_stored(tsd_server *srv, const char *id, ts_err *err)
     }
     json_t *j = json_loads(text, 0, NULL);
     free(text);
+    json_t *md = json_object_get(j, "metadata");
+    /* stored once, in its column (put_doc); stores older than that also
+     * have it in the document: that copy is the same */
+    if (json_is_object(md) && !json_object_get(md, "request")) {
+        json_t *req = json_loads(request, JSON_DECODE_ANY, NULL);
+        json_object_set_new(md, "request", req ? req : json_null());
+    }
+    free(request);
     if (!j) ts_err_set(err, TS_ERR_INTERNAL, NULL, "stored analysis '%s' is not JSON", id);
     return j;
 }
@@ -229,15 +248,13 @@ typedef struct recover_ctx {
     int n, failed;
 } recover_ctx;
 
-/* tsd_db_analysis_fn: an analysis stored as not done was cut short by a
+/* tsd_db_analysis_id_fn: an analysis stored as not done was cut short by a
  * daemon that stopped without finishing it (killed, crashed, power loss):
- * store it done, with an error saying so. */
-static void recover_one(void *ud, const char *id, const char *kind, double created, int done,
-                        int error_code, const char *request_json)
+ * store it done, with an error saying so. Only these are read (their
+ * documents and requests); finished ones are not touched at start-up. */
+static void recover_one(void *ud, const char *id)
 {
-    (void)kind, (void)created, (void)error_code, (void)request_json;
     recover_ctx *c = ud;
-    if (done) return;
     ts_err e;
     json_t *doc = tsd_analysis_stored(c->srv, id, &e);
     if (!json_is_object(doc)) {
@@ -262,21 +279,26 @@ static void recover_one(void *ud, const char *id, const char *kind, double creat
 int tsd_analyses_recover(tsd_server *srv)
 {
     recover_ctx c = {srv, 0, 0};
-    if (tsd_db_analyses(srv->db, recover_one, &c) != 0 || c.failed) return -1;
+    if (tsd_db_analyses_unfinished(srv->db, recover_one, &c) != 0 || c.failed) return -1;
     return c.n;
 }
 
-/* tsd_db_analysis_fn: one entry of the list. */
+/* tsd_db_analysis_fn: one entry of the list (ud: the array), with the whole
+ * request when the store gave it (GET /v1/analyses/{id}). */
 static void list_one(void *ud, const char *id, const char *kind, double created, int done,
-                     int error_code, const char *request_json)
+                     int error_code, const char *asked_json, const char *request_json)
 {
     char name[48];
     snprintf(name, sizeof name, "operations/%s", id);
-    json_t *req = json_loads(request_json, JSON_DECODE_ANY, NULL);
-    json_array_append_new(ud, json_pack("{s:s,s:s,s:s,s:f,s:b,s:b,s:i,s:o}", "id", id, "name",
-                                        name, "kind", kind, "created", created, "done", done,
-                                        "failed", error_code != 0, "error_code", error_code,
-                                        "request", req ? req : json_null()));
+    json_t *asked = json_loads(asked_json, 0, NULL);
+    json_t *o = json_pack("{s:s,s:s,s:s,s:f,s:b,s:b,s:i,s:o}", "id", id, "name", name, "kind", kind,
+                          "created", created, "done", done, "failed", error_code != 0, "error_code",
+                          error_code, "asked", asked ? asked : json_object());
+    if (o && request_json) {
+        json_t *req = json_loads(request_json, JSON_DECODE_ANY, NULL);
+        json_object_set_new(o, "request", req ? req : json_null());
+    }
+    json_array_append_new(ud, o);
 }
 
 json_t *tsd_analyses_json(tsd_server *srv, ts_err *err)
@@ -286,12 +308,32 @@ json_t *tsd_analyses_json(tsd_server *srv, ts_err *err)
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         return NULL;
     }
-    if (tsd_db_analyses(srv->db, list_one, list) != 0) {
+    if (tsd_db_analyses(srv->db, NULL, 0, list_one, list) != 0) {
         json_decref(list);
         ts_err_set(err, TS_ERR_IO, NULL, "cannot list the stored analyses");
         return NULL;
     }
     return json_pack("{s:o}", "analyses", list);
+}
+
+json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err)
+{
+    json_t *list = json_array();
+    if (!list) {
+        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        return NULL;
+    }
+    if (tsd_db_analyses(srv->db, id, 1, list_one, list) != 0) {
+        json_decref(list);
+        ts_err_set(err, TS_ERR_IO, NULL, "cannot read analysis '%s' from the store", id);
+        return NULL;
+    }
+    json_t *one = json_incref(json_array_get(list, 0));
+    json_decref(list);
+    if (!one)
+        ts_err_set(err, TS_ERR_NOTFOUND, NULL,
+                   "no stored analysis '%s' (GET /v1/analyses lists them)", id);
+    return one;
 }
 
 ts_rc tsd_analysis_delete(tsd_server *srv, const char *id, ts_err *err)

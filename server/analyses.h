@@ -60,9 +60,17 @@ int tsd_analyses_recover(tsd_server *srv);
 json_t *tsd_analysis_stored(tsd_server *srv, const char *id, ts_err *err);
 
 /* {"analyses": [{id, name, kind, created, done, failed, error_code,
- * request}]}, the
- * stored analyses newest first. New reference, or NULL with err. */
+ * asked}]}, the stored analyses newest first; asked is what was asked
+ * ({preset, engine_fidelity} of the body and the query parameters,
+ * db.h), never the body: bodies may be large and the list holds up to
+ * --max-analyses of them (GET /v1/analyses/{id} or the operation give the
+ * whole request). New reference, or NULL with err. */
 json_t *tsd_analyses_json(tsd_server *srv, ts_err *err);
+
+/* One stored analysis's list entry with its whole request ("request": as
+ * metadata.request shows it). New reference, or NULL with err
+ * (TS_ERR_NOTFOUND when not stored). */
+json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err);
 
 /* Remove a finished analysis from the store and from memory:
  * TS_ERR_STATE while it runs, TS_ERR_NOTFOUND when not stored. */

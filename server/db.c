@@ -445,14 +445,21 @@ int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double cre
         "ssdiiss", id, kind, created, (long)done, (long)error_code, request_json, document_json);
 }
 
-int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc)
+int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc, char **request)
 {
     row_copy t;
     *doc = NULL;
-    if (select_rows(db, "SELECT document FROM analyses WHERE id=?", "read analysis", &t, "s", id))
+    if (request) *request = NULL;
+    if (select_rows(db, "SELECT document, request FROM analyses WHERE id=?", "read analysis", &t,
+                    "s", id))
         return -1;
     int rc = 0;
     if (t.n == 1 && !(*doc = strdup(val_text(t.v[0])))) rc = -1;
+    if (rc == 0 && t.n == 1 && request && !(*request = strdup(val_text(t.v[1])))) {
+        free(*doc);
+        *doc = NULL;
+        rc = -1;
+    }
     free_rows(&t);
     return rc;
 }
@@ -475,19 +482,42 @@ int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted)
     return rc;
 }
 
-int tsd_db_analyses(tsd_db *db, tsd_db_analysis_fn fn, void *ud)
+/* The list's summary of a stored request (db.h tsd_db_analyses): computed
+ * by SQLite, so a large body is parsed there and never copied out; '{}' for
+ * a request that is not a JSON object (a store written by hand). */
+#define ASKED_SQL                                                                                  \
+    "CASE WHEN json_valid(request) AND json_type(request)='object' THEN"                           \
+    " json_set(json_remove(request,'$.body'),'$.preset',json_extract(request,'$.body.preset'),"    \
+    "'$.engine_fidelity',json_extract(request,'$.body.engine.fidelity')) ELSE '{}' END"
+
+int tsd_db_analyses(tsd_db *db, const char *id, int with_request, tsd_db_analysis_fn fn, void *ud)
 {
-    row_copy t; /* fn may use the database (the recovery reads and writes) */
-    if (select_rows(db,
-                    "SELECT id,kind,created,done,error_code,request FROM analyses"
-                    " ORDER BY created DESC, id",
-                    "list analyses", &t, "") != 0)
+    row_copy t; /* fn may use the database */
+    char sql[640];
+    snprintf(sql, sizeof sql,
+             "SELECT id,kind,created,done,error_code," ASKED_SQL ",%s FROM analyses%s"
+             " ORDER BY created DESC, id",
+             with_request ? "request" : "NULL", id ? " WHERE id=?" : "");
+    if ((id ? select_rows(db, sql, "list analyses", &t, "s", id)
+            : select_rows(db, sql, "list analyses", &t, "")) != 0)
         return -1;
     for (long i = 0; i < t.n; i++) {
         sqlite3_value **c = t.v + i * t.ncol;
-        fn(ud, val_text(c[0]), val_text(c[1]), sqlite3_value_double(c[2]),
-           sqlite3_value_int(c[3]), sqlite3_value_int(c[4]), val_text(c[5]));
+        fn(ud, val_text(c[0]), val_text(c[1]), sqlite3_value_double(c[2]), sqlite3_value_int(c[3]),
+           sqlite3_value_int(c[4]), val_text(c[5]), with_request ? val_text(c[6]) : NULL);
     }
+    free_rows(&t);
+    return 0;
+}
+
+int tsd_db_analyses_unfinished(tsd_db *db, tsd_db_analysis_id_fn fn, void *ud)
+{
+    row_copy t; /* fn reads and writes the database (analyses.c recovery) */
+    if (select_rows(db, "SELECT id FROM analyses WHERE done=0 ORDER BY created, id",
+                    "list unfinished analyses", &t, "") != 0)
+        return -1;
+    for (long i = 0; i < t.n; i++)
+        fn(ud, val_text(t.v[i * t.ncol]));
     free_rows(&t);
     return 0;
 }

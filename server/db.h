@@ -65,13 +65,16 @@ int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud);
 
 /* Store (insert or replace) analysis id: its kind, creation time [Unix s],
  * whether it is done, its error's google.rpc code (0: none), the request
- * (JSON text) and the operation document (JSON text). */
+ * (JSON text) and the operation document (JSON text). The request is kept
+ * once, in its own column: the caller leaves metadata.request out of the
+ * document (analyses.c puts it back when reading). */
 int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double created, int done,
                         int error_code, const char *request_json, const char *document_json);
 
-/* The stored operation document of analysis id: *doc malloc'd JSON text
- * (caller frees), NULL when there is no such analysis. */
-int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc);
+/* The stored operation document of analysis id and its request: *doc and
+ * *request malloc'd JSON text (caller frees; request may be NULL when not
+ * wanted), both NULL when there is no such analysis. */
+int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc, char **request);
 
 /* How many analyses are stored (*n). */
 int tsd_db_analysis_count(tsd_db *db, long *n);
@@ -79,11 +82,23 @@ int tsd_db_analysis_count(tsd_db *db, long *n);
 /* Remove analysis id; *deleted = 1 when there was one. */
 int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted);
 
-/* Visit the stored analyses, newest first (the rows are copied out before the
- * first call, so fn may use the database). */
+/* Visit the stored analyses, newest first (id NULL), or analysis id only
+ * (the rows are copied out before the first call, so fn may use the
+ * database). asked_json: what was asked, small whatever the body — the
+ * request's query parameters (schedule_mass, schedule_grade) with its
+ * body's preset and engine.fidelity as "preset" and "engine_fidelity"
+ * (null when absent), made by SQLite from the stored request so that only
+ * that summary leaves the store. request_json: the whole request when
+ * with_request, else NULL. */
 typedef void (*tsd_db_analysis_fn)(void *ud, const char *id, const char *kind, double created,
-                                   int done, int error_code, const char *request_json);
-int tsd_db_analyses(tsd_db *db, tsd_db_analysis_fn fn, void *ud);
+                                   int done, int error_code, const char *asked_json,
+                                   const char *request_json);
+int tsd_db_analyses(tsd_db *db, const char *id, int with_request, tsd_db_analysis_fn fn, void *ud);
+
+/* Visit the ids of the analyses stored as not done (start-up recovery),
+ * without reading their requests or documents (copied out first, as above). */
+typedef void (*tsd_db_analysis_id_fn)(void *ud, const char *id);
+int tsd_db_analyses_unfinished(tsd_db *db, tsd_db_analysis_id_fn fn, void *ud);
 
 /* The stored state snapshot: *blob malloc'd (caller frees), *idx its index;
  * *blob = NULL when there is none. */

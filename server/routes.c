@@ -1113,8 +1113,8 @@ static enum MHD_Result post_modes(tsd_request *r)
 
 /* The body's config (empty = the defaults) for command: a preset made for
  * another command only is refused naming /preset. -1 when a 4xx was queued;
- * else 0 and *request = {"body": the body as sent} (new reference, for the
- * operation's metadata). */
+ * else 0 and *request = {"body": the body as sent, without its comment keys}
+ * (new reference, for the operation's metadata). */
 static int analysis_config(tsd_request *r, const char *command, ts_config *cfg,
                            json_t **request, enum MHD_Result *ret)
 {
@@ -1130,6 +1130,7 @@ static int analysis_config(tsd_request *r, const char *command, ts_config *cfg,
         return -1;
     }
     json_decref(errors);
+    tsa_strip_comments(doc); /* kept without them: a comment may be most of a body */
     *request = json_pack("{s:o}", "body", doc);
     return 0;
 }
@@ -1249,6 +1250,13 @@ static enum MHD_Result get_analyses(tsd_request *r)
     return j ? tsd_reply_json(r, MHD_HTTP_OK, j) : tsd_reply_err(r, &e, NULL);
 }
 
+static enum MHD_Result get_analysis(tsd_request *r)
+{
+    ts_err e;
+    json_t *j = tsd_analysis_json(r->srv, r->params[0], &e);
+    return j ? tsd_reply_json(r, MHD_HTTP_OK, j) : tsd_reply_err(r, &e, NULL);
+}
+
 static enum MHD_Result delete_analysis(tsd_request *r)
 {
     ts_err e;
@@ -1297,6 +1305,8 @@ static const tsd_route_row routes[] = {
      "IVS Ziegler-Nichols tuning, an operation (tanksim tune)"},
     {"GET", "/v1/analyses", get_analyses, 0, "",
      "Stored analyses (engine maps, tunings), newest first"},
+    {"GET", "/v1/analyses/{id}", get_analysis, 0, "",
+     "One stored analysis: its list entry and the whole request"},
     {"DELETE", "/v1/analyses/{id}", delete_analysis, 0, "",
      "Remove a finished analysis from the store"},
     {"GET", "/v1/operations/{id}", get_operation, 0, "", "State of a run or analysis operation"},

@@ -104,7 +104,7 @@ export const api = {
   engineMap: (doc) => request('POST', '/v1/engine-map', { body: doc }),
   /* params: {schedule_mass: '50000,60000'} or {schedule_grade: ...} (optional) */
   tune: (doc, params = {}) => request('POST', `/v1/tune${qs(params)}`, { body: doc }),
-  /* stored analyses, newest first (no results: GET the operation for that) */
+  /* stored analyses, newest first: what was asked, not the request body nor results (GET the operation for those) */
   analyses: () => request('GET', '/v1/analyses'),
   deleteAnalysis: (id) => request('DELETE', `/v1/analyses/${enc(id)}`),
   operation: (opId) => request('GET', `/v1/operations/${enc(opId)}`),

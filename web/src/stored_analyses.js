@@ -1,8 +1,8 @@
 /*
  * stored_analyses.js — the Analyses panel's list of stored analyses (GET
  * /v1/analyses, newest first): when each was started, its kind, what was
- * asked (from the request the daemon stored: preset, engine fidelity,
- * schedule) and its status. Show fetches the operation (GET
+ * asked (the list's summary of the request the daemon stored — preset,
+ * engine fidelity, schedule; not the body) and its status. Show fetches the operation (GET
  * /v1/operations/{id}) and hands it to the form of its kind
  * (analysis_op.js showStored: the response drawn where the form draws its
  * own, or the error in its error box, and the outcome on its progress bar);
@@ -22,12 +22,13 @@ import { outcomeOf } from './operation.js';
 const KIND_LABEL = { engine_map: 'engine map', tune: 'tuning' };
 const POLL_MS = 2000; /* [ms] list refresh while an analysis in it runs */
 
-/* What the stored request asked for: "preset · fidelity engine · schedule over mass 50000,60000". */
-function asked(request) {
-  const body = request?.body || {};
-  const parts = [body.preset || 'config without preset'];
-  if (body.engine?.fidelity) parts.push(`${body.engine.fidelity} engine`);
-  for (const [k, v] of Object.entries(request || {})) if (k.startsWith('schedule_')) parts.push(`schedule over ${k.slice(9)} ${String(v).replaceAll(',', ', ')}`);
+/* What was asked, from the list's summary of the stored request (asked: its
+   body's preset and engine_fidelity, and the query's schedule_*; the list
+   carries no bodies): "preset · fidelity engine · schedule over mass 50000,60000". */
+function asked(a) {
+  const parts = [a?.preset || 'config without preset'];
+  if (a?.engine_fidelity) parts.push(`${a.engine_fidelity} engine`);
+  for (const [k, v] of Object.entries(a || {})) if (k.startsWith('schedule_')) parts.push(`schedule over ${k.slice(9)} ${String(v).replaceAll(',', ', ')}`);
   return parts.join(' · ');
 }
 
@@ -99,8 +100,8 @@ export function initStoredAnalyses({ form: formOf }) {
     const time = document.createElement('time');
     time.dateTime = created.toISOString();
     time.textContent = created.toLocaleString(undefined, { dateStyle: 'short', timeStyle: 'medium' });
-    const what = cell(asked(a.request), 'asked');
-    what.title = JSON.stringify(a.request);
+    const what = cell(asked(a.asked), 'asked');
+    what.title = JSON.stringify(a.asked);
     const kind = KIND_LABEL[a.kind] || a.kind;
     const show = button('Show', `show the ${kind} of ${time.textContent}`, () => onShow(a));
     show.disabled = !a.done || !formOf(a.kind);

@@ -1,0 +1,106 @@
+"""Stored analyses keep their request once and without comment keys, and the
+list carries no bodies. Before: each analysis stored its whole request body
+twice (the request column and document.metadata.request, "_..." comment keys
+included), GET /v1/analyses returned every body (200 analyses with 1 MB
+bodies: a 200 MB answer, 856 MB RSS) and start-up recovery read every stored
+request. Now the body is stored once (request column) without "_" keys, the
+list gives `asked` (preset, engine fidelity, schedule) instead of the body,
+GET /v1/analyses/{id} gives one entry with its whole request, and the
+operation document still shows metadata.request."""
+import json
+import random
+import socket
+import sqlite3
+import tempfile
+
+import pytest
+import requests
+
+import conftest
+from conftest import Daemon, wait_op
+
+PORTS = range(18800, 18900)
+DYNO = {"run": {"kind": "engine_dyno"}, "engine": {"fidelity": "mean_value", "_why": "fast"},
+        "control": {"rack": 1.0}}
+
+
+def port_in_range():
+    for port in random.sample(PORTS, len(PORTS)):
+        with socket.socket() as s:
+            try:
+                s.bind(("127.0.0.1", port))
+            except OSError:
+                continue
+            return port
+    raise RuntimeError("no free port in 18800-18899")
+
+
+def start(*args, **kw):
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(conftest, "free_port", port_in_range)
+        return Daemon(*args, **kw)
+
+
+def without_comments(j):
+    if isinstance(j, dict):
+        return {k: without_comments(v) for k, v in j.items() if not k.startswith("_")}
+    if isinstance(j, list):
+        return [without_comments(v) for v in j]
+    return j
+
+
+def test_request_stored_once_without_comments_and_listed_without_body():
+    dd = tempfile.mkdtemp(prefix="tanksimd-")
+    body = {**DYNO, "_note": "x" * 300_000}
+    with start("--threads", "2", data_dir=dd) as d:
+        r = requests.post(d.url + "/v1/tune?schedule_mass=50000,60000", data=json.dumps(body))
+        assert r.status_code == 202, r.text
+        op = r.json()
+        want = {"body": without_comments(body), "schedule_mass": "50000,60000"}
+        assert op["metadata"]["request"] == want
+        requests.post(f"{d.url}/v1/operations/{op['id']}:cancel")
+        done = wait_op(d.url, op["id"], timeout=60)
+        assert done["metadata"]["request"] == want
+    con = sqlite3.connect(dd + "/tanksimd.db")
+    req, doc = con.execute("SELECT request, document FROM analyses WHERE id=?", (op["id"],)).fetchone()
+    con.close()
+    assert json.loads(req) == want and "_note" not in req and "_why" not in req
+    assert "request" not in json.loads(doc)["metadata"]  # once: in its column
+    assert len(req) + len(doc) < 4000
+    with start("--threads", "2", data_dir=dd) as d:
+        assert requests.get(f"{d.url}/v1/operations/{op['id']}").json() == done  # put back
+        (a,) = requests.get(d.url + "/v1/analyses").json()["analyses"]
+        assert "request" not in a
+        assert a["asked"] == {"preset": None, "engine_fidelity": "mean_value",
+                              "schedule_mass": "50000,60000"}
+        one = requests.get(f"{d.url}/v1/analyses/{op['id']}").json()
+        assert one == {**a, "request": want}
+        assert requests.get(f"{d.url}/v1/analyses/op0000000000000000").status_code == 404
+
+
+def test_listing_of_large_stored_bodies_stays_small():
+    """Rows as an older daemon stored them: 20 bodies of 1 MB in both columns."""
+    dd = tempfile.mkdtemp(prefix="tanksimd-")
+    with start(data_dir=dd):
+        pass  # make the store
+    con = sqlite3.connect(dd + "/tanksimd.db")
+    big = {"body": {"preset": "engine-map-conventional", "_note": "x" * 1_000_000}}
+    for i in range(20):
+        oid = f"op{i:016x}"
+        doc = {"name": "operations/" + oid, "id": oid, "done": True,
+               "metadata": {"kind": "engine_map", "created": 1e9 + i, "request": big,
+                            "progress": 1, "parts_done": 14, "parts_total": 14, "wall_time_s": 1},
+               "response": {}}
+        con.execute("INSERT INTO analyses VALUES(?,?,?,?,?,?,?)",
+                    (oid, "engine_map", 1e9 + i, 1, 0, json.dumps(big), json.dumps(doc)))
+    con.commit()
+    con.close()
+    with start(data_dir=dd) as d:
+        r = requests.get(d.url + "/v1/analyses")
+        assert r.status_code == 200
+        lst = r.json()["analyses"]
+        assert len(lst) == 20 and len(r.content) < 20 * 400, len(r.content)
+        assert lst[0]["asked"] == {"preset": "engine-map-conventional", "engine_fidelity": None}
+        one = requests.get(f"{d.url}/v1/analyses/{lst[0]['id']}").json()
+        assert one["request"] == big
+        assert requests.get(f"{d.url}/v1/operations/{lst[0]['id']}").json()["metadata"]["request"] == big
