@@ -224,7 +224,7 @@ typedef struct elem {
 } elem;
 
 /* The span's velocity map: x_d = B q_d (compact columns cs), and the frame
- * velocities f_x = rx . q_d (end 0 along the chord), f_y0 = ry0 . q_d,
+ * velocities f_x = rx . q_d (tangent point 0 along the chord), f_y0 = ry0 . q_d,
  * f_y1 = ry1 . q_d (ends 0, 1 normal to it). Only B's dense rows 0, 1 (the
  * end feeds u0, u1) are stored: row 2 + m is the unit vector on the modal
  * coordinate q0 + m, whose compact column is cs.n - nm + m (the modal columns
@@ -745,6 +745,10 @@ static void span_map_build(const vm *v, const kin *k, const span_el *se, const e
                               (e->u[1] + cr * e->n[1]) * j->v[c][1]);
             B[0][ci] += v->rho_b[a] * dpsi;
             B[1][ci] += v->rho_b[b] * dpsi + dl;
+            /* the frame rides on tangent point 0, p_a = c_a + rho_a n, whose
+             * velocity along the chord is u . c_a_d - rho_a psi_d (n turns
+             * with the chord: n_d = -psi_d u), and u0 is measured from it */
+            rx[ci] -= v->rho_b[a] * dpsi;
             if (side == 0) {
                 rx[ci] += e->u[0] * j->v[c][0] + e->u[1] * j->v[c][1];
                 ry0[ci] += e->n[0] * j->v[c][0] + e->n[1] * j->v[c][1];
@@ -1024,12 +1028,22 @@ static void span_element(const vm *v, vm_work *w, const span_map *mp, const span
     /* a track cannot push: the compressive part of the axial stress out (elastic
      * and Kelvin-Voigt together, so a span unloading fast goes slack too) */
     if (v->no_compression) ts_span_slack_force(sp, x, qd ? xd : NULL, kv, f);
-    /* generalised forces: B^T f + frame gravity */
-    double m = se->rho * se->len;
+    /* generalised forces: B^T f + frame gravity, -dV/dq of vm_energy's
+     * V = m g (p_a,z + L_ref u_z / 2) - (g_y - g_y,sag) ay.x - g_x alpha.x:
+     * the frame rides on tangent point 0 (rx), the chord turns by
+     * dpsi = (ry1 - ry0) . dq / l, so the span's centre of mass, L_ref / 2 down
+     * the chord, moves normal to it by ry0 + L_ref / (2 l) (ry1 - ry0); and
+     * turning the chord turns gravity's components on the modal loads,
+     * dV/dpsi = g_x ay.x - g_y alpha.x (dg_x/dpsi = g_y, dg_y/dpsi = -g_x) */
+    double m = se->rho * se->len, hl = 0.5 * se->len / ell, ay = 0, ax = 0;
+    for (int r = 2; r < n; r++)
+        ay += sp->ay[r] * x[r], ax += se->alpha[r] * x[r];
+    double turn = (gx * ay - gy * ax) / ell;
     for (int c = 0; c < cs.n; c++) {
         double s = B[0][c] * f[0] + B[1][c] * f[1];
         if (c >= cm0) s += f[2 + c - cm0];
-        s += m * gx * rx[c] + 0.5 * m * gy * (ry0[c] + ry1[c]);
+        s += m * gx * rx[c] + m * gy * (ry0[c] + hl * (ry1[c] - ry0[c]));
+        s -= turn * (ry1[c] - ry0[c]);
         Q[cs.idx[c]] += s;
     }
     if (M || sb) {
@@ -2053,7 +2067,8 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
         double m = se->rho * se->len;
         if (v->no_compression) xk -= ts_span_slack_energy(sp, x);
         pe += v->p0 * x[1] + xk - (gy - sp->p.g_y) * ay;
-        pe += m * GRAVITY * k.c[a][1] - 0.5 * m * se->len * gx - gx * ax;
+        /* the frame's weight from tangent point 0 (span_element's frame gravity) */
+        pe += m * GRAVITY * (k.c[a][1] + v->rho_b[a] * e.n[1]) - 0.5 * m * se->len * gx - gx * ax;
     }
     return ke + pe;
 }
