@@ -126,6 +126,16 @@ static void trans_shape(int k, double s, double L, double *N, double *dN)
     *dN = w * cos(w * s);
 }
 
+/* Equilibrium curvature: P0 Y0'' = -rho g_y at rest; a span translating at c
+ * along its chord carries the momentum flux rho c^2 as well,
+ * (P0 - rho c^2) Y0'' = -rho g_y, so kappa = rho g_y / (P0 - rho c^2) with
+ * translation_terms (then V = 0 is the moving span's equilibrium). */
+static double span_curvature(const ts_span_params *p)
+{
+    double c = p->translation_terms ? p->speed : 0.0;
+    return p->rho * p->g_y / (p->tension - p->rho * c * c);
+}
+
 static ts_rc check_params(const ts_span_params *p, ts_err *err)
 {
 #define REQ(cond, field, ...)                                                                      \
@@ -147,13 +157,13 @@ static ts_rc check_params(const ts_span_params *p, ts_err *err)
         p->n_long);
     REQ(isfinite(p->damping_ratio) && p->damping_ratio >= 0, "damping_ratio",
         "damping ratio must be >= 0, got %g", p->damping_ratio);
-    double kappa = p->rho * p->g_y / p->tension;
-    REQ(fabs(kappa * p->length) < 1.0, "tension",
-        "shallow-sag condition |kappa L| < 1 violated (kappa L = %g)", kappa * p->length);
     if (p->translation_terms) {
         REQ(p->rho * p->speed * p->speed < p->tension, "speed",
             "track speed %g m/s reaches the transverse wave speed", p->speed);
     }
+    double kappa = span_curvature(p);
+    REQ(fabs(kappa * p->length) < 1.0, "tension",
+        "shallow-sag condition |kappa L| < 1 violated (kappa L = %g)", kappa * p->length);
 #undef REQ
     return TS_OK;
 }
@@ -244,7 +254,7 @@ ts_span *ts_span_make(const ts_span_params *p, ts_err *err)
     sp->slack_b = sp->slack_bmax + n;
 
     double L = p->length, rho = p->rho, EA = p->ea, P0 = p->tension;
-    double kappa = rho * p->g_y / P0;
+    double kappa = span_curvature(p);
     double c = p->translation_terms ? p->speed : 0.0;
     sp->kappa = kappa;
     sp->k = kappa * L;
@@ -374,7 +384,11 @@ void ts_span_force(const ts_span *sp, const ts_span_motion *mo, const double *x,
         if (mo->theta_d != 0.0) /* the vehicle passes no chord rotation: skip the product */
             for (int j = 0; j < n; j++)
                 cor += sp->W[i * n + j] * xd[j];
-        f[i] += 2.0 * mo->theta_d * cor                     /* Eqs. 4-5 Coriolis */
+        /* Eqs. 4-5 Coriolis; with translation_terms also that of the transport
+         * c along the chord, -2 theta_d rho c \int phi on V (as a rigid feed
+         * u0_d = u1_d = c would give through W) */
+        if (sp->p.translation_terms) cor -= sp->p.speed * sp->ay[i];
+        f[i] += 2.0 * mo->theta_d * cor                     /* Coriolis */
                 - mo->a0x * sp->ax[i] - mo->a0y * sp->ay[i] /* x0_dd, y0_dd */
                 + mo->theta_d * mo->theta_d * sp->sx[i]     /* -x theta_d^2 */
                 - mo->theta_dd * sp->sy[i]                  /* x theta_dd */

@@ -9,6 +9,10 @@
  *   around the circuit), e_y = z_hat x e_x (e_x rotated +90 deg in the x–z
  *   plane; right-handed) — the track has the parabolic equilibrium sag
  *       Y0(s) = (kappa/2) s (L - s),   kappa = rho g_y / P0          (Eq. 9)
+ *   (with translation_terms kappa = rho g_y / (P0 - rho c^2): a span moving
+ *   at c along its chord hangs from the tension less the momentum flux,
+ *   (P0 - rho c^2) Y0'' = -rho g_y, so V = 0 stays its equilibrium and the
+ *   sag coupling k1 = EA kappa, k2 = EA kappa^2 (Irvine's lambda^2) grow)
  *   (g_y = gravity component along e_y, so the sag hangs along gravity) and
  *   small displacements U(s,t) along e_x and V(s,t) along e_y. The linear
  *   dynamic tension is
@@ -76,9 +80,12 @@
  *   acceleration inertial loading rho(x0_dd) on U (all longitudinal rows,
  *   so f[0] + f[1] carries the span mass times -a0x) and rho(y0_dd +
  *   s theta_dd) on V (modal rows), the centripetal -rho s theta_d^2 on U, the
- *   Coriolis -2 theta_d V_t (on U) and +2 theta_d U_t (on V) of Eqs. 4–5, and
- *   a change of g_y from the value the sag was built for.
+ *   Coriolis -2 theta_d V_t (on U) and +2 theta_d U_t (on V) of Eqs. 4–5
+ *   (with translation_terms also the transport's, +2 theta_d c on V, i.e.
+ *   the load -2 theta_d c rho \int phi), and a change of g_y from the value
+ *   the sag was built for.
  *   Left out (second order in small quantities or the caller's part):
+ *   the Coriolis terms of the convected gradients, 2 theta_d c (V_s, -U_s);
  *   -theta_dd (Y0 + V) on U and -theta_d^2 (Y0 + V) on V; P0 U_x^2 geometric
  *   stiffness (P0/EA ~ 0.2 %); the tension gradient rho g_x along the chord
  *   (gravity along e_x); and the rigid-body Eqs. 6–8 of the segment NORMAL to
@@ -143,7 +150,7 @@ typedef struct ts_span {
     int i_long;       /* index of the first longitudinal mode (2) */
     int i_trans;      /* index of the first transverse mode (2 + n_long) */
     /* Eq. 9 constants */
-    double kappa;          /* equilibrium curvature rho g_y / P0 [1/m] */
+    double kappa;          /* equilibrium curvature rho g_y / (P0 [- rho c^2]) [1/m] */
     double k;              /* kappa L [1] (shallow sag: |k| < 1) */
     double m;              /* rho L [kg] */
     double n1;             /* 1/2 rho L^2 [kg m] (the paper's n) */
@@ -205,8 +212,9 @@ void ts_span_free(ts_span *sp);
 void ts_span_err_to_config(ts_err *err, const char *layout);
 
 /* Generalised forces f[n] on all coordinates (everything but -M x_dd):
- *   f = -P0 [-1, 1, 0..] - K x - (C + G) x_d + 2 theta_d W x_d
+ *   f = -P0 [-1, 1, 0..] - K x - (C + G) x_d + 2 theta_d (W x_d - c ay)
  *       - a0x ax - a0y ay + theta_d^2 sx - theta_dd sy + (g_y - p.g_y) ay
+ * (c = p.speed with translation_terms, else 0)
  * (ay is rho \int phi, so the last term is the load of the changed weight).
  * x, x_d [n]; motion may be NULL (fixed supports). f may not alias x/x_d. */
 void ts_span_force(const ts_span *sp, const ts_span_motion *mo, const double *x, const double *xd,
