@@ -12,7 +12,8 @@ typedef enum ts_track_fidelity {
     TS_TRACK_QUASI_STATIC, /* Guyan (static condensation) into the rollers */
     TS_TRACK_LONGITUDINAL, /* n_long longitudinal modes per span (26 DOF with 1) */
     TS_TRACK_TRANSVERSE,   /* n_trans transverse modes per span, quasi-static stretch */
-    TS_TRACK_COUPLED,      /* n_long + n_trans per span (31 DOF with 1 + 1) */
+    TS_TRACK_COUPLED,      /* n_long + n_trans per span (31 DOF with 1 + 1); n_long = 0:
+                              uniform-tension stretch, as TS_TRACK_TRANSVERSE */
     TS_NTRACK_FIDELITY
 } ts_track_fidelity;
 extern const char *const ts_track_fidelity_names[];

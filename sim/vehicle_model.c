@@ -1503,7 +1503,10 @@ static ts_rc build_spans(vm *v, ts_err *err)
         nt = tc->n_trans, qs = 1;
         break;
     case TS_TRACK_COUPLED:
-        nl = tc->n_long, nt = tc->n_trans;
+        /* n_long = 0: Irvine's uniform tension (quasi-static stretch), the
+         * meaning track_circuit.h and `tanksim modes` give it, not the
+         * linear-U stretch of the bare support shapes */
+        nl = tc->n_long, nt = tc->n_trans, qs = nl == 0;
         break;
     default:
         return TS_OK;
