@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 
 #include "../sim/terrain.h"
+#include "json_error.h"
 #include "problem.h"
 #include "store.h"
 
@@ -196,7 +197,7 @@ static ts_rc merge_document(json_t *merged, const json_t *doc, int depth, ts_err
 json_t *tsa_config_resolve(const json_t *doc, ts_err *err)
 {
     if (doc && !json_is_object(doc)) {
-        ts_err_set(err, TS_ERR_PARAM, "", "the config must be a JSON object");
+        tsa_root_err(err, TS_ERR_PARAM, "the config must be a JSON object");
         return NULL;
     }
     json_t *merged = tsa_config_defaults(err);
@@ -497,6 +498,26 @@ ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err)
     return rc;
 }
 
+/* err for the config file at path that jansson refused (je): the text up to
+ * where it stopped is read again to name the member (tsa_json_parse_err); if
+ * it cannot be, the error names the root. */
+static ts_rc file_parse_err(const char *path, const json_error_t *je, ts_err *err)
+{
+    char lead[TS_ERR_MSG_LEN / 2];
+    snprintf(lead, sizeof lead, "%s:%d:%d", path, je->line, je->column);
+    size_t want = je->position > 0 ? (size_t)je->position : 0;
+    char *text = malloc(want + 1);
+    size_t got = 0;
+    FILE *f = text ? fopen(path, "rb") : NULL;
+    if (f) {
+        got = fread(text, 1, want, f);
+        fclose(f);
+    }
+    ts_rc rc = tsa_json_parse_err(text ? text : "", got, je, lead, err);
+    free(text);
+    return rc;
+}
+
 ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out, json_t *errors,
                            ts_err *err)
 {
@@ -508,7 +529,7 @@ ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_o
     if (!doc) {
         if (je.line < 0 || strstr(je.text, "unable to open"))
             return ts_err_set(err, TS_ERR_IO, NULL, "%s", je.text); /* names the path */
-        return ts_err_set(err, TS_ERR_PARAM, "", "%s:%d:%d: %s", path, je.line, je.column, je.text);
+        return file_parse_err(path, &je, err);
     }
     ts_rc rc = tsa_config_load(doc, cfg, resolved_out, errors, err);
     json_decref(doc);

@@ -10,6 +10,7 @@
  */
 #include "problem.h"
 
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -110,7 +111,7 @@ json_t *tsa_problem_from_err(const ts_err *err, json_t *errors)
     ts_rc rc = err->code;
     if ((int)rc < 0 || rc >= TS_NRC) rc = TS_ERR_INTERNAL;
     json_t *own = NULL;
-    if (!errors && err->pointer[0]) {
+    if (!errors && (err->pointer[0] || err->at_root)) {
         own = json_pack("[{s:o,s:o}]", "pointer", utf8_string(err->pointer), "message",
                         utf8_string(err->msg));
         errors = own;
@@ -118,6 +119,19 @@ json_t *tsa_problem_from_err(const ts_err *err, json_t *errors)
     json_t *p = tsa_problem(map[rc].status, map[rc].type, map[rc].title, err->msg, errors);
     json_decref(own);
     return p;
+}
+
+ts_rc tsa_root_err(ts_err *err, ts_rc code, const char *fmt, ...)
+{
+    if (!err) return code;
+    char msg[TS_ERR_MSG_LEN];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    ts_err_set(err, code, "", "%s", msg);
+    err->at_root = 1;
+    return code;
 }
 
 char *tsa_pointer_join(char *out, size_t n, const char *parent, const char *key)

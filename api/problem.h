@@ -26,8 +26,14 @@ json_t *tsa_problem(int status, const char *type, const char *title, const char 
                     json_t *errors);
 
 /* Problem from a ts_err: status and type from its code, detail from its
- * message, and errors (if NULL, one built from err's pointer when non-empty). */
+ * message, and errors (if NULL, one built from err's pointer when non-empty
+ * or when it names the whole document, at_root). */
 json_t *tsa_problem_from_err(const ts_err *err, json_t *errors);
+
+/* ts_err_set with the pointer "" naming the whole document (at_root set):
+ * the problem then lists {"pointer": "", ...}. Returns code. */
+ts_rc tsa_root_err(ts_err *err, ts_rc code, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 
 /* JSON Pointer (RFC 6901) of a member: parent (a pointer, "" for the root)
  * then "/" and key with '~' written "~0" and '/' "~1", so a key "a/b" is not

@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "json_error.h"
 #include "problem.h"
 
 /* ---- buffer --------------------------------------------------------------- */
@@ -111,19 +112,20 @@ static void put_str(tsa_buf *b, const char *s)
 json_t *tsa_parse_object(const char *body, size_t len, ts_err *err)
 {
     if (!body || len == 0) {
-        ts_err_set(err, TS_ERR_PARAM, "", "the request body must be a JSON object; it is empty");
+        tsa_root_err(err, TS_ERR_PARAM, "the request body must be a JSON object; it is empty");
         return NULL;
     }
     json_error_t je;
     json_t *j = json_loadb(body, len, JSON_REJECT_DUPLICATES, &je);
     if (!j) {
-        ts_err_set(err, TS_ERR_PARAM, "", "malformed JSON at line %d, column %d: %s", je.line,
-                   je.column, je.text);
+        char lead[64];
+        snprintf(lead, sizeof lead, "malformed JSON at line %d, column %d", je.line, je.column);
+        tsa_json_parse_err(body, len, &je, lead, err);
         return NULL;
     }
     if (!json_is_object(j)) {
         json_decref(j);
-        ts_err_set(err, TS_ERR_PARAM, "", "the request body must be a JSON object");
+        tsa_root_err(err, TS_ERR_PARAM, "the request body must be a JSON object");
         return NULL;
     }
     return j;

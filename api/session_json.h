@@ -38,8 +38,10 @@ char *tsa_buf_take(tsa_buf *b, size_t *len);
 
 /* ---- request bodies ------------------------------------------------------- */
 
-/* Parse a request body that must be a JSON object. Malformed JSON or another
- * type -> TS_ERR_PARAM (pointer "" and the parser's line/column). New ref. */
+/* Parse a request body that must be a JSON object. Malformed JSON ->
+ * TS_ERR_PARAM with the pointer of where the parser stopped (json_error.h)
+ * and its line/column; an empty body or another type -> TS_ERR_PARAM at the
+ * root (at_root). New ref. */
 json_t *tsa_parse_object(const char *body, size_t len, ts_err *err);
 
 /* One numeric member of a small request body ({"duration": 0.5}). */

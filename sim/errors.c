@@ -25,6 +25,7 @@ void ts_err_clear(ts_err *err)
     if (!err) return;
     err->code = TS_OK;
     err->pointer[0] = '\0';
+    err->at_root = 0;
     err->msg[0] = '\0';
 }
 
@@ -33,6 +34,7 @@ ts_rc ts_err_set(ts_err *err, ts_rc code, const char *pointer, const char *fmt, 
     if (!err) return code;
     err->code = code;
     snprintf(err->pointer, sizeof err->pointer, "%s", pointer ? pointer : "");
+    err->at_root = 0;
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(err->msg, sizeof err->msg, fmt, ap);

@@ -35,6 +35,9 @@ typedef enum ts_rc {
 typedef struct ts_err {
     ts_rc code;                        /* TS_OK when nothing went wrong */
     char pointer[TS_ERR_POINTER_LEN];  /* JSON Pointer of the field at fault ("" if none) */
+    int at_root;                       /* 1: the pointer "" names the whole document (RFC 6901's
+                                        * root: JSON that does not parse, a body that is not an
+                                        * object), not "no field"; ts_err_set clears it */
     char msg[TS_ERR_MSG_LEN];          /* what went wrong, in words */
 } ts_err;
 

@@ -1,0 +1,31 @@
+"""tanksim's config files: JSON that does not parse names the member it
+stopped in (JSON Pointer, as a bad field), then FILE:LINE:COLUMN."""
+import subprocess
+
+from conftest import TANKSIM
+
+
+def run_config(tmp_path, text):
+    cfg = tmp_path / "c.json"
+    cfg.write_text(text)
+    return subprocess.run([TANKSIM, "run", str(cfg), "--out", str(tmp_path / "o")],
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_duplicate_key_names_the_pointer(tmp_path):
+    out = run_config(tmp_path, '{"preset": "pointmass-prescribed",\n'
+                               ' "run": {"duration": 1, "duration": 2}}')
+    assert out.returncode == 1, out.stderr
+    assert "tanksim: config: /run/duration: " in out.stderr, out.stderr
+    assert "c.json:2:" in out.stderr and "duplicate object key" in out.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_syntax_and_overflow_name_the_pointer(tmp_path):
+    out = run_config(tmp_path, '{"preset": "pointmass-prescribed", "vehicle": {"mass": 1e999}}')
+    assert out.returncode == 1 and "config: /vehicle/mass: " in out.stderr, out.stderr
+    out = run_config(tmp_path, '{"preset": "pointmass-prescribed", "track": {"n_trans": }}')
+    assert out.returncode == 1 and "config: /track/n_trans: " in out.stderr, out.stderr
+    out = run_config(tmp_path, '{"preset": "pointmass-prescribed" "run": {}}')
+    assert out.returncode == 1, out.stderr  # a ',' missing between members: the root, no pointer
+    assert "tanksim: config: %s:1:" % (tmp_path / "c.json") in out.stderr, out.stderr
