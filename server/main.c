@@ -240,6 +240,7 @@ int main(int argc, char **argv)
 {
     tsd_server srv;
     memset(&srv, 0, sizeof srv);
+    srv.listen_fd = -1;
     tsd_options *o = &srv.opt;
     snprintf(o->bind, sizeof o->bind, "127.0.0.1");
     o->port = 8080;
@@ -337,13 +338,27 @@ int main(int argc, char **argv)
     if (!token_given && env_token && env_token[0] &&
         set_token(o, "TANKSIM_TOKEN", env_token, strlen(env_token)))
         return 2;
-    if (make_dirs(o->data_dir) != 0) {
-        fprintf(stderr, "tanksimd: cannot create data dir %s: %s\n", o->data_dir, strerror(errno));
+    /* The socket first: a --bind that is no address, a port in use or one
+     * not ours to bind fails here, before the store is created or locked, so
+     * a start that fails leaves no tanksimd.db or tanksimd.lock behind (nor
+     * the directories; removing them after a failure could remove what
+     * another process was creating). Bound, not listening: connections are
+     * refused until the store is open and tsd_server_start listens. */
+    char err[256];
+    if (tsd_server_bind(&srv, err, sizeof err) != 0) {
+        fprintf(stderr, "tanksimd: %s\n", err);
         return 1;
     }
-    if (fit_open_files(o) != 0) return 1;
+    if (make_dirs(o->data_dir) != 0) {
+        fprintf(stderr, "tanksimd: cannot create data dir %s: %s\n", o->data_dir, strerror(errno));
+        tsd_server_unbind(&srv);
+        return 1;
+    }
     /* held (never closed) while the process lives: released by the kernel at exit */
-    if (lock_data_dir(o->data_dir) < 0) return 1;
+    if (fit_open_files(o) != 0 || lock_data_dir(o->data_dir) < 0) {
+        tsd_server_unbind(&srv);
+        return 1;
+    }
 
     sigset_t stop;
     sigemptyset(&stop);
@@ -353,10 +368,10 @@ int main(int argc, char **argv)
     pthread_sigmask(SIG_BLOCK, &stop, NULL);
     signal(SIGPIPE, SIG_IGN);
 
-    char err[256];
     srv.db = tsd_db_open(o->data_dir, err, sizeof err);
     if (!srv.db) {
         fprintf(stderr, "tanksimd: %s\n", err);
+        tsd_server_unbind(&srv);
         return 1;
     }
     pthread_mutex_init(&srv.fft_lock, NULL);
@@ -369,6 +384,7 @@ int main(int argc, char **argv)
         tsd_sessions_free(&srv);
         tsd_ops_free(&srv);
         tsd_db_close(srv.db);
+        tsd_server_unbind(&srv);
         return 1;
     }
     /* analyses a killed daemon left running: stored as failed, not lost */
@@ -383,6 +399,7 @@ int main(int argc, char **argv)
         tsd_sessions_free(&srv);
         tsd_ops_free(&srv);
         tsd_db_close(srv.db);
+        tsd_server_unbind(&srv);
         return 1;
     }
     const char *host = strchr(o->bind, ':') ? "[::1]" : o->bind;

@@ -11,14 +11,17 @@
 #include "session.h"
 
 #include <arpa/inet.h>
+#include <errno.h>
 #include <netinet/in.h>
 #include <signal.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/socket.h>
 #include <time.h>
+#include <unistd.h>
 
 static enum MHD_Result queue(tsd_request *r, unsigned status, struct MHD_Response *resp,
                              const char *content_type, size_t len)
@@ -480,42 +483,116 @@ static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     atomic_fetch_sub(&s->inflight, 1);
 }
 
-int tsd_server_start(tsd_server *s, char *err, size_t errlen)
+/* The address of opt.bind and opt.port into *ss: its length, 0 when bind is
+ * neither an IPv4 nor an IPv6 address. */
+static socklen_t listen_address(const tsd_options *o, struct sockaddr_storage *ss)
 {
-    struct sockaddr_in a4;
-    struct sockaddr_in6 a6;
-    struct sockaddr *addr;
-    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL_LINUX_ONLY |
-                     MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG;
-    memset(&a4, 0, sizeof a4);
-    memset(&a6, 0, sizeof a6);
-    if (inet_pton(AF_INET, s->opt.bind, &a4.sin_addr) == 1) {
-        a4.sin_family = AF_INET;
-        a4.sin_port = htons((uint16_t)s->opt.port);
-        addr = (struct sockaddr *)&a4;
-    } else if (inet_pton(AF_INET6, s->opt.bind, &a6.sin6_addr) == 1) {
-        a6.sin6_family = AF_INET6;
-        a6.sin6_port = htons((uint16_t)s->opt.port);
-        addr = (struct sockaddr *)&a6;
-        flags |= MHD_USE_IPv6;
-    } else {
+    memset(ss, 0, sizeof *ss);
+    struct sockaddr_in *a4 = (struct sockaddr_in *)ss;
+    struct sockaddr_in6 *a6 = (struct sockaddr_in6 *)ss;
+    if (inet_pton(AF_INET, o->bind, &a4->sin_addr) == 1) {
+        a4->sin_family = AF_INET;
+        a4->sin_port = htons((uint16_t)o->port);
+        return sizeof *a4;
+    }
+    if (inet_pton(AF_INET6, o->bind, &a6->sin6_addr) == 1) {
+        a6->sin6_family = AF_INET6;
+        a6->sin6_port = htons((uint16_t)o->port);
+        return sizeof *a6;
+    }
+    return 0;
+}
+
+int tsd_server_bind(tsd_server *s, char *err, size_t errlen)
+{
+    struct sockaddr_storage ss;
+    socklen_t len = listen_address(&s->opt, &ss);
+    if (len == 0) {
         snprintf(err, errlen, "--bind: '%s' is not an IPv4 or IPv6 address", s->opt.bind);
         return -1;
     }
-    s->mhd = MHD_start_daemon(
-        flags, (uint16_t)s->opt.port, NULL, NULL, access_handler, s, MHD_OPTION_SOCK_ADDR, addr,
-        MHD_OPTION_URI_LOG_CALLBACK, uri_seen, s, MHD_OPTION_NOTIFY_COMPLETED, completed, s,
-        MHD_OPTION_THREAD_POOL_SIZE, (unsigned)s->opt.http_threads, MHD_OPTION_CONNECTION_TIMEOUT,
-        s->opt.conn_timeout, MHD_OPTION_CONNECTION_LIMIT, (unsigned)s->opt.max_connections,
-        MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)CONN_MEMORY, MHD_OPTION_END);
-    if (!s->mhd) {
-        snprintf(err, errlen, "cannot listen on %s port %d (in use, or no permission)", s->opt.bind,
-                 s->opt.port);
+    int fd = socket(ss.ss_family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    if (fd < 0) {
+        snprintf(err, errlen, "cannot open a socket for %s: %s", s->opt.bind, strerror(errno));
         return -1;
     }
-    /* --port 0: the kernel chose one; say which */
-    const union MHD_DaemonInfo *bound = MHD_get_daemon_info(s->mhd, MHD_DAEMON_INFO_BIND_PORT);
-    if (bound && bound->port) s->opt.port = bound->port;
+    /* as libmicrohttpd does with a socket of its own: SO_REUSEADDR (a restart
+     * binds while the last run's connections linger in TIME_WAIT; a port some
+     * socket listens on is still refused), and an IPv6 address is IPv6 only */
+    int on = 1;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &on, sizeof on);
+    if (ss.ss_family == AF_INET6) setsockopt(fd, IPPROTO_IPV6, IPV6_V6ONLY, &on, sizeof on);
+    if (bind(fd, (struct sockaddr *)&ss, len) != 0) {
+        int e = errno;
+        close(fd);
+        snprintf(err, errlen, "cannot listen on %s port %d: %s", s->opt.bind, s->opt.port,
+                 strerror(e));
+        return -1;
+    }
+    /* --port 0: the kernel chose one at bind; say which */
+    len = sizeof ss;
+    if (getsockname(fd, (struct sockaddr *)&ss, &len) == 0)
+        s->opt.port = ntohs(ss.ss_family == AF_INET6 ? ((struct sockaddr_in6 *)&ss)->sin6_port
+                                                     : ((struct sockaddr_in *)&ss)->sin_port);
+    s->listen_fd = fd;
+    return 0;
+}
+
+void tsd_server_unbind(tsd_server *s)
+{
+    if (s->listen_fd >= 0) close(s->listen_fd);
+    s->listen_fd = -1;
+}
+
+/* libmicrohttpd's error log. While the daemon starts, the first message is
+ * kept for the daemon's own ("cannot start ...: WHY"), not printed raw before
+ * it; once it serves, each goes to stderr as "tanksimd: libmicrohttpd: ...". */
+static void mhd_log(void *cls, const char *fmt, va_list ap)
+{
+    tsd_server *s = cls;
+    char msg[sizeof s->mhd_start_msg];
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    msg[strcspn(msg, "\n")] = '\0';
+    if (atomic_load(&s->mhd_starting)) {
+        if (!s->mhd_start_msg[0]) snprintf(s->mhd_start_msg, sizeof s->mhd_start_msg, "%s", msg);
+        return;
+    }
+    fprintf(stderr, "tanksimd: libmicrohttpd: %s\n", msg);
+}
+
+int tsd_server_start(tsd_server *s, char *err, size_t errlen)
+{
+    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL_LINUX_ONLY |
+                     MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG;
+    if (strchr(s->opt.bind, ':')) flags |= MHD_USE_IPv6;
+    if (s->listen_fd < 0) {
+        snprintf(err, errlen, "internal error: no socket bound (tsd_server_bind)");
+        return -1;
+    }
+    if (listen(s->listen_fd, SOMAXCONN) != 0) {
+        snprintf(err, errlen, "cannot listen on %s port %d: %s", s->opt.bind, s->opt.port,
+                 strerror(errno));
+        return -1;
+    }
+    s->mhd_start_msg[0] = '\0';
+    atomic_store(&s->mhd_starting, 1);
+    s->mhd = MHD_start_daemon(
+        flags, 0, NULL, NULL, access_handler, s, MHD_OPTION_EXTERNAL_LOGGER, mhd_log, s,
+        MHD_OPTION_LISTEN_SOCKET, s->listen_fd, MHD_OPTION_URI_LOG_CALLBACK, uri_seen, s,
+        MHD_OPTION_NOTIFY_COMPLETED, completed, s, MHD_OPTION_THREAD_POOL_SIZE,
+        (unsigned)s->opt.http_threads, MHD_OPTION_CONNECTION_TIMEOUT, s->opt.conn_timeout,
+        MHD_OPTION_CONNECTION_LIMIT, (unsigned)s->opt.max_connections,
+        MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)CONN_MEMORY, MHD_OPTION_END);
+    atomic_store(&s->mhd_starting, 0);
+    /* handed over: MHD_stop_daemon closes it; after a failed start whether
+     * libmicrohttpd closed it is its business (the daemon exits), so it is
+     * never closed twice here */
+    s->listen_fd = -1;
+    if (!s->mhd) {
+        snprintf(err, errlen, "cannot start the HTTP server on %s port %d%s%s", s->opt.bind,
+                 s->opt.port, s->mhd_start_msg[0] ? ": " : "", s->mhd_start_msg);
+        return -1;
+    }
     return 0;
 }
 

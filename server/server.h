@@ -65,6 +65,9 @@ ts_rc tsd_err_shutdown(ts_err *err);
 typedef struct tsd_server {
     tsd_options opt;
     struct MHD_Daemon *mhd;
+    int listen_fd;           /* bound by tsd_server_bind, -1 when none (or once MHD owns it) */
+    atomic_int mhd_starting; /* libmicrohttpd's messages are kept, not printed (server.c) */
+    char mhd_start_msg[160]; /* the first one kept */
     struct tsd_pool *pool;           /* simulation workers (pool.h) */
     struct tsd_db *db;               /* persistence (db.h) */
     struct tsd_registry *reg;        /* sessions (session.h) */
@@ -141,7 +144,17 @@ void tsd_long_job_give(tsd_server *s);
 #define TSD_REPLY_COUNTED_MIN ((size_t)64 << 10)
 #define TSD_REPLY_BUDGET      ((size_t)128 << 20) /* ~12 full /series pages */
 
-/* Start listening as configured; 0 on success, -1 with a message in err. */
+/* Bind the listening socket of opt.bind and opt.port (opt.port 0: set to the
+ * port the kernel chose), not listening yet: done first, before the store is
+ * created or locked, so that a bad --bind or a port in use leaves nothing
+ * behind. 0, or -1 with a message in err. unbind closes it (a later failure). */
+int tsd_server_bind(tsd_server *s, char *err, size_t errlen);
+void tsd_server_unbind(tsd_server *s);
+/* Listen on the bound socket and serve it (libmicrohttpd, which owns the
+ * socket from the call on); 0 on success, -1 with a message in err. Until
+ * here a client's connection is refused, as before the daemon ran.
+ * libmicrohttpd's own error messages go into err while it starts, and to
+ * stderr as "tanksimd: libmicrohttpd: ..." once it serves. */
 int tsd_server_start(tsd_server *s, char *err, size_t errlen);
 void tsd_server_stop(tsd_server *s);
 /* Wait (at most timeout seconds, polling) until no request is in flight — at

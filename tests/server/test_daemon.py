@@ -1,6 +1,8 @@
 """tanksimd foundation behaviour (issue 2): flags, health, problem+json 404,
 request log lines, clean shutdown on SIGTERM and SIGINT."""
+import os
 import signal
+import socket
 import subprocess
 import time
 
@@ -72,16 +74,71 @@ def test_bad_flag_value_is_refused_naming_the_flag(flag, value, tmp_path):
     assert out.returncode == 2 and flag in out.stderr, out.stderr
 
 
-def test_help_version_and_bad_flags():
+def test_help_version_and_bad_flags(tmp_path):
     out = subprocess.run([TANKSIMD, "--help"], capture_output=True, text=True)
     assert out.returncode == 0 and "--data-dir" in out.stdout and "--threads" in out.stdout
     out = subprocess.run([TANKSIMD, "--version"], capture_output=True, text=True)
     assert out.returncode == 0 and out.stdout.startswith("tanksimd ")
     out = subprocess.run([TANKSIMD, "--bogus", "1"], capture_output=True, text=True)
     assert out.returncode == 2 and "unknown option" in out.stderr
-    out = subprocess.run([TANKSIMD, "--bind", "not-an-ip", "--port", "0"],
+    # a --data-dir of its own: the default ./var is `make run`'s store, which
+    # this test must neither create nor find locked by a running `make run`
+    out = subprocess.run([TANKSIMD, "--bind", "not-an-ip", "--port", "0",
+                          "--data-dir", str(tmp_path / "store")],
                          capture_output=True, text=True, timeout=10)
     assert out.returncode == 1 and "--bind" in out.stderr
+
+
+def test_failed_start_leaves_no_store(tmp_path):
+    # Found by a review: `--bind not-an-ip` or a port in use exited 1 but left
+    # DIR/tanksimd.db and DIR/tanksimd.lock (and DIR itself) behind: the store
+    # was created and locked before the address was checked and bound. And
+    # libmicrohttpd printed its own "Failed to bind to port N" first.
+    store = tmp_path / "a" / "b"
+    out = subprocess.run([TANKSIMD, "--bind", "not-an-ip", "--port", "0", "--data-dir", str(store)],
+                         capture_output=True, text=True, timeout=10)
+    assert out.returncode == 1, out
+    assert out.stderr == "tanksimd: --bind: 'not-an-ip' is not an IPv4 or IPv6 address\n", out
+    assert not (tmp_path / "a").exists()
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen(1)
+        port = busy.getsockname()[1]
+        out = subprocess.run([TANKSIMD, "--bind", "127.0.0.1", "--port", str(port),
+                              "--data-dir", str(store)], capture_output=True, text=True, timeout=10)
+    assert out.returncode == 1, out
+    assert out.stderr == ("tanksimd: cannot listen on 127.0.0.1 port %d: Address already in use\n"
+                          % port), out  # the daemon's one line, not libmicrohttpd's too
+    assert not (tmp_path / "a").exists()
+    # an existing store is left as it was: no lock file, no database added
+    store.mkdir(parents=True)
+    out = subprocess.run([TANKSIMD, "--bind", "256.1.1.1", "--data-dir", str(store)],
+                         capture_output=True, text=True, timeout=10)
+    assert out.returncode == 1 and "--bind" in out.stderr, out
+    assert os.listdir(store) == []
+    # a start that succeeds makes it there
+    d = Daemon(data_dir=str(store))
+    try:
+        assert requests.get(d.url + "/v1/health", timeout=5).status_code == 200
+        assert {"tanksimd.db", "tanksimd.lock"} <= set(os.listdir(store))
+    finally:
+        d.stop()
+
+
+def test_port_zero_reports_the_port_it_serves(tmp_path):
+    # the socket is bound by tanksimd itself (before the store), so the port the
+    # kernel chose comes from it, not from libmicrohttpd
+    p = subprocess.Popen([TANKSIMD, "--port", "0", "--data-dir", str(tmp_path)],
+                         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    try:
+        line = p.stdout.readline()
+        assert line.startswith("tanksimd: open http://127.0.0.1:"), line
+        port = int(line.split("http://127.0.0.1:")[1].split("/")[0])
+        assert port > 0
+        assert requests.get("http://127.0.0.1:%d/v1/health" % port, timeout=5).status_code == 200
+    finally:
+        p.terminate()
+        p.wait(timeout=20)
 
 
 def test_second_daemon_on_one_data_dir_is_refused_before_touching_it(tmp_path):
