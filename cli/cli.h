@@ -15,6 +15,8 @@ typedef struct tsc_command {
     int (*run)(int argc, char **argv); /* argv[0] is the sub-command; returns exit status */
     const char *usage;                 /* arguments, one line */
     const char *help;                  /* what it does, one line */
+    const char *options;               /* each option described, lines of "  --name  what"
+                                          (NULL: the usage line says it all) */
 } tsc_command;
 
 /* Exit statuses shared by every command. */

@@ -15,6 +15,20 @@
 #include "../render/render.h"
 #include "cli.h"
 
+/* --view-width M (or its older name --span M, not both): the side view's
+ * width in metres into v->span. 0, or -1 after a usage message. */
+static int view_width(const char *s, const char *old_s, tsr_view *v)
+{
+    if (s && old_s) {
+        fprintf(stderr, "tanksim: render: --view-width and --span (its older name) both given; "
+                        "give one\n");
+        return -1;
+    }
+    const char *name = s ? "--view-width" : "--span";
+    if (!s) s = old_s;
+    return s ? tsc_number(s, name, 0, 1000, &v->span) : 0;
+}
+
 int tsc_cmd_render(int argc, char **argv)
 {
     const char *t_s = tsc_option(argc, argv, "--t");
@@ -25,7 +39,8 @@ int tsc_cmd_render(int argc, char **argv)
     const char *ex_s = tsc_option(argc, argv, "--exaggeration");
     const char *color_s = tsc_option(argc, argv, "--color");
     const char *text_s = tsc_option(argc, argv, "--text");
-    const char *span_s = tsc_option(argc, argv, "--span");
+    const char *span_s = tsc_option(argc, argv, "--view-width");
+    const char *old_span_s = tsc_option(argc, argv, "--span"); /* its first name */
     int antialias = tsc_flag(argc, argv, "--antialias");
     int no_overlay = tsc_flag(argc, argv, "--no-overlay");
 
@@ -53,7 +68,7 @@ int tsc_cmd_render(int argc, char **argv)
     }
     if (ex_s && tsc_number(ex_s, "--exaggeration", 0, 1000, &v.exaggeration) != 0)
         return TSC_EXIT_USAGE;
-    if (span_s && tsc_number(span_s, "--span", 0, 1000, &v.span) != 0) return TSC_EXIT_USAGE;
+    if (view_width(span_s, old_span_s, &v) != 0) return TSC_EXIT_USAGE;
     if (color_s) {
         /* the same words as the daemon's color= (api/openapi.yaml); "none" kept as before */
         if (strcmp(color_s, "tension") == 0) v.color_by_tension = 1;

@@ -10,28 +10,53 @@
 
 #include "cli.h"
 
-/* name, handler, usage, help — one row per sub-command. */
+/* render's options: what each draws. --view-width was --span, which a reader
+ * of a track simulator took for a track span; the old name is still taken. */
+static const char RENDER_OPTIONS[] =
+    "  --out FILE.png     the PNG to write (required); written whole or not at all\n"
+    "  --t T              simulated time to draw [s], 0 to the config's run.duration: the\n"
+    "                     model runs from rest to T first (default 0)\n"
+    "  --width W          image width [px], 16 to 4096 (default 1280)\n"
+    "  --height H         image height [px], 16 to 4096 (default 720)\n"
+    "  --view V           side: orthographic elevation from the right, hull centred\n"
+    "                     (default); three_quarter: perspective from front-right, above\n"
+    "  --view-width M     side view: metres of the scene across the image width (zoom),\n"
+    "                     0 to 1000; 0 (default): 13 m (the 7.9 m hull and ground either\n"
+    "                     side). Not a track span; three_quarter frames the hull itself\n"
+    "                     and ignores it. --span M is its older name, still accepted\n"
+    "  --exaggeration E   factor on the track spans' vibration (the modal deflection\n"
+    "                     added to the quasi-static pitch line) as drawn, 0 to 1000\n"
+    "                     (default 1: true scale; 0: the quasi-static line alone)\n"
+    "  --color C          plain (default), or tension: track shoes coloured by their\n"
+    "                     tension (blue slack, grey at the static tension, red at twice\n"
+    "                     it) with a legend\n"
+    "  --text S           one more overlay line, printable ASCII, at most 95 characters\n"
+    "  --antialias        4x multisampled edges (about 2.5x the drawing time)\n"
+    "  --no-overlay       no text in the top-left corner (t, speed, gear and --text)\n";
+
+/* name, handler, usage, help, options — one row per sub-command. */
 static const tsc_command commands[] = {
     {"run", tsc_cmd_run, "(CONFIG.json | --preset NAME) [--out DIR] [--until T]",
-     "run a scenario; write DIR/series.csv and DIR/summary.json (DIR: ./out unless given)"},
+     "run a scenario; write DIR/series.csv and DIR/summary.json (DIR: ./out unless given)", NULL},
     {"modes", tsc_cmd_modes, "(CONFIG.json | --preset NAME)",
-     "track span and upper-circuit eigenanalysis (Table 1, Fig. 5) as JSON"},
+     "track span and upper-circuit eigenanalysis (Table 1, Fig. 5) as JSON", NULL},
     {"render", tsc_cmd_render,
      "(CONFIG.json | --preset NAME) --out FILE.png [--t T] [--width W] [--height H] "
-     "[--view side|three_quarter] [--exaggeration E] [--color tension|plain] [--text S] "
-     "[--antialias] "
-     "[--span S] [--no-overlay]",
-     "run to time T and draw the tank and its deformed track into a PNG"},
+     "[--view side|three_quarter] [--view-width M] [--exaggeration E] [--color tension|plain] "
+     "[--text S] [--antialias] [--no-overlay]",
+     "run to time T and draw the tank and its deformed track into a PNG", RENDER_OPTIONS},
     {"engine-map", tsc_cmd_engine_map,
      "(CONFIG.json | --preset NAME) (--out FILE.csv | --spool FILE.csv)",
      "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18), or with --spool the "
      "rack-step spool-ups at held speed that the faster fidelities derive their part-boost tables "
-     "from; FILE.csv.json beside it records the config and units"},
+     "from; FILE.csv.json beside it records the config and units",
+     NULL},
     {"tune", tsc_cmd_tune,
      "(CONFIG.json | --preset NAME) [--schedule-mass M,.. | --schedule-grade G,..]",
-     "Ziegler-Nichols IVS gains from a simulated rack step (Eqs. 11-12, Figs. 26-27) as JSON"},
+     "Ziegler-Nichols IVS gains from a simulated rack step (Eqs. 11-12, Figs. 26-27) as JSON",
+     NULL},
     {"schema", tsc_cmd_schema, "",
-     "print the JSON Schema of a run config (every field: type, unit, range, default)"},
+     "print the JSON Schema of a run config (every field: type, unit, range, default)", NULL},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 
@@ -43,6 +68,7 @@ static void usage(FILE *f)
     for (size_t i = 0; i < NCOMMANDS; i++)
         fprintf(f, "  %-10s %s\n  %-10s   %s\n", commands[i].name, commands[i].usage, "",
                 commands[i].help);
+    fprintf(f, "\ntanksim COMMAND --help describes the command's options.\n");
 }
 
 /* What a command printed reached stdout (a full disk, a closed pipe, /dev/full
@@ -74,6 +100,7 @@ int main(int argc, char **argv)
             if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) {
                 printf("usage: tanksim %s%s%s\n  %s\n", commands[i].name,
                        commands[i].usage[0] ? " " : "", commands[i].usage, commands[i].help);
+                if (commands[i].options) printf("\noptions:\n%s", commands[i].options);
                 return TSC_EXIT_OK;
             }
         int rc = commands[i].run(argc - 1, argv + 1);

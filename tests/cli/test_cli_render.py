@@ -95,3 +95,40 @@ def test_time_past_the_run_is_a_usage_error(tmp_path):
             str(tmp_path / "f.png"))
     assert r.returncode == 2 and "--t: number in [0, 30], got '99'" in r.stderr
     assert not (tmp_path / "f.png").exists()
+
+
+def test_help_describes_every_option():
+    # `render --help` listed [--span S] [--text S] [--antialias] ... without a word
+    # on what they do; --span (the side view's width in metres) read as a track span
+    r = run("render", "--help")
+    assert r.returncode == 0, r.stderr
+    usage, _, options = r.stdout.partition("\noptions:\n")
+    assert options, r.stdout
+    described = {line.split()[0] for line in options.splitlines() if line.startswith("  --")}
+    named = {w.strip("[]()").split("|")[0] for w in usage.split() if w.strip("[(").startswith("--")}
+    named.discard("--preset")  # the config source, as every command's
+    assert named <= described, (named - described, r.stdout)
+    assert "--view-width M" in usage and "--span" not in usage
+    text = " ".join(options.split())
+    assert "metres of the scene across the image width" in text
+    assert "Not a track span" in text and "--span M is its older name, still accepted" in text
+    for opt in ("--text S", "--antialias", "--no-overlay", "--exaggeration E", "--color C"):
+        line = next(l for l in options.splitlines() if l.startswith("  " + opt))
+        assert len(line.split()) > len(opt.split()) + 2, line  # followed by what it does
+
+
+def test_view_width_and_its_old_name_span(tmp_path):
+    base = ["render", "--preset", "bump-prescribed-static", "--width", "160", "--height", "90"]
+    new, old, default = tmp_path / "new.png", tmp_path / "old.png", tmp_path / "default.png"
+    assert run(*base, "--out", str(new), "--view-width", "30").returncode == 0
+    assert run(*base, "--out", str(old), "--span", "30").returncode == 0
+    assert run(*base, "--out", str(default)).returncode == 0
+    assert new.read_bytes() == old.read_bytes()  # the same picture
+    assert new.read_bytes() != default.read_bytes()  # 30 m, not the 13-m default
+    r = run(*base, "--out", str(tmp_path / "x.png"), "--view-width", "-1")
+    assert r.returncode == 2 and "tanksim: --view-width: number in [0, 1000], got '-1'" in r.stderr
+    r = run(*base, "--out", str(tmp_path / "x.png"), "--span", "abc")
+    assert r.returncode == 2 and "tanksim: --span: number in [0, 1000]" in r.stderr, r.stderr
+    r = run(*base, "--out", str(tmp_path / "x.png"), "--view-width", "30", "--span", "20")
+    assert r.returncode == 2 and "--view-width and --span (its older name) both given" in r.stderr
+    assert not (tmp_path / "x.png").exists()
