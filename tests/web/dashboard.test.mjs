@@ -421,6 +421,29 @@ async function main() {
       }
     });
 
+    await check("the analysis forms' Run buttons stay disabled until /v1/presets has filled their preset lists (a click before sent preset \"\" and got 404)", async () => {
+      const early = await newPage(browser);
+      let release;
+      const gate = new Promise((r) => (release = r));
+      let held = false;
+      await early.route('**/v1/presets', async (route) => {
+        held = true;
+        await gate;
+        return route.continue();
+      });
+      try {
+        await early.goto(`${d.url}/`);
+        await waitFor(() => held, 'the preset list requested');
+        await early.waitForTimeout(200); /* time for a wrong enabling to show */
+        for (const b of ['#map-run', '#tune-run']) assert(await early.locator(b).isDisabled(), `${b} enabled before the presets came`);
+        release();
+        for (const b of ['#map-run', '#tune-run']) await waitFor(async () => !(await early.locator(b).isDisabled()), `${b} enabled once the presets came`, 5000);
+      } finally {
+        release();
+        await early.close();
+      }
+    });
+
     await check('form is generated from /v1/schema (enum -> select, number range and unit)', async () => {
       assert(schema && schema.properties, 'no schema');
       const fid = schema.properties.track.properties.fidelity;

@@ -21,8 +21,11 @@
  * before an ended one is shown; shown() is the id of the analysis whose
  * result is on screen, reset() takes it away (it was deleted).
  *
- * Elements, by the form's prefix p: p-run, p-cancel, p-error, p-progress
- * (data-percent, data-outcome; the bar: its .bar), p-progress-text.
+ * Run stays disabled while the form's preset list is empty (presetsSet: the
+ * list came): a click before GET /v1/presets answered sent preset "" (404).
+ *
+ * Elements, by the form's prefix p: p-run, p-cancel, p-error, p-preset,
+ * p-progress (data-percent, data-outcome; the bar: its .bar), p-progress-text.
  */
 import { api } from './api.js';
 import { $, setBar } from './dom.js';
@@ -34,7 +37,7 @@ import { fmt } from './units.js';
  * kind: the key in state.analyses; prefix: the form's element ids; onDone(response):
  * draw the result (may throw an ApiError: shown as the form's error); onClear(): take
  * the result off screen; changed() (optional): an operation started or ended.
- * Returns {start(begin), showStored(op), attach(id), reset(), shown()}: begin() sends the
+ * Returns {start(begin), showStored(op), attach(id), reset(), presetsSet(), shown()}: begin() sends the
  * request and resolves to the operation; op: a done operation (GET /v1/operations/{id});
  * attach follows a running operation the page did not start; reset takes the result
  * shown and the progress bar away; shown: the id of the analysis whose result is shown
@@ -56,8 +59,13 @@ export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed =
     const parts = total ? `${done} / ${total} parts · ${pct} %` : '';
     el('progress-text').textContent = [parts, outcomeSuffix(outcome), note].filter(Boolean).join(' · ') || '—';
     const running = state.analyses[kind] !== null;
-    el('run').disabled = running;
+    el('run').disabled = running || !el('preset').value;
     el('cancel').disabled = !running;
+  }
+
+  /* the preset list was filled: Run may be enabled */
+  function presetsSet() {
+    el('run').disabled = state.analyses[kind] !== null || !el('preset').value;
   }
 
   function clear() {
@@ -169,5 +177,5 @@ export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed =
 
   el('cancel').addEventListener('click', onCancel);
   render(null);
-  return { start, showStored, attach, reset, shown: () => shownId };
+  return { start, showStored, attach, reset, presetsSet, shown: () => shownId };
 }

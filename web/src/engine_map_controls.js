@@ -21,7 +21,10 @@ export function initEngineMapControls(state, engineMap, { changed }) {
   $('map-run').addEventListener('click', onRun);
   /* presets: GET /v1/presets' list; the engine-on-dynamometer ones are the engine variants */
   return {
-    setPresets: (presets) => presetOptions($('map-preset'), presets.filter((p) => p.kind === 'engine_dyno')),
+    setPresets: (presets) => {
+      presetOptions($('map-preset'), presets.filter((p) => p.kind === 'engine_dyno'));
+      op.presetsSet();
+    },
     showStored: op.showStored,
     attach: op.attach,
     reset: op.reset,

@@ -61,7 +61,10 @@ export function initTuneControls(state, { changed }) {
   $('tune-run').addEventListener('click', onRun);
   onVar();
   return {
-    setPresets: (presets) => presetOptions($('tune-preset'), presets.filter((p) => p.kind === 'coupled')),
+    setPresets: (presets) => {
+      presetOptions($('tune-preset'), presets.filter((p) => p.kind === 'coupled'));
+      op.presetsSet();
+    },
     showStored: op.showStored,
     attach: op.attach,
     reset: op.reset,
