@@ -308,6 +308,68 @@ static void two_speed_governor(void **state)
     assert_close(ts_governor_rack(&g, 1.0, 2300 * rpm), 1.0, 0, 0);
 }
 
+/* EVIDENCE: back-calculation anti-windup in closed form (Astrom & Hagglund,
+ * PID Controllers, 1995, Sec. 3.5; ivs_controller.c: tracking time T_t = T_I):
+ * dI/dt = e + (T_I / (K_p T_t)) (u_s - u) with u = K_p (e + I / T_I). Inside
+ * the band the rate is e; saturated high (u > 1) it is 1/K_p - I/T_I, so the
+ * integral relaxes to T_I / K_p with time constant T_I whatever the error;
+ * saturated low (u < 0) it is -I/T_I. Off: the plain integrator, rate e.
+ * K_p = 2.5, T_I = 4 (K_p != 1/K_p, so a tracking gain K_p instead of 1/K_p
+ * shows). By hand, 1e-12. */
+static void anti_windup_back_calculation_closed_form(void **state)
+{
+    (void)state;
+    ts_ivs c = {.nschedule = 0, .fixed = {2.5, 4.0}, .anti_windup = 1};
+    ts_ivs_gains g = c.fixed;
+    assert_close(ts_ivs_integral_rate(&c, g, 0.05, 0.4), 0.05, 1e-12, 0); /* u = 0.375 */
+    const double es[] = {1.0, 2.0, 3.0}, is[] = {-1.0, 0.0, 2.0};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double e = es[i], I = is[j];
+            assert_true(ts_ivs_output(g, e, I) > 1);
+            assert_close(ts_ivs_integral_rate(&c, g, e, I), 1.0 / 2.5 - I / 4.0, 1e-12, 1e-15);
+            assert_true(ts_ivs_output(g, -e, -I) < 0);
+            assert_close(ts_ivs_integral_rate(&c, g, -e, -I), I / 4.0, 1e-12, 1e-15);
+        }
+    /* the saturated integral's exponential approach to T_I / K_p (RK4 of the rate) */
+    double I = 0, dt = 0.01;
+    for (int k = 0; k < 400; k++) {
+        double k1 = ts_ivs_integral_rate(&c, g, 1.0, I);
+        double k2 = ts_ivs_integral_rate(&c, g, 1.0, I + 0.5 * dt * k1);
+        double k3 = ts_ivs_integral_rate(&c, g, 1.0, I + 0.5 * dt * k2);
+        double k4 = ts_ivs_integral_rate(&c, g, 1.0, I + dt * k3);
+        I += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+    }
+    assert_close(I, 4.0 / 2.5 * (1 - exp(-4.0 / 4.0)), 1e-9, 0);
+    c.anti_windup = 0;
+    assert_close(ts_ivs_integral_rate(&c, g, 3.0, 2.0), 3.0, 0, 0);
+}
+
+/* EVIDENCE: Eqs. 11a-b and 12a-b: with U_n = (R - R0)/(Rb - R0) and
+ * V_n = (V - V0)/(Vb - V0), U_n = K_n V_n is dR = K_n (Rb - R0)/(Vb - V0) dV,
+ * so K_n = 1.5, R0 = 0.3, Rb = 1, V0 = 5 m/s, Vb = 20 m/s give 0.07 rack per
+ * m/s; the tuning returns K_n = 0.9/|Y| and T_I = ti_factor |X| of its own
+ * tangent (1e-12). By hand. */
+static void zn_gain_scalings(void **state)
+{
+    (void)state;
+    assert_close(ts_zn_kp_physical(1.5, 0.3, 1.0, 5.0, 20.0), 0.07, 1e-12, 0);
+    assert_close(ts_zn_kp_physical(2.0, 0.5, 1.0, 10.0, 12.0), 0.5, 1e-12, 0);
+    enum { N = 4001 };
+    static double t[N], v[N];
+    for (int i = 0; i < N; i++) {
+        t[i] = i * 1e-3;
+        double s = t[i] - 0.5;
+        v[i] = s > 0 ? 1 - exp(-s / 1.5) : 0;
+    }
+    ts_zn_result r;
+    ts_err err;
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 5, 3.33, &r, &err), TS_OK);
+    assert_close(r.kp_norm, 0.9 / fabs(r.y), 1e-12, 0);
+    assert_close(r.ti, 3.33 * fabs(r.x), 1e-12, 0);
+    assert_close(r.y, -r.slope * r.x, 1e-9, 0); /* the tangent passes through (X, 0) and (0, Y) */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -319,6 +381,8 @@ int main(void)
         cmocka_unit_test(cosim_converges_to_monolithic),
         cmocka_unit_test(cosim_rejects_bad_options),
         cmocka_unit_test(two_speed_governor),
+        cmocka_unit_test(anti_windup_back_calculation_closed_form),
+        cmocka_unit_test(zn_gain_scalings),
     };
     return cmocka_run_group_tests_name("sim/control", tests, NULL, NULL);
 }
