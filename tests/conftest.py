@@ -19,6 +19,21 @@ TANKSIMD = os.path.join(BUILD, "tanksimd")
 TANKSIM = os.path.join(BUILD, "tanksim")
 
 
+def _sanitized(path):
+    """Whether the binary at path is built with ASan or TSan (make asan / tsan):
+    their allocators keep freed memory (quarantine, shadow), so a test of the
+    daemon's resident size measures the sanitizer, not the daemon."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError:
+        return False
+    return b"__asan_init" in data or b"__tsan_init" in data
+
+
+SANITIZED = _sanitized(TANKSIMD)
+
+
 def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))

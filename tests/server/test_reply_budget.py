@@ -78,7 +78,8 @@ def test_unread_answers_are_bounded(d):
         assert requests.get(d.url + "/v1/health", timeout=5).status_code == 200
         assert time.time() - t0 < 2
         # the held answers, plus what building them left in the allocator
-        assert rss_kb(d.proc.pid) - before < (BUDGET + 8 * size) >> 10
+        if not conftest.SANITIZED:  # ASan's quarantine keeps the freed answers resident
+            assert rss_kb(d.proc.pid) - before < (BUDGET + 8 * size) >> 10
     finally:
         for s in socks:
             s.close()
