@@ -89,15 +89,16 @@ static void quasi_static_tension_matches_static_model_on_flat(void **state)
  * (rear-roller tension - quasi-static tension) / static tension. Static: only
  * the Kelvin-Voigt damping of the massless elements separates the two
  * (max <= 0.15, RMS <= 0.01); coupled (31 DOF): the span inertia adds a
- * dynamic part, max >= 0.1 and >= 1.5x the static model's, RMS >= 5x.
+ * dynamic part, max >= 0.1 and >= 1.7x the static model's, RMS >= 5x.
  * Measured when the test was written: static max 0.063, RMS 0.002; coupled
  * max 0.21, RMS 0.050 (25x); the thresholds were set after that measurement
  * with margin: they are separations between the two models, not fits to the
  * paper. Since the span chord frames ride on the tangent points
  * (vehicle_model.c span_map_build) the coupled max is 0.196 (0.223 before)
- * against the static model's 0.105 (which moves 0.06-0.14 with rounding-level
- * changes, its Kelvin-Voigt part): 1.9x, hence 1.5x for the max; the RMS
- * (0.062 vs 0.003) and the spectrum below carry the separation. Also: the static model's peak
+ * against the static model's 0.105. Measured over rtol 1e-3, 9e-4, 1.1e-3,
+ * 1e-4, 1e-5: static max 0.1047 at every one, coupled 0.191-0.199, ratio
+ * 1.83-1.90; hence 1.7x for the max. The RMS (0.062 vs 0.003) and the
+ * spectrum below carry the rest of the separation. Also: the static model's peak
  * tension (1.88x static here) is the quasi-static peak within 5 %: the suspension geometry, not
  * dynamics, makes it. Nothing calibrated. */
 static void static_model_shows_no_dynamic_amplification(void **state)
@@ -125,7 +126,7 @@ static void static_model_shows_no_dynamic_amplification(void **state)
     assert_true(s_rms <= 0.01);
     /* the static model's peak is the quasi-static one (geometry, not dynamics) */
     assert_close(s_peak, s_qs, 0.05, 0);
-    assert_true(c_max >= 0.1 && c_max >= 1.5 * s_max);
+    assert_true(c_max >= 0.1 && c_max >= 1.7 * s_max);
     assert_true(c_rms >= 5 * s_rms);
     /* the dynamic part's spectrum (metric dynamic_tension_peak_2_4.6hz, the
      * band of the paper's 3.7-Hz peak, Fig. 13c): measured 7 N static vs 84 N
