@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "api/config_json.h"
+#include "api/session_json.h"
 #include "sim/tanksim.h"
 
 static const char *const variants[] = {"conventional", "lhr05", "lhr10"};
@@ -54,9 +55,9 @@ static result run_one(const char *variant, const char *fidelity)
     if (rc != TS_OK) {
         printf("%-12s %-12s run failed: %s\n", variant, fidelity, err.msg);
     } else {
-        ts_metric mt[16];
-        int nm = ts_model_metrics(m, s.v, s.n, mt, 16);
-        res.ok = nm >= 3;
+        ts_metric *mt = NULL;
+        int nm = 0;
+        res.ok = tsa_model_metrics(m, s.v, s.n, &mt, &nm, &err) == TS_OK && nm >= 3;
         res.wall = ts_wall_seconds(d);
         res.rtf = c.run.duration / res.wall;
         for (int k = 0; k < 3 && k < nm; k++) res.m[k] = mt[k].value;
@@ -71,6 +72,7 @@ static result run_one(const char *variant, const char *fidelity)
                paper[variant[0] == 'c' ? 0 : variant[4] == '5' ? 1 : 2][2]);
         for (int k = 3; k < nm; k++) printf(" %s %.2f", mt[k].name, mt[k].value);
         printf("\n");
+        free(mt);
     }
     ts_rows_free(&s);
     ts_data_free(d);

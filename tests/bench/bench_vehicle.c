@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include "api/config_json.h"
+#include "api/session_json.h"
 #include "sim/tanksim.h"
 
 static double cpu_now(void)
@@ -130,8 +131,10 @@ static int run(const char *preset)
         return 1;
     }
     double cpu = cpu_now() - c0, wall = ts_wall_seconds(d);
-    ts_metric mt[32];
-    int nm = ts_model_metrics(m, s.v, s.n, mt, 32);
+    ts_metric *mt = NULL;
+    int nm = 0;
+    if (tsa_model_metrics(m, s.v, s.n, &mt, &nm, &err) != TS_OK)
+        printf("%s: %s\n", preset, err.msg);
     if (strstr(preset, "coupled")) printf("\n(goal for the coupled run: >= 500x real time)");
     printf("\n%s: %d DOF, %.0f s simulated in %.2f s wall / %.2f s CPU: "
            "real-time factor %.0fx (wall), %.0fx (CPU)\n",
@@ -182,6 +185,7 @@ static int run(const char *preset)
         printf("  %-34s %12.*f   %s\n", fig[i].label, fig[i].prec,
                metric(mt, nm, fig[i].metric) * fig[i].scale, fig[i].paper);
     int bad = check_pins(preset, ts_model_dof(m), mt, nm);
+    free(mt);
     ts_rows_free(&s);
     ts_data_free(d);
     ts_model_free(m);

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "api/config_json.h"
+#include "api/session_json.h"
 #include "sim/constants.h"
 #include "sim/governor.h"
 #include "sim/tanksim.h"
@@ -25,7 +26,7 @@ typedef struct {
     ts_model *m;
     ts_rows s;
     int nc;
-    ts_metric mt[16];
+    ts_metric *mt;
     int nm;
 } run_result;
 
@@ -55,7 +56,8 @@ static run_result run_config(const ts_config *cfg)
     assert_int_equal(ts_reset(r.m, d, &err), TS_OK);
     assert_int_equal(ts_rows_append(&r.s, 0, 0, ts_latest(d), r.nc), 0);
     if (ts_advance(r.m, d, duration, ts_rows_append, &r.s, &err) != TS_OK) fail_msg("run: %s", err.msg);
-    r.nm = ts_model_metrics(r.m, r.s.v, r.s.n, r.mt, 16);
+    if (tsa_model_metrics(r.m, r.s.v, r.s.n, &r.mt, &r.nm, &err) != TS_OK)
+        fail_msg("metrics: %s", err.msg);
     ts_data_free(d);
     return r;
 }
@@ -70,6 +72,7 @@ static run_result run_preset(const char *preset, const char *fidelity, double du
 static void done(run_result *r)
 {
     ts_rows_free(&r->s);
+    free(r->mt);
     ts_model_free(r->m);
 }
 

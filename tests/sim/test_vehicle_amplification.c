@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "api/config_json.h"
+#include "api/session_json.h"
 #include "sim/tanksim.h"
 #include "sim/vehicle_channels.h"
 
@@ -37,10 +38,17 @@ static void run(const char *preset, double duration, ts_model **m, ts_rows *r)
 
 static double metric(const ts_model *m, const ts_rows *r, const char *name)
 {
-    ts_metric mt[32];
-    int n = ts_model_metrics(m, r->v, r->n, mt, 32);
+    ts_metric *mt;
+    int n;
+    ts_err err;
+    assert_int_equal(tsa_model_metrics(m, r->v, r->n, &mt, &n, &err), TS_OK);
     for (int i = 0; i < n; i++)
-        if (strcmp(mt[i].name, name) == 0) return mt[i].value;
+        if (strcmp(mt[i].name, name) == 0) {
+            double v = mt[i].value;
+            free(mt);
+            return v;
+        }
+    free(mt);
     fail_msg("no metric %s", name);
     return NAN;
 }
