@@ -38,13 +38,18 @@
  * support rollers, as a point mass on the hull and spin inertia m r^2);
  * quasi_static (Guyan: the upper spans' longitudinal field interpolated
  * linearly between the end feeds -> consistent mass rho L/6 [2 1; 1 2] on the
- * end spins; their rigid motion with the hull); longitudinal / transverse /
+ * end spins; their rigid motion with the hull, mass rho L at the middle of the
+ * tangent line, rho L^3/12 about it); longitudinal / transverse /
  * coupled: the five free spans are track_span.h elements (see vehicle_spans).
  *
  * Span elements: the span's kinetic energy is its own (track_span.h M in the
- * chord frame) plus the frame's motion interpolated between the two support
- * centres (rigid mass rho L with the end velocities, cross terms from
- * rho int N_i and rho int (1 - s/L) phi_k, rho int (s/L) phi_k), all assembled
+ * chord frame) plus the frame's: the straight line between the two tangent
+ * points, moving along itself with tangent point a and normal to itself as
+ * the support centres do, interpolated linearly between them (the tangent
+ * points' normal velocities are the centres'), so the frame's mass rho L sits
+ * at the tangent line's middle (rigid mass rho L with the end velocities,
+ * cross terms from rho int N_i and rho int (1 - s/L) phi_k, rho int (s/L)
+ * phi_k), all assembled
  * into the global mass matrix, so the support accelerations of Eqs. 4-5 load
  * the modes implicitly (no lagged accelerations). Gravity: the frame's weight
  * on the supports, the sag (built in by track_span), the tension gradient
@@ -1903,9 +1908,14 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
             v->mqs[b][b] += m / 3 * v->rho_b[b] * v->rho_b[b];
             v->mqs[a][b] += m / 6 * v->rho_b[a] * v->rho_b[b];
             v->mqs[b][a] += m / 6 * v->rho_b[a] * v->rho_b[b];
-            /* rigid motion with the hull: mass at the chord middle, rho L^3/12 about it */
-            double mid[2] = {0.5 * (k.c[a][0] + k.c[b][0]) - q[QX],
-                             0.5 * (k.c[a][1] + k.c[b][1]) - q[QZ]};
+            /* rigid motion with the hull: mass at the middle of the tangent line,
+             * (p_a + p_b) / 2 = (c_a + c_b) / 2 + (rho_a + rho_b) / 2 n, as the
+             * span elements' frame weight; rho L^3/12 about it */
+            elem e;
+            tangent(v, &k, el, &e);
+            double hr = 0.5 * (v->rho_b[a] + v->rho_b[b]);
+            double mid[2] = {0.5 * (k.c[a][0] + k.c[b][0]) + hr * e.n[0] - q[QX],
+                             0.5 * (k.c[a][1] + k.c[b][1]) + hr * e.n[1] - q[QZ]};
             v->pm_m[v->npm] = m;
             memcpy(v->pm_l[v->npm], mid, sizeof mid);
             v->npm++;
