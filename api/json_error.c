@@ -95,7 +95,8 @@ static size_t skip_digits(const scan *sc, size_t i)
 }
 
 /* End of the number at i, cut where jansson's lexer cuts it: "-", "0" before
- * a digit, "1e" and "1e+" end a (bad) token; "1." is "1" then ".". */
+ * a digit, "1.", "1e" and "1e+" end a (bad) token ("1.e5" at "1.", "01" at
+ * "0", "-01" at "-0"). */
 static size_t number_end(const scan *sc, size_t i)
 {
     if (i < sc->pos && sc->s[i] == '-') i++;
@@ -103,7 +104,10 @@ static size_t number_end(const scan *sc, size_t i)
         i++;
     else
         i = skip_digits(sc, i);
-    if (i + 1 < sc->pos && sc->s[i] == '.' && is_digit(sc->s[i + 1])) i = skip_digits(sc, i + 1);
+    if (i < sc->pos && sc->s[i] == '.') {
+        if (i + 1 >= sc->pos || !is_digit(sc->s[i + 1])) return i + 1;
+        i = skip_digits(sc, i + 1);
+    }
     if (i < sc->pos && (sc->s[i] == 'e' || sc->s[i] == 'E')) {
         i++;
         if (i < sc->pos && (sc->s[i] == '+' || sc->s[i] == '-')) i++;

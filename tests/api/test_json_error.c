@@ -138,6 +138,21 @@ static void jansson_errors_by_kind(void **state)
     assert_string_equal(parse_pointer("{\"preset\": ", &err), "/preset");
     assert_string_equal(parse_pointer("{\"a\":{\"b\":tru}}", &err), "/a/b");
     assert_string_equal(parse_pointer("{\"a\":{\"b\":1.5e}}", &err), "/a/b");
+    /* bad numbers end where jansson's lexer ends them: the value, not the array */
+    assert_string_equal(parse_pointer("{\"a\":[1.]}", &err), "/a/0");
+    assert_string_equal(parse_pointer("{\"a\":[2,1.,3]}", &err), "/a/1");
+    assert_string_equal(parse_pointer("{\"a\":[1. ]}", &err), "/a/0");
+    assert_string_equal(parse_pointer("{\"a\":[1.e5]}", &err), "/a/0");
+    assert_string_equal(parse_pointer("{\"a\":[1e]}", &err), "/a/0");
+    assert_string_equal(parse_pointer("{\"a\":[1e+]}", &err), "/a/0");
+    assert_string_equal(parse_pointer("{\"a\":[-]}", &err), "/a/0");
+    assert_string_equal(parse_pointer("{\"a\":[-x]}", &err), "/a/0");
+    assert_string_equal(parse_pointer("{\"a\":[01]}", &err), "/a/0");
+    assert_string_equal(parse_pointer("{\"a\":[-01]}", &err), "/a/0");
+    assert_string_equal(parse_pointer("{\"a\":{\"b\":1.}}", &err), "/a/b");
+    /* a number then a stray ".": the array ("1.5." is 1.5 then ".") */
+    assert_string_equal(parse_pointer("{\"a\":[1.5.]}", &err), "/a");
+    assert_string_equal(parse_pointer("{\"a\":[1e5.]}", &err), "/a");
     assert_string_equal(parse_pointer("{\"a\":{\"b\":1 2}}", &err), "/a");
     assert_string_equal(parse_pointer("{\"a\":[1,2}", &err), "/a");
     assert_string_equal(parse_pointer("{\"a\":[1,2", &err), "/a");
