@@ -8,37 +8,15 @@ list gives `asked` (preset, engine fidelity, schedule) instead of the body,
 GET /v1/analyses/{id} gives one entry with its whole request, and the
 operation document still shows metadata.request."""
 import json
-import random
-import socket
 import sqlite3
 import tempfile
 
-import pytest
 import requests
 
-import conftest
-from conftest import Daemon, wait_op
+from conftest import wait_op, daemon_in_range as start
 
-PORTS = range(18800, 18900)
 DYNO = {"run": {"kind": "engine_dyno"}, "engine": {"fidelity": "mean_value", "_why": "fast"},
         "control": {"rack": 1.0}}
-
-
-def port_in_range():
-    for port in random.sample(PORTS, len(PORTS)):
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError("no free port in 18800-18899")
-
-
-def start(*args, **kw):
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(conftest, "free_port", port_in_range)
-        return Daemon(*args, **kw)
 
 
 def without_comments(j):

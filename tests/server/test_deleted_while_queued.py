@@ -6,36 +6,13 @@ read)" / "has no frames here", which is false: the rows are gone. They now
 answer 404 "session ... was deleted", as a step a DELETE cuts short does.
 A frame whose session is deleted while it is drawn answers the same 404, not
 one naming /t ("no stored state at or before t")."""
-import random
-import socket
 import tempfile
 import threading
 import time
 
-import pytest
 import requests
 
-import conftest
-from conftest import Daemon, is_problem, wait_op
-
-PORTS = range(18800, 18900)
-
-
-def port_in_range():
-    for port in random.sample(PORTS, len(PORTS)):
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError("no free port in 18800-18899")
-
-
-def start(*args, **kw):
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(conftest, "free_port", port_in_range)
-        return Daemon(*args, **kw)
+from conftest import is_problem, wait_op, daemon_in_range as start
 
 
 def make_session(url):

@@ -3,34 +3,17 @@ frame.png?width=4096&height=4096&antialias=1 the idle daemon held ~700 MB
 more (RSS 100 -> 818 MB) until a smaller frame was drawn on that renderer. A
 renderer that drew more than full HD is now freed instead of pooled, so the
 memory goes with the frame; frames of the usual sizes keep reusing theirs."""
-import random
-import socket
 
 import pytest
 import requests
 
 import conftest
-from conftest import Daemon
-
-PORTS = range(18800, 18900)
-
-
-def port_in_range():
-    for port in random.sample(PORTS, len(PORTS)):
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError("no free port in 18800-18899")
+from conftest import daemon_in_range
 
 
 @pytest.fixture(scope="module")
 def d():
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(conftest, "free_port", port_in_range)
-        dm = Daemon()
+    dm = daemon_in_range()
     yield dm
     dm.stop()
 

@@ -4,7 +4,6 @@ hold one each without bound (20 unread /series answers: RSS 68 MB -> 666 MB).
 Now every large held answer counts against a budget of 128 MB; past it the
 daemon answers 503 /problems/busy with Retry-After, small answers (health)
 go on, and once the held answers are gone the same request succeeds."""
-import random
 import socket
 import time
 
@@ -12,28 +11,14 @@ import pytest
 import requests
 
 import conftest
-from conftest import Daemon
+from conftest import daemon_in_range
 
-PORTS = range(18800, 18900)
 BUDGET = 128 << 20
-
-
-def port_in_range():
-    for port in random.sample(PORTS, len(PORTS)):
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError("no free port in 18800-18899")
 
 
 @pytest.fixture(scope="module")
 def d():
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(conftest, "free_port", port_in_range)
-        dm = Daemon()
+    dm = daemon_in_range()
     yield dm
     dm.stop()
 

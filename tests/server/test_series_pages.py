@@ -5,35 +5,18 @@ on an HTTP thread, eight of them held /v1/health 5-16 s). Now a page holds at
 most 10^6 cells (~11 MB of JSON) and ends with next_page_token, which clients
 follow as before; following it yields every row once. A narrow selection
 still gets its rows in one page; page_size still caps rows below that."""
-import random
-import socket
 
 import pytest
 import requests
 
-import conftest
-from conftest import Daemon
+from conftest import daemon_in_range
 
-PORTS = range(18800, 18900)
 PAGE_CELLS = 1_000_000
-
-
-def port_in_range():
-    for port in random.sample(PORTS, len(PORTS)):
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError("no free port in 18800-18899")
 
 
 @pytest.fixture(scope="module")
 def d():
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(conftest, "free_port", port_in_range)
-        dm = Daemon()
+    dm = daemon_in_range()
     yield dm
     dm.stop()
 
