@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../api/config_json.h"
 #include "../sim/engine_sweep.h"
 #include "db.h"
 #include "operations.h"
@@ -238,6 +239,8 @@ json_t *tsd_analysis_stored(tsd_server *srv, const char *id, ts_err *err)
         json_t *req = json_loads(request, JSON_DECODE_ANY, NULL);
         json_object_set_new(md, "request", req ? req : json_null());
     }
+    /* older daemons stored it with its comment keys: shown without them */
+    tsa_strip_comments(json_object_get(md, "request"));
     free(request);
     if (!j) ts_err_set(err, TS_ERR_INTERNAL, NULL, "stored analysis '%s' is not JSON", id);
     return j;
@@ -296,6 +299,7 @@ static void list_one(void *ud, const char *id, const char *kind, double created,
                           error_code, "asked", asked ? asked : json_object());
     if (o && request_json) {
         json_t *req = json_loads(request_json, JSON_DECODE_ANY, NULL);
+        tsa_strip_comments(req); /* stored by an older daemon with them */
         json_object_set_new(o, "request", req ? req : json_null());
     }
     json_array_append_new(ud, o);

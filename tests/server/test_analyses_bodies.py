@@ -80,5 +80,36 @@ def test_listing_of_large_stored_bodies_stays_small():
         assert len(lst) == 20 and len(r.content) < 20 * 400, len(r.content)
         assert lst[0]["asked"] == {"preset": "engine-map-conventional", "engine_fidelity": None}
         one = requests.get(f"{d.url}/v1/analyses/{lst[0]['id']}").json()
-        assert one["request"] == big
-        assert requests.get(f"{d.url}/v1/operations/{lst[0]['id']}").json()["metadata"]["request"] == big
+        assert one["request"] == without_comments(big)
+        op = requests.get(f"{d.url}/v1/operations/{lst[0]['id']}").json()
+        assert op["metadata"]["request"] == without_comments(big)
+
+
+def test_old_rows_are_shown_without_their_comment_keys():
+    """A row an older daemon stored (its request with "_" keys, in its column and
+    in the document): GET /v1/analyses/{id} and the operation show it without them,
+    as the daemon stores requests now."""
+    dd = tempfile.mkdtemp(prefix="tanksimd-")
+    with start(data_dir=dd):
+        pass  # make the store
+    req = {"body": {**DYNO, "_comment": "old", "control": {"rack": 1.0, "_why": "full"},
+                    "run": {"kind": "engine_dyno", "x": [{"_a": 1, "b": 2}]}},
+           "schedule_mass": "50000"}
+    oid = "op00000000000000aa"
+    doc = {"name": "operations/" + oid, "id": oid, "done": True,
+           "metadata": {"kind": "tune", "created": 1e9, "request": req,
+                        "progress": 1, "parts_done": 1, "parts_total": 1, "wall_time_s": 1},
+           "response": {}}
+    con = sqlite3.connect(dd + "/tanksimd.db")
+    con.execute("INSERT INTO analyses VALUES(?,?,?,?,?,?,?)",
+                (oid, "tune", 1e9, 1, 0, json.dumps(req), json.dumps(doc)))
+    con.commit()
+    con.close()
+    want = without_comments(req)
+    assert want["body"]["run"]["x"] == [{"b": 2}] and "_why" not in json.dumps(want)
+    with start(data_dir=dd) as d:
+        one = requests.get(f"{d.url}/v1/analyses/{oid}").json()
+        assert one["request"] == want
+        assert one["asked"]["engine_fidelity"] == "mean_value"
+        op = requests.get(f"{d.url}/v1/operations/{oid}").json()
+        assert op["metadata"]["request"] == want
