@@ -56,6 +56,37 @@ def test_every_operation_documents_errors_as_problems():
                     assert resp["$ref"].startswith("#/components/responses/"), (m, p, code)
 
 
+# Media types the daemon makes whole before sending (server.c reply_buffer:
+# tsd_reply_json, tsd_reply_owned); an answer of these of 64 KiB or more
+# counts against the held-reply budget and can be 503 /problems/busy.
+# Streams (SSE, NDJSON, multipart), the spec (sent from the binary), /metrics
+# and the dashboard's files (sent from disk) are not counted.
+MADE_WHOLE = {"application/json", "text/csv", "image/png", "image/apng"}
+NEVER_LARGE = {("get", "/v1/health"): "two short strings",
+               ("get", "/static/{file}"): "sent from the file, not counted"}
+BUSY = ("#/components/responses/Busy", "#/components/responses/ShuttingDownOrBusy")
+
+
+def test_every_answer_the_reply_budget_can_refuse_documents_busy():
+    doc = openapi()
+    subject = []
+    for p, item in doc["paths"].items():
+        for m, op in item.items():
+            if m not in METHODS or (m, p) in NEVER_LARGE:
+                continue
+            types = {t for code, resp in op["responses"].items() if code.startswith("2")
+                     for t in resp.get("content", {})}
+            if types & MADE_WHOLE:
+                subject.append((m, p))
+                assert op["responses"].get("503", {}).get("$ref") in BUSY, (m, p)
+    assert ("get", "/v1/sessions/{id}/series") in subject and ("get", "/v1/analyses") in subject
+    assert ("get", "/v1/sessions/{id}/frame.png") in subject
+    responses = doc["components"]["responses"]
+    for ref in BUSY:
+        r = responses[ref.rsplit("/", 1)[1]]
+        assert "/problems/busy" in r["description"] and "Retry-After" in r["headers"]
+
+
 def test_served_file_is_the_source_file(daemon):
     r = requests.get(daemon.url + "/v1/openapi.yaml")
     assert r.status_code == 200 and r.headers["Content-Type"].startswith("application/yaml")
