@@ -202,10 +202,20 @@ static void build_job(void *arg)
     tsd_request_resume(r);
 }
 
+/* The session may have been deleted while its build waited behind other work:
+ * every route answers that 404 here, as the router does for a session deleted
+ * before the request came (a GET of the session answered 200 with "status":
+ * "deleted" while /series and /summary answered 404). Handlers keep their own
+ * checks only for a DELETE that arrives while they run. */
 static enum MHD_Result run_built(tsd_request *r)
 {
     enum MHD_Result (*handler)(tsd_request *) = r->built_handler;
     r->built_handler = NULL;
+    if (tsd_session_is_deleted(r->session)) {
+        ts_err e;
+        ts_err_set(&e, TS_ERR_NOTFOUND, NULL, "session %s was deleted", r->session->id);
+        return tsd_reply_err(r, &e, NULL);
+    }
     return handler(r);
 }
 
@@ -890,11 +900,7 @@ static enum MHD_Result get_fft(tsd_request *r)
 static enum MHD_Result get_summary(tsd_request *r)
 {
     tsd_session *s = r->session;
-    ts_err e;
-    if (tsd_session_is_deleted(s)) { /* deleted while its first-use build was queued */
-        ts_err_set(&e, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id);
-        return tsd_reply_err(r, &e, NULL);
-    }
+    ts_err e; /* deleted while its first-use build was queued: run_built answered 404 */
     /* unrestored is immutable once a handler sees the session; so is m */
     if (s->unrestored || !s->m || s->nch != ts_model_nchannel(s->m)) {
         ts_err_set(&e, TS_ERR_STATE, NULL, "session %s has no summary here: %s", s->id,
