@@ -395,12 +395,25 @@ static enum MHD_Result get_metrics(tsd_request *r)
                    "# HELP tanksimd_long_jobs Analyses and APNG animations holding a worker.\n"
                    "# TYPE tanksimd_long_jobs gauge\n"
                    "tanksimd_long_jobs %d\n"
+                   "# HELP tanksimd_reply_budget_bytes Bytes of answers that may be held "
+                   "until their clients read them.\n"
+                   "# TYPE tanksimd_reply_budget_bytes gauge\n"
+                   "tanksimd_reply_budget_bytes %zu\n"
+                   "# HELP tanksimd_reply_held_bytes Bytes of answers held until their "
+                   "clients read them.\n"
+                   "# TYPE tanksimd_reply_held_bytes gauge\n"
+                   "tanksimd_reply_held_bytes %zu\n"
+                   "# HELP tanksimd_reply_busy_total Answers refused 503 /problems/busy by the "
+                   "reply budget.\n"
+                   "# TYPE tanksimd_reply_busy_total counter\n"
+                   "tanksimd_reply_busy_total %ld\n"
                    "# HELP tanksimd_http_requests_total HTTP requests answered, by status.\n"
                    "# TYPE tanksimd_http_requests_total counter\n",
                    atomic_load(&m->steps), 1e-6 * (double)atomic_load(&m->sim_microseconds),
                    1e-6 * (double)atomic_load(&m->wall_microseconds),
                    atomic_load(&m->samples_stored), tsd_pool_pending(s->pool),
-                   atomic_load(&s->long_jobs));
+                   atomic_load(&s->long_jobs), TSD_REPLY_BUDGET, atomic_load(&s->reply_bytes),
+                   atomic_load(&m->replies_busy));
     for (int c = 1; c < 6; c++)
         for (int k = 0; k < 100; k++) {
             long n = atomic_load(&m->requests[c][k]);

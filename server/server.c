@@ -125,6 +125,17 @@ static void held_free(void *cls)
     free(h);
 }
 
+/* 503 /problems/busy with Retry-After in place of an answer the reply budget
+ * cannot take (counted in /metrics tanksimd_reply_busy_total). */
+static enum MHD_Result reply_busy(tsd_request *r, const char *detail)
+{
+    atomic_fetch_add(&r->srv->metrics.replies_busy, 1);
+    r->next_token[0] = r->etag[0] = r->location[0] = '\0'; /* of the answer not sent */
+    r->retry_after = TSD_RETRY_AFTER_BUSY_S;
+    return tsd_reply_problem(r, MHD_HTTP_SERVICE_UNAVAILABLE, "/problems/busy",
+                             "Too many answers waiting to be read", detail, NULL);
+}
+
 /* Queue the malloc'd text (taken over) as the answer: counted against the
  * reply budget when large, and replaced by a 503 /problems/busy when the
  * budget cannot take it. */
@@ -147,10 +158,7 @@ static enum MHD_Result reply_buffer(tsd_request *r, unsigned status, const char 
                  "%zu MB of answers are waiting for their clients to read them; this one (%zu "
                  "kB) would pass the daemon's %zu MB for them: retry shortly",
                  (held - len) >> 20, len >> 10, TSD_REPLY_BUDGET >> 20);
-        r->next_token[0] = r->etag[0] = r->location[0] = '\0'; /* of the answer not sent */
-        r->retry_after = TSD_RETRY_AFTER_BUSY_S;
-        return tsd_reply_problem(r, MHD_HTTP_SERVICE_UNAVAILABLE, "/problems/busy",
-                                 "Too many answers waiting to be read", detail, NULL);
+        return reply_busy(r, detail);
     }
     held_reply *h = malloc(sizeof *h);
     if (!h) {

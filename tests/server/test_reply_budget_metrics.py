@@ -1,0 +1,94 @@
+"""The reply budget (server.h TSD_REPLY_BUDGET) in GET /metrics: a gauge of
+the bytes of answers held until their clients read them, the budget, and a
+counter of the answers refused 503 /problems/busy."""
+import random
+import socket
+import time
+
+import pytest
+import requests
+
+import conftest
+from conftest import Daemon
+
+PORTS = range(18700, 18750)
+BUDGET = 128 << 20
+
+
+def port_in_range():
+    for port in random.sample(PORTS, len(PORTS)):
+        with socket.socket() as s:
+            try:
+                s.bind(("127.0.0.1", port))
+            except OSError:
+                continue
+            return port
+    raise RuntimeError("no free port in 18700-18749")
+
+
+@pytest.fixture(scope="module")
+def d():
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(conftest, "free_port", port_in_range)
+        dm = Daemon()
+    yield dm
+    dm.stop()
+
+
+@pytest.fixture(scope="module")
+def sid(d):
+    r = requests.post(d.url + "/v1/sessions",
+                      json={"preset": "bump-coupled-rack90", "run": {"sample_rate": 20000, "duration": 1}})
+    sid = r.json()["id"]
+    assert requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 1}).status_code == 200
+    return sid
+
+
+def metric(url, name):
+    for line in requests.get(url + "/metrics").text.splitlines():
+        if line.startswith(name + " "):
+            return float(line.split()[1])
+    raise AssertionError(f"no {name} in /metrics")
+
+
+def unread(d, path):
+    """Ask for path on a socket that is never read: (socket, status)."""
+    s = socket.create_connection(("127.0.0.1", d.port))
+    s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    s.sendall(f"GET {path} HTTP/1.1\r\nHost: x\r\n\r\n".encode())
+    s.settimeout(10)
+    head = b""
+    while b"\r\n\r\n" not in head:
+        chunk = s.recv(1024)
+        assert chunk
+        head += chunk
+    return s, int(head.split()[1])
+
+
+def wait_released(url):
+    deadline = time.time() + 5  # the held answers go with their connections
+    while metric(url, "tanksimd_reply_held_bytes") != 0 and time.time() < deadline:
+        time.sleep(0.05)
+    assert metric(url, "tanksimd_reply_held_bytes") == 0
+
+
+def test_metrics_show_held_reply_bytes_and_busy_refusals(d, sid):
+    assert metric(d.url, "tanksimd_reply_budget_bytes") == BUDGET
+    wait_released(d.url)
+    busy0 = metric(d.url, "tanksimd_reply_busy_total")
+    size = len(requests.get(f"{d.url}/v1/sessions/{sid}/series").content)
+    assert size > 8 << 20
+    socks, statuses = [], []
+    try:
+        for _ in range(20):
+            s, st = unread(d, f"/v1/sessions/{sid}/series")
+            socks.append(s)
+            statuses.append(st)
+        held = statuses.count(200)
+        assert 503 in statuses, statuses
+        assert metric(d.url, "tanksimd_reply_held_bytes") == held * size
+        assert metric(d.url, "tanksimd_reply_busy_total") == busy0 + statuses.count(503)
+    finally:
+        for s in socks:
+            s.close()
+    wait_released(d.url)
