@@ -52,20 +52,34 @@ static tsr_ctx *renderer_take(tsd_server *srv, ts_err *err)
     return c ? c : tsr_ctx_make(err);
 }
 
-/* Pixels of the largest frame after which a renderer goes back to the pool
- * (full HD; the default frame is 1280 x 720, the dashboard's 640 x 360). A
- * renderer keeps the buffers of its largest frame — colour, depth, the
- * multisampled pair with antialias, the read-back — and an idle pooled one
- * held them until it drew a smaller frame: one 4096 x 4096 antialiased frame
- * left RSS at 818 MB (100 MB before it). One that drew more is freed instead;
- * the next large frame makes a new context (~50 ms beside its ~0.6 s draw). */
-#define RENDERER_KEEP_PIXELS (1920L * 1080L)
+/* Samples of the largest frame after which a renderer goes back to the pool
+ * (a full-HD single-sampled frame; the default frame is 1280 x 720, the
+ * dashboard's 640 x 360). A renderer keeps the buffers of its largest frame —
+ * colour, depth, the multisampled pair with antialias, the read-back — and an
+ * idle pooled one held them until it drew a smaller frame: one 4096 x 4096
+ * antialiased frame left RSS at 818 MB (100 MB before it). One that drew more
+ * is freed instead; the next large frame makes a new context (~50 ms beside
+ * its ~0.6 s draw). Samples, not pixels: an antialiased frame's multisampled
+ * pair holds RENDERER_MSAA_SAMPLES a pixel besides the single-sampled one, so
+ * a 1920 x 1080 antialiased renderer (+79 MB idle) was kept under a pixel
+ * bound. */
+#define RENDERER_KEEP_SAMPLES (1920L * 1080L)
+#define RENDERER_MSAA_SAMPLES 4L /* render.c MSAA_SAMPLES, at most */
 
-/* Back to the pool after a frame of the given pixels, or freed (above). */
-static void renderer_give(tsd_server *srv, tsr_ctx *c, long pixels)
+/* Samples a renderer holds after drawing view v (above): the multisampled
+ * pair is made only for lit antialiased frames (render.c tsr_render_png). */
+static long view_samples(const tsr_view *v)
+{
+    long pixels = (long)v->width * v->height;
+    int ms = v->antialias && v->shading != TSR_SHADE_IDS;
+    return ms ? pixels * (1 + RENDERER_MSAA_SAMPLES) : pixels;
+}
+
+/* Back to the pool after a frame of the given samples, or freed (above). */
+static void renderer_give(tsd_server *srv, tsr_ctx *c, long samples)
 {
     tsd_renderers *g = srv->renderers;
-    if (pixels > RENDERER_KEEP_PIXELS) {
+    if (samples > RENDERER_KEEP_SAMPLES) {
         tsr_ctx_free(c);
         return;
     }
@@ -170,7 +184,7 @@ static ts_rc draw_one(frames_ctx *f)
             rc = f->err.code != TS_OK ? f->err.code : TS_ERR_UNSUPPORTED;
         else {
             rc = tsr_render_png(c, f->g, &f->view, NULL, &f->png, &f->png_len, &f->err);
-            renderer_give(f->srv, c, (long)f->view.width * f->view.height);
+            renderer_give(f->srv, c, view_samples(&f->view));
         }
     }
     if (rc == TS_OK) f->png_k = k;
