@@ -1075,6 +1075,7 @@ static enum MHD_Result get_frame(tsd_request *r)
     const char *inm = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND,
                                                   MHD_HTTP_HEADER_IF_NONE_MATCH);
     if (inm && etag_listed(inm, r->etag)) return tsd_reply_not_modified(r);
+    if (tsd_reply_budget_full(r, &ret)) return ret; /* not drawn to be refused */
     return tsd_frames_reply(r, s, &v, t * rate, 0, 1, 1, 0);
 }
 
@@ -1108,6 +1109,8 @@ static enum MHD_Result get_frames(tsd_request *r)
                    n, limit, apng ? "APNG (format=multipart streams up to 3000)" : "multipart");
         return reply_err_status(r, &e, 422);
     }
+    /* an APNG is answered whole and counted; multipart frames are streamed */
+    if (apng && tsd_reply_budget_full(r, &ret)) return ret;
     return tsd_frames_reply(r, s, &v, (double)q.from, rate / fps, n, 0, apng ? fps : 0);
 }
 

@@ -136,6 +136,22 @@ static enum MHD_Result reply_busy(tsd_request *r, const char *detail)
                              "Too many answers waiting to be read", detail, NULL);
 }
 
+int tsd_reply_budget_full(tsd_request *r, enum MHD_Result *ret)
+{
+    size_t held = atomic_load(&r->srv->reply_bytes);
+    /* reply_buffer refuses any counted answer (>= TSD_REPLY_COUNTED_MIN) past
+     * this, as something is held; an answer too small to be counted would
+     * still go, but what is asked for here is rarely that small */
+    if (held + TSD_REPLY_COUNTED_MIN <= TSD_REPLY_BUDGET) return 0;
+    char detail[256];
+    snprintf(detail, sizeof detail,
+             "%zu MB of answers are waiting for their clients to read them, the daemon's %zu MB "
+             "for them: retry shortly",
+             held >> 20, TSD_REPLY_BUDGET >> 20);
+    *ret = reply_busy(r, detail);
+    return 1;
+}
+
 /* Queue the malloc'd text (taken over) as the answer: counted against the
  * reply budget when large, and replaced by a 503 /problems/busy when the
  * budget cannot take it. */

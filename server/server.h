@@ -144,6 +144,13 @@ void tsd_long_job_give(tsd_server *s);
 #define TSD_REPLY_COUNTED_MIN ((size_t)64 << 10)
 #define TSD_REPLY_BUDGET      ((size_t)128 << 20) /* ~12 full /series pages */
 
+/* Ahead of work whose answer is made whole and counted (a frame, an APNG):
+ * 1 with that 503 /problems/busy queued in *ret when the answers held already
+ * leave no room for any counted answer, so that it is not drawn (a 4096 x 4096
+ * frame ~0.6 s, an APNG seconds) only to be refused when queued; else 0. The
+ * exact check stays where the answer is queued. */
+int tsd_reply_budget_full(tsd_request *r, enum MHD_Result *ret);
+
 /* Bind the listening socket of opt.bind and opt.port (opt.port 0: set to the
  * port the kernel chose), not listening yet: done first, before the store is
  * created or locked, so that a bad --bind or a port in use leaves nothing
