@@ -82,6 +82,7 @@ typedef struct tsd_server {
                                         waits for them, bounded, before stopping MHD) */
     atomic_int long_jobs;            /* analyses and APNG animations holding a worker */
     atomic_size_t reply_bytes;       /* bytes of counted answers not yet sent (server.c) */
+    atomic_int summary_running;      /* a /summary holds its rows (routes.c get_summary) */
 } tsd_server;
 
 typedef struct tsd_request {
