@@ -5,7 +5,6 @@ The binaries come from $TANKSIM_BUILD (set by tests/run_all.sh; default
 SIGTERM at the end of the test module.
 """
 import os
-import random
 import signal
 import socket
 import subprocess
@@ -39,21 +38,6 @@ def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
-
-
-PORTS = range(18800, 18900)
-
-
-def port_in_range():
-    """A free loopback port in PORTS (18800-18899), picked at random."""
-    for port in random.sample(PORTS, len(PORTS)):
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError(f"no free port in {PORTS.start}-{PORTS.stop - 1}")
 
 
 class Daemon:
@@ -98,13 +82,6 @@ class Daemon:
                 self.proc.kill()
                 self.proc.wait()
         return self.proc.returncode
-
-
-def daemon_in_range(*args, **kw):
-    """A Daemon(*args, **kw) on a port from port_in_range instead of free_port."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setitem(globals(), "free_port", port_in_range)
-        return Daemon(*args, **kw)
 
 
 @pytest.fixture(scope="module")

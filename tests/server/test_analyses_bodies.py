@@ -13,7 +13,7 @@ import tempfile
 
 import requests
 
-from conftest import wait_op, daemon_in_range as start
+from conftest import wait_op, Daemon as start
 
 DYNO = {"run": {"kind": "engine_dyno"}, "engine": {"fidelity": "mean_value", "_why": "fast"},
         "control": {"rack": 1.0}}

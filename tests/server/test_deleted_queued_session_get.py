@@ -2,36 +2,17 @@
 restart) of a session that a DELETE removes meanwhile answered 200 with
 "status": "deleted", while /series, /fft, /summary answered 404 "was
 deleted". run_built now answers that 404 for every route."""
-import random
-import socket
 import tempfile
 import threading
 import time
 
-import pytest
 import requests
 
-import conftest
 from conftest import Daemon, is_problem, wait_op
-
-PORTS = range(18700, 18750)
-
-
-def port_in_range():
-    for port in random.sample(PORTS, len(PORTS)):
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError("no free port in 18700-18749")
 
 
 def start(*args, **kw):
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(conftest, "free_port", port_in_range)
-        return Daemon(*args, **kw)
+    return Daemon(*args, **kw)
 
 
 def test_get_session_queued_behind_the_rebuild_of_a_deleted_session_is_404():

@@ -12,7 +12,7 @@ import time
 
 import requests
 
-from conftest import is_problem, wait_op, daemon_in_range as start
+from conftest import is_problem, wait_op, Daemon as start
 
 
 def make_session(url):

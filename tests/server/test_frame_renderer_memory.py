@@ -8,12 +8,12 @@ import pytest
 import requests
 
 import conftest
-from conftest import daemon_in_range
+from conftest import Daemon
 
 
 @pytest.fixture(scope="module")
 def d():
-    dm = daemon_in_range()
+    dm = Daemon()
     yield dm
     dm.stop()
 

@@ -11,14 +11,14 @@ import pytest
 import requests
 
 import conftest
-from conftest import daemon_in_range
+from conftest import Daemon
 
 BUDGET = 128 << 20
 
 
 @pytest.fixture(scope="module")
 def d():
-    dm = daemon_in_range()
+    dm = Daemon()
     yield dm
     dm.stop()
 

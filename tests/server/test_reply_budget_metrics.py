@@ -1,36 +1,20 @@
 """The reply budget (server.h TSD_REPLY_BUDGET) in GET /metrics: a gauge of
 the bytes of answers held until their clients read them, the budget, and a
 counter of the answers refused 503 /problems/busy."""
-import random
 import socket
 import time
 
 import pytest
 import requests
 
-import conftest
 from conftest import Daemon
 
-PORTS = range(18700, 18750)
 BUDGET = 128 << 20
-
-
-def port_in_range():
-    for port in random.sample(PORTS, len(PORTS)):
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError("no free port in 18700-18749")
 
 
 @pytest.fixture(scope="module")
 def d():
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(conftest, "free_port", port_in_range)
-        dm = Daemon()
+    dm = Daemon()
     yield dm
     dm.stop()
 

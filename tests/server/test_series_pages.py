@@ -9,14 +9,14 @@ still gets its rows in one page; page_size still caps rows below that."""
 import pytest
 import requests
 
-from conftest import daemon_in_range
+from conftest import Daemon
 
 PAGE_CELLS = 1_000_000
 
 
 @pytest.fixture(scope="module")
 def d():
-    dm = daemon_in_range()
+    dm = Daemon()
     yield dm
     dm.stop()
 

@@ -9,8 +9,6 @@ unknown or deleted id (404), a stored session whose model this build cannot
 make (409 with the reason, as its frames), and the same figures after a
 restart (the session's model rebuilt at first use)."""
 import json
-import random
-import socket
 import sqlite3
 import subprocess
 import time
@@ -18,27 +16,11 @@ import time
 import pytest
 import requests
 
-import conftest
 from conftest import TANKSIM, Daemon, is_problem, wait_op
-
-PORTS = range(18900, 19000)  # this module's daemons listen here only
-
-
-def port_in_range():
-    for port in random.sample(PORTS, len(PORTS)):
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError("no free port in 18900-18999")
 
 
 def start_daemon(**kw):
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(conftest, "free_port", port_in_range)
-        return Daemon(**kw)
+    return Daemon(**kw)
 
 
 @pytest.fixture(scope="module")

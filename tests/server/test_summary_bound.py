@@ -3,36 +3,18 @@ an HTTP thread (200,001 rows x 65 channels: 104 MB, 0.1 s): eight at once
 held the rows of all eight and /v1/health 0.3-0.6 s. One summary is computed
 at a time now; another asked for meanwhile is answered 503 /problems/busy
 with Retry-After, and the one computed is the same as alone."""
-import random
-import socket
 import threading
 import time
 
 import pytest
 import requests
 
-import conftest
 from conftest import Daemon, is_problem
-
-PORTS = range(18700, 18750)
-
-
-def port_in_range():
-    for port in random.sample(PORTS, len(PORTS)):
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError("no free port in 18700-18749")
 
 
 @pytest.fixture(scope="module")
 def d():
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(conftest, "free_port", port_in_range)
-        dm = Daemon()
+    dm = Daemon()
     yield dm
     dm.stop()
 
