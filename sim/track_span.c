@@ -130,9 +130,13 @@ static void trans_shape(int k, double s, double L, double *N, double *dN)
  * along its chord carries the momentum flux rho c^2 as well,
  * (P0 - rho c^2) Y0'' = -rho g_y, so kappa = rho g_y / (P0 - rho c^2) with
  * translation_terms (then V = 0 is the moving span's equilibrium). */
-static double span_curvature(const ts_span_params *p)
+static double span_transport_speed(const ts_span_params *p)
 {
-    double c = p->translation_terms ? p->speed : 0.0;
+    return p->translation_terms ? p->speed : 0.0;
+}
+
+static double span_curvature(const ts_span_params *p, double c)
+{
     return p->rho * p->g_y / (p->tension - p->rho * c * c);
 }
 
@@ -161,7 +165,7 @@ static ts_rc check_params(const ts_span_params *p, ts_err *err)
         REQ(p->rho * p->speed * p->speed < p->tension, "speed",
             "track speed %g m/s reaches the transverse wave speed", p->speed);
     }
-    double kappa = span_curvature(p);
+    double kappa = span_curvature(p, span_transport_speed(p));
     REQ(fabs(kappa * p->length) < 1.0, "tension",
         "shallow-sag condition |kappa L| < 1 violated (kappa L = %g)", kappa * p->length);
 #undef REQ
@@ -254,8 +258,8 @@ ts_span *ts_span_make(const ts_span_params *p, ts_err *err)
     sp->slack_b = sp->slack_bmax + n;
 
     double L = p->length, rho = p->rho, EA = p->ea, P0 = p->tension;
-    double kappa = span_curvature(p);
-    double c = p->translation_terms ? p->speed : 0.0;
+    double c = span_transport_speed(p);
+    double kappa = span_curvature(p, c);
     sp->kappa = kappa;
     sp->k = kappa * L;
     sp->m = rho * L;

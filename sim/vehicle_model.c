@@ -967,6 +967,16 @@ static void span_pitch_terms(const span_base *sb, const cset *cs,
     Q[QZ] += thd * p[cx];
 }
 
+/* The modal sums sum_r ay_r x_r and sum_r alpha_r x_r over the span's modes
+ * (x's entries 2..n-1): the span's weight load normal to the chord and along
+ * it, shared by the force (span_element) and its potential (vm_energy). */
+static void span_modal_sums(const span_el *se, const double *x, double *ax, double *ay)
+{
+    *ax = *ay = 0;
+    for (int r = 2; r < se->sp->n; r++)
+        *ay += se->sp->ay[r] * x[r], *ax += se->alpha[r] * x[r];
+}
+
 static void span_element(const vm *v, vm_work *w, const span_map *mp, const span_el *se,
                          const elem *e, int a, int b, const double *q, const double *qd, double *M,
                          double *Q, vm_diag *diag, span_base *sb)
@@ -1048,9 +1058,8 @@ static void span_element(const vm *v, vm_work *w, const span_map *mp, const span
      * the chord, moves normal to it by ry0 + L_ref / (2 l) (ry1 - ry0); and
      * turning the chord turns gravity's components on the modal loads,
      * dV/dpsi = g_x ay.x - g_y alpha.x (dg_x/dpsi = g_y, dg_y/dpsi = -g_x) */
-    double m = se->rho * se->len, hl = 0.5 * se->len / ell, ay = 0, ax = 0;
-    for (int r = 2; r < n; r++)
-        ay += sp->ay[r] * x[r], ax += se->alpha[r] * x[r];
+    double m = se->rho * se->len, hl = 0.5 * se->len / ell, ay, ax;
+    span_modal_sums(se, x, &ax, &ay);
     double turn = (gx * ay - gy * ax) / ell;
     for (int c = 0; c < cs.n; c++) {
         double s = B[0][c] * f[0] + B[1][c] * f[1];
@@ -2080,11 +2089,8 @@ double vm_energy(const vm *v, vm_work *w, const double *y)
             for (int c = 0; c < n; c++)
                 xk += 0.5 * x[r] * sp->K[r * n + c] * x[c];
         double gx = -GRAVITY * e.u[1], gy = -GRAVITY * e.n[1];
-        double ax = 0, ay = 0;
-        for (int m = 0; m < se->nm; m++) {
-            ax += se->alpha[2 + m] * x[2 + m];
-            ay += sp->ay[2 + m] * x[2 + m];
-        }
+        double ax, ay;
+        span_modal_sums(se, x, &ax, &ay);
         double m = se->rho * se->len;
         if (v->no_compression) xk -= ts_span_slack_energy(sp, x);
         pe += v->p0 * x[1] + xk - (gy - sp->p.g_y) * ay;

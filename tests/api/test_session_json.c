@@ -284,17 +284,7 @@ static ts_model *vehicle_rows(ts_rows *r)
 {
     ts_config c = test_preset_config("bump-prescribed-static", NULL);
     c.run.duration = 2.0;
-    ts_err err;
-    ts_model *m = ts_model_make(&c, &err);
-    assert_non_null(m);
-    ts_data *d = ts_data_make(m, &err);
-    assert_non_null(d);
-    *r = (ts_rows){0};
-    assert_int_equal(ts_reset(m, d, &err), TS_OK);
-    assert_int_equal(ts_rows_append(r, 0, 0, ts_latest(d), ts_model_nchannel(m)), 0);
-    assert_int_equal(ts_advance(m, d, c.run.duration, ts_rows_append, r, &err), TS_OK);
-    ts_data_free(d);
-    return m;
+    return test_run_rows(&c, r);
 }
 
 /* No figure is dropped: ts_model_metrics says how many there are when out is

@@ -45,6 +45,34 @@ static inline ts_engine *et_make(int variant, int fidelity)
     return e;
 }
 
+/* An engine with a state x initialised at speed w (rad/s) in the standard
+ * ambient of et_full_load, and a derivative buffer xd of the same length;
+ * et_bench_free frees the three. */
+typedef struct {
+    ts_engine *e;
+    double *x, *xd;
+} et_bench;
+
+static inline et_bench et_bench_at(int variant, int fidelity, double w)
+{
+    et_bench b = {et_make(variant, fidelity), NULL, NULL};
+    size_t nx = (size_t)ts_engine_nstate(b.e);
+    b.x = calloc(nx, sizeof *b.x);
+    b.xd = calloc(nx, sizeof *b.xd);
+    assert_non_null(b.x);
+    assert_non_null(b.xd);
+    ts_engine_inputs in = et_full_load();
+    ts_engine_init_state(b.e, w, in.p_amb, in.T_amb, b.x);
+    return b;
+}
+
+static inline void et_bench_free(et_bench *b)
+{
+    free(b->x);
+    free(b->xd);
+    ts_engine_free(b->e);
+}
+
 /* Steady full-load state at rpm for variant/fidelity; x allocated (caller frees). */
 static inline double *et_steady(int variant, int fidelity, double rpm, ts_engine **e_out,
                                 ts_engine_cycle *cyc)

@@ -1,8 +1,10 @@
 /*
- * preset_config.h — test helper: a shipped preset's configuration, optionally
+ * preset_config.h — test helpers: a shipped preset's configuration, optionally
  * with another track fidelity, through the same loader the CLI and the daemon
- * use (api/config_json.c). Shared by the vehicle and coupled tests. Test code
- * only; a preset that does not load fails the test.
+ * use (api/config_json.c); and a run of a configuration from its reset state
+ * with every sampled row kept, as `tanksim run` keeps them. Shared by the
+ * vehicle, coupled, point-mass and api tests. Test code only; a preset that
+ * does not load or a run that fails fails the test.
  */
 #ifndef TS_TEST_PRESET_CONFIG_H
 #define TS_TEST_PRESET_CONFIG_H
@@ -10,6 +12,7 @@
 #include <jansson.h>
 
 #include "api/config_json.h"
+#include "sim/tanksim.h"
 
 /* The configuration of preset; track_fidelity NULL keeps the preset's. */
 static inline ts_config test_preset_config(const char *preset, const char *track_fidelity)
@@ -23,6 +26,25 @@ static inline ts_config test_preset_config(const char *preset, const char *track
         fail_msg("preset %s: %s %s", preset, err.pointer, err.msg);
     json_decref(doc);
     return c;
+}
+
+/* The model of c, run from reset for c.run.duration: rows r (row 0 at the
+ * reset state, then every sample) in *r, which the caller frees
+ * (ts_rows_free), as the model (ts_model_free). */
+static inline ts_model *test_run_rows(const ts_config *c, ts_rows *r)
+{
+    ts_err err;
+    ts_model *m = ts_model_make(c, &err);
+    if (!m) fail_msg("model: %s %s", err.pointer, err.msg);
+    ts_data *d = ts_data_make(m, &err);
+    assert_non_null(d);
+    *r = (ts_rows){0};
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_int_equal(ts_rows_append(r, 0, 0, ts_latest(d), ts_model_nchannel(m)), 0);
+    if (ts_advance(m, d, c->run.duration, ts_rows_append, r, &err) != TS_OK)
+        fail_msg("run: %s", err.msg);
+    ts_data_free(d);
+    return m;
 }
 
 #endif

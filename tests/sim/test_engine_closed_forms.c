@@ -196,10 +196,9 @@ static void wall_capacity_and_cn_steady_state(void **state)
         double rc0 = coated ? 2.6e6 : 3.7e6;
         assert_close(w.cap[0], 0.5 * rc0 * w.depth[1], 1e-12, 0);
     }
-    ts_engine *e = et_make(TS_ENGINE_LHR10, TS_ENGINE_CRANK_ANGLE);
-    double *x = calloc((size_t)ts_engine_nstate(e), sizeof *x);
-    assert_non_null(x);
-    ts_engine_init_state(e, ET_RPM(1800), 101325, 298.15, x);
+    et_bench b = et_bench_at(TS_ENGINE_LHR10, TS_ENGINE_CRANK_ANGLE, ET_RPM(1800));
+    ts_engine *e = b.e;
+    double *x = b.x;
     double T_sink[EN_NSURF] = {x[e->off_coolant + 1], x[e->off_coolant], x[e->off_coolant]};
     double q[EN_NCYL * EN_NSURF], want[EN_NCYL * EN_NSURF * EN_WALL_NODES];
     for (int i = 0; i < EN_NCYL; i++)
@@ -230,8 +229,7 @@ static void wall_capacity_and_cn_steady_state(void **state)
             for (int n = 0; n < EN_WALL_NODES; n++)
                 assert_close(x[e->off_wall + (i * EN_NSURF + s) * EN_WALL_NODES + n], T_sink[s],
                              1e-12, 0);
-    free(x);
-    ts_engine_free(e);
+    et_bench_free(&b);
 }
 
 /* EVIDENCE: friction torque of a four-stroke engine from its mean effective
@@ -293,17 +291,14 @@ static double inertia_at(const ts_engine *e, double load, double th)
 static void crankshaft_variable_inertia(void **state)
 {
     (void)state;
-    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_CRANK_ANGLE);
+    double w = ET_RPM(2000), load = 1500, J_load = 3.0;
+    et_bench b = et_bench_at(TS_ENGINE_CONVENTIONAL, TS_ENGINE_CRANK_ANGLE, w);
+    ts_engine *e = b.e;
+    double *x = b.x, *xd = b.xd;
     for (int i = 0; i < EN_NCYL; i++) {
         assert_close(e->cyl_offset[i], i * ET_PI / 3, 1e-12, 1e-15);
         assert_int_equal(e->cyl_bank[i], i % 2);
     }
-    int nx = ts_engine_nstate(e);
-    double *x = calloc((size_t)nx, sizeof *x), *xd = calloc((size_t)nx, sizeof *xd);
-    assert_non_null(x);
-    assert_non_null(xd);
-    double w = ET_RPM(2000), load = 1500, J_load = 3.0;
-    ts_engine_init_state(e, w, 101325, 298.15, x);
     ts_engine_inputs in = et_full_load();
     in.hold_speed = 0;
     in.load_torque = load;
@@ -318,9 +313,7 @@ static void crankshaft_variable_inertia(void **state)
         double want = (out.brake_torque - load - 0.5 * dJ * w * w) / J;
         assert_close(xd[TS_ENGINE_X_SPEED], want, 1e-6, 1e-9);
     }
-    free(x);
-    free(xd);
-    ts_engine_free(e);
+    et_bench_free(&b);
 }
 
 /* EVIDENCE: first law and species balance of the mean-value cylinders
@@ -336,16 +329,13 @@ static void crankshaft_variable_inertia(void **state)
 static void mean_value_first_law_and_burned_mass(void **state)
 {
     (void)state;
-    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_MEAN_VALUE);
-    const ts_engine_config *c = &e->c;
-    int nx = ts_engine_nstate(e);
-    double *x = calloc((size_t)nx, sizeof *x), *xd = calloc((size_t)nx, sizeof *xd);
-    assert_non_null(x);
-    assert_non_null(xd);
     double w = ET_RPM(1400);
+    et_bench b = et_bench_at(TS_ENGINE_CONVENTIONAL, TS_ENGINE_MEAN_VALUE, w);
+    ts_engine *e = b.e;
+    const ts_engine_config *c = &e->c;
+    double *x = b.x, *xd = b.xd;
     ts_engine_inputs in = et_full_load();
     in.fuel_per_cycle = 1.2e-4;
-    ts_engine_init_state(e, w, in.p_amb, in.T_amb, x);
     for (int b = 0; b < EN_NBANK; b++)
         x[e->off_bank + b * EN_BANK_NX + BX_IMF] = 0.05;
     ts_engine_outputs out;
@@ -373,9 +363,7 @@ static void mean_value_first_law_and_burned_mass(void **state)
         double mf_ex = 0.5 * (l[LX_MIN] * 0.05 + l[LX_MFUEL] * (1 + c->afr_stoich));
         assert_close(dmF + m_out * o.F_em, mf_ex, 1e-9, 0);
     }
-    free(x);
-    free(xd);
-    ts_engine_free(e);
+    et_bench_free(&b);
 }
 
 /* EVIDENCE: one burning cylinder of the crank-angle engine by hand
@@ -395,14 +383,11 @@ static void mean_value_first_law_and_burned_mass(void **state)
 static void crank_cylinder_by_hand(void **state)
 {
     (void)state;
-    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_CRANK_ANGLE);
-    const ts_engine_config *c = &e->c;
-    int nx = ts_engine_nstate(e);
-    double *x = calloc((size_t)nx, sizeof *x), *xd = calloc((size_t)nx, sizeof *xd);
-    assert_non_null(x);
-    assert_non_null(xd);
     double w = ET_RPM(1800), deg = ET_PI / 180, thl = 10 * deg, s = 5 * deg, mf = 1.5e-4;
-    ts_engine_init_state(e, w, 101325, 298.15, x);
+    et_bench b = et_bench_at(TS_ENGINE_CONVENTIONAL, TS_ENGINE_CRANK_ANGLE, w);
+    ts_engine *e = b.e;
+    const ts_engine_config *c = &e->c;
+    double *x = b.x, *xd = b.xd;
     x[TS_ENGINE_X_ANGLE] = thl;
     en_kin k;
     en_kinematics(&e->geom, thl, &k);
@@ -441,9 +426,7 @@ static void crank_cylinder_by_hand(void **state)
     double q = mf * c->lhv * dX / c->burn_duration * w;
     assert_true(q > 0);
     assert_close(out.heat_release, q, 1e-9, 0);
-    free(x);
-    free(xd);
-    ts_engine_free(e);
+    et_bench_free(&b);
 }
 
 /* EVIDENCE: energy cascade of Poulos & Heywood (1983) as engine_heat.c
@@ -458,14 +441,11 @@ static void crank_cylinder_by_hand(void **state)
 static void intake_jet_feeds_mean_flow(void **state)
 {
     (void)state;
-    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_CRANK_ANGLE);
-    const ts_engine_config *c = &e->c;
-    int nx = ts_engine_nstate(e);
-    double *x = calloc((size_t)nx, sizeof *x), *xd = calloc((size_t)nx, sizeof *xd);
-    assert_non_null(x);
-    assert_non_null(xd);
     double w = ET_RPM(1800), thl = 480 * ET_PI / 180;
-    ts_engine_init_state(e, w, 101325, 298.15, x);
+    et_bench b = et_bench_at(TS_ENGINE_CONVENTIONAL, TS_ENGINE_CRANK_ANGLE, w);
+    ts_engine *e = b.e;
+    const ts_engine_config *c = &e->c;
+    double *x = b.x, *xd = b.xd;
     double *xb = x + e->off_bank; /* cylinder 1 is on bank 0 */
     xb[BX_ICM] *= 1.3;            /* compressor outlet above the intake manifold */
     x[TS_ENGINE_X_ANGLE] = thl;
@@ -503,9 +483,7 @@ static void intake_jet_feeds_mean_flow(void **state)
     en_bank_out o1;
     en_bank_read(e, x + e->off_bank + EN_BANK_NX, &o1);
     assert_close(out.boost, 0.5 * (o.p_im + o1.p_im), 1e-12, 0);
-    free(x);
-    free(xd);
-    ts_engine_free(e);
+    et_bench_free(&b);
 }
 
 int main(void)

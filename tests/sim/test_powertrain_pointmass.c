@@ -19,6 +19,7 @@
 #include "sim/constants.h"
 #include "sim/governor.h"
 #include "sim/tanksim.h"
+#include "preset_config.h"
 
 #define RPM (3.14159265358979323846 / 30.0)
 
@@ -44,21 +45,12 @@ static ts_config load(const char *preset, const char *fidelity)
 /* Run a preset with the given engine fidelity for duration seconds. */
 static run_result run_config(const ts_config *cfg)
 {
-    ts_config c = *cfg;
-    double duration = c.run.duration;
     ts_err err;
     run_result r = {0};
-    r.m = ts_model_make(&c, &err);
-    if (!r.m) fail_msg("model: %s", err.msg);
-    ts_data *d = ts_data_make(r.m, &err);
-    assert_non_null(d);
+    r.m = test_run_rows(cfg, &r.s);
     r.nc = ts_model_nchannel(r.m);
-    assert_int_equal(ts_reset(r.m, d, &err), TS_OK);
-    assert_int_equal(ts_rows_append(&r.s, 0, 0, ts_latest(d), r.nc), 0);
-    if (ts_advance(r.m, d, duration, ts_rows_append, &r.s, &err) != TS_OK) fail_msg("run: %s", err.msg);
     if (tsa_model_metrics(r.m, r.s.v, r.s.n, &r.mt, &r.nm, &err) != TS_OK)
         fail_msg("metrics: %s", err.msg);
-    ts_data_free(d);
     return r;
 }
 

@@ -115,12 +115,14 @@ enum { Q_THETA = 2, Q_SPROCKET_SPIN = 3 + VM_NRW + VM_SPROCKET };
  * unseen; the fidelities without spans have no other write to that pair):
  * M and Q get the inertia and the torque as rhs_cached adds them, same
  * entries, same order (the factor reads M's lower triangle alone).
- * fidelity NULL: the preset's; comp: /vehicle/idler_compensation. */
-static void structure_covers(const char *preset, const char *fidelity, double comp)
+ * fidelity NULL: the preset's; comp: /vehicle/idler_compensation; n_long >= 0
+ * replaces /track/n_long (0: the coupled fidelity's uniform-tension spans). */
+static void structure_covers(const char *preset, const char *fidelity, double comp, int n_long)
 {
     ts_config c = test_preset_config(preset, fidelity);
     ts_err err;
     c.vehicle.idler_compensation = comp;
+    if (n_long >= 0) c.track.n_long = n_long;
     vm *v = vm_make(&c, &err);
     assert_non_null(v);
     int ny = vm_ny(v), nq = vm_nq(v);
@@ -163,12 +165,14 @@ static void structure_covers(const char *preset, const char *fidelity, double co
 static void mass_structure_is_complete(void **state)
 {
     (void)state;
-    structure_covers("bump-prescribed-static", NULL, 0.0);
-    structure_covers("bump-prescribed-coupled", NULL, 0.0);
-    structure_covers("bump-prescribed-coupled", NULL, 0.5);
-    structure_covers("bump-prescribed-coupled", "lumped", 0.0);
-    structure_covers("bump-prescribed-coupled", "quasi_static", 0.0);
-    structure_covers("bump-prescribed-coupled", "transverse", 0.0);
+    structure_covers("bump-prescribed-static", NULL, 0.0, -1);
+    structure_covers("bump-prescribed-coupled", NULL, 0.0, -1);
+    structure_covers("bump-prescribed-coupled", NULL, 0.5, -1);
+    structure_covers("bump-prescribed-coupled", NULL, 0.0, 0); /* Irvine's uniform tension */
+    structure_covers("bump-prescribed-coupled", "lumped", 0.0, -1);
+    structure_covers("bump-prescribed-coupled", "quasi_static", 0.0, -1);
+    structure_covers("bump-prescribed-coupled", "longitudinal", 0.0, -1);
+    structure_covers("bump-prescribed-coupled", "transverse", 0.0, -1);
 }
 
 int main(void)
