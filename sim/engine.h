@@ -100,6 +100,13 @@ int ts_engine_get_fidelity(const ts_engine *e); /* ts_engine_fidelity enum value
  * (crank-angle and mean-value; the map engine leaves them NaN). */
 enum { TS_ENGINE_MODELS_CYLINDERS = 1u, TS_ENGINE_MODELS_MANIFOLDS = 2u };
 unsigned ts_engine_models(const ts_engine *e);
+/* Whether an engine that models `models` (ts_engine_models) sets a channel
+ * that needs `needs` (TS_ENGINE_MODELS_* bits; 0: every engine does): the one
+ * presence rule of the dyno's and the powertrain's channel tables. */
+static inline int ts_engine_models_all(unsigned models, unsigned needs)
+{
+    return (needs & ~models) == 0;
+}
 int ts_engine_nstate(const ts_engine *e);       /* length of x */
 /* Cycle-mean inertia of the crank train [kg*m^2]: /engine/inertia plus the mean
  * of the reciprocating parts' crank-angle-varying share (the inertia the

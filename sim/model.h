@@ -34,6 +34,13 @@ typedef struct ts_channel {
     const char *description; /* one line */
 } ts_channel;
 
+/* A channel in a table whose channels depend on a component's build, with
+ * the bits it needs (e.g. engine.h TS_ENGINE_MODELS_*; 0: always present). */
+typedef struct ts_channel_need {
+    ts_channel ch;
+    unsigned needs;
+} ts_channel_need;
+
 /* ---- model: built once, read-only ---------------------------------------- */
 
 /* Build a model from a config (copied). NULL on failure with err filled. */

@@ -395,10 +395,7 @@ int ts_powertrain_update(const ts_powertrain *pt, ts_powertrain_state *ps, doubl
 
 /* Each channel and what the engine must model for it (engine.h TS_ENGINE_MODELS_*
  * bits; 0: every engine). */
-static const struct {
-    ts_channel ch;
-    unsigned needs;
-} channels[TS_POWERTRAIN_NCHANNEL] = {
+static const ts_channel_need channels[TS_POWERTRAIN_NCHANNEL] = {
     {{"engine.speed", "rad/s", "crankshaft speed (= converter pump speed)"}, 0},
     {{"engine.torque", "N*m", "engine brake torque"}, 0},
     {{"engine.power", "W", "engine brake power"}, 0},
@@ -433,7 +430,7 @@ static const struct {
 /* Whether channel i of the table above is one of pt's (its engine models it). */
 static int present(const ts_powertrain *pt, int i)
 {
-    return (channels[i].needs & ~pt->engine.models) == 0;
+    return ts_engine_models_all(pt->engine.models, channels[i].needs);
 }
 
 /* The channels of pt's engine, in the order above (stored sessions match it

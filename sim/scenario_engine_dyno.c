@@ -46,10 +46,7 @@ enum {
  * TS_ENGINE_MODELS_* bits; 0: every engine): the cylinder channels need the
  * crank-angle engine, the manifold temperatures and the turbo speed an engine
  * with manifolds and turbochargers (not the map engine). */
-static const struct {
-    ts_channel ch;
-    unsigned needs;
-} channels[CH_RACK + 1] = {
+static const ts_channel_need channels[CH_RACK + 1] = {
     [CH_SPEED] = {{"engine.speed", "rad/s", "crankshaft speed (held by the dynamometer)"}, 0},
     [CH_TORQUE] = {{"engine.torque", "N*m", "brake torque, instantaneous (indicated - friction)"},
                    0},
@@ -82,7 +79,7 @@ static const struct {
 /* Whether m's engine models channel c. */
 static int modelled(const ts_model *m, int c)
 {
-    return (channels[c].needs & ~ts_engine_models(m->impl)) == 0;
+    return ts_engine_models_all(ts_engine_models(m->impl), channels[c].needs);
 }
 
 /* The column of channel c in m's rows (column 0 is time), or -1 when m has

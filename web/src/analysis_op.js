@@ -58,14 +58,15 @@ export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed =
     else delete el('progress').dataset.outcome;
     const parts = total ? `${done} / ${total} parts · ${pct} %` : '';
     el('progress-text').textContent = [parts, outcomeSuffix(outcome), note].filter(Boolean).join(' · ') || '—';
+    setButtons();
+  }
+
+  /* Run while nothing runs and a preset is chosen, Cancel while one runs;
+     also when the preset list was filled (presetsSet) */
+  function setButtons() {
     const running = state.analyses[kind] !== null;
     el('run').disabled = running || !el('preset').value;
     el('cancel').disabled = !running;
-  }
-
-  /* the preset list was filled: Run may be enabled */
-  function presetsSet() {
-    el('run').disabled = state.analyses[kind] !== null || !el('preset').value;
   }
 
   function clear() {
@@ -177,5 +178,5 @@ export function initAnalysisOp(state, kind, prefix, { onDone, onClear, changed =
 
   el('cancel').addEventListener('click', onCancel);
   render(null);
-  return { start, showStored, attach, reset, presetsSet, shown: () => shownId };
+  return { start, showStored, attach, reset, presetsSet: setButtons, shown: () => shownId };
 }

@@ -15,10 +15,15 @@ import { fmt } from './units.js';
 export function initRunFigures(state) {
   let asked = 0; /* the latest request: an older answer is dropped */
 
-  function clear() {
-    asked++;
+  /* no figures on screen */
+  function blank() {
     $('figures-table').replaceChildren();
     $('figures-note').textContent = '';
+  }
+
+  function clear() {
+    asked++;
+    blank();
     hideError($('figures-error'));
   }
 
@@ -48,8 +53,7 @@ export function initRunFigures(state) {
       if (mine === asked && state.session === s) render(doc);
     } catch (e) {
       if (mine === asked) {
-        $('figures-table').replaceChildren();
-        $('figures-note').textContent = '';
+        blank();
         showError($('figures-error'), e);
       }
     } finally {
