@@ -34,28 +34,13 @@ json_t *tsa_store_json(const char *path, ts_err *err)
     return j;
 }
 
-/* The schema's word for comment keys: any value, ignored (strip_comments). */
+/* The schema's word for comment keys: any value, ignored (tsa_strip_comments). */
 static json_t *comment_keys(void)
 {
     return json_pack("{s:{s:s}}", "^_", "description", "a comment: read and ignored");
 }
 
-/* Remove comment keys ("_...") recursively. */
-static void strip_comments(json_t *j)
-{
-    if (!json_is_object(j)) return;
-    const char *key;
-    json_t *val;
-    void *tmp;
-    json_object_foreach_safe(j, tmp, key, val)
-    {
-        if (key[0] == '_')
-            json_object_del(j, key);
-        else
-            strip_comments(val);
-    }
-}
-
+/* Remove comment keys ("_...") recursively, arrays' elements included. */
 void tsa_strip_comments(json_t *j)
 {
     size_t i;
@@ -108,7 +93,7 @@ json_t *tsa_config_defaults(ts_err *err)
             json_decref(root);
             return NULL;
         }
-        strip_comments(j);
+        tsa_strip_comments(j);
         json_object_set_new(root, sec->name, j);
     }
     return root;
