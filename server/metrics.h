@@ -20,7 +20,7 @@ typedef struct tsd_metrics {
     atomic_long samples_stored;
     atomic_llong sim_microseconds;  /* simulated time advanced [us] */
     atomic_llong wall_microseconds; /* wall time spent advancing [us] */
-    atomic_long replies_busy;       /* answers refused 503 /problems/busy by the reply budget */
+    atomic_long replies_busy;       /* answers refused 503 /problems/busy (tsd_reply_busy) */
 } tsd_metrics;
 
 extern const char *const tsd_run_result_names[TSD_NRUN_RESULTS];

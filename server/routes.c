@@ -403,8 +403,8 @@ static enum MHD_Result get_metrics(tsd_request *r)
                    "clients read them.\n"
                    "# TYPE tanksimd_reply_held_bytes gauge\n"
                    "tanksimd_reply_held_bytes %zu\n"
-                   "# HELP tanksimd_reply_busy_total Answers refused 503 /problems/busy by the "
-                   "reply budget.\n"
+                   "# HELP tanksimd_reply_busy_total Answers refused 503 /problems/busy: the "
+                   "reply budget full, or another summary being computed.\n"
                    "# TYPE tanksimd_reply_busy_total counter\n"
                    "tanksimd_reply_busy_total %ld\n"
                    "# HELP tanksimd_http_requests_total HTTP requests answered, by status.\n"
@@ -915,9 +915,7 @@ static enum MHD_Result get_fft(tsd_request *r)
  * time: 8 at once held /v1/health 0.3-0.6 s and the rows of all 8 at once.
  * Another that comes meanwhile is answered 503 /problems/busy with
  * Retry-After rather than waiting, as a waiting HTTP thread would stall the
- * other connections it serves. */
-#define SUMMARY_RETRY_AFTER_S 1 /* [s] one summary of 1e6 rows takes ~0.5 s */
-
+ * other connections it serves (Retry-After: TSD_RETRY_AFTER_BUSY_S). */
 static enum MHD_Result get_summary(tsd_request *r)
 {
     tsd_session *s = r->session;
@@ -930,10 +928,8 @@ static enum MHD_Result get_summary(tsd_request *r)
     }
     int idle = 0;
     if (!atomic_compare_exchange_strong(&r->srv->summary_running, &idle, 1)) {
-        r->retry_after = SUMMARY_RETRY_AFTER_S;
-        return tsd_reply_problem(
-            r, MHD_HTTP_SERVICE_UNAVAILABLE, "/problems/busy", "Another summary is being computed",
-            "the daemon computes one run summary at a time: retry shortly", NULL);
+        return tsd_reply_busy(r, "Another summary is being computed",
+                              "the daemon computes one run summary at a time: retry shortly");
     }
     pthread_mutex_lock(&s->mu);
     tsd_status status = s->status;

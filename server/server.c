@@ -125,16 +125,16 @@ static void held_free(void *cls)
     free(h);
 }
 
-/* 503 /problems/busy with Retry-After in place of an answer the reply budget
- * cannot take (counted in /metrics tanksimd_reply_busy_total). */
-static enum MHD_Result reply_busy(tsd_request *r, const char *detail)
+enum MHD_Result tsd_reply_busy(tsd_request *r, const char *title, const char *detail)
 {
     atomic_fetch_add(&r->srv->metrics.replies_busy, 1);
     r->next_token[0] = r->etag[0] = r->location[0] = '\0'; /* of the answer not sent */
     r->retry_after = TSD_RETRY_AFTER_BUSY_S;
-    return tsd_reply_problem(r, MHD_HTTP_SERVICE_UNAVAILABLE, "/problems/busy",
-                             "Too many answers waiting to be read", detail, NULL);
+    return tsd_reply_problem(r, MHD_HTTP_SERVICE_UNAVAILABLE, "/problems/busy", title, detail,
+                             NULL);
 }
+
+#define BUDGET_TITLE "Too many answers waiting to be read"
 
 int tsd_reply_budget_full(tsd_request *r, enum MHD_Result *ret)
 {
@@ -148,7 +148,7 @@ int tsd_reply_budget_full(tsd_request *r, enum MHD_Result *ret)
              "%zu MB of answers are waiting for their clients to read them, the daemon's %zu MB "
              "for them: retry shortly",
              held >> 20, TSD_REPLY_BUDGET >> 20);
-    *ret = reply_busy(r, detail);
+    *ret = tsd_reply_busy(r, BUDGET_TITLE, detail);
     return 1;
 }
 
@@ -174,7 +174,7 @@ static enum MHD_Result reply_buffer(tsd_request *r, unsigned status, const char 
                  "%zu MB of answers are waiting for their clients to read them; this one (%zu "
                  "kB) would pass the daemon's %zu MB for them: retry shortly",
                  (held - len) >> 20, len >> 10, TSD_REPLY_BUDGET >> 20);
-        return reply_busy(r, detail);
+        return tsd_reply_busy(r, BUDGET_TITLE, detail);
     }
     held_reply *h = malloc(sizeof *h);
     if (!h) {

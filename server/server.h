@@ -145,6 +145,12 @@ void tsd_long_job_give(tsd_server *s);
 #define TSD_REPLY_COUNTED_MIN ((size_t)64 << 10)
 #define TSD_REPLY_BUDGET      ((size_t)128 << 20) /* ~12 full /series pages */
 
+/* 503 /problems/busy (title, detail) with Retry-After: TSD_RETRY_AFTER_BUSY_S,
+ * in place of an answer the daemon cannot give now: the reply budget is
+ * full, or another run summary is being computed. Counted in /metrics
+ * tanksimd_reply_busy_total. */
+enum MHD_Result tsd_reply_busy(tsd_request *r, const char *title, const char *detail);
+
 /* Ahead of work whose answer is made whole and counted (a frame, an APNG):
  * 1 with that 503 /problems/busy queued in *ret when the answers held already
  * leave no room for any counted answer, so that it is not drawn (a 4096 x 4096
