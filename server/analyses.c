@@ -312,7 +312,7 @@ json_t *tsd_analyses_json(tsd_server *srv, ts_err *err)
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         return NULL;
     }
-    if (tsd_db_analyses(srv->db, NULL, 0, list_one, list) != 0) {
+    if (tsd_db_analyses(srv->db, NULL, list_one, list) != 0) {
         json_decref(list);
         ts_err_set(err, TS_ERR_IO, NULL, "cannot list the stored analyses");
         return NULL;
@@ -327,7 +327,7 @@ json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err)
         ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         return NULL;
     }
-    if (tsd_db_analyses(srv->db, id, 1, list_one, list) != 0) {
+    if (tsd_db_analyses(srv->db, id, list_one, list) != 0) {
         json_decref(list);
         ts_err_set(err, TS_ERR_IO, NULL, "cannot read analysis '%s' from the store", id);
         return NULL;

@@ -490,21 +490,21 @@ int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted)
     " json_set(json_remove(request,'$.body'),'$.preset',json_extract(request,'$.body.preset'),"    \
     "'$.engine_fidelity',json_extract(request,'$.body.engine.fidelity')) ELSE '{}' END"
 
-int tsd_db_analyses(tsd_db *db, const char *id, int with_request, tsd_db_analysis_fn fn, void *ud)
+int tsd_db_analyses(tsd_db *db, const char *id, tsd_db_analysis_fn fn, void *ud)
 {
     row_copy t; /* fn may use the database */
     char sql[640];
     snprintf(sql, sizeof sql,
              "SELECT id,kind,created,done,error_code," ASKED_SQL ",%s FROM analyses%s"
              " ORDER BY created DESC, id",
-             with_request ? "request" : "NULL", id ? " WHERE id=?" : "");
+             id ? "request" : "NULL", id ? " WHERE id=?" : "");
     if ((id ? select_rows(db, sql, "list analyses", &t, "s", id)
             : select_rows(db, sql, "list analyses", &t, "")) != 0)
         return -1;
     for (long i = 0; i < t.n; i++) {
         sqlite3_value **c = t.v + i * t.ncol;
         fn(ud, val_text(c[0]), val_text(c[1]), sqlite3_value_double(c[2]), sqlite3_value_int(c[3]),
-           sqlite3_value_int(c[4]), val_text(c[5]), with_request ? val_text(c[6]) : NULL);
+           sqlite3_value_int(c[4]), val_text(c[5]), id ? val_text(c[6]) : NULL);
     }
     free_rows(&t);
     return 0;

@@ -89,11 +89,11 @@ int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted);
  * body's preset and engine.fidelity as "preset" and "engine_fidelity"
  * (null when absent), made by SQLite from the stored request so that only
  * that summary leaves the store. request_json: the whole request when
- * with_request, else NULL. */
+ * id is given, else NULL. */
 typedef void (*tsd_db_analysis_fn)(void *ud, const char *id, const char *kind, double created,
                                    int done, int error_code, const char *asked_json,
                                    const char *request_json);
-int tsd_db_analyses(tsd_db *db, const char *id, int with_request, tsd_db_analysis_fn fn, void *ud);
+int tsd_db_analyses(tsd_db *db, const char *id, tsd_db_analysis_fn fn, void *ud);
 
 /* Visit the ids of the analyses stored as not done (start-up recovery),
  * without reading their requests or documents (copied out first, as above). */
