@@ -448,14 +448,13 @@ int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double cre
 int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc, char **request)
 {
     row_copy t;
-    *doc = NULL;
-    if (request) *request = NULL;
+    *doc = *request = NULL;
     if (select_rows(db, "SELECT document, request FROM analyses WHERE id=?", "read analysis", &t,
                     "s", id))
         return -1;
     int rc = 0;
     if (t.n == 1 && !(*doc = strdup(val_text(t.v[0])))) rc = -1;
-    if (rc == 0 && t.n == 1 && request && !(*request = strdup(val_text(t.v[1])))) {
+    if (rc == 0 && t.n == 1 && !(*request = strdup(val_text(t.v[1])))) {
         free(*doc);
         *doc = NULL;
         rc = -1;

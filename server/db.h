@@ -72,8 +72,8 @@ int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double cre
                         int error_code, const char *request_json, const char *document_json);
 
 /* The stored operation document of analysis id and its request: *doc and
- * *request malloc'd JSON text (caller frees; request may be NULL when not
- * wanted), both NULL when there is no such analysis. */
+ * *request malloc'd JSON text (caller frees), both NULL when there is no
+ * such analysis. */
 int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc, char **request);
 
 /* How many analyses are stored (*n). */
