@@ -134,7 +134,26 @@ enum MHD_Result tsd_reply_busy(tsd_request *r, const char *title, const char *de
                              NULL);
 }
 
-#define BUDGET_TITLE "Too many answers waiting to be read"
+/* Whether the reply budget refuses a counted answer of len bytes with held
+ * bytes held already: the first one held always goes. */
+static int over_budget(size_t held, size_t len)
+{
+    return held > 0 && held + len > TSD_REPLY_BUDGET;
+}
+
+/* The 503 /problems/busy of an answer (len bytes, 0 when not yet made) the
+ * reply budget refuses with held bytes held. */
+static enum MHD_Result reply_over_budget(tsd_request *r, size_t held, size_t len)
+{
+    char detail[256];
+    char one[64] = "";
+    if (len) snprintf(one, sizeof one, "; this one (%zu kB) would pass", len >> 10);
+    snprintf(detail, sizeof detail,
+             "%zu MB of answers are waiting for their clients to read them%s the daemon's %zu MB "
+             "for them: retry shortly",
+             held >> 20, len ? one : ",", TSD_REPLY_BUDGET >> 20);
+    return tsd_reply_busy(r, "Too many answers waiting to be read", detail);
+}
 
 int tsd_reply_budget_full(tsd_request *r, enum MHD_Result *ret)
 {
@@ -142,13 +161,8 @@ int tsd_reply_budget_full(tsd_request *r, enum MHD_Result *ret)
     /* reply_buffer refuses any counted answer (>= TSD_REPLY_COUNTED_MIN) past
      * this, as something is held; an answer too small to be counted would
      * still go, but what is asked for here is rarely that small */
-    if (held + TSD_REPLY_COUNTED_MIN <= TSD_REPLY_BUDGET) return 0;
-    char detail[256];
-    snprintf(detail, sizeof detail,
-             "%zu MB of answers are waiting for their clients to read them, the daemon's %zu MB "
-             "for them: retry shortly",
-             held >> 20, TSD_REPLY_BUDGET >> 20);
-    *ret = tsd_reply_busy(r, BUDGET_TITLE, detail);
+    if (!over_budget(held, TSD_REPLY_COUNTED_MIN)) return 0;
+    *ret = reply_over_budget(r, held, 0);
     return 1;
 }
 
@@ -165,16 +179,12 @@ static enum MHD_Result reply_buffer(tsd_request *r, unsigned status, const char 
         return queue(r, status, resp, content_type, len);
     }
     tsd_server *srv = r->srv;
-    size_t held = atomic_fetch_add(&srv->reply_bytes, len) + len;
-    if (held > TSD_REPLY_BUDGET && held > len) { /* others are held: this one waits */
+    size_t held = atomic_fetch_add(&srv->reply_bytes, len); /* held before this one */
+    if (over_budget(held, len)) {
+        /* others are held: this one waits */
         atomic_fetch_sub(&srv->reply_bytes, len);
         free(text);
-        char detail[256];
-        snprintf(detail, sizeof detail,
-                 "%zu MB of answers are waiting for their clients to read them; this one (%zu "
-                 "kB) would pass the daemon's %zu MB for them: retry shortly",
-                 (held - len) >> 20, len >> 10, TSD_REPLY_BUDGET >> 20);
-        return tsd_reply_busy(r, BUDGET_TITLE, detail);
+        return reply_over_budget(r, held, len);
     }
     held_reply *h = malloc(sizeof *h);
     if (!h) {
