@@ -1136,17 +1136,15 @@ static ts_rc acquire(tsd_session *s, ts_err *err)
      * was queued is marked unrestored too (tsd_session_build), but its rows
      * are gone — 404, as a step a DELETE cuts short, not a 409 saying the
      * rows are kept */
-    if (tsd_session_is_deleted(s))
-        return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id);
-    if (s->unrestored) /* immutable once the session is built: no lock needed */
-        return ts_err_set(err, TS_ERR_STATE, NULL,
-                          "session %s cannot be advanced by this daemon: %s (its stored rows "
-                          "are kept and can be read)",
-                          s->id, s->error);
     pthread_mutex_lock(&s->mu);
     ts_rc rc = TS_OK;
-    if (s->deleted) /* a DELETE landed after the router looked the session up */
+    if (s->deleted) /* also when a DELETE landed after the router looked the session up */
         rc = ts_err_set(err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id);
+    else if (s->unrestored) /* immutable once the session is built */
+        rc = ts_err_set(err, TS_ERR_STATE, NULL,
+                        "session %s cannot be advanced by this daemon: %s (its stored rows "
+                        "are kept and can be read)",
+                        s->id, s->error);
     else if (s->busy)
         rc =
             ts_err_set(err, TS_ERR_STATE, NULL, "session %s is busy (%s)", s->id,
