@@ -598,11 +598,14 @@ int tsd_server_start(tsd_server *s, char *err, size_t errlen)
 {
     unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL_LINUX_ONLY |
                      MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG;
-    if (strchr(s->opt.bind, ':')) flags |= MHD_USE_IPv6;
     if (s->listen_fd < 0) {
         snprintf(err, errlen, "internal error: no socket bound (tsd_server_bind)");
         return -1;
     }
+    struct sockaddr_storage ss; /* the family of the bound socket */
+    socklen_t len = sizeof ss;
+    if (getsockname(s->listen_fd, (struct sockaddr *)&ss, &len) == 0 && ss.ss_family == AF_INET6)
+        flags |= MHD_USE_IPv6;
     if (listen(s->listen_fd, SOMAXCONN) != 0) {
         snprintf(err, errlen, "cannot listen on %s port %d: %s", s->opt.bind, s->opt.port,
                  strerror(errno));
