@@ -97,15 +97,82 @@ REPO = os.path.join(os.path.dirname(__file__), "..")
 BASE_PRESET = "pointmass-prescribed"  # the foundation's preset; every build has it
 
 
-def stepped_session(url, preset=BASE_PRESET, step=0.5):
-    """Create a session of preset (1-s run, 50-Hz samples), step it `step` s; its id."""
+def stepped_session(url, preset=BASE_PRESET, step=0.5, sample_rate=50, duration=1.0):
+    """Create a session of preset (a `duration`-s run, `sample_rate`-Hz samples;
+    1 s at 50 Hz unless told), step it `step` s; its id."""
     r = requests.post(url + "/v1/sessions",
-                      json={"preset": preset, "run": {"duration": 1.0, "sample_rate": 50}})
+                      json={"preset": preset, "run": {"duration": duration, "sample_rate": sample_rate}})
     assert r.status_code == 201, r.text
     s = r.json()["id"]
-    r = requests.post(f"{url}/v1/sessions/{s}/step", json={"duration": step})
+    r = requests.post(f"{url}/v1/sessions/{s}/step", json={"duration": step}, timeout=120)
     assert r.status_code == 200, r.text
     return s
+
+
+def wide_session(url):
+    """A session of 20001 rows x 65 channels (bump-coupled-rack90, 1 s at 20 kHz:
+    ~0.4 s to make); its id."""
+    return stepped_session(url, "bump-coupled-rack90", step=1, sample_rate=20000, duration=1)
+
+
+def metric(url, name):
+    """The value of the unlabelled metric name in GET /metrics."""
+    for line in requests.get(url + "/metrics", timeout=10).text.splitlines():
+        if line.startswith(name + " "):
+            return float(line.split()[1])
+    raise AssertionError(f"no {name} in /metrics")
+
+
+def wait_metric(url, name, value, timeout=20):
+    """Poll GET /metrics until name equals value (e.g. tanksimd_jobs_pending: the
+    worker-pool jobs queued or running, to know requests wait on the pool)."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        if metric(url, name) == value:
+            return
+        time.sleep(0.02)
+    raise AssertionError(f"{name} is {metric(url, name)}, not {value}, after {timeout} s")
+
+
+def ask_unread(d, path):
+    """Send GET path to daemon d on a socket whose answer is never read
+    past its head (a small receive buffer); the socket."""
+    s = socket.create_connection(("127.0.0.1", d.port))
+    s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    s.sendall(f"GET {path} HTTP/1.1\r\nHost: x\r\n\r\n".encode())
+    return s
+
+
+def read_head(s):
+    """The status and head (bytes) of the answer on socket s of ask_unread."""
+    s.settimeout(10)
+    head = b""
+    while b"\r\n\r\n" not in head:
+        chunk = s.recv(1024)
+        assert chunk
+        head += chunk
+    return int(head.split()[1]), head
+
+
+def unread(d, path):
+    """Ask daemon d for path on a socket that is never read: (socket, status)."""
+    s = ask_unread(d, path)
+    return s, read_head(s)[0]
+
+
+def wait_released(url):
+    """Wait until no answer is held for an unread client (the held answers go
+    with their connections)."""
+    deadline = time.time() + 5
+    while metric(url, "tanksimd_reply_held_bytes") != 0 and time.time() < deadline:
+        time.sleep(0.05)
+    assert metric(url, "tanksimd_reply_held_bytes") == 0
+
+
+def rss_kb(pid):
+    """Resident size of process pid [kB]."""
+    with open(f"/proc/{pid}/status") as f:
+        return int(f.read().split("VmRSS:")[1].split()[0])
 
 
 @pytest.fixture(scope="module")

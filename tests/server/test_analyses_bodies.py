@@ -9,11 +9,10 @@ GET /v1/analyses/{id} gives one entry with its whole request, and the
 operation document still shows metadata.request."""
 import json
 import sqlite3
-import tempfile
 
 import requests
 
-from conftest import wait_op, Daemon as start
+from conftest import Daemon, wait_op
 
 DYNO = {"run": {"kind": "engine_dyno"}, "engine": {"fidelity": "mean_value", "_why": "fast"},
         "control": {"rack": 1.0}}
@@ -27,10 +26,10 @@ def without_comments(j):
     return j
 
 
-def test_request_stored_once_without_comments_and_listed_without_body():
-    dd = tempfile.mkdtemp(prefix="tanksimd-")
+def test_request_stored_once_without_comments_and_listed_without_body(tmp_path):
+    dd = str(tmp_path)
     body = {**DYNO, "_note": "x" * 300_000}
-    with start("--threads", "2", data_dir=dd) as d:
+    with Daemon("--threads", "2", data_dir=dd) as d:
         r = requests.post(d.url + "/v1/tune?schedule_mass=50000,60000", data=json.dumps(body))
         assert r.status_code == 202, r.text
         op = r.json()
@@ -45,7 +44,7 @@ def test_request_stored_once_without_comments_and_listed_without_body():
     assert json.loads(req) == want and "_note" not in req and "_why" not in req
     assert "request" not in json.loads(doc)["metadata"]  # once: in its column
     assert len(req) + len(doc) < 4000
-    with start("--threads", "2", data_dir=dd) as d:
+    with Daemon("--threads", "2", data_dir=dd) as d:
         assert requests.get(f"{d.url}/v1/operations/{op['id']}").json() == done  # put back
         (a,) = requests.get(d.url + "/v1/analyses").json()["analyses"]
         assert "request" not in a
@@ -56,10 +55,10 @@ def test_request_stored_once_without_comments_and_listed_without_body():
         assert requests.get(f"{d.url}/v1/analyses/op0000000000000000").status_code == 404
 
 
-def test_listing_of_large_stored_bodies_stays_small():
+def test_listing_of_large_stored_bodies_stays_small(tmp_path):
     """Rows as an older daemon stored them: 20 bodies of 1 MB in both columns."""
-    dd = tempfile.mkdtemp(prefix="tanksimd-")
-    with start(data_dir=dd):
+    dd = str(tmp_path)
+    with Daemon(data_dir=dd):
         pass  # make the store
     con = sqlite3.connect(dd + "/tanksimd.db")
     big = {"body": {"preset": "engine-map-conventional", "_note": "x" * 1_000_000}}
@@ -73,7 +72,7 @@ def test_listing_of_large_stored_bodies_stays_small():
                     (oid, "engine_map", 1e9 + i, 1, 0, json.dumps(big), json.dumps(doc)))
     con.commit()
     con.close()
-    with start(data_dir=dd) as d:
+    with Daemon(data_dir=dd) as d:
         r = requests.get(d.url + "/v1/analyses")
         assert r.status_code == 200
         lst = r.json()["analyses"]
@@ -85,12 +84,12 @@ def test_listing_of_large_stored_bodies_stays_small():
         assert op["metadata"]["request"] == without_comments(big)
 
 
-def test_old_rows_are_shown_without_their_comment_keys():
+def test_old_rows_are_shown_without_their_comment_keys(tmp_path):
     """A row an older daemon stored (its request with "_" keys, in its column and
     in the document): GET /v1/analyses/{id} and the operation show it without them,
     as the daemon stores requests now."""
-    dd = tempfile.mkdtemp(prefix="tanksimd-")
-    with start(data_dir=dd):
+    dd = str(tmp_path)
+    with Daemon(data_dir=dd):
         pass  # make the store
     req = {"body": {**DYNO, "_comment": "old", "control": {"rack": 1.0, "_why": "full"},
                     "run": {"kind": "engine_dyno", "x": [{"_a": 1, "b": 2}]}},
@@ -107,7 +106,7 @@ def test_old_rows_are_shown_without_their_comment_keys():
     con.close()
     want = without_comments(req)
     assert want["body"]["run"]["x"] == [{"b": 2}] and "_why" not in json.dumps(want)
-    with start(data_dir=dd) as d:
+    with Daemon(data_dir=dd) as d:
         one = requests.get(f"{d.url}/v1/analyses/{oid}").json()
         assert one["request"] == want
         assert one["asked"]["engine_fidelity"] == "mean_value"

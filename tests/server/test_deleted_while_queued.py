@@ -6,48 +6,36 @@ read)" / "has no frames here", which is false: the rows are gone. They now
 answer 404 "session ... was deleted", as a step a DELETE cuts short does.
 A frame whose session is deleted while it is drawn answers the same 404, not
 one naming /t ("no stored state at or before t")."""
-import tempfile
 import threading
-import time
 
 import requests
 
-from conftest import is_problem, wait_op, Daemon as start
+from conftest import Daemon, is_problem, metric, stepped_session, wait_metric, wait_op
 
 
-def make_session(url):
-    r = requests.post(url + "/v1/sessions",
-                      json={"preset": "bump-prescribed-coupled", "run": {"duration": 1.0, "sample_rate": 50}})
-    assert r.status_code == 201, r.text
-    sid = r.json()["id"]
-    assert requests.post(f"{url}/v1/sessions/{sid}/step", json={"duration": 0.2}).status_code == 200
-    return sid
-
-
-def test_requests_queued_behind_the_rebuild_of_a_deleted_session_answer_404():
-    dd = tempfile.mkdtemp(prefix="tanksimd-")
-    with start("--threads", "1", data_dir=dd) as d:
-        sid = make_session(d.url)
-    with start("--threads", "1", data_dir=dd) as d:
+def test_requests_queued_behind_the_rebuild_of_a_deleted_session_answer_404(tmp_path):
+    dd = str(tmp_path)
+    with Daemon("--threads", "1", data_dir=dd) as d:
+        sid = stepped_session(d.url, "bump-prescribed-coupled", step=0.2)
+    with Daemon("--threads", "1", data_dir=dd) as d:
         # the one worker is busy with an engine map: the rebuild waits behind it
         r = requests.post(d.url + "/v1/engine-map", json={"preset": "engine-map-conventional"})
         assert r.status_code == 202, r.text
         op = r.json()["id"]
+        busy = metric(d.url, "tanksimd_jobs_pending")  # the engine map, running
         answers = {}
 
         def ask(name, method, path, **kw):
             answers[name] = requests.request(method, d.url + path, timeout=60, **kw)
 
-        threads = [threading.Thread(target=ask, args=a) for a in [
-            ("step", "POST", f"/v1/sessions/{sid}/step", ),
-            ("frame", "GET", f"/v1/sessions/{sid}/frame.png?t=0.1"),
-            ("summary", "GET", f"/v1/sessions/{sid}/summary"),
+        threads = [threading.Thread(target=ask, args=a, kwargs=kw) for a, kw in [
+            (("step", "POST", f"/v1/sessions/{sid}/step"), {"json": {"duration": 0.1}}),
+            (("frame", "GET", f"/v1/sessions/{sid}/frame.png?t=0.1"), {}),
+            (("summary", "GET", f"/v1/sessions/{sid}/summary"), {}),
         ]]
-        threads[0] = threading.Thread(target=ask, args=("step", "POST", f"/v1/sessions/{sid}/step"),
-                                      kwargs={"json": {"duration": 0.1}})
         for t in threads:
             t.start()
-        time.sleep(0.5)  # all three wait for the rebuild
+        wait_metric(d.url, "tanksimd_jobs_pending", busy + len(threads))  # all three wait for the rebuild
         assert not answers, {k: (v.status_code, v.text) for k, v in answers.items()}
         assert requests.delete(f"{d.url}/v1/sessions/{sid}").status_code == 204
         requests.post(f"{d.url}/v1/operations/{op}:cancel")
@@ -62,16 +50,17 @@ def test_requests_queued_behind_the_rebuild_of_a_deleted_session_answer_404():
 
 
 def test_frame_of_a_loaded_session_deleted_before_it_is_drawn_is_404_without_t():
-    with start("--threads", "1") as d:
-        sid = make_session(d.url)  # built: no first-use rebuild
+    with Daemon("--threads", "1") as d:
+        sid = stepped_session(d.url, "bump-prescribed-coupled", step=0.2)  # built: no first-use rebuild
         r = requests.post(d.url + "/v1/engine-map", json={"preset": "engine-map-conventional"})
         assert r.status_code == 202, r.text
         op = r.json()["id"]
+        busy = metric(d.url, "tanksimd_jobs_pending")  # the engine map, running
         got = []
         t = threading.Thread(target=lambda: got.append(
             requests.get(f"{d.url}/v1/sessions/{sid}/frame.png?t=0.1", timeout=60)))
         t.start()
-        time.sleep(0.5)  # the draw waits behind the engine map
+        wait_metric(d.url, "tanksimd_jobs_pending", busy + 1)  # the draw waits behind the engine map
         assert not got
         assert requests.delete(f"{d.url}/v1/sessions/{sid}").status_code == 204  # rows go now
         requests.post(f"{d.url}/v1/operations/{op}:cancel")

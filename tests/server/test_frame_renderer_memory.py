@@ -12,34 +12,19 @@ import pytest
 import requests
 
 import conftest
-from conftest import Daemon
-
-
-@pytest.fixture(scope="module")
-def d():
-    dm = Daemon()
-    yield dm
-    dm.stop()
-
-
-def rss_mb(pid):
-    with open(f"/proc/{pid}/status") as f:
-        return int(f.read().split("VmRSS:")[1].split()[0]) / 1024
+from conftest import rss_kb, stepped_session
 
 
 @pytest.mark.skipif(conftest.SANITIZED, reason="resident size under a sanitizer's allocator is not the daemon's")
 @pytest.mark.parametrize("width, height, bound_mb", [(4096, 4096, 150), (1920, 1080, 40)])
-def test_large_frame_leaves_no_large_renderer_behind(d, width, height, bound_mb):
-    r = requests.post(d.url + "/v1/sessions",
-                      json={"preset": "bump-prescribed-coupled", "run": {"sample_rate": 50, "duration": 1}})
-    sid = r.json()["id"]
-    assert requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.2}).status_code == 200
-    frame = f"{d.url}/v1/sessions/{sid}/frame.png"
+def test_large_frame_leaves_no_large_renderer_behind(daemon, width, height, bound_mb):
+    sid = stepped_session(daemon.url, "bump-prescribed-coupled", step=0.2)
+    frame = f"{daemon.url}/v1/sessions/{sid}/frame.png"
     for t in (0.1, 0.12):  # a pooled renderer of the default size exists
         assert requests.get(frame, params={"t": t}).status_code == 200
-    before = rss_mb(d.proc.pid)
+    before = rss_kb(daemon.proc.pid) / 1024
     r = requests.get(frame, params={"t": 0.14, "width": width, "height": height, "antialias": 1})
     assert r.status_code == 200 and r.headers["Content-Type"] == "image/png"
-    after = rss_mb(d.proc.pid)
+    after = rss_kb(daemon.proc.pid) / 1024
     assert after - before < bound_mb, (before, after)
     assert requests.get(frame, params={"t": 0.16}).status_code == 200

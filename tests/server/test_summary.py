@@ -19,17 +19,6 @@ import requests
 from conftest import TANKSIM, Daemon, is_problem, wait_op
 
 
-def start_daemon(**kw):
-    return Daemon(**kw)
-
-
-@pytest.fixture(scope="module")
-def d():
-    dm = start_daemon()
-    yield dm
-    dm.stop()
-
-
 def create(url, body):
     r = requests.post(url + "/v1/sessions", json=body)
     assert r.status_code == 201, r.text
@@ -78,13 +67,13 @@ CASES = {
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
-def test_figures_equal_the_cli_summary(d, tmp_path, case):
+def test_figures_equal_the_cli_summary(daemon, tmp_path, case):
     body = CASES[case]
-    s = create(d.url, body)
+    s = create(daemon.url, body)
     assert s["links"]["summary"] == f"/v1/sessions/{s['id']}/summary"
-    op = requests.post(f"{d.url}/v1/sessions/{s['id']}/run", json={}).json()
-    assert "error" not in wait_op(d.url, op["id"], timeout=60)
-    got = summary(d.url, s["id"])
+    op = requests.post(f"{daemon.url}/v1/sessions/{s['id']}/run", json={}).json()
+    assert "error" not in wait_op(daemon.url, op["id"], timeout=60)
+    got = summary(daemon.url, s["id"])
     assert got["id"] == s["id"] and got["status"] == "done" and got["complete"] is True
     assert got["t"] == body["run"]["duration"]
     assert_same_figures(got, cli_summary(tmp_path, body))
@@ -96,57 +85,57 @@ def test_figures_equal_the_cli_summary(d, tmp_path, case):
         assert "peak_tension" in names and "tension_peak_13_20hz" in names
 
 
-def test_a_new_session_has_row_0_only(d):
+def test_a_new_session_has_row_0_only(daemon):
     # the daemon stores row 0 at creation, so there is no session without rows:
     # 200 with what the model makes of that one row, as /series serves it
-    s = create(d.url, CASES["coupled"])
-    got = summary(d.url, s["id"])
+    s = create(daemon.url, CASES["coupled"])
+    got = summary(daemon.url, s["id"])
     assert (got["status"], got["complete"], got["rows"], got["t"]) == ("created", False, 1, 0)
     assert got["dof"] == 31 and got["metrics"] == []  # the coupled kind needs two rows
-    s = create(d.url, {"preset": "accel-pointmass-conventional", "run": {"duration": 2.0}})
-    got = summary(d.url, s["id"])
+    s = create(daemon.url, {"preset": "accel-pointmass-conventional", "run": {"duration": 2.0}})
+    got = summary(daemon.url, s["id"])
     assert got["rows"] == 1 and got["complete"] is False
     values = {m["name"]: m["value"] for m in got["metrics"]}
     assert values["speed_at_end_kmh"] == 0 and values["t_0_60_kmh_s"] is None
 
 
-def test_a_run_in_progress_gives_the_figures_of_what_is_stored(d, tmp_path):
+def test_a_run_in_progress_gives_the_figures_of_what_is_stored(daemon, tmp_path):
     body = {"preset": "accel-pointmass-conventional", "run": {"duration": 6.0}}
-    s = create(d.url, body)
-    op = requests.post(f"{d.url}/v1/sessions/{s['id']}/run",
+    s = create(daemon.url, body)
+    op = requests.post(f"{daemon.url}/v1/sessions/{s['id']}/run",
                        json={"real_time_factor": 2}).json()
     try:
         deadline = time.time() + 20
         while True:
-            got = summary(d.url, s["id"])
+            got = summary(daemon.url, s["id"])
             if got["status"] == "running" and got["t"] >= 1.0:
                 break
             assert time.time() < deadline, got
             time.sleep(0.05)
     finally:
-        requests.post(f"{d.url}/v1/operations/{op['id']}:cancel")
+        requests.post(f"{daemon.url}/v1/operations/{op['id']}:cancel")
     assert got["complete"] is False and got["t"] < 6.0
     assert got["rows"] == round(got["t"] * 100) + 1
     # exactly the CLI's figures of a run stopped at that time
     assert_same_figures(got, cli_summary(tmp_path, body, until=got["t"]))
-    wait_op(d.url, op["id"])
-    after = summary(d.url, s["id"])
+    wait_op(daemon.url, op["id"])
+    after = summary(daemon.url, s["id"])
     assert after["status"] == "paused" and after["complete"] is False
     assert after["rows"] >= got["rows"]
 
 
-def test_unknown_and_deleted_sessions_are_404(d):
-    p = is_problem(requests.get(d.url + "/v1/sessions/s0123456789abcdef/summary"), 404)
+def test_unknown_and_deleted_sessions_are_404(daemon):
+    p = is_problem(requests.get(daemon.url + "/v1/sessions/s0123456789abcdef/summary"), 404)
     assert "s0123456789abcdef" in p["detail"]
-    s = create(d.url, CASES["vehicle"])
-    assert requests.delete(f"{d.url}/v1/sessions/{s['id']}").status_code == 204
-    is_problem(requests.get(f"{d.url}/v1/sessions/{s['id']}/summary"), 404)
+    s = create(daemon.url, CASES["vehicle"])
+    assert requests.delete(f"{daemon.url}/v1/sessions/{s['id']}").status_code == 204
+    is_problem(requests.get(f"{daemon.url}/v1/sessions/{s['id']}/summary"), 404)
 
 
 def test_a_session_this_build_cannot_rebuild_is_409_then_as_before(tmp_path):
     data = str(tmp_path / "store")
     body = {"preset": "accel-pointmass-conventional", "run": {"duration": 1.0}}
-    dm = start_daemon(data_dir=data)
+    dm = Daemon(data_dir=data)
     try:
         sid = create(dm.url, body)["id"]
         op = requests.post(f"{dm.url}/v1/sessions/{sid}/run", json={}).json()
@@ -158,7 +147,7 @@ def test_a_session_this_build_cannot_rebuild_is_409_then_as_before(tmp_path):
     with sqlite3.connect(f"{data}/tanksimd.db") as c:
         ((config,),) = c.execute("SELECT config FROM sessions WHERE seq=1").fetchall()
         c.execute("UPDATE sessions SET config=? WHERE seq=1", ('{"run": {"kind": "no-such"}}',))
-    dm = start_daemon(data_dir=data)
+    dm = Daemon(data_dir=data)
     try:
         p = is_problem(requests.get(f"{dm.url}/v1/sessions/{sid}/summary"), 409)
         assert "model cannot be rebuilt" in p["detail"], p
@@ -166,7 +155,7 @@ def test_a_session_this_build_cannot_rebuild_is_409_then_as_before(tmp_path):
         assert dm.stop() == 0
     with sqlite3.connect(f"{data}/tanksimd.db") as c:
         c.execute("UPDATE sessions SET config=? WHERE seq=1", (config,))
-    dm = start_daemon(data_dir=data)
+    dm = Daemon(data_dir=data)
     try:  # the model built at first use, over the stored rows: the same figures
         assert summary(dm.url, sid) == before
     finally:

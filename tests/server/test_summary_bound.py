@@ -6,26 +6,18 @@ with Retry-After, and the one computed is the same as alone."""
 import threading
 import time
 
-import pytest
 import requests
 
-from conftest import Daemon, is_problem
+from conftest import is_problem
 
 
-@pytest.fixture(scope="module")
-def d():
-    dm = Daemon()
-    yield dm
-    dm.stop()
-
-
-def test_one_summary_at_a_time_the_others_busy(d):
-    r = requests.post(d.url + "/v1/sessions",
+def test_one_summary_at_a_time_the_others_busy(daemon):
+    r = requests.post(daemon.url + "/v1/sessions",
                       json={"preset": "bump-coupled-rack90", "run": {"sample_rate": 20000, "duration": 5}})
     assert r.status_code == 201, r.text
     sid = r.json()["id"]
-    assert requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 5}, timeout=120).status_code == 200
-    path = f"{d.url}/v1/sessions/{sid}/summary"
+    assert requests.post(f"{daemon.url}/v1/sessions/{sid}/step", json={"duration": 5}, timeout=120).status_code == 200
+    path = f"{daemon.url}/v1/sessions/{sid}/summary"
     alone = requests.get(path)
     assert alone.status_code == 200 and alone.json()["rows"] == 100001
     answers, health = [], []
@@ -41,7 +33,7 @@ def test_one_summary_at_a_time_the_others_busy(d):
     go.wait()
     time.sleep(0.01)
     t0 = time.time()
-    assert requests.get(d.url + "/v1/health", timeout=10).status_code == 200
+    assert requests.get(daemon.url + "/v1/health", timeout=10).status_code == 200
     health.append(time.time() - t0)
     for t in threads:
         t.join(60)
