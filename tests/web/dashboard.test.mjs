@@ -338,8 +338,35 @@ async function startedOp(page, button) {
   return (await posted).json();
 }
 
+/* The operation document `id` of the daemon at `url`. */
+const opOf = async (url, id) => (await fetch(`${url}/v1/operations/${id}`)).json();
+
 /* Wait until operation `id` of the daemon at `url` is done (the next analysis would get a 429). */
-const opDone = (url, id) => waitFor(async () => (await (await fetch(`${url}/v1/operations/${id}`)).json()).done, `operation ${id} done`, 30000);
+const opDone = (url, id) => waitFor(async () => (await opOf(url, id)).done, `operation ${id} done`, 30000);
+
+/* Hold page's requests to url (a route pattern) until release(); only(route), if
+ * given, picks the requests held (the others go on). held(): one was asked for;
+ * stop(): release and unroute (call it in finally). */
+async function holdRoute(page, url, only = () => true) {
+  let held = false;
+  let release;
+  const gate = new Promise((r) => (release = r));
+  const hold = async (route) => {
+    if (!only(route)) return route.continue();
+    held = true;
+    await gate;
+    return route.continue();
+  };
+  await page.route(url, hold);
+  return {
+    held: () => held,
+    release: () => release(),
+    stop: async () => {
+      release();
+      await page.unroute(url, hold);
+    },
+  };
+}
 
 async function runToEnd(page, { watchGrowth = false } = {}) {
   const counts = [];
@@ -423,23 +450,16 @@ async function main() {
 
     await check("the analysis forms' Run buttons stay disabled until /v1/presets has filled their preset lists (a click before sent preset \"\" and got 404)", async () => {
       const early = await newPage(browser);
-      let release;
-      const gate = new Promise((r) => (release = r));
-      let held = false;
-      await early.route('**/v1/presets', async (route) => {
-        held = true;
-        await gate;
-        return route.continue();
-      });
+      const presets = await holdRoute(early, '**/v1/presets');
       try {
         await early.goto(`${d.url}/`);
-        await waitFor(() => held, 'the preset list requested');
+        await waitFor(presets.held, 'the preset list requested');
         await early.waitForTimeout(200); /* time for a wrong enabling to show */
         for (const b of ['#map-run', '#tune-run']) assert(await early.locator(b).isDisabled(), `${b} enabled before the presets came`);
-        release();
+        presets.release();
         for (const b of ['#map-run', '#tune-run']) await waitFor(async () => !(await early.locator(b).isDisabled()), `${b} enabled once the presets came`, 5000);
       } finally {
-        release();
+        await presets.stop();
         await early.close();
       }
     });
@@ -478,23 +498,14 @@ async function main() {
       const want = (await (await fetch(`${d.url}/v1/presets/${preset}`)).json()).config;
       assert(want.run.kind !== 'pointmass', `${preset} is a point-mass preset: the check needs another kind`);
       /* hold the point-mass preset's document until the second choice is in the form */
-      const url = '**/v1/presets/pointmass-prescribed';
-      let held = false;
-      let release;
-      const gate = new Promise((r) => (release = r));
-      const hold = async (route) => {
-        held = true;
-        await gate;
-        return route.continue();
-      };
-      await page.route(url, hold);
+      const hold = await holdRoute(page, '**/v1/presets/pointmass-prescribed');
       try {
         await page.selectOption('#preset-select', 'pointmass-prescribed');
-        await waitFor(() => held, 'the point-mass preset requested');
+        await waitFor(hold.held, 'the point-mass preset requested');
         await presetLoaded(page, () => page.selectOption('#preset-select', preset));
         await page.locator('#schema-form .field[data-pointer="/run/duration"] input').dispatchEvent('input'); /* cleared if a late setBase() comes */
         const answered = page.waitForResponse((r) => r.url().endsWith('/v1/presets/pointmass-prescribed'));
-        release();
+        hold.release();
         await (await answered).finished();
         await page.waitForTimeout(300); /* time for a wrong reaction to the answer to show */
         const shown = { select: await page.locator('#preset-select').inputValue(), kind: await kind(), rate: await rate() };
@@ -503,8 +514,7 @@ async function main() {
           `after the late point-mass answer: ${JSON.stringify(shown)}, ${edited} field(s) marked edited; want ${preset}, ${want.run.kind}, ${want.run.sample_rate} Hz, 1 (the form kept)`);
         assert(!(await page.locator('#create-error').isVisible()), `an error is shown: ${await text(page, '#create-error')}`);
       } finally {
-        release();
-        await page.unroute(url, hold);
+        await hold.stop();
         await presetLoaded(page, () => page.click('#reset-form')); /* the chosen preset in the form, also after a failure */
       }
     });
@@ -905,30 +915,26 @@ async function main() {
       for (const cb of await page.locator('#session-table input.cmp').all()) await cb.uncheck();
       await waitFor(async () => (await cached()).length === 0, 'no channel list cached with none ticked', 3000);
       /* hold the session's GET until it is unticked */
-      const url = `**/v1/sessions/${id}`;
-      let held = false;
-      let release;
-      const gate = new Promise((r) => (release = r));
-      const hold = async (route) => {
-        held = true;
-        await gate;
-        return route.continue();
-      };
-      await page.route(url, hold);
+      const hold = await holdRoute(page, `**/v1/sessions/${id}`);
       try {
+        await page.evaluate(() => performance.clearResourceTimings()); /* room for the held fetch's entry below */
         await row.locator('input.cmp').check();
-        await waitFor(() => held, "the ticked session's channel list requested", 3000);
+        await waitFor(hold.held, "the ticked session's channel list requested", 3000);
         await row.locator('input.cmp').uncheck();
-        const answered = page.waitForResponse((r) => new URL(r.url()).pathname === `/v1/sessions/${id}`);
-        release();
-        await (await answered).finished();
-        await page.waitForTimeout(300); /* time for the answer to be handled */
+        /* the page's fetch of the held answer complete (its resource-timing entry), then a
+         * task turn for the app's handler chained on it */
+        const settled = page.evaluate((path) => new Promise((resolve) => {
+          const seen = () => performance.getEntriesByType('resource').some((e) => new URL(e.name).pathname === path && e.responseEnd > 0);
+          const poll = () => (seen() ? setTimeout(resolve, 50) : setTimeout(poll, 10));
+          poll();
+        }), `/v1/sessions/${id}`);
+        hold.release();
+        await settled;
         const left = await cached();
         assert(!left.includes(id), `the unticked session's channels were cached when its answer came: ${JSON.stringify(left)}`);
         assert((await page.evaluate(() => window.tanksimDebug.state.compare.size)) === 0, 'a session still ticked');
       } finally {
-        release();
-        await page.unroute(url, hold);
+        await hold.stop();
       }
       /* ticked again: fetched anew, cached while ticked, gone when unticked */
       await row.locator('input.cmp').check();
@@ -1255,20 +1261,16 @@ async function main() {
       const runId = await page.evaluate(() => window.tanksimDebug.state.session.id);
       const errors0 = consoleErrors.length;
       /* hold the run's first operation poll until the first (done) session is open */
-      let held = false;
-      let release;
-      const gate = new Promise((r) => (release = r));
-      const hold = async (route) => {
-        if (held || route.request().method() !== 'GET') return route.continue();
-        held = true;
-        await gate;
-        return route.continue();
-      };
-      await page.route('**/v1/operations/*', hold);
+      let first = true;
+      const hold = await holdRoute(page, '**/v1/operations/*', (route) => {
+        if (!first || route.request().method() !== 'GET') return false;
+        first = false;
+        return true;
+      });
       try {
         await page.selectOption('#run-pace', '5');
         await page.click('#run-btn');
-        await waitFor(() => held, 'the run operation polled');
+        await waitFor(hold.held, 'the run operation polled');
         await page.click(`#session-table tr[data-id="${firstId}"] td:nth-child(2)`);
         await waitFor(async () => (await text(page, '#session-title')) === `Session ${firstId.slice(0, 8)}` && (await sampleCount(page)) > 10, 'the first session open');
         const shown = () =>
@@ -1279,7 +1281,7 @@ async function main() {
         const before = await shown();
         const rec = recordRequests(page);
         const answered = page.waitForResponse((r) => r.url().includes('/v1/operations/'));
-        release();
+        hold.release();
         await answered;
         await page.waitForTimeout(300); /* time for a wrong reaction to the answer to show */
         rec.stop();
@@ -1290,8 +1292,7 @@ async function main() {
         const polls = rec.seen.filter((r) => r.startsWith('GET /v1/operations/'));
         assert(polls.length === 0, `the run is still polled: ${polls.length} request(s)`);
       } finally {
-        release();
-        await page.unroute('**/v1/operations/*', hold);
+        await hold.stop();
         /* back to the run and stop it, also after a failure: the next checks delete the open session */
         await page.click(`#session-table tr[data-id="${runId}"] td:nth-child(2)`);
         await waitFor(async () => (await text(page, '#session-title')) === `Session ${runId.slice(0, 8)}`, 'the running session open');
@@ -1730,7 +1731,6 @@ async function main() {
       assert(r.status === 202, `POST ${route} -> ${r.status}: ${JSON.stringify(doc)}`);
       return doc;
     };
-    const opOf = async (url, id) => (await fetch(`${url}/v1/operations/${id}`)).json();
     await check("stored analyses: a map another client started is listed running, and its end (cancelled by that client) shows with no click", async () => {
       const op = await post(db.url, '/v1/engine-map', { preset: 'engine-map-conventional' }); /* crank-angle: seconds per speed */
       await page3.click('#refresh-analyses');
