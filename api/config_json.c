@@ -483,24 +483,52 @@ ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err)
     return rc;
 }
 
-/* err for the config file at path that jansson refused (je): the text up to
- * where it stopped is read again to name the member (tsa_json_parse_err); if
- * it cannot be, the error names the root. */
-static ts_rc file_parse_err(const char *path, const json_error_t *je, ts_err *err)
+/* A config file is read once, whole, and parsed from memory: a parse error's
+ * member is then named from the same bytes jansson saw, and a file that can be
+ * read only once (a pipe, `<(...)`, /dev/stdin) works. Bounded: a config is a
+ * few kB, so anything past TSA_CONFIG_FILE_MAX is refused, not buffered. */
+#define TSA_CONFIG_FILE_MAX (16u << 20)
+
+static ts_rc read_config_file(const char *path, char **text_out, size_t *len_out, ts_err *err)
 {
-    char lead[TS_ERR_MSG_LEN / 2];
-    snprintf(lead, sizeof lead, "%s:%d:%d", path, je->line, je->column);
-    size_t want = je->position > 0 ? (size_t)je->position : 0;
-    char *text = malloc(want + 1);
-    size_t got = 0;
-    FILE *f = text ? fopen(path, "rb") : NULL;
-    if (f) {
-        got = fread(text, 1, want, f);
+    FILE *f = fopen(path, "rb");
+    if (!f) return ts_err_set(err, TS_ERR_IO, NULL, "%s: %s", path, strerror(errno));
+    size_t cap = 8192, len = 0;
+    char *text = malloc(cap);
+    if (!text) {
         fclose(f);
+        return ts_err_set(err, TS_ERR_NOMEM, NULL, "%s: out of memory", path);
     }
-    ts_rc rc = tsa_json_parse_err(text ? text : "", got, je, lead, err);
-    free(text);
-    return rc;
+    ts_rc rc = TS_OK;
+    for (;;) {
+        if (len == cap) {
+            char *grown = cap < TSA_CONFIG_FILE_MAX ? realloc(text, cap * 2) : NULL;
+            if (!grown) {
+                rc = cap < TSA_CONFIG_FILE_MAX
+                         ? ts_err_set(err, TS_ERR_NOMEM, NULL, "%s: out of memory", path)
+                         : ts_err_set(err, TS_ERR_LIMIT, NULL,
+                                      "%s: larger than %u MiB; not a config file", path,
+                                      TSA_CONFIG_FILE_MAX >> 20);
+                break;
+            }
+            text = grown;
+            cap *= 2;
+        }
+        size_t got = fread(text + len, 1, cap - len, f);
+        len += got;
+        if (got == 0) {
+            if (ferror(f)) rc = ts_err_set(err, TS_ERR_IO, NULL, "%s: read failed", path);
+            break;
+        }
+    }
+    fclose(f);
+    if (rc != TS_OK) {
+        free(text);
+        return rc;
+    }
+    *text_out = text;
+    *len_out = len;
+    return TS_OK;
 }
 
 ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out, json_t *errors,
@@ -509,14 +537,22 @@ ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_o
     struct stat st; /* a directory read as an empty document: say what it is */
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
         return ts_err_set(err, TS_ERR_IO, NULL, "%s: a directory, not a config file", path);
+    char *text = NULL;
+    size_t len = 0;
+    ts_rc rc = read_config_file(path, &text, &len, err);
+    if (rc != TS_OK) return rc;
     json_error_t je;
-    json_t *doc = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
+    json_t *doc = json_loadb(text, len, JSON_REJECT_DUPLICATES, &je);
     if (!doc) {
-        if (je.line < 0 || strstr(je.text, "unable to open"))
-            return ts_err_set(err, TS_ERR_IO, NULL, "%s", je.text); /* names the path */
-        return file_parse_err(path, &je, err);
+        char lead[TS_ERR_MSG_LEN / 2];
+        snprintf(lead, sizeof lead, "%s:%d:%d", path, je.line, je.column);
+        size_t upto = je.position > 0 ? (size_t)je.position : 0;
+        rc = tsa_json_parse_err(text, upto < len ? upto : len, &je, lead, err);
+        free(text);
+        return rc;
     }
-    ts_rc rc = tsa_config_load(doc, cfg, resolved_out, errors, err);
+    free(text);
+    rc = tsa_config_load(doc, cfg, resolved_out, errors, err);
     json_decref(doc);
     return rc;
 }

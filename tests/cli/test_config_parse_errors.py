@@ -29,3 +29,31 @@ def test_syntax_and_overflow_name_the_pointer(tmp_path):
     out = run_config(tmp_path, '{"preset": "pointmass-prescribed" "run": {}}')
     assert out.returncode == 1, out.stderr  # a ',' missing between members: the root, no pointer
     assert "tanksim: config: %s:1:" % (tmp_path / "c.json") in out.stderr, out.stderr
+
+
+def test_config_from_a_pipe(tmp_path):
+    # A config that can be read only once (a shell's <(...), a FIFO): it
+    # parses, and a parse error still names its member. The file used to be
+    # read twice, so the second read of a pipe found nothing and the error
+    # named the root.
+    good = '{"preset": "pointmass-prescribed", "run": {"duration": 0.5}}'
+    bad = '{"preset": "pointmass-prescribed",\n "run": {"duration": 1, "duration": 2}}'
+    for text, rc in ((good, 0), (bad, 1)):
+        out = subprocess.run(["bash", "-c", 'exec "$0" run /dev/stdin --out "$1"', TANKSIM,
+                              str(tmp_path / ("o%d" % rc))],
+                             input=text, capture_output=True, text=True, timeout=120)
+        assert out.returncode == rc, out.stderr
+        if rc:
+            assert "tanksim: config: /run/duration: " in out.stderr, out.stderr
+            assert "duplicate object key" in out.stderr, out.stderr
+
+
+def test_missing_and_oversized_config_files(tmp_path):
+    out = subprocess.run([TANKSIM, "run", str(tmp_path / "none.json"), "--out", str(tmp_path / "o")],
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode != 0 and "none.json: No such file or directory" in out.stderr, out.stderr
+    big = tmp_path / "big.json"
+    big.write_text('{"description": "%s"}' % ("x" * (17 << 20)))
+    out = subprocess.run([TANKSIM, "run", str(big), "--out", str(tmp_path / "o")],
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode != 0 and "larger than 16 MiB" in out.stderr, out.stderr
