@@ -58,9 +58,12 @@ static const ts_param driveline_rows[] = {
      "ambient pressure at the engine's air intake and exhaust"},
     {"/driveline/ambient_temperature", TS_PT_DOUBLE, F(ambient_temperature), "K", 220, 330, NULL, 0,
      0, "ambient air temperature at the engine's air intake"},
-    {"/driveline/engine_macro_step", TS_PT_DOUBLE, F(engine_macro_step), "s", 0, 0.01, NULL, 0, 0,
+    {"/driveline/engine_macro_step", TS_PT_DOUBLE_OFF, F(engine_macro_step), "s", 1e-5, 0.01, NULL,
+     0, 0,
      "crank-angle engine: macro step of its co-simulation with the driveline "
-     "(ts_engine_advance_load); 0 integrates its states in the driveline's RK4"},
+     "(ts_engine_advance_load); 0 integrates its states in the driveline's RK4; a macro step is "
+     "at least 1e-5 s (a fraction of one crank-angle step, ~4e-5 s at 2100 rpm: below it the "
+     "exchanges only multiply, and near 1e-16 s they no longer advance the time)"},
 };
 #undef F
 

@@ -6,6 +6,7 @@
  */
 #include "terrain.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -137,17 +138,42 @@ static const char *skip_blanks(const char *s)
     return s;
 }
 
-/* Exactly want finite numbers from s, separated by blanks or one comma, and
- * nothing after them but blanks. Returns 0, or -1 (v partly written). */
+/* Length of the decimal number at s (sign, digits with at most one point,
+ * exponent), 0 if none: strtod alone also reads hexadecimal ("0x10" as 16),
+ * "inf" and "nan", which a distance or height column never means. */
+static size_t decimal_length(const char *s)
+{
+    const char *p = s;
+    int digits = 0;
+    if (*p == '+' || *p == '-') p++;
+    for (; isdigit((unsigned char)*p); p++) digits++;
+    if (*p == '.')
+        for (p++; isdigit((unsigned char)*p); p++) digits++;
+    if (!digits) return 0;
+    if (*p == 'e' || *p == 'E') {
+        const char *e = p + 1;
+        if (*e == '+' || *e == '-') e++;
+        if (isdigit((unsigned char)*e)) {
+            while (isdigit((unsigned char)*e)) e++;
+            p = e;
+        }
+    }
+    return (size_t)(p - s);
+}
+
+/* Exactly want finite decimal numbers from s, separated by blanks or one
+ * comma, and nothing after them but blanks. Returns 0, or -1 (v partly
+ * written). */
 static int read_numbers(const char *s, double *v, int want)
 {
     for (int i = 0; i < want; i++) {
         s = skip_blanks(s);
         if (i > 0 && *s == ',') s = skip_blanks(s + 1);
         char *end;
+        size_t len = decimal_length(s);
         errno = 0;
         v[i] = strtod(s, &end);
-        if (end == s || errno == ERANGE || !isfinite(v[i])) return -1;
+        if (!len || end != s + len || errno == ERANGE || !isfinite(v[i])) return -1;
         s = end;
     }
     return *skip_blanks(s) ? -1 : 0;

@@ -1398,13 +1398,23 @@ static ts_rc eq_newton(vm *v, vm_work *w, double *u, double *q, double *r, doubl
 
 /* Newton's start: the hull level at x0, the road arms at their design angle
  * carrying an equal share of the supported weight, the hull lowered by one
- * share's foundation compression below ground height hg. */
-static void eq_start(const vm *v, double hg, double *u, int nu)
+ * share's foundation compression (linear part) below ground height hg.
+ * With on_ground the wheels' design height over the ground (the layout's
+ * road_wheel_z less the wheel radius and track thickness: +2.5 mm in the M1
+ * data) is taken out too. The first start ignores it, and every published
+ * figure comes from it (a different start converges to the same equilibrium
+ * within Newton's tolerance, and the chaotic bump runs then move ~1 %), so it
+ * is tried first; but with a stiffer foundation (2e7 N/m and up), a thinner
+ * track or smaller wheels it left every wheel off the ground (no vertical
+ * stiffness: a singular Jacobian), and the second start is tried after it. */
+static void eq_start(const vm *v, double hg, int on_ground, double *u, int nu)
 {
-    double wsup = vm_supported_weight(v);
+    double wsup = vm_supported_weight(v), bottom = 0;
+    for (int i = 0; i < VM_NRW; i++) /* design wheel bottom relative to the hull's z */
+        bottom += (v->l_pivot[i][1] - v->arm_len * sin(v->arm0) - v->wheel_ground) / VM_NRW;
     memset(u, 0, (size_t)nu * sizeof(double));
     u[0] = v->x0;
-    u[1] = v->z0 + hg - wsup / VM_NRW / v->kf;
+    u[1] = (on_ground ? hg - bottom : v->z0 + hg) - wsup / VM_NRW / v->kf;
     for (int i = 0; i < VM_NRW; i++)
         u[3 + VM_NB - 1 + i] = wsup / VM_NRW * v->arm_len * cos(v->arm0);
 }
@@ -1429,38 +1439,44 @@ static ts_rc equilibrium(vm *v, ts_err *err)
     double hg = 0;
     for (int i = 0; i < VM_NRW; i++)
         hg += ts_terrain_height(v->terrain, v->x0 + v->l_pivot[i][0], NULL) / VM_NRW;
-    eq_start(v, hg, u, nu);
-    rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
-    if (rc == TS_ERR_SOLVER) {
-        /* A bump under a wheel can leave every wheel off the ground at that
-         * start (no wheel, no vertical stiffness: a singular Jacobian) or make
-         * Newton cycle on the lift-off kinks. Continue instead from flat
-         * ground, raising the terrain in steps from one equilibrium to the
-         * next, the step halved where Newton fails. */
-        double s = 0, ds = 0.25;
-        v->ground_scale = 0;
-        eq_start(v, 0, u, nu);
+    for (int on_ground = 0; on_ground < 2; on_ground++) {
+        ts_err first;
+        if (on_ground && err) first = *err; /* the first start's reason */
+        eq_start(v, hg, on_ground, u, nu);
         rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
-        while (rc == TS_OK && s < 1) {
-            double next = fmin(1.0, s + ds);
-            memcpy(ub, u, (size_t)nu * sizeof(double));
-            v->ground_scale = next;
+        if (rc == TS_ERR_SOLVER) {
+            /* A bump under a wheel can leave every wheel off the ground at
+             * that start (no wheel, no vertical stiffness: a singular
+             * Jacobian) or make Newton cycle on the lift-off kinks. Continue
+             * instead from flat ground, raising the terrain in steps from one
+             * equilibrium to the next, the step halved where Newton fails. */
+            double s = 0, ds = 0.25;
+            v->ground_scale = 0;
+            eq_start(v, 0, on_ground, u, nu);
             rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
-            if (rc == TS_OK) {
-                s = next;
-                ds = fmin(0.5, 2 * ds);
-            } else if (ds > 1.0 / 4096) {
-                memcpy(u, ub, (size_t)nu * sizeof(double));
-                ds /= 2;
-                rc = TS_OK;
+            while (rc == TS_OK && s < 1) {
+                double next = fmin(1.0, s + ds);
+                memcpy(ub, u, (size_t)nu * sizeof(double));
+                v->ground_scale = next;
+                rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
+                if (rc == TS_OK) {
+                    s = next;
+                    ds = fmin(0.5, 2 * ds);
+                } else if (ds > 1.0 / 4096) {
+                    memcpy(u, ub, (size_t)nu * sizeof(double));
+                    ds /= 2;
+                    rc = TS_OK;
+                }
             }
+            v->ground_scale = 1.0;
+            if (rc != TS_OK && err && v->cfg.terrain.kind != TS_TERRAIN_FLAT)
+                snprintf(err->msg + strlen(err->msg), sizeof err->msg - strlen(err->msg),
+                         "; also when the terrain was raised from flat in steps: the road "
+                         "wheels find no equilibrium on this ground at t = 0 (start the run "
+                         "before the obstacle: /terrain/start_x)");
         }
-        v->ground_scale = 1.0;
-        if (rc != TS_OK && err)
-            snprintf(err->msg + strlen(err->msg), sizeof err->msg - strlen(err->msg),
-                     "; also when the terrain was raised from flat in steps: the road wheels "
-                     "find no equilibrium on this ground at t = 0 (start the run before the "
-                     "obstacle: /terrain/start_x)");
+        if (rc != TS_ERR_SOLVER) break;
+        if (on_ground && err) *err = first; /* both failed: the first start's message */
     }
     if (rc != TS_OK) goto done;
     eq_apply(v, u, q);
@@ -1749,6 +1765,68 @@ static const char *layout_pointer(int b)
     }
 }
 
+/* The circuit this model assembles (vehicle_model.h, Fig. 1): a rear sprocket,
+ * road wheels 1 (front) .. 7 (rear) under the hull, the idler at the front and
+ * the two support rollers on the upper run between sprocket and idler. A
+ * layout in another order is still a closed loop of tangents, but not this
+ * vehicle's: the track crosses itself or wraps a body inside-out, and the run
+ * gives numbers without meaning. The hull's CG must also lie over the ground
+ * contact (between road wheels 7 and 1), else there is no static equilibrium
+ * on level ground but a hull tipped onto its end (review of session 24: CG at
+ * x = 12 m ran to a 100-degree pitch with the hull 6.5 m underground). */
+static ts_rc check_circuit_order(const ts_vehicle_config *vc, ts_err *err)
+{
+    const double *w = vc->road_wheel_x;
+    if (!(vc->sprocket_x < w[VM_NRW - 1]))
+        return ts_err_set(err, TS_ERR_RANGE, "/vehicle/sprocket_x",
+                          "/vehicle/sprocket_x: the sprocket (x = %g m) must lie behind road wheel "
+                          "%d (x = %g m)",
+                          vc->sprocket_x, VM_NRW, w[VM_NRW - 1]);
+    if (!(vc->idler_x > w[0]))
+        return ts_err_set(err, TS_ERR_RANGE, "/vehicle/idler_x",
+                          "/vehicle/idler_x: the idler (x = %g m) must lie ahead of road wheel 1 "
+                          "(x = %g m)",
+                          vc->idler_x, w[0]);
+    for (int i = 1; i < VM_NRW; i++)
+        if (!(w[i] < w[i - 1]))
+            return ts_err_set(err, TS_ERR_RANGE, "/vehicle/road_wheel_x",
+                              "/vehicle/road_wheel_x: road wheels are listed front (1) to rear "
+                              "(%d), x decreasing; wheel %d (x = %g m) is not behind wheel %d "
+                              "(x = %g m)",
+                              VM_NRW, i + 1, w[i], i, w[i - 1]);
+    if (!(vc->sprocket_x < vc->rear_roller_x))
+        return ts_err_set(
+            err, TS_ERR_RANGE, "/vehicle/rear_roller_x",
+            "/vehicle/rear_roller_x: the rear support roller (x = %g m) must lie ahead "
+            "of the rear sprocket (x = %g m)",
+            vc->rear_roller_x, vc->sprocket_x);
+    if (!(vc->rear_roller_x < vc->front_roller_x))
+        return ts_err_set(err, TS_ERR_RANGE, "/vehicle/front_roller_x",
+                          "/vehicle/front_roller_x: the front support roller (x = %g m) must lie "
+                          "ahead of the rear one (x = %g m)",
+                          vc->front_roller_x, vc->rear_roller_x);
+    if (!(vc->front_roller_x < vc->idler_x))
+        return ts_err_set(
+            err, TS_ERR_RANGE, "/vehicle/idler_x",
+            "/vehicle/idler_x: the front idler (x = %g m) must lie ahead of the front "
+            "support roller (x = %g m)",
+            vc->idler_x, vc->front_roller_x);
+    double zmin =
+        fmin(fmin(vc->sprocket_z, vc->idler_z), fmin(vc->rear_roller_z, vc->front_roller_z));
+    if (!(vc->road_wheel_z < zmin))
+        return ts_err_set(
+            err, TS_ERR_RANGE, "/vehicle/road_wheel_z",
+            "/vehicle/road_wheel_z: the road-wheel hubs (z = %g m) must lie below the "
+            "sprocket, idler and support-roller centres (lowest z = %g m)",
+            vc->road_wheel_z, zmin);
+    if (!(vc->cg_x > w[VM_NRW - 1] && vc->cg_x < w[0]))
+        return ts_err_set(err, TS_ERR_RANGE, "/vehicle/cg_x",
+                          "/vehicle/cg_x: the hull CG (x = %g m) must lie over the ground contact, "
+                          "between road wheels %d and 1 (x = %g .. %g m)",
+                          vc->cg_x, VM_NRW, w[VM_NRW - 1], w[0]);
+    return TS_OK;
+}
+
 vm *vm_make(const ts_config *cfg, ts_err *err)
 {
     const ts_vehicle_config *vc = &cfg->vehicle;
@@ -1764,10 +1842,11 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
                    "/vehicle/anchor_station: must be 1..%d", VM_NRW);
         return NULL;
     }
-    if (check_stations(vc->damper_station, vc->damper_station_n, "/vehicle/damper_station",
-                       err) != TS_OK ||
-        check_stations(vc->bump_stop_station, vc->bump_stop_station_n,
-                       "/vehicle/bump_stop_station", err) != TS_OK)
+    if (check_circuit_order(vc, err) != TS_OK ||
+        check_stations(vc->damper_station, vc->damper_station_n, "/vehicle/damper_station", err) !=
+            TS_OK ||
+        check_stations(vc->bump_stop_station, vc->bump_stop_station_n, "/vehicle/bump_stop_station",
+                       err) != TS_OK)
         return NULL;
     vm *v = calloc(1, sizeof *v);
     if (!v) {

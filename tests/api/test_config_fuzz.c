@@ -134,12 +134,62 @@ static void degenerate_layout_names_the_field(void **state)
     expect_field_error("{\"preset\":\"bump-prescribed-coupled\",\"run\":{\"duration\":0.01},"
                        "\"vehicle\":{\"sprocket_x\":0,\"rear_roller_x\":0,"
                        "\"front_roller_x\":0,\"idler_x\":0}}",
-                       0.01, "/vehicle/rear_roller_x");
+                       0.01, "/vehicle/idler_x");
     expect_field_error("{\"preset\":\"bump-prescribed-static\",\"run\":{\"duration\":0.01},"
                        "\"vehicle\":{\"road_wheel_x\":[2,2,2,2,2,2,2]}}",
                        0.01, "/vehicle/road_wheel_x");
     /* the shipped layout still passes */
     expect_ok("{\"preset\":\"bump-prescribed-static\",\"run\":{\"duration\":0.01}}", 0.01);
+}
+
+/* Findings (session 24 probe): layouts out of the circuit's order were accepted and
+ * ran to nonsense (CG at x = 12 m: hull pitched 100 degrees, 6.5 m underground; sprocket
+ * ahead of the idler; road-wheel hubs above the sprocket). Each is refused naming the
+ * field (vehicle_model.c check_circuit_order); the shipped layout passes (above). */
+static void circuit_out_of_order_names_the_field(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *vehicle, *pointer;
+    } cases[] = {
+        {"\"cg_x\":12", "/vehicle/cg_x"},
+        {"\"cg_x\":-2", "/vehicle/cg_x"},
+        {"\"sprocket_x\":12", "/vehicle/sprocket_x"},
+        {"\"idler_x\":-2", "/vehicle/idler_x"},
+        {"\"road_wheel_z\":2.0", "/vehicle/road_wheel_z"},
+        {"\"front_roller_x\":1.0", "/vehicle/front_roller_x"},
+        {"\"road_wheel_x\":[5.15,4.425,2.975,3.7,2.25,1.525,0.8]", "/vehicle/road_wheel_x"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char json[256];
+        snprintf(json, sizeof json,
+                 "{\"preset\":\"bump-prescribed-static\",\"run\":{\"duration\":0.01},"
+                 "\"terrain\":{\"kind\":\"flat\"},\"vehicle\":{%s}}",
+                 cases[i].vehicle);
+        expect_field_error(json, 0.01, cases[i].pointer);
+    }
+}
+
+/* Finding (session 24 probe): a foundation of 2e7 N/m and stiffer (range up to 1e10), a
+ * track of zero thickness or 0.05-m road wheels (all in range) failed the static
+ * equilibrium with "singular Jacobian (check the layout)": Newton's start ignored the
+ * wheels' design height over the ground (2.5 mm in the M1 data) and began with every
+ * wheel off it. A start on the ground is tried after the first (vehicle_model.c
+ * eq_start). */
+static void equilibrium_found_for_stiff_ground_and_other_wheels(void **state)
+{
+    (void)state;
+    static const char *const vehicle[] = {"\"foundation_stiffness\":2e7",
+                                          "\"foundation_stiffness\":1e9", "\"track_thickness\":0",
+                                          "\"road_wheel_radius\":0.05"};
+    for (size_t i = 0; i < sizeof vehicle / sizeof vehicle[0]; i++) {
+        char json[256];
+        snprintf(json, sizeof json,
+                 "{\"preset\":\"bump-prescribed-static\",\"run\":{\"duration\":0.01},"
+                 "\"terrain\":{\"kind\":\"flat\"},\"vehicle\":{%s}}",
+                 vehicle[i]);
+        expect_ok(json, 0.01);
+    }
 }
 
 /* Finding: /run/max_step = 1e-300 (in [0, 1]) made CVODE fail at t = 0 with h = 4e-306
@@ -167,6 +217,21 @@ static void tiny_max_step_is_refused(void **state)
     assert_int_equal(json_integer_value(json_object_get(json_array_get(any, 0), "const")), 0);
     assert_true(json_real_value(json_object_get(json_array_get(any, 1), "minimum")) == 1e-6);
     json_decref(schema);
+}
+
+/* Finding (session 24 probe): /driveline/engine_macro_step = 1e-12 (in [0, 0.01]) ran the
+ * co-simulation loop ~1e9 times per sample with no sample callback in between, so neither
+ * SIGTERM nor Ctrl-C stopped `tanksim run`; below ~1e-16 s it could not advance t at all.
+ * The row is TS_PT_DOUBLE_OFF now: 0 (the RK4) or [1e-5, 0.01] s. */
+static void tiny_engine_macro_step_is_refused(void **state)
+{
+    (void)state;
+    expect_field_error("{\"preset\":\"accel-pointmass-conventional\",\"run\":{\"duration\":0.01},"
+                       "\"driveline\":{\"engine_macro_step\":1e-12}}",
+                       0.01, "/driveline/engine_macro_step");
+    expect_ok("{\"preset\":\"accel-pointmass-conventional\",\"run\":{\"duration\":0.01},"
+              "\"driveline\":{\"engine_macro_step\":1e-5}}",
+              0.01);
 }
 
 /* Finding: fidelity transverse with n_trans = 0 was refused at /track/n_long, a count
@@ -215,7 +280,10 @@ int main(void)
         cmocka_unit_test(coupled_data_init_failure_does_not_leak),
         cmocka_unit_test(profile_csv_must_be_a_regular_file),
         cmocka_unit_test(degenerate_layout_names_the_field),
+        cmocka_unit_test(circuit_out_of_order_names_the_field),
+        cmocka_unit_test(equilibrium_found_for_stiff_ground_and_other_wheels),
         cmocka_unit_test(tiny_max_step_is_refused),
+        cmocka_unit_test(tiny_engine_macro_step_is_refused),
         cmocka_unit_test(missing_modes_name_the_count_read),
         cmocka_unit_test(cp_below_gas_constant_names_the_field),
         cmocka_unit_test(span_errors_name_the_track_field),

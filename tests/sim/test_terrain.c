@@ -142,7 +142,9 @@ static int profile_from(const char *text, int *last, ts_err *err)
 /* EVIDENCE: a file the model cannot use is refused at its line, naming the
  * field (before, "nan", "inf", a third column, trailing text and heights of
  * 1e6 m were read, and the run ended with garbage: wheel loads of 1 MN); CR
- * and CRLF line ends are line ends (a CR-only file was one row: flat ground). */
+ * and CRLF line ends are line ends (a CR-only file was one row: flat ground);
+ * hexadecimal ("0x10", which strtod reads as 16) is not a distance (session-24
+ * probe: it was read). */
 static void terrain_files_are_read_strictly(void **state)
 {
     (void)state;
@@ -153,7 +155,9 @@ static void terrain_files_are_read_strictly(void **state)
                          "0,0,5\n10,0.3\n",
                          "0,0\n10,0.3abc\n",
                          "0,0\n10,1e6\n",
-                         "0,0\n1e300,0\n"};
+                         "0,0\n1e300,0\n",
+                         "0x10,0\n20,0\n",
+                         "0,0\n20,0x1p-2\n"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         assert_int_equal(profile_from(bad[i], &length_m, &err), TS_ERR_PARAM);
         assert_string_equal(err.pointer, "/terrain/profile_csv");
