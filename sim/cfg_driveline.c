@@ -56,8 +56,11 @@ static const ts_param driveline_rows[] = {
      0, 0, "engine speed at the start of a powertrain run (vehicle at rest, 1st gear)"},
     {"/driveline/ambient_pressure", TS_PT_DOUBLE, F(ambient_pressure), "Pa", 5e4, 1.1e5, NULL, 0, 0,
      "ambient pressure at the engine's air intake and exhaust"},
-    {"/driveline/ambient_temperature", TS_PT_DOUBLE, F(ambient_temperature), "K", 220, 330, NULL, 0,
-     0, "ambient air temperature at the engine's air intake"},
+    {"/driveline/ambient_temperature", TS_PT_DOUBLE, F(ambient_temperature), "K", 240, 330, NULL, 0,
+     0,
+     "ambient air temperature at the engine's air intake; from 240 K: the gas properties are "
+     "fitted to 300-2500 K (engine_gas.c) and extrapolated below, and at 222 K the crank-angle "
+     "engine's launch left its domain"},
     {"/driveline/engine_macro_step", TS_PT_DOUBLE_OFF, F(engine_macro_step), "s", 1e-5, 0.01, NULL,
      0, 0,
      "crank-angle engine: macro step of its co-simulation with the driveline "

@@ -234,6 +234,20 @@ static void tiny_engine_macro_step_is_refused(void **state)
               0.01);
 }
 
+/* Finding (session 24 probe): /driveline/ambient_temperature = 220 K (then in range) failed the
+ * crank-angle launch at 0.03 s blaming /engine/ca_step; the gas-property fits start at 300 K
+ * and the engine left its domain at 222 K. The range starts at 240 K now, and 240 K runs. */
+static void cold_ambient_is_refused_by_its_field(void **state)
+{
+    (void)state;
+    expect_field_error("{\"preset\":\"accel-pointmass-conventional\",\"run\":{\"duration\":0.05},"
+                       "\"driveline\":{\"ambient_temperature\":220}}",
+                       0.05, "/driveline/ambient_temperature");
+    expect_ok("{\"preset\":\"accel-pointmass-conventional\",\"run\":{\"duration\":0.05},"
+              "\"driveline\":{\"ambient_temperature\":240}}",
+              0.05);
+}
+
 /* Finding: fidelity transverse with n_trans = 0 was refused at /track/n_long, a count
  * that fidelity does not read; the error names n_trans now (n_long for the others). */
 static void missing_modes_name_the_count_read(void **state)
@@ -284,6 +298,7 @@ int main(void)
         cmocka_unit_test(equilibrium_found_for_stiff_ground_and_other_wheels),
         cmocka_unit_test(tiny_max_step_is_refused),
         cmocka_unit_test(tiny_engine_macro_step_is_refused),
+        cmocka_unit_test(cold_ambient_is_refused_by_its_field),
         cmocka_unit_test(missing_modes_name_the_count_read),
         cmocka_unit_test(cp_below_gas_constant_names_the_field),
         cmocka_unit_test(span_errors_name_the_track_field),
