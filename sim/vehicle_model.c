@@ -2190,6 +2190,23 @@ static void geom_point(ts_geom *g, double x, double z, double dx, double dz, dou
     g->track_tension[i] = t;
 }
 
+void vm_describe_state(const vm *v, const double *y, char *out, size_t n)
+{
+    kin k;
+    kinematics(v, y, NULL, &k);
+    double lo = INFINITY, hi = -INFINITY;
+    for (int i = 0; i < VM_NRW; i++) /* each wheel's footprint, centre +- one radius */
+        for (int j = -2; j <= 2; j++) {
+            double x = k.c[VM_RW1 + i][0] + 0.5 * j * v->rho_b[VM_RW1 + i];
+            double h = ts_terrain_height(v->terrain, x, NULL) * v->ground_scale;
+            lo = fmin(lo, h), hi = fmax(hi, h);
+        }
+    snprintf(out, n,
+             "hull CG at x = %.3f m, z = %.3f m, pitch %.3f rad; ground within a wheel radius of "
+             "the road wheels %.3f .. %.3f m high (/terrain)",
+             y[QX], y[QZ], y[QT], lo, hi);
+}
+
 void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
 {
     const ts_vehicle_config *vc = &v->cfg.vehicle;

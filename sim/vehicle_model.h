@@ -145,6 +145,12 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
 /* Hull CG world x at t = 0 [m]. */
 double vm_x0(const vm *v);
 
+/* Where state y stands, for an error message (writes at most n bytes, always
+ * terminated): the hull CG's world x, z and pitch and the lowest and highest
+ * ground under the road wheels, so that a run the integrator gave up on names
+ * the terrain it met. */
+void vm_describe_state(const vm *v, const double *y, char *out, size_t n);
+
 /* vm_rhs with the torque at EACH sprocket given by the caller [N*m] instead of
  * the prescribed /drive (which is then not applied), and an extra hull-mounted
  * inertia turning with the sprocket relative to the hull [kg*m^2] (0: none):

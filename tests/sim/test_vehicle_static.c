@@ -408,6 +408,40 @@ static void geometry_snapshot_is_complete(void **state)
     ts_model_free(m);
 }
 
+/* EVIDENCE (session-24 probe): a run the integrator gave up on (a 100-m step in a user
+ * profile: CV_TOO_MUCH_WORK after 24 s) said only "mxstep steps taken", nothing of the
+ * terrain. The vehicle scenario now appends vm_describe_state: the hull's place and the
+ * ground within a wheel radius of the road wheels. Here at rest with a 0.3-m bump under
+ * the wheels: the message carries the hull's x and the bump's height, and names /terrain. */
+static void failure_context_names_the_ground(void **state)
+{
+    (void)state;
+    ts_config c;
+    ts_err err;
+    json_t *doc =
+        json_pack("{s:{s:s,s:f,s:f},s:{s:s},s:{s:s,s:f},s:{s:s,s:[f],s:[f],s:[f]}}", "run", "kind",
+                  "vehicle", "duration", 1.0, "sample_rate", 100.0, "track", "fidelity", "static",
+                  "drive", "kind", "constant", "torque", 0.0, "terrain", "kind", "bumps",
+                  "bump_start", 3.0, "bump_height", 0.3, "bump_length", 2.0);
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    json_decref(doc);
+    vm *v = vm_make(&c, &err);
+    if (!v) fail_msg("%s", err.msg);
+    char msg[TS_ERR_MSG_LEN], want[64];
+    vm_describe_state(v, vm_equilibrium(v), msg, sizeof msg);
+    snprintf(want, sizeof want, "hull CG at x = %.3f m", vm_equilibrium(v)[0]);
+    const char *range = strstr(msg, "road wheels ");
+    double lo = NAN, hi = NAN; /* the bump's crest lies between the sampled points */
+    if (!strstr(msg, want) || !range || !strstr(msg, "/terrain") ||
+        sscanf(range, "road wheels %lf .. %lf m high", &lo, &hi) != 2 || lo != 0 || hi < 0.28 ||
+        hi > 0.3)
+        fail_msg("%s", msg);
+    char tiny[24]; /* always terminated, however short the room */
+    vm_describe_state(v, vm_equilibrium(v), tiny, sizeof tiny);
+    assert_int_equal(strlen(tiny), sizeof tiny - 1);
+    vm_free(v);
+}
+
 /* EVIDENCE: the static equilibrium on uneven ground. A 0.3 x 2 m bump given
  * inline under a road wheel at t = 0 left every wheel off the ground at
  * Newton's start (the mean ground height under the arm pivots, 0.3 m / 7
@@ -656,6 +690,7 @@ int main(void)
         cmocka_unit_test(rolling_resistance_acts_along_the_grade),
         cmocka_unit_test(geometry_snapshot_is_complete),
         cmocka_unit_test(equilibrium_with_a_bump_under_a_wheel),
+        cmocka_unit_test(failure_context_names_the_ground),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
