@@ -79,11 +79,21 @@ def test_frame_integer_options_are_checked(daemon, sid500, query, param):
 
 
 def test_unsolvable_config_is_422_not_500(daemon):
-    # road wheels 1 m below the arm pivots: the hull finds no static equilibrium
+    # an intercooler passage of 0.1 (in range): the crank-angle engine's launch
+    # leaves its domain while the session is built, a fault of the request
+    r = requests.post(daemon.url + "/v1/sessions",
+                      json={"preset": "accel-pointmass-conventional", "engine": {"ic_cda": 0.1}})
+    p = is_problem(r, 422, "/engine/ca_step")
+    assert p["type"] == "/problems/diverged", p
+
+
+def test_layout_out_of_the_circuits_order_is_400(daemon):
+    # road-wheel hubs above the idler (z 0.6 m): this once reached the static
+    # equilibrium and failed there (422); the layout check names the field
     r = requests.post(daemon.url + "/v1/sessions",
                       json={"preset": "bump-prescribed-static", "vehicle": {"road_wheel_z": 1.0}})
-    p = is_problem(r, 422, "/vehicle")
-    assert p["type"] == "/problems/solver-failed", p
+    p = is_problem(r, 400, "/vehicle/road_wheel_z")
+    assert p["type"] == "/problems/invalid-config" and "below the sprocket" in p["detail"], p
 
 
 def test_fft_states_the_unit_of_every_number(daemon, sid500):
