@@ -552,7 +552,10 @@ static ts_rc follow_advance(void *ud, double t_to, const ts_cosim_torque *src, t
         rc = ts_ode_set_stop(r->follow_ode, t_stop, err);
         r->follow_stop = t_stop;
     }
-    if (rc == TS_OK) rc = ts_ode_advance(r->follow_ode, t_to, &t, NULL, err);
+    if (rc == TS_OK) {
+        rc = ts_ode_advance(r->follow_ode, t_to, &t, NULL, err);
+        if (rc != TS_OK) vm_err_add_state(r->c->v, ts_ode_y(r->follow_ode), err);
+    }
     if (rc == TS_OK) {
         memcpy(r->yv, ts_ode_y(r->follow_ode), sizeof(double) * (size_t)r->c->nv);
         r->t = t_to;
@@ -743,7 +746,10 @@ ts_rc ts_coupled_run_advance(ts_coupled_run *r, double t_to, ts_err *err)
     while (rc == TS_OK && r->t < t_to) {
         int root = 0;
         rc = ts_ode_advance(r->mono, t_to, &r->t, &root, err);
-        if (rc != TS_OK) break;
+        if (rc != TS_OK) { /* the vehicle's states lead the monolithic vector */
+            vm_err_add_state(c->v, ts_ode_y(r->mono), err);
+            break;
+        }
         memcpy(r->ym, ts_ode_y(r->mono), sizeof(double) * (size_t)(c->nv + c->np));
         memcpy(r->yv, r->ym, sizeof(double) * (size_t)(c->nv + c->np));
         if (root && settle(r, r->t, r->yp, sprocket_rel(c, r->yv)))

@@ -156,13 +156,8 @@ static ts_rc step_to(const ts_model *m, ts_data *d, double t, ts_err *err)
     ts_rc rc = ts_ode_advance(p->ode, t, NULL, NULL, err);
     if (rc == TS_OK) {
         memcpy(p->y, ts_ode_y(p->ode), (size_t)vm_ny(vmm->v) * sizeof(double));
-    } else if (err) { /* say where: a terrain the wheels cannot ride is the usual cause */
-        size_t len = strlen(err->msg);
-        if (len + 4 < sizeof err->msg) {
-            memcpy(err->msg + len, "; ", 3);
-            vm_describe_state(vmm->v, ts_ode_y(p->ode), err->msg + len + 2,
-                              sizeof err->msg - len - 2);
-        }
+    } else { /* say where: a terrain the wheels cannot ride is the usual cause */
+        vm_err_add_state(vmm->v, ts_ode_y(p->ode), err);
     }
     return rc;
 }

@@ -2207,6 +2207,15 @@ void vm_describe_state(const vm *v, const double *y, char *out, size_t n)
              y[QX], y[QZ], y[QT], lo, hi);
 }
 
+void vm_err_add_state(const vm *v, const double *y, ts_err *err)
+{
+    if (!err) return;
+    size_t len = strlen(err->msg);
+    if (len + 4 >= sizeof err->msg) return;
+    memcpy(err->msg + len, "; ", 3);
+    vm_describe_state(v, y, err->msg + len + 2, sizeof err->msg - len - 2);
+}
+
 void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
 {
     const ts_vehicle_config *vc = &v->cfg.vehicle;

@@ -151,6 +151,10 @@ double vm_x0(const vm *v);
  * the terrain it met. */
 void vm_describe_state(const vm *v, const double *y, char *out, size_t n);
 
+/* The same appended to err's message ("; ..."), as far as it has room; a
+ * NULL err is left alone. */
+void vm_err_add_state(const vm *v, const double *y, ts_err *err);
+
 /* vm_rhs with the torque at EACH sprocket given by the caller [N*m] instead of
  * the prescribed /drive (which is then not applied), and an extra hull-mounted
  * inertia turning with the sprocket relative to the hull [kg*m^2] (0: none):
