@@ -502,13 +502,18 @@ static ts_rc read_config_file(const char *path, char **text_out, size_t *len_out
     ts_rc rc = TS_OK;
     for (;;) {
         if (len == cap) {
-            char *grown = cap < TSA_CONFIG_FILE_MAX ? realloc(text, cap * 2) : NULL;
+            if (cap >= TSA_CONFIG_FILE_MAX) { /* full: a file of exactly the bound is fine */
+                if (fgetc(f) != EOF)
+                    rc = ts_err_set(err, TS_ERR_LIMIT, NULL,
+                                    "%s: larger than %u MiB; not a config file", path,
+                                    TSA_CONFIG_FILE_MAX >> 20);
+                else if (ferror(f))
+                    rc = ts_err_set(err, TS_ERR_IO, NULL, "%s: read failed", path);
+                break;
+            }
+            char *grown = realloc(text, cap * 2);
             if (!grown) {
-                rc = cap < TSA_CONFIG_FILE_MAX
-                         ? ts_err_set(err, TS_ERR_NOMEM, NULL, "%s: out of memory", path)
-                         : ts_err_set(err, TS_ERR_LIMIT, NULL,
-                                      "%s: larger than %u MiB; not a config file", path,
-                                      TSA_CONFIG_FILE_MAX >> 20);
+                rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "%s: out of memory", path);
                 break;
             }
             text = grown;

@@ -11,6 +11,8 @@
 #include <string.h>
 
 #include "constants.h"
+#include "vehicle_layout.h"
+
 #define TWO_PI  (2.0 * TS_PI) /* the same double as the 2 pi literal: doubling is exact */
 #define GRAVITY TS_GRAVITY
 
@@ -360,6 +362,8 @@ ts_rc ts_circuit_params_from_config(const ts_config *cfg, ts_circuit_params *p, 
         return ts_err_set(err, TS_ERR_PARAM, "/vehicle/road_wheel_x",
                           "the upper circuit needs at least two road wheels, got %d",
                           v->road_wheel_n);
+    ts_rc lrc = ts_vehicle_layout_check(v, err); /* the order this circuit assumes */
+    if (lrc != TS_OK) return lrc;
     double off = v->track_pitch_offset; /* one layout for the vehicle and its Fig. 5 circuit */
     double rw = v->road_wheel_radius + off;
     const ts_span_support sup[TS_CIRCUIT_NSUPPORTS] = {

@@ -84,6 +84,7 @@
 #include "drive.h"
 #include "terrain.h"
 #include "track_span.h"
+#include "vehicle_layout.h"
 
 #include "constants.h"
 #define GRAVITY TS_GRAVITY
@@ -1765,68 +1766,6 @@ static const char *layout_pointer(int b)
     }
 }
 
-/* The circuit this model assembles (vehicle_model.h, Fig. 1): a rear sprocket,
- * road wheels 1 (front) .. 7 (rear) under the hull, the idler at the front and
- * the two support rollers on the upper run between sprocket and idler. A
- * layout in another order is still a closed loop of tangents, but not this
- * vehicle's: the track crosses itself or wraps a body inside-out, and the run
- * gives numbers without meaning. The hull's CG must also lie over the ground
- * contact (between road wheels 7 and 1), else there is no static equilibrium
- * on level ground but a hull tipped onto its end (review of session 24: CG at
- * x = 12 m ran to a 100-degree pitch with the hull 6.5 m underground). */
-static ts_rc check_circuit_order(const ts_vehicle_config *vc, ts_err *err)
-{
-    const double *w = vc->road_wheel_x;
-    if (!(vc->sprocket_x < w[VM_NRW - 1]))
-        return ts_err_set(err, TS_ERR_RANGE, "/vehicle/sprocket_x",
-                          "/vehicle/sprocket_x: the sprocket (x = %g m) must lie behind road wheel "
-                          "%d (x = %g m)",
-                          vc->sprocket_x, VM_NRW, w[VM_NRW - 1]);
-    if (!(vc->idler_x > w[0]))
-        return ts_err_set(err, TS_ERR_RANGE, "/vehicle/idler_x",
-                          "/vehicle/idler_x: the idler (x = %g m) must lie ahead of road wheel 1 "
-                          "(x = %g m)",
-                          vc->idler_x, w[0]);
-    for (int i = 1; i < VM_NRW; i++)
-        if (!(w[i] < w[i - 1]))
-            return ts_err_set(err, TS_ERR_RANGE, "/vehicle/road_wheel_x",
-                              "/vehicle/road_wheel_x: road wheels are listed front (1) to rear "
-                              "(%d), x decreasing; wheel %d (x = %g m) is not behind wheel %d "
-                              "(x = %g m)",
-                              VM_NRW, i + 1, w[i], i, w[i - 1]);
-    if (!(vc->sprocket_x < vc->rear_roller_x))
-        return ts_err_set(
-            err, TS_ERR_RANGE, "/vehicle/rear_roller_x",
-            "/vehicle/rear_roller_x: the rear support roller (x = %g m) must lie ahead "
-            "of the rear sprocket (x = %g m)",
-            vc->rear_roller_x, vc->sprocket_x);
-    if (!(vc->rear_roller_x < vc->front_roller_x))
-        return ts_err_set(err, TS_ERR_RANGE, "/vehicle/front_roller_x",
-                          "/vehicle/front_roller_x: the front support roller (x = %g m) must lie "
-                          "ahead of the rear one (x = %g m)",
-                          vc->front_roller_x, vc->rear_roller_x);
-    if (!(vc->front_roller_x < vc->idler_x))
-        return ts_err_set(
-            err, TS_ERR_RANGE, "/vehicle/idler_x",
-            "/vehicle/idler_x: the front idler (x = %g m) must lie ahead of the front "
-            "support roller (x = %g m)",
-            vc->idler_x, vc->front_roller_x);
-    double zmin =
-        fmin(fmin(vc->sprocket_z, vc->idler_z), fmin(vc->rear_roller_z, vc->front_roller_z));
-    if (!(vc->road_wheel_z < zmin))
-        return ts_err_set(
-            err, TS_ERR_RANGE, "/vehicle/road_wheel_z",
-            "/vehicle/road_wheel_z: the road-wheel hubs (z = %g m) must lie below the "
-            "sprocket, idler and support-roller centres (lowest z = %g m)",
-            vc->road_wheel_z, zmin);
-    if (!(vc->cg_x > w[VM_NRW - 1] && vc->cg_x < w[0]))
-        return ts_err_set(err, TS_ERR_RANGE, "/vehicle/cg_x",
-                          "/vehicle/cg_x: the hull CG (x = %g m) must lie over the ground contact, "
-                          "between road wheels %d and 1 (x = %g .. %g m)",
-                          vc->cg_x, VM_NRW, w[VM_NRW - 1], w[0]);
-    return TS_OK;
-}
-
 vm *vm_make(const ts_config *cfg, ts_err *err)
 {
     const ts_vehicle_config *vc = &cfg->vehicle;
@@ -1842,7 +1781,7 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
                    "/vehicle/anchor_station: must be 1..%d", VM_NRW);
         return NULL;
     }
-    if (check_circuit_order(vc, err) != TS_OK ||
+    if (ts_vehicle_layout_check(vc, err) != TS_OK ||
         check_stations(vc->damper_station, vc->damper_station_n, "/vehicle/damper_station", err) !=
             TS_OK ||
         check_stations(vc->bump_stop_station, vc->bump_stop_station_n, "/vehicle/bump_stop_station",

@@ -145,7 +145,9 @@ static void degenerate_layout_names_the_field(void **state)
 /* Findings (session 24 probe): layouts out of the circuit's order were accepted and
  * ran to nonsense (CG at x = 12 m: hull pitched 100 degrees, 6.5 m underground; sprocket
  * ahead of the idler; road-wheel hubs above the sprocket). Each is refused naming the
- * field (vehicle_model.c check_circuit_order); the shipped layout passes (above). */
+ * field (vehicle_layout.c); the shipped layout passes (above), and so do a sprocket or
+ * idler as low as the hubs (the model runs them; a review of the first version, which refused
+ * them). */
 static void circuit_out_of_order_names_the_field(void **state)
 {
     (void)state;
@@ -158,6 +160,7 @@ static void circuit_out_of_order_names_the_field(void **state)
         {"\"idler_x\":-2", "/vehicle/idler_x"},
         {"\"road_wheel_z\":2.0", "/vehicle/road_wheel_z"},
         {"\"front_roller_x\":1.0", "/vehicle/front_roller_x"},
+        {"\"road_wheel_z\":0.9", "/vehicle/road_wheel_z"},
         {"\"road_wheel_x\":[5.15,4.425,2.975,3.7,2.25,1.525,0.8]", "/vehicle/road_wheel_x"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -167,6 +170,16 @@ static void circuit_out_of_order_names_the_field(void **state)
                  "\"terrain\":{\"kind\":\"flat\"},\"vehicle\":{%s}}",
                  cases[i].vehicle);
         expect_field_error(json, 0.01, cases[i].pointer);
+    }
+    static const char *const low[] = {"\"idler_z\":0.41", "\"sprocket_z\":0.41",
+                                      "\"sprocket_z\":0.38,\"sprocket_radius\":0.25"};
+    for (size_t i = 0; i < sizeof low / sizeof low[0]; i++) {
+        char json[256];
+        snprintf(json, sizeof json,
+                 "{\"preset\":\"bump-prescribed-static\",\"run\":{\"duration\":0.01},"
+                 "\"terrain\":{\"kind\":\"flat\"},\"vehicle\":{%s}}",
+                 low[i]);
+        expect_ok(json, 0.01);
     }
 }
 

@@ -52,8 +52,15 @@ def test_missing_and_oversized_config_files(tmp_path):
     out = subprocess.run([TANKSIM, "run", str(tmp_path / "none.json"), "--out", str(tmp_path / "o")],
                          capture_output=True, text=True, timeout=60)
     assert out.returncode != 0 and "none.json: No such file or directory" in out.stderr, out.stderr
+    exact = tmp_path / "exact.json"  # exactly 16 MiB: read (it failed at the bound once)
+    head = '{"preset": "pointmass-prescribed", "run": {"duration": 0.1}, "description": "'
+    exact.write_text(head + "x" * ((16 << 20) - len(head) - 2) + '"}')
+    assert exact.stat().st_size == 16 << 20
+    out = subprocess.run([TANKSIM, "run", str(exact), "--out", str(tmp_path / "e")],
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
     big = tmp_path / "big.json"
-    big.write_text('{"description": "%s"}' % ("x" * (17 << 20)))
+    big.write_text('{"description": "%s"}' % ("x" * (16 << 20)))
     out = subprocess.run([TANKSIM, "run", str(big), "--out", str(tmp_path / "o")],
                          capture_output=True, text=True, timeout=60)
     assert out.returncode != 0 and "larger than 16 MiB" in out.stderr, out.stderr

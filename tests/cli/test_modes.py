@@ -87,6 +87,10 @@ def test_modes_bad_fields_name_the_field(tmp_path):
         ({"track": {"span_length": [99.0], "span_inclination": [0]}}, "/track/span_length/0"),
         ({"track": {"tension": 150.0}}, "/track/tension"),  # sag no longer shallow
         ({"track": {"ea": "stiff"}}, "/track/ea"),
+        # a layout out of the circuit's order: `run` refused it, `modes` printed a
+        # 6.65-m road wheel 1 - idler span (review, session 24; sim/vehicle_layout.c)
+        ({"preset": "m1", "vehicle": {"idler_x": -1.5}}, "/vehicle/idler_x"),
+        ({"preset": "m1", "vehicle": {"road_wheel_z": 2.0}}, "/vehicle/road_wheel_z"),
     ]
     for doc, pointer in cases:
         cfg = tmp_path / "bad.json"

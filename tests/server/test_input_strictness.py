@@ -88,12 +88,12 @@ def test_unsolvable_config_is_422_not_500(daemon):
 
 
 def test_layout_out_of_the_circuits_order_is_400(daemon):
-    # road-wheel hubs above the idler (z 0.6 m): this once reached the static
+    # road-wheel hubs above the support rollers (z 0.84 m): this once reached the static
     # equilibrium and failed there (422); the layout check names the field
     r = requests.post(daemon.url + "/v1/sessions",
                       json={"preset": "bump-prescribed-static", "vehicle": {"road_wheel_z": 1.0}})
     p = is_problem(r, 400, "/vehicle/road_wheel_z")
-    assert p["type"] == "/problems/invalid-config" and "below the sprocket" in p["detail"], p
+    assert p["type"] == "/problems/invalid-config" and "below the support rollers" in p["detail"], p
 
 
 def test_fft_states_the_unit_of_every_number(daemon, sid500):
