@@ -86,6 +86,14 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
                           "/control/tune_window: the slope window is centred on a sample, so an "
                           "odd number of samples; got %d",
                           cc->tune_window);
+    /* the step response is one run: its length is bounded like any run's,
+     * and the fields that set it are the ones to name */
+    const ts_param *dur = ts_param_find("/run/duration");
+    if (dur && cc->tune_settle + cc->tune_duration > dur->max)
+        return ts_err_set(err, TS_ERR_RANGE, "/control/tune_duration",
+                          "/control/tune_duration: with /control/tune_settle the step response "
+                          "runs %g + %g s, past a run's longest (%g s, /run/duration)",
+                          cc->tune_settle, cc->tune_duration, dur->max);
     c.run.kind = TS_RUN_POINTMASS;
     c.terrain.kind = TS_TERRAIN_FLAT; /* the point-mass plant: level ground or /vehicle/grade */
     c.drive.kind = TS_DRIVE_POWERTRAIN;

@@ -311,6 +311,22 @@ static void sweep_validates_config(void **state)
     assert_string_equal(err.pointer, "/engine/variant");
 }
 
+/* Finding (session 24): /control/tune_duration 10000 s (in its range) was refused as
+ * "/run/duration: ... got 10060", a field the user had not set. The step response's
+ * length (settle + duration) is checked against a run's longest first, naming
+ * tune_duration. */
+static void ivs_tune_too_long_names_tune_duration(void **state)
+{
+    (void)state;
+    ts_config cfg = load("bump-coupled-ivs5mph");
+    cfg.control.tune_duration = 10000;
+    ts_ivs_tune_result o;
+    ts_err err;
+    assert_int_equal(ts_ivs_tune(&cfg, &o, &err), TS_ERR_RANGE);
+    assert_string_equal(err.pointer, "/control/tune_duration");
+    assert_non_null(strstr(err.msg, "/run/duration"));
+}
+
 /* A settle shorter than two samples is an error naming the field (it used to
  * read before the start of an empty series). */
 static void ivs_tune_needs_a_settle(void **state)
@@ -361,6 +377,7 @@ int main(void)
         cmocka_unit_test(tune_rejects_bad_schedule),
         cmocka_unit_test(ivs_tune_needs_a_settle),
         cmocka_unit_test(ivs_tune_rack_low_refusals_share_a_code),
+        cmocka_unit_test(ivs_tune_too_long_names_tune_duration),
         cmocka_unit_test(schedule_parse),
         cmocka_unit_test(sweep_validates_config),
     };
