@@ -30,6 +30,7 @@
  * crevices, multi-zone NOx/soot, valve dynamics.
  */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "engine_impl.h"
@@ -417,6 +418,39 @@ int en_crank_eval_part(const ts_engine *e, const double *x, const ts_engine_inpu
     if (!pc) pc = &local;
     if (gas_part(e, x, in, xdot, out, pc)) return 1;
     wall_part(e, x, in, pc, xdot, out, q_wall);
+    return 0;
+}
+
+int en_crank_domain_fault(const ts_engine *e, const double *x, char *out, size_t n)
+{
+    static const char *const vol[] = {"intercooler", "intake manifold", "exhaust manifold"};
+    static const int mass[] = {BX_ICM, BX_IMM, BX_EMM}, temp[] = {BX_ICT, BX_IMT, BX_EMT};
+    if (n) out[0] = '\0';
+    for (int b = 0; b < EN_NBANK; b++) {
+        const double *xb = x + e->off_bank + b * EN_BANK_NX;
+        for (int k = 0; k < 3; k++) {
+            if (!(xb[mass[k]] > 0))
+                return snprintf(out, n, "bank %d %s gas mass %.3g kg (must be > 0)", b + 1, vol[k],
+                                xb[mass[k]]),
+                       1;
+            if (!(xb[temp[k]] > 100))
+                return snprintf(out, n, "bank %d %s temperature %.4g K (must be > 100 K)", b + 1,
+                                vol[k], xb[temp[k]]),
+                       1;
+        }
+    }
+    for (int i = 0; i < EN_NCYL; i++) {
+        const double *xc = x + e->off_cyl + i * EN_CYL_NX;
+        if (!(xc[CX_M] > 0))
+            return snprintf(out, n, "cylinder %d gas mass %.3g kg (must be > 0)", i + 1, xc[CX_M]),
+                   1;
+        if (!(xc[CX_T] > 100 && xc[CX_T] < 5000))
+            return snprintf(out, n, "cylinder %d temperature %.4g K (must be 100-5000 K)", i + 1,
+                            xc[CX_T]),
+                   1;
+    }
+    for (int i = 0; i < e->nx; i++)
+        if (!isfinite(x[i])) return snprintf(out, n, "state %d is not finite", i), 1;
     return 0;
 }
 

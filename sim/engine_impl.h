@@ -443,6 +443,11 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
  * frozen walls' back-side heat. With q_wall NULL this is en_crank_rhs. */
 int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
                   ts_engine_outputs *out, double *q_wall);
+/* Which of en_crank_eval's domain guards state x fails (a manifold's or
+ * intercooler's mass <= 0 or temperature <= 100 K, a cylinder's mass <= 0 or
+ * temperature outside 100-5000 K) or which state is not finite, in words into
+ * out (n bytes, terminated); 0 if x is inside the domain (out then ""). */
+int en_crank_domain_fault(const ts_engine *e, const double *x, char *out, size_t n);
 /* What the wall heat fluxes, the cylinders' dT/dt and the crankshaft need from
  * the rest of the evaluation (engine_crank.c splits it in two). */
 typedef struct en_cyl_part {

@@ -80,6 +80,21 @@ static void coarse_ca_step_names_the_field(void **state)
     expect_field_error("{\"preset\":\"accel-pointmass-conventional\",\"run\":{\"duration\":0.05},"
                        "\"engine\":{\"ca_step\":0.1}}",
                        0.05, "/engine/ca_step");
+    /* session 24: the message also says which state left its domain (the same
+     * words for an intercooler passage too wide for the step) */
+    static const char *const doc[] = {
+        "{\"preset\":\"accel-pointmass-conventional\",\"run\":{\"duration\":0.05},"
+        "\"engine\":{\"ca_step\":0.1}}",
+        "{\"preset\":\"accel-pointmass-conventional\",\"run\":{\"duration\":0.05},"
+        "\"engine\":{\"ic_cda\":0.1}}"};
+    for (int i = 0; i < 2; i++) {
+        ts_err err;
+        int nonfinite;
+        assert_int_equal(run_doc(doc[i], 0.05, &err, &nonfinite), TS_ERR_DIVERGED);
+        if (!strstr(err.msg, "(must be ") ||
+            (!strstr(err.msg, ": cylinder ") && !strstr(err.msg, ": bank ")))
+            fail_msg("%s: %s", doc[i], err.msg);
+    }
 }
 
 /* Finding: a section given as a scalar ({"run": 3}) replaced the whole section and was
