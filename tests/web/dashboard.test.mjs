@@ -472,6 +472,12 @@ async function main() {
       const nt = schema.properties.track.properties.n_trans;
       const inp = page.locator('#schema-form [data-pointer="/track/n_trans"] input');
       assert((await inp.getAttribute('min')) === String(nt.minimum) && (await inp.getAttribute('max')) === String(nt.maximum), 'n_trans min/max differ from the schema');
+      /* session 24: an "off value or range" field (anyOf: 0 | [1e-6, 1] s) shows both, and its
+       * input takes 0 as its min (the hint was empty and min/max unset) */
+      const ms = await page.locator('#schema-form .field[data-pointer="/run/max_step"] .d-range').textContent(); /* under the closed "All parameters" */
+      assert(/^range 0 or 1(\.0+)?e-0?6 … 1$/.test(ms), `max_step range hint "${ms}"`);
+      const msi = page.locator('#schema-form [data-pointer="/run/max_step"] input');
+      assert((await msi.getAttribute('min')) === '0' && (await msi.getAttribute('max')) === '1', 'max_step input min/max');
       const dur = await text(page, '#schema-form .field[data-pointer="/run/duration"]');
       assert(dur.includes(`[${schema.properties.run.properties.duration['x-unit']}]`), `duration row lacks its unit: ${dur}`);
       /* every schema field has an input (key fields up front, the rest under "All parameters") */

@@ -89,11 +89,29 @@ function setPath(doc, pointer, value) {
   o[parts[parts.length - 1]] = value;
 }
 
+/* A number's bounds: its own minimum/maximum, or those of an "off value or a
+ * range" field (`anyOf: [{const: 0}, {minimum, maximum}]`, e.g. /run/max_step,
+ * /driveline/engine_macro_step), whose off value is returned as `off`. */
+function bounds(prop) {
+  if (!Array.isArray(prop.anyOf)) return { lo: prop.minimum, hi: prop.maximum };
+  const off = prop.anyOf.find((a) => 'const' in a);
+  const range = prop.anyOf.find((a) => 'minimum' in a || 'maximum' in a) || {};
+  return { lo: range.minimum, hi: range.maximum, off: off ? off.const : undefined };
+}
+
+/* The input's min attribute: the range's low end, or the off value below it. */
+function lowest(prop) {
+  const { lo, off } = bounds(prop);
+  if (lo === undefined || off === undefined) return lo ?? off;
+  return Math.min(lo, off);
+}
+
 function rangeText(prop) {
-  const lo = prop.minimum, hi = prop.maximum;
-  if (lo === undefined && hi === undefined) return '';
-  if (lo !== undefined && hi !== undefined) return `${fmt(lo)} … ${fmt(hi)}`;
-  return lo !== undefined ? `≥ ${fmt(lo)}` : `≤ ${fmt(hi)}`;
+  const { lo, hi, off } = bounds(prop);
+  const or = off !== undefined ? `${fmt(off)} or ` : '';
+  if (lo === undefined && hi === undefined) return off !== undefined ? fmt(off) : '';
+  if (lo !== undefined && hi !== undefined) return `${or}${fmt(lo)} … ${fmt(hi)}`;
+  return or + (lo !== undefined ? `≥ ${fmt(lo)}` : `≤ ${fmt(hi)}`);
 }
 
 function labelText(f) {
@@ -152,8 +170,8 @@ export class SchemaForm {
         id,
         type: 'number',
         step: prop.type === 'integer' ? '1' : 'any',
-        min: prop.minimum,
-        max: prop.maximum,
+        min: lowest(prop),
+        max: bounds(prop).hi,
         inputmode: 'decimal',
       });
     } else if (prop.type === 'array') {
