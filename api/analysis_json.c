@@ -192,7 +192,7 @@ static json_t *schedule_doc(const ts_config *cfg, int mass, const double *x, int
         else
             c.vehicle.grade = x[i];
         ts_ivs_tune_result o;
-        ts_rc rc = ts_ivs_tune(&c, &o, err);
+        ts_rc rc = ts_ivs_tune_polled(&c, &o, progress, ud, 1 + i, 1 + n, err);
         if (rc == TS_OK && (append(jx, json_real(x[i])) != 0 || append(jk, json_real(o.kp)) != 0 ||
                             append(jt, json_real(o.zn.ti)) != 0)) {
             no_json(err, "tune");
@@ -284,7 +284,8 @@ json_t *tsa_tune_json(const ts_config *cfg, const char *var, const double *x, in
     for (int i = 0; i < n; i++)
         if (ts_param_check_number(field, x[i], err) != TS_OK) return NULL;
     ts_ivs_tune_result o;
-    if (ts_ivs_tune(cfg, &o, err) != TS_OK) return NULL; /* validates cfg */
+    if (ts_ivs_tune_polled(cfg, &o, progress, ud, 0, 1 + n, err) != TS_OK)
+        return NULL; /* validates cfg; progress may stop it while its runs go */
     if (progress && progress(ud, 1, 1 + n) != 0) {
         ts_err_set(err, TS_ERR_CANCELLED, NULL, "tune: cancelled after the base tune");
         return NULL;

@@ -49,7 +49,8 @@ json_t *tsa_engine_map_json(const ts_config *cfg, ts_progress_fn progress, void 
 #define TSA_TUNE_SCHEDULE_MAX 16
 /* New reference, or NULL with err filled: ts_ivs_tune's errors; TS_ERR_CANCELLED
  * if progress (may be NULL; called with total 1 + n after the base tune and after
- * each schedule point) returned non-zero; TS_ERR_PARAM for a var other than
+ * each schedule point, and every few samples of each tune's runs with the parts
+ * done so far, to ask whether to stop) returned non-zero; TS_ERR_PARAM for a var other than
  * "mass"/"grade" with n > 0, n outside 0..16 or x NULL with n > 0; TS_ERR_RANGE
  * (pointer /vehicle/mass or /vehicle/grade) for a schedule value outside that
  * field's range, checked before anything runs. */

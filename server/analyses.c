@@ -99,10 +99,15 @@ static void finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
 static int on_progress(void *ud, int done, int total)
 {
     analysis_job *j = ud;
-    j->parts_done = done;
-    j->parts_total = total;
-    tsd_op_parts(j->srv, j->op, done, total);
-    store_op(j->srv, j->op); /* a crash after this part reports how far it got */
+    /* also called every few samples of a tune's runs only to ask whether to
+     * stop (ts_ivs_tune_polled): the operation is recorded and stored when its
+     * count of parts moves */
+    if (done != j->parts_done || total != j->parts_total) {
+        j->parts_done = done;
+        j->parts_total = total;
+        tsd_op_parts(j->srv, j->op, done, total);
+        store_op(j->srv, j->op); /* a crash after this part reports how far it got */
+    }
     return atomic_load(&j->srv->stopping) || tsd_op_cancel_requested(j->srv, j->op);
 }
 

@@ -20,7 +20,13 @@ typedef struct series {
     long n, cap;
     int ch;  /* channel index of vehicle.speed */
     int oom; /* set when growing the arrays failed */
+    ts_progress_fn poll; /* asked every POLL_SAMPLES samples whether to stop (may be NULL) */
+    void *poll_ud;
+    int done, total; /* handed to poll unchanged */
+    int stopped;     /* set when poll said stop */
 } series;
+
+#define POLL_SAMPLES 16 /* samples between two polls: ~0.03 s of the 500-Hz runs */
 
 /* ts_sample_fn: append values[ch] at t; non-zero (and oom set) when out of memory. */
 static int keep(void *ud, long index, double t, const double *values, int n)
@@ -28,6 +34,8 @@ static int keep(void *ud, long index, double t, const double *values, int n)
     (void)index;
     (void)n;
     series *s = ud;
+    if (s->poll && s->n % POLL_SAMPLES == 0 && s->poll(s->poll_ud, s->done, s->total))
+        return s->stopped = 1;
     if (s->n == s->cap) {
         long cap = s->cap ? 2 * s->cap : 4096;
         double *tt = realloc(s->t, (size_t)cap * sizeof *tt);
@@ -60,6 +68,10 @@ static ts_rc advance(const ts_model *m, ts_data *d, double t_end, series *s, ts_
 {
     ts_rc rc = ts_advance(m, d, t_end, keep, s, err);
     if (s->oom) return ts_err_set(err, TS_ERR_NOMEM, NULL, "tune: out of memory (speed series)");
+    if (s->stopped)
+        return ts_err_set(err, TS_ERR_CANCELLED, NULL,
+                          "tune: cancelled at t = %.3g s of a step response",
+                          s->n ? s->t[s->n - 1] : 0.0);
     return rc;
 }
 
@@ -78,6 +90,12 @@ static ts_rc steady(double slope, double span, const char *field, const char *wh
 }
 
 ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
+{
+    return ts_ivs_tune_polled(cfg, out, NULL, NULL, 0, 0, err);
+}
+
+ts_rc ts_ivs_tune_polled(const ts_config *cfg, ts_ivs_tune_result *out, ts_progress_fn poll,
+                         void *ud, int done, int total, ts_err *err)
 {
     ts_config c = *cfg;
     const ts_control_config *cc = &cfg->control;
@@ -103,7 +121,7 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
     ts_rc rc = TS_OK;
     ts_model *m1 = NULL;
     ts_data *d0 = NULL, *d1 = NULL;
-    series s = {NULL, NULL, 0, 0, -1, 0};
+    series s = {NULL, NULL, 0, 0, -1, 0, poll, ud, done, total, 0};
     void *buf = NULL;
     ts_model *m0 = ts_model_make(&c, err);
     if (m0) {

@@ -21,6 +21,7 @@
 
 #include "config.h"
 #include "errors.h"
+#include "model.h"
 #include "zn_tuning.h"
 
 typedef struct ts_ivs_tune_result {
@@ -41,5 +42,12 @@ typedef struct ts_ivs_tune_result {
  * /control/tune_settle or tune_duration when either speed is not steady;
  * ts_zn_reaction_curve's when the response is not S-shaped; TS_ERR_NOMEM. */
 ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err);
+
+/* ts_ivs_tune that also calls poll(ud, done, total) every few samples of its
+ * runs (done and total passed through unchanged: the caller's own count of
+ * parts) and stops with TS_ERR_CANCELLED when it returns non-zero, so that a
+ * long step response can be cancelled while it runs. poll may be NULL. */
+ts_rc ts_ivs_tune_polled(const ts_config *cfg, ts_ivs_tune_result *out, ts_progress_fn poll,
+                         void *ud, int done, int total, ts_err *err);
 
 #endif

@@ -140,6 +140,23 @@ def test_cancel_stops_after_the_part_in_progress(daemon):
     assert op["metadata"]["parts_done"] < 14 and op["metadata"]["progress"] < 1
 
 
+def test_cancel_stops_a_tune_inside_its_step_response(daemon):
+    # A probe (session 24) tuned with 1800-s settle and step runs: the cancel
+    # took 74-349 s, because the tune asked only between its parts. Its runs
+    # now ask every 16 samples (ts_ivs_tune_polled): a 3600-s crank-angle
+    # response (~100 s of work) stops within a few seconds of the cancel.
+    op = start(daemon.url, "/v1/tune", {"preset": "bump-coupled-ivs5mph",
+                                        "engine": {"fidelity": "crank_angle"},
+                                        "control": {"tune_settle": 1800, "tune_duration": 1800}})
+    time.sleep(1.0)
+    r = requests.post(f"{daemon.url}/v1/operations/{op['id']}:cancel")
+    assert r.status_code == 200, r.text
+    t0 = time.time()
+    op = wait_op(daemon.url, op["id"], timeout=60)
+    assert time.time() - t0 < 5, time.time() - t0
+    assert op["error"]["code"] == 1 and "cancelled" in op["error"]["message"], op["error"]
+
+
 def test_one_analysis_at_a_time_with_two_workers(daemon):
     first = start(daemon.url, "/v1/engine-map", CRANK_MAP)
     r = requests.post(daemon.url + "/v1/tune", json={"preset": "bump-coupled-ivs5mph"})

@@ -46,6 +46,16 @@ static int record(void *ud, int done, int total)
     return c->stop_at > 0 && done >= c->stop_at;
 }
 
+/* record for a tune: its runs also poll with the parts done so far unchanged
+ * (ts_ivs_tune_polled), so only a call that moves the count is a report. */
+static int record_parts(void *ud, int done, int total)
+{
+    calls *c = ud;
+    if (done <= (c->n ? c->done[c->n - 1 < 32 ? c->n - 1 : 31] : 0))
+        return c->stop_at > 0 && done >= c->stop_at;
+    return record(ud, done, total);
+}
+
 static double rpm_omega(int rpm)
 {
     return rpm * TS_PI / 30;
@@ -207,7 +217,7 @@ static void tune_document_and_progress(void **state)
     assert_int_equal(ts_ivs_tune(&cfg, &o, &err), TS_OK);
     double x = cfg.vehicle.mass;
     calls seen = {0};
-    json_t *doc = tsa_tune_json(&cfg, "mass", &x, 1, record, &seen, &err);
+    json_t *doc = tsa_tune_json(&cfg, "mass", &x, 1, record_parts, &seen, &err);
     assert_non_null(doc);
     assert_int_equal(seen.n, 2);
     assert_int_equal(seen.done[0], 1);
@@ -230,7 +240,7 @@ static void tune_document_and_progress(void **state)
     json_decref(doc);
 
     calls stop = {.stop_at = 1};
-    assert_null(tsa_tune_json(&cfg, "mass", &x, 1, record, &stop, &err));
+    assert_null(tsa_tune_json(&cfg, "mass", &x, 1, record_parts, &stop, &err));
     assert_int_equal(err.code, TS_ERR_CANCELLED);
     assert_int_equal(stop.n, 1);
 }
@@ -311,6 +321,40 @@ static void sweep_validates_config(void **state)
     assert_string_equal(err.pointer, "/engine/variant");
 }
 
+/* The tune's runs ask poll every few samples, with the caller's part counts
+ * unchanged, and stop with TS_ERR_CANCELLED when it says so (session-24 probe:
+ * a daemon tune with 1800-s runs took minutes to honour a cancel). */
+typedef struct poll_count {
+    int calls, stop_at, done, total;
+} poll_count;
+
+static int poll_stop(void *ud, int done, int total)
+{
+    poll_count *p = ud;
+    p->done = done, p->total = total;
+    return ++p->calls >= p->stop_at;
+}
+
+static void ivs_tune_polled_stops_when_asked(void **state)
+{
+    (void)state;
+    ts_config cfg = load("bump-coupled-ivs5mph");
+    ts_ivs_tune_result o;
+    ts_err err;
+    poll_count p = {0, 5, -1, -1};
+    assert_int_equal(ts_ivs_tune_polled(&cfg, &o, poll_stop, &p, 3, 7, &err), TS_ERR_CANCELLED);
+    assert_int_equal(p.calls, 5);
+    assert_int_equal(p.done, 3);
+    assert_int_equal(p.total, 7);
+    assert_non_null(strstr(err.msg, "cancelled"));
+    poll_count never = {0, 1 << 30, -1, -1}; /* a poll that never stops: the same tune */
+    ts_ivs_tune_result a, b;
+    assert_int_equal(ts_ivs_tune_polled(&cfg, &a, poll_stop, &never, 0, 1, &err), TS_OK);
+    assert_int_equal(ts_ivs_tune(&cfg, &b, &err), TS_OK);
+    assert_true(never.calls > 100);
+    assert_true(a.kp == b.kp && a.zn.ti == b.zn.ti && a.v0 == b.v0 && a.vb == b.vb);
+}
+
 /* Finding (session 24): /control/tune_duration 10000 s (in its range) was refused as
  * "/run/duration: ... got 10060", a field the user had not set. The step response's
  * length (settle + duration) is checked against a run's longest first, naming
@@ -378,6 +422,7 @@ int main(void)
         cmocka_unit_test(ivs_tune_needs_a_settle),
         cmocka_unit_test(ivs_tune_rack_low_refusals_share_a_code),
         cmocka_unit_test(ivs_tune_too_long_names_tune_duration),
+        cmocka_unit_test(ivs_tune_polled_stops_when_asked),
         cmocka_unit_test(schedule_parse),
         cmocka_unit_test(sweep_validates_config),
     };
