@@ -119,6 +119,18 @@ static ts_rc data_init(const ts_model *m, ts_data *d, ts_err *err)
                      .second_order = 1,
                      .max_order = VM_BDF_MAX_ORDER,
                      .jac_eval_frequency = VM_JAC_EVAL_STEPS};
+    /* one sample is one CVode call of at most max_steps steps: a cap that
+     * cannot reach the next sample fails there, after minutes of work
+     * (session-24 probe: 1e-6 s at 1 Hz gave CV_TOO_MUCH_WORK at t = 0.5 s) */
+    double period = 1.0 / m->cfg.run.sample_rate;
+    if (o.max_step > 0 && period / o.max_step > 0.9 * (double)o.max_steps) {
+        data_fini(m, d);
+        return ts_err_set(err, TS_ERR_RANGE, "/run/max_step",
+                          "/run/max_step: %g s steps reach the next sample (%g s on, "
+                          "/run/sample_rate) only in %.3g steps, past the integrator's %ld per "
+                          "sample; raise max_step or the sample rate",
+                          o.max_step, period, period / o.max_step, (long)o.max_steps);
+    }
     p->ode = ts_ode_make(ny, rhs, d, &o, err);
     if (!p->ode) {
         data_fini(m, d);

@@ -234,6 +234,15 @@ static void tiny_max_step_is_refused(void **state)
     expect_ok("{\"preset\":\"pointmass-prescribed\",\"run\":{\"duration\":0.01,"
               "\"max_step\":0}}",
               0.01);
+    /* session-24 probe: a cap that cannot reach the next sample within the vehicle
+     * integrator's 500,000 steps per sample (1e-6 s at 1 Hz) was accepted and failed
+     * with CV_TOO_MUCH_WORK at t = 0.5 s after minutes; it is refused at the field */
+    expect_field_error("{\"preset\":\"bump-prescribed-static\",\"run\":{\"duration\":1,"
+                       "\"sample_rate\":1,\"max_step\":1e-6}}",
+                       1, "/run/max_step");
+    expect_ok("{\"preset\":\"bump-prescribed-static\",\"run\":{\"duration\":0.01,"
+              "\"max_step\":1e-6}}",
+              0.01);
     /* the schema says the same: 0 (off) or [1e-6, 1] s (TS_PT_DOUBLE_OFF) */
     json_t *schema = tsa_config_schema();
     json_t *ms = json_object_get(
