@@ -557,8 +557,15 @@ async function main() {
           assert(msg.includes(pointer) && /number/.test(msg), `the message next to ${pointer} for '${typed}': "${msg}"`);
           assert((await text(page, '#create-error')).includes(pointer), `the error box does not name ${pointer}`);
           await shot(page, `02b-bad-number-${slug(pointer)}`);
+          /* session 24: this wait timed out once in ~8 runs (which field was not said): name
+           * the field, and whether the preset's document was answered, when it does again */
+          const presetAnswer = page.waitForResponse((r) => /\/v1\/presets\/[^/]+$/.test(r.url()), { timeout: 5000 }).then((r) => r.status()).catch(() => 'no answer in 5 s');
           await page.click('#reset-form');
-          await waitFor(async () => !(await row.getAttribute('class')).includes('invalid'), 'the error cleared by "Reset to preset"', 5000);
+          try {
+            await waitFor(async () => !(await row.getAttribute('class')).includes('invalid'), `the error on ${pointer} cleared by "Reset to preset"`, 5000);
+          } catch (e) {
+            throw new Error(`${e.message}; the preset document's answer: ${await presetAnswer}`);
+          }
         }
         if (await page.locator('#schema-form .all-params').evaluate((e) => e.open)) await page.click('#schema-form .all-params summary');
         const posts = rec.seen.filter((r) => r === 'POST /v1/sessions');
