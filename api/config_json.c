@@ -12,6 +12,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "../sim/file_read.h"
 #include "../sim/terrain.h"
 #include "json_error.h"
 #include "problem.h"
@@ -487,54 +488,7 @@ ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err)
  * member is then named from the same bytes jansson saw, and a file that can be
  * read only once (a pipe, `<(...)`, /dev/stdin) works. Bounded: a config is a
  * few kB, so anything past TSA_CONFIG_FILE_MAX is refused, not buffered. */
-#define TSA_CONFIG_FILE_MAX (16u << 20)
-
-static ts_rc read_config_file(const char *path, char **text_out, size_t *len_out, ts_err *err)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return ts_err_set(err, TS_ERR_IO, NULL, "%s: %s", path, strerror(errno));
-    size_t cap = 8192, len = 0;
-    char *text = malloc(cap);
-    if (!text) {
-        fclose(f);
-        return ts_err_set(err, TS_ERR_NOMEM, NULL, "%s: out of memory", path);
-    }
-    ts_rc rc = TS_OK;
-    for (;;) {
-        if (len == cap) {
-            if (cap >= TSA_CONFIG_FILE_MAX) { /* full: a file of exactly the bound is fine */
-                if (fgetc(f) != EOF)
-                    rc = ts_err_set(err, TS_ERR_LIMIT, NULL,
-                                    "%s: larger than %u MiB; not a config file", path,
-                                    TSA_CONFIG_FILE_MAX >> 20);
-                else if (ferror(f))
-                    rc = ts_err_set(err, TS_ERR_IO, NULL, "%s: read failed", path);
-                break;
-            }
-            char *grown = realloc(text, cap * 2);
-            if (!grown) {
-                rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "%s: out of memory", path);
-                break;
-            }
-            text = grown;
-            cap *= 2;
-        }
-        size_t got = fread(text + len, 1, cap - len, f);
-        len += got;
-        if (got == 0) {
-            if (ferror(f)) rc = ts_err_set(err, TS_ERR_IO, NULL, "%s: read failed", path);
-            break;
-        }
-    }
-    fclose(f);
-    if (rc != TS_OK) {
-        free(text);
-        return rc;
-    }
-    *text_out = text;
-    *len_out = len;
-    return TS_OK;
-}
+#define TSA_CONFIG_FILE_MAX ((size_t)16 << 20)
 
 ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out, json_t *errors,
                            ts_err *err)
@@ -542,10 +496,10 @@ ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_o
     struct stat st; /* a directory read as an empty document: say what it is */
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
         return ts_err_set(err, TS_ERR_IO, NULL, "%s: a directory, not a config file", path);
-    char *text = NULL;
     size_t len = 0;
-    ts_rc rc = read_config_file(path, &text, &len, err);
-    if (rc != TS_OK) return rc;
+    char *text = ts_file_read(path, TSA_CONFIG_FILE_MAX, TS_READ_ANY, &len, err);
+    if (!text) return err ? err->code : TS_ERR_IO;
+    ts_rc rc;
     json_error_t je;
     json_t *doc = json_loadb(text, len, JSON_REJECT_DUPLICATES, &je);
     if (!doc) {

@@ -183,51 +183,6 @@ static token next_token(const scan *sc, size_t *i)
     return t;
 }
 
-static int hex4(const char *p, unsigned *out)
-{
-    unsigned v = 0;
-    for (int k = 0; k < 4; k++) {
-        char c = p[k];
-        v <<= 4;
-        if (is_digit(c))
-            v |= (unsigned)(c - '0');
-        else if (c >= 'a' && c <= 'f')
-            v |= (unsigned)(c - 'a' + 10);
-        else if (c >= 'A' && c <= 'F')
-            v |= (unsigned)(c - 'A' + 10);
-        else
-            return -1;
-    }
-    *out = v;
-    return 0;
-}
-
-static void put_utf8(tsa_buf *b, uint32_t cp)
-{
-    char u[4];
-    size_t n;
-    if (cp < 0x80) {
-        u[0] = (char)cp;
-        n = 1;
-    } else if (cp < 0x800) {
-        u[0] = (char)(0xC0 | (cp >> 6));
-        u[1] = (char)(0x80 | (cp & 0x3F));
-        n = 2;
-    } else if (cp < 0x10000) {
-        u[0] = (char)(0xE0 | (cp >> 12));
-        u[1] = (char)(0x80 | ((cp >> 6) & 0x3F));
-        u[2] = (char)(0x80 | (cp & 0x3F));
-        n = 3;
-    } else {
-        u[0] = (char)(0xF0 | (cp >> 18));
-        u[1] = (char)(0x80 | ((cp >> 12) & 0x3F));
-        u[2] = (char)(0x80 | ((cp >> 6) & 0x3F));
-        u[3] = (char)(0x80 | (cp & 0x3F));
-        n = 4;
-    }
-    tsa_buf_put(b, u, n);
-}
-
 /* One decoded byte of a key, escaped for a pointer (RFC 6901: ~0, ~1). */
 static void put_key_byte(tsa_buf *b, char c)
 {
@@ -239,75 +194,24 @@ static void put_key_byte(tsa_buf *b, char c)
         tsa_buf_put(b, &c, 1);
 }
 
-/* The \u escape at p (p[0] == 'u', end bounds the string): its code point
- * (a surrogate pair read whole) into *cp; bytes used, 0 when it is not a
- * valid character (bad hex, a lone surrogate, U+0000 — not in a C string). */
-static size_t unicode_escape(const char *p, const char *end, uint32_t *cp)
-{
-    unsigned hi, lo;
-    if (end - p < 5 || hex4(p + 1, &hi) != 0 || hi == 0) return 0;
-    if (hi >= 0xDC00 && hi <= 0xDFFF) return 0;
-    if (hi < 0xD800 || hi > 0xDBFF) {
-        *cp = hi;
-        return 5;
-    }
-    if (end - p < 11 || p[5] != '\\' || p[6] != 'u' || hex4(p + 7, &lo) != 0) return 0;
-    if (lo < 0xDC00 || lo > 0xDFFF) return 0;
-    *cp = 0x10000 + (((uint32_t)hi - 0xD800) << 10) + ((uint32_t)lo - 0xDC00);
-    return 11;
-}
-
-/* The key of string token t, decoded and escaped, into b (emptied first).
- * -1 when it names no member a pointer can: a NUL or an invalid escape. */
+/* The key of string token t, decoded (by jansson: the token alone is a JSON
+ * string) and escaped, into b (emptied first). -1 when it names no member a
+ * pointer can: an invalid escape, a lone surrogate, U+0000 (not in a C
+ * string). */
 static int decode_key(const scan *sc, token t, tsa_buf *b)
 {
     b->n = 0;
     if (b->p) b->p[0] = '\0';
-    const char *p = sc->s + t.start + 1, *end = sc->s + t.end - 1;
-    while (p < end) {
-        if (*p == '\0') return -1;
-        if (*p != '\\') {
-            put_key_byte(b, *p++);
-            continue;
-        }
-        if (++p >= end) return -1;
-        uint32_t cp;
-        size_t used;
-        switch (*p) {
-        case '"':
-        case '\\':
-        case '/':
-            put_key_byte(b, *p);
-            break;
-        case 'b':
-            put_key_byte(b, '\b');
-            break;
-        case 'f':
-            put_key_byte(b, '\f');
-            break;
-        case 'n':
-            put_key_byte(b, '\n');
-            break;
-        case 'r':
-            put_key_byte(b, '\r');
-            break;
-        case 't':
-            put_key_byte(b, '\t');
-            break;
-        case 'u':
-            used = unicode_escape(p, end, &cp);
-            if (!used) return -1;
-            if (cp == '~' || cp == '/')
-                put_key_byte(b, (char)cp);
-            else
-                put_utf8(b, cp);
-            p += used;
-            continue;
-        default:
-            return -1;
-        }
-        p++;
+    json_error_t je;
+    json_t *k = json_loadb(sc->s + t.start, t.end - t.start, JSON_DECODE_ANY, &je);
+    if (!json_is_string(k)) {
+        json_decref(k);
+        return -1;
     }
+    const char *v = json_string_value(k);
+    for (size_t i = 0, n = json_string_length(k); i < n; i++)
+        put_key_byte(b, v[i]);
+    json_decref(k);
     return b->oom ? -1 : 0;
 }
 

@@ -310,22 +310,9 @@ static void list_one(void *ud, const char *id, const char *kind, double created,
     json_array_append_new(ud, o);
 }
 
-json_t *tsd_analyses_json(tsd_server *srv, ts_err *err)
-{
-    json_t *list = json_array();
-    if (!list) {
-        ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
-        return NULL;
-    }
-    if (tsd_db_analyses(srv->db, NULL, list_one, list) != 0) {
-        json_decref(list);
-        ts_err_set(err, TS_ERR_IO, NULL, "cannot list the stored analyses");
-        return NULL;
-    }
-    return json_pack("{s:o}", "analyses", list);
-}
-
-json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err)
+/* The stored analyses (id NULL: all, without bodies; else that one) as a new
+ * array, or NULL with err filled. */
+static json_t *read_analyses(tsd_server *srv, const char *id, ts_err *err)
 {
     json_t *list = json_array();
     if (!list) {
@@ -334,9 +321,25 @@ json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err)
     }
     if (tsd_db_analyses(srv->db, id, list_one, list) != 0) {
         json_decref(list);
-        ts_err_set(err, TS_ERR_IO, NULL, "cannot read analysis '%s' from the store", id);
+        if (id)
+            ts_err_set(err, TS_ERR_IO, NULL, "cannot read analysis '%s' from the store", id);
+        else
+            ts_err_set(err, TS_ERR_IO, NULL, "cannot list the stored analyses");
         return NULL;
     }
+    return list;
+}
+
+json_t *tsd_analyses_json(tsd_server *srv, ts_err *err)
+{
+    json_t *list = read_analyses(srv, NULL, err);
+    return list ? json_pack("{s:o}", "analyses", list) : NULL;
+}
+
+json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err)
+{
+    json_t *list = read_analyses(srv, id, err);
+    if (!list) return NULL;
     json_t *one = json_incref(json_array_get(list, 0));
     json_decref(list);
     if (!one)

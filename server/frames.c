@@ -135,7 +135,7 @@ static ts_rc state_at(frames_ctx *f, long k)
 {
     const ts_model *m = f->s->m;
     if (tsd_session_is_deleted(f->s)) /* also unrestored when deleted before its build */
-        return ts_err_set(&f->err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", f->s->id);
+        return tsd_session_err_deleted(f->s, &f->err);
     if (f->s->unrestored) /* its snapshots do not fit this build (session.c) */
         return ts_err_set(&f->err, TS_ERR_STATE, NULL, "session %s has no frames here: %s",
                           f->s->id, f->s->error);
@@ -145,9 +145,8 @@ static ts_rc state_at(frames_ctx *f, long k)
     long sidx = -1;
     if (tsd_db_snapshot_at(f->srv->db, f->s->seq, k, &blob, &n, &sidx) != 0 || !blob) {
         free(blob);
-        if (tsd_session_is_deleted(
-                f->s)) /* a DELETE took the snapshots meanwhile: not /t's fault */
-            return ts_err_set(&f->err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", f->s->id);
+        /* a DELETE took the snapshots meanwhile: not /t's fault */
+        if (tsd_session_is_deleted(f->s)) return tsd_session_err_deleted(f->s, &f->err);
         return ts_err_set(&f->err, TS_ERR_NOTFOUND, "/t",
                           "/t: no stored state at or before t = %g s",
                           (double)k * ts_model_sample_period(m));

@@ -213,7 +213,7 @@ static enum MHD_Result run_built(tsd_request *r)
     r->built_handler = NULL;
     if (tsd_session_is_deleted(r->session)) {
         ts_err e;
-        ts_err_set(&e, TS_ERR_NOTFOUND, NULL, "session %s was deleted", r->session->id);
+        tsd_session_err_deleted(r->session, &e);
         return tsd_reply_err(r, &e, NULL);
     }
     return handler(r);
@@ -670,8 +670,7 @@ static long read_rows(tsd_request *r, tsd_session *s, long from, long to, long e
                          *rows, more);
     /* a DELETE that landed meanwhile took the rows, or some of them: the
      * session is gone, not empty (nor an I/O failure) */
-    if (tsd_session_is_deleted(s))
-        return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id), -1;
+    if (tsd_session_is_deleted(s)) return tsd_session_err_deleted(s, err), -1;
     if (n < 0) ts_err_set(err, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
     return n;
 }
@@ -1027,7 +1026,7 @@ static enum MHD_Result reply_no_frames(tsd_request *r, tsd_session *s)
 {
     ts_err e;
     if (tsd_session_is_deleted(s)) /* its rows are gone, not kept: 404 as for a step */
-        ts_err_set(&e, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id);
+        tsd_session_err_deleted(s, &e);
     else
         ts_err_set(&e, TS_ERR_STATE, NULL, "session %s has no frames here: %s", s->id, s->error);
     return tsd_reply_err(r, &e, NULL);

@@ -775,6 +775,11 @@ int tsd_session_is_deleted(tsd_session *s)
     return deleted;
 }
 
+ts_rc tsd_session_err_deleted(const tsd_session *s, ts_err *err)
+{
+    return ts_err_set(err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id);
+}
+
 ts_rc tsd_session_delete(tsd_session *s, ts_err *err)
 {
     tsd_server *srv = s->srv;
@@ -1139,7 +1144,7 @@ static ts_rc acquire(tsd_session *s, ts_err *err)
     pthread_mutex_lock(&s->mu);
     ts_rc rc = TS_OK;
     if (s->deleted) /* also when a DELETE landed after the router looked the session up */
-        rc = ts_err_set(err, TS_ERR_NOTFOUND, NULL, "session %s was deleted", s->id);
+        rc = tsd_session_err_deleted(s, err);
     else if (s->unrestored) /* immutable once the session is built */
         rc = ts_err_set(err, TS_ERR_STATE, NULL,
                         "session %s cannot be advanced by this daemon: %s (its stored rows "

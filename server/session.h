@@ -113,6 +113,9 @@ void tsd_session_put(tsd_session *s);
 /* Non-zero once s has been deleted (taken under its lock): a reader holding
  * a reference answers 404 instead of what the removed rows would give. */
 int tsd_session_is_deleted(tsd_session *s);
+/* err := 404 TS_ERR_NOTFOUND "session ID was deleted", the one answer for a
+ * session a DELETE removed under a request; returns TS_ERR_NOTFOUND. */
+ts_rc tsd_session_err_deleted(const tsd_session *s, ts_err *err);
 /* Delete s (the caller holds a reference): 404 when it already is, IO when the
  * store will not record it (the session is kept). */
 ts_rc tsd_session_delete(tsd_session *s, ts_err *err);

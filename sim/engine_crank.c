@@ -142,8 +142,8 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     double air = 0;
     for (int b = 0; b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
-        if (!(xb[BX_IMM] > 0 && xb[BX_EMM] > 0 && xb[BX_ICM] > 0 && xb[BX_IMT] > 100 &&
-              xb[BX_EMT] > 100 && xb[BX_ICT] > 100))
+        if (!(xb[BX_IMM] > 0 && xb[BX_EMM] > 0 && xb[BX_ICM] > 0 && xb[BX_IMT] > EN_T_DOMAIN_MIN &&
+              xb[BX_EMT] > EN_T_DOMAIN_MIN && xb[BX_ICT] > EN_T_DOMAIN_MIN))
             return 1;
         en_bank_read(e, xb, &bo[b]);
         bf[b].m_in = bf[b].h_in = bf[b].mf_in = 0.0; /* the cylinders' sums */
@@ -181,7 +181,7 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
         en_kinematics_sc(geo, s_th * e->cyl_cos[i] - c_th * e->cyl_sin[i],
                          c_th * e->cyl_cos[i] + s_th * e->cyl_sin[i], &kin);
         double m = xc[CX_M], T = xc[CX_T], mb = xc[CX_MB];
-        if (!(m > 0 && T > 100 && T < 5000)) return 1;
+        if (!(m > 0 && T > EN_T_DOMAIN_MIN && T < EN_T_DOMAIN_MAX)) return 1;
         double im = 1.0 / m, iV = 1.0 / kin.V; /* the divisions by m and V */
         double F = mb * im;
         F = F < 0.0 ? 0.0 : F > 1.0 ? 1.0 : F;
@@ -433,9 +433,9 @@ int en_crank_domain_fault(const ts_engine *e, const double *x, char *out, size_t
                 return snprintf(out, n, "bank %d %s gas mass %.3g kg (must be > 0)", b + 1, vol[k],
                                 xb[mass[k]]),
                        1;
-            if (!(xb[temp[k]] > 100))
-                return snprintf(out, n, "bank %d %s temperature %.4g K (must be > 100 K)", b + 1,
-                                vol[k], xb[temp[k]]),
+            if (!(xb[temp[k]] > EN_T_DOMAIN_MIN))
+                return snprintf(out, n, "bank %d %s temperature %.4g K (must be > %g K)", b + 1,
+                                vol[k], xb[temp[k]], EN_T_DOMAIN_MIN),
                        1;
         }
     }
@@ -444,9 +444,9 @@ int en_crank_domain_fault(const ts_engine *e, const double *x, char *out, size_t
         if (!(xc[CX_M] > 0))
             return snprintf(out, n, "cylinder %d gas mass %.3g kg (must be > 0)", i + 1, xc[CX_M]),
                    1;
-        if (!(xc[CX_T] > 100 && xc[CX_T] < 5000))
-            return snprintf(out, n, "cylinder %d temperature %.4g K (must be 100-5000 K)", i + 1,
-                            xc[CX_T]),
+        if (!(xc[CX_T] > EN_T_DOMAIN_MIN && xc[CX_T] < EN_T_DOMAIN_MAX))
+            return snprintf(out, n, "cylinder %d temperature %.4g K (must be %g-%g K)", i + 1,
+                            xc[CX_T], EN_T_DOMAIN_MIN, EN_T_DOMAIN_MAX),
                    1;
     }
     for (int i = 0; i < e->nx; i++)

@@ -443,6 +443,10 @@ int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_
  * frozen walls' back-side heat. With q_wall NULL this is en_crank_rhs. */
 int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
                   ts_engine_outputs *out, double *q_wall);
+/* Gas temperatures en_crank_eval runs between [K] (its domain guards; outside
+ * them the gas-property fits and the heat transfer mean nothing). */
+#define EN_T_DOMAIN_MIN 100.0
+#define EN_T_DOMAIN_MAX 5000.0
 /* Which of en_crank_eval's domain guards state x fails (a manifold's or
  * intercooler's mass <= 0 or temperature <= 100 K, a cylinder's mass <= 0 or
  * temperature outside 100-5000 K) or which state is not finite, in words into

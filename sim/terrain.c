@@ -12,9 +12,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "constants.h"
+#include "file_read.h"
 #include "param.h"
 #define PI TS_PI
 
@@ -48,59 +48,17 @@ static int alloc_arrays(ts_terrain *t, int n)
  * Without it a config naming /dev/zero or a growing file never returned. */
 #define TERRAIN_FILE_MAX ((size_t)64 << 20)
 
-/* Read a whole regular file into a NUL-terminated buffer (caller frees).
- * Refuses directories, devices and pipes (a config may name any path) and
- * files over TERRAIN_FILE_MAX; read errors are reported, not taken as EOF. */
+/* Read a whole regular file (file_read.h; a config may name any path) of at
+ * most TERRAIN_FILE_MAX into a NUL-terminated buffer (caller frees); errors
+ * name the field. */
 static char *slurp(const char *path, const char *pointer, ts_err *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        ts_err_set(err, TS_ERR_NOTFOUND, pointer, "%s: cannot open '%s': %s", pointer, path,
-                   strerror(errno));
-        return NULL;
+    char *buf = ts_file_read(path, TERRAIN_FILE_MAX, TS_READ_REGULAR, NULL, err);
+    if (!buf && err) {
+        char why[sizeof err->msg];
+        memcpy(why, err->msg, sizeof why);
+        ts_err_set(err, err->code, pointer, "%s: %.300s", pointer, why);
     }
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        fclose(f);
-        ts_err_set(err, TS_ERR_PARAM, pointer, "%s: '%s' is not a regular file", pointer, path);
-        return NULL;
-    }
-    size_t cap = 4096, n = 0;
-    char *buf = malloc(cap);
-    while (buf) {
-        size_t r = fread(buf + n, 1, cap - n - 1, f);
-        n += r;
-        if (r == 0) break;
-        if (n > TERRAIN_FILE_MAX) {
-            free(buf);
-            fclose(f);
-            ts_err_set(err, TS_ERR_LIMIT, pointer, "%s: '%s' is larger than %zu MiB", pointer, path,
-                       TERRAIN_FILE_MAX >> 20);
-            return NULL;
-        }
-        if (n + 1 >= cap) {
-            char *nb = realloc(buf, cap * 2);
-            if (!nb) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = nb;
-            cap *= 2;
-        }
-    }
-    int failed = ferror(f);
-    fclose(f);
-    if (buf && failed) {
-        free(buf);
-        ts_err_set(err, TS_ERR_IO, pointer, "%s: cannot read '%s'", pointer, path);
-        return NULL;
-    }
-    if (!buf) {
-        ts_err_set(err, TS_ERR_NOMEM, pointer, "out of memory reading '%s'", path);
-        return NULL;
-    }
-    buf[n] = '\0';
     return buf;
 }
 

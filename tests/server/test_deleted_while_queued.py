@@ -4,8 +4,10 @@ rebuild — a step, a frame, a summary — answered 409 "cannot be advanced by
 this daemon: the session was deleted (its stored rows are kept and can be
 read)" / "has no frames here", which is false: the rows are gone. They now
 answer 404 "session ... was deleted", as a step a DELETE cuts short does.
-A frame whose session is deleted while it is drawn answers the same 404, not
-one naming /t ("no stored state at or before t")."""
+A GET of the session itself queued the same way answered 200 with "status":
+"deleted" while /series answered 404; run_built now answers that 404 for every
+route. A frame whose session is deleted while it is drawn answers the same
+404, not one naming /t ("no stored state at or before t")."""
 import threading
 
 import requests
@@ -32,10 +34,12 @@ def test_requests_queued_behind_the_rebuild_of_a_deleted_session_answer_404(tmp_
             (("step", "POST", f"/v1/sessions/{sid}/step"), {"json": {"duration": 0.1}}),
             (("frame", "GET", f"/v1/sessions/{sid}/frame.png?t=0.1"), {}),
             (("summary", "GET", f"/v1/sessions/{sid}/summary"), {}),
+            (("session", "GET", f"/v1/sessions/{sid}"), {}),
+            (("series", "GET", f"/v1/sessions/{sid}/series"), {}),
         ]]
         for t in threads:
             t.start()
-        wait_metric(d.url, "tanksimd_jobs_pending", busy + len(threads))  # all three wait for the rebuild
+        wait_metric(d.url, "tanksimd_jobs_pending", busy + len(threads))  # all of them wait for the rebuild
         assert not answers, {k: (v.status_code, v.text) for k, v in answers.items()}
         assert requests.delete(f"{d.url}/v1/sessions/{sid}").status_code == 204
         requests.post(f"{d.url}/v1/operations/{op}:cancel")
