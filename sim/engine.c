@@ -427,28 +427,32 @@ static const char *step_pointer(const ts_engine *e)
     return e->c.fidelity == TS_ENGINE_CRANK_ANGLE ? "/engine/ca_step" : "/engine";
 }
 
-/* The error of a cycle_run whose fixed step h at t left the state's domain;
- * x: the step's start, work: the stepper's (its stage state at 4 nx for the
- * crank-angle model): the first of them outside the domain is described. */
-static ts_rc cycle_diverged(const ts_engine *e, double t, double h, const double *x,
-                            const double *work, ts_err *err)
+/* The error of a fixed step h at t that left the state's domain (cycle_run,
+ * ts_engine_advance_load); x: the step's start or, for RK4, the stage state it
+ * failed in; work: the stepper's (the crank-angle stage state at 4 nx): the
+ * first of them outside the domain is described. */
+static ts_rc step_diverged(const ts_engine *e, double t, double h, const double *x,
+                           const double *work, ts_err *err)
 {
+    int crank = e->c.fidelity == TS_ENGINE_CRANK_ANGLE;
     char why[160] = "";
-    if (e->c.fidelity == TS_ENGINE_CRANK_ANGLE &&
-        !en_crank_domain_fault(e, work + 4 * (size_t)e->nx, why + 2, sizeof why - 2))
-        en_crank_domain_fault(e, x, why + 2, sizeof why - 2);
+    if (!crank || !en_domain_fault(e, work + 4 * (size_t)e->nx, why + 2, sizeof why - 2))
+        en_domain_fault(e, x, why + 2, sizeof why - 2);
     if (why[2])
         why[0] = ':', why[1] = ' ';
     else
         why[0] = '\0';
     return ts_err_set(
         err, TS_ERR_DIVERGED, step_pointer(e),
-        "engine state left its domain at t = %.6f s of a cycle (fixed step %.3g s)%s%s", t, h, why,
-        e->c.fidelity == TS_ENGINE_CRANK_ANGLE
-            ? "; a smaller /engine/ca_step cures a step too coarse for the gas "
-              "dynamics; if it persists at the smallest, another /engine parameter "
-              "is outside what the model can run"
-            : "");
+        "engine state left its domain at t = %.6f s (fixed step %.3g s)%s%s", t, h, why,
+        crank              ? "; a smaller /engine/ca_step cures a step too coarse for the gas "
+                             "dynamics; if it persists at the smallest, another /engine "
+                             "parameter is outside what the model can run"
+        : e->off_bank >= 0 ? "; this fidelity's step is fixed, too coarse for a volume that its "
+                             "flows fill or empty faster (a small /engine/ic_volume, "
+                             "intake_volume or exhaust_volume against a wide passage such as "
+                             "/engine/ic_cda)"
+                           : "");
 }
 
 /* Load torque on the crankshaft as a function of (t, speed) at every stage. */
@@ -762,9 +766,7 @@ ts_rc ts_engine_advance_load(const ts_engine *e, double *x, double t, double dt,
     while (t < t_end - 1e-15) {
         double h = step_size(e, x);
         if (t + h > t_end) h = t_end - t;
-        if (step(e, x, t, h, &sl, work))
-            return ts_err_set(err, TS_ERR_DIVERGED, "/engine",
-                              "engine state left its domain at t = %.6f s", t);
+        if (step(e, x, t, h, &sl, work)) return step_diverged(e, t, h, x, work, err);
         t += h;
     }
     return TS_OK;
@@ -819,14 +821,14 @@ static ts_rc cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in
         double h = step_size(e, x);
         double left = (th0 + EN_CYCLE - x[TS_ENGINE_X_ANGLE]) / w;
         if (h > left) h = left;
-        if (ts_engine_rhs(e, t, x, in, xdot, &o)) return cycle_diverged(e, t, h, x, work, err);
+        if (ts_engine_rhs(e, t, x, in, xdot, &o)) return step_diverged(e, t, h, x, work, err);
         const double *ov = (const double *)&o;
         for (size_t k = 0; k < OUT_NFIELDS; k++) sum[k] += ov[k] * h;
         if (o.cyl_pressure > peak) peak = o.cyl_pressure;
         if (wmean)
             for (int i = 0; i < nw; i++) wmean[i] += x[e->off_wall + i] * h;
         stage_load sl = {NULL, NULL, *in};
-        if (step(e, x, t, h, &sl, work)) return cycle_diverged(e, t, h, x, work, err);
+        if (step(e, x, t, h, &sl, work)) return step_diverged(e, t, h, x, work, err);
         t += h;
         span += h;
     }

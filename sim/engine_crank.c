@@ -421,33 +421,42 @@ int en_crank_eval_part(const ts_engine *e, const double *x, const ts_engine_inpu
     return 0;
 }
 
-int en_crank_domain_fault(const ts_engine *e, const double *x, char *out, size_t n)
+/* "what value unit (must be bound)", or "what is not a number"; returns 1. */
+static int domain_fault(char *out, size_t n, const char *what, double value, const char *unit,
+                        const char *bound)
+{
+    if (isnan(value))
+        snprintf(out, n, "%s is not a number", what);
+    else
+        snprintf(out, n, "%s %.4g %s (must be %s)", what, value, unit, bound);
+    return 1;
+}
+
+int en_domain_fault(const ts_engine *e, const double *x, char *out, size_t n)
 {
     static const char *const vol[] = {"intercooler", "intake manifold", "exhaust manifold"};
     static const int mass[] = {BX_ICM, BX_IMM, BX_EMM}, temp[] = {BX_ICT, BX_IMT, BX_EMT};
+    char what[64], tmin[32], trange[48];
+    snprintf(tmin, sizeof tmin, "> %g K", EN_T_DOMAIN_MIN);
+    snprintf(trange, sizeof trange, "%g-%g K", EN_T_DOMAIN_MIN, EN_T_DOMAIN_MAX);
     if (n) out[0] = '\0';
-    for (int b = 0; b < EN_NBANK; b++) {
+    for (int b = 0; e->off_bank >= 0 && b < EN_NBANK; b++) {
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
         for (int k = 0; k < 3; k++) {
-            if (!(xb[mass[k]] > 0))
-                return snprintf(out, n, "bank %d %s gas mass %.3g kg (must be > 0)", b + 1, vol[k],
-                                xb[mass[k]]),
-                       1;
+            snprintf(what, sizeof what, "bank %d %s gas mass", b + 1, vol[k]);
+            if (!(xb[mass[k]] > 0)) return domain_fault(out, n, what, xb[mass[k]], "kg", "> 0");
+            snprintf(what, sizeof what, "bank %d %s temperature", b + 1, vol[k]);
             if (!(xb[temp[k]] > EN_T_DOMAIN_MIN))
-                return snprintf(out, n, "bank %d %s temperature %.4g K (must be > %g K)", b + 1,
-                                vol[k], xb[temp[k]], EN_T_DOMAIN_MIN),
-                       1;
+                return domain_fault(out, n, what, xb[temp[k]], "K", tmin);
         }
     }
-    for (int i = 0; i < EN_NCYL; i++) {
+    for (int i = 0; e->off_cyl >= 0 && i < EN_NCYL; i++) {
         const double *xc = x + e->off_cyl + i * EN_CYL_NX;
-        if (!(xc[CX_M] > 0))
-            return snprintf(out, n, "cylinder %d gas mass %.3g kg (must be > 0)", i + 1, xc[CX_M]),
-                   1;
+        snprintf(what, sizeof what, "cylinder %d gas mass", i + 1);
+        if (!(xc[CX_M] > 0)) return domain_fault(out, n, what, xc[CX_M], "kg", "> 0");
+        snprintf(what, sizeof what, "cylinder %d temperature", i + 1);
         if (!(xc[CX_T] > EN_T_DOMAIN_MIN && xc[CX_T] < EN_T_DOMAIN_MAX))
-            return snprintf(out, n, "cylinder %d temperature %.4g K (must be %g-%g K)", i + 1,
-                            xc[CX_T], EN_T_DOMAIN_MIN, EN_T_DOMAIN_MAX),
-                   1;
+            return domain_fault(out, n, what, xc[CX_T], "K", trange);
     }
     for (int i = 0; i < e->nx; i++)
         if (!isfinite(x[i])) return snprintf(out, n, "state %d is not finite", i), 1;

@@ -450,8 +450,10 @@ int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *i
 /* Which of en_crank_eval's domain guards state x fails (a manifold's or
  * intercooler's mass <= 0 or temperature <= 100 K, a cylinder's mass <= 0 or
  * temperature outside 100-5000 K) or which state is not finite, in words into
- * out (n bytes, terminated); 0 if x is inside the domain (out then ""). */
-int en_crank_domain_fault(const ts_engine *e, const double *x, char *out, size_t n);
+ * out (n bytes, terminated); 0 if x is inside the domain (out then ""). Any
+ * fidelity: the volumes are checked where the engine has them (crank-angle,
+ * mean-value), the cylinders where it has them (crank-angle). */
+int en_domain_fault(const ts_engine *e, const double *x, char *out, size_t n);
 /* What the wall heat fluxes, the cylinders' dT/dt and the crankshaft need from
  * the rest of the evaluation (engine_crank.c splits it in two). */
 typedef struct en_cyl_part {

@@ -97,6 +97,25 @@ static void coarse_ca_step_names_the_field(void **state)
     }
 }
 
+/* Finding (session 24 probe, fixed in session 25): the mean-value engine's
+ * divergence said only "engine state left its domain" at /engine. A wide
+ * intercooler passage (in range) empties the intercooler faster than the
+ * fidelity's fixed step: the message names the volume and the fields that
+ * set how fast it fills and empties. */
+static void mean_value_divergence_names_the_volume(void **state)
+{
+    (void)state;
+    ts_err err;
+    int nonfinite;
+    const char *doc = "{\"preset\":\"accel-pointmass-conventional\",\"run\":{\"duration\":0.05},"
+                      "\"engine\":{\"fidelity\":\"mean_value\",\"ic_cda\":0.1}}";
+    assert_int_equal(run_doc(doc, 0.05, &err, &nonfinite), TS_ERR_DIVERGED);
+    assert_string_equal(err.pointer, "/engine");
+    if (!strstr(err.msg, ": bank 1 intercooler ") || !strstr(err.msg, "/engine/ic_volume") ||
+        !strstr(err.msg, "/engine/ic_cda"))
+        fail_msg("%s", err.msg);
+}
+
 /* Finding: a section given as a scalar ({"run": 3}) replaced the whole section and was
  * reported as "/run/max_step: missing (no default in the data files either)"; the
  * error must name the section and say an object is expected. */
@@ -327,6 +346,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(coarse_ca_step_names_the_field),
+        cmocka_unit_test(mean_value_divergence_names_the_volume),
         cmocka_unit_test(section_not_object_names_the_section),
         cmocka_unit_test(coupled_data_init_failure_does_not_leak),
         cmocka_unit_test(profile_csv_must_be_a_regular_file),
