@@ -27,6 +27,7 @@ typedef struct analysis_job {
     tsd_server *srv;
     tsd_op *op;
     int parts_done, parts_total;
+    int store_failed; /* a progress row was refused: stopped */
     tsd_analysis_req req;
 } analysis_job;
 
@@ -70,18 +71,20 @@ static int put_doc(tsd_server *srv, json_t *doc)
     return rc;
 }
 
-/* tsd_op_finish_persisted's and the progress rows' writer: a later row that
- * cannot be stored leaves the last stored one (the analysis goes on in memory). */
-static void store_doc(void *ud, json_t *doc)
+/* tsd_op_finish_persisted's writer: 0 when stored. */
+static int store_doc(void *ud, json_t *doc)
 {
-    (void)put_doc(ud, doc);
+    return put_doc(ud, doc);
 }
 
-static void store_op(tsd_server *srv, tsd_op *op)
+/* The progress row: 0 when stored. One the store refuses stops the analysis
+ * (on_progress): its result could not be kept either. */
+static int store_op(tsd_server *srv, tsd_op *op)
 {
     json_t *doc = tsd_op_json_of(srv, op);
-    if (doc) store_doc(srv, doc);
+    int rc = doc ? store_doc(srv, doc) : -1;
     json_decref(doc);
+    return rc;
 }
 
 /* End op with response or error (one of them; stolen). Its long-job place is
@@ -106,8 +109,10 @@ static int on_progress(void *ud, int done, int total)
         j->parts_done = done;
         j->parts_total = total;
         tsd_op_parts(j->srv, j->op, done, total);
-        store_op(j->srv, j->op); /* a crash after this part reports how far it got */
+        /* a crash after this part reports how far it got */
+        if (store_op(j->srv, j->op) != 0) j->store_failed = 1;
     }
+    if (j->store_failed) return 1;
     return atomic_load(&j->srv->stopping) || tsd_op_cancel_requested(j->srv, j->op);
 }
 
@@ -126,7 +131,12 @@ static void analysis_run(void *arg)
     else
         doc = tsa_tune_json(&q->cfg, q->n > 0 ? q->var : NULL, q->x, q->n, on_progress, j, &e);
     if (!doc && e.code == TS_ERR_CANCELLED) {
-        if (atomic_load(&srv->stopping))
+        if (j->store_failed)
+            ts_err_set(&e, TS_ERR_IO, NULL,
+                       "stopped after %d of %d parts: the store refused its progress (full or "
+                       "failing: see the daemon log); run it again once the store has room",
+                       j->parts_done, j->parts_total);
+        else if (atomic_load(&srv->stopping))
             ts_err_set(&e, TSD_ERR_SHUTDOWN, NULL,
                        "the daemon shut down after %d of %d parts; start the analysis again",
                        j->parts_done, j->parts_total);
@@ -266,6 +276,8 @@ static void recover_one(void *ud, const char *id)
     ts_err e;
     json_t *doc = tsd_analysis_stored(c->srv, id, &e);
     if (!json_is_object(doc)) {
+        fprintf(stderr, "tanksimd: analysis %s: %s\n", id,
+                doc ? "its stored document is not an object" : e.msg);
         json_decref(doc);
         c->failed++;
         return;
@@ -278,8 +290,12 @@ static void recover_one(void *ud, const char *id)
                (int)json_integer_value(json_object_get(md, "parts_total")));
     json_object_set_new(doc, "done", json_true());
     json_object_set_new(doc, "error", tsd_op_error_json(&e));
-    store_doc(c->srv, doc);
+    int stored = store_doc(c->srv, doc) == 0;
     json_decref(doc);
+    if (!stored) {
+        c->failed++; /* db.c logged why */
+        return;
+    }
     fprintf(stderr, "tanksimd: analysis %s was interrupted (the daemon stopped during it)\n", id);
     c->n++;
 }

@@ -390,7 +390,7 @@ int main(int argc, char **argv)
     /* analyses a killed daemon left running: stored as failed, not lost */
     if (tsd_analyses_recover(&srv) < 0)
         fprintf(stderr, "tanksimd: warning: could not mark the stored analyses of the last run "
-                        "that did not finish (see the sqlite message above)\n");
+                        "that did not finish (see the messages above)\n");
     srv.pool = tsd_pool_start(o->threads);
     if (!srv.pool || tsd_server_start(&srv, err, sizeof err) != 0) {
         fprintf(stderr, "tanksimd: %s\n", srv.pool ? err : "cannot start worker threads");

@@ -224,21 +224,32 @@ static json_t *op_json(const tsd_op *op)
 }
 
 void tsd_op_finish_persisted(tsd_server *srv, tsd_op *op, json_t *response, json_t *error,
-                             void (*persist)(void *ud, json_t *doc), void *ud)
+                             int (*persist)(void *ud, json_t *doc), void *ud)
 {
-    pthread_mutex_lock(&srv->ops->mu);
-    tsd_op done = *op; /* as it will be; op itself stays running until persisted */
-    done.done = 1;
-    done.wall_last = tsd_now();
-    done.response = response;
-    done.error = error;
-    json_t *doc = persist ? op_json(&done) : NULL;
-    pthread_mutex_unlock(&srv->ops->mu);
-    if (doc) persist(ud, doc);
-    json_decref(doc);
+    for (int attempt = 0; persist && attempt < 2; attempt++) {
+        pthread_mutex_lock(&srv->ops->mu);
+        tsd_op done = *op; /* as it will be; op itself stays running until persisted */
+        done.done = 1;
+        done.wall_last = tsd_now();
+        done.response = response;
+        done.error = error;
+        json_t *doc = op_json(&done);
+        pthread_mutex_unlock(&srv->ops->mu);
+        int stored = doc && persist(ud, doc) == 0;
+        json_decref(doc);
+        if (stored || !response) break; /* an error not stored: the last stored row stays */
+        ts_err e;
+        ts_err_set(&e, TS_ERR_IO, NULL,
+                   "the result was computed but the store could not keep it (full or failing: "
+                   "see the daemon log); run it again once the store has room");
+        json_decref(response);
+        response = NULL;
+        json_decref(error);
+        error = tsd_op_error_json(&e);
+    }
     pthread_mutex_lock(&srv->ops->mu);
     op->done = 1;
-    op->wall_last = done.wall_last;
+    op->wall_last = tsd_now();
     op->response = response;
     op->error = error;
     pthread_mutex_unlock(&srv->ops->mu);

@@ -119,6 +119,32 @@ def test_analysis_the_store_cannot_hold_is_not_started(small_store):
         d.stop()
 
 
+def test_analysis_whose_progress_the_store_refuses_ends_with_an_io_error(small_store):
+    """Session 25 probe: a crank-angle engine map during which the disk
+    filled was shown done with its full response while the store kept its
+    row of part 3 of 14; after a restart the map was gone and said "the
+    daemon stopped". A progress row the store refuses now stops the analysis
+    with an I/O error naming the cause."""
+    d = Daemon(data_dir=str(small_store))
+    try:
+        r = requests.post(d.url + "/v1/engine-map", json={"preset": "engine-map-conventional"})
+        assert r.status_code == 202, r.text
+        op_id = r.json()["id"]
+        deadline = time.time() + 60
+        while requests.get(f"{d.url}/v1/operations/{op_id}").json()["metadata"]["parts_done"] < 1:
+            assert time.time() < deadline
+            time.sleep(0.05)
+        fill(small_store)
+        done = wait_op(d.url, op_id, timeout=120)
+        assert "response" not in done, done
+        err = done["error"]
+        assert err["code"] == 13 and "store refused" in err["message"], err
+        assert done["metadata"]["parts_done"] < done["metadata"]["parts_total"], done
+        assert requests.get(d.url + "/v1/health").status_code == 200
+    finally:
+        d.stop()
+
+
 def test_full_store_pauses_the_run_at_its_last_stored_row_then_it_goes_on(small_store):
     d = Daemon(data_dir=str(small_store))
     try:
