@@ -281,14 +281,6 @@ int tsd_db_session_delete(tsd_db *db, long seq)
     return rc;
 }
 
-int tsd_db_truncate(tsd_db *db, long seq, long idx)
-{
-    return exec_script_w(db, "truncate session",
-                         "BEGIN IMMEDIATE; DELETE FROM samples WHERE seq=%ld AND idx>%ld; DELETE "
-                         "FROM snapshots WHERE seq=%ld AND idx>%ld; COMMIT;",
-                         seq, idx, seq, idx);
-}
-
 int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, const double *rows,
                   const void *state, size_t state_size, double t, long idx, const char *status)
 {

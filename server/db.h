@@ -112,9 +112,6 @@ int tsd_db_snapshot_at(tsd_db *db, long seq, long at, void **blob, size_t *size,
  * its nchannel values. */
 int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row, int nchannel);
 
-/* Drop samples and snapshots after idx (rows a crash left beyond the last snapshot). */
-int tsd_db_truncate(tsd_db *db, long seq, long idx);
-
 /* Read rows with from <= index <= to and (index - from) % every == 0, in
  * index order, at most max rows: index[] and rows[max][ncol] (caller
  * allocated), row k's value j being stored channel cols[j] (cols NULL: all

@@ -245,6 +245,15 @@ static int restore_stored(tsd_session *s, char *why, size_t n)
     else if (last >= 0 ? ts_sample_index(s->d) > last : blob != NULL)
         snprintf(why, n, "its stored state is at row %ld but its stored rows end at %ld",
                  ts_sample_index(s->d), last);
+    else if (last > ts_sample_index(s->d))
+        /* rows past the state: the daemon stores each batch with its state in
+         * one transaction (invariant 2), so the store was changed outside it
+         * (a snapshot removed) or damaged. Those rows were deleted here once,
+         * on the first read; they are kept now, and the session cannot go on. */
+        snprintf(why, n,
+                 "its stored state is at row %ld but its stored rows go on to %ld (the store was "
+                 "changed outside the daemon); the rows are kept and readable",
+                 ts_sample_index(s->d), last);
     else
         rc = 0;
     free(blob);
@@ -252,11 +261,6 @@ static int restore_stored(tsd_session *s, char *why, size_t n)
         s->index = last;
         s->t = t_last;
         return -1;
-    }
-    if (last > ts_sample_index(s->d)) { /* a crash left rows past the state (invariant 2: none) */
-        fprintf(stderr, "tanksimd: session %s: rows %ld..%ld lie past its stored state; dropped\n",
-                s->id, ts_sample_index(s->d) + 1, last);
-        tsd_db_truncate(db, s->seq, ts_sample_index(s->d));
     }
     s->t = ts_time(s->d);
     s->index = ts_sample_index(s->d);

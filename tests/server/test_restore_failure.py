@@ -131,3 +131,28 @@ def test_rows_without_a_snapshot_are_kept(tmp_path):
     finally:
         assert d.stop() == 0
     assert stored_rows(data) == rows_before
+
+
+def test_rows_past_the_latest_snapshot_are_kept(tmp_path):
+    """Session 25 probe: with its latest snapshot removed (a store changed
+    outside the daemon), the first read of the session rebuilt it from the
+    previous snapshot and DELETED the stored rows past it (a log line was the
+    only trace). Rows and snapshot are stored in one transaction, so this is
+    never a crash's leftover: the rows are kept and the session is failed."""
+    data = str(tmp_path)
+    sid, before = make_stepped_session(data)
+    rows_before = stored_rows(data)
+    snaps = [i for (i,) in stored(data, "SELECT idx FROM snapshots WHERE seq=1 ORDER BY idx")]
+    assert snaps[-1] == 250 and len(snaps) >= 2, snaps
+    stored(data, "DELETE FROM snapshots WHERE seq=1 AND idx=250")
+    d = Daemon(data_dir=data)
+    try:
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "failed" and "go on to 250" in s["error"], s
+        assert s["index"] == 250 and s["samples"] == 251, s
+        assert requests.get(f"{d.url}/v1/sessions/{sid}/series").json() == before
+        p = is_problem(requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1}), 409)
+        assert "go on to 250" in p["detail"], p
+    finally:
+        assert d.stop() == 0
+    assert stored_rows(data) == rows_before
