@@ -554,6 +554,18 @@ out:
     return rc;
 }
 
+/* Whether a stored row's blob of nb bytes is one row of nchannel doubles (a
+ * row of another width is damage: the daemon writes every row of a session
+ * at its width; it was read zero-filled or cut once, and served so). */
+static int row_intact(long seq, long idx, size_t nb, int nchannel)
+{
+    if (nb == sizeof(double) * (size_t)nchannel) return 1;
+    fprintf(stderr,
+            "tanksimd: store: session %ld row %ld has %zu bytes, not %zu (%d channels): damaged\n",
+            seq, idx, nb, sizeof(double) * (size_t)nchannel, nchannel);
+    return 0;
+}
+
 int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row, int nchannel)
 {
     sqlite3_stmt *st = NULL;
@@ -572,12 +584,15 @@ int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row, int
         const void *b = sqlite3_column_blob(st, 1);
         size_t nb = (size_t)sqlite3_column_bytes(st, 1);
         if (b && nb >= sizeof(double)) memcpy(t, b, sizeof(double));
-        if (row) {
-            size_t rowbytes = sizeof(double) * (size_t)nchannel;
-            memset(row, 0, rowbytes);
-            if (b) memcpy(row, b, nb < rowbytes ? nb : rowbytes);
+        if (b && row_intact(seq, *idx, nb, nchannel)) {
+            if (row) memcpy(row, b, nb);
+            rc = 0;
+        } else {
+            if (row) memset(row, 0, sizeof(double) * (size_t)nchannel);
+            sqlite3_finalize(st);
+            pthread_mutex_unlock(&db->rmu);
+            return -2; /* row_intact said why */
         }
-        rc = 0;
     } else {
         rc = s == SQLITE_DONE ? 0 : -1;
     }
@@ -617,24 +632,27 @@ long tsd_db_rows(tsd_db *db, long seq, long from, long to, long every, long max,
         index[n] = (long)sqlite3_column_int64(st, 0);
         const void *b = sqlite3_column_blob(st, 1);
         size_t nb = (size_t)sqlite3_column_bytes(st, 1);
+        if (!b || !row_intact(seq, index[n], nb, nchannel)) {
+            index[0] = index[n];
+            n = -2;
+            break;
+        }
         if (!cols) {
-            double *dst = rows + (size_t)n * (size_t)nchannel;
-            memset(dst, 0, rowbytes);
-            if (b) memcpy(dst, b, nb < rowbytes ? nb : rowbytes);
+            memcpy(rows + (size_t)n * (size_t)nchannel, b, rowbytes);
         } else { /* the blob's doubles may be unaligned: copy each */
             double *dst = rows + (size_t)n * (size_t)ncol;
             for (int j = 0; j < ncol; j++) {
-                size_t off = sizeof(double) * (size_t)cols[j];
                 dst[j] = 0.0;
-                if (b && cols[j] >= 0 && cols[j] < nchannel && off + sizeof(double) <= nb)
-                    memcpy(&dst[j], (const char *)b + off, sizeof(double));
+                if (cols[j] >= 0 && cols[j] < nchannel)
+                    memcpy(&dst[j], (const char *)b + sizeof(double) * (size_t)cols[j],
+                           sizeof(double));
             }
         }
         n++;
     }
-    if (s != SQLITE_ROW && s != SQLITE_DONE) n = -1;
+    if (n >= 0 && s != SQLITE_ROW && s != SQLITE_DONE) n = -1;
 out:
-    if (n < 0) log_err(db->r, "read samples");
+    if (n == -1) log_err(db->r, "read samples");
     sqlite3_finalize(st);
     pthread_mutex_unlock(&db->rmu);
     return n;

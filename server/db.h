@@ -109,15 +109,18 @@ int tsd_db_snapshot_at(tsd_db *db, long seq, long at, void **blob, size_t *size,
 
 /* The stored row with the highest index of a session: *idx (-1 when it has
  * none), *t its first value (the time channel), and, when row is not NULL,
- * its nchannel values. */
+ * its nchannel values. 0, -1 on a store error, -2 when that row is not
+ * nchannel doubles wide (damaged; logged; *idx and, if it has one, *t set,
+ * row zeroed). */
 int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row, int nchannel);
 
 /* Read rows with from <= index <= to and (index - from) % every == 0, in
  * index order, at most max rows: index[] and rows[max][ncol] (caller
  * allocated), row k's value j being stored channel cols[j] (cols NULL: all
  * nchannel stored channels, ncol = nchannel), so a reader of a few channels
- * allocates for those only. Returns the count, or -1. *more = 1 when further
- * rows match. */
+ * allocates for those only. Returns the count, -1 on a store error, or -2
+ * when a row is not nchannel doubles wide (damaged; logged), index[0] then
+ * naming it. *more = 1 when further rows match. */
 long tsd_db_rows(tsd_db *db, long seq, long from, long to, long every, long max, int nchannel,
                  const int *cols, int ncol, long *index, double *rows, int *more);
 

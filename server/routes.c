@@ -671,8 +671,14 @@ static long read_rows(tsd_request *r, tsd_session *s, long from, long to, long e
     /* a DELETE that landed meanwhile took the rows, or some of them: the
      * session is gone, not empty (nor an I/O failure) */
     if (tsd_session_is_deleted(s)) return tsd_session_err_deleted(s, err), -1;
-    if (n < 0) ts_err_set(err, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
-    return n;
+    if (n == -2)
+        ts_err_set(err, TS_ERR_IO, NULL,
+                   "stored row %ld of session %s is damaged (not %d channels wide); the store "
+                   "was changed outside the daemon",
+                   (*index)[0], s->id, s->nch);
+    else if (n < 0)
+        ts_err_set(err, TS_ERR_IO, NULL, "cannot read samples (see the daemon log)");
+    return n < 0 ? -1 : n;
 }
 
 /* Cells (rows x (channels + the index column)) of one /series page at most;

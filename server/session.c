@@ -231,8 +231,11 @@ static int restore_stored(tsd_session *s, char *why, size_t n)
     long sidx = -1, last = -1;
     double t_last = 0.0;
     int rc = -1;
-    if (tsd_db_last_row(db, s->seq, &last, &t_last, s->latest, s->nch) != 0 ||
-        tsd_db_state(db, s->seq, &blob, &size, &sidx) != 0)
+    int lr = tsd_db_last_row(db, s->seq, &last, &t_last, s->latest, s->nch);
+    if (lr == -2)
+        snprintf(why, n, "its last stored row (%ld) is damaged (not %d channels wide)", last,
+                 s->nch);
+    else if (lr != 0 || tsd_db_state(db, s->seq, &blob, &size, &sidx) != 0)
         snprintf(why, n, "its stored rows or state cannot be read (see the daemon log)");
     else if (ts_reset(s->m, s->d, &err) != TS_OK)
         snprintf(why, n, "its model cannot be reset: %.300s", err.msg);
@@ -325,8 +328,11 @@ static void load_session(void *ud, long seq, const char *id, double created, con
      * so start-up does not grow with the number of stored sessions (a
      * crank-angle engine's idle search alone takes ~0.4 s). */
     int defer = resolved && have;
-    tsd_session *s = defer ? session_shell(srv, resolved, &err)
-                           : session_alloc(srv, resolved ? resolved : json_object(), NULL, &err);
+    /* a config that is not JSON builds no model (not the default one: its
+     * rows are another model's) */
+    tsd_session *s = defer      ? session_shell(srv, resolved, &err)
+                     : resolved ? session_alloc(srv, resolved, NULL, &err)
+                                : session_shell(srv, json_object(), &err);
     if (!s) {
         fprintf(stderr, "tanksimd: session %s not loaded: %s (its stored data are kept)\n", id,
                 err.msg);
@@ -339,6 +345,11 @@ static void load_session(void *ud, long seq, const char *id, double created, con
     s->created = created;
     s->status = status_from_name(status);
     snprintf(s->error, sizeof s->error, "%s", error);
+    if (strcmp(tsd_status_name(s->status), status) != 0) /* read as failed */
+        snprintf(s->error, sizeof s->error,
+                 "its stored status '%.40s' is not one this build knows (the store was written "
+                 "by another build or changed outside the daemon)",
+                 status);
     if (s->status == TSD_RUNNING) {
         s->status = TSD_INTERRUPTED; /* the daemon died during the run */
         lc->interrupted++;
@@ -350,17 +361,19 @@ static void load_session(void *ud, long seq, const char *id, double created, con
         adopt_stored_channels(s, &stored);
         long last = -1;
         double t_last = 0.0;
-        if (s->nch &&
-            tsd_db_last_row(srv->db, seq, &last, &t_last, s->latest, s->nch) == 0) {
+        if (s->nch && tsd_db_last_row(srv->db, seq, &last, &t_last, s->latest, s->nch) != -1) {
             s->index = last;
             s->t = t_last;
         }
         atomic_store(&s->deferred, 1);
         ok = 1;
     } else if (!s->m || (have && !tsd_channels_match(&stored, s->m))) {
-        if (!s->m)
-            snprintf(why, sizeof why, "its model cannot be rebuilt: %.300s",
-                     resolved ? err.msg : "the stored config is not JSON");
+        if (!s->m && resolved)
+            snprintf(why, sizeof why, "its model cannot be rebuilt: %.300s", err.msg);
+        else if (!s->m)
+            snprintf(why, sizeof why,
+                     "its model cannot be rebuilt: the stored config is not JSON (%.160s)",
+                     je.text);
         else
             snprintf(why, sizeof why,
                      "its stored rows have other channels than this build's model (%d stored, "
@@ -370,8 +383,8 @@ static void load_session(void *ud, long seq, const char *id, double created, con
         long last = -1;
         double t_last = 0.0;
         ok = 0;
-        if (tsd_db_last_row(srv->db, seq, &last, &t_last, s->nch ? s->latest : NULL, s->nch) ==
-            0) {
+        if (tsd_db_last_row(srv->db, seq, &last, &t_last, s->nch ? s->latest : NULL, s->nch) !=
+            -1) {
             s->index = last;
             s->t = t_last;
         }

@@ -156,3 +156,63 @@ def test_rows_past_the_latest_snapshot_are_kept(tmp_path):
     finally:
         assert d.stop() == 0
     assert stored_rows(data) == rows_before
+
+
+def test_config_that_is_not_json_builds_no_model(tmp_path):
+    """Session 25 probe: a stored config that is not JSON was replaced by {}
+    and the DEFAULT model built from it (a point mass), so the session said
+    "other channels than this build's model" (and, without a stored channel
+    list, labelled the vehicle's rows with the point mass's channels)."""
+    data = str(tmp_path)
+    sid, before = make_stepped_session(data)
+    stored(data, "UPDATE sessions SET config=? WHERE seq=1", '{"preset":')
+    d = Daemon(data_dir=data)
+    try:
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "failed" and "stored config is not JSON" in s["error"], s
+        assert requests.get(f"{d.url}/v1/sessions/{sid}/series").json() == before
+    finally:
+        assert d.stop() == 0
+    stored(data, "UPDATE sessions SET channels=NULL WHERE seq=1")
+    d = Daemon(data_dir=data)
+    try:
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "failed" and "stored config is not JSON" in s["error"], s
+        # no labels for its rows: refused, not served under another model's channels
+        p = is_problem(requests.get(f"{d.url}/v1/sessions/{sid}/series"), 409)
+        assert "names and units of its stored rows are unknown" in p["detail"], p
+        assert s["index"] == 250 and s["samples"] == 251, s
+    finally:
+        assert d.stop() == 0
+
+
+def test_damaged_row_is_an_error_not_zeros(tmp_path):
+    """Session 25 probe: a stored row cut short was served zero-filled (on a vehicle run: 25 of
+    37 channels as 0, status 200) by /series, /summary and /fft."""
+    data = str(tmp_path)
+    sid, before = make_stepped_session(data)
+    stored(data, "UPDATE samples SET vals=substr(vals, 1, 40) WHERE seq=1 AND idx=200")
+    d = Daemon(data_dir=data)
+    try:
+        p = is_problem(requests.get(f"{d.url}/v1/sessions/{sid}/series"), 500)
+        assert "row 200" in p["detail"] and "damaged" in p["detail"], p
+        ok = requests.get(f"{d.url}/v1/sessions/{sid}/series", params={"to": 0.3})
+        assert ok.status_code == 200 and ok.json()["index"] == list(range(151))
+        p = is_problem(requests.get(f"{d.url}/v1/sessions/{sid}/summary"), 500)
+        assert "row 200" in p["detail"], p
+    finally:
+        assert d.stop() == 0
+
+
+def test_unknown_stored_status_says_so(tmp_path):
+    data = str(tmp_path)
+    sid, _ = make_stepped_session(data)
+    stored(data, "UPDATE sessions SET status='bogus' WHERE seq=1")
+    d = Daemon(data_dir=data)
+    try:
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "failed" and "'bogus'" in s["error"], s
+        p = is_problem(requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1}), 409)
+        assert "'bogus'" in p["detail"], p
+    finally:
+        assert d.stop() == 0
