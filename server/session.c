@@ -352,6 +352,9 @@ static void load_session(void *ud, long seq, const char *id, double created, con
                  status);
     if (s->status == TSD_RUNNING) {
         s->status = TSD_INTERRUPTED; /* the daemon died during the run */
+        snprintf(s->error, sizeof s->error,
+                 "the daemon stopped (killed or crashed) during a run of this session; run it "
+                 "again to go on from its last stored row");
         lc->interrupted++;
         tsd_db_session_status(srv->db, seq, tsd_status_name(s->status), s->error);
     }
@@ -1225,7 +1228,10 @@ static void run_finish(run_job_arg *j, tsd_status st, ts_rc rc, const ts_err *er
     tsd_session *s = j->s;
     tsd_server *srv = s->srv;
     double t = ts_time(s->d); /* read while busy is still held (invariant 1) */
-    release(s, st, rc == TS_OK || rc == TS_ERR_CANCELLED ? NULL : err->msg);
+    /* a cancel is the client's own doing; an interruption (the daemon shut
+     * down) is said on the session too: its operation is not stored */
+    release(s, st,
+            rc == TS_OK || (rc == TS_ERR_CANCELLED && st != TSD_INTERRUPTED) ? NULL : err->msg);
 
     int r = st == TSD_DONE     ? 0
             : st == TSD_PAUSED ? (rc == TS_ERR_CANCELLED ? 2 : 1)

@@ -38,6 +38,7 @@ def test_kill_9_during_run_then_restart_and_finish(tmp_path):
     try:
         s = requests.get(f"{d2.url}/v1/sessions/{sid}").json()
         assert s["status"] == "interrupted"
+        assert "killed or crashed" in s["error"], s  # session 25: it carried no reason
         assert 2.0 <= s["t"] < 10.0
         assert s["samples"] == s["index"] + 1 >= before["count"]
         after = series(d2, sid)
@@ -49,6 +50,7 @@ def test_kill_9_during_run_then_restart_and_finish(tmp_path):
         op = requests.post(f"{d2.url}/v1/sessions/{sid}/run", json={}).json()
         final = wait_op(d2.url, op["id"])
         assert final["response"]["status"] == "done"
+        assert "error" not in final["response"], final
         full = series(d2, sid)
         assert full["index"] == list(range(5001))
         # the same config run without interruption
@@ -74,6 +76,7 @@ def test_clean_shutdown_during_run_marks_interrupted(tmp_path):
     try:
         s = requests.get(f"{d2.url}/v1/sessions/{sid}").json()
         assert s["status"] == "interrupted" and s["t"] > 0
+        assert "shut down at t = " in s["error"], s  # session 25: it carried no reason
         ser = series(d2, sid)
         assert ser["index"] == list(range(s["index"] + 1))
     finally:
