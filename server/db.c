@@ -59,12 +59,27 @@ static const char *col_text(sqlite3_stmt *st, int i)
     return s ? (const char *)s : "";
 }
 
+/* SQLite's message for c's last error, with the system's reason when the
+ * error came from the operating system ("unable to open database file" says
+ * neither which file nor why: permission, a directory in its place, ...). */
+static void sql_reason(sqlite3 *c, char *out, size_t n)
+{
+    if (!c) {
+        snprintf(out, n, "no memory");
+        return;
+    }
+    int e = sqlite3_system_errno(c);
+    snprintf(out, n, "%s%s%s", sqlite3_errmsg(c), e ? ": " : "", e ? strerror(e) : "");
+}
+
 static sqlite3 *open_conn(const char *path, char *err, size_t errlen)
 {
     sqlite3 *c = NULL;
     if (sqlite3_open_v2(path, &c, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX,
                         NULL) != SQLITE_OK) {
-        snprintf(err, errlen, "cannot open %s: %s", path, c ? sqlite3_errmsg(c) : "no memory");
+        char why[256];
+        sql_reason(c, why, sizeof why);
+        snprintf(err, errlen, "cannot open %s: %s", path, why);
         sqlite3_close(c);
         return NULL;
     }
@@ -128,7 +143,15 @@ static int check_version(sqlite3 *c, const char *path, char *err, size_t errlen)
         v = (long)sqlite3_column_int64(st, 0);
     sqlite3_finalize(st);
     if (v < 0) {
-        snprintf(err, errlen, "%s: cannot read its schema version: %s", path, sqlite3_errmsg(c));
+        char why[256];
+        sql_reason(c, why, sizeof why);
+        int code = sqlite3_errcode(c);
+        snprintf(err, errlen, "%s: cannot read its schema version: %s%s", path, why,
+                 code == SQLITE_CORRUPT || code == SQLITE_NOTADB
+                     ? " (the store is damaged: `sqlite3 FILE .recover` may salvage its rows "
+                       "into a new store; or move it and its -wal and -shm files aside to start "
+                       "an empty one)"
+                     : " (the -wal and -shm files beside it are read too)");
         return -1;
     }
     if (v > SCHEMA_VERSION) {
@@ -163,8 +186,22 @@ tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
     /* best effort: a full disk must not keep the daemon from serving what
      * is stored (a session still marked deleted is not loaded: session.c) */
     exec_script(db->w, purge_deleted, "removing sessions deleted during a run (next start)");
-    exec_script(db->w, "PRAGMA user_version=" TSD_STR(SCHEMA_VERSION),
-                "setting the schema version");
+    /* ... but a store this process cannot write is refused: it would serve
+     * reads and answer every new sample with "the store is full or failing" */
+    if (sqlite3_exec(db->w, "PRAGMA user_version=" TSD_STR(SCHEMA_VERSION), NULL, NULL, NULL) !=
+        SQLITE_OK) {
+        int code = sqlite3_errcode(db->w);
+        char why[256];
+        sql_reason(db->w, why, sizeof why);
+        if (code == SQLITE_READONLY || code == SQLITE_PERM || code == SQLITE_CANTOPEN) {
+            snprintf(err, errlen,
+                     "%s cannot be written (%s): the daemon stores every sample; give the user "
+                     "it runs as write access to the file, to its -wal and -shm files and to %s",
+                     path, why, dir);
+            goto fail;
+        }
+        fprintf(stderr, "tanksimd: sqlite: setting the schema version: %s\n", why);
+    }
     db->r = open_conn(path, err, errlen);
     if (!db->r) goto fail;
     pthread_mutex_init(&db->wmu, NULL);

@@ -15,9 +15,11 @@ The full-disk cases need a small tmpfs (root and mount rights); they are
 skipped where it cannot be mounted.
 """
 import os
+import shutil
 import signal
 import sqlite3
 import subprocess
+import tempfile
 import threading
 import time
 
@@ -223,3 +225,42 @@ def test_delete_the_store_cannot_record_keeps_the_session(tmp_path):
         assert requests.get(f"{d2.url}/v1/sessions/{sid}").status_code == 404
     finally:
         d2.stop()
+
+
+def test_store_this_user_cannot_write_is_refused_at_start(tmp_path):
+    """Session 25 probe: a store the daemon's user could only read started as
+    healthy (/v1/health ok, reads served) and answered every step and create
+    with 500 "the store is full or failing". It is refused at start, naming
+    the file and what to change. Run as nobody (root writes through 0444);
+    skipped where nobody cannot run this build."""
+    probe = subprocess.run(["setpriv", "--reuid=nobody", "--regid=nogroup", "--clear-groups",
+                            TANKSIMD, "--help"], capture_output=True, text=True)
+    if probe.returncode != 0:
+        pytest.skip("nobody cannot run this build here: " + probe.stderr.strip()[:200])
+    Daemon(data_dir=str(tmp_path)).stop()  # a store with its schema
+    store = tempfile.mkdtemp(prefix="tanksim-ro-")  # pytest's tmp_path is root's alone
+    try:
+        shutil.copy(tmp_path / "tanksimd.db", store)
+        os.chmod(store, 0o777)
+        os.chmod(os.path.join(store, "tanksimd.db"), 0o444)
+        p = subprocess.run(["setpriv", "--reuid=nobody", "--regid=nogroup", "--clear-groups",
+                            TANKSIMD, "--port", str(free_port()), "--data-dir", store],
+                           capture_output=True, text=True, timeout=30)
+        assert p.returncode == 1, p.stderr
+        assert "tanksimd.db cannot be written" in p.stderr and "write access" in p.stderr, p.stderr
+    finally:
+        shutil.rmtree(store, ignore_errors=True)
+
+
+def test_damaged_store_start_up_says_what_to_do(tmp_path):
+    """Session 25 probe: a truncated store stopped the daemon with SQLite's
+    "database disk image is malformed" alone."""
+    Daemon(data_dir=str(tmp_path)).stop()
+    db = tmp_path / "tanksimd.db"
+    with open(db, "r+b") as f:
+        f.seek(0)
+        f.write(b"not a database header, not at all" * 3)
+    p = subprocess.run([TANKSIMD, "--port", str(free_port()), "--data-dir", str(tmp_path)],
+                       capture_output=True, text=True, timeout=30)
+    assert p.returncode == 1, p.stderr
+    assert "tanksimd.db" in p.stderr and ".recover" in p.stderr and "aside" in p.stderr, p.stderr
