@@ -344,7 +344,7 @@ int main(int argc, char **argv)
      * the directories; removing them after a failure could remove what
      * another process was creating). Bound, not listening: connections are
      * refused until the store is open and tsd_server_start listens. */
-    char err[256];
+    char err[1024]; /* a start-up error names paths and what to do */
     if (tsd_server_bind(&srv, err, sizeof err) != 0) {
         fprintf(stderr, "tanksimd: %s\n", err);
         return 1;
