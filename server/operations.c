@@ -226,11 +226,12 @@ static json_t *op_json(const tsd_op *op)
 void tsd_op_finish_persisted(tsd_server *srv, tsd_op *op, json_t *response, json_t *error,
                              int (*persist)(void *ud, json_t *doc), void *ud)
 {
+    double wall_last = tsd_now(); /* the stored document's and GET's alike */
     for (int attempt = 0; persist && attempt < 2; attempt++) {
         pthread_mutex_lock(&srv->ops->mu);
         tsd_op done = *op; /* as it will be; op itself stays running until persisted */
         done.done = 1;
-        done.wall_last = tsd_now();
+        done.wall_last = wall_last;
         done.response = response;
         done.error = error;
         json_t *doc = op_json(&done);
@@ -249,7 +250,7 @@ void tsd_op_finish_persisted(tsd_server *srv, tsd_op *op, json_t *response, json
     }
     pthread_mutex_lock(&srv->ops->mu);
     op->done = 1;
-    op->wall_last = tsd_now();
+    op->wall_last = wall_last;
     op->response = response;
     op->error = error;
     pthread_mutex_unlock(&srv->ops->mu);
