@@ -130,6 +130,30 @@ static void frames_free(void *cls)
     free(f);
 }
 
+static ts_rc apng_interrupted(frames_ctx *f);
+
+/* ts_sample_fn of a rebuild: every 16 samples, whether to stop (the daemon
+ * stopping, the session deleted, the client gone: apng_interrupted, its
+ * reason kept in *why). A rebuild covers at most one stored batch, but its
+ * samples may be slow (many modes, a small max_step): one took 76 s of CPU
+ * for a deleted session's frame. */
+typedef struct rebuild_ctx {
+    frames_ctx *f;
+    ts_err why;
+} rebuild_ctx;
+
+static int rebuild_sample(void *ud, long index, double t, const double *values, int n)
+{
+    (void)t, (void)values, (void)n;
+    rebuild_ctx *c = ud;
+    if (index % 16) return 0;
+    ts_err keep = c->f->err;
+    ts_rc rc = apng_interrupted(c->f);
+    if (rc != TS_OK) c->why = c->f->err;
+    c->f->err = keep;
+    return rc != TS_OK;
+}
+
 /* Rebuild the stored state at sample index k into f->d. */
 static ts_rc state_at(frames_ctx *f, long k)
 {
@@ -158,8 +182,16 @@ static ts_rc state_at(frames_ctx *f, long k)
         f->have_state = rc == TS_OK;
     }
     free(blob);
-    if (rc == TS_OK && ts_sample_index(f->d) < k)
-        rc = ts_advance(m, f->d, (double)k * ts_model_sample_period(m), NULL, NULL, &f->err);
+    if (rc == TS_OK && ts_sample_index(f->d) < k) {
+        rebuild_ctx c = {.f = f};
+        ts_err_clear(&c.why);
+        rc = ts_advance(m, f->d, (double)k * ts_model_sample_period(m), rebuild_sample, &c,
+                        &f->err);
+        if (rc == TS_ERR_CANCELLED && c.why.code != TS_OK) {
+            f->err = c.why;
+            rc = c.why.code;
+        }
+    }
     if (rc != TS_OK) f->have_state = 0;
     return rc;
 }
@@ -201,13 +233,14 @@ static int client_gone(struct MHD_Connection *conn)
     return poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR));
 }
 
-/* Whether an APNG job should stop before its next frame (frames.h). */
+/* Whether an APNG job should stop before its next frame, or a rebuild before
+ * its next samples (frames.h); the reason in f->err. */
 static ts_rc apng_interrupted(frames_ctx *f)
 {
     if (atomic_load(&f->srv->stopping)) return tsd_err_shutdown(&f->err);
     if (tsd_session_is_deleted(f->s))
         return ts_err_set(&f->err, TS_ERR_NOTFOUND, NULL,
-                          "session %s was deleted while its animation was drawn", f->s->id);
+                          "session %s was deleted while its frames were drawn", f->s->id);
     if (client_gone(f->conn)) /* nobody reads this answer; it ends the job */
         return ts_err_set(&f->err, TS_ERR_CANCELLED, NULL, "the client closed the connection");
     return TS_OK;

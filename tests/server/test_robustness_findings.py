@@ -125,7 +125,7 @@ def test_apng_stops_when_the_session_is_deleted(d2, big_apng_seconds):
     took = time.monotonic() - t0
     is_problem(got["r"], 404)
     # the job's own check between frames, not the next frame's missing snapshot
-    assert "was deleted while its animation was drawn" in got["r"].json()["detail"], got["r"].text
+    assert "was deleted while its frames were drawn" in got["r"].json()["detail"], got["r"].text
     assert took < max(0.5, wall / 3), (took, wall)
 
 

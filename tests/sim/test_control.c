@@ -43,6 +43,20 @@ static void gain_schedule(void **state)
     assert_close(g.ti, 15.0, 1e-12, 0);
     assert_close(ts_ivs_gains_at(&c, 1).kp, 1.0, 0, 0);
     assert_close(ts_ivs_gains_at(&c, 1e9).ti, 20.0, 0, 0);
+    /* a third row (Fig. 27 has several): each interval interpolates between its
+     * own two rows, the last one too (session-25 mutation test: a search that
+     * stopped one interval early extrapolated rows 1-2 there, unseen with two) */
+    c.nschedule = 3;
+    c.sched_x[2] = 90000;
+    c.sched[2] = (ts_ivs_gains){2.0, 40.0};
+    g = ts_ivs_gains_at(&c, 85000);
+    assert_close(g.kp, 2.25, 1e-12, 0);
+    assert_close(g.ti, 35.0, 1e-12, 0);
+    g = ts_ivs_gains_at(&c, 55000);
+    assert_close(g.kp, 1.5, 1e-12, 0);
+    assert_close(g.ti, 12.5, 1e-12, 0);
+    assert_int_equal(ts_ivs_check(&c, &err), TS_OK);
+    c.nschedule = 2;
     c.sched_x[1] = 40000;
     assert_int_equal(ts_ivs_check(&c, &err), TS_ERR_RANGE);
     assert_string_equal(err.pointer, "/control/schedule_x");
@@ -301,6 +315,9 @@ static void two_speed_governor(void **state)
     assert_close(ts_governor_rack(&g, 0.2, 600 * rpm), 0.6, 1e-12, 0);  /* half the band */
     assert_close(ts_governor_rack(&g, 0.0, 500 * rpm), 1.0, 1e-12, 0);  /* past the band */
     assert_close(ts_governor_rack(&g, 1.0, 2175 * rpm), 0.5, 1e-12, 0); /* half the band */
+    /* the cut is a share of the demand, not of full rack (a part rack halves too;
+     * session-25 mutation test: rack - cut passed the full-rack checks) */
+    assert_close(ts_governor_rack(&g, 0.6, 2175 * rpm), 0.3, 1e-12, 0);
     assert_close(ts_governor_rack(&g, 1.0, 2300 * rpm), 0.0, 0, 0);
     assert_close(ts_governor_rack(&g, 1.7, 1500 * rpm), 1.0, 0, 0);     /* clamped input */
     g.on = 0; /* /control/governor off: the demand passes, at any speed */

@@ -210,6 +210,39 @@ static void track_circuit_wrap_angles(void **state)
     ts_circuit_free(c);
 }
 
+/* EVIDENCE: the same plane geometry for a CLOCKWISE (side -1) support: a
+ * hold-down roller above the upper run, its circle reaching 3 cm into the
+ * run's line over its neighbours, so the track passes under it and bends down
+ * by a small angle. The wrap is
+ * then the clockwise angle between the radii to the tangent points,
+ * atan2(p1[w-1] - centre) - atan2(p0[w] - centre), and positive (session-25
+ * mutation test: a wrap taken counter-clockwise for every support, as the
+ * vehicle's all-counter-clockwise circuit never shows, survived; negative
+ * here, it would drop the wrapped track's mass). Exact to 1e-9 rad. */
+static void track_circuit_clockwise_wrap(void **state)
+{
+    (void)state;
+    ts_circuit_params p = m1_params();
+    ts_span_support *r = &p.support[2];                           /* the front roller */
+    const ts_span_support *i = &p.support[1], *b = &p.support[3]; /* idler, rear roller */
+    /* the run's line without the roller: over the tops of its neighbours */
+    double line =
+        i->z + i->radius + (r->x - i->x) / (b->x - i->x) * (b->z + b->radius - i->z - i->radius);
+    r->z = line - 0.03 + r->radius; /* its bottom 3 cm into the run */
+    r->side = -1;
+    ts_circuit *c = make(&p);
+    double ain = atan2(c->geom[1].p1[1] - r->z, c->geom[1].p1[0] - r->x);
+    double aout = atan2(c->geom[2].p0[1] - r->z, c->geom[2].p0[0] - r->x);
+    double a = fmod(ain - aout + 0.25 * PI, 2 * PI);
+    if (a < 0) a += 2 * PI;
+    a -= 0.25 * PI;
+    print_message("  clockwise wrap on the hold-down roller %.4f deg (radii %.4f deg)\n",
+                  c->wrap[2] * 180 / PI, a * 180 / PI);
+    assert_true(a > 0.001);
+    assert_close(c->wrap[2], a, 0, 1e-9);
+    ts_circuit_free(c);
+}
+
 static void track_circuit_fig5_m1(void **state)
 {
     (void)state;
@@ -304,6 +337,7 @@ int main(void)
         cmocka_unit_test(track_circuit_config_errors),
         cmocka_unit_test(track_circuit_moving_track_uniform_tension),
         cmocka_unit_test(track_circuit_wrap_angles),
+        cmocka_unit_test(track_circuit_clockwise_wrap),
     };
     return cmocka_run_group_tests_name("sim/track_circuit", tests, NULL, NULL);
 }
