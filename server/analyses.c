@@ -27,7 +27,7 @@ typedef struct analysis_job {
     tsd_server *srv;
     tsd_op *op;
     int parts_done, parts_total;
-    int store_failed; /* a progress row was refused: stopped */
+    int store_failed; /* a progress row was not stored (store_op's code): stopped */
     tsd_analysis_req req;
 } analysis_job;
 
@@ -77,12 +77,13 @@ static int store_doc(void *ud, json_t *doc)
     return put_doc(ud, doc);
 }
 
-/* The progress row: 0 when stored. One the store refuses stops the analysis
- * (on_progress): its result could not be kept either. */
+/* The progress row: 0 when stored, -1 when the store refused it, -2 without
+ * memory for it. Either stops the analysis (on_progress): its result could
+ * not be kept either. */
 static int store_op(tsd_server *srv, tsd_op *op)
 {
     json_t *doc = tsd_op_json_of(srv, op);
-    int rc = doc ? store_doc(srv, doc) : -1;
+    int rc = doc ? store_doc(srv, doc) : -2;
     json_decref(doc);
     return rc;
 }
@@ -110,7 +111,8 @@ static int on_progress(void *ud, int done, int total)
         j->parts_total = total;
         tsd_op_parts(j->srv, j->op, done, total);
         /* a crash after this part reports how far it got */
-        if (store_op(j->srv, j->op) != 0) j->store_failed = 1;
+        int rc = store_op(j->srv, j->op);
+        if (rc != 0) j->store_failed = rc;
     }
     if (j->store_failed) return 1;
     return atomic_load(&j->srv->stopping) || tsd_op_cancel_requested(j->srv, j->op);
@@ -131,7 +133,11 @@ static void analysis_run(void *arg)
     else
         doc = tsa_tune_json(&q->cfg, q->n > 0 ? q->var : NULL, q->x, q->n, on_progress, j, &e);
     if (!doc && e.code == TS_ERR_CANCELLED) {
-        if (j->store_failed)
+        if (j->store_failed == -2)
+            ts_err_set(&e, TS_ERR_NOMEM, NULL,
+                       "stopped after %d of %d parts: no memory to store its progress",
+                       j->parts_done, j->parts_total);
+        else if (j->store_failed)
             ts_err_set(&e, TS_ERR_IO, NULL,
                        "stopped after %d of %d parts: the store refused its progress (full or "
                        "failing: see the daemon log); run it again once the store has room",

@@ -196,8 +196,9 @@ tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
         if (code == SQLITE_READONLY || code == SQLITE_PERM || code == SQLITE_CANTOPEN) {
             snprintf(err, errlen,
                      "%s cannot be written (%s): the daemon stores every sample; give the user "
-                     "it runs as write access to the file, to its -wal and -shm files and to %s",
-                     path, why, dir);
+                     "it runs as write access to it, to its -wal and -shm files and to their "
+                     "directory",
+                     path, why);
             goto fail;
         }
         fprintf(stderr, "tanksimd: sqlite: setting the schema version: %s\n", why);
@@ -621,8 +622,8 @@ int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row, int
         const void *b = sqlite3_column_blob(st, 1);
         size_t nb = (size_t)sqlite3_column_bytes(st, 1);
         if (b && nb >= sizeof(double)) memcpy(t, b, sizeof(double));
-        if (b && row_intact(seq, *idx, nb, nchannel)) {
-            if (row) memcpy(row, b, nb);
+        if ((!row && nchannel == 0) || (b && row_intact(seq, *idx, nb, nchannel))) {
+            if (row) memcpy(row, b, nb); /* no channels: the index and time alone */
             rc = 0;
         } else {
             if (row) memset(row, 0, sizeof(double) * (size_t)nchannel);

@@ -240,9 +240,13 @@ void tsd_op_finish_persisted(tsd_server *srv, tsd_op *op, json_t *response, json
         json_decref(doc);
         if (stored || !response) break; /* an error not stored: the last stored row stays */
         ts_err e;
-        ts_err_set(&e, TS_ERR_IO, NULL,
-                   "the result was computed but the store could not keep it (full or failing: "
-                   "see the daemon log); run it again once the store has room");
+        if (doc)
+            ts_err_set(&e, TS_ERR_IO, NULL,
+                       "the result was computed but the store could not keep it (full or "
+                       "failing: see the daemon log); run it again once the store has room");
+        else
+            ts_err_set(&e, TS_ERR_NOMEM, NULL,
+                       "the result was computed but there was no memory to store it");
         json_decref(response);
         response = NULL;
         json_decref(error);

@@ -216,6 +216,18 @@ static int store_first_row(tsd_session *s)
                          s->snapshot_size, ts_time(s->d), 0, tsd_status_name(s->status));
 }
 
+/* Its last stored row (index last) is damaged (db.h tsd_db_last_row -2): no
+ * latest values are shown, and why (n bytes) gets the reason appended. */
+static void damaged_last_row(tsd_session *s, long last, char *why, size_t n)
+{
+    s->latest_damaged = 1;
+    size_t k = strlen(why);
+    snprintf(why + k, n - k,
+             "%sits last stored row (%ld) is damaged (not %d channels wide; the store was "
+             "changed outside the daemon)",
+             k ? "; " : "", last, s->nch);
+}
+
 /* Bring a loaded session to its last stored row: restore the latest state
  * snapshot (invariant 2: it is the state at the last stored row). 0 on
  * success. -1 with the reason in why when it cannot: then NOTHING is deleted
@@ -232,10 +244,10 @@ static int restore_stored(tsd_session *s, char *why, size_t n)
     double t_last = 0.0;
     int rc = -1;
     int lr = tsd_db_last_row(db, s->seq, &last, &t_last, s->latest, s->nch);
-    if (lr == -2)
-        snprintf(why, n, "its last stored row (%ld) is damaged (not %d channels wide)", last,
-                 s->nch);
-    else if (lr != 0 || tsd_db_state(db, s->seq, &blob, &size, &sidx) != 0)
+    if (lr == -2) {
+        snprintf(why, n, "%s", "");
+        damaged_last_row(s, last, why, n);
+    } else if (lr != 0 || tsd_db_state(db, s->seq, &blob, &size, &sidx) != 0)
         snprintf(why, n, "its stored rows or state cannot be read (see the daemon log)");
     else if (ts_reset(s->m, s->d, &err) != TS_OK)
         snprintf(why, n, "its model cannot be reset: %.300s", err.msg);
@@ -364,12 +376,18 @@ static void load_session(void *ud, long seq, const char *id, double created, con
         adopt_stored_channels(s, &stored);
         long last = -1;
         double t_last = 0.0;
-        if (s->nch && tsd_db_last_row(srv->db, seq, &last, &t_last, s->latest, s->nch) != -1) {
+        int lr = s->nch ? tsd_db_last_row(srv->db, seq, &last, &t_last, s->latest, s->nch) : -1;
+        if (lr != -1) {
             s->index = last;
             s->t = t_last;
         }
-        atomic_store(&s->deferred, 1);
-        ok = 1;
+        ok = lr != -2; /* a damaged last row: failed now, not at its first use */
+        if (ok)
+            atomic_store(&s->deferred, 1);
+        else {
+            why[0] = '\0';
+            damaged_last_row(s, last, why, sizeof why);
+        }
     } else if (!s->m || (have && !tsd_channels_match(&stored, s->m))) {
         if (!s->m && resolved)
             snprintf(why, sizeof why, "its model cannot be rebuilt: %.300s", err.msg);
@@ -386,11 +404,12 @@ static void load_session(void *ud, long seq, const char *id, double created, con
         long last = -1;
         double t_last = 0.0;
         ok = 0;
-        if (tsd_db_last_row(srv->db, seq, &last, &t_last, s->nch ? s->latest : NULL, s->nch) !=
-            -1) {
+        int lr = tsd_db_last_row(srv->db, seq, &last, &t_last, s->nch ? s->latest : NULL, s->nch);
+        if (lr != -1) {
             s->index = last;
             s->t = t_last;
         }
+        if (lr == -2) damaged_last_row(s, last, why, sizeof why);
     } else {
         ok = restore_stored(s, why, sizeof why) == 0;
     }
@@ -411,7 +430,7 @@ static void load_session(void *ud, long seq, const char *id, double created, con
         return;
     }
     lc->loaded++;
-    if (defer) lc->deferred++;
+    if (atomic_load(&s->deferred)) lc->deferred++;
 }
 
 /* Build a deferred session's model and restore its stored state (the part of
@@ -479,6 +498,7 @@ void tsd_session_build(tsd_session *s)
     } else {
         s->status = TSD_FAILED;
         s->unrestored = 1;
+        s->latest_damaged = t && t->latest_damaged;
         snprintf(s->error, sizeof s->error, "%s", why);
     }
     long rows = s->index + 1;
@@ -865,7 +885,8 @@ static json_t *json_locked(tsd_session *s, int summary)
         .config = s->config,
         .m = stored_table ? NULL : s->m,
         .ch = s->nch ? &s->ch.view : NULL,
-        .latest = (stored_table ? s->index >= 0 : s->m != NULL) ? s->latest : NULL,
+        .latest =
+            (stored_table ? s->index >= 0 : s->m != NULL) && !s->latest_damaged ? s->latest : NULL,
         .error = s->error,
         .operation = s->op_id,
         .integrators = stored_table ? NULL : s->integrators,

@@ -66,6 +66,8 @@ typedef struct tsd_session {
                          rebuilt (reason in error): rows readable, no step or run;
                          set at start-up or by tsd_session_build before any handler
                          sees the session, then immutable */
+    int latest_damaged;  /* its last stored row is damaged (db.h: -2): no latest values
+                            are shown; set and immutable as unrestored */
     atomic_int deferred; /* loaded at start-up without its model (rows read through the
                             stored channel table), built at first use (tsd_session_build,
                             under build_mu), so start-up does not grow with the store */

@@ -23,11 +23,26 @@ typedef struct stream_ctx {
     int ndjson;
     int ended;
     int failed; /* a database read failed: cut the stream */
+    int cut;    /* a damaged stored row: cut the stream once the text before it is sent */
     tsa_buf buf; /* formatted text not yet handed to MHD */
     size_t off;
     long index[CHUNK_ROWS];
     double *rows; /* CHUNK_ROWS x nch */
 } stream_ctx;
+
+/* The rows before a damaged stored row are sent, then (SSE) an error event
+ * naming it, then the stream is cut: a clean end would claim every row was
+ * sent, and a reconnecting client meets the same row again. */
+static void damaged_end(stream_ctx *c, long bad)
+{
+    if (!c->ndjson)
+        tsa_buf_printf(&c->buf,
+                       "event: error\ndata: {\"status\":500,\"detail\":\"stored row %ld of "
+                       "session %s is damaged (not %d channels wide); the store was changed "
+                       "outside the daemon\"}\n\n",
+                       bad, c->s->id, c->s->nch);
+    c->cut = 1;
+}
 
 static void refill(stream_ctx *c)
 {
@@ -35,6 +50,17 @@ static void refill(stream_ctx *c)
     int more;
     long got = tsd_db_rows(c->srv->db, s->seq, c->next, c->next + CHUNK_ROWS - 1, 1, CHUNK_ROWS,
                            s->nch, NULL, s->nch, c->index, c->rows, &more);
+    long bad = -1;
+    if (got == -2) { /* a damaged row: the rows before it, then the error */
+        bad = c->index[0];
+        got = bad > c->next ? tsd_db_rows(c->srv->db, s->seq, c->next, bad - 1, 1, CHUNK_ROWS,
+                                          s->nch, NULL, s->nch, c->index, c->rows, &more)
+                            : 0;
+        if (got == 0) {
+            damaged_end(c, bad);
+            return;
+        }
+    }
     if (got < 0) { /* database error: cut the stream, so that the client sees it is
                       incomplete (a clean end would claim every row was sent) */
         c->failed = 1;
@@ -56,6 +82,7 @@ static void refill(stream_ctx *c)
         }
     }
     c->next = c->index[got - 1] + 1;
+    if (bad >= 0) damaged_end(c, bad);
 }
 
 static void finish(stream_ctx *c)
@@ -79,6 +106,7 @@ static ssize_t reader(void *cls, uint64_t pos, char *out, size_t max)
     if (c->off >= c->buf.n) {
         c->buf.n = 0;
         c->off = 0;
+        if (c->cut) return MHD_CONTENT_READER_END_WITH_ERROR;
         if (c->ended) return MHD_CONTENT_READER_END_OF_STREAM;
         int r = tsd_session_await(c->s, c->next, &c->w);
         if (r == 0) return 0; /* suspended; resumed by the next stored batch */
@@ -87,7 +115,10 @@ static ssize_t reader(void *cls, uint64_t pos, char *out, size_t max)
         else
             finish(c);
         if (c->buf.oom || c->failed) return MHD_CONTENT_READER_END_WITH_ERROR;
-        if (c->buf.n == 0) return c->ended ? MHD_CONTENT_READER_END_OF_STREAM : 0;
+        if (c->buf.n == 0)
+            return c->cut     ? MHD_CONTENT_READER_END_WITH_ERROR
+                   : c->ended ? MHD_CONTENT_READER_END_OF_STREAM
+                              : 0;
     }
     size_t k = c->buf.n - c->off;
     if (k > max) k = max;

@@ -105,15 +105,28 @@ static void coarse_ca_step_names_the_field(void **state)
 static void mean_value_divergence_names_the_volume(void **state)
 {
     (void)state;
-    ts_err err;
-    int nonfinite;
-    const char *doc = "{\"preset\":\"accel-pointmass-conventional\",\"run\":{\"duration\":0.05},"
-                      "\"engine\":{\"fidelity\":\"mean_value\",\"ic_cda\":0.1}}";
-    assert_int_equal(run_doc(doc, 0.05, &err, &nonfinite), TS_ERR_DIVERGED);
-    assert_string_equal(err.pointer, "/engine");
-    if (!strstr(err.msg, ": bank 1 intercooler ") || !strstr(err.msg, "/engine/ic_volume") ||
-        !strstr(err.msg, "/engine/ic_cda"))
-        fail_msg("%s", err.msg);
+    /* each volume too small or too open for the fixed step is the one named (the
+     * review found a tiny intake manifold reported as the intercooler: by the
+     * step's end NaN had spread through every volume; the RK4 stages are read) */
+    static const char *const field[] = {"\"ic_cda\":0.1", "\"intake_volume\":1e-4",
+                                        "\"exhaust_volume\":1e-4"};
+    static const char *const named[] = {": bank 1 intercooler gas mass -",
+                                        ": bank 1 intake manifold gas mass -",
+                                        ": bank 1 exhaust manifold gas mass -"};
+    for (int i = 0; i < 3; i++) {
+        char doc[256];
+        snprintf(doc, sizeof doc,
+                 "{\"preset\":\"accel-pointmass-conventional\",\"run\":{\"duration\":0.05},"
+                 "\"engine\":{\"fidelity\":\"mean_value\",%s}}",
+                 field[i]);
+        ts_err err;
+        int nonfinite;
+        assert_int_equal(run_doc(doc, 0.05, &err, &nonfinite), TS_ERR_DIVERGED);
+        assert_string_equal(err.pointer, "/engine");
+        if (!strstr(err.msg, named[i]) || !strstr(err.msg, "/engine/ic_volume") ||
+            !strstr(err.msg, "/engine/ic_cda"))
+            fail_msg("%s: %s", doc, err.msg);
+    }
 }
 
 /* Finding: a section given as a scalar ({"run": 3}) replaced the whole section and was

@@ -9,9 +9,10 @@ to the store — a build that can read the snapshot again (here: the blob put
 back) continues the session where it was."""
 import sqlite3
 
+import pytest
 import requests
 
-from conftest import BASE_PRESET, Daemon, is_problem
+from conftest import BASE_PRESET, Daemon, is_problem, sse_events
 
 
 def stored(data_dir, sql, *args):
@@ -214,5 +215,63 @@ def test_unknown_stored_status_says_so(tmp_path):
         assert s["status"] == "failed" and "'bogus'" in s["error"], s
         p = is_problem(requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1}), 409)
         assert "'bogus'" in p["detail"], p
+    finally:
+        assert d.stop() == 0
+
+
+def test_damaged_last_row_fails_the_session_without_zeros(tmp_path):
+    """Review of the session-25 fix: a damaged LAST row still reached the
+    session's `latest` as zeros (its session listed as paused until its first
+    use); it fails the session at start-up, with no latest values, on both
+    ways a session is loaded (with its stored channel list, and without)."""
+    data = str(tmp_path)
+    sid, before = make_stepped_session(data)
+    stored(data, "UPDATE samples SET vals=substr(vals, 1, 40) WHERE seq=1 AND idx=250")
+    for phase in ("stored channels", "no stored channels"):
+        if phase == "no stored channels":
+            stored(data, "UPDATE sessions SET channels=NULL WHERE seq=1")
+        d = Daemon(data_dir=data)
+        try:
+            s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+            assert s["status"] == "failed", (phase, s)
+            assert "last stored row (250) is damaged" in s["error"], (phase, s)
+            assert "latest" not in s and s["index"] == 250 and s["t"] == 0.5, (phase, s)
+            ok = requests.get(f"{d.url}/v1/sessions/{sid}/series", params={"to": 0.498})
+            assert ok.status_code == 200 and ok.json()["index"] == list(range(250)), phase
+            is_problem(requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1}), 409)
+        finally:
+            assert d.stop() == 0
+
+
+class FakeLines:
+    """The lines read before a cut, for sse_events."""
+
+    def __init__(self, lines):
+        self.lines = lines
+
+    def iter_lines(self, decode_unicode=True):
+        return iter(self.lines + [""])
+
+
+def test_stream_sends_the_rows_before_a_damaged_one_then_says_why(tmp_path):
+    """Review of the session-25 fix: a damaged row cut /stream at once, with
+    no reason and without the good rows of its 256-row chunk."""
+    data = str(tmp_path)
+    sid, before = make_stepped_session(data)
+    stored(data, "UPDATE samples SET vals=substr(vals, 1, 40) WHERE seq=1 AND idx=200")
+    d = Daemon(data_dir=data)
+    try:
+        lines = []
+        with requests.get(f"{d.url}/v1/sessions/{sid}/stream", params={"since": 149},
+                          stream=True, timeout=30) as r:
+            assert r.status_code == 200
+            with pytest.raises(requests.exceptions.ChunkedEncodingError):
+                for line in r.iter_lines(decode_unicode=True):  # cut after the error event
+                    lines.append(line)
+        events = sse_events(FakeLines(lines))
+        ids = [int(e[1]) for e in events if e[0] == "sample"]
+        assert ids == list(range(150, 200)), ids
+        err = [e for e in events if e[0] == "error"]
+        assert len(err) == 1 and "stored row 200" in err[0][2] and "damaged" in err[0][2], events[-2:]
     finally:
         assert d.stop() == 0

@@ -259,3 +259,32 @@ def test_fft_can_reproduce_the_run_summary_peaks(daemon, tmp_path):
                400, "/window")
     is_problem(requests.get(f"{base}/{s['id']}/fft", params={"channel": "t", "detrend": "cubic"}),
                400, "/detrend")
+
+
+def test_frame_rebuild_stops_when_the_session_is_deleted(d2):
+    """Session-24 probe, fixed in session 25: the state rebuild behind a frame
+    (from the stored snapshot before it) could not be stopped: a deleted
+    session's frame took 76 s of CPU. It asks every 16 samples. A session of
+    slow samples (4+4 modes, max_step 4 us): the frame at row 250 is rebuilt
+    from row 0, about as long as the step that made the rows."""
+    cfg = {"preset": "bump-prescribed-coupled", "run": {"duration": 1.3, "max_step": 4e-6},
+           "track": {"n_long": 4, "n_trans": 4}}
+    s = requests.post(d2.url + "/v1/sessions", json=cfg).json()["id"]
+    t0 = time.monotonic()
+    r = requests.post(f"{d2.url}/v1/sessions/{s}/step", json={"duration": 1.3}, timeout=300)
+    assert r.status_code == 200, r.text
+    wall = time.monotonic() - t0
+    got = {}
+    t = threading.Thread(target=lambda: got.update(r=requests.get(
+        f"{d2.url}/v1/sessions/{s}/frame.png", params={"t": 1.25, "width": 64, "height": 64},
+        timeout=300)))
+    t.start()
+    time.sleep(0.3 * wall)
+    assert t.is_alive(), "the frame came before the delete: the test proves nothing"
+    t_del = time.monotonic()
+    assert requests.delete(f"{d2.url}/v1/sessions/{s}").status_code == 204
+    t.join()
+    took = time.monotonic() - t_del
+    p = is_problem(got["r"], 404)
+    assert "deleted" in p["detail"], p
+    assert took < 0.35 * wall, (took, wall)
