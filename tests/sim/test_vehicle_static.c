@@ -442,6 +442,62 @@ static void drive_is_an_internal_torque_pair(void **state)
     vm_free(v);
 }
 
+/* Kinetic energy 1/2 qd' M qd of model v at its equilibrium with the rates qd. */
+static double kinetic_energy(const vm *v, vm_work *w, const double *qd)
+{
+    int nq = vm_nq(v), ny = vm_ny(v);
+    double *y = malloc(sizeof(double) * (size_t)ny),
+           *M = malloc(sizeof(double) * (size_t)nq * (size_t)nq);
+    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    vm_mass(v, w, y, M);
+    double e = 0;
+    for (int i = 0; i < nq; i++)
+        for (int j = 0; j < nq; j++)
+            e += 0.5 * qd[i] * M[i * nq + j] * qd[j];
+    free(y), free(M);
+    return e;
+}
+
+/* EVIDENCE: a road arm's rotary inertia about its centre of mass enters the
+ * kinetic energy through the arm's ABSOLUTE angular rate only (Koenig's
+ * theorem: 1/2 I_cg omega^2 plus the centre of mass's translation). The arm
+ * angle is relative to the hull and measured the other way (vehicle_model.h),
+ * so an arm turns at alpha_d - theta_d: with theta_d and every alpha_d 1 rad/s
+ * the arms translate without turning and their I_cg add nothing; with the
+ * alpha_d alone each adds 1/2 I_cg. Two models that differ only in
+ * /vehicle/road_arm_inertia (by dI = 5 kg m^2: the same masses, lengths and
+ * equilibrium) give kinetic energies differing by 0 and by 7 dI / 2. Session-25 mutation test: the
+ * sign of the hull-arm entry of M (+ I_cg instead of - I_cg) survived, the energy tests using M
+ * consistently (it would give 14 dI here). Exact up to rounding. */
+static void arm_inertia_enters_by_the_absolute_rate(void **state)
+{
+    (void)state;
+    ts_config c = config("static");
+    ts_err err;
+    vm *v1 = vm_make(&c, &err);
+    assert_non_null(v1);
+    c.vehicle.road_arm_inertia += 5.0;
+    vm *v2 = vm_make(&c, &err);
+    assert_non_null(v2);
+    vm_work *w1 = vm_work_make(v1), *w2 = vm_work_make(v2);
+    int nq = vm_nq(v1);
+    double *qd = calloc((size_t)nq, sizeof *qd);
+    qd[2] = 1.0; /* theta_d */
+    for (int i = 0; i < VM_NRW; i++)
+        qd[3 + i] = 1.0; /* alpha_d of every road arm */
+    double together = kinetic_energy(v2, w2, qd) - kinetic_energy(v1, w1, qd);
+    qd[2] = 0.0;
+    double alone = kinetic_energy(v2, w2, qd) - kinetic_energy(v1, w1, qd);
+    printf("# kinetic energy added by dI = 5 kg m^2 per arm: %.3g J (arms not turning), %.6g J "
+           "(arms turning at 1 rad/s)\n",
+           together, alone);
+    assert_close(together, 0.0, 0, 1e-9);
+    assert_close(alone, VM_NRW * 2.5, 1e-12, 0);
+    free(qd);
+    vm_work_free(w1), vm_work_free(w2);
+    vm_free(v1), vm_free(v2);
+}
+
 /* EVIDENCE: the speed term of the rolling resistance, f1 |v_t| N, takes the
  * wheel centre's speed ALONG the terrain: on a constant grade s the centres
  * move along (1, s), so |v_t| = v_x sqrt(1 + s^2), not v_x (session-25
@@ -800,6 +856,7 @@ int main(void)
         cmocka_unit_test(sprocket_torque_accelerates_by_energy_balance),
         cmocka_unit_test(rolling_resistance_speed_is_along_the_grade),
         cmocka_unit_test(drive_is_an_internal_torque_pair),
+        cmocka_unit_test(arm_inertia_enters_by_the_absolute_rate),
         cmocka_unit_test(drag_decelerates_by_its_closed_form),
         cmocka_unit_test(rolling_resistance_acts_along_the_grade),
         cmocka_unit_test(geometry_snapshot_is_complete),
