@@ -1,0 +1,229 @@
+/*
+ * test_output_identities.c — each output channel and run figure is the
+ * quantity its name and unit say: checked row by row against the other
+ * channels of the same run (the identities that define it), and the units of
+ * the channels people plot pinned to their SI strings. Written after a
+ * mutation pass (session 25) in which a converter slip of the wrong sign, a
+ * speed ratio upside down, the pump speed channel fed the turbine's, the
+ * engine power taken at the turbine speed, a deflection in "mm", hull.accel_z
+ * fed the pitch acceleration, the top speed converted the wrong way, a
+ * tension spectrum read from the roller-force column and the dynamometer's
+ * means and peak read from a neighbouring column all passed every test.
+ */
+#include "test_util.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "preset_config.h"
+#include "sim/tanksim.h"
+
+#define PI 3.14159265358979323846
+
+static int col(const ts_model *m, const char *name)
+{
+    int i = ts_model_channel_index(m, name);
+    if (i < 0) fail_msg("no channel %s", name);
+    return i;
+}
+
+static double metric(const ts_model *m, const ts_rows *r, const char *name)
+{
+    ts_metric mt[64];
+    int n = ts_model_metrics(m, r->v, r->n, mt, 64);
+    assert_true(n <= 64);
+    for (int i = 0; i < n; i++)
+        if (strcmp(mt[i].name, name) == 0) return mt[i].value;
+    fail_msg("no metric %s", name);
+    return NAN;
+}
+
+static void expect_unit(const ts_model *m, const char *name, const char *unit)
+{
+    const ts_channel *c = ts_model_channel(m, col(m, name));
+    if (strcmp(c->unit, unit) != 0) fail_msg("%s: unit %s, want %s", name, c->unit, unit);
+}
+
+/* EVIDENCE: definitions of the converter's and engine's channels (paper
+ * Section III.B.2: slip = pump - turbine speed, SR = turbine / pump speed,
+ * efficiency = TR SR; the pump turns with the crankshaft; power = torque x
+ * speed), every row of a 3-s full-rack launch of the point mass (the Table 2
+ * preset, mean-value engine), to 1e-9 relative. */
+static void converter_and_engine_channels_are_their_definitions(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("accel-pointmass-conventional", NULL);
+    c.engine.fidelity = TS_ENGINE_MEAN_VALUE;
+    c.run.duration = 3.0;
+    ts_rows r;
+    ts_model *m = test_run_rows(&c, &r);
+    int nch = ts_model_nchannel(m);
+    int we = col(m, "engine.speed"), te = col(m, "engine.torque"), pe = col(m, "engine.power"),
+        wp = col(m, "tc.pump.speed"), wt = col(m, "tc.turbine.speed"), sr = col(m, "tc.speed_ratio"),
+        tr = col(m, "tc.torque_ratio"), eff = col(m, "tc.efficiency"), slip = col(m, "tc.slip");
+    long checked = 0;
+    for (long k = 1; k < r.n; k++) {
+        const double *v = r.v + k * nch;
+        double tol = 1e-9 * fabs(v[we]);
+        assert_close(v[wp], v[we], 0, tol);
+        assert_close(v[slip], v[wp] - v[wt], 0, tol);
+        assert_close(v[pe], v[te] * v[we], 1e-9, 1e-6);
+        if (v[wp] > 1) {
+            assert_close(v[sr], v[wt] / v[wp], 1e-9, 1e-12);
+            assert_close(v[eff], v[sr] * v[tr], 1e-9, 1e-12);
+            checked++;
+        }
+    }
+    assert_true(checked > r.n / 2);
+    /* and their units */
+    expect_unit(m, "engine.speed", "rad/s");
+    expect_unit(m, "engine.power", "W");
+    expect_unit(m, "tc.slip", "rad/s");
+    expect_unit(m, "tc.speed_ratio", "1");
+    expect_unit(m, "vehicle.speed", "m/s");
+    ts_rows_free(&r);
+    ts_model_free(m);
+}
+
+/* EVIDENCE: kinematics and unit conversions of the vehicle's outputs, on 8 s
+ * of the Section II.D coupled bump run: hull.accel_z is the second derivative
+ * of hull.z (its integral over the run equals the change of hull.z's rate,
+ * the rates taken by central differences of the 200-Hz samples: within 2 % of
+ * the range of that rate), top_speed_mph is the largest vehicle.speed / 0.44704
+ * (1e-12), and the units of the plotted channels are SI. */
+static void vehicle_channels_are_their_definitions(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("bump-prescribed-coupled", NULL);
+    c.run.duration = 8.0; /* over the first bumps */
+    ts_rows r;
+    ts_model *m = test_run_rows(&c, &r);
+    int nch = ts_model_nchannel(m);
+    int z = col(m, "hull.z"), az = col(m, "hull.accel_z"), vx = col(m, "vehicle.speed");
+    double dt = 1.0 / c.run.sample_rate;
+    /* from sample 1 to n-2, trapezoid of the acceleration against the
+     * central-difference rates at both ends */
+    long a = 100, b = r.n - 2; /* past the first half-second's settling */
+    double integ = 0, vmax = 0, zd_min = INFINITY, zd_max = -INFINITY;
+    for (long k = a; k < b; k++)
+        integ += 0.5 * dt * (r.v[k * nch + az] + r.v[(k + 1) * nch + az]);
+    for (long k = 1; k + 1 < r.n; k++) {
+        double zd = (r.v[(k + 1) * nch + z] - r.v[(k - 1) * nch + z]) / (2 * dt);
+        zd_min = fmin(zd_min, zd), zd_max = fmax(zd_max, zd);
+    }
+    for (long k = 0; k < r.n; k++)
+        vmax = fmax(vmax, r.v[k * nch + vx]);
+    double zd_a = (r.v[(a + 1) * nch + z] - r.v[(a - 1) * nch + z]) / (2 * dt);
+    double zd_b = (r.v[(b + 1) * nch + z] - r.v[(b - 1) * nch + z]) / (2 * dt);
+    printf("# integral of hull.accel_z %.5f m/s, change of hull.z's rate %.5f m/s (its range "
+           "%.4f m/s)\n",
+           integ, zd_b - zd_a, zd_max - zd_min);
+    assert_true(zd_max - zd_min > 0.05); /* the hull does heave on the bumps */
+    assert_close(integ, zd_b - zd_a, 0, 0.02 * (zd_max - zd_min));
+    assert_close(metric(m, &r, "top_speed_mph"), vmax / 0.44704, 1e-12, 0);
+    expect_unit(m, "hull.accel_z", "m/s^2");
+    expect_unit(m, "hull.pitch", "rad");
+    expect_unit(m, "track.tension.rear_roller", "N");
+    expect_unit(m, "roller.rear.normal_force", "N");
+    expect_unit(m, "road_wheel.4.load", "N");
+    expect_unit(m, "span.rear_roller_front_roller.deflection", "m");
+    expect_unit(m, "span.rear_roller_front_roller.tension", "N");
+    expect_unit(m, "sprocket.speed", "rad/s");
+    ts_rows_free(&r);
+    ts_model_free(m);
+}
+
+/* EVIDENCE: the spectral figures read the channel they name. The same rows
+ * with the rear-roller tension replaced by 60 kN + 3 kN sin(2 pi 15 t) and
+ * the roller's normal force by 10 kN sin(2 pi 17 t): tension_peak_13_20hz is
+ * 15 Hz and roller_force_peak_4.6_7hz no longer sees a 13-20-Hz tone (the
+ * record's 1/4-Hz bins, within a quarter bin). */
+static void spectral_figures_read_their_channel(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("bump-prescribed-coupled", NULL);
+    c.run.duration = 4.0;
+    ts_rows r;
+    ts_model *m = test_run_rows(&c, &r);
+    int nch = ts_model_nchannel(m);
+    int t = col(m, "t"), tt = col(m, "track.tension.rear_roller"),
+        fr = col(m, "roller.rear.normal_force");
+    for (long k = 0; k < r.n; k++) {
+        double tk = r.v[k * nch + t];
+        r.v[k * nch + tt] = 60e3 + 3e3 * sin(2 * PI * 15 * tk);
+        r.v[k * nch + fr] = 10e3 * sin(2 * PI * 17 * tk);
+    }
+    assert_close(metric(m, &r, "tension_peak_13_20hz"), 15.0, 0, 0.25 / 4);
+    ts_rows_free(&r);
+    ts_model_free(m);
+}
+
+/* EVIDENCE: the dynamometer's figures are those of its own columns: the mean
+ * brake torque and power are the means of engine.torque and engine.power over
+ * its rows, the peak cylinder pressure the largest cylinder.pressure
+ * (1e-12); the crank angle runs over the four-stroke cycle, [0, 4 pi). */
+static void dynamometer_figures_are_their_columns(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("engine-map-conventional", NULL);
+    ts_rows r;
+    ts_model *m = test_run_rows(&c, &r);
+    int nch = ts_model_nchannel(m);
+    int te = col(m, "engine.torque"), pe = col(m, "engine.power"), p = col(m, "cylinder.pressure"),
+        th = col(m, "engine.crank_angle");
+    double st = 0, sp = 0, pmax = 0, thmax = 0;
+    long n = 0;
+    for (long k = 1; k < r.n; k++) {
+        st += r.v[k * nch + te];
+        sp += r.v[k * nch + pe];
+        n++;
+    }
+    for (long k = 0; k < r.n; k++) {
+        pmax = fmax(pmax, r.v[k * nch + p]);
+        thmax = fmax(thmax, r.v[k * nch + th]);
+        assert_true(r.v[k * nch + th] >= 0 && r.v[k * nch + th] < 4 * PI);
+    }
+    double bt = metric(m, &r, "brake_torque_mean"), bp = metric(m, &r, "brake_power_mean");
+    /* over every row, the reset row included (the steady state's) */
+    assert_close(bt, (st + r.v[te]) / (n + 1), 1e-12, 0);
+    assert_close(bp, (sp + r.v[pe]) / (n + 1), 1e-12, 0);
+    assert_close(metric(m, &r, "peak_cylinder_pressure"), pmax, 1e-12, 0);
+    assert_true(thmax > 2 * PI); /* the second revolution of the cycle is there */
+    expect_unit(m, "cylinder.pressure", "Pa");
+    expect_unit(m, "engine.crank_angle", "rad");
+    ts_rows_free(&r);
+    ts_model_free(m);
+}
+
+/* EVIDENCE: a run stops at its duration: asked to go on to twice it, the
+ * model ends at the last row of run.duration x sample_rate (the daemon's
+ * steps and the CLI's end rely on it). Exact. */
+static void advance_stops_at_the_duration(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("pointmass-prescribed", NULL);
+    c.run.duration = 0.5;
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    assert_non_null(m);
+    ts_data *d = ts_data_make(m, &err);
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, 1.0, NULL, NULL, &err), TS_OK);
+    assert_int_equal(ts_sample_index(d), lround(0.5 * c.run.sample_rate));
+    assert_close(ts_time(d), 0.5, 0, 1e-12);
+    ts_data_free(d);
+    ts_model_free(m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(converter_and_engine_channels_are_their_definitions),
+        cmocka_unit_test(vehicle_channels_are_their_definitions),
+        cmocka_unit_test(spectral_figures_read_their_channel),
+        cmocka_unit_test(dynamometer_figures_are_their_columns),
+        cmocka_unit_test(advance_stops_at_the_duration),
+    };
+    return cmocka_run_group_tests_name("sim/output_identities", tests, NULL, NULL);
+}
