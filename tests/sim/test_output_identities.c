@@ -196,6 +196,53 @@ static void dynamometer_figures_are_their_columns(void **state)
     ts_model_free(m);
 }
 
+/* EVIDENCE: the IVS run's controller channels and figures are what their
+ * descriptions say, on 12 s of the bump-coupled-ivs5mph run (mean-value
+ * engine): control.speed_measured is the vehicle's speed in m/s as the
+ * powertrain sees it through the sprocket (within 5 % of vehicle.speed on
+ * average, the track's creep and stretch between them), control.error the
+ * set speed less it (1e-12), and the figures after the set speed is first
+ * reached (rows from time_to_target on) are the mean and mean absolute
+ * speed error in mph and the extremes of engine.speed and rack.demand over
+ * those rows (1e-12). */
+static void ivs_channels_and_figures_are_their_definitions(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("bump-coupled-ivs5mph", NULL);
+    c.engine.fidelity = TS_ENGINE_MEAN_VALUE;
+    c.run.duration = 12.0;
+    ts_rows r;
+    ts_model *m = test_run_rows(&c, &r);
+    int nch = ts_model_nchannel(m);
+    int t = col(m, "t"), v = col(m, "vehicle.speed"), vm = col(m, "control.speed_measured"),
+        e = col(m, "control.error"), we = col(m, "engine.speed"), rd = col(m, "rack.demand");
+    double vt = c.control.target_speed, t_hit = metric(m, &r, "time_to_target");
+    double sv = 0, svm = 0, se = 0, sa = 0, wmin = INFINITY, wmax = -INFINITY, rmin = INFINITY,
+           rmax = -INFINITY;
+    long k = 0;
+    for (long i = 1; i < r.n; i++) {
+        const double *row = r.v + i * nch;
+        sv += row[v], svm += row[vm];
+        assert_close(row[e], vt - row[vm], 1e-12, 1e-12);
+        if (!(row[t] >= t_hit)) continue;
+        se += row[v] - vt, sa += fabs(row[v] - vt);
+        wmin = fmin(wmin, row[we]), wmax = fmax(wmax, row[we]);
+        rmin = fmin(rmin, row[rd]), rmax = fmax(rmax, row[rd]);
+        k++;
+    }
+    assert_true(k > r.n / 2);
+    assert_close(svm, sv, 0.05, 0);
+    assert_close(metric(m, &r, "mean_speed_error_mph"), se / k / 0.44704, 1e-12, 1e-12);
+    assert_close(metric(m, &r, "mean_abs_speed_error_mph"), sa / k / 0.44704, 1e-12, 1e-12);
+    assert_close(metric(m, &r, "engine_speed_min"), wmin, 1e-12, 0);
+    assert_close(metric(m, &r, "engine_speed_max"), wmax, 1e-12, 0);
+    assert_close(metric(m, &r, "rack_min"), rmin, 1e-12, 1e-12);
+    assert_close(metric(m, &r, "rack_max"), rmax, 1e-12, 1e-12);
+    expect_unit(m, "control.speed_measured", "m/s");
+    ts_rows_free(&r);
+    ts_model_free(m);
+}
+
 /* EVIDENCE: a run stops at its duration: asked to go on to twice it, the
  * model ends at the last row of run.duration x sample_rate (the daemon's
  * steps and the CLI's end rely on it). Exact. */
@@ -223,6 +270,7 @@ int main(void)
         cmocka_unit_test(vehicle_channels_are_their_definitions),
         cmocka_unit_test(spectral_figures_read_their_channel),
         cmocka_unit_test(dynamometer_figures_are_their_columns),
+        cmocka_unit_test(ivs_channels_and_figures_are_their_definitions),
         cmocka_unit_test(advance_stops_at_the_duration),
     };
     return cmocka_run_group_tests_name("sim/output_identities", tests, NULL, NULL);
