@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "preset_config.h"
+#include "sim/scenario.h"
 #include "sim/tanksim.h"
 
 #define PI 3.14159265358979323846
@@ -263,6 +264,21 @@ static void advance_stops_at_the_duration(void **state)
     ts_model_free(m);
 }
 
+/* EVIDENCE: the crossing times behind the Table 2 and IVS figures are
+ * linearly interpolated between samples: v = t sampled at 1 Hz crosses 2.5
+ * at t = 2.5 exactly (not at the next sample, 3), 0 at the first row, and a
+ * level never reached gives NaN. */
+static void first_crossing_is_interpolated(void **state)
+{
+    (void)state;
+    double rows[2 * 6];
+    for (int i = 0; i < 6; i++)
+        rows[2 * i] = rows[2 * i + 1] = i;
+    assert_close(ts_rows_first_crossing(rows, 6, 2, 1, 2.5), 2.5, 0, 1e-12);
+    assert_close(ts_rows_first_crossing(rows, 6, 2, 1, 4.2), 4.2, 0, 1e-12);
+    assert_true(isnan(ts_rows_first_crossing(rows, 6, 2, 1, 7.0)));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -272,6 +288,7 @@ int main(void)
         cmocka_unit_test(dynamometer_figures_are_their_columns),
         cmocka_unit_test(ivs_channels_and_figures_are_their_definitions),
         cmocka_unit_test(advance_stops_at_the_duration),
+        cmocka_unit_test(first_crossing_is_interpolated),
     };
     return cmocka_run_group_tests_name("sim/output_identities", tests, NULL, NULL);
 }
