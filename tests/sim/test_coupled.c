@@ -380,6 +380,49 @@ static void launch_starts_from_idle_steady_state(void **state)
     ts_coupled_free(cm);
 }
 
+/* EVIDENCE: where the driveline's rotating mass goes. /driveline/output_inertia
+ * is the transmission output to both sprockets, reflected to the sprocket;
+ * in the pitch-plane model (one side) each sprocket spin carries its half,
+ * in place of /vehicle/sprocket_inertia when larger (coupled_system.h). The
+ * coupled vehicle's mass matrix at the sprocket spin must exceed the plain
+ * vehicle's by max(J_out / 2, J_s) - J_s and nothing else change (1e-12).
+ * Session-25 mutation test: the whole J_out per side survived. */
+static void driveline_inertia_is_shared_by_the_two_sprockets(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("flat-coupled-rack90", NULL);
+    c.engine.fidelity = TS_ENGINE_MEAN_VALUE;
+    ts_err err;
+    ts_coupled *cm = ts_coupled_make(&c, &err);
+    if (!cm) fail_msg("%s", err.msg);
+    vm *plain = vm_make(&c, &err);
+    assert_non_null(plain);
+    const vm *cv = ts_coupled_vehicle(cm);
+    int nq = vm_nq(plain), ny = vm_ny(plain);
+    assert_int_equal(vm_nq(cv), nq);
+    vm_work *w1 = vm_work_make(plain), *w2 = vm_work_make(cv);
+    double *y = malloc(sizeof(double) * (size_t)ny),
+           *M1 = malloc(sizeof(double) * (size_t)nq * (size_t)nq),
+           *M2 = malloc(sizeof(double) * (size_t)nq * (size_t)nq);
+    memcpy(y, vm_equilibrium(plain), sizeof(double) * (size_t)ny);
+    vm_mass(plain, w1, y, M1);
+    vm_mass(cv, w2, y, M2);
+    int ks = VM_NQ_RIGID - VM_NB + VM_SPROCKET;
+    double js = c.vehicle.sprocket_inertia, jo = c.driveline.output_inertia;
+    printf("# sprocket spin: plain %.4f, coupled %.4f kg m^2 (J_s %.2f, J_out / 2 %.2f)\n",
+           M1[ks * nq + ks], M2[ks * nq + ks], js, 0.5 * jo);
+    assert_true(0.5 * jo > js); /* the case the presets run */
+    for (int i = 0; i < nq; i++)
+        for (int j = 0; j < nq; j++)
+            assert_close(M2[i * nq + j] - M1[i * nq + j],
+                         i == ks && j == ks ? fmax(0.5 * jo, js) - js : 0.0, 0,
+                         1e-12 * (1 + fabs(M1[i * nq + j])));
+    free(y), free(M1), free(M2);
+    vm_work_free(w1), vm_work_free(w2);
+    vm_free(plain);
+    ts_coupled_free(cm);
+}
+
 /* EVIDENCE: determinism of the state snapshot: saving at 0.5 s and
  * restoring reproduces the continued run (both methods; the restart of the
  * integrators is the only difference, so agreement to integrator tolerance:
@@ -463,6 +506,7 @@ int main(void)
         cmocka_unit_test(ivs_full_rack_at_launch_then_holds_5mph),
         cmocka_unit_test(ivs_cruise_does_not_hunt_gears),
         cmocka_unit_test(launch_starts_from_idle_steady_state),
+        cmocka_unit_test(driveline_inertia_is_shared_by_the_two_sprockets),
         cmocka_unit_test(save_restore_reproduces),
         cmocka_unit_test(gain_schedule_and_config_errors),
     };
