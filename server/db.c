@@ -622,20 +622,18 @@ int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row, int
         const void *b = sqlite3_column_blob(st, 1);
         size_t nb = (size_t)sqlite3_column_bytes(st, 1);
         if (b && nb >= sizeof(double)) memcpy(t, b, sizeof(double));
-        if ((!row && nchannel == 0) || (b && row_intact(seq, *idx, nb, nchannel))) {
-            if (row) memcpy(row, b, nb); /* no channels: the index and time alone */
-            rc = 0;
-        } else {
-            if (row) memset(row, 0, sizeof(double) * (size_t)nchannel);
-            sqlite3_finalize(st);
-            pthread_mutex_unlock(&db->rmu);
-            return -2; /* row_intact said why */
-        }
+        /* no channels asked: the index and time alone */
+        int intact = (!row && nchannel == 0) || (b && row_intact(seq, *idx, nb, nchannel));
+        if (row && intact)
+            memcpy(row, b, nb);
+        else if (row)
+            memset(row, 0, sizeof(double) * (size_t)nchannel);
+        rc = intact ? 0 : -2; /* -2: row_intact said why */
     } else {
         rc = s == SQLITE_DONE ? 0 : -1;
     }
 out:
-    if (rc) log_err(db->r, "read last sample");
+    if (rc == -1) log_err(db->r, "read last sample");
     sqlite3_finalize(st);
     pthread_mutex_unlock(&db->rmu);
     return rc;

@@ -130,11 +130,32 @@ static void frames_free(void *cls)
     free(f);
 }
 
-static ts_rc apng_interrupted(frames_ctx *f);
+/* The client closed its end: a half-closed or reset socket polls as hung up. */
+static int client_gone(struct MHD_Connection *conn)
+{
+    const union MHD_ConnectionInfo *ci =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+    if (!ci) return 0;
+    struct pollfd p = {.fd = ci->connect_fd, .events = POLLRDHUP};
+    return poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR));
+}
+
+/* Whether a draw job should stop: an APNG before its next frame, a state
+ * rebuild before its next samples (frames.h); the reason in why. */
+static ts_rc job_interrupted(frames_ctx *f, ts_err *why)
+{
+    if (atomic_load(&f->srv->stopping)) return tsd_err_shutdown(why);
+    if (tsd_session_is_deleted(f->s))
+        return ts_err_set(why, TS_ERR_NOTFOUND, NULL,
+                          "session %s was deleted while its frames were drawn", f->s->id);
+    if (client_gone(f->conn)) /* nobody reads this answer; it ends the job */
+        return ts_err_set(why, TS_ERR_CANCELLED, NULL, "the client closed the connection");
+    return TS_OK;
+}
 
 /* ts_sample_fn of a rebuild: every 16 samples, whether to stop (the daemon
- * stopping, the session deleted, the client gone: apng_interrupted, its
- * reason kept in *why). A rebuild covers at most one stored batch, but its
+ * stopping, the session deleted, the client gone: job_interrupted, the
+ * reason kept in why). A rebuild covers at most one stored batch, but its
  * samples may be slow (many modes, a small max_step): one took 76 s of CPU
  * for a deleted session's frame. */
 typedef struct rebuild_ctx {
@@ -146,12 +167,7 @@ static int rebuild_sample(void *ud, long index, double t, const double *values, 
 {
     (void)t, (void)values, (void)n;
     rebuild_ctx *c = ud;
-    if (index % 16) return 0;
-    ts_err keep = c->f->err;
-    ts_rc rc = apng_interrupted(c->f);
-    if (rc != TS_OK) c->why = c->f->err;
-    c->f->err = keep;
-    return rc != TS_OK;
+    return index % 16 == 0 && job_interrupted(c->f, &c->why) != TS_OK;
 }
 
 /* Rebuild the stored state at sample index k into f->d. */
@@ -223,29 +239,6 @@ static ts_rc draw_one(frames_ctx *f)
     return rc;
 }
 
-/* The client closed its end: a half-closed or reset socket polls as hung up. */
-static int client_gone(struct MHD_Connection *conn)
-{
-    const union MHD_ConnectionInfo *ci =
-        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
-    if (!ci) return 0;
-    struct pollfd p = {.fd = ci->connect_fd, .events = POLLRDHUP};
-    return poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR));
-}
-
-/* Whether an APNG job should stop before its next frame, or a rebuild before
- * its next samples (frames.h); the reason in f->err. */
-static ts_rc apng_interrupted(frames_ctx *f)
-{
-    if (atomic_load(&f->srv->stopping)) return tsd_err_shutdown(&f->err);
-    if (tsd_session_is_deleted(f->s))
-        return ts_err_set(&f->err, TS_ERR_NOTFOUND, NULL,
-                          "session %s was deleted while its frames were drawn", f->s->id);
-    if (client_gone(f->conn)) /* nobody reads this answer; it ends the job */
-        return ts_err_set(&f->err, TS_ERR_CANCELLED, NULL, "the client closed the connection");
-    return TS_OK;
-}
-
 /* A frame's delay 1/fps s as num / den, both 16-bit (APNG fcTL): the closest
  * such fraction, found over every denominator, so exact for any rate with a
  * 16-bit rational period (0.5 fps: 2/1, 29.97: 100/2997, 1000: 1/1000).
@@ -272,7 +265,7 @@ static ts_rc draw_apng(frames_ctx *f)
     ts_rc rc = pngs && lens ? TS_OK : ts_err_set(&f->err, TS_ERR_NOMEM, NULL, "out of memory");
     long done = 0;
     while (rc == TS_OK && f->i < f->n) {
-        rc = apng_interrupted(f);
+        rc = job_interrupted(f, &f->err);
         if (rc == TS_OK) rc = draw_one(f);
         if (rc == TS_OK) {
             pngs[done] = f->png;

@@ -223,34 +223,44 @@ static json_t *op_json(const tsd_op *op)
     return j;
 }
 
+/* Hand op's final document (done at wall_last with response or error) to
+ * persist: 0 stored, -1 refused, -2 no memory for the document. */
+static int persist_done(tsd_server *srv, tsd_op *op, double wall_last, json_t *response,
+                        json_t *error, int (*persist)(void *ud, json_t *doc), void *ud)
+{
+    pthread_mutex_lock(&srv->ops->mu);
+    tsd_op done = *op; /* as it will be; op itself stays running until persisted */
+    done.done = 1;
+    done.wall_last = wall_last;
+    done.response = response;
+    done.error = error;
+    json_t *doc = op_json(&done);
+    pthread_mutex_unlock(&srv->ops->mu);
+    int rc = !doc ? -2 : persist(ud, doc) == 0 ? 0 : -1;
+    json_decref(doc);
+    return rc;
+}
+
 void tsd_op_finish_persisted(tsd_server *srv, tsd_op *op, json_t *response, json_t *error,
                              int (*persist)(void *ud, json_t *doc), void *ud)
 {
     double wall_last = tsd_now(); /* the stored document's and GET's alike */
-    for (int attempt = 0; persist && attempt < 2; attempt++) {
-        pthread_mutex_lock(&srv->ops->mu);
-        tsd_op done = *op; /* as it will be; op itself stays running until persisted */
-        done.done = 1;
-        done.wall_last = wall_last;
-        done.response = response;
-        done.error = error;
-        json_t *doc = op_json(&done);
-        pthread_mutex_unlock(&srv->ops->mu);
-        int stored = doc && persist(ud, doc) == 0;
-        json_decref(doc);
-        if (stored || !response) break; /* an error not stored: the last stored row stays */
+    int rc = persist ? persist_done(srv, op, wall_last, response, error, persist, ud) : 0;
+    if (rc != 0 && response) { /* not a success a restart would lose */
         ts_err e;
-        if (doc)
+        if (rc == -2)
+            ts_err_set(&e, TS_ERR_NOMEM, NULL,
+                       "the result was computed but there was no memory to store it");
+        else
             ts_err_set(&e, TS_ERR_IO, NULL,
                        "the result was computed but the store could not keep it (full or "
                        "failing: see the daemon log); run it again once the store has room");
-        else
-            ts_err_set(&e, TS_ERR_NOMEM, NULL,
-                       "the result was computed but there was no memory to store it");
         json_decref(response);
         response = NULL;
         json_decref(error);
         error = tsd_op_error_json(&e);
+        /* refused too: the last stored row (running, k of n parts) stays */
+        (void)persist_done(srv, op, wall_last, NULL, error, persist, ud);
     }
     pthread_mutex_lock(&srv->ops->mu);
     op->done = 1;

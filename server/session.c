@@ -88,10 +88,16 @@ const char *tsd_status_name(tsd_status st)
     return (st >= 0 && st < TSD_NSTATUS) ? status_names[st] : "unknown";
 }
 
-static tsd_status status_from_name(const char *s)
+/* A stored status by name; one this build does not know is read as failed,
+ * with why in error (n bytes). */
+static tsd_status status_from_name(const char *s, char *error, size_t n)
 {
     for (int i = 0; i < TSD_NSTATUS; i++)
         if (strcmp(status_names[i], s) == 0) return (tsd_status)i;
+    snprintf(error, n,
+             "its stored status '%.40s' is not one this build knows (the store was written by "
+             "another build or changed outside the daemon)",
+             s);
     return TSD_FAILED;
 }
 
@@ -216,16 +222,25 @@ static int store_first_row(tsd_session *s)
                          s->snapshot_size, ts_time(s->d), 0, tsd_status_name(s->status));
 }
 
-/* Its last stored row (index last) is damaged (db.h tsd_db_last_row -2): no
- * latest values are shown, and why (n bytes) gets the reason appended. */
-static void damaged_last_row(tsd_session *s, long last, char *why, size_t n)
+/* Read s's last stored row into s->index, s->t and s->latest (tsd_db_last_row;
+ * its return). A damaged row (-2) still gives index and time; no latest values
+ * are shown then, and why (n bytes, a string) gets the reason appended. */
+static int read_last_row(tsd_session *s, char *why, size_t n)
 {
-    s->latest_damaged = 1;
-    size_t k = strlen(why);
-    snprintf(why + k, n - k,
-             "%sits last stored row (%ld) is damaged (not %d channels wide; the store was "
-             "changed outside the daemon)",
-             k ? "; " : "", last, s->nch);
+    long last = -1;
+    double t_last = 0.0;
+    int lr = tsd_db_last_row(s->srv->db, s->seq, &last, &t_last, s->nch ? s->latest : NULL, s->nch);
+    s->index = last; /* -1 and 0 s when the store cannot say */
+    s->t = t_last;
+    if (lr == -2) {
+        s->latest_damaged = 1;
+        size_t k = strlen(why);
+        snprintf(why + k, n - k,
+                 "%sits last stored row (%ld) is damaged (not %d channels wide; the store was "
+                 "changed outside the daemon)",
+                 k ? "; " : "", last, s->nch);
+    }
+    return lr;
 }
 
 /* Bring a loaded session to its last stored row: restore the latest state
@@ -240,16 +255,15 @@ static int restore_stored(tsd_session *s, char *why, size_t n)
     ts_err err;
     void *blob = NULL;
     size_t size = 0;
-    long sidx = -1, last = -1;
-    double t_last = 0.0;
+    long sidx = -1;
     int rc = -1;
-    int lr = tsd_db_last_row(db, s->seq, &last, &t_last, s->latest, s->nch);
-    if (lr == -2) {
-        snprintf(why, n, "%s", "");
-        damaged_last_row(s, last, why, n);
-    } else if (lr != 0 || tsd_db_state(db, s->seq, &blob, &size, &sidx) != 0)
-        snprintf(why, n, "its stored rows or state cannot be read (see the daemon log)");
-    else if (ts_reset(s->m, s->d, &err) != TS_OK)
+    why[0] = '\0';
+    int lr = read_last_row(s, why, n); /* the stored rows' end, kept on failure */
+    long last = s->index;
+    if (lr != 0 || tsd_db_state(db, s->seq, &blob, &size, &sidx) != 0) {
+        if (lr != -2) /* -2: read_last_row said why */
+            snprintf(why, n, "its stored rows or state cannot be read (see the daemon log)");
+    } else if (ts_reset(s->m, s->d, &err) != TS_OK)
         snprintf(why, n, "its model cannot be reset: %.300s", err.msg);
     else if (!blob && last > 0)
         snprintf(why, n, "no stored state for its %ld stored rows", last + 1);
@@ -272,11 +286,7 @@ static int restore_stored(tsd_session *s, char *why, size_t n)
     else
         rc = 0;
     free(blob);
-    if (rc != 0) {
-        s->index = last;
-        s->t = t_last;
-        return -1;
-    }
+    if (rc != 0) return -1;
     s->t = ts_time(s->d);
     s->index = ts_sample_index(s->d);
     memcpy(s->latest, ts_latest(s->d), sizeof(double) * (size_t)s->nch);
@@ -355,13 +365,8 @@ static void load_session(void *ud, long seq, const char *id, double created, con
     snprintf(s->preset, sizeof s->preset, "%s", preset);
     s->seq = seq;
     s->created = created;
-    s->status = status_from_name(status);
     snprintf(s->error, sizeof s->error, "%s", error);
-    if (strcmp(tsd_status_name(s->status), status) != 0) /* read as failed */
-        snprintf(s->error, sizeof s->error,
-                 "its stored status '%.40s' is not one this build knows (the store was written "
-                 "by another build or changed outside the daemon)",
-                 status);
+    s->status = status_from_name(status, s->error, sizeof s->error);
     if (s->status == TSD_RUNNING) {
         s->status = TSD_INTERRUPTED; /* the daemon died during the run */
         snprintf(s->error, sizeof s->error,
@@ -370,24 +375,13 @@ static void load_session(void *ud, long seq, const char *id, double created, con
         lc->interrupted++;
         tsd_db_session_status(srv->db, seq, tsd_status_name(s->status), s->error);
     }
-    char why[TS_ERR_MSG_LEN];
+    char why[TS_ERR_MSG_LEN] = "";
     int ok;
     if (defer) {
         adopt_stored_channels(s, &stored);
-        long last = -1;
-        double t_last = 0.0;
-        int lr = s->nch ? tsd_db_last_row(srv->db, seq, &last, &t_last, s->latest, s->nch) : -1;
-        if (lr != -1) {
-            s->index = last;
-            s->t = t_last;
-        }
-        ok = lr != -2; /* a damaged last row: failed now, not at its first use */
-        if (ok)
-            atomic_store(&s->deferred, 1);
-        else {
-            why[0] = '\0';
-            damaged_last_row(s, last, why, sizeof why);
-        }
+        /* a damaged last row: failed now, not at its first use */
+        ok = read_last_row(s, why, sizeof why) != -2;
+        if (ok) atomic_store(&s->deferred, 1);
     } else if (!s->m || (have && !tsd_channels_match(&stored, s->m))) {
         if (!s->m && resolved)
             snprintf(why, sizeof why, "its model cannot be rebuilt: %.300s", err.msg);
@@ -401,15 +395,8 @@ static void load_session(void *ud, long seq, const char *id, double created, con
                      "%d in the model, or other names, units or sample rate)",
                      stored.view.n, ts_model_nchannel(s->m));
         if (have) adopt_stored_channels(s, &stored); /* rows readable without the model */
-        long last = -1;
-        double t_last = 0.0;
         ok = 0;
-        int lr = tsd_db_last_row(srv->db, seq, &last, &t_last, s->nch ? s->latest : NULL, s->nch);
-        if (lr != -1) {
-            s->index = last;
-            s->t = t_last;
-        }
-        if (lr == -2) damaged_last_row(s, last, why, sizeof why);
+        read_last_row(s, why, sizeof why);
     } else {
         ok = restore_stored(s, why, sizeof why) == 0;
     }

@@ -428,29 +428,17 @@ static const char *step_pointer(const ts_engine *e)
 }
 
 /* The error of a fixed step h at t that left the state's domain (cycle_run,
- * ts_engine_advance_load); x: the step's start or, for RK4, the stage state it
- * failed in; work: the stepper's (the crank-angle stage state at 4 nx; RK4's
- * step start at 0): the first of them outside the domain is described. The
- * mean-value engine has no guards in its right-hand side, so its step fails
- * only once a state is not finite, by which time NaN has spread through the
- * coupled volumes: the step's start names the volume that left first. */
+ * ts_engine_advance_load); x: the step's start or, for RK4, the stage state
+ * whose slopes were not finite (solver.c); work: the stepper's (the
+ * crank-angle stage state at 4 nx): the first of them outside the domain is
+ * described. */
 static ts_rc step_diverged(const ts_engine *e, double t, double h, const double *x,
                            const double *work, ts_err *err)
 {
     int crank = e->c.fidelity == TS_ENGINE_CRANK_ANGLE;
     char why[160] = "";
-    int found =
-        en_domain_fault(e, crank ? work + 4 * (size_t)e->nx : work, why + 2, sizeof why - 2);
-    if (!crank && e->nx <= 64) { /* RK4's stage states y0 + c_s h k_s (solver.c's layout) */
-        static const double cs[3] = {0.5, 0.5, 1.0};
-        double ys[64];
-        for (int st = 0; st < 3 && !found; st++) {
-            for (int i = 0; i < e->nx; i++)
-                ys[i] = work[i] + cs[st] * h * work[(size_t)(st + 1) * e->nx + i];
-            found = en_domain_fault(e, ys, why + 2, sizeof why - 2);
-        }
-    }
-    if (!found) en_domain_fault(e, x, why + 2, sizeof why - 2);
+    if (!crank || !en_domain_fault(e, work + 4 * (size_t)e->nx, why + 2, sizeof why - 2))
+        en_domain_fault(e, x, why + 2, sizeof why - 2);
     if (why[2])
         why[0] = ':', why[1] = ' ';
     else

@@ -501,7 +501,9 @@ void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s)
  * every other state held. y itself carries each stage's state; y0 and the
  * stage slopes k live in work (5 m). With idx, f writes the whole n-vector
  * into ydot and the chosen slopes are copied out; without, f writes its
- * stage's slopes straight into k. */
+ * stage's slopes straight into k. A stage whose slopes are not finite (or
+ * whose f fails) ends the step at once with y holding that stage's state:
+ * the state a caller's error should describe. */
 static int rk4(int m, const int *idx, ts_rhs_fn f, void *ud, double t, double h, double *y,
                double *ydot, double *work)
 {
@@ -515,6 +517,8 @@ static int rk4(int m, const int *idx, ts_rhs_fn f, void *ud, double t, double h,
         if (f(t + cs[s] * h, y, idx ? ydot : k + s * m, ud)) return 1;
         for (int j = 0; idx && j < m; j++)
             k[s * m + j] = ydot[idx[j]];
+        for (int j = 0; j < m; j++)
+            if (!isfinite(k[s * m + j])) return 1;
     }
     int bad = 0;
     for (int j = 0; j < m; j++) {
