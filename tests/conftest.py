@@ -214,10 +214,12 @@ def wait_op(url, op_id, timeout=30, seen=None):
 
 
 def sse_events(resp, stop_after=None):
-    """Parse a text/event-stream response into [(event, id, data_str)]; stop after
-    stop_after sample events (then the caller closes the connection)."""
+    """Parse a text/event-stream response (or a list of the lines read from one
+    before it was cut) into [(event, id, data_str)]; stop after stop_after
+    sample events (then the caller closes the connection)."""
     events, ev, eid, data = [], None, None, []
-    for raw in resp.iter_lines(decode_unicode=True):
+    lines = resp + [""] if isinstance(resp, list) else resp.iter_lines(decode_unicode=True)
+    for raw in lines:
         line = raw if raw is not None else ""
         if line == "":
             if data or ev:

@@ -1,7 +1,8 @@
 /*
  * preset_config.h — test helpers: a shipped preset's configuration, optionally
  * with another track fidelity, through the same loader the CLI and the daemon
- * use (api/config_json.c); and a run of a configuration from its reset state
+ * use (api/config_json.c); the multibody vehicle of a configuration; and a
+ * run of a configuration from its reset state
  * with every sampled row kept, as `tanksim run` keeps them. Shared by the
  * vehicle, coupled, point-mass and api tests. Test code only; a preset that
  * does not load or a run that fails fails the test.
@@ -13,6 +14,7 @@
 
 #include "api/config_json.h"
 #include "sim/tanksim.h"
+#include "sim/vehicle_model.h"
 
 /* The configuration of preset; track_fidelity NULL keeps the preset's. */
 static inline ts_config test_preset_config(const char *preset, const char *track_fidelity)
@@ -26,6 +28,16 @@ static inline ts_config test_preset_config(const char *preset, const char *track
         fail_msg("preset %s: %s %s", preset, err.pointer, err.msg);
     json_decref(doc);
     return c;
+}
+
+/* The multibody vehicle of c (vm_make, static equilibrium solved), which the
+ * caller frees (vm_free). */
+static inline vm *test_vm(const ts_config *c)
+{
+    ts_err err;
+    vm *v = vm_make(c, &err);
+    if (!v) fail_msg("vm_make: %s %s", err.pointer, err.msg);
+    return v;
 }
 
 /* The model of c, run from reset for c.run.duration: rows r (row 0 at the

@@ -395,8 +395,7 @@ static void driveline_inertia_is_shared_by_the_two_sprockets(void **state)
     ts_err err;
     ts_coupled *cm = ts_coupled_make(&c, &err);
     if (!cm) fail_msg("%s", err.msg);
-    vm *plain = vm_make(&c, &err);
-    assert_non_null(plain);
+    vm *plain = test_vm(&c);
     const vm *cv = ts_coupled_vehicle(cm);
     int nq = vm_nq(plain), ny = vm_ny(plain);
     assert_int_equal(vm_nq(cv), nq);

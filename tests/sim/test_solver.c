@@ -354,6 +354,27 @@ static void rk4_subset_step_is_rk4_on_the_subset(void **state)
     assert_true(ts_rk4_step_subset(5, sub, driven, NULL, t, h, ya, ydot, work) != 0);
 }
 
+/* dy/dt = -sqrt(y): NaN slopes once a stage state is negative. */
+static int drain(double t, const double *y, double *yd, void *ud)
+{
+    (void)t, (void)ud;
+    yd[0] = -sqrt(y[0]);
+    return 0;
+}
+
+/* EVIDENCE: by hand. A step whose second stage state y0 + h/2 k1 is already
+ * outside the right-hand side's domain (y0 = 1e-4, h = 1: k1 = -0.01, the
+ * stage at 1e-4 - 0.005) fails there and leaves y at that stage state, the
+ * one a caller describes in its error (the mean-value engine names the volume
+ * that emptied; before, the step ran on and y was NaN everywhere). */
+static void rk4_stops_at_the_first_stage_with_non_finite_slopes(void **state)
+{
+    (void)state;
+    double y = 1e-4, work[5];
+    assert_int_equal(ts_rk4_step(1, drain, NULL, 0.0, 1.0, &y, work), 1);
+    assert_true(y == 1e-4 + 0.5 * 1.0 * -0.01);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -365,6 +386,7 @@ int main(void)
         cmocka_unit_test(small_dense_and_jacobian_reuse_match_default),
         cmocka_unit_test(max_order_caps_the_bdf_order),
         cmocka_unit_test(rk4_subset_step_is_rk4_on_the_subset),
+        cmocka_unit_test(rk4_stops_at_the_first_stage_with_non_finite_slopes),
     };
     return cmocka_run_group_tests_name("sim/solver", tests, NULL, NULL);
 }

@@ -14,6 +14,7 @@
 #include "sim/fft.h"
 #include "sim/tanksim.h"
 #include "sim/vehicle_model.h"
+#include "preset_config.h"
 #include "vm_fd.h"
 
 #define PI 3.14159265358979323846
@@ -186,9 +187,7 @@ static void rhs_factor_reuse_is_exact(void **state)
 {
     (void)state;
     ts_config c = config("coupled");
-    ts_err err;
-    vm *v = vm_make(&c, &err);
-    assert_non_null(v);
+    vm *v = test_vm(&c);
     int nq = vm_nq(v), ny = vm_ny(v);
     vm_work *w = vm_work_make(v);
     double *y = malloc(sizeof(double) * (size_t)ny), *a = malloc(sizeof(double) * (size_t)ny),

@@ -17,6 +17,7 @@
 #include "sim/tanksim.h"
 #include "sim/constants.h"
 #include "sim/vehicle_model.h"
+#include "preset_config.h"
 
 typedef struct ud {
     const vm *v;
@@ -61,8 +62,7 @@ static void check_energy_with(const char *fidelity, double tol, double long_pluc
     ts_config c = conservative_slack(fidelity, long_pluck > 0);
     c.vehicle.idler_compensation = comp;
     ts_err err;
-    vm *v = vm_make(&c, &err);
-    assert_non_null(v);
+    vm *v = test_vm(&c);
     int ny = vm_ny(v), nq = vm_nq(v);
     double *y = malloc(sizeof(double) * (size_t)ny);
     memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
@@ -181,9 +181,7 @@ static double velocity_terms_error(const char *fidelity, const double *rates, in
                                    double *vmax_out)
 {
     ts_config c = conservative(fidelity);
-    ts_err err;
-    vm *v = vm_make(&c, &err);
-    assert_non_null(v);
+    vm *v = test_vm(&c);
     vm_work *w = vm_work_make(v);
     int ny = vm_ny(v), nq = vm_nq(v);
     size_t nn = (size_t)nq * (size_t)nq;
@@ -485,9 +483,7 @@ static void forces_are_the_potential_gradient(void **state)
     const char *fid[3] = {"coupled", "longitudinal", "transverse"};
     for (int f = 0; f < 3; f++) {
         ts_config c = conservative(fid[f]);
-        ts_err err;
-        vm *v = vm_make(&c, &err);
-        assert_non_null(v);
+        vm *v = test_vm(&c);
         vm_work *w = vm_work_make(v);
         int ny = vm_ny(v), nq = vm_nq(v);
         double *y = malloc(sizeof(double) * (size_t)ny), *Q = malloc(sizeof(double) * (size_t)nq);
@@ -596,9 +592,7 @@ static void span_modes_feel_support_acceleration_as_gravity(void **state)
 {
     (void)state;
     ts_config c = conservative("coupled");
-    ts_err err;
-    vm *v = vm_make(&c, &err);
-    assert_non_null(v);
+    vm *v = test_vm(&c);
     vm_work *w = vm_work_make(v);
     int nq = vm_nq(v), nl = c.track.n_long, nt = c.track.n_trans;
     assert_true(nt >= 1);

@@ -20,10 +20,7 @@
 static vm *make_vm(const char *preset)
 {
     ts_config c = test_preset_config(preset, NULL);
-    ts_err err;
-    vm *v = vm_make(&c, &err);
-    assert_non_null(v);
-    return v;
+    return test_vm(&c);
 }
 
 /* A moving state off the equilibrium: every coordinate and rate nudged by a

@@ -16,6 +16,7 @@
 #include "sim/constants.h"
 #include "sim/tanksim.h"
 #include "sim/vehicle_model.h"
+#include "preset_config.h"
 #include "vm_fd.h"
 
 #define G 9.80665
@@ -151,9 +152,7 @@ static void rates_are_each_coordinates_own_frequency(void **state)
     (void)state;
     for (int f = 0; f < 6; f++) {
         ts_config c = config(fidelities[f]);
-        ts_err err;
-        vm *v = vm_make(&c, &err);
-        assert_non_null(v);
+        vm *v = test_vm(&c);
         vm_work *w = vm_work_make(v);
         int n = vm_nq(v), ny = vm_ny(v);
         double *y = malloc(sizeof(double) * (size_t)ny);
@@ -193,9 +192,7 @@ static void rates_are_each_coordinates_own_frequency(void **state)
         ts_config c = config("coupled");
         c.track.n_long = modes[mc][0];
         c.track.n_trans = modes[mc][1];
-        ts_err err;
-        vm *v = vm_make(&c, &err);
-        assert_non_null(v);
+        vm *v = test_vm(&c);
         const double *rate = vm_rates(v);
         const ts_vehicle_config *vc = &c.vehicle;
         assert_close(vc->front_roller_z, vc->rear_roller_z, 0, 1e-12);
@@ -308,6 +305,23 @@ static void drag_decelerates_by_its_closed_form(void **state)
     assert_close((v8 - v6) / 2.0, want, 0.01, 0);
 }
 
+/* The static-track model on a constant grade (the CSV profile written to path
+ * rises grade m per m), drive torque tau per sprocket, no drag, 6 s. */
+static ts_config grade_config(const char *path, double grade, double tau)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "distance_m,height_m\n-200,%g\n600,%g\n", -200 * grade, 600 * grade);
+    fclose(f);
+    ts_config c = config("static");
+    c.terrain.kind = TS_TERRAIN_PROFILE;
+    snprintf(c.terrain.profile_csv, sizeof c.terrain.profile_csv, "%s", path);
+    c.drive.torque = tau;
+    c.vehicle.cda = 0;
+    c.run.duration = 6.0;
+    return c;
+}
+
 /* Mean horizontal acceleration over 4-6 s, mean sum of the wheel loads and
  * (vmean, may be NULL) the mean of the horizontal speeds at 4 and 6 s. */
 static void grade_run(ts_config *c, double *accel, double *load_sum, double *vmean)
@@ -346,19 +360,9 @@ static void grade_run(ts_config *c, double *accel, double *load_sum, double *vme
 static void rolling_resistance_acts_along_the_grade(void **state)
 {
     (void)state;
-    const char *path = "tests/out/grade20.csv";
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fprintf(f, "distance_m,height_m\n-200,-40\n600,120\n");
-    fclose(f);
-    ts_config c = config("static");
-    c.terrain.kind = TS_TERRAIN_PROFILE;
-    snprintf(c.terrain.profile_csv, sizeof c.terrain.profile_csv, "%s", path);
-    c.drive.torque = 36600;
+    ts_config c = grade_config("tests/out/grade20.csv", 0.2, 36600);
     c.vehicle.rolling_resistance = 0.2;
     c.vehicle.rolling_resistance_speed = 0;
-    c.vehicle.cda = 0;
-    c.run.duration = 6.0;
     double a_rr, n_rr, a_0, n_0;
     grade_run(&c, &a_rr, &n_rr, NULL);
     c.vehicle.rolling_resistance = 0;
@@ -400,9 +404,7 @@ static void drive_is_an_internal_torque_pair(void **state)
     (void)state;
     ts_config c = config("coupled");
     c.drive.torque = 7000;
-    ts_err err;
-    vm *v = vm_make(&c, &err);
-    assert_non_null(v);
+    vm *v = test_vm(&c);
     vm_work *w = vm_work_make(v);
     int nq = vm_nq(v), ny = vm_ny(v);
     double *y = malloc(sizeof(double) * (size_t)ny), *q1 = malloc(sizeof(double) * (size_t)nq),
@@ -473,12 +475,9 @@ static void arm_inertia_enters_by_the_absolute_rate(void **state)
 {
     (void)state;
     ts_config c = config("static");
-    ts_err err;
-    vm *v1 = vm_make(&c, &err);
-    assert_non_null(v1);
+    vm *v1 = test_vm(&c);
     c.vehicle.road_arm_inertia += 5.0;
-    vm *v2 = vm_make(&c, &err);
-    assert_non_null(v2);
+    vm *v2 = test_vm(&c);
     vm_work *w1 = vm_work_make(v1), *w2 = vm_work_make(v2);
     int nq = vm_nq(v1);
     double *qd = calloc((size_t)nq, sizeof *qd);
@@ -512,19 +511,9 @@ static void arm_inertia_enters_by_the_absolute_rate(void **state)
 static void rolling_resistance_speed_is_along_the_grade(void **state)
 {
     (void)state;
-    const char *path = "tests/out/grade30.csv";
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fprintf(f, "distance_m,height_m\n-200,-60\n600,180\n");
-    fclose(f);
-    ts_config c = config("static");
-    c.terrain.kind = TS_TERRAIN_PROFILE;
-    snprintf(c.terrain.profile_csv, sizeof c.terrain.profile_csv, "%s", path);
-    c.drive.torque = 50000;
+    ts_config c = grade_config("tests/out/grade30.csv", 0.3, 50000);
     c.vehicle.rolling_resistance = 0;
     c.vehicle.rolling_resistance_speed = 0.02;
-    c.vehicle.cda = 0;
-    c.run.duration = 6.0;
     double a_rr, n_rr, v_rr, a_0, n_0;
     grade_run(&c, &a_rr, &n_rr, &v_rr);
     c.vehicle.rolling_resistance_speed = 0;
