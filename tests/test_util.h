@@ -1,7 +1,7 @@
 /*
  * test_util.h — what every cmocka test includes: cmocka's required headers in
  * its required order, a relative-tolerance check that prints both numbers, and
- * reproducible random test data.
+ * reproducible random test data, and where a test may write its files.
  *
  * Physics tests begin with an EVIDENCE comment: source (Eq./Table/Fig. or
  * closed-form reference), quantity, tolerance, and whether the input was
@@ -16,8 +16,10 @@
 #include <stdint.h>
 
 #include <cmocka.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
+#include <sys/stat.h>
 
 /* Fail unless |got - want| <= rel * |want| (+ abs_tol). */
 #define assert_close(got, want, rel, abs_tol)                                                      \
@@ -34,6 +36,17 @@ static inline double test_urand(unsigned *s)
 {
     *s = *s * 1664525u + 1013904223u;
     return (double)(*s >> 8) / (double)(1u << 23) - 1.0;
+}
+
+/* The path tests/out/NAME in buf (tests run from the repository's root),
+ * creating tests/out when missing, so a test binary run by hand writes where
+ * tests/run_all.sh's do. Fails the test when the directory cannot be made. */
+static inline const char *test_out_path(char *buf, size_t size, const char *name)
+{
+    if (mkdir("tests/out", 0777) != 0 && errno != EEXIST)
+        fail_msg("cannot create tests/out (run from the repository's root)");
+    snprintf(buf, size, "tests/out/%s", name);
+    return buf;
 }
 
 #endif

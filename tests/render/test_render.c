@@ -677,8 +677,9 @@ static void writes_bump_frames_for_review(void **state)
     for (int i = 0; i < s.g.ntrack; i++) /* a taut upper run for the colour map */
         if (s.span[i]) s.g.track_tension[i] = 1.6 * s.g.track_static_tension;
     tsr_ctx *c = ctx_or_fail();
-    const char *names[2] = {"tests/out/render_m1_bump_side.png",
-                            "tests/out/render_m1_bump_three_quarter.png"};
+    char names[2][64];
+    test_out_path(names[0], sizeof names[0], "render_m1_bump_side.png");
+    test_out_path(names[1], sizeof names[1], "render_m1_bump_three_quarter.png");
     for (int k = 0; k < 2; k++) {
         tsr_view v;
         tsr_view_default(&v);

@@ -76,7 +76,8 @@ static void inline_bumps_and_csv_profile(void **state)
     assert_close(ts_terrain_height(t, 15.24 + 3.81, NULL), 0, 0, 0);
     ts_terrain_free(t);
 
-    const char *path = "tests/out/terrain_profile.csv";
+    char buf[64];
+    const char *path = test_out_path(buf, sizeof buf, "terrain_profile.csv");
     FILE *f = fopen(path, "w");
     assert_non_null(f);
     fprintf(f, "distance_m,height_m\n0,0\n10,1\n20,0.5\n");
@@ -124,7 +125,8 @@ static void errors_name_the_field(void **state)
  * profile's length (its last distance) [m], 0 when refused. */
 static int profile_from(const char *text, int *last, ts_err *err)
 {
-    const char *path = "tests/out/terrain_profile_check.csv";
+    char buf[64];
+    const char *path = test_out_path(buf, sizeof buf, "terrain_profile_check.csv");
     FILE *f = fopen(path, "w");
     assert_non_null(f);
     fputs(text, f);

@@ -305,10 +305,12 @@ static void drag_decelerates_by_its_closed_form(void **state)
     assert_close((v8 - v6) / 2.0, want, 0.01, 0);
 }
 
-/* The static-track model on a constant grade (the CSV profile written to path
+/* The static-track model on a constant grade (the CSV profile written to tests/out/NAME
  * rises grade m per m), drive torque tau per sprocket, no drag, 6 s. */
-static ts_config grade_config(const char *path, double grade, double tau)
+static ts_config grade_config(const char *name, double grade, double tau)
 {
+    char path[64];
+    test_out_path(path, sizeof path, name);
     FILE *f = fopen(path, "w");
     assert_non_null(f);
     fprintf(f, "distance_m,height_m\n-200,%g\n600,%g\n", -200 * grade, 600 * grade);
@@ -360,7 +362,7 @@ static void grade_run(ts_config *c, double *accel, double *load_sum, double *vme
 static void rolling_resistance_acts_along_the_grade(void **state)
 {
     (void)state;
-    ts_config c = grade_config("tests/out/grade20.csv", 0.2, 36600);
+    ts_config c = grade_config("grade20.csv", 0.2, 36600);
     c.vehicle.rolling_resistance = 0.2;
     c.vehicle.rolling_resistance_speed = 0;
     double a_rr, n_rr, a_0, n_0;
@@ -511,7 +513,7 @@ static void arm_inertia_enters_by_the_absolute_rate(void **state)
 static void rolling_resistance_speed_is_along_the_grade(void **state)
 {
     (void)state;
-    ts_config c = grade_config("tests/out/grade30.csv", 0.3, 50000);
+    ts_config c = grade_config("grade30.csv", 0.3, 50000);
     c.vehicle.rolling_resistance = 0;
     c.vehicle.rolling_resistance_speed = 0.02;
     double a_rr, n_rr, v_rr, a_0, n_0;
