@@ -1125,6 +1125,15 @@ static void step_job(void *arg)
     pthread_mutex_unlock(&s->mu);
     ts_err err;
     double t0 = ts_time(s->d), w0 = tsd_now();
+    /* stored for the time of the step (release() clears it): the reason a
+     * session comes back paused short of its step when the daemon is killed
+     * during it (a run's "running" does that for runs) */
+    char why[TS_ERR_MSG_LEN];
+    snprintf(why, sizeof why,
+             "the daemon stopped (killed or crashed) during a step of this session to t = %g s; "
+             "it is paused at its last stored row: step again to go on",
+             t0 + j->duration);
+    tsd_db_session_status(s->srv->db, s->seq, "paused", why);
     ts_rc rc = ts_advance(s->m, s->d, t0 + j->duration, on_sample, &a, &err);
     int io = flush(s, "paused") != 0 || a.reason == ADV_IO;
     add_sim_time(s->srv, ts_time(s->d) - t0, tsd_now() - w0);

@@ -7,6 +7,7 @@ tolerance (CVODE restarts from the snapshot, so agreement is to ~rtol, not
 bitwise)."""
 import signal
 import sqlite3
+import threading
 import time
 
 import pytest
@@ -62,6 +63,52 @@ def test_kill_9_during_run_then_restart_and_finish(tmp_path):
                                                                   rel=1e-5, abs=1e-6)
     finally:
         d2.stop()
+
+
+def test_kill_9_during_step_leaves_the_reason(tmp_path):
+    """A session whose synchronous step was cut by kill -9 came back `paused`
+    short of the step with no error, as if the step had asked for less
+    (session-25 probe). It now carries the reason until its next step or run
+    ends; the rows stored before the kill are there (a coupled-track preset,
+    a 10-s step: seconds of wall time)."""
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        sid = requests.post(d.url + "/v1/sessions",
+                            json={"preset": "bump-coupled-ivs5mph"}).json()["id"]
+        def step():
+            try:
+                requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 10.0},
+                              timeout=120)
+            except requests.ConnectionError:
+                pass  # the kill cuts the reply
+        th = threading.Thread(target=step)
+        th.start()
+        deadline = time.time() + 60
+        while time.time() < deadline and th.is_alive():
+            if requests.get(f"{d.url}/v1/sessions/{sid}").json()["index"] > 0:
+                break
+            time.sleep(0.01)
+        alive = th.is_alive()
+        d.stop(sig=signal.SIGKILL)
+        th.join(30)
+        assert alive, "the step ended before the kill: make it longer"
+    finally:
+        d.stop()
+    d2 = Daemon(data_dir=str(tmp_path))
+    try:
+        s = requests.get(f"{d2.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "paused" and 0 < s["t"] < 10.0, s
+        assert "during a step of this session to t = 10 s" in s["error"], s
+        r = requests.post(f"{d2.url}/v1/sessions/{sid}/step", json={"duration": 0.1})
+        assert r.status_code == 200, r.text
+        assert "error" not in requests.get(f"{d2.url}/v1/sessions/{sid}").json()
+    finally:
+        d2.stop()
+    d3 = Daemon(data_dir=str(tmp_path))  # and the cleared reason is stored
+    try:
+        assert "error" not in requests.get(f"{d3.url}/v1/sessions/{sid}").json()
+    finally:
+        d3.stop()
 
 
 def test_clean_shutdown_during_run_marks_interrupted(tmp_path):
