@@ -7,6 +7,7 @@ far it got, instead of a 404. GET /v1/analyses lists them; DELETE
 /v1/analyses/{id} removes a finished one (409 while it runs). The brief's
 "nothing lost on a crash" for the daemon's second kind of work."""
 import signal
+import sqlite3
 import time
 
 import pytest
@@ -169,3 +170,60 @@ def test_max_analyses_counts_stored_and_running_ones(tmp_path):
                                                           json=CRANK_MAP).status_code, range(2)))
         assert codes == [202, 429], codes
         assert len(listed(d2.url)) == 3
+
+
+def refuse(data_dir, name, when):
+    """Make the store refuse, from now on, every analysis row written WHEN
+    (an SQL condition on NEW): an SQLite trigger the daemon's own writes run,
+    standing in for a disk that fills at that moment."""
+    con = sqlite3.connect(data_dir + "/tanksimd.db")
+    con.execute(f"CREATE TRIGGER {name} BEFORE INSERT ON analyses WHEN {when} "
+                "BEGIN SELECT RAISE(ABORT, 'refused by the test'); END")
+    con.commit()
+    con.close()
+
+
+def test_result_the_store_refuses_is_an_io_error_not_a_success(tmp_path):
+    """tsd_op_finish_persisted (session-25 review: untested): a result whose
+    final row the store refuses is answered as an I/O error (13) instead of
+    a success that the next restart would lose; the store keeps that error."""
+    dd = str(tmp_path)
+    with Daemon("--threads", "2", data_dir=dd) as d:
+        refuse(dd, "refuse_success", "NEW.done = 1 AND NEW.error_code = 0")
+        op = start(d.url, "/v1/engine-map", MEAN_VALUE_DYNO)
+        done = wait_op(d.url, op["id"], timeout=60)
+        assert "response" not in done, done
+        err = done["error"]
+        assert err["code"] == 13 and "the store could not keep it" in err["message"], err
+        assert done["metadata"]["parts_done"] == done["metadata"]["parts_total"]
+    with Daemon(data_dir=dd) as d2:
+        got = requests.get(f"{d2.url}/v1/operations/{op['id']}", timeout=10).json()
+        assert got["done"] and got["error"]["code"] == 13, got
+        assert "was interrupted" not in d2.stderr()
+
+
+def test_interrupted_analysis_the_store_cannot_mark_is_reported_at_start(tmp_path):
+    """recover_one (session-25 review: untested): an analysis a kill -9 cut
+    short, whose 'interrupted' row the next start-up cannot store, is named
+    on stderr with the warning, stays unfinished in the store, and is marked
+    by the first start-up the store lets write."""
+    dd = str(tmp_path)
+    with Daemon("--threads", "2", data_dir=dd) as d:
+        op = start(d.url, "/v1/engine-map", CRANK_MAP)
+        seen = wait_parts(d.url, op["id"], 1)
+        assert not seen["done"], "the crank-angle map finished before the kill: nothing to test"
+        d.stop(sig=signal.SIGKILL)
+    refuse(dd, "refuse_interrupted", "NEW.done = 1")
+    with Daemon(data_dir=dd) as d2:
+        assert "could not mark the stored analyses" in d2.stderr()
+        assert "refused by the test" in d2.stderr()
+        got = requests.get(f"{d2.url}/v1/operations/{op['id']}", timeout=10).json()
+        assert not got["done"], got
+    con = sqlite3.connect(dd + "/tanksimd.db")
+    con.execute("DROP TRIGGER refuse_interrupted")
+    con.commit()
+    con.close()
+    with Daemon(data_dir=dd) as d3:
+        assert f"analysis {op['id']} was interrupted" in d3.stderr()
+        got = requests.get(f"{d3.url}/v1/operations/{op['id']}", timeout=10).json()
+        assert got["done"] and got["error"]["code"] == 14, got
