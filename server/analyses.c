@@ -77,9 +77,9 @@ static int store_doc(void *ud, json_t *doc)
     return put_doc(ud, doc);
 }
 
-/* The progress row: 0 when stored, -1 when the store refused it, -2 without
- * memory for it. Either stops the analysis (on_progress): its result could
- * not be kept either. */
+/* The progress row: 0 when stored, -1 (TSD_DB_FULL: its disk is full) when
+ * the store refused it, -2 without memory for it. Either stops the analysis
+ * (on_progress): its result could not be kept either. */
 static int store_op(tsd_server *srv, tsd_op *op)
 {
     json_t *doc = tsd_op_json_of(srv, op);
@@ -138,10 +138,9 @@ static void analysis_run(void *arg)
                        "stopped after %d of %d parts: no memory to store its progress",
                        j->parts_done, j->parts_total);
         else if (j->store_failed)
-            ts_err_set(&e, TS_ERR_IO, NULL,
-                       "stopped after %d of %d parts: the store refused its progress (full or "
-                       "failing: see the daemon log); run it again once the store has room",
-                       j->parts_done, j->parts_total);
+            tsd_err_store(srv, &e, j->store_failed,
+                          "stopped after %d of %d parts: the store refused its progress",
+                          j->parts_done, j->parts_total);
         else if (atomic_load(&srv->stopping))
             ts_err_set(&e, TSD_ERR_SHUTDOWN, NULL,
                        "the daemon shut down after %d of %d parts; start the analysis again",
@@ -203,14 +202,14 @@ ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **
     j->req = *req;
     j->req.request = NULL; /* the operation holds it */
     *opdoc = tsd_op_json_of(srv, op);
-    if (!*opdoc || put_doc(srv, *opdoc) != 0) {
+    int put = *opdoc ? put_doc(srv, *opdoc) : -2;
+    if (put != 0) {
         /* not stored, not started: an analysis the store never held would be
          * lost at the next restart, where the README promises it is kept */
         pthread_mutex_unlock(&srv->analyses_lock);
-        ts_rc why = *opdoc ? ts_err_set(err, TS_ERR_IO, NULL,
-                                        "cannot store the analysis (the store is full or failing: "
-                                        "see the daemon log); it was not started")
-                           : ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
+        ts_rc why = put == -2 ? ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory")
+                              : tsd_err_store(srv, err, put,
+                                              "cannot store the analysis, so it was not started");
         char id[64]; /* the op may be freed once finished */
         snprintf(id, sizeof id, "%s", tsd_op_id(op));
         tsd_long_job_give(srv);

@@ -53,6 +53,14 @@ static void log_err(sqlite3 *c, const char *what)
     fprintf(stderr, "tanksimd: sqlite: %s: %s\n", what, sqlite3_errmsg(c));
 }
 
+/* Log a write the writer connection refused: TSD_DB_FULL when the disk is
+ * full, else -1. Before the ROLLBACK, which would replace the error. */
+static int write_failed(tsd_db *db, const char *what)
+{
+    log_err(db->w, what);
+    return sqlite3_errcode(db->w) == SQLITE_FULL ? TSD_DB_FULL : -1;
+}
+
 static const char *col_text(sqlite3_stmt *st, int i)
 {
     const unsigned char *s = sqlite3_column_text(st, i);
@@ -259,7 +267,7 @@ static int exec_w(tsd_db *db, long *changes, const char *sql, const char *fmt, .
     rc = sqlite3_step(st) == SQLITE_DONE ? 0 : -1;
     if (rc == 0 && changes) *changes = sqlite3_changes(db->w);
 out:
-    if (rc != 0) log_err(db->w, sql);
+    if (rc != 0) rc = write_failed(db, sql);
     sqlite3_finalize(st);
     pthread_mutex_unlock(&db->wmu);
     return rc;
@@ -367,11 +375,11 @@ int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, co
     rc = 0;
     goto out;
 rollback:
-    log_err(db->w, what);
+    rc = write_failed(db, what);
     sqlite3_exec(db->w, "ROLLBACK", NULL, NULL, NULL);
     what = NULL;
 out:
-    if (rc != 0 && what) log_err(db->w, what);
+    if (rc != 0 && what) rc = write_failed(db, what);
     sqlite3_finalize(ins);
     sqlite3_finalize(st);
     sqlite3_finalize(up);

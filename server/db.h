@@ -29,7 +29,8 @@
  * Threads: one writer connection and one reader connection, each behind its
  * own mutex; WAL lets readers (series, streams) proceed while a batch commits.
  * All calls return 0 on success, -1 on failure with the SQLite message
- * written to the daemon's log.
+ * written to the daemon's log; a write refused because the disk holding the
+ * store is full returns TSD_DB_FULL instead (a client is told so: 507).
  */
 #ifndef TSD_DB_H
 #define TSD_DB_H
@@ -37,6 +38,8 @@
 #include <stddef.h>
 
 typedef struct tsd_db tsd_db;
+
+#define TSD_DB_FULL (-3) /* a write refused: the disk is full (SQLITE_FULL) */
 
 /* Open (create) DIR/tanksimd.db; NULL with a message in err on failure. */
 tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen);

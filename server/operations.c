@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "../api/problem.h"
+#include "db.h"
 #include "pool.h"
 
 struct tsd_op {
@@ -224,7 +225,8 @@ static json_t *op_json(const tsd_op *op)
 }
 
 /* Hand op's final document (done at wall_last with response or error) to
- * persist: 0 stored, -1 refused, -2 no memory for the document. */
+ * persist: 0 stored, -1 refused (TSD_DB_FULL: its disk is full), -2 no memory
+ * for the document. */
 static int persist_done(tsd_server *srv, tsd_op *op, double wall_last, json_t *response,
                         json_t *error, int (*persist)(void *ud, json_t *doc), void *ud)
 {
@@ -236,7 +238,8 @@ static int persist_done(tsd_server *srv, tsd_op *op, double wall_last, json_t *r
     done.error = error;
     json_t *doc = op_json(&done);
     pthread_mutex_unlock(&srv->ops->mu);
-    int rc = !doc ? -2 : persist(ud, doc) == 0 ? 0 : -1;
+    int rc = !doc ? -2 : persist(ud, doc);
+    if (rc != 0 && rc != -2 && rc != TSD_DB_FULL) rc = -1;
     json_decref(doc);
     return rc;
 }
@@ -252,9 +255,7 @@ void tsd_op_finish_persisted(tsd_server *srv, tsd_op *op, json_t *response, json
             ts_err_set(&e, TS_ERR_NOMEM, NULL,
                        "the result was computed but there was no memory to store it");
         else
-            ts_err_set(&e, TS_ERR_IO, NULL,
-                       "the result was computed but the store could not keep it (full or "
-                       "failing: see the daemon log); run it again once the store has room");
+            tsd_err_store(srv, &e, rc, "the result was computed but the store could not keep it");
         json_decref(response);
         response = NULL;
         json_decref(error);
@@ -279,15 +280,17 @@ json_t *tsd_op_error_json(const ts_err *e)
 {
     /* the daemon stopping (a shutdown, or the crash found at the next
      * start-up) is not the client's cancel: 503 and UNAVAILABLE, retry */
-    int stopped = e->code == TSD_ERR_SHUTDOWN;
+    int stopped = e->code == TSD_ERR_SHUTDOWN, full = e->code == TSD_ERR_STORE_FULL;
     json_t *error = stopped ? tsa_problem(MHD_HTTP_SERVICE_UNAVAILABLE, "/problems/interrupted",
                                           "Interrupted: the daemon stopped", e->msg, NULL)
+                    : full  ? tsa_problem(MHD_HTTP_INSUFFICIENT_STORAGE, "/problems/store-full",
+                                          "Insufficient storage", e->msg, NULL)
                             : tsa_problem_from_err(e, NULL);
-    int code = stopped                                               ? 14
-               : e->code == TS_ERR_CANCELLED                         ? 1
-               : e->code == TS_ERR_PARAM || e->code == TS_ERR_RANGE ? 3
-               : e->code == TS_ERR_LIMIT || e->code == TS_ERR_NOMEM  ? 8
-                                                                     : 13;
+    int code = stopped                                                      ? 14
+               : e->code == TS_ERR_CANCELLED                                ? 1
+               : e->code == TS_ERR_PARAM || e->code == TS_ERR_RANGE         ? 3
+               : e->code == TS_ERR_LIMIT || e->code == TS_ERR_NOMEM || full ? 8
+                                                                            : 13;
     json_object_set_new(error, "code", json_integer(code));
     json_object_set_new(error, "message", json_string(e->msg));
     return error;

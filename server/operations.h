@@ -56,9 +56,10 @@ void tsd_op_finish(tsd_server *srv, tsd_op *op, json_t *response, json_t *error)
  * shows afterwards) to persist(ud, doc) first, while the operation still
  * looks running: no client can see it done, and delete it, before it is
  * stored, and the registry cannot drop it meanwhile. persist may be NULL;
- * it returns 0 when stored. A response the store refused is not shown as a
- * success that the next restart would lose: the operation ends with an I/O
- * error instead (google.rpc 13; stored if the store takes that). */
+ * it returns 0 when stored (db.h TSD_DB_FULL: refused, the disk is full). A
+ * response the store refused is not shown as a success that the next
+ * restart would lose: the operation ends with an I/O error instead
+ * (google.rpc 13, or 8 for a full disk; stored if the store takes that). */
 void tsd_op_finish_persisted(tsd_server *srv, tsd_op *op, json_t *response, json_t *error,
                              int (*persist)(void *ud, json_t *doc), void *ud);
 /* Mark done with the error e: its problem document plus AIP-151's google.rpc

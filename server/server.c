@@ -7,6 +7,7 @@
 #include "server.h"
 
 #include "../api/problem.h"
+#include "db.h"
 #include "pool.h"
 #include "session.h"
 
@@ -267,6 +268,20 @@ ts_rc tsd_err_shutdown(ts_err *err)
     return ts_err_set(err, TSD_ERR_SHUTDOWN, NULL, "%s", TSD_SHUTDOWN_MSG);
 }
 
+ts_rc tsd_err_store(const tsd_server *srv, ts_err *err, int dbrc, const char *fmt, ...)
+{
+    char what[TS_ERR_MSG_LEN];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    if (dbrc == TSD_DB_FULL)
+        return ts_err_set(err, TSD_ERR_STORE_FULL, NULL,
+                          "%s: the disk holding the store (%s) is full; free space there", what,
+                          srv->opt.data_dir);
+    return ts_err_set(err, TS_ERR_IO, NULL, "%s: the store is failing (see the daemon log)", what);
+}
+
 enum MHD_Result tsd_reply_shutting_down(tsd_request *r, const char *detail)
 {
     r->retry_after = TSD_RETRY_AFTER_S;
@@ -277,6 +292,9 @@ enum MHD_Result tsd_reply_shutting_down(tsd_request *r, const char *detail)
 enum MHD_Result tsd_reply_err(tsd_request *r, const ts_err *err, json_t *errors)
 {
     if (err->code == TSD_ERR_SHUTDOWN) return tsd_reply_shutting_down(r, err->msg);
+    if (err->code == TSD_ERR_STORE_FULL)
+        return tsd_reply_problem(r, MHD_HTTP_INSUFFICIENT_STORAGE, "/problems/store-full",
+                                 "Insufficient storage", err->msg, errors);
     json_t *p = tsa_problem_from_err(err, errors);
     return reply_dump(r, (unsigned)tsa_http_status(err->code), p, "application/problem+json");
 }

@@ -56,6 +56,9 @@ typedef struct tsd_options {
  * the "Out of memory" of TS_ERR_NOMEM, which is what a refused submission to
  * the stopped worker pool used to be reported as. */
 #define TSD_ERR_SHUTDOWN ((ts_rc)(TS_NRC + 1))
+/* Work the store refused because the disk holding it is full: 507
+ * /problems/store-full, google.rpc 8 RESOURCE_EXHAUSTED (tsd_err_store). */
+#define TSD_ERR_STORE_FULL ((ts_rc)(TS_NRC + 2))
 #define TSD_RETRY_AFTER_S 5 /* [s] a restart under systemd (RestartSec) takes about this */
 #define TSD_SHUTDOWN_MSG "the daemon is shutting down; retry once it is back"
 
@@ -84,6 +87,13 @@ typedef struct tsd_server {
     atomic_size_t reply_bytes;       /* bytes of counted answers not yet sent (server.c) */
     atomic_int summary_running;      /* a /summary holds its rows (routes.c get_summary) */
 } tsd_server;
+
+/* Fill err for a write the store refused with dbrc (db.h): the message fmt
+ * says what was refused and the cause follows it — TSD_ERR_STORE_FULL
+ * naming the data directory for TSD_DB_FULL, TS_ERR_IO ("see the daemon
+ * log") otherwise. Returns the code. */
+ts_rc tsd_err_store(const tsd_server *srv, ts_err *err, int dbrc, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
 
 typedef struct tsd_request {
     tsd_server *srv;

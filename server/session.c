@@ -671,7 +671,7 @@ static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolve
     if (dbrc != 0) {
         if (inserted) tsd_db_session_delete(srv->db, s->seq); /* only what this create stored */
         session_free(s);
-        return ts_err_set(err, TS_ERR_IO, NULL, "cannot store the session (see the daemon log)");
+        return tsd_err_store(srv, err, dbrc, "cannot store the session");
     }
     pthread_mutex_lock(&srv->reg->mu);
     int ok = registry_add(srv->reg, s) == 0;
@@ -961,6 +961,7 @@ typedef enum { ADV_NONE, ADV_YIELD, ADV_PACE, ADV_CANCEL, ADV_STOP, ADV_IO } adv
 typedef struct advance_ctx {
     tsd_session *s;
     const char *status; /* status stored with each batch */
+    int store_rc;       /* the refused batch's tsd_db_append code (ADV_IO) */
     double slice_end;   /* monotonic deadline of this slice (0 = none) */
     double rtf;         /* real-time cap (0 = none) */
     double pace_t0;     /* simulated time at pace_wall0 */
@@ -991,7 +992,7 @@ static int on_sample(void *ud, long index, double t, const double *v, int n)
     if (s->batch_n == 0) s->batch_first = index;
     memcpy(s->batch + (size_t)s->batch_n * (size_t)s->nch, v, sizeof(double) * (size_t)n);
     s->batch_n++;
-    if (s->batch_n == s->batch_cap && flush(s, a->status) != 0) {
+    if (s->batch_n == s->batch_cap && (a->store_rc = flush(s, a->status)) != 0) {
         a->reason = ADV_IO;
         return 1;
     }
@@ -1073,9 +1074,10 @@ static void release(tsd_session *s, tsd_status st, const char *error)
 /* The store refused a batch (a full disk, say), so d has run past the last
  * stored row (invariant 2). Put d back at the state stored with that row so
  * the session can go on from there once the store takes rows again: PAUSED,
- * or FAILED when even that state cannot be read. err: what the caller says.
+ * or FAILED when even that state cannot be read. dbrc: the refused batch's
+ * code (a full disk is said as such); err: what the caller says.
  * Busy holder only. */
-static tsd_status roll_back_to_store(tsd_session *s, ts_err *err)
+static tsd_status roll_back_to_store(tsd_session *s, int dbrc, ts_err *err)
 {
     void *blob = NULL;
     size_t size = 0;
@@ -1094,11 +1096,10 @@ static tsd_status roll_back_to_store(tsd_session *s, ts_err *err)
                    "log)");
         return TSD_FAILED;
     }
-    ts_err_set(err, TS_ERR_IO, NULL,
-               "cannot store samples (the store is full or failing: see the daemon log); the "
-               "session is back at its last stored row, t = %g s, and goes on from there once "
-               "the store takes rows again",
-               t);
+    tsd_err_store(s->srv, err, dbrc,
+                  "cannot store samples (the session is back at its last stored row, t = %g s, "
+                  "and goes on from there once the store takes rows again)",
+                  t);
     return TSD_PAUSED;
 }
 
@@ -1135,14 +1136,14 @@ static void step_job(void *arg)
              t0 + j->duration);
     tsd_db_session_status(s->srv->db, s->seq, "paused", why);
     ts_rc rc = ts_advance(s->m, s->d, t0 + j->duration, on_sample, &a, &err);
-    int io = flush(s, "paused") != 0 || a.reason == ADV_IO;
+    int dbrc = a.reason == ADV_IO ? a.store_rc : flush(s, "paused"), io = dbrc != 0;
     add_sim_time(s->srv, ts_time(s->d) - t0, tsd_now() - w0);
     atomic_fetch_add(&s->srv->metrics.steps, 1);
     if (rc == TS_ERR_CANCELLED && a.reason != ADV_IO) rc = TS_OK; /* deleted/shutdown: stop */
     tsd_status st = rc == TS_OK ? (at_end(s, ts_time(s->d)) ? TSD_DONE : TSD_PAUSED) : TSD_FAILED;
     if (io && (rc == TS_OK || rc == TS_ERR_CANCELLED)) { /* invariant 6 */
-        st = roll_back_to_store(s, &err);
-        rc = TS_ERR_IO;
+        st = roll_back_to_store(s, dbrc, &err);
+        rc = err.code;
     }
     double t = ts_time(s->d); /* while busy is held (invariant 1) */
     int cut = t < t0 + j->duration - 0.5 * ts_model_sample_period(s->m);
@@ -1287,11 +1288,12 @@ static void run_slice(void *arg)
     } else {
         rc = ts_advance(s->m, s->d, j->until, on_sample, &a, &err);
     }
-    int io = flush(s, "running") != 0 || a.reason == ADV_IO;
+    int dbrc = a.reason == ADV_IO ? a.store_rc : flush(s, "running"), io = dbrc != 0;
     add_sim_time(srv, ts_time(s->d) - t0, tsd_now() - w0);
     tsd_op_progress(srv, j->op, ts_time(s->d));
     if (io) { /* invariant 6 */
-        run_finish(j, roll_back_to_store(s, &err), TS_ERR_IO, &err);
+        tsd_status st = roll_back_to_store(s, dbrc, &err);
+        run_finish(j, st, err.code, &err);
         return;
     }
     if (rc != TS_OK && rc != TS_ERR_CANCELLED) {

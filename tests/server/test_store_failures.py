@@ -7,8 +7,10 @@ Found by an audit of crash safety, each reproduced before the fix:
   `failed` for good, though its stored rows and state were consistent:
   now it is paused at its last stored row and goes on once there is room;
 - an engine map started while the store could not write it was answered 202,
-  ran in memory and was gone after a restart: now refused (500, nothing
-  started);
+  ran in memory and was gone after a restart: now refused (nothing started);
+- (session 26) a full disk is said as such: 507 /problems/store-full naming
+  the data directory, google.rpc 8 RESOURCE_EXHAUSTED in an operation, where
+  it was the 500 /problems/io of any failing store ("full or failing");
 - a store written by a newer build (PRAGMA user_version) was opened as if
   it were this build's.
 The full-disk cases need a small tmpfs (root and mount rights); they are
@@ -108,8 +110,11 @@ def test_analysis_the_store_cannot_hold_is_not_started(small_store):
         fill(small_store)
         body = {"preset": "engine-map-conventional", "engine": {"fidelity": "map"}}
         r = requests.post(d.url + "/v1/engine-map", json=body)
-        assert r.status_code == 500 and "not started" in r.json()["detail"], r.text
+        assert r.status_code == 507 and r.json()["type"] == "/problems/store-full", r.text
+        assert "not started" in r.json()["detail"] and str(small_store) + ") is full" in r.text
         assert requests.get(d.url + "/v1/analyses").json()["analyses"] == []
+        r = requests.post(d.url + "/v1/sessions", json={"preset": "pointmass-prescribed"})
+        assert r.status_code == 507 and "cannot store the session" in r.json()["detail"], r.text
         assert requests.get(d.url + "/v1/health").status_code == 200  # still serving
         os.remove(small_store / "filler")
         r = requests.post(d.url + "/v1/engine-map", json=body)
@@ -140,7 +145,8 @@ def test_analysis_whose_progress_the_store_refuses_ends_with_an_io_error(small_s
         done = wait_op(d.url, op_id, timeout=120)
         assert "response" not in done, done
         err = done["error"]
-        assert err["code"] == 13 and "store refused" in err["message"], err
+        assert err["code"] == 8 and err["status"] == 507, err  # RESOURCE_EXHAUSTED
+        assert "store refused its progress" in err["message"] and ") is full" in err["message"]
         assert done["metadata"]["parts_done"] < done["metadata"]["parts_total"], done
         assert requests.get(d.url + "/v1/health").status_code == 200
     finally:
@@ -157,7 +163,7 @@ def test_full_store_pauses_the_run_at_its_last_stored_row_then_it_goes_on(small_
         sid = r.json()["id"]
         op = requests.post(f"{d.url}/v1/sessions/{sid}/run", json={}).json()
         final = wait_op(d.url, op["id"], timeout=60)
-        assert final["error"]["status"] == 500, final
+        assert final["error"]["status"] == 507 and final["error"]["code"] == 8, final
         s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
         assert s["status"] == "paused", s
         assert "last stored row" in s["error"], s
@@ -264,3 +270,25 @@ def test_damaged_store_start_up_says_what_to_do(tmp_path):
                        capture_output=True, text=True, timeout=30)
     assert p.returncode == 1, p.stderr
     assert "tanksimd.db" in p.stderr and ".recover" in p.stderr and "aside" in p.stderr, p.stderr
+
+
+def test_a_store_that_fails_for_another_reason_is_not_called_full(tmp_path):
+    """The other branch of tsd_err_store: rows refused for a reason other than
+    a full disk (here an SQLite trigger, RAISE(ABORT)) are a 500 /problems/io
+    pointing at the daemon log, the session paused at its last stored row."""
+    d = Daemon(data_dir=str(tmp_path))
+    try:
+        sid = requests.post(d.url + "/v1/sessions", json={"preset": "pointmass-prescribed"}).json()["id"]
+        db = sqlite3.connect(str(tmp_path / "tanksimd.db"))
+        db.execute("CREATE TRIGGER refuse_rows BEFORE INSERT ON samples "
+                   "BEGIN SELECT RAISE(ABORT, 'refused by the test'); END")
+        db.commit()
+        db.close()
+        r = requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1})
+        assert r.status_code == 500 and r.json()["type"] == "/problems/io", r.text
+        assert "the store is failing (see the daemon log)" in r.json()["detail"], r.text
+        assert "refused by the test" in d.stderr()
+        s = requests.get(f"{d.url}/v1/sessions/{sid}").json()
+        assert s["status"] == "paused" and s["t"] == 0 and "last stored row" in s["error"], s
+    finally:
+        d.stop()
