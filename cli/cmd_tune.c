@@ -37,13 +37,18 @@ typedef struct {
     tsc_progress prog;
     const char *var;  /* "mass", "grade" or NULL */
     const double *xs; /* the schedule's values */
+    int done;         /* step responses said done so far */
 } tune_progress;
 
 /* ts_progress_fn of tsa_tune_json: done 1 is the base tune, done 2 + i the
- * schedule point xs[i], of total 1 + n step responses. */
+ * schedule point xs[i], of total 1 + n step responses. Also called every few
+ * samples only to poll for a cancel (ts_ivs_tune_polled): a line is said
+ * only when a step response has finished. */
 static int on_step_done(void *ud, int done, int total)
 {
     tune_progress *tp = ud;
+    if (done == tp->done) return 0;
+    tp->done = done;
     double wall;
     if (!tsc_progress_due(&tp->prog, &wall, done == total)) return 0;
     char what[96] = "base config";
