@@ -35,8 +35,28 @@ static const char schema[] =
 
 /* PRAGMA user_version of the schema above (0: a store from before it was
  * set, brought up by migrate). A store from a newer build is refused: its
- * tables may mean something this build would misread or damage. */
-#define SCHEMA_VERSION 1
+ * tables may mean something this build would misread or damage.
+ *   1  sessions.channels
+ *   2  SI units for the three engine fields that had their correlations'
+ *      units: phi_curvature [1/rpm^2 -> s^2/rad^2], fmep_b [Pa/rpm ->
+ *      Pa*s/rad], id_a [ms -> s] (a stored config holds every field) */
+#define SCHEMA_VERSION 2
+
+/* Version 1 -> 2, in the transaction that sets version 2 (never twice). */
+static const char to_si_units[] =
+    "BEGIN IMMEDIATE;"
+    "UPDATE sessions SET config=json_set(config,'$.engine.phi_curvature',"
+    " json_extract(config,'$.engine.phi_curvature')*91.18906527810401)"
+    " WHERE json_valid(config) AND json_type(config,'$.engine.phi_curvature') IN "
+    "('real','integer');"
+    "UPDATE sessions SET config=json_set(config,'$.engine.fmep_b',"
+    " json_extract(config,'$.engine.fmep_b')*9.549296585513721)"
+    " WHERE json_valid(config) AND json_type(config,'$.engine.fmep_b') IN ('real','integer');"
+    "UPDATE sessions SET config=json_set(config,'$.engine.id_a',"
+    " json_extract(config,'$.engine.id_a')*0.001)"
+    " WHERE json_valid(config) AND json_type(config,'$.engine.id_a') IN ('real','integer');"
+    "PRAGMA user_version=2;"
+    "COMMIT;";
 
 /* A session deleted while it ran is marked so at once (its DELETE is
  * answered then) and removed by its worker; one the daemon died before
@@ -138,11 +158,9 @@ static int exec_script(sqlite3 *w, const char *sql, const char *what)
     return -1;
 }
 
-#define TSD_STR_(x) #x
-#define TSD_STR(x)  TSD_STR_(x)
-
-/* 0, or -1 with why in err when the store is from a newer schema. */
-static int check_version(sqlite3 *c, const char *path, char *err, size_t errlen)
+/* 0 with the store's version in *version, or -1 with why in err when the
+ * store is from a newer schema or its version cannot be read. */
+static int check_version(sqlite3 *c, const char *path, long *version, char *err, size_t errlen)
 {
     sqlite3_stmt *st = NULL;
     long v = -1;
@@ -169,6 +187,7 @@ static int check_version(sqlite3 *c, const char *path, char *err, size_t errlen)
                  path, v, SCHEMA_VERSION);
         return -1;
     }
+    *version = v;
     return 0;
 }
 
@@ -183,7 +202,8 @@ tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
     }
     db->w = open_conn(path, err, errlen);
     /* a newer build's store is refused before anything is written to it */
-    if (!db->w || check_version(db->w, path, err, errlen) != 0) goto fail;
+    long version = 0;
+    if (!db->w || check_version(db->w, path, &version, err, errlen) != 0) goto fail;
     char *msg = NULL;
     if (sqlite3_exec(db->w, schema, NULL, NULL, &msg) != SQLITE_OK) {
         snprintf(err, errlen, "%s: %s", path, msg ? msg : "schema failed");
@@ -195,9 +215,12 @@ tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
      * is stored (a session still marked deleted is not loaded: session.c) */
     exec_script(db->w, purge_deleted, "removing sessions deleted during a run (next start)");
     /* ... but a store this process cannot write is refused: it would serve
-     * reads and answer every new sample with "the store is full or failing" */
-    if (sqlite3_exec(db->w, "PRAGMA user_version=" TSD_STR(SCHEMA_VERSION), NULL, NULL, NULL) !=
-        SQLITE_OK) {
+     * reads and answer every new sample with "the store is failing". The
+     * probe rewrites the version the store has: it may still need the SI
+     * conversion below, which sets the new one in its own transaction. */
+    char probe[64];
+    snprintf(probe, sizeof probe, "PRAGMA user_version=%ld", version);
+    if (sqlite3_exec(db->w, probe, NULL, NULL, NULL) != SQLITE_OK) {
         int code = sqlite3_errcode(db->w);
         char why[256];
         sql_reason(db->w, why, sizeof why);
@@ -210,6 +233,15 @@ tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen)
             goto fail;
         }
         fprintf(stderr, "tanksimd: sqlite: setting the schema version: %s\n", why);
+    }
+    /* not best effort: a session rebuilt from an unconverted config would
+     * run another engine */
+    if (version < 2 && exec_script(db->w, to_si_units, "converting engine fields to SI") != 0) {
+        snprintf(err, errlen,
+                 "%s: converting its stored configs to SI units failed (see the message above); "
+                 "the store is unchanged",
+                 path);
+        goto fail;
     }
     db->r = open_conn(path, err, errlen);
     if (!db->r) goto fail;

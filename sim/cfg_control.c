@@ -26,7 +26,7 @@ static const ts_param control_rows[] = {
      "back-calculation anti-windup of the IVS integral while the rack saturates"},
     {"/control/schedule_var", TS_PT_ENUM, F(schedule_var), "", 0, 0, ts_schedule_var_names, 0, 0,
      "gain-schedule variable (Fig. 27): vehicle mass or road grade"},
-    {"/control/schedule_x", TS_PT_DARRAY, F(schedule_x), "", -1e6, 1e6, NULL,
+    {"/control/schedule_x", TS_PT_DARRAY, F(schedule_x), "kg or rad", -1e6, 1e6, NULL,
      TS_CONTROL_SCHEDULE_MAX, F(schedule_n),
      "gain-schedule rows: vehicle mass [kg] or grade [rad], increasing (empty: fixed kp, ti)"},
     {"/control/schedule_kp", TS_PT_DARRAY, F(schedule_kp), "1/(m/s)", 1e-6, 1e3, NULL,

@@ -70,11 +70,11 @@ typedef struct ts_engine_config {
     double lhv;            /* fuel lower heating value [J/kg] */
     double afr_stoich;     /* stoichiometric air/fuel ratio [1] */
     double phi_rated;      /* Eq. 13 constant term [1] */
-    double phi_curvature;  /* Eq. 13 coefficient [1/rpm^2] */
+    double phi_curvature;  /* Eq. 13 coefficient [s^2/rad^2] */
     double phi_speed;      /* Eq. 13 reference speed [rad/s] */
     double phi_max;        /* smoke limit on the trapped equivalence ratio [1] */
     /* ignition delay (Arrhenius, Livengood-Wu integral) */
-    double id_a, id_n, id_ta; /* tau[ms] = a p[bar]^-n exp(ta/T) */
+    double id_a, id_n, id_ta; /* tau [s] = a (p / 1 bar)^-n exp(ta/T): [s], [1], [K] */
     /* Watson burning */
     double burn_duration;                 /* [rad CA] */
     double watson_a, watson_b, watson_c;  /* premixed fraction */
@@ -99,7 +99,7 @@ typedef struct ts_engine_config {
     double coolant_capacity, oil_capacity; /* lumped heat capacities [J/K] */
     double coolant_ua, oil_ua;             /* radiator / oil cooler at full opening [W/K] */
     /* friction and inertia */
-    double fmep_a, fmep_b, fmep_c; /* Millington-Hartles [Pa], [Pa/rpm], [Pa/(m/s)^2] */
+    double fmep_a, fmep_b, fmep_c; /* Millington-Hartles [Pa], [Pa*s/rad], [Pa/(m/s)^2] */
     double inertia;                /* engine + flywheel, rotating [kg*m^2] */
     double recip_mass;             /* reciprocating mass per cylinder [kg] */
     /* turbocharger (per bank): reference truck unit + flow scale factor */

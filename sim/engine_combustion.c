@@ -15,11 +15,11 @@
 
 #include "engine_impl.h"
 
-double en_ignition_delay(double a_ms, double n, double ta, double p, double T)
+double en_ignition_delay(double a, double n, double ta, double p, double T)
 {
     double p_bar = en_atleast(p / 1e5, 0.1);
     /* p^-n exp(ta / T) as one exp: exp(ta / T - n log p) */
-    return 1e-3 * a_ms * exp(ta / en_atleast(T, 200.0) - n * log(p_bar));
+    return a * exp(ta / en_atleast(T, 200.0) - n * log(p_bar));
 }
 
 void en_watson_pre(const en_watson *w, double tau, double tau_id_ms, double n_rpm,

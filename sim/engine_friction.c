@@ -14,9 +14,9 @@
 
 double en_fmep(const ts_engine_config *c, double omega)
 {
-    double n = (omega > 0 ? omega : 0) * EN_RPM;
-    double sp = 2.0 * c->stroke * n / 60.0;
-    return c->fmep_a * (c->compression_ratio - 4.0) + c->fmep_b * n + c->fmep_c * sp * sp;
+    double w = omega > 0 ? omega : 0;
+    double sp = 2.0 * c->stroke * (w * EN_RPM) / 60.0; /* mean piston speed [m/s] */
+    return c->fmep_a * (c->compression_ratio - 4.0) + c->fmep_b * w + c->fmep_c * sp * sp;
 }
 
 double en_friction_torque(const ts_engine *e, double omega)

@@ -220,8 +220,9 @@ typedef struct en_watson {
     double a, b, c, c1k, c1e, c2, c3k, c3e, c4k;
     double duration; /* [rad] */
 } en_watson;
-/* Ignition delay [s] at p [Pa], T [K] (Arrhenius). */
-double en_ignition_delay(double a_ms, double n, double ta, double p, double T);
+/* Ignition delay [s] at p [Pa], T [K] (Arrhenius): a [s] (p / 1 bar)^-n
+ * exp(ta / T). */
+double en_ignition_delay(double a, double n, double ta, double p, double T);
 /* Watson burned fraction X and dX/dtau at tau in [0, 1]; tau_id [ms], N [rpm],
  * phi overall equivalence ratio. */
 void en_watson_burn(const en_watson *w, double tau, double tau_id_ms, double n_rpm, double phi,

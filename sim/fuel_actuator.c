@@ -18,8 +18,8 @@ ts_fuel_law ts_fuel_law_from_config(const ts_engine_config *c)
 
 double ts_fuel_phi_target(const ts_fuel_law *f, double omega)
 {
-    double dn = (omega - f->speed_rated) * RPM_PER_RAD_S;
-    double phi = f->phi_rated + f->phi_curvature * dn * dn; /* Eq. 13 */
+    double dw = omega - f->speed_rated;
+    double phi = f->phi_rated + f->phi_curvature * dw * dw; /* Eq. 13 */
     return phi < f->phi_max ? phi : f->phi_max;
 }
 

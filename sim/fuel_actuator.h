@@ -16,7 +16,7 @@
 
 typedef struct ts_fuel_law {
     double phi_rated;     /* Eq. 13 constant [1] */
-    double phi_curvature; /* Eq. 13 coefficient [1/rpm^2] */
+    double phi_curvature; /* Eq. 13 coefficient [s^2/rad^2] */
     double speed_rated;   /* Eq. 13 reference speed [rad/s] */
     double phi_max;       /* cap on phi_tgt [1] */
     double afr_stoich;    /* (A/F)_s [1] */

@@ -197,7 +197,7 @@ def match_table(argv):
         row = next(r for r in sweep if abs(r["speed_rpm"] - rpm) < 1)
         d_exh = row["exhaust_temp"] - row["intake_temp"]
         eta_v = interp(c["map_speed"], c["map_eta_v_" + variant], w)
-        phi = min(c["phi_rated"] + c["phi_curvature"] * (rpm - c["phi_speed"] * 30 / math.pi) ** 2,
+        phi = min(c["phi_rated"] + c["phi_curvature"] * (w - c["phi_speed"]) ** 2,
                   c["phi_max"])
         cells = []
         for pb in (1.2, 1.6, 2.0, 2.4, 2.8, 3.2, 3.6, 4.0):

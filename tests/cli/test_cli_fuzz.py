@@ -3,6 +3,7 @@ the schema lists every table row with its range; model errors print the JSON Poi
 field at fault (cli.h's "tanksim: <pointer>: message"); a terrain file that is a device
 returns at once with the field named instead of reading forever."""
 import json
+import re
 import subprocess
 
 from conftest import TANKSIM
@@ -25,6 +26,28 @@ def test_schema_lists_every_section_with_ranges():
     assert dur["minimum"] == 1e-3 and dur["maximum"] == 3600 and dur["x-unit"] == "s"
     assert "coupled" in props["track"]["properties"]["fidelity"]["enum"]
     assert run("schema", "extra").returncode == 2
+
+
+def test_every_numeric_config_field_has_an_si_unit():
+    # The brief's "SI units everywhere": phi_curvature, fmep_b and id_a had
+    # their correlations' units (1/rpm^2, Pa/rpm, ms) and /control/schedule_x
+    # none (session-26 walkthrough). Each unit is built of SI symbols only.
+    si = {"1", "m", "s", "kg", "K", "N", "Pa", "J", "W", "rad", "Hz", "or"}
+    seen = []
+
+    def walk(f, ptr):
+        for name, sub in f.get("properties", {}).items():
+            walk(sub, f"{ptr}/{name}")
+        numeric = f.get("type") in ("number", "integer") or (
+            f.get("type") == "array" and f.get("items", {}).get("type") == "number")
+        if numeric:
+            unit = f.get("x-unit")
+            assert unit, f"{ptr} has no unit"
+            tokens = set(re.split(r"[*/^() .0-9-]+", unit)) - {""}
+            assert tokens <= si, (ptr, unit)
+            seen.append(ptr)
+    walk(json.loads(run("schema").stdout), "")
+    assert len(seen) > 150 and "/engine/id_a" in seen and "/control/schedule_x" in seen, seen
 
 
 def test_model_error_prints_the_field_pointer(tmp_path):

@@ -60,7 +60,7 @@ def test_delete_of_a_running_session_holds_through_kill_9(tmp_path):
 def test_store_from_a_newer_build_is_refused(tmp_path):
     Daemon(data_dir=str(tmp_path)).stop()
     db = sqlite3.connect(str(tmp_path / "tanksimd.db"))
-    assert db.execute("PRAGMA user_version").fetchone()[0] == 1
+    assert db.execute("PRAGMA user_version").fetchone()[0] == 2
     db.execute("PRAGMA user_version=99")
     db.execute("DROP TABLE analyses")   # say the newer schema has none
     db.commit()
@@ -292,3 +292,33 @@ def test_a_store_that_fails_for_another_reason_is_not_called_full(tmp_path):
         assert s["status"] == "paused" and s["t"] == 0 and "last stored row" in s["error"], s
     finally:
         d.stop()
+
+
+def test_stored_configs_are_converted_to_si_units_once(tmp_path):
+    """Store schema 2 (session 26): phi_curvature, fmep_b and id_a went from
+    their correlations' units (1/rpm^2, Pa/rpm, ms) to SI. A session stored
+    by a schema-1 daemon holds its whole resolved config in the old units;
+    the first start-up converts it, once (the conversion and the new version
+    are one transaction), so the session rebuilds the engine it was run with."""
+    with Daemon(data_dir=str(tmp_path)) as d:
+        sid = requests.post(d.url + "/v1/sessions",
+                            json={"preset": "accel-pointmass-conventional"}).json()["id"]
+        new = requests.get(f"{d.url}/v1/sessions/{sid}").json()["config"]["engine"]
+    db = sqlite3.connect(str(tmp_path / "tanksimd.db"))
+    assert db.execute("PRAGMA user_version").fetchone()[0] == 2
+    # as a schema-1 daemon stored it
+    db.execute("UPDATE sessions SET config=json_set(config,'$.engine.phi_curvature',8.8757e-08,"
+               "'$.engine.fmep_b',33.1,'$.engine.id_a',3.45)")
+    db.execute("PRAGMA user_version=1")
+    db.commit()
+    db.close()
+    for _ in range(2):  # converted at the first start, left alone at the second
+        with Daemon(data_dir=str(tmp_path)) as d:
+            eng = requests.get(f"{d.url}/v1/sessions/{sid}").json()["config"]["engine"]
+            for k in ("phi_curvature", "fmep_b", "id_a"):
+                assert eng[k] == pytest.approx(new[k], rel=1e-12), (k, eng[k], new[k])
+            r = requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 0.1})
+            assert r.status_code == 200, r.text
+    db = sqlite3.connect(str(tmp_path / "tanksimd.db"))
+    assert db.execute("PRAGMA user_version").fetchone()[0] == 2
+    db.close()

@@ -252,7 +252,7 @@ static void friction_torque_four_stroke(void **state)
         for (int rpm = 600; rpm <= 2200; rpm += 800) {
             double w = ET_RPM(rpm), sp = 2 * c->stroke * rpm / 60.0;
             double fmep =
-                c->fmep_a * (c->compression_ratio - 4) + c->fmep_b * rpm + c->fmep_c * sp * sp;
+                c->fmep_a * (c->compression_ratio - 4) + c->fmep_b * w + c->fmep_c * sp * sp;
             double vd = 12 * ET_PI / 4 * c->bore * c->bore * c->stroke;
             double want = fmep * vd / (4 * ET_PI) * tanh(w / 5.0);
             assert_close(en_friction_torque(e, w), want, 1e-9, 0);

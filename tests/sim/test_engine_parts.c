@@ -82,7 +82,7 @@ static void watson_and_ignition_delay(void **state)
     }
     assert_close(integral, X, 1e-3, 0);
     double tau_ms = 3.45 * pow(50.0, -1.02) * exp(2100.0 / 900.0);
-    assert_close(en_ignition_delay(3.45, 1.02, 2100, 50e5, 900), tau_ms * 1e-3, 1e-12, 0);
+    assert_close(en_ignition_delay(3.45e-3, 1.02, 2100, 50e5, 900), tau_ms * 1e-3, 1e-12, 0);
     assert_close(tau_ms, 0.658, 0.005, 0);
 }
 
@@ -476,7 +476,8 @@ static void turbine_schedule_is_checked(void **state)
 }
 
 /* EVIDENCE: Millington & Hartles (SAE 680590) with the provisional constants:
- * fmep = 6895 (15 - 4) + 33.1 N + 107 S_p^2 Pa = 1.59 bar at 2100 rpm
+ * fmep = 6895 (15 - 4) + 33.1 N[rpm] + 107 S_p^2 Pa = 1.59 bar at 2100 rpm (b = 33.1 Pa/rpm
+ * = 316.08 Pa s/rad in engine.json)
  * (1.5-2.5 bar expected for this engine; engine.json's fmep notes). Eq. 13: phi_tgt = 0.45 at 2100
  * rpm, 0.65 at 600 rpm; Eq. 14: m_f = m_air phi/(A/F)s Rack 120/(N 12). */
 static void friction_and_fuel_law(void **state)
