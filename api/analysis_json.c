@@ -141,11 +141,12 @@ static json_t *engine_map_doc(const ts_config *cfg, const ts_engine_cycle *rows,
     const ts_engine_cycle *r = &rows[TS_ENGINE_SWEEP_NPOINT - 1]; /* rated speed */
     double power = col_power(r, TS_ENGINE_SWEEP_RPM_HI);
     /* jansson steals "o" references even when the pack fails */
-    json_t *doc =
-        json_pack("{s:s, s:s, s:f, s:o, s:o, s:{s:i, s:o, s:o, s:o}}", "variant", variant,
-                  "fidelity", fidelity, "rack", cfg->control.rack, "columns", cols, "rows", jrows,
-                  "rated", "speed_rpm", TS_ENGINE_SWEEP_RPM_HI, "power_w", number(power, 0),
-                  "power_hp", number(power / TS_HP, 0), "torque", number(r->mean.brake_torque, 0));
+    json_t *doc = json_pack(
+        "{s:s, s:s, s:f, s:o, s:o, s:{s:i, s:o, s:o, s:o, s:{s:s, s:s, s:s, s:s}}}", "variant",
+        variant, "fidelity", fidelity, "rack", cfg->control.rack, "columns", cols, "rows", jrows,
+        "rated", "speed_rpm", TS_ENGINE_SWEEP_RPM_HI, "power_w", number(power, 0), "power_hp",
+        number(power / TS_HP, 0), "torque", number(r->mean.brake_torque, 0), "units", "speed_rpm",
+        "rpm", "power_w", "W", "power_hp", "hp", "torque", "N*m");
     return doc ? doc : no_json(err, "engine map");
 }
 
@@ -169,10 +170,11 @@ static json_t *tune_doc(const ts_config *cfg, const char *fidelity, const ts_ivs
         o->final_slope, "t_inflection", o->zn.t_inflection - cfg->control.tune_settle, "slope",
         o->zn.slope, "x", o->zn.x, "y", o->zn.y, "kp_norm", o->zn.kp_norm, "kp", o->kp, "ti",
         o->zn.ti, "ti_factor", cfg->control.ti_factor);
-    json_t *units = json_pack("{s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s}", "rack_low",
-                              "1", "rack_rated", "1", "v0", "m/s", "vb", "m/s", "settle_slope",
-                              "m/s^2", "final_slope", "m/s^2", "t_inflection", "s", "slope", "1/s",
-                              "x", "s", "y", "1", "kp_norm", "1", "kp", "1/(m/s)", "ti", "s");
+    json_t *units =
+        json_pack("{s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s}", "rack_low", "1",
+                  "rack_rated", "1", "v0", "m/s", "vb", "m/s", "settle_slope", "m/s^2",
+                  "final_slope", "m/s^2", "t_inflection", "s", "slope", "1/s", "x", "s", "y", "1",
+                  "kp_norm", "1", "kp", "1/(m/s)", "ti", "s", "ti_factor", "1");
     if (!doc || json_object_set_new(doc, "units", units) != 0) {
         json_decref(doc);
         return no_json(err, "tune");
@@ -215,8 +217,9 @@ static json_t *schedule_doc(const ts_config *cfg, int mass, const double *x, int
             return NULL;
         }
     }
-    json_t *s = json_pack("{s:s, s:o, s:o, s:o}", "var", mass ? "mass" : "grade", "x", jx, "kp", jk,
-                          "ti", jt);
+    json_t *s = json_pack("{s:s, s:o, s:o, s:o, s:{s:s, s:s, s:s}}", "var", mass ? "mass" : "grade",
+                          "x", jx, "kp", jk, "ti", jt, "units", "x", mass ? "kg" : "rad", "kp",
+                          "1/(m/s)", "ti", "s");
     return s ? s : no_json(err, "tune");
 }
 

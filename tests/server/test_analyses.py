@@ -79,6 +79,8 @@ def test_engine_map_operation_matches_the_cli_csv(daemon, tmp_path):
     rated = doc["rated"]
     assert rated["speed_rpm"] == 2100
     assert rated["power_w"] == pytest.approx(doc["rows"][-1][cols.index("power")])
+    assert rated["units"] == {"speed_rpm": "rpm", "power_w": "W", "power_hp": "hp",
+                              "torque": "N*m"}
 
 
 def test_tune_operation_equals_the_cli(daemon):
@@ -101,6 +103,8 @@ def test_tune_schedule_over_mass(daemon):
     s = op["response"]["schedule"]
     assert s["var"] == "mass" and s["x"] == [50000.0, 60000.0, 70000.0]
     assert s["kp"][0] < s["kp"][1] < s["kp"][2]
+    assert s["units"] == {"x": "kg", "kp": "1/(m/s)", "ti": "s"}
+    assert set(op["response"]["units"]) >= {"x", "y", "kp", "ti", "ti_factor"}
 
 
 @pytest.mark.parametrize("query,pointer", [
