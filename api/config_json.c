@@ -144,7 +144,7 @@ static ts_rc merge_document(json_t *merged, const json_t *doc, int depth, ts_err
     if (preset) {
         if (!json_is_string(preset))
             return ts_err_set(err, TS_ERR_PARAM, "/preset", "/preset: string expected, got %s",
-                              json_is_null(preset) ? "null" : "another type");
+                              json_type_word(preset));
         if (depth >= MAX_PRESET_DEPTH)
             return ts_err_set(err, TS_ERR_PARAM, "/preset", "/preset: presets nest too deep");
         json_t *p = tsa_preset_get(json_string_value(preset), err);

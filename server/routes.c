@@ -1510,7 +1510,9 @@ enum MHD_Result tsd_route(tsd_request *r)
     if (!(row && (row->flags & RF_PUBLIC)) && !authorized(r)) {
         r->www_authenticate = 1;
         return tsd_reply_problem(r, MHD_HTTP_UNAUTHORIZED, "/problems/unauthorized", "Unauthorized",
-                                 "this daemon needs 'Authorization: Bearer TOKEN' (--token)", NULL);
+                                 "this daemon needs 'Authorization: Bearer TOKEN' (its --token or "
+                                 "TANKSIM_TOKEN)",
+                                 NULL);
     }
     if (row) {
         enum MHD_Result qret;
