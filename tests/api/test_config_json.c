@@ -174,6 +174,92 @@ static void shipped_course_comes_from_the_store(void **state)
     json_decref(doc);
 }
 
+/* Load {"SECTION": {"FIELD": v}} (v stolen) through the table: the result
+ * code, the config in *c, the first error's pointer in ptr (may be "").
+ * section/field split the pointer "/SECTION/FIELD". */
+static ts_rc load_one(const char *pointer, json_t *v, ts_config *c, char *ptr, size_t n)
+{
+    char sec[64];
+    const char *slash = strchr(pointer + 1, '/');
+    snprintf(sec, sizeof sec, "%.*s", (int)(slash - pointer - 1), pointer + 1);
+    json_t *doc = json_pack("{s:{s:o}}", sec, slash + 1, v);
+    json_t *errors = json_array();
+    ts_err err;
+    ts_rc rc = tsa_config_load(doc, c, NULL, errors, &err);
+    json_t *e0 = json_array_get(errors, 0);
+    snprintf(ptr, n, "%s", e0 ? json_string_value(json_object_get(e0, "pointer")) : "");
+    json_decref(errors);
+    json_decref(doc);
+    return rc;
+}
+
+/* Every field of the table read the way its row says (session-26 mutation
+ * pass over api/: each of these survived): a boolean set to the opposite of
+ * its default is read as set (false is not true); a number beyond its max is
+ * refused naming it, also for the 0-means-off fields; a string of its whole
+ * buffer size (no room for the NUL) is refused naming it. */
+static void every_field_reads_as_its_row_says(void **state)
+{
+    (void)state;
+    ts_config def, c;
+    ts_err err;
+    assert_int_equal(tsa_config_load(NULL, &def, NULL, NULL, &err), TS_OK);
+    char ptr[128];
+    int nbool = 0, nnum = 0, nstr = 0;
+    for (int s = 0; s < ts_param_nsections(); s++) {
+        const ts_param_section *sec = ts_param_section_at(s);
+        for (int i = 0; i < sec->nparams; i++) {
+            const ts_param *p = &sec->params[i];
+            if (p->type == TS_PT_BOOL) {
+                int want = !ts_param_get_int(&def, p->offset);
+                ts_rc rc = load_one(p->pointer, json_boolean(want), &c, ptr, sizeof ptr);
+                if (rc != TS_OK) continue; /* a combination the config refuses */
+                if (ts_param_get_int(&c, p->offset) != want)
+                    fail_msg("%s set to %s read as %d", p->pointer, want ? "true" : "false",
+                             ts_param_get_int(&c, p->offset));
+                nbool++;
+            } else if ((p->type == TS_PT_DOUBLE || p->type == TS_PT_DOUBLE_OFF) && p->max > 0) {
+                double over = p->max * 2 + 1;
+                if (load_one(p->pointer, json_real(over), &c, ptr, sizeof ptr) == TS_OK ||
+                    strcmp(ptr, p->pointer) != 0)
+                    fail_msg("%s = %g (max %g) not refused at its pointer (got '%s')", p->pointer,
+                             over, p->max, ptr);
+                nnum++;
+            } else if (p->type == TS_PT_STRING && !p->enum_names) {
+                char text[4096];
+                assert_true(p->capacity < (int)sizeof text);
+                memset(text, 'a', (size_t)p->capacity);
+                text[p->capacity] = '\0';
+                if (load_one(p->pointer, json_string(text), &c, ptr, sizeof ptr) == TS_OK ||
+                    strcmp(ptr, p->pointer) != 0)
+                    fail_msg("%s: %d characters (the whole buffer) accepted", p->pointer,
+                             p->capacity);
+                nstr++;
+            }
+        }
+    }
+    printf("# %d booleans, %d ranged numbers, %d strings\n", nbool, nnum, nstr);
+    assert_true(nbool >= 5 && nnum >= 100 && nstr >= 3);
+}
+
+/* An inline bump list is the course, even when a shipped course is named
+ * too (fill_course: a survivor of the session-26 mutation pass let the
+ * shipped course replace it). */
+static void inline_bumps_win_over_a_named_course(void **state)
+{
+    (void)state;
+    ts_config c;
+    ts_err err;
+    json_t *doc =
+        json_pack("{s:{s:s,s:s,s:[f],s:[f],s:[f]}}", "terrain", "kind", "bumps", "course",
+                  "apg4-synth", "bump_start", 20.0, "bump_height", 0.1, "bump_length", 2.0);
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    assert_int_equal(c.terrain.bump_n, 1);
+    assert_close(c.terrain.bump_start[0], 20.0, 0, 0);
+    assert_close(c.terrain.bump_height[0], 0.1, 0, 0);
+    json_decref(doc);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -183,6 +269,8 @@ int main(void)
         cmocka_unit_test(schema_comes_from_the_table),
         cmocka_unit_test(problem_mapping),
         cmocka_unit_test(shipped_course_comes_from_the_store),
+        cmocka_unit_test(every_field_reads_as_its_row_says),
+        cmocka_unit_test(inline_bumps_win_over_a_named_course),
     };
     return cmocka_run_group_tests_name("api/config_json", tests, NULL, NULL);
 }

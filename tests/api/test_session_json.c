@@ -77,6 +77,15 @@ static void numbers_report_every_field(void **state)
     assert_non_null(strstr(err.msg, "malformed JSON"));
     assert_null(tsa_parse_object("[1]", 3, &err));
     assert_null(tsa_parse_object("{\"a\":1,\"a\":2}", 13, &err)); /* duplicate keys */
+    /* the range is closed at both ends (a survivor of the session-26 mutation
+     * pass excluded the max) */
+    const char *edges = "{\"duration\": 10, \"until\": 0}";
+    doc = tsa_parse_object(edges, strlen(edges), &err);
+    assert_non_null(doc);
+    assert_int_equal(tsa_read_numbers(doc, f, 2, NULL, &err), TS_OK);
+    assert_close(d, 10, 0, 0);
+    assert_close(u, 0, 0, 0);
+    json_decref(doc);
 }
 
 static ts_model *pointmass(void)

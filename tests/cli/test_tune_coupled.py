@@ -27,6 +27,9 @@ def test_tune_prints_reaction_curve_and_gains():
     assert abs(r["kp"] - kp) < 1e-4 * kp
     # the low-rack state really was steady before the step
     assert abs(r["settle_slope"]) < 1e-3
+    # times from the rack step (not from the start of the 60-s settling run): the
+    # inflection comes after the apparent dead time X, where its tangent leaves v0
+    assert 0 < r["x"] < r["t_inflection"] < 60, r
 
 
 def test_tune_schedule_over_mass():

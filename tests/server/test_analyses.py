@@ -7,6 +7,7 @@ agree; the physics checks themselves live in tests/cli/test_engine_map.py,
 tests/cli/test_tune_coupled.py and tests/sim/test_analysis_calls.c."""
 import csv
 import json
+import math
 import subprocess
 import time
 
@@ -81,6 +82,8 @@ def test_engine_map_operation_matches_the_cli_csv(daemon, tmp_path):
     assert rated["power_w"] == pytest.approx(doc["rows"][-1][cols.index("power")])
     assert rated["units"] == {"speed_rpm": "rpm", "power_w": "W", "power_hp": "hp",
                               "torque": "N*m"}
+    assert rated["power_hp"] == pytest.approx(rated["power_w"] / 745.699872, rel=1e-6)
+    assert rated["power_w"] == pytest.approx(rated["torque"] * 2100 * math.pi / 30, rel=1e-6)
 
 
 def test_tune_operation_equals_the_cli(daemon):
