@@ -40,6 +40,14 @@ def test_engine_map_mean_value_sweep(tmp_path):
     # torque x speed = power on every row
     for r in rows[1:]:
         assert abs(float(r[2]) * float(r[1]) - float(r[3])) < 1e-3 * abs(float(r[3])) + 1
+    # the columns' identities (a survivor of the session-26 mutation pass swapped fuel and
+    # air): fuel = bsfc x power, and air / fuel a diesel's 20-60 at full load
+    fuel, air, bsfc = (head.index(c) for c in ("fuel_flow [kg/s]", "air_flow [kg/s]",
+                                               "bsfc [g/kWh]"))
+    for r in rows[1:]:
+        p = float(r[3])
+        assert abs(float(r[fuel]) - float(r[bsfc]) * p / 3.6e9) < 2e-3 * float(r[fuel]) + 2e-6, r
+        assert 20 < float(r[air]) / float(r[fuel]) < 60, r
 
 
 def test_engine_map_map_fidelity_leaves_manifold_cells_empty(tmp_path):

@@ -71,7 +71,7 @@ def test_long_tune_reports_each_step_response_on_stderr(tmp_path):
 def test_tune_rejects_bad_schedule():
     # the CLI reads the schedule as the daemon's ?schedule_mass= does
     # (tsa_tune_schedule_parse): plain decimals within /vehicle/mass's range
-    for bad in ("5e4,x", "0x10000", "1e9", " 50000", "60000,50000"):
+    for bad in ("5e4,x", "0x10000", "1e9", " 50000", "60000,50000", "50000,50000"):
         out = run("tune", "--preset", "bump-coupled-ivs5mph", "--schedule-mass", bad)
         assert out.returncode == 2, (bad, out.stderr)
         assert "--schedule-mass" in out.stderr and "/vehicle/mass" in out.stderr, out.stderr
