@@ -9,6 +9,7 @@ import signal
 import socket
 import subprocess
 import tempfile
+import threading
 import time
 
 import pytest
@@ -198,6 +199,28 @@ def is_problem(r, status, pointer=None):
         pointers = [e["pointer"] for e in p.get("errors", [])]
         assert pointer in pointers, (pointer, p)
     return p
+
+
+def step_in_background(url, sid, duration, out=None):
+    """Start POST .../step {duration} on a thread (its response in out["r"],
+    a connection cut by a killed daemon ignored) and wait until the session's
+    first batch is stored or the step ended; the thread."""
+    def step():
+        try:
+            r = requests.post(f"{url}/v1/sessions/{sid}/step", json={"duration": duration},
+                              timeout=120)
+            if out is not None:
+                out["r"] = r
+        except requests.ConnectionError:
+            pass  # the kill cuts the reply
+    th = threading.Thread(target=step)
+    th.start()
+    deadline = time.time() + 60
+    while time.time() < deadline and th.is_alive():
+        if requests.get(f"{url}/v1/sessions/{sid}").json()["index"] > 0:
+            break
+        time.sleep(0.01)
+    return th
 
 
 def wait_op(url, op_id, timeout=30, seen=None):

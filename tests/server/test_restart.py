@@ -7,13 +7,12 @@ tolerance (CVODE restarts from the snapshot, so agreement is to ~rtol, not
 bitwise)."""
 import signal
 import sqlite3
-import threading
 import time
 
 import pytest
 import requests
 
-from conftest import BASE_PRESET, Daemon, wait_op
+from conftest import BASE_PRESET, Daemon, step_in_background, wait_op
 
 
 def series(d, sid, **params):
@@ -75,19 +74,7 @@ def test_kill_9_during_step_leaves_the_reason(tmp_path):
     try:
         sid = requests.post(d.url + "/v1/sessions",
                             json={"preset": "bump-coupled-ivs5mph"}).json()["id"]
-        def step():
-            try:
-                requests.post(f"{d.url}/v1/sessions/{sid}/step", json={"duration": 10.0},
-                              timeout=120)
-            except requests.ConnectionError:
-                pass  # the kill cuts the reply
-        th = threading.Thread(target=step)
-        th.start()
-        deadline = time.time() + 60
-        while time.time() < deadline and th.is_alive():
-            if requests.get(f"{d.url}/v1/sessions/{sid}").json()["index"] > 0:
-                break
-            time.sleep(0.01)
+        th = step_in_background(d.url, sid, 10.0)
         alive = th.is_alive()
         d.stop(sig=signal.SIGKILL)
         th.join(30)

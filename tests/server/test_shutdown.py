@@ -11,12 +11,11 @@ sends the second signal, and the test waits for /v1/health to report the
 state before probing."""
 import json
 import signal
-import threading
 import time
 
 import requests
 
-from conftest import BASE_PRESET, Daemon, is_problem, wait_op
+from conftest import BASE_PRESET, Daemon, is_problem, step_in_background, wait_op
 
 
 def wait_stopping(d, timeout=20):
@@ -102,14 +101,7 @@ def test_step_cut_short_by_shutdown_is_not_a_success(tmp_path):
                             json={"preset": "bump-coupled-ivs5mph"}).json()["id"]
         rate = requests.get(f"{d.url}/v1/sessions/{sid}").json()["config"]["run"]["sample_rate"]
         out = {}
-        th = threading.Thread(target=lambda: out.setdefault("r", requests.post(
-            f"{d.url}/v1/sessions/{sid}/step", json={"duration": 10.0}, timeout=120)))
-        th.start()
-        deadline = time.time() + 60
-        while time.time() < deadline and th.is_alive():
-            if requests.get(f"{d.url}/v1/sessions/{sid}").json()["index"] > 0:
-                break
-            time.sleep(0.01)
+        th = step_in_background(d.url, sid, 10.0, out)
         d.proc.send_signal(signal.SIGTERM)
         th.join(120)
         r = out["r"]
