@@ -112,6 +112,12 @@ def test_step_advances_time_and_returns_latest_values(daemon):
     assert [w["integrator"] for w in work2] == [w["integrator"] for w in work1] != []
     assert 0 < work1[0]["steps"] < work2[0]["steps"]
     assert work2[0]["rhs_evals"] >= work2[0]["steps"] and "CVODE" in work2[0]["method"]
+    # every counter an integer, also a zero one (err_test_fails here; a survivor of the
+    # session-26 mutation pass printed 0 as null)
+    for w in work2:
+        counts = {k: v for k, v in w.items() if k not in ("integrator", "method")}
+        assert counts and all(type(v) is int and v >= 0 for v in counts.values()), w
+    assert 0 in counts.values(), counts
     assert "integrators" not in requests.get(daemon.url + "/v1/sessions").json()["sessions"][0]
 
 
