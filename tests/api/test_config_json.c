@@ -83,6 +83,9 @@ static void bad_input_names_the_field(void **state)
     expect_error("{\"track\":{\"n_trans\":1.5}}", "/track/n_trans", "integer expected");
     expect_error("{\"track\":{\"eaa\":1}}", "/track/eaa", "unknown field");
     expect_error("{\"trak\":{}}", "/trak", "unknown section");
+    /* "commands" is skipped inside presets only (an api/ mutation survivor
+     * dropped it from a user's document too) */
+    expect_error("{\"commands\":[\"run\"]}", "/commands", "unknown section");
     expect_error("{\"track\":{\"fidelity\":\"wobbly\"}}", "/track/fidelity", "coupled");
     expect_error("{\"preset\":\"no-such-preset\"}", "/preset", "no preset");
     expect_error("{\"preset\":7}", "/preset", "string expected");
@@ -125,7 +128,17 @@ static void schema_comes_from_the_table(void **state)
     assert_close(json_number_value(json_object_get(ea, "default")), 3e7, 0, 0);
     assert_close(json_number_value(json_object_get(ea, "minimum")),
                  ts_param_find("/track/ea")->min, 0, 0);
+    /* a string's maxLength is what the loader takes: its buffer less the NUL */
+    json_t *course = json_object_get(
+        json_object_get(json_object_get(json_object_get(s, "properties"), "terrain"), "properties"),
+        "course");
+    assert_int_equal(json_integer_value(json_object_get(course, "maxLength")),
+                     ts_param_find("/terrain/course")->capacity - 1);
     json_decref(s);
+    /* a number below the double range is refused, not read as 0 */
+    double x = -1;
+    assert_int_equal(tsa_parse_number("1e-400", 0, 1, &x), -1);
+    assert_int_equal(tsa_parse_number("1e-300", 0, 1, &x), 0);
     json_t *list = tsa_preset_list();
     assert_true(json_array_size(list) >= 1);
     json_decref(list);
@@ -140,6 +153,38 @@ static void problem_mapping(void **state)
     /* a config the model cannot solve is the request's content, not a server fault */
     assert_int_equal(tsa_http_status(TS_ERR_SOLVER), 422);
     assert_int_equal(tsa_http_status(TS_ERR_DIVERGED), 422);
+    /* every code's status and type (only server tests saw most of them) */
+    static const struct {
+        ts_rc rc;
+        int status;
+        const char *type;
+    } table[] = {
+        {TS_ERR_RANGE, 400, "/problems/invalid-config"},
+        {TS_ERR_NOMEM, 503, "/problems/out-of-memory"},
+        {TS_ERR_IO, 500, "/problems/io"},
+        {TS_ERR_STATE, 409, "/problems/conflict"},
+        {TS_ERR_UNSUPPORTED, 422, "/problems/unsupported"},
+        {TS_ERR_CANCELLED, 409, "/problems/cancelled"},
+        {TS_ERR_INTERNAL, 500, "/problems/internal"},
+    };
+    for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {
+        assert_int_equal(tsa_http_status(table[i].rc), table[i].status);
+        assert_string_equal(tsa_problem_type(table[i].rc), table[i].type);
+    }
+    /* request bytes that are not UTF-8 become U+FFFD, so the answer is built:
+     * lead bytes past F4, overlongs, surrogates, code points past U+10FFFF */
+    static const char *const bad[] = {"\xF5\x80\x80\x80", "\xF8\x80", "\xC0\x80", "\xED\xA0\x80",
+                                      "\xF4\x90\x80\x80"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char detail[64];
+        snprintf(detail, sizeof detail, "no preset named '%s'", bad[i]);
+        json_t *q = tsa_problem(404, "/problems/not-found", "Not found", detail, NULL);
+        assert_non_null(q);
+        const char *d = json_string_value(json_object_get(q, "detail"));
+        assert_non_null(strstr(d, "\xEF\xBF\xBD")); /* U+FFFD */
+        assert_null(strchr(d, bad[i][0]));
+        json_decref(q);
+    }
     ts_err err;
     ts_err_set(&err, TS_ERR_RANGE, "/track/ea", "/track/ea: too small");
     json_t *p = tsa_problem_from_err(&err, NULL);

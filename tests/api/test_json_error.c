@@ -134,6 +134,10 @@ static void jansson_errors_by_kind(void **state)
     assert_string_equal(parse_pointer("{\"a\":{\"b\":\"x\ty\"}}", &err), "/a/b");
     assert_string_equal(parse_pointer("{\"a\":{\"b\":\"x\xff\"}}", &err), "/a/b");
     assert_string_equal(parse_pointer("{\"a\":\"\\ud800\"}", &err), "/a");
+    /* a byte that is not UTF-8 outside a string: what begins there */
+    assert_string_equal(parse_pointer("{\"a\":[1, \xff]}", &err), "/a/1");
+    assert_string_equal(parse_pointer("{\"a\":[1,2\xff]}", &err), "/a");
+    assert_string_equal(parse_pointer("{\"a\":1\xff}", &err), "");
     /* syntax */
     assert_string_equal(parse_pointer("{\"preset\": ", &err), "/preset");
     assert_string_equal(parse_pointer("{\"a\":{\"b\":tru}}", &err), "/a/b");

@@ -222,6 +222,15 @@ static void shapes_from_a_plain_channel_array(void **state)
     assert_string_equal(b.p, "{\"index\":1,\"t\":0.01,\"values\":{\"odd\\\"name\\\\\":-2.5e-07,"
                              "\"hull.pitch\":null}}");
     tsa_buf_free(&b);
+    /* time to 12 digits in rows and series (a sample rate of 7 Hz: t = 1/7;
+     * %.9g survived the session-26 mutation pass), other channels to 9 */
+    const double row7[] = {1.0 / 7.0, 0.125, 1.0 / 3.0};
+    tsa_row_json(&b, &c, 1, row7, sel, 1);
+    assert_string_equal(b.p, "{\"index\":1,\"t\":0.142857142857,\"values\":{}}");
+    tsa_buf_free(&b);
+    tsa_series_json(&b, "s", &c, sel, 1, index, row7, 1, 1, NULL);
+    assert_non_null(strstr(b.p, "\"values\":[0.142857142857]"));
+    tsa_buf_free(&b);
 
     /* the session object of rows without a model: channels, latest and
      * sample_rate from the table, no kind or duration */

@@ -27,6 +27,11 @@ def modes(*args):
 def test_modes_m1_structure_and_fig5():
     d = modes("--preset", "m1")
     assert len(d["spans"]) == 5
+    # the upper circuit between road wheels 1 and 7, held at both ends, free between
+    # (its "boundary" text; the last support's flag survived the session-26 mutation pass)
+    sup = d["circuit"]["supports"]
+    assert [s["name"] for s in (sup[0], sup[-1])] == ["road_wheel_1", "road_wheel_7"], sup
+    assert [s["fixed"] for s in sup] == [True] + [False] * (len(sup) - 2) + [True], sup
     for s in d["spans"]:
         assert isinstance(s["name"], str) and s["length_m"] > 0
         f = s["frequencies_hz"]
