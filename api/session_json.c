@@ -447,7 +447,8 @@ json_t *tsa_session_json(const tsa_session_view *v, int summary)
     snprintf(base, sizeof base, "/v1/sessions/%s", v->id);
     json_t *links = json_object();
     json_object_set_new(links, "self", json_string(base));
-    static const char *const rel[] = {"step", "run", "series", "stream", "fft", "summary"};
+    static const char *const rel[] = {"step", "run",     "series",    "stream",
+                                      "fft",  "summary", "frame.png", "frames"};
     for (size_t i = 0; i < sizeof rel / sizeof rel[0]; i++) {
         char u[200];
         snprintf(u, sizeof u, "%s/%s", base, rel[i]);
