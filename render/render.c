@@ -135,9 +135,7 @@ ts_rc tsr_view_check(const tsr_view *v, ts_err *err)
         return ts_err_set(err, TS_ERR_RANGE, "/text", "at most %d characters", TSR_TEXT_LEN - 1);
     for (size_t i = 0; i < n; i++)
         if (v->text[i] < 32 || v->text[i] > 126)
-            return ts_err_set(err, TS_ERR_PARAM, "/text",
-                              "printable ASCII only (codes 32-126), at most %d characters",
-                              TSR_TEXT_LEN - 1);
+            return ts_err_set(err, TS_ERR_PARAM, "/text", "printable ASCII only (codes 32-126)");
     return TS_OK;
 }
 

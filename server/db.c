@@ -360,7 +360,8 @@ int tsd_db_session_delete(tsd_db *db, long seq)
 }
 
 int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, const double *rows,
-                  const void *state, size_t state_size, double t, long idx, const char *status)
+                  const void *state, size_t state_size, double t, long idx, const char *status,
+                  const char *error)
 {
     sqlite3_stmt *ins = NULL, *st = NULL, *up = NULL;
     int rc = -1;
@@ -393,14 +394,18 @@ int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, co
     }
     what = "update session";
     if (sqlite3_prepare_v2(db->w,
-                           "UPDATE sessions SET t=?, idx=?, status=? WHERE seq=? AND "
+                           "UPDATE sessions SET t=?, idx=?, status=?, error=? WHERE seq=? AND "
                            "status<>'deleted'",
                            -1, &up, NULL) != SQLITE_OK)
         goto rollback;
     sqlite3_bind_double(up, 1, t);
     sqlite3_bind_int64(up, 2, idx);
     sqlite3_bind_text(up, 3, status, -1, SQLITE_STATIC);
-    sqlite3_bind_int64(up, 4, seq);
+    if (error && error[0])
+        sqlite3_bind_text(up, 4, error, -1, SQLITE_STATIC);
+    else
+        sqlite3_bind_null(up, 4);
+    sqlite3_bind_int64(up, 5, seq);
     if (sqlite3_step(up) != SQLITE_DONE) goto rollback;
     what = "COMMIT";
     if (sqlite3_exec(db->w, "COMMIT", NULL, NULL, NULL) != SQLITE_OK) goto rollback;

@@ -53,9 +53,10 @@ int tsd_db_session_delete(tsd_db *db, long seq);
 
 /* One batch: rows[nrows][nchannel] with indexes first..first+nrows-1, then
  * the state snapshot (may be NULL) taken at the last row, and the session's
- * status/t/idx — all in one transaction. */
+ * status/error/t/idx (error NULL: none) — all in one transaction. */
 int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, const double *rows,
-                  const void *state, size_t state_size, double t, long idx, const char *status);
+                  const void *state, size_t state_size, double t, long idx, const char *status,
+                  const char *error);
 
 /* Visit every stored session in seq order (startup recovery). Its t and idx
  * are not passed: the state snapshot (tsd_db_state) is what a session

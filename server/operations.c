@@ -12,7 +12,6 @@
 #include <string.h>
 
 #include "../api/problem.h"
-#include "db.h"
 #include "pool.h"
 
 struct tsd_op {
@@ -225,8 +224,8 @@ static json_t *op_json(const tsd_op *op)
 }
 
 /* Hand op's final document (done at wall_last with response or error) to
- * persist: 0 stored, -1 refused (TSD_DB_FULL: its disk is full), -2 no memory
- * for the document. */
+ * persist: its code (0 stored, -1 refused, db.h TSD_DB_FULL: its disk is full), or
+ * -2 without memory for the document. */
 static int persist_done(tsd_server *srv, tsd_op *op, double wall_last, json_t *response,
                         json_t *error, int (*persist)(void *ud, json_t *doc), void *ud)
 {
@@ -239,7 +238,6 @@ static int persist_done(tsd_server *srv, tsd_op *op, double wall_last, json_t *r
     json_t *doc = op_json(&done);
     pthread_mutex_unlock(&srv->ops->mu);
     int rc = !doc ? -2 : persist(ud, doc);
-    if (rc != 0 && rc != -2 && rc != TSD_DB_FULL) rc = -1;
     json_decref(doc);
     return rc;
 }
@@ -283,9 +281,7 @@ json_t *tsd_op_error_json(const ts_err *e)
     int stopped = e->code == TSD_ERR_SHUTDOWN, full = e->code == TSD_ERR_STORE_FULL;
     json_t *error = stopped ? tsa_problem(MHD_HTTP_SERVICE_UNAVAILABLE, "/problems/interrupted",
                                           "Interrupted: the daemon stopped", e->msg, NULL)
-                    : full  ? tsa_problem(MHD_HTTP_INSUFFICIENT_STORAGE, "/problems/store-full",
-                                          "Insufficient storage", e->msg, NULL)
-                            : tsa_problem_from_err(e, NULL);
+                            : tsd_problem_from_err(e, NULL);
     int code = stopped                                                      ? 14
                : e->code == TS_ERR_CANCELLED                                ? 1
                : e->code == TS_ERR_PARAM || e->code == TS_ERR_RANGE         ? 3

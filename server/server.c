@@ -282,6 +282,14 @@ ts_rc tsd_err_store(const tsd_server *srv, ts_err *err, int dbrc, const char *fm
     return ts_err_set(err, TS_ERR_IO, NULL, "%s: the store is failing (see the daemon log)", what);
 }
 
+json_t *tsd_problem_from_err(const ts_err *err, json_t *errors)
+{
+    if (err->code == TSD_ERR_STORE_FULL)
+        return tsa_problem(MHD_HTTP_INSUFFICIENT_STORAGE, "/problems/store-full",
+                           "Insufficient storage", err->msg, errors);
+    return tsa_problem_from_err(err, errors);
+}
+
 enum MHD_Result tsd_reply_shutting_down(tsd_request *r, const char *detail)
 {
     r->retry_after = TSD_RETRY_AFTER_S;
@@ -292,11 +300,9 @@ enum MHD_Result tsd_reply_shutting_down(tsd_request *r, const char *detail)
 enum MHD_Result tsd_reply_err(tsd_request *r, const ts_err *err, json_t *errors)
 {
     if (err->code == TSD_ERR_SHUTDOWN) return tsd_reply_shutting_down(r, err->msg);
-    if (err->code == TSD_ERR_STORE_FULL)
-        return tsd_reply_problem(r, MHD_HTTP_INSUFFICIENT_STORAGE, "/problems/store-full",
-                                 "Insufficient storage", err->msg, errors);
-    json_t *p = tsa_problem_from_err(err, errors);
-    return reply_dump(r, (unsigned)tsa_http_status(err->code), p, "application/problem+json");
+    json_t *p = tsd_problem_from_err(err, errors);
+    return reply_dump(r, (unsigned)json_integer_value(json_object_get(p, "status")), p,
+                      "application/problem+json");
 }
 
 void tsd_request_defer(tsd_request *r, enum MHD_Result (*on_resume)(tsd_request *r))

@@ -94,6 +94,10 @@ typedef struct tsd_server {
  * log") otherwise. Returns the code. */
 ts_rc tsd_err_store(const tsd_server *srv, ts_err *err, int dbrc, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
+/* The problem document of err (new reference; errors as tsa_problem_from_err):
+ * api/problem.h's for sim's codes, 507 /problems/store-full for
+ * TSD_ERR_STORE_FULL. TSD_ERR_SHUTDOWN is answered by its callers. */
+json_t *tsd_problem_from_err(const ts_err *err, json_t *errors);
 
 typedef struct tsd_request {
     tsd_server *srv;

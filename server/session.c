@@ -219,7 +219,7 @@ static int store_first_row(tsd_session *s)
         return -1;
     }
     return tsd_db_append(s->srv->db, s->seq, 0, 1, s->nch, ts_latest(s->d), s->snapshot,
-                         s->snapshot_size, ts_time(s->d), 0, tsd_status_name(s->status));
+                         s->snapshot_size, ts_time(s->d), 0, tsd_status_name(s->status), NULL);
 }
 
 /* Read s's last stored row into s->index, s->t and s->latest (tsd_db_last_row;
@@ -923,9 +923,10 @@ json_t *tsd_session_list(tsd_server *srv, long page_size, long after_seq)
 
 /* ---- advancing (worker side) ---------------------------------------------------- */
 
-/* Store the batch with the snapshot at its last row (invariant 2) and publish
- * the last row to readers. Busy holder only. 0 on success. */
-static int flush(tsd_session *s, const char *status)
+/* Store the batch with the snapshot at its last row (invariant 2), the
+ * session's status and error with it, and publish the last row to readers.
+ * Busy holder only. 0 on success, else tsd_db_append's code. */
+static int flush(tsd_session *s, const char *status, const char *error)
 {
     if (s->batch_n == 0) return 0;
     if (tsd_session_is_deleted(s)) {
@@ -940,7 +941,7 @@ static int flush(tsd_session *s, const char *status)
     int nist = ts_integrator_stats_get(s->m, s->d, ist, TS_MAX_INTEGRATORS);
     if (rc == 0)
         rc = tsd_db_append(s->srv->db, s->seq, s->batch_first, s->batch_n, s->nch, s->batch,
-                           s->snapshot, s->snapshot_size, last[0], idx, status);
+                           s->snapshot, s->snapshot_size, last[0], idx, status, error);
     if (rc == 0) {
         atomic_fetch_add(&s->srv->metrics.samples_stored, s->batch_n);
         pthread_mutex_lock(&s->mu);
@@ -961,6 +962,7 @@ typedef enum { ADV_NONE, ADV_YIELD, ADV_PACE, ADV_CANCEL, ADV_STOP, ADV_IO } adv
 typedef struct advance_ctx {
     tsd_session *s;
     const char *status; /* status stored with each batch */
+    const char *error;  /* error stored with each batch: what a crash during it leaves */
     int store_rc;       /* the refused batch's tsd_db_append code (ADV_IO) */
     double slice_end;   /* monotonic deadline of this slice (0 = none) */
     double rtf;         /* real-time cap (0 = none) */
@@ -992,7 +994,7 @@ static int on_sample(void *ud, long index, double t, const double *v, int n)
     if (s->batch_n == 0) s->batch_first = index;
     memcpy(s->batch + (size_t)s->batch_n * (size_t)s->nch, v, sizeof(double) * (size_t)n);
     s->batch_n++;
-    if (s->batch_n == s->batch_cap && (a->store_rc = flush(s, a->status)) != 0) {
+    if (s->batch_n == s->batch_cap && (a->store_rc = flush(s, a->status, a->error)) != 0) {
         a->reason = ADV_IO;
         return 1;
     }
@@ -1117,31 +1119,29 @@ static void step_job(void *arg)
 {
     step_job_arg *j = arg;
     tsd_session *s = j->s;
-    advance_ctx a = {.s = s, .status = "paused"};
-    /* the batches go to the store as "paused": so does the session in memory
-     * from the start (a GET during a long step said "created" while the
-     * store, and the session after a crash, said "paused") */
-    pthread_mutex_lock(&s->mu);
-    s->status = TSD_PAUSED;
-    pthread_mutex_unlock(&s->mu);
-    ts_err err;
     double t0 = ts_time(s->d), w0 = tsd_now();
-    /* stored for the time of the step (release() clears it): the reason a
-     * session comes back paused short of its step when the daemon is killed
-     * during it (a run's "running" does that for runs) */
+    /* the batches go to the store as "paused", with the reason a crash during
+     * the step would leave (release() clears it at the end; a run's "running"
+     * says it for runs): so does the session in memory from the start (a GET
+     * during a long step said "created" while the store, and the session
+     * after a crash, said "paused") */
     char why[TS_ERR_MSG_LEN];
     snprintf(why, sizeof why,
              "the daemon stopped (killed or crashed) during a step of this session to t = %g s; "
              "it is paused at its last stored row: step again to go on",
              t0 + j->duration);
-    tsd_db_session_status(s->srv->db, s->seq, "paused", why);
+    advance_ctx a = {.s = s, .status = "paused", .error = why};
+    pthread_mutex_lock(&s->mu);
+    s->status = TSD_PAUSED;
+    pthread_mutex_unlock(&s->mu);
+    ts_err err;
     ts_rc rc = ts_advance(s->m, s->d, t0 + j->duration, on_sample, &a, &err);
-    int dbrc = a.reason == ADV_IO ? a.store_rc : flush(s, "paused"), io = dbrc != 0;
+    int dbrc = a.reason == ADV_IO ? a.store_rc : flush(s, a.status, a.error);
     add_sim_time(s->srv, ts_time(s->d) - t0, tsd_now() - w0);
     atomic_fetch_add(&s->srv->metrics.steps, 1);
     if (rc == TS_ERR_CANCELLED && a.reason != ADV_IO) rc = TS_OK; /* deleted/shutdown: stop */
     tsd_status st = rc == TS_OK ? (at_end(s, ts_time(s->d)) ? TSD_DONE : TSD_PAUSED) : TSD_FAILED;
-    if (io && (rc == TS_OK || rc == TS_ERR_CANCELLED)) { /* invariant 6 */
+    if (dbrc != 0 && (rc == TS_OK || rc == TS_ERR_CANCELLED)) { /* invariant 6 */
         st = roll_back_to_store(s, dbrc, &err);
         rc = err.code;
     }
@@ -1288,10 +1288,10 @@ static void run_slice(void *arg)
     } else {
         rc = ts_advance(s->m, s->d, j->until, on_sample, &a, &err);
     }
-    int dbrc = a.reason == ADV_IO ? a.store_rc : flush(s, "running"), io = dbrc != 0;
+    int dbrc = a.reason == ADV_IO ? a.store_rc : flush(s, a.status, a.error);
     add_sim_time(srv, ts_time(s->d) - t0, tsd_now() - w0);
     tsd_op_progress(srv, j->op, ts_time(s->d));
-    if (io) { /* invariant 6 */
+    if (dbrc != 0) { /* invariant 6 */
         tsd_status st = roll_back_to_store(s, dbrc, &err);
         run_finish(j, st, err.code, &err);
         return;

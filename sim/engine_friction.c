@@ -15,7 +15,7 @@
 double en_fmep(const ts_engine_config *c, double omega)
 {
     double w = omega > 0 ? omega : 0;
-    double sp = 2.0 * c->stroke * (w * EN_RPM) / 60.0; /* mean piston speed [m/s] */
+    double sp = c->stroke * w / EN_PI; /* mean piston speed 2 S N / 60 [m/s] */
     return c->fmep_a * (c->compression_ratio - 4.0) + c->fmep_b * w + c->fmep_c * sp * sp;
 }
 

@@ -515,10 +515,10 @@ static int rk4(int m, const int *idx, ts_rhs_fn f, void *ud, double t, double h,
         for (int j = 0; s > 0 && j < m; j++)
             y[idx ? idx[j] : j] = y0[j] + cs[s] * h * k[(s - 1) * m + j];
         if (f(t + cs[s] * h, y, idx ? ydot : k + s * m, ud)) return 1;
-        for (int j = 0; idx && j < m; j++)
-            k[s * m + j] = ydot[idx[j]];
-        for (int j = 0; j < m; j++)
+        for (int j = 0; j < m; j++) {
+            if (idx) k[s * m + j] = ydot[idx[j]];
             if (!isfinite(k[s * m + j])) return 1;
+        }
     }
     int bad = 0;
     for (int j = 0; j < m; j++) {
