@@ -1502,23 +1502,27 @@ async function main() {
         try {
           plots.show(store, channels.map((c) => c.name));
           const start = performance.now();
+          /* 500 rows/s for 5 s, or for 60 draw costs (3 redraw periods at the 5 % budget) when a
+             loaded machine makes a draw dearer than 83 ms; at most 30 s */
+          const dearest = () => Math.max(0, ...draws.map(([a, b]) => b - a));
+          const windowMs = () => Math.min(30000, Math.max(5000, 60 * dearest()));
           await new Promise((res) => {
-            const iv = setInterval(() => (push(25), performance.now() - start >= 5000 && (clearInterval(iv), res())), 50); /* 500 rows/s for 5 s */
+            const iv = setInterval(() => (push(25), performance.now() - start >= windowMs() && (clearInterval(iv), res())), 50);
           });
           const end = performance.now();
           const n = store.t.length;
           const drawnAll = () => plots.charts.every((c) => c.plot.scales.x.max === store.t[n - 1] && c.plot.data[1].length === n);
-          while (!drawnAll() && performance.now() - end < 8000) await new Promise((res) => setTimeout(res, 20));
+          while (!drawnAll() && performance.now() - end < Math.max(8000, 40 * dearest())) await new Promise((res) => setTimeout(res, 20));
           const lastOk = plots.charts.every((c) => Math.abs(c.plot.data[1][n - 1] - store.cols[c.name][n - 1] * c.d.factor) < 1e-9 * Math.max(1, Math.abs(c.plot.data[1][n - 1])));
           const inWin = draws.filter(([a]) => a >= start && a < end).map(([a, b]) => b - a);
-          return { rows: n, draws: inWin.length, ms: inWin.map(Math.round), share: inWin.reduce((x, y) => x + y, 0) / (end - start), drawnAll: drawnAll(), lastOk, after: Math.round(performance.now() - end) };
+          return { rows: n, window: Math.round(end - start), draws: inWin.length, ms: inWin.map(Math.round), share: inWin.reduce((x, y) => x + y, 0) / (end - start), drawnAll: drawnAll(), lastOk, after: Math.round(performance.now() - end) };
         } finally {
           delete plots.data;
           delete plots.redraw;
           plots.stop();
         }
       });
-      notes.push(`live charts, 36 x ${r.rows} rows, 2 ms more per chart: ${r.draws} redraws in 5 s (${r.ms.join(', ')} ms), ${(100 * r.share).toFixed(1)} % of wall time drawing; last state drawn ${r.after} ms after the last row`);
+      notes.push(`live charts, 36 x ${r.rows} rows, 2 ms more per chart: ${r.draws} redraws in ${(r.window / 1000).toFixed(1)} s (${r.ms.join(', ')} ms), ${(100 * r.share).toFixed(1)} % of wall time drawing; last state drawn ${r.after} ms after the last row`);
       assert(r.drawnAll && r.lastOk, `the last state is not drawn (${r.after} ms after the last row): ${JSON.stringify(r)}`);
       assert(r.draws >= 2, `the charts did not move while rows came: ${JSON.stringify(r)}`);
       assert(r.share <= 0.1, `drawing took ${(100 * r.share).toFixed(1)} % of wall time (${r.draws} redraws: ${r.ms.join(', ')} ms)`);
