@@ -68,12 +68,17 @@ def test_kill_9_during_step_leaves_the_reason(tmp_path):
     """A session whose synchronous step was cut by kill -9 came back `paused`
     short of the step with no error, as if the step had asked for less
     (session-25 probe). It now carries the reason until its next step or run
-    ends; the rows stored before the kill are there (a coupled-track preset,
-    a 10-s step: seconds of wall time)."""
+    ends; the rows stored before the kill are there. The kill comes once the
+    step's first batch (256 rows) is stored; the step must still be going
+    then: the preset as shipped made the whole 10-s step in ~0.4 s, the
+    first batch ~0.2 s before its end, and a client slowed by a loaded machine
+    found the step over. max_step 20 us makes the step ~10 s of wall time,
+    and 2000 samples/s brings the first batch within ~0.1 s of its start."""
     d = Daemon(data_dir=str(tmp_path))
     try:
         sid = requests.post(d.url + "/v1/sessions",
-                            json={"preset": "bump-coupled-ivs5mph"}).json()["id"]
+                            json={"preset": "bump-coupled-ivs5mph",
+                                  "run": {"max_step": 2e-5, "sample_rate": 2000}}).json()["id"]
         th = step_in_background(d.url, sid, 10.0)
         alive = th.is_alive()
         d.stop(sig=signal.SIGKILL)

@@ -10,6 +10,8 @@ import requests
 
 from conftest import is_problem
 
+BURSTS = 5  # bursts of eight summaries asked at once, until one overlaps
+
 
 def test_one_summary_at_a_time_the_others_busy(daemon):
     r = requests.post(daemon.url + "/v1/sessions",
@@ -20,32 +22,50 @@ def test_one_summary_at_a_time_the_others_busy(daemon):
     path = f"{daemon.url}/v1/sessions/{sid}/summary"
     alone = requests.get(path)
     assert alone.status_code == 200 and alone.json()["rows"] == 100001
-    answers, health = [], []
-    go = threading.Barrier(9)
+    health, bursts = [], []
 
-    def ask():
+    def burst():
+        """Eight summaries at once and a /v1/health meanwhile: the answers."""
+        answers = []
+        go = threading.Barrier(9)
+
+        def ask():
+            go.wait()
+            answers.append(requests.get(path, timeout=60))
+
+        threads = [threading.Thread(target=ask) for _ in range(8)]
+        for t in threads:
+            t.start()
         go.wait()
-        answers.append(requests.get(path, timeout=60))
+        time.sleep(0.01)
+        t0 = time.time()
+        assert requests.get(daemon.url + "/v1/health", timeout=10).status_code == 200
+        health.append(time.time() - t0)
+        for t in threads:
+            t.join(60)
+        assert len(answers) == 8
+        return answers
 
-    threads = [threading.Thread(target=ask) for _ in range(8)]
-    for t in threads:
-        t.start()
-    go.wait()
-    time.sleep(0.01)
-    t0 = time.time()
-    assert requests.get(daemon.url + "/v1/health", timeout=10).status_code == 200
-    health.append(time.time() - t0)
-    for t in threads:
-        t.join(60)
-    ok = [a for a in answers if a.status_code == 200]
-    busy = [a for a in answers if a.status_code != 200]
-    assert ok and busy, [a.status_code for a in answers]
-    for a in ok:
-        assert a.content == alone.content
-    for a in busy:
-        p = is_problem(a, 503)
-        assert p["type"].endswith("/problems/busy"), p
-        assert int(a.headers["Retry-After"]) >= 1
-    assert health[0] < 0.2, health
+    # Whether the eight overlap is up to the scheduler: on a loaded 2-core
+    # machine they were answered one after another (eight 200s, nothing to
+    # refuse; seen in 1 of 10 runs). A burst that overlapped is what the test
+    # needs, so it asks again until one does; a daemon that never refuses a
+    # second summary fails every burst.
+    for _ in range(BURSTS):
+        answers = burst()
+        bursts.append([a.status_code for a in answers])
+        ok = [a for a in answers if a.status_code == 200]
+        busy = [a for a in answers if a.status_code != 200]
+        assert ok, bursts  # one is always computed
+        for a in ok:
+            assert a.content == alone.content
+        for a in busy:
+            p = is_problem(a, 503)
+            assert p["type"].endswith("/problems/busy"), p
+            assert int(a.headers["Retry-After"]) >= 1
+        if busy:
+            break
+    assert busy, f"no summary was refused in {BURSTS} bursts of 8: {bursts}"
+    assert min(health) < 0.2, health
     # retried, it is answered
     assert requests.get(path).content == alone.content
