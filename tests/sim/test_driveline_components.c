@@ -112,7 +112,9 @@ static void converter_stall_torque_ratio(void **state)
 
 /* EVIDENCE: no circulation at equal speeds: torque -> 0 at SR = 1, continuous
  * from both sides; over-running (turbine faster) brakes the turbine and drives
- * the pump with TR = 1 (coupling, stator freewheeling). Qualitative/closed form. */
+ * the pump with TR = 1 (coupling, stator freewheeling), at the efficiency of
+ * power flowing backwards, P_pump / P_turbine = w_p / w_t. Qualitative/closed
+ * form. */
 static void converter_over_running(void **state)
 {
     (void)state;
@@ -133,6 +135,9 @@ static void converter_over_running(void **state)
     /* mirror of the forward point at SR 0.8: |T| = (w_t / K(0.8))^2 */
     double k08 = c.driveline.tc_k_factor[5];
     assert_close(o.pump_torque, -pow(1.25 * wp / k08, 2), 1e-12, 0);
+    /* power flows back, turbine to pump, at equal torque: the efficiency is
+     * P_pump / P_turbine = w_p / w_t = 0.8, below 1 */
+    assert_close(o.efficiency, 0.8, 1e-12, 0);
     /* engine stopped, turbine driven: still braking, finite */
     ts_torque_converter_eval(&tc, 0, 50, &o);
     assert_true(o.turbine_torque < 0 && isfinite(o.turbine_torque));

@@ -87,7 +87,8 @@ static void watson_burn_by_hand(void **state)
 /* EVIDENCE: heat-exchanger effectiveness-NTU with a wall at uniform
  * temperature (Incropera & DeWitt, Eq. 11.35 with C_r = 0): eps = 1 -
  * exp(-NTU), NTU = UA / (mdot cp); Q = eps mdot cp (T_in - T_wall). At NTU = 2:
- * 0.8647 of the maximum; Q -> UA dT as the flow grows (NTU -> 0). 1e-12. */
+ * 0.8647 of the maximum; Q -> UA dT as the flow grows (NTU -> 0); a charge
+ * below the wall temperature gains heat (Q < 0). 1e-12. */
 static void intercooler_effectiveness_ntu(void **state)
 {
     (void)state;
@@ -97,6 +98,10 @@ static void intercooler_effectiveness_ntu(void **state)
                  (1 - exp(-2.0)) * mdot * cp * (T_in - T_w), 1e-12, 0);
     assert_close(en_intercooler_heat(ua, 1e3, cp, T_in, T_w), ua * (T_in - T_w), 1e-3, 0);
     assert_close(en_intercooler_heat(ua, 1e-3, cp, T_in, T_w), 1e-3 * cp * (T_in - T_w), 1e-9, 0);
+    /* both ways: a charge cooler than the wall (idle: ~302 K from the
+     * compressor, a 325-K wall) is warmed by the same law */
+    assert_close(en_intercooler_heat(ua, mdot, cp, 300, T_w),
+                 (1 - exp(-2.0)) * mdot * cp * (300 - T_w), 1e-12, 0);
 }
 
 /* EVIDENCE: turbine (engine_turbo.c; Watson & Janota 1982 Ch. 4): flow from the
@@ -232,12 +237,50 @@ static void wall_capacity_and_cn_steady_state(void **state)
     et_bench_free(&b);
 }
 
+/* EVIDENCE: heat continuity at the walls' back faces (engine_crank.c
+ * wall_part; the lumped coolant/oil network of the paper's III.A.1): with
+ * both thermostats shut (the fluids 10 K below their set points, so nothing
+ * leaves to ambient), the oil gains exactly what the twelve pistons' last
+ * wall nodes conduct into it, sum g_back (T_last - T_oil) A_piston, and the
+ * coolant what the heads and the liners conduct, each over its surface's
+ * whole area (the exposed share of the liner limits its gas side only).
+ * 1e-12. Closed form. */
+static void coolant_and_oil_take_the_walls_back_heat(void **state)
+{
+    (void)state;
+    et_bench b = et_bench_at(TS_ENGINE_LHR05, TS_ENGINE_CRANK_ANGLE, ET_RPM(1800));
+    ts_engine *e = b.e;
+    const ts_engine_config *c = &e->c;
+    double *x = b.x, *xd = b.xd;
+    x[e->off_coolant] = c->coolant_temp - 10;
+    x[e->off_coolant + 1] = c->oil_temp - 10;
+    ts_engine_inputs in = et_full_load();
+    ts_engine_outputs out;
+    assert_int_equal(en_crank_eval(e, x, &in, xd, &out, NULL), 0);
+    const double sink[EN_NSURF] = {x[e->off_coolant + 1], x[e->off_coolant], x[e->off_coolant]};
+    double q[EN_NSURF] = {0};
+    for (int i = 0; i < EN_NCYL; i++)
+        for (int s = 0; s < EN_NSURF; s++) {
+            const double *xw = x + e->off_wall + (i * EN_NSURF + s) * EN_WALL_NODES;
+            q[s] += e->wall[s].cond[EN_WALL_NODES - 1] * (xw[EN_WALL_NODES - 1] - sink[s]) *
+                    e->surf_area[s];
+        }
+    for (int s = 0; s < EN_NSURF; s++)
+        assert_true(q[s] > 1e3); /* every surface gives heat: each term is tested */
+    assert_close(xd[e->off_coolant + 1] * c->oil_capacity * e->thermal_scale, q[EN_PISTON], 1e-12,
+                 0);
+    assert_close(xd[e->off_coolant] * c->coolant_capacity * e->thermal_scale,
+                 q[EN_HEAD] + q[EN_LINER], 1e-12, 0);
+    et_bench_free(&b);
+}
+
 /* EVIDENCE: friction torque of a four-stroke engine from its mean effective
  * pressure (Heywood 1988 Eq. 2.19: T = mep V_d,total / (4 pi) for n_R = 2),
  * V_d,total = 12 pi/4 B^2 S, with Millington-Hartles fmep = a (r_c - 4) + b N
  * + c (2 S N / 60)^2 evaluated here by hand, times the documented fade
  * tanh(w / 5 rad/s); the same torque in every fidelity's friction channel
- * (map, mean value, crank angle), at 600, 1400 and 2200 rpm. 1e-9. */
+ * (map, mean value, crank angle), at 600, 1400 and 2200 rpm, and inside the
+ * fade at 2.5 rad/s. 1e-9. */
 static void friction_torque_four_stroke(void **state)
 {
     (void)state;
@@ -262,6 +305,13 @@ static void friction_torque_four_stroke(void **state)
             assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &out), 0);
             assert_close(out.friction_torque, want, 1e-9, 0);
         }
+        /* in the fade, 2.5 rad/s: tanh(0.5) = 0.46 of the torque */
+        double w = 2.5, sp = c->stroke * w / ET_PI;
+        double fmep = c->fmep_a * (c->compression_ratio - 4) + c->fmep_b * w + c->fmep_c * sp * sp;
+        assert_close(en_friction_torque(e, w),
+                     fmep * 12 * ET_PI / 4 * c->bore * c->bore * c->stroke / (4 * ET_PI) *
+                         tanh(0.5),
+                     1e-9, 0);
         free(x);
         free(xd);
         ts_engine_free(e);
@@ -325,7 +375,8 @@ static void crankshaft_variable_inertia(void **state)
  * m_f (1 + (A/F)_s) (Heywood 1988 Sec. 4.2), read from the manifold's
  * d(m F)/dt plus what leaves through the turbine and wastegate (1e-9). At
  * a commanded fuel per cycle (no fuel law), 1400 rpm, the manifolds of
- * ts_engine_init_state with an intake burned fraction of 0.05. */
+ * ts_engine_init_state with an intake burned fraction of 0.05. The phi
+ * channel is the charge's equivalence ratio, m_f (A/F)_s / m_in (1e-12). */
 static void mean_value_first_law_and_burned_mass(void **state)
 {
     (void)state;
@@ -346,6 +397,8 @@ static void mean_value_first_law_and_burned_mass(void **state)
     assert_close(l[LX_FUEL_E] - l[LX_WORK] - l[LX_WALL], l[LX_HOUT] - l[LX_HIN], 0,
                  1e-12 * l[LX_FUEL_E]);
     assert_close(l[LX_MOUT], l[LX_MIN] + l[LX_MFUEL], 1e-12, 0);
+    /* the equivalence ratio reported: (fuel / charge) / (fuel / air)_s */
+    assert_close(out.phi, l[LX_MFUEL] * c->afr_stoich / l[LX_MIN], 1e-12, 0);
     for (int b = 0; b < EN_NBANK; b++) { /* the banks are alike: half of each flow */
         const double *xb = x + e->off_bank + b * EN_BANK_NX;
         const double *db = xd + e->off_bank + b * EN_BANK_NX;
@@ -378,7 +431,9 @@ static void mean_value_first_law_and_burned_mass(void **state)
  *  - heat release = m_f LHV dX/dtheta w with Watson's X (SAE 800029, whose
  *    ignition delay is in ms and speed in rpm): tau = (5 deg)/duration,
  *    tau_id = (angle from SOI to ignition) / w in ms, phi the cycle's overall
- *    equivalence ratio m_f (A/F)_s / (air trapped before burning) (1e-9).
+ *    equivalence ratio m_f (A/F)_s / (air trapped before burning) (1e-9);
+ *  - mass: dm/dt = the fuel burned (q / LHV), d(m_burned)/dt = (1 + (A/F)_s)
+ *    q / LHV, the products of the fuel and its stoichiometric air (1e-12).
  * Closed forms, not calibrated. */
 static void crank_cylinder_by_hand(void **state)
 {
@@ -426,6 +481,11 @@ static void crank_cylinder_by_hand(void **state)
     double q = mf * c->lhv * dX / c->burn_duration * w;
     assert_true(q > 0);
     assert_close(out.heat_release, q, 1e-9, 0);
+    /* mass, valves shut: the fuel burned is the only gain, and it joins the
+     * burned gas with its stoichiometric air (products = fuel + AFR_s fuel) */
+    double mfb = q / c->lhv;
+    assert_close(xd[e->off_cyl + CX_M], mfb, 1e-12, 0);
+    assert_close(xd[e->off_cyl + CX_MB], (1 + c->afr_stoich) * mfb, 1e-12, 0);
     et_bench_free(&b);
 }
 
@@ -495,6 +555,7 @@ int main(void)
         cmocka_unit_test(turbine_power_off_optimum),
         cmocka_unit_test(rotor_power_balance),
         cmocka_unit_test(wall_capacity_and_cn_steady_state),
+        cmocka_unit_test(coolant_and_oil_take_the_walls_back_heat),
         cmocka_unit_test(friction_torque_four_stroke),
         cmocka_unit_test(crankshaft_variable_inertia),
         cmocka_unit_test(mean_value_first_law_and_burned_mass),
