@@ -107,6 +107,9 @@ def test_tune_refuses_a_plant_that_never_settled(tmp_path):
     # refused naming the field to change; a grade the low rack holds still tunes.
     cases = [({"vehicle": {"grade": 0.6}}, "/control/tune_rack_low"),
              ({"control": {"tune_duration": 1}}, "/control/tune_duration"),
+             # still accelerating at 0.34 m/s^2 after 20 s, against a limit of 1e-3 of the
+             # speed span per second (~0.017 m/s^2): a looser limit would take it
+             ({"control": {"tune_duration": 20}}, "/control/tune_duration"),
              ({"control": {"tune_settle": 0.01}}, "/control/tune_settle"),
              ({"control": {"tune_window": 4}}, "/control/tune_window")]
     for k, (over, field) in enumerate(cases):
