@@ -9,6 +9,7 @@
  */
 #include "test_util.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "api/analysis_json.h"
@@ -203,6 +204,102 @@ static void ivs_tune_eq12(void **state)
     assert_close(o.kp, ts_zn_kp_physical(o.zn.kp_norm, cfg.control.tune_rack_low, 1.0, o.v0, o.vb),
                  1e-12, 0);
     assert_true(fabs(o.settle_slope) < fabs(o.final_slope)); /* settled before the step */
+}
+
+/* A run's vehicle speed, sample by sample (a ts_sample_fn's ud). */
+typedef struct speeds {
+    double *t, *v;
+    long n, cap;
+    int ch;
+} speeds;
+
+static int keep_speed(void *ud, long index, double t, const double *values, int n)
+{
+    (void)index;
+    (void)n;
+    speeds *s = ud;
+    if (s->n == s->cap) {
+        s->cap = s->cap ? 2 * s->cap : 4096;
+        s->t = realloc(s->t, (size_t)s->cap * sizeof *s->t);
+        s->v = realloc(s->v, (size_t)s->cap * sizeof *s->v);
+        assert_non_null(s->t);
+        assert_non_null(s->v);
+    }
+    s->t[s->n] = t;
+    s->v[s->n] = values[s->ch];
+    s->n++;
+    return 0;
+}
+
+/* EVIDENCE: Eq. 11 (zn_tuning.h): the reaction curve is built on V_ar = (V_a -
+ * V_a0)/(V_ab - V_a0), the speed measured FROM the low-rack steady state (v0
+ * = 1.43 m/s on this preset, not 0) over the span. The plant step of
+ * ivs_tune.h run here by hand (the point-mass powertrain plant at
+ * tune_rack_low for tune_settle s, its state restored into a full-rack
+ * model for tune_duration s), its speeds normalised by Eq. 11 here and
+ * given to ts_zn_reaction_curve: the same v0, vb, X, Y, slope, K_p and T_I
+ * as ts_ivs_tune's (1e-12; deterministic runs). Normalising without
+ * subtracting v0 shifts V_ar by v0/span = 0.08 and K_p by ~30 %. */
+static void ivs_tune_normalises_by_eq11(void **state)
+{
+    (void)state;
+    ts_config cfg = load("bump-coupled-ivs5mph");
+    ts_ivs_tune_result o;
+    ts_err err;
+    assert_int_equal(ts_ivs_tune(&cfg, &o, &err), TS_OK);
+    const ts_control_config *cc = &cfg.control;
+    ts_config c = cfg;
+    c.run.kind = TS_RUN_POINTMASS;
+    c.terrain.kind = TS_TERRAIN_FLAT;
+    c.drive.kind = TS_DRIVE_POWERTRAIN;
+    c.control.mode = TS_CONTROL_RACK;
+    c.control.rack = cc->tune_rack_low;
+    c.run.duration = cc->tune_settle + cc->tune_duration;
+    ts_model *m0 = ts_model_make(&c, &err);
+    assert_non_null(m0);
+    c.control.rack = 1.0;
+    ts_model *m1 = ts_model_make(&c, &err);
+    assert_non_null(m1);
+    ts_data *d0 = ts_data_make(m0, &err), *d1 = ts_data_make(m1, &err);
+    assert_non_null(d0);
+    assert_non_null(d1);
+    speeds s = {NULL, NULL, 0, 0, ts_model_channel_index(m0, "vehicle.speed")};
+    assert_true(s.ch >= 0);
+    assert_int_equal(ts_reset(m0, d0, &err), TS_OK);
+    assert_int_equal(ts_advance(m0, d0, cc->tune_settle, keep_speed, &s, &err), TS_OK);
+    double v0 = s.v[s.n - 1];
+    size_t nbuf = ts_state_size(m0);
+    void *buf = malloc(nbuf);
+    assert_non_null(buf);
+    assert_int_equal(ts_state_save(m0, d0, buf, nbuf, &err), TS_OK);
+    assert_int_equal(ts_state_restore(m1, d1, buf, nbuf, &err), TS_OK);
+    s.n = 0;
+    keep_speed(&s, 0, ts_time(d1), ts_latest(d1), 0);
+    assert_int_equal(ts_advance(m1, d1, c.run.duration, keep_speed, &s, &err), TS_OK);
+    double vb = s.v[s.n - 1];
+    assert_close(o.v0, v0, 1e-12, 0);
+    assert_close(o.vb, vb, 1e-12, 0);
+    assert_true(v0 > 0.05 * (vb - v0)); /* v0 is not 0: Eq. 11's offset matters */
+    for (long i = 0; i < s.n; i++)
+        s.v[i] = (s.v[i] - v0) / (vb - v0); /* Eq. 11 */
+    ts_zn_result zn;
+    assert_int_equal(ts_zn_reaction_curve(s.t, s.v, (int)s.n, cc->tune_settle, cc->tune_window,
+                                          cc->ti_factor, &zn, &err),
+                     TS_OK);
+    assert_close(o.zn.t_inflection, zn.t_inflection, 1e-12, 0);
+    assert_close(o.zn.slope, zn.slope, 1e-12, 0);
+    assert_close(o.zn.x, zn.x, 1e-12, 0);
+    assert_close(o.zn.y, zn.y, 1e-12, 0);
+    assert_close(o.zn.kp_norm, zn.kp_norm, 1e-12, 0);
+    assert_close(o.zn.ti, zn.ti, 1e-12, 0);
+    assert_close(o.kp, ts_zn_kp_physical(zn.kp_norm, cc->tune_rack_low, 1.0, v0, vb), 1e-12, 0);
+    free(buf);
+    free(s.t);
+    free(s.v);
+    ts_data_free(d0);
+    ts_data_free(d1);
+    ts_model_free(m0);
+    ts_model_free(m1);
 }
 
 /* The tuning document: the base tune's numbers, a one-point schedule at the
@@ -417,6 +514,7 @@ int main(void)
         cmocka_unit_test(sweep_cancel),
         cmocka_unit_test(sweep_engine_error),
         cmocka_unit_test(ivs_tune_eq12),
+        cmocka_unit_test(ivs_tune_normalises_by_eq11),
         cmocka_unit_test(tune_document_and_progress),
         cmocka_unit_test(tune_rejects_bad_schedule),
         cmocka_unit_test(ivs_tune_needs_a_settle),

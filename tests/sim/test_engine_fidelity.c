@@ -60,6 +60,84 @@ static void map_boost_lag_closed_form(void **state)
     ts_engine_free(e);
 }
 
+/* EVIDENCE: the map fidelity's air flow (engine_map.c): Eq. 14 read backwards
+ * at full rack (the full-load fuel at this speed times (A/F)_s / phi_tgt,
+ * Eq. 13) scaled by boost / map_boost (speed-density: at a fixed speed,
+ * volumetric efficiency and charge temperature the trapped air mass is
+ * proportional to the manifold pressure). At a partly built-up boost (z =
+ * 0.4, and 0.1) air_flow phi_tgt / (A/F)_s = fuel_fl boost / map_boost, and
+ * at z = 1 the full-load air flow itself. 1600 rpm is the 9th map speed (a
+ * table node). Closed form, tolerance 1e-12. */
+static void map_air_flow_follows_boost(void **state)
+{
+    (void)state;
+    ts_config c = et_defaults();
+    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_MAP);
+    ts_fuel_law f = ts_fuel_law_from_config(&c.engine);
+    double w = c.engine.map_speed[8];
+    double fuel_fl = c.engine.map[0].fuel[8], p_fl = c.engine.map[0].boost[8];
+    double phi = ts_fuel_phi_target(&f, w);
+    ts_engine_inputs in = et_full_load();
+    const double zs[3] = {0.4, 0.1, 1.0};
+    for (int k = 0; k < 3; k++) {
+        double x[3] = {w, 0, zs[k]}, xd[3];
+        ts_engine_outputs o;
+        ts_engine_rhs(e, 0, x, &in, xd, &o);
+        double boost = in.p_amb + zs[k] * (p_fl - in.p_amb);
+        assert_close(o.boost, boost, 1e-12, 0);
+        assert_close(o.air_flow * phi / c.engine.afr_stoich, fuel_fl * boost / p_fl, 1e-12, 0);
+    }
+    ts_engine_free(e);
+}
+
+/* EVIDENCE: engine_impl.h: the part-boost tables are interpolated bilinearly
+ * and "clamped at the edges" (engine_mean.c: en_pb_at): outside the spool
+ * speeds (800-2200 rpm; the 650-rpm idle lies below) the value is the edge
+ * speed row's, and outside the spool ratios (0.25-1.0) the edge ratio
+ * node's; no extrapolation. Checked on the map's pb_torque and the
+ * mean-value engine's pb_eta_i and pb_q_wall (conventional variant), whose edge rows and nodes
+ * differ from their neighbours (so an extrapolation would show). Exact (the
+ * same operations on the same nodes). */
+static void part_boost_tables_clamp_at_the_edges(void **state)
+{
+    (void)state;
+    ts_config c = et_defaults();
+    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_MAP);
+    const double *ws = c.engine.spool_speed, *rs = c.engine.spool_ratio;
+    int ns = c.engine.spool_speed_n, nr = c.engine.spool_ratio_n;
+    assert_true(ns >= 2 && nr >= 2);
+    assert_true(ET_RPM(650) < ws[0]);
+    const ts_engine_map_table *mt = &c.engine.map[0];
+    const double *tabs[3] = {mt->pb_torque, mt->pb_eta_i, mt->pb_q_wall};
+    for (int k = 0; k < 3; k++) {
+        const double *y = tabs[k];
+        /* speed: below the first and above the last spool speed */
+        for (int j = 0; j < nr; j++) {
+            double r = rs[j];
+            double lo = en_pb_interp(e, y, ws[0], r), hi = en_pb_interp(e, y, ws[ns - 1], r);
+            assert_true(en_pb_interp(e, y, 0.8 * ws[0], r) == lo);
+            assert_true(en_pb_interp(e, y, ET_RPM(650), r) == lo);
+            assert_true(en_pb_interp(e, y, 1.2 * ws[ns - 1], r) == hi);
+        }
+        /* ratio: below the first and above the last spool ratio */
+        for (int i = 0; i < ns; i++) {
+            double lo = en_pb_interp(e, y, ws[i], rs[0]),
+                   hi = en_pb_interp(e, y, ws[i], rs[nr - 1]);
+            assert_true(en_pb_interp(e, y, ws[i], 0.4 * rs[0]) == lo);
+            assert_true(en_pb_interp(e, y, ws[i], 1.3 * rs[nr - 1]) == hi);
+        }
+    }
+    /* the edges differ from their neighbours somewhere (else the test is blind) */
+    const double *y = c.engine.map[0].pb_torque;
+    int dw = 0, dr = 0;
+    for (int j = 0; j < nr; j++)
+        dw += y[j] != y[nr + j];
+    for (int i = 0; i < ns; i++)
+        dr += y[i * nr + nr - 1] != y[i * nr + nr - 2];
+    assert_true(dw > 0 && dr > 0);
+    ts_engine_free(e);
+}
+
 /* EVIDENCE: crankshaft dynamics J dw/dt = T_brake(w) - T_load (Newton): with a
  * constant load of 5400 N*m at full rack the map engine settles where its
  * full-load torque equals the load (on the falling side above peak torque:
@@ -386,6 +464,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(map_boost_lag_closed_form),
+        cmocka_unit_test(map_air_flow_follows_boost),
+        cmocka_unit_test(part_boost_tables_clamp_at_the_edges),
         cmocka_unit_test(map_crank_dynamics_settle_on_load),
         cmocka_unit_test(map_full_boost_matches_the_sweep_at_every_speed),
         cmocka_unit_test(mean_value_matches_crank_angle_sweep),

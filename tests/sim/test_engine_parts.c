@@ -494,6 +494,76 @@ static void friction_and_fuel_law(void **state)
                 ts_fuel_per_cycle(&f, 2.0, ET_RPM(2100), 1.0));
 }
 
+/* EVIDENCE: Eq. 13 with its cap (fuel_actuator.h: phi_max, "cap on phi_tgt";
+ * engine.json: a smoke-limit guard): phi_tgt = min(phi_rated + c (N -
+ * N_rated)^2, phi_max). With phi_max lowered to 0.5 the 650-rpm idle, where
+ * the parabola gives 0.64, is held at exactly 0.5, and Eq. 14's fuel follows
+ * the capped value; at 2100 rpm (0.45, below the cap) nothing changes.
+ * Closed form, tolerance 1e-12. */
+static void fuel_law_phi_max_caps_eq13(void **state)
+{
+    (void)state;
+    ts_config c = et_defaults();
+    ts_fuel_law f = ts_fuel_law_from_config(&c.engine);
+    f.phi_max = 0.5;
+    double dw = ET_RPM(650) - f.speed_rated;
+    assert_true(f.phi_rated + f.phi_curvature * dw * dw > 0.6); /* the cap binds */
+    assert_true(ts_fuel_phi_target(&f, ET_RPM(650)) == 0.5);
+    assert_close(ts_fuel_phi_target(&f, ET_RPM(2100)), 0.45, 1e-9, 0);
+    double mf = ts_fuel_per_cycle(&f, 1.0, ET_RPM(650), 1.0);
+    assert_close(mf, 1.0 * 0.5 / f.afr_stoich * 60 * 2 / (650 * 12.0), 1e-12, 0);
+}
+
+/* EVIDENCE: Eq. 14 m_f = m_air phi_tgt / (A/F)_s Rack 60 n_R / (N n_cyl) has N
+ * in the denominator; fuel_actuator.h clamps N below at 10 rad/s (the guard
+ * against N -> 0). A stopped crank (omega 0) therefore gets the finite fuel
+ * of Eq. 14 at N = 10 rad/s with phi_tgt(0): (A/F)_s 14.5, 12 cylinders,
+ * n_R = 2; and, phi_tgt being at its cap (0.8) at both speeds with the
+ * defaults, exactly the fuel at 10 rad/s itself. Closed form, 1e-12. */
+static void fuel_law_speed_floor_eq14(void **state)
+{
+    (void)state;
+    ts_config c = et_defaults();
+    ts_fuel_law f = ts_fuel_law_from_config(&c.engine);
+    double n_min = 10.0 * 30.0 / ET_PI; /* rpm */
+    double mf0 = ts_fuel_per_cycle(&f, 2.0, 0.0, 1.0);
+    assert_true(isfinite(mf0) && mf0 > 0);
+    assert_close(mf0, 2.0 * ts_fuel_phi_target(&f, 0.0) / 14.5 * 60 * 2 / (n_min * 12.0), 1e-12, 0);
+    assert_true(ts_fuel_phi_target(&f, 0.0) == f.phi_max);
+    assert_true(ts_fuel_phi_target(&f, 10.0) == f.phi_max);
+    assert_close(mf0, ts_fuel_per_cycle(&f, 2.0, 10.0, 1.0), 1e-12, 0);
+    assert_close(ts_fuel_per_cycle(&f, 2.0, 4.0, 1.0), mf0, 1e-12, 0);
+}
+
+/* EVIDENCE: the compressor map's efficiency floor (engine_turbo.c: eta =
+ * eta_max (1 - ((phi - phi_opt)/phi_width)^2) ... ">= eta_min"): near the
+ * zero-flow line (flow coefficient phi = 0.01, below the ~0.031 where the
+ * island reaches eta_min 0.45 of the fixture) eta = eta_min exactly (the
+ * island alone would give 0.8 (1 - (0.12/0.15)^2) = 0.288), and the power is
+ * P_c = mdot dh_is / eta_min (Watson & Janota 1982). Tip Mach 0.72, below
+ * M_opt: the island alone. Closed form, tolerance 1e-9. */
+static void compressor_efficiency_floor(void **state)
+{
+    (void)state;
+    en_turbo t = test_turbo();
+    ts_config c = et_defaults();
+    en_gas gas;
+    en_gas_init(&gas, c.engine.cp_air, c.engine.cp_burned, c.engine.r_air, c.engine.r_burned);
+    double w = 5000, U = w * 0.05, T1 = 298, p1 = 1e5, rho = p1 / (287 * T1);
+    /* phi = phi_ch sqrt(1 - dh/(psi0 U^2)) = 0.01: the head that gives it */
+    double s = 0.01 / 0.22, dh = 0.9 * U * U * (1 - s * s);
+    double pr = pow(1 + dh / (1005 * T1), 1.4 / 0.4);
+    en_comp_out o;
+    en_compressor(&t, &gas, w, p1, T1, pr * p1, &o);
+    double phi = o.mdot / (rho * U * 0.01);
+    assert_close(phi, 0.01, 1e-6, 0);
+    assert_true(o.mdot > 0);
+    double x = (phi - 0.13) / 0.15;
+    assert_true(0.8 * (1 - x * x) < 0.45); /* the island is below the floor here */
+    assert_true(o.eta == 0.45);
+    assert_close(o.power, o.mdot * dh / 0.45, 1e-9, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -505,6 +575,9 @@ int main(void)
         cmocka_unit_test(wall_steady_conduction),
         cmocka_unit_test(turbo_maps),
         cmocka_unit_test(friction_and_fuel_law),
+        cmocka_unit_test(fuel_law_phi_max_caps_eq13),
+        cmocka_unit_test(fuel_law_speed_floor_eq14),
+        cmocka_unit_test(compressor_efficiency_floor),
         cmocka_unit_test(exhaust_backflow_brings_ambient_air),
         cmocka_unit_test(intercooler_backflow_conserves_burned_mass),
         cmocka_unit_test(wastegate_actuator_linear),
