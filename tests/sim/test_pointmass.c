@@ -186,6 +186,14 @@ static void drive_histories(void **state)
     assert_close(ts_drive_torque(&dc, 0.5), 5, 1e-12, 0);
     assert_close(ts_drive_torque(&dc, 2), 0, 0, 1e-12);
     assert_close(ts_drive_torque(&dc, 9), -10, 1e-12, 0);
+    /* EVIDENCE: a table is held at its first row before its first time (as at
+     * its last row after its last): a table starting at 1 s with 10 N*m gives
+     * 10 N*m at 0.5 s, not 0 */
+    dc.table_t[0] = 1, dc.table_t[1] = 2;
+    dc.table_torque[0] = 10;
+    assert_close(ts_drive_torque(&dc, 0.5), 10, 1e-12, 0);
+    dc.table_t[0] = 0, dc.table_t[1] = 1;
+    dc.table_torque[0] = 0;
     dc.table_t[2] = 0.5; /* not increasing */
     assert_int_equal(ts_drive_check(&dc, &err), TS_ERR_PARAM);
     assert_string_equal(err.pointer, "/drive/table_t");

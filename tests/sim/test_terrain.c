@@ -95,6 +95,50 @@ static void inline_bumps_and_csv_profile(void **state)
     ts_terrain_free(t);
 }
 
+/* EVIDENCE: linear interpolation between CSV points, continued flat at the
+ * first and the last point's height on either side (terrain.h), and a
+ * point's slope that of the segment starting there (find_le: the last
+ * distance <= x); an inline bump list's course ends where its last bump
+ * does (start + length), also when that bump abuts the one before. Exact. */
+static void profile_edges_and_inline_course_length(void **state)
+{
+    (void)state;
+    char buf[64];
+    const char *path = test_out_path(buf, sizeof buf, "terrain_profile_edges.csv");
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "5,0.3\n10,0.8\n20,0.3\n");
+    fclose(f);
+    ts_terrain_config p = base(TS_TERRAIN_PROFILE);
+    snprintf(p.profile_csv, sizeof p.profile_csv, "%s", path);
+    ts_err err;
+    ts_terrain *t = ts_terrain_make(&p, &err);
+    assert_non_null(t);
+    double slope = -1;
+    /* before the first point: its height, flat */
+    assert_close(ts_terrain_height(t, 0, &slope), 0.3, 1e-12, 0);
+    assert_close(slope, 0, 0, 0);
+    /* on the middle point: its height, the slope of the segment 10-20 m */
+    assert_close(ts_terrain_height(t, 10, &slope), 0.8, 1e-12, 0);
+    assert_close(slope, -0.05, 1e-12, 0);
+    assert_close(ts_terrain_height(t, 25, &slope), 0.3, 1e-12, 0);
+    assert_close(slope, 0, 0, 0);
+    ts_terrain_free(t);
+
+    ts_terrain_config c = base(TS_TERRAIN_BUMPS);
+    c.bump_n = c.bump_height_n = c.bump_length_n = 2;
+    c.bump_start[0] = 2.0;
+    c.bump_height[0] = 0.1;
+    c.bump_length[0] = 1.0;
+    c.bump_start[1] = 3.0; /* starts where the first ends (allowed) */
+    c.bump_height[1] = 0.2;
+    c.bump_length[1] = 3.0;
+    t = ts_terrain_make(&c, &err);
+    assert_non_null(t);
+    assert_close(ts_terrain_length(t), 6.0, 1e-12, 0);
+    ts_terrain_free(t);
+}
+
 static void errors_name_the_field(void **state)
 {
     (void)state;
@@ -201,6 +245,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(apg4_synth_course_has_the_papers_obstacles),
         cmocka_unit_test(inline_bumps_and_csv_profile),
+        cmocka_unit_test(profile_edges_and_inline_course_length),
         cmocka_unit_test(errors_name_the_field),
         cmocka_unit_test(terrain_files_are_read_strictly),
     };

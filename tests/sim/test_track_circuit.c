@@ -320,8 +320,24 @@ static void track_circuit_config_errors(void **state)
     ts_span_params sp;
     assert_int_equal(ts_span_params_from_config(&cfg, 0, &sp, &err), TS_ERR_PARAM);
     assert_string_equal(err.pointer, "/track/span_inclination");
-    cfg.vehicle.road_wheel_n = 1;
+    /* EVIDENCE: a span's weight normal to a chord inclined by theta is
+     * rho g cos(theta) (gravity resolved on the chord's normal), and each
+     * free support carries its own wheel's spin inertia (Fig. 5: idler,
+     * front and rear roller, sprocket). Exact. */
+    cfg.track.span_inclination_n = 1;
+    cfg.track.span_inclination[0] = 0.3;
+    assert_int_equal(ts_span_params_from_config(&cfg, 0, &sp, &err), TS_OK);
+    assert_close(sp.g_y, 9.80665 * cos(0.3), 1e-12, 0);
     ts_circuit_params cp;
+    cfg.vehicle.idler_inertia = 11.0;
+    cfg.vehicle.roller_inertia = 3.0;
+    cfg.vehicle.sprocket_inertia = 7.0;
+    assert_int_equal(ts_circuit_params_from_config(&cfg, &cp, &err), TS_OK);
+    assert_close(cp.inertia[1], 11.0, 0, 0);
+    assert_close(cp.inertia[2], 3.0, 0, 0);
+    assert_close(cp.inertia[3], 3.0, 0, 0);
+    assert_close(cp.inertia[4], 7.0, 0, 0);
+    cfg.vehicle.road_wheel_n = 1;
     assert_int_equal(ts_circuit_params_from_config(&cfg, &cp, &err), TS_ERR_PARAM);
     assert_string_equal(err.pointer, "/vehicle/road_wheel_x");
 }

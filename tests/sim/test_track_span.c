@@ -162,6 +162,12 @@ static void track_span_matrices_and_eq9(void **state)
     assert_close(sp->k1, EA * kappa, 1e-14, 0);
     assert_close(sp->k2, EA * kappa * kappa, 1e-14, 0);
     assert_close(sp->sag, kappa * 4.0 / 8.0, 1e-14, 0);
+    /* EVIDENCE: the shallow cable's parabola (Irvine's cable) Y0(s) = kappa s
+     * (L - s) / 2, the Eq. 9 curvature integrated with Y0(0) = Y0(L) = 0: its
+     * midspan value is the sag kappa L^2 / 8, at a quarter 3 kappa L^2 / 32. */
+    assert_close(ts_span_sag(sp, 1.0), sp->sag, 1e-14, 0);
+    assert_close(ts_span_sag(sp, 0.5), 3.0 * kappa * 4.0 / 32.0, 1e-14, 0);
+    assert_close(ts_span_sag(sp, 0.0), 0, 0, 0);
     int n = sp->n;
     assert_int_equal(n, 8);
     double mass_b = sp->M[0] + 2 * sp->M[1] + sp->M[n + 1]; /* (N0 + N1)^2 = 1 */
@@ -835,6 +841,16 @@ static void track_span_end_force_shear(void **state)
     assert_close(ef.f1y, f1y, 1e-12, 0);
     assert_close(ef.f0x, P0 + EA * e, 1e-12, 0);
     assert_close(ef.f1x, -(P0 + EA * e), 1e-12, 0);
+    /* EVIDENCE: Eqs. 1-2, tau = EA (U_x + kappa V), at each end: a first
+     * longitudinal mode U = c sin(pi s/L) stretches end 0 by c pi/L and
+     * shortens end 1 by as much (V = 0 at both ends), so the two end
+     * tensions differ by 2 EA c pi/L. Exact (1e-12). */
+    const double cl = 1e-4;
+    x[sp->i_long] = cl;
+    ts_span_end_forces_eval(sp, x, &ef);
+    assert_close(ef.tension0, P0 + EA * (e + cl * PI / L), 1e-12, 0);
+    assert_close(ef.tension1, P0 + EA * (e - cl * PI / L), 1e-12, 0);
+    assert_close(ef.f1x, -(P0 + EA * (e - cl * PI / L)), 1e-12, 0);
     ts_span_free(sp);
     /* uniform tension: tau = EA (e + kappa a (2L/pi)/L) at both ends */
     ts_span_params pq = base(L, G0, 0, 3);

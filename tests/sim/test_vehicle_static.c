@@ -532,6 +532,73 @@ static void rolling_resistance_speed_is_along_the_grade(void **state)
 /* The geometry snapshot (geometry.h) for the renderer: 11 wheels with their
  * roles, a closed track polyline through every wheel's wrap, tensions at P0 at
  * rest, terrain around the hull. Structural checks, exact. */
+/* EVIDENCE: span.*.deflection is the transverse field at mid-span, V(L/2) =
+ * sum_k q_k sin(k pi/2) over the span's sine modes (Eqs. 4-5 Galerkin
+ * basis): its sensitivity to every coordinate is +1 (modes 1, 5, ...), -1
+ * (3, 7, ...) or 0 (even modes, the rigid-body and longitudinal coordinates),
+ * and each span has a +1. Linear in q, so a 1e-3 difference gives it to
+ * rounding (1e-6). */
+static void span_mid_deflection_is_the_midspan_value(void **state)
+{
+    (void)state;
+    ts_config c = config("coupled");
+    vm *v = test_vm(&c);
+    vm_work *w = vm_work_make(v);
+    int nq = vm_nq(v), ny = vm_ny(v);
+    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+    assert_true(y && yd);
+    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    vm_diag d0, d1;
+    assert_int_equal(vm_rhs(v, w, 0.0, y, yd, &d0), 0);
+    int ones[VM_NSPAN] = {0};
+    for (int j = 0; j < nq; j++) {
+        y[j] += 1e-3;
+        assert_int_equal(vm_rhs(v, w, 0.0, y, yd, &d1), 0);
+        y[j] -= 1e-3;
+        for (int s = 0; s < VM_NSPAN; s++) {
+            double sens = (d1.span_mid_deflection[s] - d0.span_mid_deflection[s]) / 1e-3;
+            double near = round(sens);
+            assert_true(fabs(near) <= 1);
+            assert_close(sens, near, 0, 1e-6);
+            ones[s] += near == 1;
+        }
+    }
+    for (int s = 0; s < VM_NSPAN; s++)
+        assert_true(ones[s] >= 1);
+    free(y), free(yd);
+    vm_work_free(w);
+    vm_free(v);
+}
+
+/* EVIDENCE: the slack law (/track/no_compression: a track cannot push)
+ * changes nothing while the track is taut: at rest every span's tension is
+ * near the tensioner's setting P0 > 0, so the rear roller's normal force with
+ * the law on is the one without it (Newton's third law on the roller: the
+ * spans' end forces), not zero. Exact (1e-12). */
+static void slack_law_leaves_the_taut_roller_force(void **state)
+{
+    (void)state;
+    double force[2];
+    for (int on = 0; on < 2; on++) {
+        ts_config c = config("coupled");
+        c.track.no_compression = on;
+        vm *v = test_vm(&c);
+        vm_work *w = vm_work_make(v);
+        int ny = vm_ny(v);
+        double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+        assert_true(y && yd);
+        memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+        vm_diag dg;
+        assert_int_equal(vm_rhs(v, w, 0.0, y, yd, &dg), 0);
+        force[on] = dg.rear_roller_normal;
+        free(y), free(yd);
+        vm_work_free(w);
+        vm_free(v);
+    }
+    assert_true(fabs(force[0]) > 100);
+    assert_close(force[1], force[0], 1e-12, 0);
+}
+
 static void geometry_snapshot_is_complete(void **state)
 {
     (void)state;
@@ -850,6 +917,8 @@ int main(void)
         cmocka_unit_test(arm_inertia_enters_by_the_absolute_rate),
         cmocka_unit_test(drag_decelerates_by_its_closed_form),
         cmocka_unit_test(rolling_resistance_acts_along_the_grade),
+        cmocka_unit_test(span_mid_deflection_is_the_midspan_value),
+        cmocka_unit_test(slack_law_leaves_the_taut_roller_force),
         cmocka_unit_test(geometry_snapshot_is_complete),
         cmocka_unit_test(equilibrium_with_a_bump_under_a_wheel),
         cmocka_unit_test(failure_context_names_the_ground),
