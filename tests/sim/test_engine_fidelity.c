@@ -66,8 +66,10 @@ static void map_boost_lag_closed_form(void **state)
  * volumetric efficiency and charge temperature the trapped air mass is
  * proportional to the manifold pressure). At a partly built-up boost (z =
  * 0.4, and 0.1) air_flow phi_tgt / (A/F)_s = fuel_fl boost / map_boost, and
- * at z = 1 the full-load air flow itself. 1600 rpm is the 9th map speed (a
- * table node). Closed form, tolerance 1e-12. */
+ * at z = 1 the full-load air flow itself. A commanded fuel per cycle burns
+ * that fuel: half the full-load one gives half the fuel flow and half the
+ * full-load indicated torque (Willans line). 1600 rpm is the 9th map speed
+ * (a table node). Closed form, tolerance 1e-12. */
 static void map_air_flow_follows_boost(void **state)
 {
     (void)state;
@@ -87,6 +89,19 @@ static void map_air_flow_follows_boost(void **state)
         assert_close(o.boost, boost, 1e-12, 0);
         assert_close(o.air_flow * phi / c.engine.afr_stoich, fuel_fl * boost / p_fl, 1e-12, 0);
     }
+    /* a commanded fuel per cycle (the library's fuel input, beside the rack)
+     * at full boost: half the full-load fuel per cycle burns half the
+     * full-load fuel flow, and the Willans line gives half the full-load
+     * indicated torque (engine_map.c) */
+    double x[3] = {w, 0, 1.0}, xd[3];
+    double cycles_per_s = w / (4 * ET_PI); /* four-stroke: one cycle per 4 pi rad */
+    in.fuel_per_cycle = 0.5 * fuel_fl / (12 * cycles_per_s);
+    ts_engine_outputs o;
+    ts_engine_rhs(e, 0, x, &in, xd, &o);
+    assert_close(o.fuel_flow, 0.5 * fuel_fl, 1e-12, 0);
+    assert_close(o.fuel_per_cycle, in.fuel_per_cycle, 1e-12, 0);
+    assert_close(o.indicated_torque, 0.5 * (c.engine.map[0].torque[8] + o.friction_torque), 1e-12,
+                 0);
     ts_engine_free(e);
 }
 
