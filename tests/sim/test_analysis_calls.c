@@ -206,31 +206,6 @@ static void ivs_tune_eq12(void **state)
     assert_true(fabs(o.settle_slope) < fabs(o.final_slope)); /* settled before the step */
 }
 
-/* A run's vehicle speed, sample by sample (a ts_sample_fn's ud). */
-typedef struct speeds {
-    double *t, *v;
-    long n, cap;
-    int ch;
-} speeds;
-
-static int keep_speed(void *ud, long index, double t, const double *values, int n)
-{
-    (void)index;
-    (void)n;
-    speeds *s = ud;
-    if (s->n == s->cap) {
-        s->cap = s->cap ? 2 * s->cap : 4096;
-        s->t = realloc(s->t, (size_t)s->cap * sizeof *s->t);
-        s->v = realloc(s->v, (size_t)s->cap * sizeof *s->v);
-        assert_non_null(s->t);
-        assert_non_null(s->v);
-    }
-    s->t[s->n] = t;
-    s->v[s->n] = values[s->ch];
-    s->n++;
-    return 0;
-}
-
 /* EVIDENCE: Eq. 11 (zn_tuning.h): the reaction curve is built on V_ar = (V_a -
  * V_a0)/(V_ab - V_a0), the speed measured FROM the low-rack steady state (v0
  * = 1.43 m/s on this preset, not 0) over the span. The plant step of
@@ -263,27 +238,31 @@ static void ivs_tune_normalises_by_eq11(void **state)
     ts_data *d0 = ts_data_make(m0, &err), *d1 = ts_data_make(m1, &err);
     assert_non_null(d0);
     assert_non_null(d1);
-    speeds s = {NULL, NULL, 0, 0, ts_model_channel_index(m0, "vehicle.speed")};
-    assert_true(s.ch >= 0);
+    int ch = ts_model_channel_index(m0, "vehicle.speed"), nc = ts_model_nchannel(m0);
+    assert_true(ch > 0); /* column 0 is time */
+    ts_rows settle = {0}, step = {0};
     assert_int_equal(ts_reset(m0, d0, &err), TS_OK);
-    assert_int_equal(ts_advance(m0, d0, cc->tune_settle, keep_speed, &s, &err), TS_OK);
-    double v0 = s.v[s.n - 1];
+    assert_int_equal(ts_advance(m0, d0, cc->tune_settle, ts_rows_append, &settle, &err), TS_OK);
+    double v0 = settle.v[(settle.n - 1) * nc + ch];
     size_t nbuf = ts_state_size(m0);
     void *buf = malloc(nbuf);
     assert_non_null(buf);
     assert_int_equal(ts_state_save(m0, d0, buf, nbuf, &err), TS_OK);
     assert_int_equal(ts_state_restore(m1, d1, buf, nbuf, &err), TS_OK);
-    s.n = 0;
-    keep_speed(&s, 0, ts_time(d1), ts_latest(d1), 0);
-    assert_int_equal(ts_advance(m1, d1, c.run.duration, keep_speed, &s, &err), TS_OK);
-    double vb = s.v[s.n - 1];
+    assert_int_equal(ts_rows_append(&step, 0, 0, ts_latest(d1), nc), 0); /* the step's start */
+    assert_int_equal(ts_advance(m1, d1, c.run.duration, ts_rows_append, &step, &err), TS_OK);
+    double vb = step.v[(step.n - 1) * nc + ch];
     assert_close(o.v0, v0, 1e-12, 0);
     assert_close(o.vb, vb, 1e-12, 0);
     assert_true(v0 > 0.05 * (vb - v0)); /* v0 is not 0: Eq. 11's offset matters */
-    for (long i = 0; i < s.n; i++)
-        s.v[i] = (s.v[i] - v0) / (vb - v0); /* Eq. 11 */
+    double *t = malloc(sizeof *t * (size_t)step.n), *v = malloc(sizeof *v * (size_t)step.n);
+    assert_true(t && v);
+    for (long i = 0; i < step.n; i++) {
+        t[i] = step.v[i * nc];
+        v[i] = (step.v[i * nc + ch] - v0) / (vb - v0); /* Eq. 11 */
+    }
     ts_zn_result zn;
-    assert_int_equal(ts_zn_reaction_curve(s.t, s.v, (int)s.n, cc->tune_settle, cc->tune_window,
+    assert_int_equal(ts_zn_reaction_curve(t, v, (int)step.n, cc->tune_settle, cc->tune_window,
                                           cc->ti_factor, &zn, &err),
                      TS_OK);
     assert_close(o.zn.t_inflection, zn.t_inflection, 1e-12, 0);
@@ -294,8 +273,10 @@ static void ivs_tune_normalises_by_eq11(void **state)
     assert_close(o.zn.ti, zn.ti, 1e-12, 0);
     assert_close(o.kp, ts_zn_kp_physical(zn.kp_norm, cc->tune_rack_low, 1.0, v0, vb), 1e-12, 0);
     free(buf);
-    free(s.t);
-    free(s.v);
+    free(t);
+    free(v);
+    ts_rows_free(&settle);
+    ts_rows_free(&step);
     ts_data_free(d0);
     ts_data_free(d1);
     ts_model_free(m0);

@@ -15,6 +15,15 @@
 #include "sim/engine_impl.h"
 #include "turbo_fixture.h"
 
+/* The gas properties of the default engine config (engine.json). */
+static en_gas default_gas(void)
+{
+    ts_config c = et_defaults();
+    en_gas g;
+    en_gas_init(&g, c.engine.cp_air, c.engine.cp_burned, c.engine.r_air, c.engine.r_burned);
+    return g;
+}
+
 /* EVIDENCE: slider-crank closed form (Heywood Eq. 2.4): V(0) = V_c,
  * V(pi) = V_c + V_d, dV/dtheta and d2x/dtheta2 equal central differences of
  * V and x (relative 1e-6); 12 x V_d = 37.9 L for 0.159 x 0.159 m (paper: 37.7 L
@@ -94,9 +103,7 @@ static void watson_and_ignition_delay(void **state)
 static void gas_properties(void **state)
 {
     (void)state;
-    ts_config c = et_defaults();
-    en_gas g;
-    en_gas_init(&g, c.engine.cp_air, c.engine.cp_burned, c.engine.r_air, c.engine.r_burned);
+    en_gas g = default_gas();
     assert_close(en_gas_h(&g, EN_T0, 0.3), 0.0, 0, 1e-9);
     assert_close(en_gas_cp(&g, 300, 0), 1005, 0.01, 0);
     assert_close(en_gas_cp(&g, 1000, 0), 1142, 0.01, 0);
@@ -178,9 +185,7 @@ static void turbo_maps(void **state)
 {
     (void)state;
     en_turbo t = test_turbo();
-    ts_config c = et_defaults();
-    en_gas gas;
-    en_gas_init(&gas, c.engine.cp_air, c.engine.cp_burned, c.engine.r_air, c.engine.r_burned);
+    en_gas gas = default_gas();
     en_comp_out o;
     double w = 9000, U = w * 0.05, T1 = 298, p1 = 1e5, pr = 3.0;
     double dh = 1005 * T1 * (pow(pr, 0.4 / 1.4) - 1), rho = p1 / (287 * T1);
@@ -517,7 +522,7 @@ static void fuel_law_phi_max_caps_eq13(void **state)
 /* EVIDENCE: Eq. 14 m_f = m_air phi_tgt / (A/F)_s Rack 60 n_R / (N n_cyl) has N
  * in the denominator; fuel_actuator.h clamps N below at 10 rad/s (the guard
  * against N -> 0). A stopped crank (omega 0) therefore gets the finite fuel
- * of Eq. 14 at N = 10 rad/s with phi_tgt(0): (A/F)_s 14.5, 12 cylinders,
+ * of Eq. 14 at N = 10 rad/s with phi_tgt(0), 12 cylinders,
  * n_R = 2; and, phi_tgt being at its cap (0.8) at both speeds with the
  * defaults, exactly the fuel at 10 rad/s itself. Closed form, 1e-12. */
 static void fuel_law_speed_floor_eq14(void **state)
@@ -528,7 +533,8 @@ static void fuel_law_speed_floor_eq14(void **state)
     double n_min = 10.0 * 30.0 / ET_PI; /* rpm */
     double mf0 = ts_fuel_per_cycle(&f, 2.0, 0.0, 1.0);
     assert_true(isfinite(mf0) && mf0 > 0);
-    assert_close(mf0, 2.0 * ts_fuel_phi_target(&f, 0.0) / 14.5 * 60 * 2 / (n_min * 12.0), 1e-12, 0);
+    assert_close(mf0, 2.0 * ts_fuel_phi_target(&f, 0.0) / f.afr_stoich * 60 * 2 / (n_min * 12.0),
+                 1e-12, 0);
     assert_true(ts_fuel_phi_target(&f, 0.0) == f.phi_max);
     assert_true(ts_fuel_phi_target(&f, 10.0) == f.phi_max);
     assert_close(mf0, ts_fuel_per_cycle(&f, 2.0, 10.0, 1.0), 1e-12, 0);
@@ -546,22 +552,20 @@ static void compressor_efficiency_floor(void **state)
 {
     (void)state;
     en_turbo t = test_turbo();
-    ts_config c = et_defaults();
-    en_gas gas;
-    en_gas_init(&gas, c.engine.cp_air, c.engine.cp_burned, c.engine.r_air, c.engine.r_burned);
+    en_gas gas = default_gas();
     double w = 5000, U = w * 0.05, T1 = 298, p1 = 1e5, rho = p1 / (287 * T1);
     /* phi = phi_ch sqrt(1 - dh/(psi0 U^2)) = 0.01: the head that gives it */
-    double s = 0.01 / 0.22, dh = 0.9 * U * U * (1 - s * s);
+    double s = 0.01 / t.phi_ch, dh = t.psi0 * U * U * (1 - s * s);
     double pr = pow(1 + dh / (1005 * T1), 1.4 / 0.4);
     en_comp_out o;
     en_compressor(&t, &gas, w, p1, T1, pr * p1, &o);
     double phi = o.mdot / (rho * U * 0.01);
     assert_close(phi, 0.01, 1e-6, 0);
     assert_true(o.mdot > 0);
-    double x = (phi - 0.13) / 0.15;
-    assert_true(0.8 * (1 - x * x) < 0.45); /* the island is below the floor here */
-    assert_true(o.eta == 0.45);
-    assert_close(o.power, o.mdot * dh / 0.45, 1e-9, 0);
+    double x = (phi - t.phi_opt) / t.phi_w;
+    assert_true(t.eta_max * (1 - x * x) < t.eta_min); /* the island is below the floor here */
+    assert_true(o.eta == t.eta_min);
+    assert_close(o.power, o.mdot * dh / t.eta_min, 1e-9, 0);
 }
 
 int main(void)

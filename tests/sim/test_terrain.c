@@ -59,6 +59,21 @@ static void apg4_synth_course_has_the_papers_obstacles(void **state)
     ts_terrain_free(t);
 }
 
+/* The profile terrain of a CSV file tests/out/NAME holding text, or NULL
+ * (err says why) when ts_terrain_make refuses it. */
+static ts_terrain *profile_make(const char *name, const char *text, ts_err *err)
+{
+    char buf[64];
+    const char *path = test_out_path(buf, sizeof buf, name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    ts_terrain_config p = base(TS_TERRAIN_PROFILE);
+    snprintf(p.profile_csv, sizeof p.profile_csv, "%s", path);
+    return ts_terrain_make(&p, err);
+}
+
 /* EVIDENCE: the inline list replaces the file; a CSV profile is joined by
  * straight lines and continued flat. Exact. */
 static void inline_bumps_and_csv_profile(void **state)
@@ -76,15 +91,7 @@ static void inline_bumps_and_csv_profile(void **state)
     assert_close(ts_terrain_height(t, 15.24 + 3.81, NULL), 0, 0, 0);
     ts_terrain_free(t);
 
-    char buf[64];
-    const char *path = test_out_path(buf, sizeof buf, "terrain_profile.csv");
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fprintf(f, "distance_m,height_m\n0,0\n10,1\n20,0.5\n");
-    fclose(f);
-    ts_terrain_config p = base(TS_TERRAIN_PROFILE);
-    snprintf(p.profile_csv, sizeof p.profile_csv, "%s", path);
-    t = ts_terrain_make(&p, &err);
+    t = profile_make("terrain_profile.csv", "distance_m,height_m\n0,0\n10,1\n20,0.5\n", &err);
     assert_non_null(t);
     double slope;
     assert_close(ts_terrain_height(t, 5, &slope), 0.5, 1e-12, 0);
@@ -103,16 +110,8 @@ static void inline_bumps_and_csv_profile(void **state)
 static void profile_edges_and_inline_course_length(void **state)
 {
     (void)state;
-    char buf[64];
-    const char *path = test_out_path(buf, sizeof buf, "terrain_profile_edges.csv");
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fprintf(f, "5,0.3\n10,0.8\n20,0.3\n");
-    fclose(f);
-    ts_terrain_config p = base(TS_TERRAIN_PROFILE);
-    snprintf(p.profile_csv, sizeof p.profile_csv, "%s", path);
     ts_err err;
-    ts_terrain *t = ts_terrain_make(&p, &err);
+    ts_terrain *t = profile_make("terrain_profile_edges.csv", "5,0.3\n10,0.8\n20,0.3\n", &err);
     assert_non_null(t);
     double slope = -1;
     /* before the first point: its height, flat */
@@ -169,15 +168,7 @@ static void errors_name_the_field(void **state)
  * profile's length (its last distance) [m], 0 when refused. */
 static int profile_from(const char *text, int *last, ts_err *err)
 {
-    char buf[64];
-    const char *path = test_out_path(buf, sizeof buf, "terrain_profile_check.csv");
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(text, f);
-    fclose(f);
-    ts_terrain_config p = base(TS_TERRAIN_PROFILE);
-    snprintf(p.profile_csv, sizeof p.profile_csv, "%s", path);
-    ts_terrain *t = ts_terrain_make(&p, err);
+    ts_terrain *t = profile_make("terrain_profile_check.csv", text, err);
     *last = 0;
     if (!t) return err->code;
     *last = (int)ts_terrain_length(t);
