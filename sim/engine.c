@@ -963,13 +963,15 @@ ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque,
     ts_engine_cycle cyc;
     /* secant on the rack: brake torque is nearly linear in it at fixed speed
      * (40 cycles and 0.2 % per cycle: the numerical settings of the search) */
-    double r_prev = NAN, tq_prev = NAN, r = in.rack;
-    for (int it = 0; it < 6; it++) {
+    double r_prev = NAN, tq_prev = NAN, r = in.rack, tq = NAN;
+    int found = 0;
+    for (int it = 0; it < 6 && !found; it++) {
         ts_rc rc = ts_engine_steady(e, x, omega, &in, 40, 2e-3, &cyc, err);
         if (rc != TS_OK) return rc;
-        double tq = cyc.mean.brake_torque;
+        tq = cyc.mean.brake_torque;
         r = in.rack;
-        if (fabs(tq - load_torque) <= fmax(0.02 * fabs(load_torque), 5.0)) break;
+        found = fabs(tq - load_torque) <= fmax(0.02 * fabs(load_torque), 5.0);
+        if (found) break;
         double slope = isfinite(r_prev) && fabs(r - r_prev) > 1e-6 ? (tq - tq_prev) / (r - r_prev)
                                                                    : 0.0;
         double r_new = slope > 0 ? r + (load_torque - tq) / slope
@@ -978,6 +980,11 @@ ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque,
         tq_prev = tq;
         in.rack = fmin(fmax(r_new, 0.01), 1.0);
     }
+    if (!found) /* e.g. a load beyond the full-rack torque at this speed */
+        return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                          "idle steady state: no rack in [0.01, 1] found that gives %.6g N*m at "
+                          "%.6g rpm in 6 steady searches (last: rack %.4g, %.6g N*m)",
+                          load_torque, omega * 30.0 / EN_PI, r, tq);
     x[TS_ENGINE_X_SPEED] = omega;
     if (rack) *rack = r;
     return TS_OK;

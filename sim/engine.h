@@ -128,7 +128,9 @@ void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double
  * insulated walls at their idle temperatures, not the coolant's; the turbo at
  * its idle speed, not spun up). The map fidelity has no such states: x is
  * ts_engine_init_state's. *rack (may be NULL) receives the idle rack [1].
- * Returns TS_OK, TS_ERR_DIVERGED, or TS_ERR_NOMEM. */
+ * Returns TS_OK, TS_ERR_NOMEM, or TS_ERR_DIVERGED (also when the secant ends
+ * without meeting the load, e.g. a load above the full-rack torque; x then
+ * holds the last search's state). */
 ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque, double p_amb,
                            double T_amb, double *x, double *rack, ts_err *err);
 

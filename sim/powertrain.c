@@ -14,6 +14,7 @@
  */
 #include "powertrain.h"
 
+#include <stdio.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -207,6 +208,8 @@ ts_rc ts_powertrain_idle_start(ts_powertrain *pt, ts_err *err)
     ts_torque_converter_eval(&pt->tc, c->w0, 0.0, &tc);
     ts_rc rc = ts_engine_idle_state(c->e, c->w0, tc.pump_torque, c->p_amb, c->T_amb, y, NULL, err);
     if (rc != TS_OK) {
+        if (rc == TS_ERR_DIVERGED && err && !err->pointer[0]) /* the launch speed sets the load */
+            snprintf(err->pointer, sizeof err->pointer, "/driveline/launch_engine_speed");
         free(y);
         return rc;
     }

@@ -9,6 +9,8 @@
 
 #include "engine_test_util.h"
 
+#include <string.h>
+
 #define IDLE_LOAD 800.0 /* converter pump torque at stall at 650 rpm [N*m] (powertrain reset) */
 
 typedef struct idle {
@@ -129,11 +131,57 @@ static void pointmass_launch_starts_at_idle(void **state)
     ts_model_free(m);
 }
 
+/* EVIDENCE: the search's contract (engine.h): a load no rack can meet at
+ * this speed is an error, not a state. 100 kN*m at 650 rpm is ~17 x the
+ * engine's peak torque (6.2 kN*m at 1200 rpm, Fig. 18a), so the secant ends
+ * at the full rack without meeting it; before, the call returned TS_OK with
+ * that state and its rack, and a launch started from it. A load within reach
+ * (IDLE_LOAD) converges in the same call (idle_state_closure_and_lhr_walls).
+ * Mean-value fidelity (same search, fast). */
+static void idle_state_refuses_an_unreachable_load(void **state)
+{
+    (void)state;
+    ts_err err;
+    ts_engine *e = et_make(TS_ENGINE_CONVENTIONAL, TS_ENGINE_MEAN_VALUE);
+    double *x = calloc((size_t)ts_engine_nstate(e), sizeof *x);
+    assert_non_null(x);
+    ts_engine_inputs in = et_full_load();
+    double rack = -1;
+    assert_int_equal(ts_engine_idle_state(e, ET_RPM(650), 1e5, in.p_amb, in.T_amb, x, &rack, &err),
+                     TS_ERR_DIVERGED);
+    print_message("      %s\n", err.msg);
+    assert_non_null(strstr(err.msg, "100000 N*m"));
+    assert_true(rack == 0.0); /* not the failed search's rack */
+    assert_int_equal(
+        ts_engine_idle_state(e, ET_RPM(650), IDLE_LOAD, in.p_amb, in.T_amb, x, &rack, &err), TS_OK);
+    assert_true(rack > 0 && rack < 0.5);
+    free(x);
+    ts_engine_free(e);
+
+    /* through a launch: the converter's stall torque grows as the square of
+     * the launch speed (9.1 kN*m at 230 rad/s against ~4.9 kN*m at full rack),
+     * and the refusal names the field that set it */
+    ts_config c;
+    json_t *doc =
+        json_pack("{s:s,s:{s:s},s:{s:f}}", "preset", "accel-pointmass-conventional", "engine",
+                  "fidelity", "mean_value", "driveline", "launch_engine_speed", 230.0);
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    json_decref(doc);
+    ts_model *m = ts_model_make(&c, &err);
+    ts_data *d = m ? ts_data_make(m, &err) : NULL;
+    ts_rc rc = d ? ts_reset(m, d, &err) : err.code;
+    assert_int_equal(rc, TS_ERR_DIVERGED);
+    assert_string_equal(err.pointer, "/driveline/launch_engine_speed");
+    ts_data_free(d);
+    ts_model_free(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(idle_state_closure_and_lhr_walls),
         cmocka_unit_test(pointmass_launch_starts_at_idle),
+        cmocka_unit_test(idle_state_refuses_an_unreachable_load),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
