@@ -272,6 +272,19 @@ static void ivs_tune_normalises_by_eq11(void **state)
     assert_close(o.zn.kp_norm, zn.kp_norm, 1e-12, 0);
     assert_close(o.zn.ti, zn.ti, 1e-12, 0);
     assert_close(o.kp, ts_zn_kp_physical(zn.kp_norm, cc->tune_rack_low, 1.0, v0, vb), 1e-12, 0);
+    /* the steadiness of both ends (ivs_tune.h: the slope of the last second
+     * of each run) is the secant over the last second of these very rows */
+    const ts_rows *runs[2] = {&settle, &step};
+    const double slopes[2] = {o.settle_slope, o.final_slope};
+    for (int k = 0; k < 2; k++) {
+        const ts_rows *r = runs[k];
+        long last = r->n - 1, i = last;
+        double t_end = r->v[last * nc];
+        while (r->v[i * nc] > t_end - 1.0 + 1e-9)
+            i--;
+        assert_close(r->v[i * nc], t_end - 1.0, 0, 1e-9);
+        assert_close(slopes[k], (r->v[last * nc + ch] - r->v[i * nc + ch]) / 1.0, 1e-9, 0);
+    }
     free(buf);
     free(t);
     free(v);
