@@ -37,7 +37,7 @@ typedef struct m1_state {
     double xi[TS_GEOM_MAX_TRACK]; /* position along that span, 0..1 */
 } m1_state;
 
-static double m1_terrain(const ts_geom *g, double x)
+static inline double m1_terrain(const ts_geom *g, double x)
 {
     int n = g->nterrain;
     if (n == 0) return 0;
@@ -50,7 +50,7 @@ static double m1_terrain(const ts_geom *g, double x)
 }
 
 /* Flat ground from x0 to x1, with a 1-cos bump of height h, length l at xb (h = 0: none). */
-static void m1_set_terrain(ts_geom *g, double x0, double x1, double xb, double h, double l)
+static inline void m1_set_terrain(ts_geom *g, double x0, double x1, double xb, double h, double l)
 {
     int n = 0;
     g->terrain_x[n] = x0, g->terrain_z[n++] = 0;
@@ -69,7 +69,7 @@ typedef struct {
     double x, z, r;
 } m1_circle;
 
-static void m1_push(m1_state *s, double x, double z, int span, double xi)
+static inline void m1_push(m1_state *s, double x, double z, int span, double xi)
 {
     ts_geom *g = &s->g;
     if (g->ntrack >= TS_GEOM_MAX_TRACK) return;
@@ -85,7 +85,7 @@ static void m1_push(m1_state *s, double x, double z, int span, double xi)
 
 /* Belt round circles c[0..n-1] in counter-clockwise order; spans[i] tags the
  * straight run from circle i to i+1 (0 = not a tagged span). */
-static void m1_belt(m1_state *s, const m1_circle *c, int n, const int *spans)
+static inline void m1_belt(m1_state *s, const m1_circle *c, int n, const int *spans)
 {
     double tin[16][2], tout[16][2]; /* tangent points: arriving at / leaving circle i */
     double ux[16], uz[16];          /* direction of the run from circle i to i+1 */
@@ -134,7 +134,7 @@ static void m1_belt(m1_state *s, const m1_circle *c, int n, const int *spans)
 /* The M1 with its sprocket layout origin at world x = X, on g's terrain
  * (set it first with m1_set_terrain), hull heave and pitch following the
  * ground under the road wheels, wheels rolled by X. */
-static void m1_pose(m1_state *s, double X, double t, double speed)
+static inline void m1_pose(m1_state *s, double X, double t, double speed)
 {
     ts_geom *g = &s->g;
     static const double road_x[M1_NROAD] = {0.800, 1.525, 2.250, 2.975, 3.700, 4.425, 5.150};
@@ -219,7 +219,7 @@ static void m1_pose(m1_state *s, double X, double t, double speed)
 
 /* Put a half-sine transverse (vertical) deflection of amplitude amp [m] on
  * upper span `span` (1..3) as the modal part track_dz. */
-static void m1_span_mode(m1_state *s, int span, double amp)
+static inline void m1_span_mode(m1_state *s, int span, double amp)
 {
     for (int i = 0; i < s->g.ntrack; i++)
         if (s->span[i] == span) s->g.track_dz[i] = amp * sin(TSR_PI * s->xi[i]);

@@ -142,11 +142,70 @@ static void frames_of_different_size_are_rejected(void **state)
     free(f[1]);
 }
 
+/* Assemble n frames (delay 1/den s); the result code. */
+static ts_rc assemble(unsigned char **f, size_t *lens, int n, unsigned den)
+{
+    unsigned char *apng = NULL;
+    size_t len;
+    ts_err err;
+    ts_rc rc =
+        tsr_apng_assemble((const unsigned char *const *)f, lens, n, 1, den, &apng, &len, &err);
+    if (rc != TS_OK) assert_null(apng);
+    free(apng);
+    return rc;
+}
+
+/* EVIDENCE: APNG spec — every frame shares frame 0's IHDR (not only its width
+ * and height: bit depth and colour type too, since fdAT data is decoded with
+ * IHDR's format), fcTL's delay fields are 16-bit, and a frame must be a whole
+ * PNG (IHDR before IEND; a chunk cannot run past the end of its file). An RGB
+ * frame of the same size after an RGBA one, a delay denominator of 65536, a
+ * PNG without IHDR and one whose IEND declares 1000 bytes it does not have are
+ * refused; before, each was assembled (the survivors of the session-28 pass). */
+static void frames_must_share_the_format_and_be_whole(void **state)
+{
+    (void)state;
+    size_t lens[2];
+    unsigned char *f[2] = {frame(16, 8, 1, &lens[0]), NULL};
+    unsigned char px[16 * 8 * 4] = {0};
+    ts_err err;
+    assert_int_equal(tsr_png_encode_opaque(px, 16, 8, 16 * 4, NULL, &f[1], &lens[1], &err), TS_OK);
+    assert_int_equal(assemble(f, lens, 2, 25), TS_ERR_PARAM); /* RGBA then RGB */
+    free(f[1]);
+    f[1] = frame(16, 8, 2, &lens[1]);
+    assert_int_equal(assemble(f, lens, 2, 25), TS_OK);
+    assert_int_equal(assemble(f, lens, 2, 0xffff), TS_OK);
+    assert_int_equal(assemble(f, lens, 2, 0x10000), TS_ERR_PARAM);
+
+    /* signature + IEND alone */
+    unsigned char no_ihdr[8 + 12];
+    memcpy(no_ihdr, f[0], 8);
+    memcpy(no_ihdr + 8, "\0\0\0\0IEND\xae\x42\x60\x82", 12);
+    unsigned char *g[1] = {no_ihdr};
+    size_t glen[1] = {sizeof no_ihdr};
+    assert_int_equal(assemble(g, glen, 1, 25), TS_ERR_PARAM);
+
+    /* frame 0's chunks up to its IEND, whose length then claims 1000 bytes */
+    size_t iend = lens[0] - 12;
+    assert_memory_equal(f[0] + iend + 4, "IEND", 4);
+    unsigned char *cut = malloc(lens[0]);
+    assert_non_null(cut);
+    memcpy(cut, f[0], lens[0]);
+    cut[iend + 2] = 0x03, cut[iend + 3] = 0xe8;
+    g[0] = cut;
+    glen[0] = lens[0];
+    assert_int_equal(assemble(g, glen, 1, 25), TS_ERR_PARAM);
+    free(cut);
+    free(f[0]);
+    free(f[1]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(three_frames_make_a_valid_apng),
         cmocka_unit_test(frames_of_different_size_are_rejected),
+        cmocka_unit_test(frames_must_share_the_format_and_be_whole),
     };
     return cmocka_run_group_tests_name("render/apng", tests, NULL, NULL);
 }
