@@ -172,9 +172,11 @@ static void problem_mapping(void **state)
         assert_string_equal(tsa_problem_type(table[i].rc), table[i].type);
     }
     /* request bytes that are not UTF-8 become U+FFFD, so the answer is built:
-     * lead bytes past F4, overlongs, surrogates, code points past U+10FFFF */
-    static const char *const bad[] = {"\xF5\x80\x80\x80", "\xF8\x80", "\xC0\x80", "\xED\xA0\x80",
-                                      "\xF4\x90\x80\x80"};
+     * lead bytes past F4, overlongs (of 2, 3 and 4 bytes: a mutation survivor
+     * passed E0 80 AF through), surrogates, code points past U+10FFFF */
+    static const char *const bad[] = {"\xF5\x80\x80\x80", "\xF8\x80",         "\xC0\x80",
+                                      "\xED\xA0\x80",     "\xF4\x90\x80\x80", "\xE0\x80\xAF",
+                                      "\xF0\x80\x80\xAF"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char detail[64];
         snprintf(detail, sizeof detail, "no preset named '%s'", bad[i]);
@@ -305,6 +307,123 @@ static void inline_bumps_win_over_a_named_course(void **state)
     json_decref(doc);
 }
 
+/* Survivors of a mutation pass over api/ and the daemon's routing, below. */
+
+/* A section sent as a scalar or an array is one error naming the section
+ * (merge_document), not that error followed by a "missing" for every field
+ * of the section the scalar replaced (a survivor listed 20-odd bogus errors). */
+static void section_not_object_is_one_error(void **state)
+{
+    (void)state;
+    const char *docs[] = {"{\"vehicle\": 5}", "{\"preset\":\"m1\",\"track\":[1]}"};
+    const char *ptrs[] = {"/vehicle", "/track"};
+    for (int i = 0; i < 2; i++) {
+        json_t *doc = json_loads(docs[i], 0, NULL);
+        json_t *errors = json_array();
+        ts_config c;
+        ts_err err;
+        assert_int_equal(tsa_config_load(doc, &c, NULL, errors, &err), TS_ERR_PARAM);
+        assert_string_equal(err.pointer, ptrs[i]);
+        if (json_array_size(errors) != 1)
+            fail_msg("%s: %zu errors, want 1 (the section's)", docs[i], json_array_size(errors));
+        json_t *e0 = json_array_get(errors, 0);
+        assert_string_equal(json_string_value(json_object_get(e0, "pointer")), ptrs[i]);
+        json_decref(errors);
+        json_decref(doc);
+    }
+}
+
+/* A value outside its allowed set is TS_ERR_RANGE (problem title "Value out
+ * of range") alike for a scalar, an array's element and an enum's unknown
+ * word; a wrong type stays TS_ERR_PARAM ("Invalid request"). */
+static void range_errors_say_out_of_range(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *json, *pointer;
+        ts_rc code;
+    } cases[] = {
+        {"{\"vehicle\":{\"mass\":-5}}", "/vehicle/mass", TS_ERR_RANGE},
+        {"{\"driveline\":{\"gear_ratio\":[3,-1]}}", "/driveline/gear_ratio/1", TS_ERR_RANGE},
+        {"{\"track\":{\"fidelity\":\"wobbly\"}}", "/track/fidelity", TS_ERR_RANGE},
+        {"{\"track\":{\"fidelity\":3}}", "/track/fidelity", TS_ERR_PARAM},
+        {"{\"driveline\":{\"gear_ratio\":[3,\"x\"]}}", "/driveline/gear_ratio/1", TS_ERR_PARAM},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        json_t *doc = json_loads(cases[i].json, 0, NULL);
+        ts_config c;
+        ts_err err;
+        ts_rc rc = tsa_config_load(doc, &c, NULL, NULL, &err);
+        if (rc != cases[i].code || strcmp(err.pointer, cases[i].pointer) != 0)
+            fail_msg("%s: code %d at '%s', want %d at %s", cases[i].json, rc, err.pointer,
+                     cases[i].code, cases[i].pointer);
+        json_t *p = tsa_problem_from_err(&err, NULL);
+        assert_string_equal(json_string_value(json_object_get(p, "title")),
+                            cases[i].code == TS_ERR_RANGE ? "Value out of range"
+                                                          : "Invalid request");
+        json_decref(p);
+        json_decref(doc);
+    }
+}
+
+/* A partial inline bump list (starts only) is the user's and is left for
+ * ts_terrain_make to refuse, not replaced by the named shipped course (a
+ * survivor that tested the heights and lengths only took the 26 bumps). */
+static void partial_inline_bumps_are_not_replaced_by_the_course(void **state)
+{
+    (void)state;
+    ts_config c;
+    ts_err err;
+    json_t *doc = json_pack("{s:{s:s,s:s,s:[f,f]}}", "terrain", "kind", "bumps", "course",
+                            "apg4-synth", "bump_start", 20.0, 40.0);
+    assert_int_equal(tsa_config_load(doc, &c, NULL, NULL, &err), TS_OK);
+    assert_int_equal(c.terrain.bump_n, 2);
+    assert_int_equal(c.terrain.bump_height_n, 0);
+    assert_int_equal(c.terrain.bump_length_n, 0);
+    assert_close(c.terrain.bump_start[1], 40.0, 0, 0);
+    json_decref(doc);
+}
+
+/* Comment keys inside a section of the request are dropped from the resolved
+ * config (the one a session keeps and shows as "config"), as the data files'
+ * are: a survivor merged {"vehicle": {"_why": ...}} into it. */
+static void comment_keys_stay_out_of_the_resolved_config(void **state)
+{
+    (void)state;
+    json_t *doc = json_loads("{\"preset\":\"m1\",\"_note\":\"x\","
+                             "\"vehicle\":{\"_why\":\"heavier\",\"mass\":60000}}",
+                             0, NULL);
+    ts_err err;
+    json_t *res = tsa_config_resolve(doc, &err);
+    assert_non_null(res);
+    json_t *veh = json_object_get(res, "vehicle");
+    assert_close(json_number_value(json_object_get(veh, "mass")), 60000, 0, 0);
+    assert_null(json_object_get(veh, "_why"));
+    assert_null(json_object_get(res, "_note"));
+    json_decref(res);
+    json_decref(doc);
+}
+
+/* Query numbers and integers (tsa_parse_number/_integer: the daemon's
+ * ?page_size=, ?every=, the CLI's --width) take both ends of their range: a
+ * survivor refused GET /v1/sessions?page_size=1000, its documented maximum. */
+static void query_ranges_are_closed(void **state)
+{
+    (void)state;
+    long k = -1;
+    assert_int_equal(tsa_parse_integer("1000", 1, 1000, &k), 0);
+    assert_int_equal(k, 1000);
+    assert_int_equal(tsa_parse_integer("1", 1, 1000, &k), 0);
+    assert_int_equal(k, 1);
+    assert_int_equal(tsa_parse_integer("1001", 1, 1000, &k), -1);
+    assert_int_equal(tsa_parse_integer("0", 1, 1000, &k), -1);
+    double x = -1;
+    assert_int_equal(tsa_parse_number("1000", 0, 1000, &x), 0);
+    assert_close(x, 1000, 0, 0);
+    assert_int_equal(tsa_parse_number("0", 0, 1000, &x), 0);
+    assert_int_equal(tsa_parse_number("1000.001", 0, 1000, &x), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -316,6 +435,11 @@ int main(void)
         cmocka_unit_test(shipped_course_comes_from_the_store),
         cmocka_unit_test(every_field_reads_as_its_row_says),
         cmocka_unit_test(inline_bumps_win_over_a_named_course),
+        cmocka_unit_test(section_not_object_is_one_error),
+        cmocka_unit_test(range_errors_say_out_of_range),
+        cmocka_unit_test(partial_inline_bumps_are_not_replaced_by_the_course),
+        cmocka_unit_test(comment_keys_stay_out_of_the_resolved_config),
+        cmocka_unit_test(query_ranges_are_closed),
     };
     return cmocka_run_group_tests_name("api/config_json", tests, NULL, NULL);
 }

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "api/config_json.h"
+#include "api/problem.h"
 #include "api/session_json.h"
 #include "api/spectrum.h"
 #include "sim/tanksim.h"
@@ -353,6 +354,53 @@ static void every_figure_is_kept(void **state)
     ts_model_free(m);
 }
 
+/* Survivors of a mutation pass over api/ and the daemon's routing. A body
+ * number out of its range is TS_ERR_RANGE ("Value out of range"), a wrong
+ * type TS_ERR_PARAM, as the config's fields are. A channel name of 128 bytes
+ * (the buffer's size) is "too long" (400), not looked up past the buffer and
+ * answered 404. The time column of a CSV row has the JSON series' 12 digits,
+ * so that t = index / sample_rate round-trips (1/3 s at 3 Hz). */
+static void ranges_names_and_time_digits(void **state)
+{
+    (void)state;
+    ts_err err;
+    double d = 0;
+    tsa_num_field f[] = {{"duration", 1, 0, 10, &d, NULL}};
+    json_t *doc = json_loads("{\"duration\": 11}", 0, NULL);
+    assert_int_equal(tsa_read_numbers(doc, f, 1, NULL, &err), TS_ERR_RANGE);
+    assert_string_equal(err.pointer, "/duration");
+    json_t *p = tsa_problem_from_err(&err, NULL);
+    assert_string_equal(json_string_value(json_object_get(p, "title")), "Value out of range");
+    json_decref(p);
+    json_decref(doc);
+    doc = json_loads("{\"duration\": \"1\"}", 0, NULL);
+    assert_int_equal(tsa_read_numbers(doc, f, 1, NULL, &err), TS_ERR_PARAM);
+    json_decref(doc);
+
+    ts_model *m = pointmass();
+    ts_channel store[16];
+    tsa_channels cv;
+    assert_int_equal(tsa_channels_from_model(&cv, store, 16, m, &err), TS_OK);
+    int idx[16], n;
+    char name[200];
+    memset(name, 'a', 127);
+    name[127] = '\0';
+    assert_int_equal(tsa_channel_select(&cv, "channels", name, idx, 16, &n, &err), TS_ERR_NOTFOUND);
+    memset(name, 'a', 128);
+    name[128] = '\0';
+    assert_int_equal(tsa_channel_select(&cv, "channels", name, idx, 16, &n, &err), TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/channels");
+    assert_non_null(strstr(err.msg, "too long"));
+
+    double row[16] = {1.0 / 3, 1.0 / 3};
+    int sel[2] = {0, 1};
+    tsa_buf b = {0};
+    tsa_csv_row(&b, row, sel, 2);
+    assert_string_equal(b.p, "0.333333333333,0.333333333\n");
+    tsa_buf_free(&b);
+    ts_model_free(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -363,6 +411,7 @@ int main(void)
         cmocka_unit_test(model_table_larger_than_store_is_refused),
         cmocka_unit_test(buffer_grows_past_first_block),
         cmocka_unit_test(every_figure_is_kept),
+        cmocka_unit_test(ranges_names_and_time_digits),
     };
     return cmocka_run_group_tests_name("api/session_json", tests, NULL, NULL);
 }
