@@ -110,11 +110,35 @@ static void peak_between_bins_is_interpolated(void **state)
     free(x), free(f), free(a);
 }
 
+/* EVIDENCE: fft.h ts_fft_peak on a hand-made spectrum — the band is closed
+ * (fmin <= f <= fmax), and the parabola through the largest bin and its two
+ * neighbours has its vertex at bin + (y0 - y2) / (2 (y0 - 2 y1 + y2)) with
+ * height y1 - (y0 - y2) d / 4: for (0, 5, 1) that is +1/18 bin and 5 + 1/72,
+ * also at the second-to-last bin. An edge bin has no parabola: it is
+ * returned as it is. */
+static void peak_band_is_closed_and_the_parabola_exact(void **state)
+{
+    (void)state;
+    const double f[5] = {0, 1, 2, 3, 4};
+    const double at2[5] = {0, 0, 5, 1, 0}, at3[5] = {0, 0, 0, 5, 1}, at4[5] = {0, 0, 0, 1, 5};
+    double A;
+    assert_close(ts_fft_peak(f, at2, 5, 2.0, 4.0, &A), 2.0 + 1.0 / 18, 0, 1e-12);
+    assert_close(A, 5.0 + 1.0 / 72, 0, 1e-12);
+    assert_close(ts_fft_peak(f, at2, 5, 0.0, 2.0, &A), 2.0 + 1.0 / 18, 0, 1e-12);
+    assert_close(ts_fft_peak(f, at3, 5, 0.0, 4.0, &A), 3.0 + 1.0 / 18, 0, 1e-12);
+    assert_close(A, 5.0 + 1.0 / 72, 0, 1e-12);
+    assert_close(ts_fft_peak(f, at4, 5, 0.0, 4.0, &A), 4.0, 0, 0);
+    assert_close(A, 5.0, 0, 0);
+    assert_true(isnan(ts_fft_peak(f, at2, 5, 2.1, 2.9, &A)));
+    assert_true(isnan(A));
+}
+
 int main(void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(finds_frequencies_and_amplitudes),
-                                       cmocka_unit_test(end_bins_are_not_doubled),
-                                       cmocka_unit_test(linear_detrend_removes_a_line),
-                                       cmocka_unit_test(peak_between_bins_is_interpolated)};
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(finds_frequencies_and_amplitudes),
+        cmocka_unit_test(end_bins_are_not_doubled), cmocka_unit_test(linear_detrend_removes_a_line),
+        cmocka_unit_test(peak_between_bins_is_interpolated),
+        cmocka_unit_test(peak_band_is_closed_and_the_parabola_exact)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

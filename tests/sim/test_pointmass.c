@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "api/config_json.h"
+#include "sim/scenario.h" /* ts_rows_first_crossing */
 #include "sim/tanksim.h"
 
 static ts_config defaults(void)
@@ -160,6 +161,32 @@ static void state_save_restore_reproduces_the_run(void **state)
     assert_int_equal(ts_advance(m, d, 8, NULL, NULL, &err), TS_OK);
     assert_close(ts_latest(d)[iv], v1, 1e-5, 1e-9);
     assert_int_equal(ts_state_restore(m, d, buf, n - 1, &err), TS_ERR_PARAM);
+    /* model.h: a state of another size is refused both ways (a larger buffer
+     * is not "big enough": it is another model's state) */
+    assert_int_equal(ts_state_restore(m, d, buf, n + 8, &err), TS_ERR_PARAM);
+    /* nothing to save before ts_reset */
+    ts_data *fresh = ts_data_make(m, &err);
+    assert_non_null(fresh);
+    assert_int_equal(ts_state_save(m, fresh, buf, n, &err), TS_ERR_STATE);
+    ts_data_free(fresh);
+    /* a failed advance is sticky until a restore (model.h ts_advance): the
+     * saved state with its scenario part set to NaN fails the next advance;
+     * the advance after it is refused; the good state restored runs again */
+    unsigned char *bad = malloc(n);
+    assert_non_null(bad);
+    memcpy(bad, buf, n);
+    for (size_t k = 2 * sizeof(double); k + sizeof(double) <= n; k += sizeof(double)) {
+        double nan = NAN;
+        memcpy(bad + k, &nan, sizeof nan);
+    }
+    ts_rc rc = ts_state_restore(m, d, bad, n, &err);
+    assert_int_equal(rc, TS_OK); /* a restore copies; it does not judge the numbers */
+    assert_int_not_equal(ts_advance(m, d, 4, NULL, NULL, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, 4, NULL, NULL, &err), TS_ERR_STATE);
+    assert_int_equal(ts_state_restore(m, d, buf, n, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, 8, NULL, NULL, &err), TS_OK);
+    assert_close(ts_latest(d)[iv], v1, 1e-5, 1e-9);
+    free(bad);
     free(buf);
     ts_data_free(d);
     ts_model_free(m);
@@ -227,6 +254,42 @@ static void cancel_from_callback(void **state)
     ts_model_free(m);
 }
 
+/* EVIDENCE: model.h ts_model_metrics — "returns how many figures the
+ * scenario has ... and writes the first min(that, max)" (as snprintf): with
+ * room for one figure the count is still all of them and only out[0] is
+ * written; and scenario.h's first crossing of a level is where a row reaches
+ * it, a row exactly at the level included (a speed that is 60 km/h at a
+ * sample time crosses 60 there, not never). */
+static void metrics_count_past_max_and_crossings_reach_the_level(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    ts_data *d = ts_data_make(m, &err);
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    ts_rows rows = {0};
+    assert_int_equal(ts_advance(m, d, 2, ts_rows_append, &rows, &err), TS_OK);
+    ts_metric all[64], one[2];
+    int n = ts_model_metrics(m, rows.v, rows.n, all, 64);
+    assert_true(n > 1 && n <= 64);
+    memset(one, 0, sizeof one);
+    assert_int_equal(ts_model_metrics(m, rows.v, rows.n, one, 1), n);
+    assert_string_equal(one[0].name, all[0].name);
+    assert_string_equal(one[1].name, ""); /* not written */
+    assert_int_equal(ts_model_metrics(m, rows.v, rows.n, NULL, 0), n);
+    ts_rows_free(&rows);
+    ts_data_free(d);
+    ts_model_free(m);
+
+    const double r[4][2] = {{0.0, 0.0}, {1.0, 1.0}, {2.0, 2.0}, {3.0, 2.0}}; /* t, value */
+    assert_close(ts_rows_first_crossing(&r[0][0], 4, 2, 1, 1.0), 1.0, 0, 1e-15);
+    assert_close(ts_rows_first_crossing(&r[0][0], 4, 2, 1, 0.5), 0.5, 0, 1e-15);
+    assert_close(ts_rows_first_crossing(&r[0][0], 4, 2, 1, 2.0), 2.0, 0, 1e-15);
+    assert_true(isnan(ts_rows_first_crossing(&r[0][0], 4, 2, 1, 2.5)));
+    assert_true(isnan(ts_rows_first_crossing(&r[0][0], 4, 2, 1, 0.0))); /* starts there */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -237,6 +300,7 @@ int main(void)
         cmocka_unit_test(state_save_restore_reproduces_the_run),
         cmocka_unit_test(drive_histories),
         cmocka_unit_test(cancel_from_callback),
+        cmocka_unit_test(metrics_count_past_max_and_crossings_reach_the_level),
     };
     return cmocka_run_group_tests_name("sim/pointmass", tests, NULL, NULL);
 }
