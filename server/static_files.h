@@ -2,7 +2,10 @@
  * static_files.h — tanksimd serves the browser dashboard (web_static/, built
  * by `make web`) at "/" and its assets at "/static/NAME".
  *
- * Only flat file names of [A-Za-z0-9._-] not starting with '.' are served, from
+ * Only flat file names of [A-Za-z0-9._-] (1-100 characters) not starting with
+ * '.' and with a known type (the last extension: .html .js .mjs .css .map
+ * .json .svg .png .ico .txt) are served, with Cache-Control: no-cache and
+ * X-Content-Type-Options: nosniff, from
  * the one --web-root directory, opened with O_NOFOLLOW and required to be
  * regular files: no directory traversal, no symlink escapes, no listings.
  */

@@ -65,3 +65,32 @@ def test_static_files_need_no_token():
         assert requests.get(d.url + "/v1/presets").status_code == 401
     finally:
         d.stop()
+
+
+def test_which_names_are_served_and_how(tmp_path):
+    """static_files.h: the type comes from the last extension (a hashed or
+    minified asset, app.min.js, is served as JavaScript), every file carries
+    no-cache and nosniff, and a dot file with a served extension, a
+    directory with one, and a name over 100 characters are not served
+    (the survivors of the session-28 mutation pass: each was served, or the
+    headers missing, with its check removed)."""
+    (tmp_path / "index.html").write_text("<!doctype html><title>t</title>")
+    (tmp_path / "app.min.js").write_text("export const y = 2;")
+    (tmp_path / ".secret.js").write_text("leak")
+    (tmp_path / "d.js").mkdir()
+    (tmp_path / ("a" * 97 + ".js")).write_text("ok")   # 100 characters
+    (tmp_path / ("a" * 98 + ".js")).write_text("long")  # 101
+    d = Daemon("--web-root", str(tmp_path))
+    try:
+        r = requests.get(d.url + "/static/app.min.js")
+        assert r.status_code == 200
+        assert r.headers["Content-Type"].startswith("text/javascript")
+        assert r.headers["Cache-Control"] == "no-cache"
+        assert r.headers["X-Content-Type-Options"] == "nosniff"
+        assert requests.get(d.url + "/static/" + "a" * 97 + ".js").text == "ok"
+        for name in [".secret.js", "d.js", "a" * 98 + ".js"]:
+            r = requests.get(d.url + "/static/" + name)
+            assert r.status_code == 404, name
+            assert r.headers["Content-Type"] == "application/problem+json", name
+    finally:
+        d.stop()
