@@ -60,6 +60,20 @@ static void gain_schedule(void **state)
     c.sched_x[1] = 40000;
     assert_int_equal(ts_ivs_check(&c, &err), TS_ERR_RANGE);
     assert_string_equal(err.pointer, "/control/schedule_x");
+    /* the table holds TS_IVS_SCHEDULE_MAX rows, as many as /control/schedule_x
+     * takes (TS_CONTROL_SCHEDULE_MAX): a full table is accepted, one more row
+     * is not (mutation pass ctl: a 16-row table refused passed) */
+    c.nschedule = TS_IVS_SCHEDULE_MAX;
+    for (int i = 0; i < TS_IVS_SCHEDULE_MAX; i++) {
+        c.sched_x[i] = 40000 + 2000 * i;
+        c.sched[i] = (ts_ivs_gains){1.0 + i, 10.0};
+    }
+    assert_int_equal(TS_IVS_SCHEDULE_MAX, TS_CONTROL_SCHEDULE_MAX);
+    assert_int_equal(ts_ivs_check(&c, &err), TS_OK);
+    assert_close(ts_ivs_gains_at(&c, 40000 + 2000 * 14.5).kp, 15.5, 1e-12, 0);
+    c.nschedule = TS_IVS_SCHEDULE_MAX + 1;
+    assert_int_equal(ts_ivs_check(&c, &err), TS_ERR_RANGE);
+    assert_string_equal(err.pointer, "/control/schedule_x");
 }
 
 /* Closed loop on a first-order plant v' = (g_p u - v)/tau; returns overshoot. */
@@ -113,6 +127,37 @@ static void zn_first_order_dead_time(void **state)
     assert_close(r.y, -L / T, 0.02, 0);
     assert_close(r.kp_norm, 0.9 / (L / T), 0.02, 0);
     assert_close(r.ti, 3.33 * L, 0.02, 0);
+    /* only the response to the step counts: a transient before t_step twice as
+     * steep as 1/T (a ramp of slope 0.5 over 0.2-0.4 s, then back to 0) leaves
+     * X and Y as they were (mutation pass ctl: searching before t_step passed) */
+    for (int i = 0; i < N; i++)
+        if (t[i] > 0.2 && t[i] < 0.4) v[i] = 0.5 * (t[i] - 0.2);
+    ts_zn_result q;
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, t_step, 3, 3.33, &q, &err), TS_OK);
+    assert_close(q.x, r.x, 1e-12, 0);
+    assert_close(q.y, r.y, 1e-12, 0);
+    /* EVIDENCE: a first-order lag with NO dead time, v = 1 - exp(-(t - t_step)/T):
+     * its steepest tangent v = s (t - t_step) + ... crosses v = 0 at or before
+     * the step (X <= 0): not an S-shaped curve, so no Ziegler-Nichols gains
+     * (Eq. 12 would give T_I = 3.33 |X| ~ 0 and K_n = 0.9/|Y| ~ infinity) but
+     * an error naming the dead time (mutation pass ctl: the X > 0 check's
+     * removal passed every test). */
+    for (int i = 0; i < N; i++) {
+        double s = t[i] - t_step;
+        v[i] = s > 0 ? 1 - exp(-s / T) : 0;
+    }
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, t_step, 3, 3.33, &q, &err), TS_ERR_STATE);
+    assert_non_null(strstr(err.msg, "no dead time"));
+    /* EVIDENCE: the window may span all n samples (3..n): t = 0..4 s, v = 0, 0,
+     * 0, 1, 2, window 5: least squares by hand, t_m = 2, v_m = 0.6, slope
+     * sum (t - 2)(v - 0.6) / sum (t - 2)^2 = 5 / 10 = 0.5, so X = 2 - 0.6/0.5
+     * = 0.8 s, Y = 0.6 - 0.5 x 2 = -0.4 (1e-12). */
+    const double t5[5] = {0, 1, 2, 3, 4}, v5[5] = {0, 0, 0, 1, 2};
+    assert_int_equal(ts_zn_reaction_curve(t5, v5, 5, 0.0, 5, 3.0, &q, &err), TS_OK);
+    assert_close(q.slope, 0.5, 1e-12, 0);
+    assert_close(q.x, 0.8, 1e-12, 0);
+    assert_close(q.y, -0.4, 1e-12, 0);
+    assert_int_equal(ts_zn_reaction_curve(t5, v5, 5, 0.0, 7, 3.0, &q, &err), TS_ERR_PARAM);
 }
 
 /* EVIDENCE: two-lag S-curve v = 1 - (T1 e^{-t/T1} - T2 e^{-t/T2})/(T1 - T2):
@@ -142,6 +187,14 @@ static void zn_two_lag_inflection(void **state)
     /* a response that never rises is an error, not a number */
     for (int i = 0; i < N; i++) v[i] = 0;
     assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 11, 3.0, &r, &err), TS_ERR_STATE);
+    assert_non_null(strstr(err.msg, "never rises"));
+    /* nor one that only falls (its steepest slope is negative; mutation pass
+     * ctl: without the slope > 0 check it fell through to the dead-time test,
+     * which a falling curve can pass) */
+    for (int i = 0; i < N; i++)
+        v[i] = -(1 - exp(-t[i] / T1));
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 11, 3.0, &r, &err), TS_ERR_STATE);
+    assert_non_null(strstr(err.msg, "never rises"));
     /* the window is centred on a sample (ts_zn_window_centred, which
      * ts_ivs_tune also applies to /control/tune_window): an even one is refused */
     assert_true(ts_zn_window_centred(11) && !ts_zn_window_centred(10));
@@ -276,6 +329,62 @@ static void cosim_converges_to_monolithic(void **state)
     assert_true(e1[3] < 1e-3);
 }
 
+/* EVIDENCE: cosim.c invariants t_F <= t_L <= t_F + lead, both sides at the
+ * call's end t_end: with 1-ms steps, a 2-ms lead and call ends off the step
+ * grid (3.5 ms, 10.5 ms) the leader's last step is cut so that it stops at
+ * t_end, never past it (a saved or observed coupled state pairs the vehicle at
+ * t with the powertrain at the same t). Exact (1e-12). Mutation pass ctl: a
+ * leader step not cut at the horizon passed (the presets' outputs fall on the
+ * step grid). */
+static void cosim_both_sides_stop_at_the_call_end(void **state)
+{
+    (void)state;
+    leader_st ls = {0, 0};
+    follower_st fs = {0, 0};
+    ts_cosim_opts o = {1e-3, 1e-3, 2e-3, 1};
+    ts_err err;
+    ts_cosim *c = ts_cosim_make(&o, (ts_cosim_leader){&ls, leader_adv},
+                                (ts_cosim_follower){&fs, follower_adv}, 0,
+                                (ts_cosim_report){0, 0, 0}, 0, &err);
+    assert_non_null(c);
+    const double ends[] = {3.5e-3, 10.5e-3, 12e-3};
+    for (int i = 0; i < 3; i++) {
+        assert_int_equal(ts_cosim_advance(c, ends[i], &err), TS_OK);
+        assert_close(ts_cosim_follower_time(c), ends[i], 0, 1e-12);
+        assert_close(ts_cosim_leader_time(c), ends[i], 0, 1e-12);
+        assert_close(ls.t, ends[i], 0, 1e-12);
+    }
+    ts_cosim_free(c);
+}
+
+/* EVIDENCE: §IV.B.2 two-speed governor as built from /control (governor.c
+ * ts_governor_of_config): each band belongs to its own idle. Bands 100 rpm
+ * (low) and 150 rpm (high), the defaults: half the low band below low idle
+ * the rack goes half-way to full, r + (1 - r)/2; half the HIGH band above
+ * high idle it is halved. By hand, 1e-12. Mutation pass ctl: the low band
+ * taken from governor_high_band passed every test. */
+static void governor_from_config(void **state)
+{
+    (void)state;
+    const double rpm = 3.14159265358979 / 30;
+    ts_control_config cc;
+    memset(&cc, 0, sizeof cc);
+    cc.governor = 1;
+    cc.governor_low_idle = 650 * rpm;
+    cc.governor_low_band = 100 * rpm;
+    cc.governor_high_idle = 2100 * rpm;
+    cc.governor_high_band = 150 * rpm;
+    ts_governor g;
+    ts_err err;
+    assert_int_equal(ts_governor_of_config(&cc, &g, &err), TS_OK);
+    assert_close(ts_governor_rack(&g, 0.2, 600 * rpm), 0.6, 1e-12, 0);
+    assert_close(ts_governor_rack(&g, 0.8, 2175 * rpm), 0.4, 1e-12, 0);
+    assert_close(ts_governor_rack(&g, 0.3, 1500 * rpm), 0.3, 0, 0);
+    cc.governor_high_idle = cc.governor_low_idle;
+    assert_int_equal(ts_governor_of_config(&cc, &g, &err), TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/control/governor_high_idle");
+}
+
 /* Bad options are rejected naming the field: a lead shorter than either step
  * (/coupling/lead), a step that is not positive or a predictor order beyond 1
  * (/coupling). */
@@ -397,6 +506,8 @@ int main(void)
         cmocka_unit_test(zn_two_lag_inflection),
         cmocka_unit_test(cosim_converges_to_monolithic),
         cmocka_unit_test(cosim_rejects_bad_options),
+        cmocka_unit_test(cosim_both_sides_stop_at_the_call_end),
+        cmocka_unit_test(governor_from_config),
         cmocka_unit_test(two_speed_governor),
         cmocka_unit_test(anti_windup_back_calculation_closed_form),
         cmocka_unit_test(zn_gain_scalings),

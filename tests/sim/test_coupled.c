@@ -15,6 +15,7 @@
 #include "api/config_json.h"
 #include "preset_config.h"
 #include "sim/coupled_system.h"
+#include "sim/governor.h"
 #include "sim/tanksim.h"
 
 #define MPH 0.44704
@@ -380,6 +381,93 @@ static void launch_starts_from_idle_steady_state(void **state)
     ts_coupled_free(cm);
 }
 
+/* EVIDENCE: back-calculation anti-windup in the coupled IVS run (Eq. 10 with
+ * the Fig. 25 saturation; ivs_controller.h, Astrom & Hagglund 1995 Sec. 3.5,
+ * tracking time T_t = T_I). While the PI output saturates high, u = K_p (e +
+ * I/T_I) > 1, the integral's rate is e + (1 - u)/K_p = 1/K_p - I/T_I whatever
+ * the error, so from I(0) = 0: I(t) = (T_I/K_p)(1 - exp(-t/T_I)), 0.2350 m at
+ * 0.5 s with the preset's K_p = 2, T_I = 4 s (1e-4 relative: the integrator's
+ * tolerance). With /control/anti_windup false it is the plain integral of the
+ * speed error, int e dt (trapezoids over 5-ms samples, 1 %), about 1.1 m.
+ * Launch of bump-coupled-ivs5mph on flat ground, static track, first 0.5 s
+ * (5 mph is reached at 1.6 s). Mutation pass ctl: the coupled run's
+ * integral without the back-calculation term, and /control/anti_windup false
+ * ignored, both passed every test. */
+static void ivs_integral_tracks_the_saturated_rack(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("bump-coupled-ivs5mph", "static");
+    c.terrain.kind = TS_TERRAIN_FLAT;
+    for (int aw = 1; aw >= 0; aw--) {
+        c.control.anti_windup = aw;
+        ts_coupled *cm;
+        ts_coupled_run *r = started(&c, TS_COUPLING_LEADING_FOLLOWING, 0.0, &cm);
+        const double kp = ts_coupled_kp(cm), ti = ts_coupled_ti(cm), dt = 5e-3;
+        ts_err err;
+        ts_coupled_obs o;
+        ts_coupled_run_observe(r, &o);
+        double e_prev = o.speed_error, plain = 0;
+        for (int k = 1; k <= 100; k++) {
+            assert_int_equal(ts_coupled_run_advance(r, k * dt, &err), TS_OK);
+            ts_coupled_run_observe(r, &o);
+            plain += 0.5 * dt * (e_prev + o.speed_error);
+            e_prev = o.speed_error;
+            assert_true(kp * (o.speed_error + o.integral / ti) > 1.0); /* saturated */
+            assert_close(o.rack_demand, 1.0, 0, 0);
+        }
+        double want = aw ? ti / kp * (1.0 - exp(-0.5 / ti)) : plain;
+        print_message("anti_windup %d: integral at 0.5 s %.5f m, expected %.5f m\n", aw, o.integral,
+                      want);
+        assert_close(o.integral, want, aw ? 1e-4 : 1e-2, 0);
+        ts_coupled_run_free(r);
+        ts_coupled_free(cm);
+    }
+}
+
+/* EVIDENCE: the fuel actuator's two-speed governor (paper IV.B.2, governor.h)
+ * acts in the coupled run: the engine gets rack = governor(demand, w_e), and
+ * as the rack is cut to 0 at high_idle + high_band the engine cannot be driven
+ * past that speed while the converter loads it (turbine slower than pump).
+ * Flat ground, static track, 90 % rack, mean-value engine, high idle lowered
+ * to 800 rpm (band 100 rpm): over the first 1.5 s the governed rack is the
+ * governor law of the demand at the engine speed (1e-12), it falls below the
+ * demand, and the engine stays below 900 rpm (without the governor it
+ * passes 1000 rpm within the 1.5 s). Mutation pass ctl: the coupled run
+ * with the governor bypassed passed every test (its speeds never reach the
+ * default idles). */
+static void governor_acts_in_the_coupled_run(void **state)
+{
+    (void)state;
+    const double rpm = 3.14159265358979 / 30;
+    ts_config c = test_preset_config("flat-coupled-rack90", "static");
+    c.control.governor = 1;
+    c.control.governor_high_idle = 800 * rpm;
+    c.control.governor_high_band = 100 * rpm;
+    ts_governor g;
+    ts_err err;
+    assert_int_equal(ts_governor_of_config(&c.control, &g, &err), TS_OK);
+    ts_coupled *cm;
+    ts_coupled_run *r = started(&c, TS_COUPLING_LEADING_FOLLOWING, 0.0, &cm);
+    double w_max = 0;
+    int cut = 0;
+    for (int k = 1; k <= 150; k++) {
+        assert_int_equal(ts_coupled_run_advance(r, 0.01 * k, &err), TS_OK);
+        ts_coupled_obs o;
+        ts_coupled_run_observe(r, &o);
+        assert_close(o.rack_demand, 0.9, 0, 0);
+        assert_close(o.rack, ts_governor_rack(&g, o.rack_demand, o.pt.engine_speed), 0, 1e-12);
+        assert_close(o.pt.rack, o.rack, 0, 0);
+        cut += o.rack < o.rack_demand - 0.05;
+        w_max = fmax(w_max, o.pt.engine_speed);
+    }
+    print_message("highest engine speed %.0f rpm; %d of 150 samples with the rack cut\n",
+                  w_max / rpm, cut);
+    assert_true(cut > 10);
+    assert_true(w_max < (800 + 100) * rpm);
+    ts_coupled_run_free(r);
+    ts_coupled_free(cm);
+}
+
 /* EVIDENCE: where the driveline's rotating mass goes. /driveline/output_inertia
  * is the transmission output to both sprockets, reflected to the sprocket;
  * in the pitch-plane model (one side) each sprocket spin carries its half,
@@ -416,6 +504,22 @@ static void driveline_inertia_is_shared_by_the_two_sprockets(void **state)
             assert_close(M2[i * nq + j] - M1[i * nq + j],
                          i == ks && j == ks ? fmax(0.5 * jo, js) - js : 0.0, 0,
                          1e-12 * (1 + fabs(M1[i * nq + j])));
+    /* a sprocket heavier than J_out / 2 keeps its own inertia (the larger of
+     * the two): 30 kg m^2 against 20, no change at all (mutation pass ctl:
+     * replacing it by J_out / 2 regardless passed) */
+    c.vehicle.sprocket_inertia = 0.75 * jo;
+    vm_free(plain);
+    ts_coupled_free(cm);
+    plain = test_vm(&c);
+    cm = ts_coupled_make(&c, &err);
+    if (!cm) fail_msg("%s", err.msg);
+    cv = ts_coupled_vehicle(cm);
+    vm_work_free(w1), vm_work_free(w2);
+    w1 = vm_work_make(plain), w2 = vm_work_make(cv);
+    vm_mass(plain, w1, y, M1);
+    vm_mass(cv, w2, y, M2);
+    for (int i = 0; i < nq * nq; i++)
+        assert_close(M2[i], M1[i], 0, 1e-12 * (1 + fabs(M1[i])));
     free(y), free(M1), free(M2);
     vm_work_free(w1), vm_work_free(w2);
     vm_free(plain);
@@ -454,6 +558,46 @@ static void save_restore_reproduces(void **state)
         ts_coupled_run_free(r);
         ts_coupled_free(cm);
     }
+}
+
+/* EVIDENCE: Section IV.A: the follower reports the sprocket's state relative
+ * to the hull (the powertrain turns the sprocket against the hull), so the
+ * leader's predictor w + alpha (t - t_k) extrapolates the relative speed with
+ * the relative acceleration. The report the saved state carries (coupled_system.c
+ * SAVE_HEAD: t, rack, then the report t, omega, alpha) equals the observed
+ * sprocket.speed and sprocket.accel, both hull-relative (1e-12), at every
+ * 10-ms output of a launch (flat, 90 % rack, static track) whose hull pitches
+ * (pitch acceleration up to 0.7 rad/s^2 at the launch, asserted > 0.1). Exact by
+ * definition. Mutation pass ctl: a reported alpha with the hull's pitch
+ * acceleration left in (the predictor off by h theta'' per step on bumps)
+ * passed every test. */
+static void reported_sprocket_state_is_hull_relative(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("flat-coupled-rack90", "static");
+    ts_coupled *cm;
+    ts_coupled_run *r = started(&c, TS_COUPLING_LEADING_FOLLOWING, 0.0, &cm);
+    size_t n = ts_coupled_state_size(cm);
+    double *buf = malloc(n);
+    assert_non_null(buf);
+    int nq = vm_nq(ts_coupled_vehicle(cm));
+    double pitch_acc = 0;
+    ts_err err;
+    for (int k = 1; k <= 50; k++) {
+        assert_int_equal(ts_coupled_run_advance(r, 0.01 * k, &err), TS_OK);
+        ts_coupled_obs o;
+        ts_coupled_run_observe(r, &o);
+        ts_coupled_run_save(r, buf);
+        assert_close(buf[2], o.t, 0, 1e-12);
+        assert_close(buf[3], o.sprocket_speed, 1e-12, 1e-12);
+        assert_close(buf[4], o.sprocket_accel, 1e-12, 1e-12);
+        pitch_acc = fmax(pitch_acc, fabs(o.ydot_vehicle[nq + 2])); /* q 2: hull pitch */
+    }
+    print_message("largest hull pitch acceleration %.3g rad/s^2\n", pitch_acc);
+    assert_true(pitch_acc > 0.1);
+    free(buf);
+    ts_coupled_run_free(r);
+    ts_coupled_free(cm);
 }
 
 /* EVIDENCE: Fig. 27 gain schedule by linear interpolation in vehicle mass
@@ -505,8 +649,11 @@ int main(void)
         cmocka_unit_test(ivs_full_rack_at_launch_then_holds_5mph),
         cmocka_unit_test(ivs_cruise_does_not_hunt_gears),
         cmocka_unit_test(launch_starts_from_idle_steady_state),
+        cmocka_unit_test(ivs_integral_tracks_the_saturated_rack),
+        cmocka_unit_test(governor_acts_in_the_coupled_run),
         cmocka_unit_test(driveline_inertia_is_shared_by_the_two_sprockets),
         cmocka_unit_test(save_restore_reproduces),
+        cmocka_unit_test(reported_sprocket_state_is_hull_relative),
         cmocka_unit_test(gain_schedule_and_config_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

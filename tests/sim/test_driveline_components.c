@@ -436,6 +436,102 @@ static void tables_are_validated(void **state)
     c.driveline.gear_ratio[2] = 2.5;
     assert_int_equal(ts_transmission_init(&tr, &c.driveline, &err), TS_ERR_PARAM);
     assert_string_equal(err.pointer, "/driveline/gear_ratio");
+    /* ratios must strictly decrease: two gears of one ratio make an upshift
+     * that changes nothing, and the engine, still at shift_speed, starts the
+     * next one (mutation pass ctl: `<=` passed) */
+    c = defaults();
+    c.driveline.gear_ratio[2] = c.driveline.gear_ratio[1];
+    assert_int_equal(ts_transmission_init(&tr, &c.driveline, &err), TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/driveline/gear_ratio");
+    /* a downshift speed at the upshift speed (or above) would downshift as soon
+     * as an upshift pulls the engine down: refused (transmission.c; the
+     * check's removal passed every test) */
+    c = defaults();
+    c.driveline.downshift_speed = c.driveline.shift_speed;
+    assert_int_equal(ts_transmission_init(&tr, &c.driveline, &err), TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/driveline/downshift_speed");
+    c.driveline.downshift_speed = 0; /* 0: never downshift, whatever shift_speed */
+    assert_int_equal(ts_transmission_init(&tr, &c.driveline, &err), TS_OK);
+}
+
+/* EVIDENCE: transmission.h shift logic: a shift that ends with the engine
+ * still above shift_speed - shift_hysteresis leaves the upshift disarmed; it
+ * re-arms when the engine falls to that speed (a sign change of root g0 at
+ * shift_speed - hysteresis, not at shift_speed) or, failing that, when
+ * shift_dwell has passed since the shift ENDED (root g2 at t0 + shift_time +
+ * shift_dwell), and an engine still at shift_speed then shifts at once. Logic
+ * check (defaults: shift_time 0.6 s, dwell 2 s, hysteresis 50 rpm), nothing
+ * calibrated. Mutation pass ctl: a g0 root at shift_speed (the re-arm fall
+ * missed until the dwell: the next upshift up to 2 s late) and a dwell counted
+ * from the shift START passed every test. */
+static void upshift_rearms_after_the_shift(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    ts_transmission tr;
+    assert_int_equal(ts_transmission_init(&tr, &c.driveline, NULL), TS_OK);
+    ts_shift_state st;
+    ts_transmission_reset(&tr, &st, 1);
+    const double t0 = 1.0, dt = tr.shift_time, w_hi = tr.shift_speed + 1;
+    const double te = t0 + dt, rearm = tr.shift_speed - tr.shift_hysteresis;
+    assert_int_equal(ts_transmission_update(&tr, &st, t0, w_hi, UPSHIFT_W_OUT, 3000), 1);
+    assert_int_equal(ts_transmission_update(&tr, &st, te, w_hi, UPSHIFT_W_OUT, 3000), 1);
+    assert_int_equal(st.gear, 2);
+    assert_int_equal(st.target, 0);
+    assert_int_equal(st.armed, 0); /* the engine never dipped to the re-arm speed */
+    double g[TS_TRANSMISSION_NROOTS], h[TS_TRANSMISSION_NROOTS];
+    /* the fall to the re-arm speed is a root of g0 ... */
+    ts_transmission_roots(&tr, &st, te + 0.1, rearm + 1, UPSHIFT_W_OUT, g);
+    ts_transmission_roots(&tr, &st, te + 0.1, rearm - 1, UPSHIFT_W_OUT, h);
+    assert_true(g[0] > 0 && h[0] < 0);
+    /* ... and the crossing of shift_speed itself is not */
+    ts_transmission_roots(&tr, &st, te + 0.1, tr.shift_speed + 1, UPSHIFT_W_OUT, g);
+    ts_transmission_roots(&tr, &st, te + 0.1, tr.shift_speed - 1, UPSHIFT_W_OUT, h);
+    assert_true(g[0] > 0 && h[0] > 0);
+    /* the dwell runs from the end of the shift */
+    ts_transmission_roots(&tr, &st, te + tr.shift_dwell - 1e-3, w_hi, UPSHIFT_W_OUT, g);
+    ts_transmission_roots(&tr, &st, te + tr.shift_dwell + 1e-3, w_hi, UPSHIFT_W_OUT, h);
+    assert_true(g[2] > 0 && h[2] < 0);
+    /* shift_dwell after the START of the shift (0.6 s before its end): still
+     * disarmed (the update only ends the post-shift capacity ramp, due at t0 + 2 dt) */
+    ts_transmission_update(&tr, &st, t0 + tr.shift_dwell + 1e-3, w_hi, UPSHIFT_W_OUT, 3000);
+    assert_int_equal(st.armed, 0);
+    assert_int_equal(st.target, 0);
+    /* at the dwell's end it re-arms and, the engine above shift_speed, shifts 2-3 */
+    assert_int_equal(
+        ts_transmission_update(&tr, &st, te + tr.shift_dwell, w_hi, UPSHIFT_W_OUT, 3000), 1);
+    assert_int_equal(st.target, 3);
+}
+
+/* EVIDENCE: transmission.h: the shift clutches' peak capacity is Cs =
+ * shift_capacity_factor x |input torque at the shift start|, floored at
+ * shift_capacity_floor x clutch_capacity (1.5 and 5 % of 40 kN*m [E]).
+ * A 2-1 downshift begun with the vehicle driving the engine (input torque
+ * -4 kN*m) gets 1.5 x 4 = 6 kN*m; an upshift begun at zero input torque gets
+ * the floor, 0.05 x 40 = 2 kN*m. Closed form of the law (1e-12). Mutation
+ * pass ctl: Cs from the signed torque (the downshift's clutches at the floor)
+ * and a floor of 0.05 N*m (a clutch that cannot lock in the shift interval)
+ * passed every test. */
+static void shift_capacity_law(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    ts_transmission tr;
+    assert_int_equal(ts_transmission_init(&tr, &c.driveline, NULL), TS_OK);
+    ts_shift_state st;
+    ts_transmission_reset(&tr, &st, 2);
+    double w_slow = 0.9 * tr.downshift_speed / tr.ratio[0];
+    assert_int_equal(
+        ts_transmission_update(&tr, &st, 3.0, 0.9 * tr.downshift_speed, w_slow, -4000.0), 1);
+    assert_int_equal(st.target, 1);
+    assert_close(st.capacity, tr.shift_capacity_factor * 4000.0, 1e-12, 0);
+    assert_close(st.capacity, 6000.0, 1e-12, 0);
+    ts_transmission_reset(&tr, &st, 1);
+    assert_int_equal(ts_transmission_update(&tr, &st, 3.0, tr.shift_speed + 1, UPSHIFT_W_OUT, 0.0),
+                     1);
+    assert_int_equal(st.target, 2);
+    assert_close(st.capacity, tr.shift_capacity_floor * tr.clutch_capacity, 1e-12, 0);
+    assert_close(st.capacity, 2000.0, 1e-12, 0);
 }
 
 int main(void)
@@ -449,6 +545,8 @@ int main(void)
         cmocka_unit_test(shift_events_as_roots),
         cmocka_unit_test(shift_end_capacity_ramps),
         cmocka_unit_test(tables_are_validated),
+        cmocka_unit_test(upshift_rearms_after_the_shift),
+        cmocka_unit_test(shift_capacity_law),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

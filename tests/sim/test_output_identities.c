@@ -277,6 +277,13 @@ static void ivs_channels_and_figures_are_their_definitions(void **state)
     assert_close(metric(m, &r, "peak_tension_lb"), tpk / 4.44822, 1e-12, 0);
     assert_close(metric(m, &r, "peak_sprocket_torque"), qpk, 1e-12, 0);
     assert_close(metric(m, &r, "final_speed_mph"), r.v[(r.n - 1) * nch + v] / 0.44704, 1e-12, 0);
+    /* top_speed_mph: the largest vehicle.speed (not the controller's measured
+     * speed, which the track's creep and stretch move off it; mutation pass
+     * ctl: reading control.speed_measured passed) */
+    double vpk = 0;
+    for (long i = 0; i < r.n; i++)
+        vpk = fmax(vpk, r.v[i * nch + v]);
+    assert_close(metric(m, &r, "top_speed_mph"), vpk / 0.44704, 1e-12, 0);
     /* EVIDENCE: sprocket.accel is the time derivative of sprocket.speed, both
      * relative to the hull (the hull's pitch rate taken out of each): the
      * trapezoid of the one over each 0.2-s window matches the change of the
@@ -300,6 +307,14 @@ static void ivs_channels_and_figures_are_their_definitions(void **state)
     for (long i = 0; i < r.n; i++)
         r.v[i * nch + rd] = r.v[i * nch + t] <= 1.0 ? 0.3 : 0.9;
     assert_close(metric(m, &r, "rack_at_launch"), 0.3, 1e-12, 0);
+    /* rack_min and rack_max read rack.demand (the driver/IVS demand before the
+     * governor, Fig. 33), not the governed "rack": the same rows with
+     * rack.demand 0.9 after 1 s give 0.9 for both, whatever "rack" holds
+     * (mutation pass ctl: rack_min read from "rack" passed, the governor
+     * never acting in this run) */
+    assert_true(t_hit > 1.0);
+    assert_close(metric(m, &r, "rack_min"), 0.9, 1e-12, 0);
+    assert_close(metric(m, &r, "rack_max"), 0.9, 1e-12, 0);
     ts_rows_free(&r);
     ts_model_free(m);
 }

@@ -205,6 +205,52 @@ static void upshifts_at_shift_speed_and_unity_fourth(void **state)
     ts_powertrain_free(pt);
 }
 
+/* EVIDENCE: transmission.h through the powertrain's event protocol
+ * (ts_powertrain_update): an upshift's clutch capacity is Cs =
+ * shift_capacity_factor x |the input-shaft torque at its start| (1.5 x the
+ * engaged clutch's torque, 40 kN*m tanh(1 rad/s / 2 rad/s) = 18.5 kN*m here;
+ * 1e-12), and a shift that ends with the upshift armed and the engine still
+ * at shift_speed chains into the next at the same event (the shift-end root),
+ * not one root later. Closed form of the law; test-double engine. Mutation
+ * pass ctl: Cs from a zero input torque (every shift clutch at the 2-kN*m
+ * floor) and one discrete update per event (the chained 2-3 upshift waiting
+ * for the 1-2 clutch's ramp-end root, 0.6 s later) both passed. */
+static void update_sets_shift_capacity_and_chains_shifts(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    flat_engine fe = {5000, 8.5, 68, 0.0};
+    ts_powertrain *pt = make(&c, &fe);
+    ts_powertrain_state ps;
+    double y[2], ydot[2];
+    ts_err err;
+    assert_int_equal(ts_powertrain_reset(pt, &ps, y, 0.0, &err), TS_OK);
+    const double w_s = 5.0, r1 = c.driveline.gear_ratio[0], i_f = c.driveline.final_ratio;
+    y[0] = c.driveline.shift_speed + 1.0; /* engine above the upshift speed */
+    y[1] = r1 * i_f * w_s + 1.0;          /* 1st-gear clutch slipping by 1 rad/s */
+    ts_powertrain_out out;
+    ts_powertrain_rhs(pt, &ps, 1.0, y, w_s, 1.0, ydot, &out);
+    double t_in = out.clutch_offgoing + out.clutch_oncoming;
+    assert_close(t_in, c.driveline.clutch_capacity * tanh(1.0 / c.driveline.clutch_slip_speed),
+                 1e-12, 0);
+    assert_int_equal(ts_powertrain_update(pt, &ps, 1.0, y, w_s), 1);
+    assert_int_equal(ps.shift.target, 2);
+    assert_close(ps.shift.capacity, c.driveline.shift_capacity_factor * fabs(t_in), 1e-12, 0);
+    /* the engine dips to the re-arm speed during the shift and is back above
+     * shift_speed at its end: 1-2 ends and 2-3 starts at that one event */
+    double dip[2] = {c.driveline.shift_speed - c.driveline.shift_hysteresis - 1.0, y[1]};
+    assert_int_equal(ts_powertrain_update(pt, &ps, 1.3, dip, w_s), 1);
+    assert_int_equal(ps.shift.armed, 1);
+    assert_int_equal(ps.shift.target, 2);
+    double t_end = 1.0 + c.driveline.shift_time;
+    assert_int_equal(ts_powertrain_update(pt, &ps, t_end, y, w_s), 1);
+    assert_int_equal(ps.shift.shifts, 1);
+    assert_int_equal(ps.shift.gear, 2);
+    assert_int_equal(ps.shift.target, 3);
+    assert_close(ps.shift.t_start, t_end, 0, 0);
+    ts_powertrain_free(pt);
+}
+
 static double ramp(void *ud, double t) { return *(const double *)ud * t; }
 
 /* EVIDENCE: the powertrain on its own integrator (the co-simulation leader's
@@ -301,6 +347,7 @@ int main(void)
         cmocka_unit_test(stall_statics_of_the_chain),
         cmocka_unit_test(pump_inertia_on_the_crankshaft),
         cmocka_unit_test(upshifts_at_shift_speed_and_unity_fourth),
+        cmocka_unit_test(update_sets_shift_capacity_and_chains_shifts),
         cmocka_unit_test(own_integrator_matches_and_restores),
         cmocka_unit_test(explicit_path_matches_root_path),
     };
