@@ -225,4 +225,13 @@ static inline void m1_span_mode(m1_state *s, int span, double amp)
         if (s->span[i] == span) s->g.track_dz[i] = amp * sin(TSR_PI * s->xi[i]);
 }
 
+/* The M1 at rest on flat ground (x from -60 to 100 m) with its sprocket
+ * layout origin at x = X; t = 1 s, speed 2 m/s for the overlay. */
+static inline void m1_flat(m1_state *s, double X)
+{
+    memset(s, 0, sizeof *s);
+    m1_set_terrain(&s->g, -60, 100, 0, 0, 1);
+    m1_pose(s, X, 1.0, 2.0);
+}
+
 #endif

@@ -81,13 +81,6 @@ static unsigned char *render_copy(tsr_ctx *c, const ts_geom *g, const tsr_view *
     return copy;
 }
 
-static void flat_state(m1_state *s, double X)
-{
-    memset(s, 0, sizeof *s);
-    m1_set_terrain(&s->g, -60, 100, 0, 0, 1);
-    m1_pose(s, X, 1.0, 2.0);
-}
-
 static void bump_state(m1_state *s)
 {
     memset(s, 0, sizeof *s);
@@ -159,7 +152,7 @@ static void png_has_size_and_decodes(void **state)
 {
     (void)state;
     static m1_state s;
-    flat_state(&s, 0);
+    m1_flat(&s, 0);
     tsr_ctx *c = ctx_or_fail();
     tsr_view v;
     tsr_view_default(&v);
@@ -192,7 +185,7 @@ static void frame_is_not_blank(void **state)
 {
     (void)state;
     static m1_state s;
-    flat_state(&s, 0);
+    m1_flat(&s, 0);
     tsr_ctx *c = ctx_or_fail();
     tsr_view v;
     tsr_view_default(&v);
@@ -235,7 +228,7 @@ static void hull_pixels_in_projected_box(void **state)
 {
     (void)state;
     static m1_state s;
-    flat_state(&s, 0);
+    m1_flat(&s, 0);
     tsr_view v = ids_view();
     const int W = v.width, H = v.height;
     /* layout of vehicle.json: sprocket (0, 0.70) r 0.327; idler (5.88, 0.60) r 0.3175 */
@@ -338,7 +331,7 @@ static void track_follows_span_deflection(void **state)
 {
     (void)state;
     static m1_state rest, bent;
-    flat_state(&rest, 0);
+    m1_flat(&rest, 0);
     bent = rest;
     m1_span_mode(&bent, 2, 0.02);
     tsr_ctx *c = ctx_or_fail();
@@ -381,7 +374,7 @@ static void tension_colours_follow_track_tension(void **state)
 {
     (void)state;
     static m1_state s, taut;
-    flat_state(&s, 0);
+    m1_flat(&s, 0);
     taut = s;
     for (int i = 0; i < taut.g.ntrack; i++)
         if (taut.span[i] == 2) taut.g.track_tension[i] = 2 * taut.g.track_static_tension;
@@ -443,7 +436,7 @@ static void overlay_shows_time(void **state)
 {
     (void)state;
     static m1_state a, b;
-    flat_state(&a, 0);
+    m1_flat(&a, 0);
     assert_int_equal(a.g.gear, 1);
     b = a;
     b.g.t = 2.0;
@@ -601,7 +594,7 @@ static void bad_input_is_rejected(void **state)
 {
     (void)state;
     static m1_state s, bad;
-    flat_state(&s, 0);
+    m1_flat(&s, 0);
     tsr_view v;
     tsr_view_default(&v);
     ts_err err;

@@ -22,13 +22,6 @@
 
 /* ---- helpers ------------------------------------------------------------------ */
 
-static void flat_state(m1_state *s)
-{
-    memset(s, 0, sizeof *s);
-    m1_set_terrain(&s->g, -60, 100, 0, 0, 1);
-    m1_pose(s, 0, 1.0, 2.0);
-}
-
 static tsr_scene *scene_of(const ts_geom *g, const tsr_view *v)
 {
     ts_err err;
@@ -97,7 +90,7 @@ static void hull_parts_pitch_with_the_hull(void **state)
 {
     (void)state;
     static m1_state a, b;
-    flat_state(&a);
+    m1_flat(&a, 0);
     b = a;
     const double th = 0.15, ox = a.g.hull_x, oz = a.g.hull_z;
     b.g.hull_pitch = a.g.hull_pitch + th;
@@ -137,7 +130,7 @@ static void track_deflection_exaggerated_along_x(void **state)
 {
     (void)state;
     static m1_state s;
-    flat_state(&s);
+    m1_flat(&s, 0);
     tsr_view v = side_view();
     v.exaggeration = 0;
     tsr_scene *rest = scene_of(&s.g, &v);
@@ -169,7 +162,7 @@ static void track_loop_direction_does_not_matter(void **state)
 {
     (void)state;
     static m1_state a, b;
-    flat_state(&a);
+    m1_flat(&a, 0);
     for (int i = 0; i < a.g.nwheel; i++) a.g.wheel[i].angle = 0.1; /* sprocket included */
     b = a;
     int n = a.g.ntrack;
@@ -200,7 +193,7 @@ static void one_shoe_per_pitch(void **state)
 {
     (void)state;
     static m1_state s;
-    flat_state(&s);
+    m1_flat(&s, 0);
     double L = 0;
     for (int i = 0; i < s.g.ntrack; i++) {
         int k = (i + 1) % s.g.ntrack;
@@ -258,7 +251,7 @@ static void tension_reference_without_a_static_tension(void **state)
 {
     (void)state;
     static m1_state s;
-    flat_state(&s);
+    m1_flat(&s, 0);
     s.g.track_static_tension = 0;
     for (int i = 0; i < s.g.ntrack; i++) s.g.track_tension[i] = i == 5 ? 20000.0 : 8000.0;
     tsr_view v = side_view();
@@ -294,7 +287,7 @@ static void shoe_colour_interpolates_the_tension(void **state)
 {
     (void)state;
     static m1_state s;
-    flat_state(&s);
+    m1_flat(&s, 0);
     int j = -1;
     for (int i = 0; i < s.g.ntrack && j < 0; i++)
         if (s.span[i] == 2 && s.xi[i] > 0.5) j = i;
@@ -328,7 +321,7 @@ static void ground_held_at_the_profile_start(void **state)
 {
     (void)state;
     static m1_state s;
-    flat_state(&s);
+    m1_flat(&s, 0);
     double x0 = s.g.hull_x - 3.0;
     s.g.nterrain = 2;
     s.g.terrain_x[0] = x0, s.g.terrain_z[0] = 0.2;
@@ -354,7 +347,7 @@ static void ground_keeps_the_profile_points(void **state)
 {
     (void)state;
     static m1_state s;
-    flat_state(&s);
+    m1_flat(&s, 0);
     double xp = s.g.hull_x + 1.137; /* off the 0.25-m grid */
     s.g.nterrain = 5;
     const double xs[5] = {-60, xp - 0.4, xp, xp + 0.4, 100}, zs[5] = {0, 0, 0.3, 0, 0};
@@ -405,7 +398,7 @@ static void wheels_turn_with_their_spin(void **state)
 {
     (void)state;
     static m1_state a, b;
-    flat_state(&a);
+    m1_flat(&a, 0);
     b = a;
     for (int i = 0; i < b.g.nwheel; i++) b.g.wheel[i].angle += 0.1;
     tsr_view v = side_view();
@@ -442,7 +435,7 @@ static void project_refuses_a_point_behind_the_camera(void **state)
 {
     (void)state;
     static m1_state s;
-    flat_state(&s);
+    m1_flat(&s, 0);
     tsr_view v = side_view();
     v.kind = TSR_VIEW_THREE_QUARTER;
     tsr_scene *sc = scene_of(&s.g, &v);

@@ -30,6 +30,16 @@ static ts_config defaults(void)
     return c;
 }
 
+/* The default 4-speed box (defaults()) in gear `gear`, not shifting. */
+static ts_transmission box_in_gear(int gear, ts_shift_state *st)
+{
+    ts_config c = defaults();
+    ts_transmission tr;
+    assert_int_equal(ts_transmission_init(&tr, &c.driveline, NULL), TS_OK);
+    ts_transmission_reset(&tr, st, gear);
+    return tr;
+}
+
 /* EVIDENCE: definitions T_p = (w_p/K)^2, T_t = TR T_p at the table rows of
  * driveline.json (the [E] nominal curve, not calibrated); efficiency
  * P_t/P_p = TR SR. Tol 1e-12. */
@@ -277,12 +287,9 @@ static void shift_hands_torque_over_continuously(void **state)
 static void shift_events_as_roots(void **state)
 {
     (void)state;
-    ts_config c = defaults();
-    ts_transmission tr;
-    assert_int_equal(ts_transmission_init(&tr, &c.driveline, NULL), TS_OK);
-    assert_close(tr.shift_speed / RPM, 1850, 1e-4, 0);
     ts_shift_state st;
-    ts_transmission_reset(&tr, &st, 1);
+    ts_transmission tr = box_in_gear(1, &st);
+    assert_close(tr.shift_speed / RPM, 1850, 1e-4, 0);
     double g[TS_TRANSMISSION_NROOTS], h[TS_TRANSMISSION_NROOTS];
     ts_transmission_roots(&tr, &st, 1.0, 1849 * RPM, UPSHIFT_W_OUT, g);
     ts_transmission_roots(&tr, &st, 1.1, 1851 * RPM, UPSHIFT_W_OUT, h);
@@ -352,11 +359,8 @@ static void shift_events_as_roots(void **state)
 static void shift_end_capacity_ramps(void **state)
 {
     (void)state;
-    ts_config c = defaults();
-    ts_transmission tr;
-    assert_int_equal(ts_transmission_init(&tr, &c.driveline, NULL), TS_OK);
     ts_shift_state st;
-    ts_transmission_reset(&tr, &st, 1);
+    ts_transmission tr = box_in_gear(1, &st);
     assert_close(ts_transmission_applied_capacity(&tr, &st, 0.0), tr.clutch_capacity, 0, 0);
     double t0 = 2.0, dt = tr.shift_time, t_in = 4000;
     assert_int_equal(ts_transmission_update(&tr, &st, t0, tr.shift_speed + 1, UPSHIFT_W_OUT, t_in),
@@ -467,11 +471,8 @@ static void tables_are_validated(void **state)
 static void upshift_rearms_after_the_shift(void **state)
 {
     (void)state;
-    ts_config c = defaults();
-    ts_transmission tr;
-    assert_int_equal(ts_transmission_init(&tr, &c.driveline, NULL), TS_OK);
     ts_shift_state st;
-    ts_transmission_reset(&tr, &st, 1);
+    ts_transmission tr = box_in_gear(1, &st);
     const double t0 = 1.0, dt = tr.shift_time, w_hi = tr.shift_speed + 1;
     const double te = t0 + dt, rearm = tr.shift_speed - tr.shift_hysteresis;
     assert_int_equal(ts_transmission_update(&tr, &st, t0, w_hi, UPSHIFT_W_OUT, 3000), 1);
@@ -515,11 +516,8 @@ static void upshift_rearms_after_the_shift(void **state)
 static void shift_capacity_law(void **state)
 {
     (void)state;
-    ts_config c = defaults();
-    ts_transmission tr;
-    assert_int_equal(ts_transmission_init(&tr, &c.driveline, NULL), TS_OK);
     ts_shift_state st;
-    ts_transmission_reset(&tr, &st, 2);
+    ts_transmission tr = box_in_gear(2, &st);
     double w_slow = 0.9 * tr.downshift_speed / tr.ratio[0];
     assert_int_equal(
         ts_transmission_update(&tr, &st, 3.0, 0.9 * tr.downshift_speed, w_slow, -4000.0), 1);
