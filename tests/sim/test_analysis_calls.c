@@ -500,10 +500,40 @@ static void ivs_tune_rack_low_refusals_share_a_code(void **state)
     assert_true(o.vb < o.v0 - 0.05); /* slower by a margin, not by round-off */
 }
 
+/* EVIDENCE: the sweep runs at the configured /control/rack (engine_sweep.h;
+ * the Fig. 18 document records it): the constant-phi fuel law of Eqs. 13-14
+ * injects m_f = m_air phi_tgt(n) / (A/F)_s Rack per cycle on the compressor's
+ * air flow, so the fuel/air ratio of the flows is Rack phi_tgt(n) / (A/F)_s
+ * and a sweep at rack 0.8 must run at 0.8 times the full-rack fuel/air ratio
+ * at every speed (mean-value fidelity; cycle means, to rounding: 1e-9) and
+ * with less brake torque. Session-29 mutation test: the sweep run at full
+ * rack whatever the configuration said survived every test (the CLI's
+ * sidecar still reported 0.8). */
+static void sweep_runs_at_the_configured_rack(void **state)
+{
+    (void)state;
+    ts_config cfg = load(NULL);
+    ts_engine_cycle full[TS_ENGINE_SWEEP_NPOINT], part[TS_ENGINE_SWEEP_NPOINT];
+    ts_err err;
+    assert_int_equal(ts_engine_full_load_sweep(&cfg, full, NULL, NULL, &err), TS_OK);
+    cfg.control.rack = 0.8;
+    assert_int_equal(ts_engine_full_load_sweep(&cfg, part, NULL, NULL, &err), TS_OK);
+    double worst = 0;
+    for (int k = 0; k < TS_ENGINE_SWEEP_NPOINT; k++) {
+        double fa_part = part[k].mean.fuel_flow / part[k].mean.air_flow,
+               fa_full = full[k].mean.fuel_flow / full[k].mean.air_flow;
+        worst = fmax(worst, fabs(fa_part / fa_full - 0.8));
+        assert_close(fa_part, 0.8 * fa_full, 1e-9, 0);
+        assert_true(part[k].mean.brake_torque < full[k].mean.brake_torque);
+    }
+    printf("# fuel/air ratio at rack 0.8 against rack 1: 0.8 to %.2g\n", worst);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(sweep_rows_and_progress),
+        cmocka_unit_test(sweep_runs_at_the_configured_rack),
         cmocka_unit_test(engine_map_document),
         cmocka_unit_test(sweep_cancel),
         cmocka_unit_test(sweep_engine_error),

@@ -96,7 +96,8 @@ static void converter_and_engine_channels_are_their_definitions(void **state)
  * of hull.z (its integral over the run equals the change of hull.z's rate,
  * the rates taken by central differences of the 200-Hz samples: within 2 % of
  * the range of that rate), top_speed_mph is the largest vehicle.speed / 0.44704
- * (1e-12), the units of the plotted channels are SI, and the spectral figures
+ * (1e-12), the units of the plotted channels are SI (session-29 mutation test:
+ * the road-arm angles declared in degrees survived), and the spectral figures
  * read their own channel (below). */
 static void vehicle_channels_are_their_definitions(void **state)
 {
@@ -155,8 +156,11 @@ static void vehicle_channels_are_their_definitions(void **state)
                                            {"road_wheel.4.load", "N"},
                                            {"span.rear_roller_front_roller.deflection", "m"},
                                            {"span.rear_roller_front_roller.tension", "N"},
-                                           {"sprocket.speed", "rad/s"}};
-    expect_units(m, units, 8);
+                                           {"sprocket.speed", "rad/s"},
+                                           {"road_arm.1.angle", "rad"},
+                                           {"road_arm.7.angle", "rad"},
+                                           {"track.tension.quasi_static", "N"}};
+    expect_units(m, units, 11);
 
     /* the spectral figures read the channel they name: the same rows with the
      * rear-roller tension replaced by 60 kN + 3 kN sin(2 pi 15 t) and the

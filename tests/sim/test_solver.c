@@ -5,8 +5,10 @@
  * not have the second-order form, root finding, and the options added for the
  * co-simulation and the vehicle: the stop time (ts_ode_set_stop), the small
  * dense LU (opts.small_dense), the Jacobian reuse interval
- * (opts.jac_eval_frequency), the BDF order cap (opts.max_order), the counters
- * summed over restarts, and the RK4 step of a subset of the states
+ * (opts.jac_eval_frequency), the BDF order cap (opts.max_order), the step
+ * cap and the per-call step budget (opts.max_step, opts.max_steps), an
+ * advance to the current time, the counters summed over restarts, and the
+ * RK4 step of a subset of the states
  * (ts_rk4_step_subset).
  */
 #include "test_util.h"
@@ -107,6 +109,40 @@ static void half_size_solve_matches_full_lu(void **state)
     run(2, first_order, NULL, 1, z0, 0.5, z, NULL);
     assert_close(z[1], exp(-0.5), 1e-7, 0);
     assert_close(z[0], (1 - 1.0 / 49) * exp(-25.0) + exp(-0.5) / 49, 1e-6, 1e-12);
+}
+
+/* Three states, an odd size: y1' = y2, y2' = -y2, y3' = -1000 y3 (stiff).
+ * Its J has a zero top-left 1 x 1 block and a diagonal top-right one, the
+ * pattern the Schur solve looks for in a [q, q_d] system. */
+static int odd_system(double t, const double *y, double *yd, void *ud)
+{
+    (void)t, (void)ud;
+    yd[0] = y[1];
+    yd[1] = -y[1];
+    yd[2] = -1000 * y[2];
+    return 0;
+}
+
+/* EVIDENCE: opts.second_order on an odd number of states (no [q, q_d] halves,
+ * solver.h) is ignored: the run takes the same steps as without it and ends
+ * on the exact solution y1 = 2 - e^-t, y2 = e^-t, y3 = e^-1000t (~0) at
+ * t = 0.5. Session-29 mutation test: the Schur solver set up for an odd size
+ * (halves of n / 2 = 1 state, the third state's Newton correction left out)
+ * survived every test. */
+static void odd_size_second_order_takes_the_full_lu(void **state)
+{
+    (void)state;
+    double z0[3] = {1, 1, 1}, a[3], b[3];
+    ts_ode_stats sa, sb;
+    run(3, odd_system, NULL, 0, z0, 0.5, a, &sa);
+    run(3, odd_system, NULL, 1, z0, 0.5, b, &sb);
+    printf("# odd size: %ld steps, %ld Newton failures; with second_order %ld, %ld\n", sa.steps,
+           sa.nonlin_fails, sb.steps, sb.nonlin_fails);
+    assert_int_equal(sb.steps, sa.steps);
+    assert_int_equal(sb.nonlin_fails, sa.nonlin_fails);
+    assert_close(b[0], 2 - exp(-0.5), 1e-7, 0);
+    assert_close(b[1], exp(-0.5), 1e-7, 0);
+    assert_close(b[2], 0, 0, 1e-10);
 }
 
 /* The damped chain whose x1' gains a -300 x1 term from t = 0.3 on: from then
@@ -375,11 +411,107 @@ static void rk4_stops_at_the_first_stage_with_non_finite_slopes(void **state)
     assert_true(y == 1e-4 + 0.5 * 1.0 * -0.01);
 }
 
+/* y' = a unit-area pulse of width 0.01 s centred at t = 0.5 (0 elsewhere). */
+static int pulse(double t, const double *y, double *yd, void *ud)
+{
+    (void)y, (void)ud;
+    yd[0] = fabs(t - 0.5) < 0.005 ? 100.0 : 0.0;
+    return 0;
+}
+
+/* EVIDENCE: opts.max_step reaches CVODE. y' = a unit-area pulse 0.01 s wide
+ * at t = 0.5, y(0) = 0, exact y(1) = 1. CVODE never steps further than
+ * max_step = 4 ms, so it takes at least 1 s / 4 ms = 250 steps and cannot
+ * step over the pulse: y(1) = 1 within 2 % (the error control at its two
+ * edges). Without the cap the zero slope lets the steps grow past the pulse
+ * (printed, not asserted: where they land is CVODE's business). Session-29
+ * mutation test: the option not passed on survived every test. */
+static void max_step_caps_the_step(void **state)
+{
+    (void)state;
+    for (int capped = 1; capped >= 0; capped--) {
+        ts_ode_opts o = {.rtol = 1e-6, .atol = 1e-9, .max_step = capped ? 4e-3 : 0};
+        ts_err err;
+        ts_ode *ode = ts_ode_make(1, pulse, NULL, &o, &err);
+        assert_non_null(ode);
+        double y0 = 0, t;
+        assert_int_equal(ts_ode_init(ode, 0, &y0, &err), TS_OK);
+        assert_int_equal(ts_ode_advance(ode, 1.0, &t, NULL, &err), TS_OK);
+        ts_ode_stats st;
+        ts_ode_get_stats(ode, &st);
+        printf("# max_step %g: y(1) = %.4f in %ld steps\n", o.max_step, ts_ode_y(ode)[0], st.steps);
+        if (capped) {
+            assert_true(st.steps >= 250);
+            assert_close(ts_ode_y(ode)[0], 1.0, 0.02, 0);
+        }
+        ts_ode_free(ode);
+    }
+}
+
+/* EVIDENCE: opts.max_steps bounds the internal steps of one ts_ode_advance
+ * call: the undamped chain at rtol 1e-10 needs thousands of steps over 1.5 s
+ * (the Schur test above), so with a limit of 50 the call fails with
+ * CVODE's too-much-work flag in the message; with the limit raised to
+ * 100,000 the same call succeeds. Session-29 mutation test: the option
+ * ignored (always the 100,000 default) survived every test. */
+static void max_steps_bounds_one_call(void **state)
+{
+    (void)state;
+    double y0[N] = {0.01, -0.02, 0.1, 0};
+    for (int k = 0; k < 2; k++) {
+        ts_ode_opts o = {.rtol = 1e-10, .atol = 1e-12, .max_steps = k ? 100000 : 50};
+        ts_err err = {0};
+        ts_ode *ode = ts_ode_make(N, chain, NULL, &o, &err);
+        assert_non_null(ode);
+        assert_int_equal(ts_ode_init(ode, 0, y0, &err), TS_OK);
+        double t;
+        ts_rc rc = ts_ode_advance(ode, 1.5, &t, NULL, &err);
+        if (k == 0) {
+            assert_int_equal(rc, TS_ERR_SOLVER);
+            assert_non_null(strstr(err.msg, "CV_TOO_MUCH_WORK"));
+        } else
+            assert_int_equal(rc, TS_OK);
+        ts_ode_free(ode);
+    }
+}
+
+static int decay(double t, const double *y, double *yd, void *ud)
+{
+    (void)t, (void)ud;
+    yd[0] = -y[0];
+    return 0;
+}
+
+/* EVIDENCE: by definition (solver.h): advancing to the time already reached
+ * is a no-op that succeeds, the state untouched (a zero-length interval, e.g.
+ * a run whose output time equals its start); CVODE itself refuses a tout at
+ * its current time. Session-29 mutation test: `tout <= t` narrowed to
+ * `tout < t` survived every test. */
+static void advance_to_the_current_time_is_a_no_op(void **state)
+{
+    (void)state;
+    ts_ode_opts o = {.rtol = 1e-6, .atol = 1e-9};
+    ts_err err;
+    ts_ode *ode = ts_ode_make(1, decay, NULL, &o, &err);
+    assert_non_null(ode);
+    double y0 = 2.0, t = -1;
+    assert_int_equal(ts_ode_init(ode, 0.25, &y0, &err), TS_OK);
+    assert_int_equal(ts_ode_advance(ode, 0.25, &t, NULL, &err), TS_OK);
+    assert_true(t == 0.25);
+    assert_true(ts_ode_y(ode)[0] == 2.0);
+    assert_int_equal(ts_ode_advance(ode, 0.5, &t, NULL, &err), TS_OK);
+    assert_close(ts_ode_y(ode)[0], 2.0 * exp(-0.25), 1e-5, 0);
+    assert_int_equal(ts_ode_advance(ode, 0.5, &t, NULL, &err), TS_OK);
+    assert_true(t == 0.5);
+    ts_ode_free(ode);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(oscillator_conserves_energy),
         cmocka_unit_test(half_size_solve_matches_full_lu),
+        cmocka_unit_test(odd_size_second_order_takes_the_full_lu),
         cmocka_unit_test(schur_rechecks_structure_when_jacobian_changes),
         cmocka_unit_test(root_is_found_and_reported),
         cmocka_unit_test(stop_time_is_never_passed),
@@ -387,6 +519,9 @@ int main(void)
         cmocka_unit_test(max_order_caps_the_bdf_order),
         cmocka_unit_test(rk4_subset_step_is_rk4_on_the_subset),
         cmocka_unit_test(rk4_stops_at_the_first_stage_with_non_finite_slopes),
+        cmocka_unit_test(max_step_caps_the_step),
+        cmocka_unit_test(max_steps_bounds_one_call),
+        cmocka_unit_test(advance_to_the_current_time_is_a_no_op),
     };
     return cmocka_run_group_tests_name("sim/solver", tests, NULL, NULL);
 }

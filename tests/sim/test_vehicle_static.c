@@ -15,6 +15,7 @@
 #include "api/config_json.h"
 #include "sim/constants.h"
 #include "sim/tanksim.h"
+#include "sim/vehicle_channels.h"
 #include "sim/vehicle_model.h"
 #include "preset_config.h"
 #include "vm_fd.h"
@@ -901,6 +902,553 @@ static void compensating_idler_table_covers_the_arm_travel(void **state)
     }
 }
 
+/* Outer common tangent of the circuit from circle a (centre ca, radius ra) to
+ * circle b (hull frame; the track runs from a to b with the outside on its
+ * left): unit direction u, outward normal n = u turned +90 degrees, free
+ * length *len and midpoint mid of the tangent points. Plane geometry: the
+ * normal n makes n . (cb - ca) = ra - rb with |n| = 1, so u is the centre
+ * line turned by asin((ra - rb) / D). */
+static void outer_tangent(const double ca[2], double ra, const double cb[2], double rb, double u[2],
+                          double *len, double mid[2])
+{
+    double dx = cb[0] - ca[0], dz = cb[1] - ca[1], D = sqrt(dx * dx + dz * dz);
+    double s = (ra - rb) / D, c = sqrt(1 - s * s);
+    u[0] = (dx * c + dz * s) / D;
+    u[1] = (dz * c - dx * s) / D;
+    double n[2] = {-u[1], u[0]};
+    *len = sqrt(D * D - (ra - rb) * (ra - rb));
+    mid[0] = 0.5 * (ca[0] + cb[0]) + 0.5 * (ra + rb) * n[0];
+    mid[1] = 0.5 * (ca[1] + cb[1]) + 0.5 * (ra + rb) * n[1];
+}
+
+/* The hull-mounted bodies of the upper run (sprocket, rear roller, front
+ * roller, idler at its layout position): centres relative to the CG in the
+ * hull frame, and pitch-line radii. */
+static void upper_run(const ts_config *c, double ctr[4][2], double rad[4])
+{
+    const ts_vehicle_config *vc = &c->vehicle;
+    double po = vc->track_pitch_offset;
+    double x[4] = {vc->sprocket_x, vc->rear_roller_x, vc->front_roller_x, vc->idler_x};
+    double z[4] = {vc->sprocket_z, vc->rear_roller_z, vc->front_roller_z, vc->idler_z};
+    for (int b = 0; b < 4; b++) {
+        ctr[b][0] = x[b] - vc->cg_x;
+        ctr[b][1] = z[b] - vc->cg_z;
+    }
+    rad[0] = vc->sprocket_radius;
+    rad[1] = rad[2] = vc->roller_radius + po;
+    rad[3] = vc->idler_radius + po;
+}
+
+/* EVIDENCE: the quasi-static fidelity carries the three upper spans as rigid
+ * uniform rods moving with the hull and fed at their ends by the wheels' spins
+ * [P II.C.2]. The feed: a span whose track moves at rho_a phi_a' at one end
+ * and rho_b phi_b' at the other, linearly between, has the kinetic energy
+ * (m / 6) (v_a^2 + v_a v_b + v_b^2), so M gains m rho^2 / 3 on each end's spin
+ * and m rho_a rho_b / 6 between them (1e-9 relative). The frame: span e
+ * (sprocket -> rear roller -> front roller -> idler) of free length L_e and
+ * mass rho L_e adds rho L_e (d_e^2 + L_e^2 / 12) to the hull's pitch inertia (parallel-axis
+ * theorem; d_e the distance of the tangent line's midpoint from the CG, fixed
+ * in the hull frame, so independent of the pitch), the static fidelity's
+ * massless track nothing. M_theta_theta of the two fidelities at one state
+ * must differ by that sum, from the layout's tangent geometry alone, to 1e-6
+ * relative (2,811 kg m^2 with the default layout, the rods' own 394).
+ * Session-29 mutation tests: the rods' own rho L^3 / 12 left out of the
+ * pitch inertia, and the spin coupling m / 6 doubled, survived every test. */
+static void quasi_static_spans_are_rods_fed_by_the_spins(void **state)
+{
+    (void)state;
+    ts_config cs = config("static"), cq = config("quasi_static");
+    vm *vs = test_vm(&cs), *vq = test_vm(&cq);
+    vm_work *ws = vm_work_make(vs), *wq = vm_work_make(vq);
+    int nq = vm_nq(vs), ny = vm_ny(vs);
+    assert_int_equal(vm_nq(vq), nq);
+    double *y = malloc(sizeof(double) * (size_t)ny);
+    double *Ms = malloc(sizeof(double) * (size_t)nq * (size_t)nq),
+           *Mq = malloc(sizeof(double) * (size_t)nq * (size_t)nq);
+    assert_true(y && Ms && Mq);
+    memcpy(y, vm_equilibrium(vs), sizeof(double) * (size_t)ny);
+    vm_mass(vs, ws, y, Ms);
+    vm_mass(vq, wq, y, Mq);
+    double ctr[4][2], rad[4], want = 0, rod = 0, spin[4] = {0, 0, 0, 0};
+    upper_run(&cq, ctr, rad);
+    int s0 = VM_NQ_RIGID - VM_NB; /* the sprocket's spin; bodies 0..3 are the upper run's */
+    for (int e = 0; e < 3; e++) {
+        double u[2], len, mid[2];
+        outer_tangent(ctr[e], rad[e], ctr[e + 1], rad[e + 1], u, &len, mid);
+        double m = cq.track.mass_per_length * len;
+        want += m * (mid[0] * mid[0] + mid[1] * mid[1] + len * len / 12);
+        rod += m * len * len / 12;
+        /* the span's feed: its ends at rho_a phi_a', rho_b phi_b', linear between */
+        spin[e] += m / 3 * rad[e] * rad[e];
+        spin[e + 1] += m / 3 * rad[e + 1] * rad[e + 1];
+        int a = s0 + e, b = a + 1;
+        assert_close(Mq[b * nq + a] - Ms[b * nq + a], m / 6 * rad[e] * rad[e + 1], 1e-9, 0);
+        assert_close(Mq[a * nq + b] - Ms[a * nq + b], m / 6 * rad[e] * rad[e + 1], 1e-9, 0);
+    }
+    for (int b = 0; b < 4; b++)
+        assert_close(Mq[(s0 + b) * nq + s0 + b] - Ms[(s0 + b) * nq + s0 + b], spin[b], 1e-9, 0);
+    double got = Mq[2 * nq + 2] - Ms[2 * nq + 2];
+    printf("# pitch inertia of the quasi-static spans %.3f kg m^2, closed form %.3f (rods' own "
+           "%.3f)\n",
+           got, want, rod);
+    assert_close(got, want, 1e-6, 0);
+    free(y), free(Ms), free(Mq);
+    vm_work_free(ws), vm_work_free(wq);
+    vm_free(vs), vm_free(vq);
+}
+
+/* EVIDENCE: the track's load on the rear support roller at rest (Fig. 14's
+ * channel), static track: the massless chain is taut at P0 on both sides of
+ * the freely turning roller (the equilibrium sets the rear-roller tension to
+ * P0; the roller's spin balance makes the next element's equal), so the
+ * roller carries P0 (u_1 - u_0), u_0 and u_1 the directions of the tangent
+ * lines sprocket -> roller and roller -> front roller, and its load along
+ * hull -z is P0 (u_0z - u_1z). The bodies are hull-mounted, so this holds in
+ * the hull frame at any pitch, and again with the whole vehicle turned
+ * rigidly (which leaves every element's stretch as it was). The default
+ * layout's sprocket sits low, so the net load is a small upward pull
+ * (~-620 N). Same for the lumped and quasi-static fidelities, whose upper run
+ * is the same massless element law. From the layout's tangent geometry
+ * alone, 1e-6 relative; the model's channel roller.rear.normal_force at reset
+ * likewise. Session-29 mutation tests: the element ending on the roller added
+ * with the wrong sign, the hull's up direction mirrored in the pitch, and the
+ * channel's sign flipped survived every test. */
+static void rear_roller_load_at_rest_is_the_wrap_force(void **state)
+{
+    (void)state;
+    static const char *const fid[] = {"static", "lumped", "quasi_static"};
+    for (int f = 0; f < 3; f++) {
+        ts_config c = config(fid[f]);
+        vm *v = test_vm(&c);
+        vm_work *w = vm_work_make(v);
+        int ny = vm_ny(v);
+        double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+        assert_true(y && yd);
+        memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+        double ctr[4][2], rad[4], u0[2], u1[2], len, mid[2];
+        upper_run(&c, ctr, rad);
+        outer_tangent(ctr[0], rad[0], ctr[1], rad[1], u0, &len, mid);
+        outer_tangent(ctr[1], rad[1], ctr[2], rad[2], u1, &len, mid);
+        double want = c.track.tension * (u0[1] - u1[1]);
+        assert_true(fabs(want) > 0.005 * c.track.tension); /* a wrap, not a straight run */
+        for (int k = 0; k < 2; k++) {
+            if (k == 1) { /* the whole vehicle turned 0.2 rad about its CG */
+                y[2] += 0.2;
+                for (int b = 0; b < VM_NB; b++)
+                    y[VM_NQ_RIGID - VM_NB + b] += 0.2;
+            }
+            vm_diag dg;
+            assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+            printf("# %s, pitch %+.4f rad: rear-roller load %.2f N, wrap force %.2f N\n", fid[f],
+                   y[2], dg.rear_roller_normal, want);
+            assert_close(dg.tension[0], c.track.tension, 1e-6, 0);
+            assert_close(dg.rear_roller_normal, want, 1e-6, 0);
+        }
+        free(y), free(yd);
+        vm_work_free(w);
+        vm_free(v);
+        /* and the model's channel at reset (vm_channels_fill) */
+        ts_err err;
+        ts_model *m = ts_model_make(&c, &err);
+        assert_non_null(m);
+        ts_data *d = ts_data_make(m, &err);
+        assert_int_equal(ts_reset(m, d, &err), TS_OK);
+        assert_close(channel(m, d, "roller.rear.normal_force"), want, 1e-6, 0);
+        ts_data_free(d);
+        ts_model_free(m);
+    }
+}
+
+/* EVIDENCE: span.<name>.deflection is its own span's transverse field at
+ * mid-span, V(L/2) = sum_k q_k sin(k pi / 2) (Eqs. 4-5's sine basis): raising
+ * span s's first transverse modal coordinate by 1e-3 m moves that span's
+ * channel by 1e-3 m and no other span's (coupled fidelity, one mode per span
+ * and family; linear, so to rounding). The channel block (vm_channels_fill),
+ * not only the model's diagnostics. Session-29 mutation test: every span's
+ * channel reading the first span's deflection survived every test. */
+static void span_deflection_channels_read_their_own_span(void **state)
+{
+    (void)state;
+    ts_config c = config("coupled");
+    vm *v = test_vm(&c);
+    vm_work *w = vm_work_make(v);
+    int ny = vm_ny(v), nm = c.track.n_long + c.track.n_trans;
+    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+    double out0[VM_CH_T_QS + 1], out1[VM_CH_T_QS + 1];
+    assert_true(y && yd);
+    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    vm_diag dg;
+    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+    vm_channels_fill(v, y, yd, &dg, out0);
+    for (int s = 0; s < VM_NSPAN; s++) {
+        int it = VM_NQ_RIGID + s * nm + c.track.n_long; /* span s's first transverse mode */
+        y[it] += 1e-3;
+        assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+        vm_channels_fill(v, y, yd, &dg, out1);
+        y[it] -= 1e-3;
+        for (int k = 0; k < VM_NSPAN; k++)
+            assert_close(out1[VM_CH_SPAN_V0 + k] - out0[VM_CH_SPAN_V0 + k], k == s ? 1e-3 : 0, 0,
+                         1e-12);
+    }
+    free(y), free(yd);
+    vm_work_free(w);
+    vm_free(v);
+}
+
+/* EVIDENCE: a ground can push, not pull [P II.C.1's foundation, compression
+ * only]: where the wheels leave it faster than the spring-damper's
+ * compression holds them (k d + c d_dot < 0), the foundation force is 0,
+ * not a pull. The coupled model at rest with the hull rising at v = 2 N_max /
+ * c_f (N_max the largest static wheel load, c_f /vehicle/foundation_damping):
+ * every wheel's load must be 0 and the generalised forces those of the same
+ * state lifted 1 m clear of the ground (flat terrain: nothing else depends
+ * on the height), to rounding. Session-29 mutation test: the clip of a
+ * negative foundation force removed (a sticky ground pulling the rising
+ * wheels down) survived every test. */
+static void separating_ground_pulls_nothing(void **state)
+{
+    (void)state;
+    ts_config c = config("coupled");
+    vm *v = test_vm(&c);
+    vm_work *w = vm_work_make(v);
+    int nq = vm_nq(v), ny = vm_ny(v);
+    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny),
+           *Q0 = malloc(sizeof(double) * (size_t)nq), *Q1 = malloc(sizeof(double) * (size_t)nq);
+    assert_true(y && yd && Q0 && Q1);
+    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    vm_diag dg;
+    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+    double nmax = 0;
+    for (int i = 0; i < VM_NRW; i++) {
+        assert_true(dg.wheel_load[i] > 0); /* all on the ground at rest */
+        nmax = fmax(nmax, dg.wheel_load[i]);
+    }
+    y[nq + 1] = 2 * nmax / c.vehicle.foundation_damping; /* z_d */
+    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+    for (int i = 0; i < VM_NRW; i++)
+        assert_true(dg.wheel_load[i] == 0);
+    vm_forces(v, w, 0, y, 0, Q0);
+    y[1] += 1.0;
+    vm_forces(v, w, 0, y, 0, Q1);
+    double scale = vm_supported_weight(v);
+    for (int i = 0; i < nq; i++)
+        assert_close(Q0[i], Q1[i], 0, 1e-9 * scale);
+    free(y), free(yd), free(Q0), free(Q1);
+    vm_work_free(w);
+    vm_free(v);
+}
+
+/* EVIDENCE: static equilibrium on a constant grade s, closed form: the
+ * ground's forces on one side are the wheel loads N_i along the terrain
+ * normal (-s, 1) / sqrt(1 + s^2) and the no-slip anchor's force F_a, which is
+ * horizontal in the model; with the supported weight W (vm_supported_weight)
+ * the force balance gives sum N_i = W sqrt(1 + s^2) and F_a = s W (uphill,
+ * holding the vehicle). Static track on a 30 % grade, no drive, at the
+ * solved equilibrium (Newton's residual 1e-7 W), 1e-5 relative. Session-29
+ * mutation test: the normal force's vertical part not scaled by the
+ * tangent's cos (exact on flat ground only) survived every test, the grade
+ * tests taking differences of two runs. */
+static void grade_equilibrium_balances_the_weight(void **state)
+{
+    (void)state;
+    double s = 0.3;
+    ts_config c = grade_config("grade30_rest.csv", s, 0.0);
+    vm *v = test_vm(&c);
+    vm_work *w = vm_work_make(v);
+    int ny = vm_ny(v);
+    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+    assert_true(y && yd);
+    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    vm_diag dg;
+    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+    double sum = 0, W = vm_supported_weight(v);
+    for (int i = 0; i < VM_NRW; i++)
+        sum += dg.wheel_load[i];
+    printf("# 30 %% grade at rest: sum N %.1f N (W sqrt(1+s^2) %.1f N), anchor %.1f N (s W %.1f "
+           "N)\n",
+           sum, W * sqrt(1 + s * s), dg.anchor_force, s * W);
+    assert_close(sum, W * sqrt(1 + s * s), 1e-5, 0);
+    assert_close(dg.anchor_force, s * W, 1e-5, 0);
+    free(y), free(yd);
+    vm_work_free(w);
+    vm_free(v);
+}
+
+/* EVIDENCE: the quasi-static reference tension (vehicle_model.h, vm_diag:
+ * T_qs = max(0, T_static + (G - G_eq - tau / r_s C_B) / C_loop)) is a chain's:
+ * it cannot push. At the equilibrium without torque it is the static tension
+ * (G = G_eq); a sprocket torque tau lowers it linearly (the slope
+ * -C_B / (r_s C_loop) from two small torques), and once the linear law would
+ * go below 0 (at 3x the torque that zeroes it) it must be 0, not negative.
+ * Session-29 mutation test: the clip at 0 removed survived every test. */
+static void quasi_static_tension_cannot_push(void **state)
+{
+    (void)state;
+    ts_config c = config("static");
+    vm *v = test_vm(&c);
+    vm_work *w = vm_work_make(v);
+    int ny = vm_ny(v);
+    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+    assert_true(y && yd);
+    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    vm_diag dg;
+    assert_int_equal(vm_rhs_torque(v, w, 0, y, 0.0, 0.0, yd, &dg), 0);
+    double t0 = dg.tension_quasi_static;
+    assert_close(t0, vm_static_tension(v), 1e-9, 0);
+    assert_int_equal(vm_rhs_torque(v, w, 0, y, 1000.0, 0.0, yd, &dg), 0);
+    double slope = (dg.tension_quasi_static - t0) / 1000.0;
+    assert_true(slope < 0);
+    double tau0 = -t0 / slope; /* the torque that zeroes the linear law */
+    assert_int_equal(vm_rhs_torque(v, w, 0, y, 0.5 * tau0, 0.0, yd, &dg), 0);
+    assert_close(dg.tension_quasi_static, 0.5 * t0, 1e-6, 0);
+    assert_int_equal(vm_rhs_torque(v, w, 0, y, 3 * tau0, 0.0, yd, &dg), 0);
+    printf("# quasi-static tension %.1f N at rest, 0 from %.0f N m; at 3x: %.3g N\n", t0, tau0,
+           dg.tension_quasi_static);
+    assert_true(dg.tension_quasi_static == 0);
+    free(y), free(yd);
+    vm_work_free(w);
+    vm_free(v);
+}
+
+/* EVIDENCE: bump stops act at the configured stations only, as the torque
+ * k_bs (phi_bs - alpha) on an arm past the stop angle phi_bs [P II.C.1;
+ * /vehicle/bump_stop_station]. Two models differing only in
+ * /vehicle/bump_stop_rate (the stops are clear at rest, so the equilibria and
+ * bar preloads are the same), every arm 0.01 rad past the stop: the arms'
+ * generalised forces differ by dk 0.01 at the listed stations and by 0
+ * elsewhere, for the default stations {1, 2, 7} and for {3, 5}. Exact up to
+ * rounding. Session-29 mutation test: the stations read one off (arm 1's
+ * stop on arm 2's list entry) survived every test. */
+static void bump_stops_act_at_their_stations(void **state)
+{
+    (void)state;
+    static const double lists[2][3] = {{1, 2, 7}, {3, 5, 0}};
+    static const int nlist[2] = {3, 2};
+    for (int l = 0; l < 2; l++) {
+        ts_config c = config("static");
+        c.vehicle.bump_stop_station_n = nlist[l];
+        for (int k = 0; k < nlist[l]; k++)
+            c.vehicle.bump_stop_station[k] = lists[l][k];
+        vm *v1 = test_vm(&c);
+        double dk = 2e5;
+        c.vehicle.bump_stop_rate += dk;
+        vm *v2 = test_vm(&c);
+        vm_work *w1 = vm_work_make(v1), *w2 = vm_work_make(v2);
+        int nq = vm_nq(v1), ny = vm_ny(v1);
+        double *y = malloc(sizeof(double) * (size_t)ny), *Q1 = malloc(sizeof(double) * (size_t)nq),
+               *Q2 = malloc(sizeof(double) * (size_t)nq);
+        assert_true(y && Q1 && Q2);
+        memcpy(y, vm_equilibrium(v1), sizeof(double) * (size_t)ny);
+        for (int i = 0; i < VM_NRW; i++) {
+            assert_close(vm_preload(v2, i), vm_preload(v1, i), 1e-9, 0);
+            y[3 + i] = c.vehicle.bump_stop_angle - 0.01;
+        }
+        vm_forces(v1, w1, 0, y, 0, Q1);
+        vm_forces(v2, w2, 0, y, 0, Q2);
+        for (int i = 0; i < VM_NRW; i++) {
+            int listed = 0;
+            for (int k = 0; k < nlist[l]; k++)
+                listed |= (int)lists[l][k] == i + 1;
+            assert_close(Q2[3 + i] - Q1[3 + i], listed ? dk * 0.01 : 0.0, 0, 1e-6 * dk * 0.01);
+        }
+        free(y), free(Q1), free(Q2);
+        vm_work_free(w1), vm_work_free(w2);
+        vm_free(v1), vm_free(v2);
+    }
+}
+
+/* EVIDENCE: the no-slip anchor [P II.C.1: the track segment below the
+ * fourth road wheel; /vehicle/anchor_station] ties the configured wheel's
+ * track to the ground: its spring F_a = -k_a xi acts on that wheel's contact
+ * point, xi = x_c - rho_w phi (wheel centre less the track paid out by its
+ * spin). Two models differing only in /vehicle/anchor_stiffness (by dk; flat
+ * ground at rest carries no anchor force, so the equilibria are the same),
+ * that wheel's spin turned by d = 1e-3 rad: the generalised spin forces
+ * differ by -dk rho_w^2 d on the anchor wheel and by 0 on every other road
+ * wheel, and the hull's x force by dk rho_w d, for stations 4 (default) and
+ * 2. Exact up to rounding. Session-29 mutation test: the station taken as a
+ * 0-based index (the anchor under wheel 5) survived every test. */
+static void anchor_holds_the_configured_wheel(void **state)
+{
+    (void)state;
+    static const int stations[] = {4, 2};
+    for (int k = 0; k < 2; k++) {
+        ts_config c = config("static");
+        c.vehicle.anchor_station = stations[k];
+        vm *v1 = test_vm(&c);
+        double dk = 1e6;
+        c.vehicle.anchor_stiffness += dk;
+        vm *v2 = test_vm(&c);
+        vm_work *w1 = vm_work_make(v1), *w2 = vm_work_make(v2);
+        int nq = vm_nq(v1), ny = vm_ny(v1);
+        double *y = malloc(sizeof(double) * (size_t)ny), *Q1 = malloc(sizeof(double) * (size_t)nq),
+               *Q2 = malloc(sizeof(double) * (size_t)nq);
+        assert_true(y && Q1 && Q2);
+        memcpy(y, vm_equilibrium(v1), sizeof(double) * (size_t)ny);
+        int spin0 = VM_NQ_RIGID - VM_NB + VM_RW1; /* road wheel 1's spin */
+        double d = 1e-3, rho = c.vehicle.road_wheel_radius + c.vehicle.track_pitch_offset;
+        y[spin0 + stations[k] - 1] += d;
+        vm_forces(v1, w1, 0, y, 0, Q1);
+        vm_forces(v2, w2, 0, y, 0, Q2);
+        double want = dk * rho * rho * d;
+        for (int i = 0; i < VM_NRW; i++)
+            assert_close(Q2[spin0 + i] - Q1[spin0 + i], i == stations[k] - 1 ? -want : 0.0, 0,
+                         1e-6 * want);
+        assert_close(Q2[0] - Q1[0], dk * rho * d, 1e-6, 0);
+        free(y), free(Q1), free(Q2);
+        vm_work_free(w1), vm_work_free(w2);
+        vm_free(v1), vm_free(v2);
+    }
+}
+
+/* EVIDENCE: the track-terrain foundation [P II.C.1]: a road wheel's ground
+ * load is N = k_f d + k_f3 d^3 of the compression d of the track under it,
+ * d = (ground height) + (wheel radius + track thickness) - (hub height): the
+ * track's ground surface lies a wheel radius plus the shoe's thickness below
+ * the hub. At the static equilibrium on flat ground (height 0) the hub
+ * heights of vm_geometry and the loads of vm_rhs's diagnostics must satisfy
+ * that law on all seven wheels, with the radius and thickness from the
+ * configuration, to 1e-6 relative (d ~ 5 mm: the equilibrium's tolerance).
+ * Session-29 mutation test: the track thickness left out of the contact
+ * height (the whole hull riding 90 mm low) survived every test. */
+static void wheel_loads_follow_the_foundation_law(void **state)
+{
+    (void)state;
+    ts_config c = config("static");
+    vm *v = test_vm(&c);
+    vm_work *w = vm_work_make(v);
+    int ny = vm_ny(v);
+    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+    ts_geom *g = malloc(sizeof *g);
+    assert_true(y && yd && g);
+    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    vm_diag dg;
+    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+    vm_geometry(v, w, 0, y, g);
+    const ts_vehicle_config *vc = &c.vehicle;
+    for (int i = 0; i < VM_NRW; i++) {
+        const ts_geom_wheel *gw = &g->wheel[VM_RW1 + i];
+        assert_int_equal(gw->role, TS_WHEEL_ROAD);
+        double d = vc->road_wheel_radius + vc->track_thickness - gw->z;
+        double want = vc->foundation_stiffness * d + vc->foundation_cubic * d * d * d;
+        if (i == 3)
+            printf("# wheel 4: compression %.3f mm, load %.1f N (law %.1f N)\n", 1e3 * d,
+                   dg.wheel_load[i], want);
+        assert_true(d > 0);
+        assert_close(dg.wheel_load[i], want, 1e-6, 0);
+    }
+    free(y), free(yd), free(g);
+    vm_work_free(w);
+    vm_free(v);
+}
+
+/* Sum of the road-wheel loads of c's model at its static equilibrium. */
+static double load_sum_at_rest(const ts_config *c)
+{
+    vm *v = test_vm(c);
+    vm_work *w = vm_work_make(v);
+    int ny = vm_ny(v);
+    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+    assert_true(y && yd);
+    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    vm_diag dg;
+    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+    double sum = 0;
+    for (int i = 0; i < VM_NRW; i++)
+        sum += dg.wheel_load[i];
+    free(y), free(yd);
+    vm_work_free(w);
+    vm_free(v);
+    return sum;
+}
+
+/* EVIDENCE: the lumped fidelity [P II.C.2] puts the mass of the three upper
+ * spans (sprocket -> rear roller -> front roller -> idler, free lengths L_0,
+ * L_1, L_2) on the rollers, m_r = rho (L_0 + L_1 / 2) and m_f = rho (L_1 / 2 +
+ * L_2), carried by the hull; the static fidelity's massless track leaves that
+ * weight off the running gear. Vertical force balance at rest on flat ground
+ * (the anchor force is horizontal): the lumped model's wheel loads must sum
+ * to the static one's plus rho g (L_0 + L_1 + L_2), the L_e from the layout's
+ * tangent geometry alone, to 1e-5 relative (9.5 kN of ~270 kN; Newton's
+ * residual 1e-7 W). Session-29 mutation test: the middle span counted whole
+ * on the front roller (and half on the rear) survived every test. */
+static void lumped_upper_spans_weigh_on_the_wheels(void **state)
+{
+    (void)state;
+    ts_config cs = config("static"), cl = config("lumped");
+    double ctr[4][2], rad[4], len_sum = 0;
+    upper_run(&cl, ctr, rad);
+    for (int e = 0; e < 3; e++) {
+        double u[2], len, mid[2];
+        outer_tangent(ctr[e], rad[e], ctr[e + 1], rad[e + 1], u, &len, mid);
+        len_sum += len;
+    }
+    double want = cl.track.mass_per_length * G * len_sum;
+    double got = load_sum_at_rest(&cl) - load_sum_at_rest(&cs);
+    printf("# lumped upper spans on the wheels: %.2f N, rho g (L0 + L1 + L2) %.2f N\n", got, want);
+    assert_close(got, want, 1e-5, 0);
+}
+
+/* Wrap angle of the track on a support between an incoming direction ui and an
+ * outgoing uo (clockwise circuit): the clockwise turn in [0, 2 pi); a reverse
+ * bend (the track bent the other way over the support, a turn near 2 pi) has
+ * no wrap. */
+static double wrap_angle(const double ui[2], const double uo[2])
+{
+    double w = fmod(atan2(ui[1], ui[0]) - atan2(uo[1], uo[0]) + 4 * PI, 2 * PI);
+    return w > 1.9 * PI ? 0 : w;
+}
+
+/* EVIDENCE: the static track's element law T = P0 + (EA / L_e) s, L_e the
+ * element's share of the loop: its free tangent length plus half of the wrap
+ * on each end's support (each wrap's length rho w shared by the two elements
+ * meeting there) [P II.C.2, D]. Turning the front roller's spin by phi
+ * stretches element 1 (rear -> front roller) by rho phi and shortens element 2
+ * (front roller -> idler) by as much, so the roller's generalised spin force
+ * changes by -EA rho^2 (1 / L_1 + 1 / L_2) phi. Central difference of
+ * vm_forces at rest against that, the lengths and wraps from the layout's
+ * tangent geometry alone (the design configuration: arms at their design
+ * angle, idler at its layout position), 1e-6 relative. Session-29 mutation
+ * test: each wrap counted whole in both of its elements (the elements too
+ * soft: the front roller's spin stiffness 13 % low) survived every test. */
+static void chain_elements_share_the_wraps(void **state)
+{
+    (void)state;
+    ts_config c = config("static");
+    const ts_vehicle_config *vc = &c.vehicle;
+    vm *v = test_vm(&c);
+    vm_work *w = vm_work_make(v);
+    int nq = vm_nq(v), ny = vm_ny(v);
+    double *y = malloc(sizeof(double) * (size_t)ny), *q1 = malloc(sizeof(double) * (size_t)nq),
+           *q2 = malloc(sizeof(double) * (size_t)nq), *col = malloc(sizeof(double) * (size_t)nq);
+    assert_true(y && q1 && q2 && col);
+    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    int sf = VM_NQ_RIGID - VM_NB + VM_FRONT_ROLLER;
+    vm_fd_stiffness_column(v, w, y, sf, 1e-6, q1, q2, col);
+    /* bodies: rear roller, front roller, idler, road wheel 1 (design position) */
+    double ctr[5][2], rad[5];
+    upper_run(&c, ctr, rad);
+    ctr[4][0] = vc->road_wheel_x[0] - vc->cg_x;
+    ctr[4][1] = vc->road_wheel_z - vc->cg_z;
+    rad[4] = vc->road_wheel_radius + vc->track_pitch_offset;
+    double u[4][2], len[4], mid[2];
+    for (int e = 0; e < 4; e++) /* elements 0..3: sprocket -> ... -> road wheel 1 */
+        outer_tangent(ctr[e], rad[e], ctr[e + 1], rad[e + 1], u[e], &len[e], mid);
+    double w_rr = wrap_angle(u[0], u[1]), w_fr = wrap_angle(u[1], u[2]),
+           w_id = wrap_angle(u[2], u[3]);
+    double L1 = len[1] + 0.5 * (w_rr * rad[1] + w_fr * rad[2]);
+    double L2 = len[2] + 0.5 * (w_fr * rad[2] + w_id * rad[3]);
+    double want = c.track.ea * rad[2] * rad[2] * (1 / L1 + 1 / L2);
+    printf("# front-roller spin stiffness %.6g N m/rad, EA rho^2 (1/L1 + 1/L2) %.6g (wraps %.4f, "
+           "%.4f, %.4f rad)\n",
+           col[sf], want, w_rr, w_fr, w_id);
+    assert_true(w_fr > 0.01);
+    assert_close(col[sf], want, 1e-6, 0);
+    free(y), free(q1), free(q2), free(col);
+    vm_work_free(w);
+    vm_free(v);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -922,6 +1470,17 @@ int main(void)
         cmocka_unit_test(geometry_snapshot_is_complete),
         cmocka_unit_test(equilibrium_with_a_bump_under_a_wheel),
         cmocka_unit_test(failure_context_names_the_ground),
+        cmocka_unit_test(quasi_static_spans_are_rods_fed_by_the_spins),
+        cmocka_unit_test(rear_roller_load_at_rest_is_the_wrap_force),
+        cmocka_unit_test(separating_ground_pulls_nothing),
+        cmocka_unit_test(grade_equilibrium_balances_the_weight),
+        cmocka_unit_test(quasi_static_tension_cannot_push),
+        cmocka_unit_test(bump_stops_act_at_their_stations),
+        cmocka_unit_test(anchor_holds_the_configured_wheel),
+        cmocka_unit_test(wheel_loads_follow_the_foundation_law),
+        cmocka_unit_test(lumped_upper_spans_weigh_on_the_wheels),
+        cmocka_unit_test(chain_elements_share_the_wraps),
+        cmocka_unit_test(span_deflection_channels_read_their_own_span),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
