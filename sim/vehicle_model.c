@@ -1437,14 +1437,27 @@ static ts_rc equilibrium(vm *v, ts_err *err)
     for (int i = 0; i < VM_NRW; i++)
         q[QA0 + i] = v->arm0;
     /* start on the ground under the road wheels, the foundation compressed */
-    double hg = 0;
-    for (int i = 0; i < VM_NRW; i++)
-        hg += ts_terrain_height(v->terrain, v->x0 + v->l_pivot[i][0], NULL) / VM_NRW;
+    double hg = 0, hmin = INFINITY, hmax = -INFINITY;
+    for (int i = 0; i < VM_NRW; i++) {
+        double h = ts_terrain_height(v->terrain, v->x0 + v->l_pivot[i][0], NULL);
+        hg += h / VM_NRW;
+        hmin = fmin(hmin, h);
+        hmax = fmax(hmax, h);
+    }
+    /* Uneven ground under the wheels has more than one equilibrium: Newton
+     * from the level start found the hull standing 1.3 rad nose-down on road
+     * wheel 1 over a 0.3-m bump (review, session 28). There the terrain is
+     * raised from flat in steps (below), which follows the branch a vehicle
+     * settling onto the ground follows; the level start only where the
+     * wheels stand level (every preset; a uniform grade tilts in steps). */
+    int uneven = hmax - hmin > 1e-9;
     for (int on_ground = 0; on_ground < 2; on_ground++) {
         ts_err first;
         if (on_ground && err) first = *err; /* the first start's reason */
         eq_start(v, hg, on_ground, u, nu);
-        rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
+        rc = uneven ? ts_err_set(err, TS_ERR_SOLVER, "/terrain",
+                                 "static equilibrium: uneven ground under the wheels")
+                    : eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
         if (rc == TS_ERR_SOLVER) {
             /* A bump under a wheel can leave every wheel off the ground at
              * that start (no wheel, no vertical stiffness: a singular

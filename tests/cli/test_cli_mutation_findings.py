@@ -1,4 +1,4 @@
-"""The CLI's mutation pass (session 29): each test here was seen to fail with
+"""The CLI's mutation pass (session 28): each test here was seen to fail with
 one small edit of cli/*.c applied (named in its docstring) and to pass on the
 source; each is a behaviour a user of tanksim meets."""
 import json

@@ -1,4 +1,4 @@
-"""The daemon's flags and plumbing after the mutation pass of session 29: each
+"""The daemon's flags and plumbing after the mutation pass of session 28: each
 test here was seen to fail with one small edit of server/main.c, server.c or
 frames.c applied (named in its comment) and to pass on the source.
 

@@ -1,7 +1,8 @@
 /*
  * preset_config.h — test helpers: a shipped preset's configuration, optionally
  * with another track fidelity, through the same loader the CLI and the daemon
- * use (api/config_json.c); the multibody vehicle of a configuration; and a
+ * use (api/config_json.c); the multibody vehicle of a configuration, also
+ * at its static equilibrium with one right-hand side evaluated there; and a
  * run of a configuration from its reset state
  * with every sampled row kept, as `tanksim run` keeps them. Shared by the
  * vehicle, coupled, point-mass and api tests. Test code only; a preset that
@@ -11,6 +12,8 @@
 #define TS_TEST_PRESET_CONFIG_H
 
 #include <jansson.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "api/config_json.h"
 #include "sim/tanksim.h"
@@ -38,6 +41,40 @@ static inline vm *test_vm(const ts_config *c)
     vm *v = vm_make(c, &err);
     if (!v) fail_msg("vm_make: %s %s", err.pointer, err.msg);
     return v;
+}
+
+/* The vehicle of a configuration at its static equilibrium: the model, a
+ * workspace, the state y (a copy of vm_equilibrium) and its rate yd, and dg,
+ * the diagnostics of vm_rhs there. The caller may change y and evaluate again;
+ * test_rest_free releases everything. */
+typedef struct test_rest {
+    vm *v;
+    vm_work *w;
+    int nq, ny;
+    double *y, *yd;
+    vm_diag dg;
+} test_rest;
+
+static inline test_rest test_rest_make(const ts_config *c)
+{
+    test_rest r = {.v = test_vm(c)};
+    r.w = vm_work_make(r.v);
+    r.nq = vm_nq(r.v);
+    r.ny = vm_ny(r.v);
+    r.y = malloc(sizeof(double) * (size_t)r.ny);
+    r.yd = malloc(sizeof(double) * (size_t)r.ny);
+    assert_true(r.w && r.y && r.yd);
+    memcpy(r.y, vm_equilibrium(r.v), sizeof(double) * (size_t)r.ny);
+    assert_int_equal(vm_rhs(r.v, r.w, 0, r.y, r.yd, &r.dg), 0);
+    return r;
+}
+
+static inline void test_rest_free(test_rest *r)
+{
+    free(r->y);
+    free(r->yd);
+    vm_work_free(r->w);
+    vm_free(r->v);
 }
 
 /* The model of c, run from reset for c.run.duration: rows r (row 0 at the

@@ -506,7 +506,7 @@ static void ivs_tune_rack_low_refusals_share_a_code(void **state)
  * air flow, so the fuel/air ratio of the flows is Rack phi_tgt(n) / (A/F)_s
  * and a sweep at rack 0.8 must run at 0.8 times the full-rack fuel/air ratio
  * at every speed (mean-value fidelity; cycle means, to rounding: 1e-9) and
- * with less brake torque. Session-29 mutation test: the sweep run at full
+ * with less brake torque. Session-28 mutation test: the sweep run at full
  * rack whatever the configuration said survived every test (the CLI's
  * sidecar still reported 0.8). */
 static void sweep_runs_at_the_configured_rack(void **state)

@@ -126,7 +126,7 @@ static int odd_system(double t, const double *y, double *yd, void *ud)
 /* EVIDENCE: opts.second_order on an odd number of states (no [q, q_d] halves,
  * solver.h) is ignored: the run takes the same steps as without it and ends
  * on the exact solution y1 = 2 - e^-t, y2 = e^-t, y3 = e^-1000t (~0) at
- * t = 0.5. Session-29 mutation test: the Schur solver set up for an odd size
+ * t = 0.5. Session-28 mutation test: the Schur solver set up for an odd size
  * (halves of n / 2 = 1 state, the third state's Newton correction left out)
  * survived every test. */
 static void odd_size_second_order_takes_the_full_lu(void **state)
@@ -424,7 +424,7 @@ static int pulse(double t, const double *y, double *yd, void *ud)
  * max_step = 4 ms, so it takes at least 1 s / 4 ms = 250 steps and cannot
  * step over the pulse: y(1) = 1 within 2 % (the error control at its two
  * edges). Without the cap the zero slope lets the steps grow past the pulse
- * (printed, not asserted: where they land is CVODE's business). Session-29
+ * (printed, not asserted: where they land is CVODE's business). Session-28
  * mutation test: the option not passed on survived every test. */
 static void max_step_caps_the_step(void **state)
 {
@@ -452,7 +452,7 @@ static void max_step_caps_the_step(void **state)
  * call: the undamped chain at rtol 1e-10 needs thousands of steps over 1.5 s
  * (the Schur test above), so with a limit of 50 the call fails with
  * CVODE's too-much-work flag in the message; with the limit raised to
- * 100,000 the same call succeeds. Session-29 mutation test: the option
+ * 100,000 the same call succeeds. Session-28 mutation test: the option
  * ignored (always the 100,000 default) survived every test. */
 static void max_steps_bounds_one_call(void **state)
 {
@@ -485,7 +485,7 @@ static int decay(double t, const double *y, double *yd, void *ud)
 /* EVIDENCE: by definition (solver.h): advancing to the time already reached
  * is a no-op that succeeds, the state untouched (a zero-length interval, e.g.
  * a run whose output time equals its start); CVODE itself refuses a tout at
- * its current time. Session-29 mutation test: `tout <= t` narrowed to
+ * its current time. Session-28 mutation test: `tout <= t` narrowed to
  * `tout < t` survived every test. */
 static void advance_to_the_current_time_is_a_no_op(void **state)
 {

@@ -543,21 +543,15 @@ static void span_mid_deflection_is_the_midspan_value(void **state)
 {
     (void)state;
     ts_config c = config("coupled");
-    vm *v = test_vm(&c);
-    vm_work *w = vm_work_make(v);
-    int nq = vm_nq(v), ny = vm_ny(v);
-    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
-    assert_true(y && yd);
-    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
-    vm_diag d0, d1;
-    assert_int_equal(vm_rhs(v, w, 0.0, y, yd, &d0), 0);
+    test_rest r = test_rest_make(&c);
     int ones[VM_NSPAN] = {0};
-    for (int j = 0; j < nq; j++) {
-        y[j] += 1e-3;
-        assert_int_equal(vm_rhs(v, w, 0.0, y, yd, &d1), 0);
-        y[j] -= 1e-3;
+    for (int j = 0; j < r.nq; j++) {
+        vm_diag d1;
+        r.y[j] += 1e-3;
+        assert_int_equal(vm_rhs(r.v, r.w, 0.0, r.y, r.yd, &d1), 0);
+        r.y[j] -= 1e-3;
         for (int s = 0; s < VM_NSPAN; s++) {
-            double sens = (d1.span_mid_deflection[s] - d0.span_mid_deflection[s]) / 1e-3;
+            double sens = (d1.span_mid_deflection[s] - r.dg.span_mid_deflection[s]) / 1e-3;
             double near = round(sens);
             assert_true(fabs(near) <= 1);
             assert_close(sens, near, 0, 1e-6);
@@ -566,9 +560,7 @@ static void span_mid_deflection_is_the_midspan_value(void **state)
     }
     for (int s = 0; s < VM_NSPAN; s++)
         assert_true(ones[s] >= 1);
-    free(y), free(yd);
-    vm_work_free(w);
-    vm_free(v);
+    test_rest_free(&r);
 }
 
 /* EVIDENCE: the slack law (/track/no_compression: a track cannot push)
@@ -583,18 +575,9 @@ static void slack_law_leaves_the_taut_roller_force(void **state)
     for (int on = 0; on < 2; on++) {
         ts_config c = config("coupled");
         c.track.no_compression = on;
-        vm *v = test_vm(&c);
-        vm_work *w = vm_work_make(v);
-        int ny = vm_ny(v);
-        double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
-        assert_true(y && yd);
-        memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
-        vm_diag dg;
-        assert_int_equal(vm_rhs(v, w, 0.0, y, yd, &dg), 0);
-        force[on] = dg.rear_roller_normal;
-        free(y), free(yd);
-        vm_work_free(w);
-        vm_free(v);
+        test_rest r = test_rest_make(&c);
+        force[on] = r.dg.rear_roller_normal;
+        test_rest_free(&r);
     }
     assert_true(fabs(force[0]) > 100);
     assert_close(force[1], force[0], 1e-12, 0);
@@ -720,10 +703,19 @@ static void equilibrium_with_a_bump_under_a_wheel(void **state)
             assert_int_equal(ts_reset(m, d, &err), TS_OK);
             double felt = fmax(fabs(channel(m, d, "hull.z") - z0),
                                fabs(channel(m, d, "hull.pitch") - th0));
+            double dz = z0 - channel(m, d, "hull.z"), dth = th0 - channel(m, d, "hull.pitch");
             print_message("%s, bump at %.1f m: hull z %+.4f m, pitch %+.4f rad against flat\n",
-                          fid[f], start[b], z0 - channel(m, d, "hull.z"),
-                          th0 - channel(m, d, "hull.pitch"));
+                          fid[f], start[b], dz, dth);
             assert_true(felt > 5e-3);
+            /* and the vehicle settled ON the bump: the hull rises at most the
+             * bump's 0.3 m, and pitches at most as a beam whose ground run
+             * (road wheel 1 to 7) has one half lifted 0.3 m: 2 h / L. Newton
+             * from the level start had found the longitudinal and coupled
+             * hulls at 1.0 m standing 1.30 rad nose-down on road wheel 1
+             * (+1.61 m), accelerations zero, and this test printed it */
+            double run = fabs(c.vehicle.road_wheel_x[0] - c.vehicle.road_wheel_x[6]);
+            assert_true(fabs(dz) <= 0.3);
+            assert_true(fabs(dth) <= 2 * 0.3 / run);
             ts_data_free(d);
             ts_model_free(m);
         }
@@ -952,7 +944,7 @@ static void upper_run(const ts_config *c, double ctr[4][2], double rad[4])
  * massless track nothing. M_theta_theta of the two fidelities at one state
  * must differ by that sum, from the layout's tangent geometry alone, to 1e-6
  * relative (2,811 kg m^2 with the default layout, the rods' own 394).
- * Session-29 mutation tests: the rods' own rho L^3 / 12 left out of the
+ * Session-28 mutation tests: the rods' own rho L^3 / 12 left out of the
  * pitch inertia, and the spin coupling m / 6 doubled, survived every test. */
 static void quasi_static_spans_are_rods_fed_by_the_spins(void **state)
 {
@@ -1010,7 +1002,7 @@ static void quasi_static_spans_are_rods_fed_by_the_spins(void **state)
  * (~-620 N). Same for the lumped and quasi-static fidelities, whose upper run
  * is the same massless element law. From the layout's tangent geometry
  * alone, 1e-6 relative; the model's channel roller.rear.normal_force at reset
- * likewise. Session-29 mutation tests: the element ending on the roller added
+ * likewise. Session-28 mutation tests: the element ending on the roller added
  * with the wrong sign, the hull's up direction mirrored in the pitch, and the
  * channel's sign flipped survived every test. */
 static void rear_roller_load_at_rest_is_the_wrap_force(void **state)
@@ -1019,12 +1011,7 @@ static void rear_roller_load_at_rest_is_the_wrap_force(void **state)
     static const char *const fid[] = {"static", "lumped", "quasi_static"};
     for (int f = 0; f < 3; f++) {
         ts_config c = config(fid[f]);
-        vm *v = test_vm(&c);
-        vm_work *w = vm_work_make(v);
-        int ny = vm_ny(v);
-        double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
-        assert_true(y && yd);
-        memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+        test_rest r = test_rest_make(&c);
         double ctr[4][2], rad[4], u0[2], u1[2], len, mid[2];
         upper_run(&c, ctr, rad);
         outer_tangent(ctr[0], rad[0], ctr[1], rad[1], u0, &len, mid);
@@ -1033,20 +1020,17 @@ static void rear_roller_load_at_rest_is_the_wrap_force(void **state)
         assert_true(fabs(want) > 0.005 * c.track.tension); /* a wrap, not a straight run */
         for (int k = 0; k < 2; k++) {
             if (k == 1) { /* the whole vehicle turned 0.2 rad about its CG */
-                y[2] += 0.2;
+                r.y[2] += 0.2;
                 for (int b = 0; b < VM_NB; b++)
-                    y[VM_NQ_RIGID - VM_NB + b] += 0.2;
+                    r.y[VM_NQ_RIGID - VM_NB + b] += 0.2;
+                assert_int_equal(vm_rhs(r.v, r.w, 0, r.y, r.yd, &r.dg), 0);
             }
-            vm_diag dg;
-            assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
             printf("# %s, pitch %+.4f rad: rear-roller load %.2f N, wrap force %.2f N\n", fid[f],
-                   y[2], dg.rear_roller_normal, want);
-            assert_close(dg.tension[0], c.track.tension, 1e-6, 0);
-            assert_close(dg.rear_roller_normal, want, 1e-6, 0);
+                   r.y[2], r.dg.rear_roller_normal, want);
+            assert_close(r.dg.tension[0], c.track.tension, 1e-6, 0);
+            assert_close(r.dg.rear_roller_normal, want, 1e-6, 0);
         }
-        free(y), free(yd);
-        vm_work_free(w);
-        vm_free(v);
+        test_rest_free(&r);
         /* and the model's channel at reset (vm_channels_fill) */
         ts_err err;
         ts_model *m = ts_model_make(&c, &err);
@@ -1064,35 +1048,28 @@ static void rear_roller_load_at_rest_is_the_wrap_force(void **state)
  * span s's first transverse modal coordinate by 1e-3 m moves that span's
  * channel by 1e-3 m and no other span's (coupled fidelity, one mode per span
  * and family; linear, so to rounding). The channel block (vm_channels_fill),
- * not only the model's diagnostics. Session-29 mutation test: every span's
+ * not only the model's diagnostics. Session-28 mutation test: every span's
  * channel reading the first span's deflection survived every test. */
 static void span_deflection_channels_read_their_own_span(void **state)
 {
     (void)state;
     ts_config c = config("coupled");
-    vm *v = test_vm(&c);
-    vm_work *w = vm_work_make(v);
-    int ny = vm_ny(v), nm = c.track.n_long + c.track.n_trans;
-    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+    test_rest r = test_rest_make(&c);
+    int nm = c.track.n_long + c.track.n_trans;
     double out0[VM_CH_T_QS + 1], out1[VM_CH_T_QS + 1];
-    assert_true(y && yd);
-    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
-    vm_diag dg;
-    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
-    vm_channels_fill(v, y, yd, &dg, out0);
+    vm_channels_fill(r.v, r.y, r.yd, &r.dg, out0);
     for (int s = 0; s < VM_NSPAN; s++) {
         int it = VM_NQ_RIGID + s * nm + c.track.n_long; /* span s's first transverse mode */
-        y[it] += 1e-3;
-        assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
-        vm_channels_fill(v, y, yd, &dg, out1);
-        y[it] -= 1e-3;
+        vm_diag dg;
+        r.y[it] += 1e-3;
+        assert_int_equal(vm_rhs(r.v, r.w, 0, r.y, r.yd, &dg), 0);
+        vm_channels_fill(r.v, r.y, r.yd, &dg, out1);
+        r.y[it] -= 1e-3;
         for (int k = 0; k < VM_NSPAN; k++)
             assert_close(out1[VM_CH_SPAN_V0 + k] - out0[VM_CH_SPAN_V0 + k], k == s ? 1e-3 : 0, 0,
                          1e-12);
     }
-    free(y), free(yd);
-    vm_work_free(w);
-    vm_free(v);
+    test_rest_free(&r);
 }
 
 /* EVIDENCE: a ground can push, not pull [P II.C.1's foundation, compression
@@ -1102,40 +1079,34 @@ static void span_deflection_channels_read_their_own_span(void **state)
  * c_f (N_max the largest static wheel load, c_f /vehicle/foundation_damping):
  * every wheel's load must be 0 and the generalised forces those of the same
  * state lifted 1 m clear of the ground (flat terrain: nothing else depends
- * on the height), to rounding. Session-29 mutation test: the clip of a
+ * on the height), to rounding. Session-28 mutation test: the clip of a
  * negative foundation force removed (a sticky ground pulling the rising
  * wheels down) survived every test. */
 static void separating_ground_pulls_nothing(void **state)
 {
     (void)state;
     ts_config c = config("coupled");
-    vm *v = test_vm(&c);
-    vm_work *w = vm_work_make(v);
-    int nq = vm_nq(v), ny = vm_ny(v);
-    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny),
-           *Q0 = malloc(sizeof(double) * (size_t)nq), *Q1 = malloc(sizeof(double) * (size_t)nq);
-    assert_true(y && yd && Q0 && Q1);
-    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
-    vm_diag dg;
-    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+    test_rest r = test_rest_make(&c);
+    int nq = r.nq;
+    double *Q0 = malloc(sizeof(double) * (size_t)nq), *Q1 = malloc(sizeof(double) * (size_t)nq);
+    assert_true(Q0 && Q1);
     double nmax = 0;
     for (int i = 0; i < VM_NRW; i++) {
-        assert_true(dg.wheel_load[i] > 0); /* all on the ground at rest */
-        nmax = fmax(nmax, dg.wheel_load[i]);
+        assert_true(r.dg.wheel_load[i] > 0); /* all on the ground at rest */
+        nmax = fmax(nmax, r.dg.wheel_load[i]);
     }
-    y[nq + 1] = 2 * nmax / c.vehicle.foundation_damping; /* z_d */
-    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+    r.y[nq + 1] = 2 * nmax / c.vehicle.foundation_damping; /* z_d */
+    assert_int_equal(vm_rhs(r.v, r.w, 0, r.y, r.yd, &r.dg), 0);
     for (int i = 0; i < VM_NRW; i++)
-        assert_true(dg.wheel_load[i] == 0);
-    vm_forces(v, w, 0, y, 0, Q0);
-    y[1] += 1.0;
-    vm_forces(v, w, 0, y, 0, Q1);
-    double scale = vm_supported_weight(v);
+        assert_true(r.dg.wheel_load[i] == 0);
+    vm_forces(r.v, r.w, 0, r.y, 0, Q0);
+    r.y[1] += 1.0;
+    vm_forces(r.v, r.w, 0, r.y, 0, Q1);
+    double scale = vm_supported_weight(r.v);
     for (int i = 0; i < nq; i++)
         assert_close(Q0[i], Q1[i], 0, 1e-9 * scale);
-    free(y), free(yd), free(Q0), free(Q1);
-    vm_work_free(w);
-    vm_free(v);
+    free(Q0), free(Q1);
+    test_rest_free(&r);
 }
 
 /* EVIDENCE: static equilibrium on a constant grade s, closed form: the
@@ -1144,7 +1115,7 @@ static void separating_ground_pulls_nothing(void **state)
  * horizontal in the model; with the supported weight W (vm_supported_weight)
  * the force balance gives sum N_i = W sqrt(1 + s^2) and F_a = s W (uphill,
  * holding the vehicle). Static track on a 30 % grade, no drive, at the
- * solved equilibrium (Newton's residual 1e-7 W), 1e-5 relative. Session-29
+ * solved equilibrium (Newton's residual 1e-7 W), 1e-5 relative. Session-28
  * mutation test: the normal force's vertical part not scaled by the
  * tangent's cos (exact on flat ground only) survived every test, the grade
  * tests taking differences of two runs. */
@@ -1153,15 +1124,9 @@ static void grade_equilibrium_balances_the_weight(void **state)
     (void)state;
     double s = 0.3;
     ts_config c = grade_config("grade30_rest.csv", s, 0.0);
-    vm *v = test_vm(&c);
-    vm_work *w = vm_work_make(v);
-    int ny = vm_ny(v);
-    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
-    assert_true(y && yd);
-    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
-    vm_diag dg;
-    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
-    double sum = 0, W = vm_supported_weight(v);
+    test_rest r = test_rest_make(&c);
+    const vm_diag dg = r.dg;
+    double sum = 0, W = vm_supported_weight(r.v);
     for (int i = 0; i < VM_NRW; i++)
         sum += dg.wheel_load[i];
     printf("# 30 %% grade at rest: sum N %.1f N (W sqrt(1+s^2) %.1f N), anchor %.1f N (s W %.1f "
@@ -1169,9 +1134,7 @@ static void grade_equilibrium_balances_the_weight(void **state)
            sum, W * sqrt(1 + s * s), dg.anchor_force, s * W);
     assert_close(sum, W * sqrt(1 + s * s), 1e-5, 0);
     assert_close(dg.anchor_force, s * W, 1e-5, 0);
-    free(y), free(yd);
-    vm_work_free(w);
-    vm_free(v);
+    test_rest_free(&r);
 }
 
 /* EVIDENCE: the quasi-static reference tension (vehicle_model.h, vm_diag:
@@ -1180,17 +1143,15 @@ static void grade_equilibrium_balances_the_weight(void **state)
  * (G = G_eq); a sprocket torque tau lowers it linearly (the slope
  * -C_B / (r_s C_loop) from two small torques), and once the linear law would
  * go below 0 (at 3x the torque that zeroes it) it must be 0, not negative.
- * Session-29 mutation test: the clip at 0 removed survived every test. */
+ * Session-28 mutation test: the clip at 0 removed survived every test. */
 static void quasi_static_tension_cannot_push(void **state)
 {
     (void)state;
     ts_config c = config("static");
-    vm *v = test_vm(&c);
-    vm_work *w = vm_work_make(v);
-    int ny = vm_ny(v);
-    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
-    assert_true(y && yd);
-    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
+    test_rest r = test_rest_make(&c);
+    vm *v = r.v;
+    vm_work *w = r.w;
+    double *y = r.y, *yd = r.yd;
     vm_diag dg;
     assert_int_equal(vm_rhs_torque(v, w, 0, y, 0.0, 0.0, yd, &dg), 0);
     double t0 = dg.tension_quasi_static;
@@ -1205,9 +1166,44 @@ static void quasi_static_tension_cannot_push(void **state)
     printf("# quasi-static tension %.1f N at rest, 0 from %.0f N m; at 3x: %.3g N\n", t0, tau0,
            dg.tension_quasi_static);
     assert_true(dg.tension_quasi_static == 0);
-    free(y), free(yd);
-    vm_work_free(w);
-    vm_free(v);
+    test_rest_free(&r);
+}
+
+/* Q(c2) - Q(c1) into dQ (vm_nq values, malloc'd; the caller frees it): the
+ * generalised forces of two models that differ in one rate, at c1's static
+ * equilibrium changed by pose(y, ud) (drive off). The rate must not move the
+ * equilibrium (an element idle at rest): the torsion bars' preloads agree. */
+static double *force_change(const ts_config *c1, const ts_config *c2,
+                            void (*pose)(double *y, void *ud), void *ud)
+{
+    test_rest r1 = test_rest_make(c1), r2 = test_rest_make(c2);
+    double *Q1 = malloc(sizeof(double) * (size_t)r1.nq),
+           *dQ = malloc(sizeof(double) * (size_t)r1.nq);
+    assert_true(Q1 && dQ);
+    for (int i = 0; i < VM_NRW; i++)
+        assert_close(vm_preload(r2.v, i), vm_preload(r1.v, i), 1e-9, 0);
+    pose(r1.y, ud);
+    vm_forces(r1.v, r1.w, 0, r1.y, 0, Q1);
+    vm_forces(r2.v, r2.w, 0, r1.y, 0, dQ);
+    for (int i = 0; i < r1.nq; i++)
+        dQ[i] -= Q1[i];
+    free(Q1);
+    test_rest_free(&r1);
+    test_rest_free(&r2);
+    return dQ;
+}
+
+/* force_change's pose for the bump stops: every arm at *ud rad past its stop. */
+static void arms_past_the_stop(double *y, void *ud)
+{
+    for (int i = 0; i < VM_NRW; i++)
+        y[3 + i] = *(const double *)ud;
+}
+
+/* force_change's pose for the anchor: road wheel station *ud's spin turned 1e-3 rad. */
+static void anchor_wheel_turned(double *y, void *ud)
+{
+    y[VM_NQ_RIGID - VM_NB + VM_RW1 + *(const int *)ud - 1] += 1e-3;
 }
 
 /* EVIDENCE: bump stops act at the configured stations only, as the torque
@@ -1217,7 +1213,7 @@ static void quasi_static_tension_cannot_push(void **state)
  * bar preloads are the same), every arm 0.01 rad past the stop: the arms'
  * generalised forces differ by dk 0.01 at the listed stations and by 0
  * elsewhere, for the default stations {1, 2, 7} and for {3, 5}. Exact up to
- * rounding. Session-29 mutation test: the stations read one off (arm 1's
+ * rounding. Session-28 mutation test: the stations read one off (arm 1's
  * stop on arm 2's list entry) survived every test. */
 static void bump_stops_act_at_their_stations(void **state)
 {
@@ -1229,31 +1225,17 @@ static void bump_stops_act_at_their_stations(void **state)
         c.vehicle.bump_stop_station_n = nlist[l];
         for (int k = 0; k < nlist[l]; k++)
             c.vehicle.bump_stop_station[k] = lists[l][k];
-        vm *v1 = test_vm(&c);
-        double dk = 2e5;
-        c.vehicle.bump_stop_rate += dk;
-        vm *v2 = test_vm(&c);
-        vm_work *w1 = vm_work_make(v1), *w2 = vm_work_make(v2);
-        int nq = vm_nq(v1), ny = vm_ny(v1);
-        double *y = malloc(sizeof(double) * (size_t)ny), *Q1 = malloc(sizeof(double) * (size_t)nq),
-               *Q2 = malloc(sizeof(double) * (size_t)nq);
-        assert_true(y && Q1 && Q2);
-        memcpy(y, vm_equilibrium(v1), sizeof(double) * (size_t)ny);
-        for (int i = 0; i < VM_NRW; i++) {
-            assert_close(vm_preload(v2, i), vm_preload(v1, i), 1e-9, 0);
-            y[3 + i] = c.vehicle.bump_stop_angle - 0.01;
-        }
-        vm_forces(v1, w1, 0, y, 0, Q1);
-        vm_forces(v2, w2, 0, y, 0, Q2);
+        double dk = 2e5, past = c.vehicle.bump_stop_angle - 0.01;
+        ts_config c2 = c;
+        c2.vehicle.bump_stop_rate += dk;
+        double *dQ = force_change(&c, &c2, arms_past_the_stop, &past);
         for (int i = 0; i < VM_NRW; i++) {
             int listed = 0;
             for (int k = 0; k < nlist[l]; k++)
                 listed |= (int)lists[l][k] == i + 1;
-            assert_close(Q2[3 + i] - Q1[3 + i], listed ? dk * 0.01 : 0.0, 0, 1e-6 * dk * 0.01);
+            assert_close(dQ[3 + i], listed ? dk * 0.01 : 0.0, 0, 1e-6 * dk * 0.01);
         }
-        free(y), free(Q1), free(Q2);
-        vm_work_free(w1), vm_work_free(w2);
-        vm_free(v1), vm_free(v2);
+        free(dQ);
     }
 }
 
@@ -1266,7 +1248,7 @@ static void bump_stops_act_at_their_stations(void **state)
  * that wheel's spin turned by d = 1e-3 rad: the generalised spin forces
  * differ by -dk rho_w^2 d on the anchor wheel and by 0 on every other road
  * wheel, and the hull's x force by dk rho_w d, for stations 4 (default) and
- * 2. Exact up to rounding. Session-29 mutation test: the station taken as a
+ * 2. Exact up to rounding. Session-28 mutation test: the station taken as a
  * 0-based index (the anchor under wheel 5) survived every test. */
 static void anchor_holds_the_configured_wheel(void **state)
 {
@@ -1275,29 +1257,17 @@ static void anchor_holds_the_configured_wheel(void **state)
     for (int k = 0; k < 2; k++) {
         ts_config c = config("static");
         c.vehicle.anchor_station = stations[k];
-        vm *v1 = test_vm(&c);
         double dk = 1e6;
-        c.vehicle.anchor_stiffness += dk;
-        vm *v2 = test_vm(&c);
-        vm_work *w1 = vm_work_make(v1), *w2 = vm_work_make(v2);
-        int nq = vm_nq(v1), ny = vm_ny(v1);
-        double *y = malloc(sizeof(double) * (size_t)ny), *Q1 = malloc(sizeof(double) * (size_t)nq),
-               *Q2 = malloc(sizeof(double) * (size_t)nq);
-        assert_true(y && Q1 && Q2);
-        memcpy(y, vm_equilibrium(v1), sizeof(double) * (size_t)ny);
+        ts_config c2 = c;
+        c2.vehicle.anchor_stiffness += dk;
+        double *dQ = force_change(&c, &c2, anchor_wheel_turned, (void *)&stations[k]);
         int spin0 = VM_NQ_RIGID - VM_NB + VM_RW1; /* road wheel 1's spin */
         double d = 1e-3, rho = c.vehicle.road_wheel_radius + c.vehicle.track_pitch_offset;
-        y[spin0 + stations[k] - 1] += d;
-        vm_forces(v1, w1, 0, y, 0, Q1);
-        vm_forces(v2, w2, 0, y, 0, Q2);
         double want = dk * rho * rho * d;
         for (int i = 0; i < VM_NRW; i++)
-            assert_close(Q2[spin0 + i] - Q1[spin0 + i], i == stations[k] - 1 ? -want : 0.0, 0,
-                         1e-6 * want);
-        assert_close(Q2[0] - Q1[0], dk * rho * d, 1e-6, 0);
-        free(y), free(Q1), free(Q2);
-        vm_work_free(w1), vm_work_free(w2);
-        vm_free(v1), vm_free(v2);
+            assert_close(dQ[spin0 + i], i == stations[k] - 1 ? -want : 0.0, 0, 1e-6 * want);
+        assert_close(dQ[0], dk * rho * d, 1e-6, 0);
+        free(dQ);
     }
 }
 
@@ -1309,22 +1279,17 @@ static void anchor_holds_the_configured_wheel(void **state)
  * heights of vm_geometry and the loads of vm_rhs's diagnostics must satisfy
  * that law on all seven wheels, with the radius and thickness from the
  * configuration, to 1e-6 relative (d ~ 5 mm: the equilibrium's tolerance).
- * Session-29 mutation test: the track thickness left out of the contact
+ * Session-28 mutation test: the track thickness left out of the contact
  * height (the whole hull riding 90 mm low) survived every test. */
 static void wheel_loads_follow_the_foundation_law(void **state)
 {
     (void)state;
     ts_config c = config("static");
-    vm *v = test_vm(&c);
-    vm_work *w = vm_work_make(v);
-    int ny = vm_ny(v);
-    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
+    test_rest r = test_rest_make(&c);
+    const vm_diag dg = r.dg;
     ts_geom *g = malloc(sizeof *g);
-    assert_true(y && yd && g);
-    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
-    vm_diag dg;
-    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
-    vm_geometry(v, w, 0, y, g);
+    assert_non_null(g);
+    vm_geometry(r.v, r.w, 0, r.y, g);
     const ts_vehicle_config *vc = &c.vehicle;
     for (int i = 0; i < VM_NRW; i++) {
         const ts_geom_wheel *gw = &g->wheel[VM_RW1 + i];
@@ -1337,28 +1302,18 @@ static void wheel_loads_follow_the_foundation_law(void **state)
         assert_true(d > 0);
         assert_close(dg.wheel_load[i], want, 1e-6, 0);
     }
-    free(y), free(yd), free(g);
-    vm_work_free(w);
-    vm_free(v);
+    free(g);
+    test_rest_free(&r);
 }
 
 /* Sum of the road-wheel loads of c's model at its static equilibrium. */
 static double load_sum_at_rest(const ts_config *c)
 {
-    vm *v = test_vm(c);
-    vm_work *w = vm_work_make(v);
-    int ny = vm_ny(v);
-    double *y = malloc(sizeof(double) * (size_t)ny), *yd = malloc(sizeof(double) * (size_t)ny);
-    assert_true(y && yd);
-    memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
-    vm_diag dg;
-    assert_int_equal(vm_rhs(v, w, 0, y, yd, &dg), 0);
+    test_rest r = test_rest_make(c);
     double sum = 0;
     for (int i = 0; i < VM_NRW; i++)
-        sum += dg.wheel_load[i];
-    free(y), free(yd);
-    vm_work_free(w);
-    vm_free(v);
+        sum += r.dg.wheel_load[i];
+    test_rest_free(&r);
     return sum;
 }
 
@@ -1370,7 +1325,7 @@ static double load_sum_at_rest(const ts_config *c)
  * (the anchor force is horizontal): the lumped model's wheel loads must sum
  * to the static one's plus rho g (L_0 + L_1 + L_2), the L_e from the layout's
  * tangent geometry alone, to 1e-5 relative (9.5 kN of ~270 kN; Newton's
- * residual 1e-7 W). Session-29 mutation test: the middle span counted whole
+ * residual 1e-7 W). Session-28 mutation test: the middle span counted whole
  * on the front roller (and half on the rear) survived every test. */
 static void lumped_upper_spans_weigh_on_the_wheels(void **state)
 {
@@ -1408,7 +1363,7 @@ static double wrap_angle(const double ui[2], const double uo[2])
  * changes by -EA rho^2 (1 / L_1 + 1 / L_2) phi. Central difference of
  * vm_forces at rest against that, the lengths and wraps from the layout's
  * tangent geometry alone (the design configuration: arms at their design
- * angle, idler at its layout position), 1e-6 relative. Session-29 mutation
+ * angle, idler at its layout position), 1e-6 relative. Session-28 mutation
  * test: each wrap counted whole in both of its elements (the elements too
  * soft: the front roller's spin stiffness 13 % low) survived every test. */
 static void chain_elements_share_the_wraps(void **state)
