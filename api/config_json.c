@@ -148,7 +148,11 @@ static ts_rc merge_document(json_t *merged, const json_t *doc, int depth, ts_err
         if (depth >= MAX_PRESET_DEPTH)
             return ts_err_set(err, TS_ERR_PARAM, "/preset", "/preset: presets nest too deep");
         json_t *p = tsa_preset_get(json_string_value(preset), err);
-        if (!p) return err ? err->code : TS_ERR_NOTFOUND;
+        if (!p) {
+            /* a name in a body is a bad value (400), not a missing route (404) */
+            if (err && err->code == TS_ERR_NOTFOUND) err->code = TS_ERR_PARAM;
+            return err ? err->code : TS_ERR_PARAM;
+        }
         ts_rc rc = merge_document(merged, p, depth + 1, err);
         json_decref(p);
         if (rc != TS_OK) return rc;
@@ -310,7 +314,8 @@ static void read_field(const ts_param *p, const json_t *v, char *base, json_t *e
             double x = json_number_value(el);
             if (ts_param_check_number(p, x, &e) != TS_OK) {
                 add_error(errors, first, count, TS_ERR_RANGE, ptr,
-                          "%s: number in [%g, %g] %s, got %g", ptr, p->min, p->max, p->unit, x);
+                          "%s: number in [%g, %g]%s%s, got %g", ptr, p->min, p->max,
+                          ts_param_unit_gap(p), ts_param_unit_shown(p), x);
                 return;
             }
             ts_param_set_double(base, p, (int)k, x);

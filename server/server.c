@@ -210,7 +210,10 @@ enum MHD_Result tsd_reply_text(tsd_request *r, unsigned status, const char *cont
 static enum MHD_Result reply_dump(tsd_request *r, unsigned status, json_t *body,
                                   const char *content_type)
 {
-    char *text = body ? json_dumps(body, JSON_COMPACT | JSON_REAL_PRECISION(12)) : NULL;
+    /* 17 digits: a double read back is the same double, so a config echoed
+     * by the daemon reruns bit for bit (at 12 a session's config gave
+     * phi_curvature 8.09366786689e-6 and a point-mass run 4e-5 km/h off) */
+    char *text = body ? json_dumps(body, JSON_COMPACT | JSON_REAL_PRECISION(17)) : NULL;
     json_decref(body);
     if (!text) {
         static const char oom[] = "{\"type\":\"/problems/internal\",\"title\":\"Internal error\","

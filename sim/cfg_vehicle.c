@@ -28,7 +28,8 @@ static const ts_param vehicle_rows[] = {
     {"/vehicle/air_density", TS_PT_DOUBLE, F(air_density), "kg/m^3", 0, 2, NULL, 0, 0,
      "air density for drag"},
     {"/vehicle/grade", TS_PT_DOUBLE, F(grade), "rad", -0.6, 0.6, NULL, 0, 0,
-     "road slope, positive uphill (point-mass runs)"},
+     "road slope, positive uphill: point-mass runs (the multibody vehicle takes its slope "
+     "from /terrain, and a coupled run reads this only as its IVS gain schedule's grade)"},
     {"/vehicle/rotating_mass_factor", TS_PT_DOUBLE, F(rotating_mass_factor), "1", 1, 2, NULL, 0, 0,
      "effective over actual mass, for rotating parts in point-mass runs"},
     {"/vehicle/sprocket_x", TS_PT_DOUBLE, F(sprocket_x), "m", -2, 12, NULL, 0, 0,
@@ -114,6 +115,10 @@ static const ts_param vehicle_rows[] = {
      "tangential damping of the no-slip anchor"},
     {"/vehicle/anchor_station", TS_PT_INT, F(anchor_station), "1", 1, TS_MAX_ROAD_WHEELS, NULL, 0,
      0, "road wheel under which the track does not slip (4 = middle)"},
+    {"/vehicle/traction_limit", TS_PT_DOUBLE, F(traction_limit), "1", 0.1, 2, NULL, 0, 0,
+     "prescribed-torque runs: the largest pull on a track (sprocket torque over sprocket "
+     "radius) a run accepts, as a share of the weight on that track (multibody: on its road "
+     "wheels); no model lets the track slip, so a larger pull would be carried regardless"},
     {"/vehicle/damping_scale", TS_PT_DOUBLE, F(damping_scale), "1", 0, 10, NULL, 0, 0,
      "multibody model: factor on every damper, the foundation, anchor and track damping, the "
      "rolling resistance and the drag (0 for energy checks)"},

@@ -64,6 +64,7 @@ typedef struct ts_vehicle_config {
     double anchor_stiffness;     /* no-slip under the anchor wheel, tangential [N/m] */
     double anchor_damping;       /* [N*s/m] */
     int anchor_station;          /* road wheel that anchors the ground run (4) */
+    double traction_limit;       /* largest drive pull over the road wheels' load [1] */
     double damping_scale; /* multiplies every damper, foundation and track damping (1; 0 for energy
                              checks) */
 } ts_vehicle_config;

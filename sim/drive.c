@@ -3,6 +3,9 @@
  */
 #include "drive.h"
 
+#include <math.h>
+#include <stdio.h>
+
 ts_rc ts_drive_check(const ts_drive_config *c, ts_err *err)
 {
     if (c->kind != TS_DRIVE_TABLE) return TS_OK;
@@ -43,4 +46,46 @@ double ts_drive_torque(const ts_drive_config *c, double t)
     }
     default: return 0.0;
     }
+}
+
+double ts_drive_peak_torque(const ts_drive_config *c, const char **pointer, int *row)
+{
+    if (pointer) *pointer = "/drive/torque";
+    if (row) *row = -1;
+    switch (c->kind) {
+    case TS_DRIVE_CONSTANT:
+    case TS_DRIVE_RAMP:
+        return fabs(c->torque);
+    case TS_DRIVE_TABLE: {
+        double peak = 0;
+        for (int i = 0; i < c->table_n && i < c->table_torque_n; i++)
+            if (fabs(c->table_torque[i]) > peak) {
+                peak = fabs(c->table_torque[i]);
+                if (pointer) *pointer = "/drive/table_torque";
+                if (row) *row = i;
+            }
+        return peak;
+    }
+    default:
+        return 0.0;
+    }
+}
+
+ts_rc ts_drive_check_traction(const ts_drive_config *c, double sprocket_radius, double weight,
+                              double limit, ts_err *err)
+{
+    const char *ptr;
+    int row;
+    double tau = ts_drive_peak_torque(c, &ptr, &row), pull = tau / sprocket_radius;
+    if (pull <= limit * weight) return TS_OK;
+    char at[64];
+    if (row >= 0)
+        snprintf(at, sizeof at, "%s/%d", ptr, row);
+    else
+        snprintf(at, sizeof at, "%s", ptr);
+    return ts_err_set(err, TS_ERR_RANGE, at,
+                      "%s: %g N*m at each sprocket pulls its track with %.0f N, %.2f times the "
+                      "%.0f N of weight on it, past /vehicle/traction_limit %g: the model's track "
+                      "does not slip, so the run would carry that pull whatever the ground gives",
+                      at, tau, pull, pull / weight, weight, limit);
 }

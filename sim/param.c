@@ -58,6 +58,16 @@ const char *ts_param_type_name(ts_param_type t)
     }
 }
 
+const char *ts_param_unit_gap(const ts_param *p)
+{
+    return p->unit && p->unit[0] && strcmp(p->unit, "1") != 0 ? " " : "";
+}
+
+const char *ts_param_unit_shown(const ts_param *p)
+{
+    return *ts_param_unit_gap(p) ? p->unit : "";
+}
+
 ts_rc ts_param_check_number(const ts_param *p, double v, ts_err *err)
 {
     if (!isfinite(v))
@@ -66,13 +76,14 @@ ts_rc ts_param_check_number(const ts_param *p, double v, ts_err *err)
     if (v < p->min || v > p->max) {
         if (p->type == TS_PT_DOUBLE_OFF)
             return ts_err_set(err, TS_ERR_RANGE, p->pointer,
-                              "%s: 0 (off) or a number in [%g, %g] %s, got %g", p->pointer, p->min,
-                              p->max, p->unit ? p->unit : "", v);
+                              "%s: 0 (off) or a number in [%g, %g]%s%s, got %g", p->pointer, p->min,
+                              p->max, ts_param_unit_gap(p), ts_param_unit_shown(p), v);
         if (p->type == TS_PT_INT)
             return ts_err_set(err, TS_ERR_RANGE, p->pointer, "%s: integer in [%g, %g], got %g",
                               p->pointer, p->min, p->max, v);
-        return ts_err_set(err, TS_ERR_RANGE, p->pointer, "%s: number in [%g, %g] %s, got %g",
-                          p->pointer, p->min, p->max, p->unit ? p->unit : "", v);
+        return ts_err_set(err, TS_ERR_RANGE, p->pointer, "%s: number in [%g, %g]%s%s, got %g",
+                          p->pointer, p->min, p->max, ts_param_unit_gap(p), ts_param_unit_shown(p),
+                          v);
     }
     return TS_OK;
 }

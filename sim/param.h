@@ -73,6 +73,12 @@ const char *ts_param_type_name(ts_param_type t);
  * and returns TS_ERR_RANGE when outside [min, max] or not finite. */
 ts_rc ts_param_check_number(const ts_param *p, double v, ts_err *err);
 
+/* A parameter's unit for a message: ts_param_unit_gap gives " " and
+ * ts_param_unit_shown the unit, or both "" for a dimensionless ("1") or
+ * unitless parameter, so "[0, 1]%s%s" reads "[0, 1]" or "[0, 10] m". */
+const char *ts_param_unit_gap(const ts_param *p);
+const char *ts_param_unit_shown(const ts_param *p);
+
 /* Index of name in a TS_PT_ENUM row's names, or -1. */
 int ts_param_enum_index(const ts_param *p, const char *name);
 

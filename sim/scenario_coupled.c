@@ -51,6 +51,14 @@ typedef struct cpl_data {
 
 static ts_rc model_init(ts_model *m, ts_err *err)
 {
+    const ts_control_config *cc = &m->cfg.control;
+    if (m->cfg.vehicle.grade != 0 &&
+        !(cc->mode == TS_CONTROL_IVS && cc->schedule_var == TS_SCHEDULE_GRADE &&
+          cc->schedule_n > 0)) /* it was ignored without a word */
+        return ts_err_set(err, TS_ERR_PARAM, "/vehicle/grade",
+                          "/vehicle/grade: the multibody vehicle takes its slope from the ground "
+                          "(/terrain, e.g. a profile rising at the grade); a coupled run reads "
+                          "/vehicle/grade only to pick the IVS gains of a grade schedule");
     ts_coupled *c = ts_coupled_make(&m->cfg, err);
     if (!c) return err ? err->code : TS_ERR_INTERNAL;
     m->impl = c;
@@ -190,6 +198,8 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     n = ts_metric_add(out, n, max, "peak_sprocket_torque", "N*m", tq_max,
                       "peak torque at each sprocket (Fig. 28 converter multiplication)");
     n = vm_channels_span_metrics(rows, nrows, nc, CH_V0, out, n, max);
+    n = vm_channels_traction_metrics(rows, nrows, nc, CH_V0, m->cfg.vehicle.traction_limit, out, n,
+                                     max);
     n = ts_metric_add_upshifts(rows, nrows, nc, CH_PT0 + PT_GEAR, out, n, max);
     if (m->cfg.control.mode == TS_CONTROL_IVS) {
         double vt = m->cfg.control.target_speed;

@@ -134,6 +134,11 @@ static ts_rc model_init(ts_model *m, ts_err *err)
                           "/terrain/kind: the point mass runs on flat ground or a constant "
                           "/vehicle/grade; bump courses and profiles need the multibody vehicle "
                           "(run.kind vehicle or coupled)");
+    /* both tracks: half the weight on each (the normal force on the grade) */
+    rc = ts_drive_check_traction(&m->cfg.drive, m->cfg.vehicle.sprocket_radius,
+                                 0.5 * m->cfg.vehicle.mass * TS_GRAVITY * cos(m->cfg.vehicle.grade),
+                                 m->cfg.vehicle.traction_limit, err);
+    if (rc != TS_OK) return rc;
     pm_model *pm = calloc(1, sizeof *pm);
     if (!pm) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     m->impl = pm;

@@ -66,6 +66,11 @@ static ts_rc model_init(ts_model *m, ts_err *err)
         return ts_err_set(err, TS_ERR_UNSUPPORTED, "/drive/kind",
                           "/drive/kind: the vehicle scenario takes a prescribed torque; the "
                           "powertrain drive belongs to the coupled run");
+    if (m->cfg.vehicle.grade != 0) /* it was ignored without a word */
+        return ts_err_set(err, TS_ERR_PARAM, "/vehicle/grade",
+                          "/vehicle/grade: the multibody vehicle takes its slope from the ground "
+                          "(/terrain, e.g. a profile rising at the grade); /vehicle/grade is the "
+                          "point mass's");
     veh_model *vmm = calloc(1, sizeof *vmm);
     if (!vmm) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     m->impl = vmm;
@@ -329,6 +334,8 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
         "from the Fig. 5-calibrated layout)");
     n = ts_metric_add(out, n, max, "roller_force_peak_4.6_7hz_amp", "N", a, "its amplitude");
     n = vm_channels_span_metrics(rows, nrows, nc, CH_V0, out, n, max);
+    n = vm_channels_traction_metrics(rows, nrows, nc, CH_V0, m->cfg.vehicle.traction_limit, out, n,
+                                     max);
     return n;
 }
 

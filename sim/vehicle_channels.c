@@ -112,3 +112,28 @@ int vm_channels_span_metrics(const double *rows, long nrows, int nc, int first, 
                       "zero (model outside its range there)");
     return n;
 }
+
+int vm_channels_traction_metrics(const double *rows, long nrows, int nc, int first, double limit,
+                                 ts_metric *out, int n, int max)
+{
+    double qmax = NAN;
+    long over = 0;
+    for (long i = 0; i < nrows; i++) {
+        const double *r = rows + i * nc + first;
+        double load = 0, fa = fabs(r[VM_CH_ANCHOR]);
+        for (int k = 0; k < VM_NRW; k++)
+            load += r[VM_CH_LOAD0 + k];
+        if (load > 0) qmax = isnan(qmax) ? fa / load : fmax(qmax, fa / load);
+        over += fa > limit * load;
+    }
+    n = ts_metric_add(out, n, max, "traction_demand_max", "1", qmax,
+                      "largest |track.anchor_force| over the sum of the road-wheel loads, rows "
+                      "with a wheel on the ground: the traction coefficient the no-slip track "
+                      "asks of the ground");
+    n = ts_metric_add(out, n, max, "traction_exceeded_fraction", "1",
+                      nrows > 0 ? (double)over / (double)nrows : NAN,
+                      "share of output rows whose anchor force exceeds /vehicle/traction_limit "
+                      "times the road-wheel loads, every wheel in the air included: the track "
+                      "would slip there, which the model does not (outside its range)");
+    return n;
+}

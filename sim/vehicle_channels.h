@@ -54,4 +54,13 @@ void vm_channels_fill(const vm *v, const double *y, const double *ydot, const vm
 int vm_channels_span_metrics(const double *rows, long nrows, int nc, int first, ts_metric *out,
                              int n, int max);
 
+/* Traction metrics over the same rows: "traction_demand_max" [1], the
+ * largest |anchor force| / sum of road-wheel loads over rows with a loaded
+ * wheel (NaN if none), and "traction_exceeded_fraction" [1], the share of rows
+ * whose anchor force exceeds limit times the loads (an unloaded row with any
+ * anchor force counts). The ground run never slips (vehicle_model.c), so such
+ * rows are outside the model's range. Appends to out[n..]; returns the count. */
+int vm_channels_traction_metrics(const double *rows, long nrows, int nc, int first, double limit,
+                                 ts_metric *out, int n, int max);
+
 #endif

@@ -1966,6 +1966,12 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
         compensation_table(v, q, vc->idler_compensation, err) != TS_OK)
         goto fail;
     if (build_spans(v, err) != TS_OK) goto fail;
+    /* the ground run is held by the no-slip anchor, which transmits any
+     * force, wheels loaded or not: a 200 kN*m drive launched the hull at 2 g
+     * and flipped it while the anchor kept pushing with every wheel in the air */
+    if (ts_drive_check_traction(&cfg->drive, vc->sprocket_radius, vm_supported_weight(v),
+                                vc->traction_limit, err) != TS_OK)
+        goto fail;
     v->nq = VM_NQ_RIGID + v->nmodal;
     v->ny = 2 * v->nq;
     v->y_eq = calloc((size_t)v->ny, sizeof(double));

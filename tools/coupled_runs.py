@@ -62,7 +62,13 @@ def shifts_report(c, label):
 
 
 def main():
-    out = sys.argv[1] if len(sys.argv) > 1 else "/tmp/tanksim-coupled-runs"
+    args = sys.argv[1:]
+    if "-h" in args or "--help" in args:
+        print(__doc__)
+        return
+    if len(args) > 1 or (args and args[0].startswith("-")):
+        sys.exit("coupled_runs.py: one OUTDIR expected, got %s (--help)" % " ".join(args))
+    out = args[0] if args else "/tmp/tanksim-coupled-runs"
     os.makedirs(out, exist_ok=True)
     flat, mf = run("flat-coupled-rack90", preset="flat-coupled-rack90", out=out)
     bump, mb = run("bump-coupled-rack90", preset="bump-coupled-rack90", out=out)

@@ -227,6 +227,13 @@ PARALLEL = 2
 
 
 def main():
+    args = sys.argv[1:]
+    if "-h" in args or "--help" in args:
+        print(__doc__)
+        return
+    bad = [a for a in args if a not in ("--match", "--no-run")]
+    if bad and "--match" not in args:
+        sys.exit("engine_maps.py: --no-run or --match expected, got %s (--help)" % " ".join(bad))
     if "--match" in sys.argv:
         match_table(sys.argv[1:])
         return

@@ -42,6 +42,37 @@ def test_schema_is_generated_from_the_parameter_table(daemon):
     assert s["additionalProperties"] is False
 
 
+def test_schema_and_config_echo_round_trip_every_double(daemon):
+    """The daemon wrote its JSON with 12 significant digits (session-29 review): the
+    schema's defaults differed from `tanksim schema`'s (fmep_b 316.081716981 vs
+    316.08171698050415) and a session's config echo, run by the CLI, gave another
+    result. Every double now reads back as itself."""
+    from conftest import BUILD
+    import subprocess
+    served = requests.get(daemon.url + "/v1/schema").json()
+    cli = json.loads(subprocess.run([os.path.join(BUILD, "tanksim"), "schema"], check=True,
+                                    capture_output=True, text=True).stdout)
+    assert served == cli
+    s = create(daemon, "accel-pointmass-conventional")
+    try:
+        preset = requests.get(daemon.url + "/v1/presets/accel-pointmass-conventional").json()
+        assert s["config"]["engine"] == preset["config"]["engine"]
+        phi = s["config"]["engine"]["phi_curvature"]
+        assert repr(phi) == repr(float(repr(phi))) and len(repr(phi).replace("e-06", "")) > 14
+    finally:
+        requests.delete(daemon.url + s["links"]["self"])
+
+
+def test_unknown_preset_in_a_body_is_a_bad_value(daemon):
+    """An unknown preset named in a request body answered 404, which a client reads
+    as a missing route (session-29 review); it is a bad value: 400 naming /preset.
+    The preset route itself still answers 404 for a name it does not have."""
+    for path in ("/v1/sessions", "/v1/tune", "/v1/engine-map"):
+        p = is_problem(requests.post(daemon.url + path, json={"preset": "nosuch"}), 400, "/preset")
+        assert "no preset named 'nosuch'" in p["errors"][0]["message"], path
+    is_problem(requests.get(daemon.url + "/v1/presets/nosuch"), 404)
+
+
 def test_openapi_is_served(daemon):
     r = requests.get(daemon.url + "/v1/openapi.yaml")
     assert r.status_code == 200 and r.text.startswith("openapi: 3.1")

@@ -638,6 +638,29 @@ static void gain_schedule_and_config_errors(void **state)
     ts_coupled_free(cm);
 }
 
+/* EVIDENCE: a coupled run's vehicle takes its slope from the terrain;
+ * /vehicle/grade only picks the gains of an IVS schedule over grade (Fig. 27).
+ * Anywhere else it did nothing and is refused, naming the field. */
+static void vehicle_grade_only_picks_scheduled_gains(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("flat-coupled-rack90", "static");
+    c.vehicle.grade = 0.1;
+    ts_err err;
+    assert_null(ts_model_make(&c, &err));
+    assert_int_equal(err.code, TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/vehicle/grade");
+    c.control.mode = TS_CONTROL_IVS;
+    c.control.schedule_var = TS_SCHEDULE_GRADE;
+    c.control.schedule_n = c.control.schedule_kp_n = c.control.schedule_ti_n = 2;
+    c.control.schedule_x[0] = 0, c.control.schedule_x[1] = 0.2;
+    c.control.schedule_kp[0] = 0.2, c.control.schedule_kp[1] = 0.4;
+    c.control.schedule_ti[0] = 2.0, c.control.schedule_ti[1] = 6.0;
+    ts_model *m = ts_model_make(&c, &err);
+    assert_non_null(m);
+    ts_model_free(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -655,6 +678,7 @@ int main(void)
         cmocka_unit_test(save_restore_reproduces),
         cmocka_unit_test(reported_sprocket_state_is_hull_relative),
         cmocka_unit_test(gain_schedule_and_config_errors),
+        cmocka_unit_test(vehicle_grade_only_picks_scheduled_gains),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -329,6 +329,28 @@ static void metrics_count_past_max_and_crossings_reach_the_level(void **state)
     assert_true(isnan(ts_rows_first_crossing(&r[0][0], 4, 2, 1, 0.0))); /* starts there */
 }
 
+/* EVIDENCE: the point mass's track does not slip either: a prescribed torque
+ * whose pull on a track, tau / r_s, exceeds /vehicle/traction_limit times half
+ * the weight's normal component, m g cos(grade) / 2, is refused; just under
+ * it the model builds. */
+static void prescribed_pull_past_the_traction_limit_is_refused(void **state)
+{
+    (void)state;
+    ts_config c = test_preset_config("pointmass-prescribed", NULL);
+    c.vehicle.grade = 0.3;
+    double tau_lim = c.vehicle.traction_limit * 0.5 * c.vehicle.mass * 9.80665 * cos(0.3) *
+                     c.vehicle.sprocket_radius;
+    ts_err err;
+    c.drive.torque = 0.99 * tau_lim;
+    ts_model *m = ts_model_make(&c, &err);
+    assert_non_null(m);
+    ts_model_free(m);
+    c.drive.torque = 1.01 * tau_lim;
+    assert_null(ts_model_make(&c, &err));
+    assert_int_equal(err.code, TS_ERR_RANGE);
+    assert_string_equal(err.pointer, "/drive/torque");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -340,6 +362,7 @@ int main(void)
         cmocka_unit_test(drive_histories),
         cmocka_unit_test(cancel_from_callback),
         cmocka_unit_test(metrics_count_past_max_and_crossings_reach_the_level),
+        cmocka_unit_test(prescribed_pull_past_the_traction_limit_is_refused),
     };
     return cmocka_run_group_tests_name("sim/pointmass", tests, NULL, NULL);
 }

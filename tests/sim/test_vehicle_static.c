@@ -1404,6 +1404,87 @@ static void chain_elements_share_the_wraps(void **state)
     vm_free(v);
 }
 
+/* EVIDENCE: the ground run is held by a no-slip anchor (paper II.C.1), which
+ * carries any pull whatever the wheel loads: at 200 kN*m a run launched the
+ * hull at 2 g and flipped it with every wheel in the air. A drive whose pull
+ * tau / r_s exceeds /vehicle/traction_limit times the weight on the road
+ * wheels (vm_supported_weight) is refused, naming the field that asks it; just
+ * under the limit the model builds; the limit's own value moves the bound. */
+static void drive_past_the_traction_limit_is_refused(void **state)
+{
+    (void)state;
+    ts_config c = config("static");
+    vm *v = test_vm(&c);
+    double w = vm_supported_weight(v), r = c.vehicle.sprocket_radius;
+    vm_free(v);
+    double tau_lim = c.vehicle.traction_limit * w * r;
+    ts_err err;
+    c.drive.torque = -0.99 * tau_lim; /* the sign does not matter */
+    v = vm_make(&c, &err);
+    assert_non_null(v);
+    vm_free(v);
+    c.drive.torque = -1.01 * tau_lim;
+    assert_null(vm_make(&c, &err));
+    assert_int_equal(err.code, TS_ERR_RANGE);
+    assert_string_equal(err.pointer, "/drive/torque");
+    assert_non_null(strstr(err.msg, "/vehicle/traction_limit"));
+    c.vehicle.traction_limit *= 1.05; /* the same pull under a higher limit */
+    v = vm_make(&c, &err);
+    assert_non_null(v);
+    vm_free(v);
+    /* a table drive names the row that asks most */
+    c = config("static");
+    c.drive.kind = TS_DRIVE_TABLE;
+    c.drive.table_n = c.drive.table_torque_n = 3;
+    double t[] = {0, 1, 2}, tq[] = {0, 0.5 * tau_lim, 1.2 * tau_lim};
+    memcpy(c.drive.table_t, t, sizeof t);
+    memcpy(c.drive.table_torque, tq, sizeof tq);
+    assert_null(vm_make(&c, &err));
+    assert_string_equal(err.pointer, "/drive/table_torque/2");
+}
+
+/* EVIDENCE: the traction metrics against rows written by hand: anchor 50 N
+ * on 100 N of wheel load (0.5), 95 N on 100 N (0.95, past the 0.9 limit) and
+ * 10 N with every wheel in the air (past any limit, but no ratio): maximum
+ * 0.95, two rows of three past the limit. */
+static void traction_metrics_count_rows_past_the_limit(void **state)
+{
+    (void)state;
+    enum { FIRST = 1, NC = FIRST + VM_NCH };
+    double rows[3 * NC];
+    memset(rows, 0, sizeof rows);
+    double anchor[3] = {50, -95, 10}, load[3] = {100, 100, 0};
+    for (int i = 0; i < 3; i++) {
+        rows[i * NC + FIRST + VM_CH_ANCHOR] = anchor[i];
+        rows[i * NC + FIRST + VM_CH_LOAD0 + 2] = 0.25 * load[i];
+        rows[i * NC + FIRST + VM_CH_LOAD0 + 5] = 0.75 * load[i];
+    }
+    ts_metric m[2];
+    assert_int_equal(vm_channels_traction_metrics(rows, 3, NC, FIRST, 0.9, m, 0, 2), 2);
+    assert_string_equal(m[0].name, "traction_demand_max");
+    assert_close(m[0].value, 0.95, 1e-12, 0);
+    assert_string_equal(m[1].name, "traction_exceeded_fraction");
+    assert_close(m[1].value, 2.0 / 3.0, 1e-12, 0);
+    /* only the airborne row: no ratio, and the row is past the limit */
+    assert_int_equal(vm_channels_traction_metrics(rows + 2 * NC, 1, NC, FIRST, 0.9, m, 0, 2), 2);
+    assert_true(isnan(m[0].value));
+    assert_close(m[1].value, 1.0, 0, 0);
+}
+
+/* EVIDENCE: /vehicle/grade is the point mass's slope; the multibody vehicle
+ * takes its slope from the terrain, and took no notice of the field (a 0.2
+ * grade gave the level run's last row to the digit). It is refused there. */
+static void vehicle_grade_is_refused_where_it_does_nothing(void **state)
+{
+    (void)state;
+    ts_config c = config("static");
+    c.vehicle.grade = 0.2;
+    ts_err err;
+    assert_null(ts_model_make(&c, &err));
+    assert_int_equal(err.code, TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/vehicle/grade");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1436,6 +1517,9 @@ int main(void)
         cmocka_unit_test(lumped_upper_spans_weigh_on_the_wheels),
         cmocka_unit_test(chain_elements_share_the_wraps),
         cmocka_unit_test(span_deflection_channels_read_their_own_span),
+        cmocka_unit_test(drive_past_the_traction_limit_is_refused),
+        cmocka_unit_test(traction_metrics_count_rows_past_the_limit),
+        cmocka_unit_test(vehicle_grade_is_refused_where_it_does_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
