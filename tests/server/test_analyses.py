@@ -128,7 +128,7 @@ def test_tune_schedule_errors_name_the_parameter(daemon, query, pointer):
 
 def test_config_errors_name_the_field(daemon):
     for path in ("/v1/engine-map", "/v1/tune"):
-        is_problem(requests.post(daemon.url + path, json={"preset": "nope"}), 404, "/preset")
+        is_problem(requests.post(daemon.url + path, json={"preset": "nope"}), 400, "/preset")
         is_problem(requests.post(daemon.url + path, json={"engine": {"fidelity": "warp"}}), 400,
                    "/engine/fidelity")
         # m1 is a preset for `modes` only

@@ -162,7 +162,7 @@ def test_max_analyses_counts_stored_and_running_ones(tmp_path):
         assert set(listed(d.url)) == {a["id"], c["id"]}
     with Daemon("--threads", "3", "--max-analyses", "3", data_dir=str(tmp_path)) as d2:
         # a request the daemon refuses takes no place
-        is_problem(requests.post(d2.url + "/v1/tune", json={"preset": "nonexistent"}), 404)
+        is_problem(requests.post(d2.url + "/v1/tune", json={"preset": "nonexistent"}), 400, "/preset")
         # one place left (2 stored from the first daemon); two maps race for it
         from concurrent.futures import ThreadPoolExecutor
         with ThreadPoolExecutor(2) as ex:

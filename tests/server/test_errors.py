@@ -81,7 +81,7 @@ def test_out_of_range_values_all_reported(daemon, sid):
 
 
 def test_unknown_preset_and_session(daemon):
-    p = is_problem(requests.post(daemon.url + "/v1/sessions", json={"preset": "no-such"}), 404,
+    p = is_problem(requests.post(daemon.url + "/v1/sessions", json={"preset": "no-such"}), 400,
                    "/preset")
     assert "no-such" in p["detail"]
     for method, path in [("GET", ""), ("DELETE", ""), ("POST", "/step"), ("POST", "/run"),

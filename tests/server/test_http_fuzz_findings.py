@@ -42,11 +42,12 @@ def test_path_not_utf8_is_404_problem(daemon, path):
     assert REPLACEMENT in p["detail"], p
 
 
-def test_name_cut_inside_a_utf8_character_is_404_problem(daemon):
-    # the not-found message quotes the name cut to a byte length, here inside
-    # a two-byte character; the request body itself is valid JSON and UTF-8
+def test_name_cut_inside_a_utf8_character_is_a_problem(daemon):
+    # the no-such-preset message quotes the name cut to a byte length, here
+    # inside a two-byte character; the request body itself is valid JSON and
+    # UTF-8 (a name in a body is a bad value: 400 since session 29)
     r = requests.post(daemon.url + "/v1/sessions", json={"preset": "\u00e9" * 300})
-    p = is_problem(r, 404)
+    p = is_problem(r, 400, "/preset")
     assert "\u00e9\u00e9" in p["detail"]
 
 

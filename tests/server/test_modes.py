@@ -43,5 +43,5 @@ def test_modes_config_errors_name_the_field(daemon):
     is_problem(requests.post(daemon.url + "/v1/modes",
                              json={"preset": "m1", "track": {"tension": -5}}), 400,
                "/track/tension")
-    is_problem(requests.post(daemon.url + "/v1/modes", json={"preset": "nope"}), 404, "/preset")
+    is_problem(requests.post(daemon.url + "/v1/modes", json={"preset": "nope"}), 400, "/preset")
     is_problem(requests.post(daemon.url + "/v1/modes", data="{"), 400)

@@ -86,11 +86,16 @@ static int count_in(const double *f, int n, double lo, double hi, double *first)
  * 25 Hz, so its tension cannot show those peaks (Fig. 13a). Predicted, with
  * one calibration to disclose: the layout's upper span lengths were chosen
  * (vehicle.json, [C Fig. 5]) to put the span fundamentals at the Fig. 5
- * frequencies; EA was estimated for the 14-Hz mode by the track module. */
+ * frequencies; EA was estimated for the 14-Hz mode by the formula
+ * c_L / (2 x 15 m) (track.json). The assembled model's own longitudinal
+ * circuit mode (sprocket, wheel and idler spins with the spans' stretch) is
+ * at 16.8 Hz, not 14.0 (review, session 29; README): pinned to +-0.3 Hz here,
+ * apart from the 13.2-Hz transverse span mode that also falls in 13-18 Hz.
+ * The bump run's 14.8-Hz tension line is the course's (2-ft bumps at ~9 m/s). */
 static void coupled_model_has_the_papers_track_modes(void **state)
 {
     (void)state;
-    double f[64], first;
+    double f[64], first = NAN;
     ts_config c = config("coupled");
     int n = modes(&c, f);
     printf("# coupled modes 2-25 Hz:");
@@ -101,6 +106,8 @@ static void coupled_model_has_the_papers_track_modes(void **state)
     assert_int_equal(count_in(f, n, 5.5 * 0.9, 5.5 * 1.1, &first), 1);
     assert_int_equal(count_in(f, n, 7.3 * 0.9, 7.3 * 1.1, &first), 1);
     assert_true(count_in(f, n, 13.0, 18.0, &first) >= 1);
+    assert_int_equal(count_in(f, n, 16.5, 17.1, &first), 1);
+    assert_close(first, 16.8, 0, 0.3);
     ts_config s = config("static");
     n = modes(&s, f);
     assert_int_equal(count_in(f, n, 2.5, 25.0, NULL), 0);
