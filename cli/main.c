@@ -34,10 +34,32 @@ static const char RENDER_OPTIONS[] =
     "  --antialias        4x multisampled edges (about 2.5x the drawing time)\n"
     "  --no-overlay       no text in the top-left corner (t, speed, gear and --text)\n";
 
+/* The options of the other commands; every command takes CONFIG.json (a
+ * path, - for stdin) or --preset NAME (tanksim schema: every field, SI). */
+static const char RUN_OPTIONS[] =
+    "  --out DIR          directory for series.csv (one row per sample, channel names in\n"
+    "                     the header) and summary.json (config, DOF, wall time, every\n"
+    "                     channel's SI unit, the metrics); made if missing (default ./out)\n"
+    "  --until T          stop at T [s], on the sample grid, 0 to /run/duration (default\n"
+    "                     /run/duration)\n";
+static const char ENGINE_MAP_OPTIONS[] =
+    "  --out FILE.csv     full-load sweep 800-2100 rpm in 100-rpm steps: speed, brake torque\n"
+    "                     [N*m], power [W], bsfc [g/kWh], boost [Pa], exhaust temperature\n"
+    "                     [K], peak cylinder pressure [Pa] and more, each unit in the header\n"
+    "  --spool FILE.csv   instead: the rack-step spool-ups at held speed (one row per cycle)\n"
+    "  Either writes FILE.csv.json beside a regular file: the config and the units.\n";
+static const char TUNE_OPTIONS[] =
+    "  --schedule-mass M,..   also tune at each vehicle mass [kg] (Fig. 27), comma-separated\n"
+    "                         plain decimals, at most 16, each within /vehicle/mass's range\n"
+    "  --schedule-grade G,..  or at each road grade [rad] (/vehicle/grade's range)\n"
+    "  Prints the step response's X [s] and Y [1] (Eqs. 11-12), K_p [1/(m/s)] and T_I [s]\n"
+    "  as JSON, with every field's unit under \"units\".\n";
+
 /* name, handler, usage, help, options — one row per sub-command. */
 static const tsc_command commands[] = {
     {"run", tsc_cmd_run, "(CONFIG.json | --preset NAME) [--out DIR] [--until T]",
-     "run a scenario; write DIR/series.csv and DIR/summary.json (DIR: ./out unless given)", NULL},
+     "run a scenario; write DIR/series.csv and DIR/summary.json (DIR: ./out unless given)",
+     RUN_OPTIONS},
     {"modes", tsc_cmd_modes, "(CONFIG.json | --preset NAME)",
      "track span and upper-circuit eigenanalysis (Table 1, Fig. 5) as JSON", NULL},
     {"render", tsc_cmd_render,
@@ -50,11 +72,11 @@ static const tsc_command commands[] = {
      "engine full-load steady states 800-2100 rpm on a dynamometer (Fig. 18), or with --spool the "
      "rack-step spool-ups at held speed that the faster fidelities derive their part-boost tables "
      "from; FILE.csv.json beside it records the config and units",
-     NULL},
+     ENGINE_MAP_OPTIONS},
     {"tune", tsc_cmd_tune,
      "(CONFIG.json | --preset NAME) [--schedule-mass M,.. | --schedule-grade G,..]",
      "Ziegler-Nichols IVS gains from a simulated rack step (Eqs. 11-12, Figs. 26-27) as JSON",
-     NULL},
+     TUNE_OPTIONS},
     {"schema", tsc_cmd_schema, "",
      "print the JSON Schema of a run config (every field: type, unit, range, default)", NULL},
 };

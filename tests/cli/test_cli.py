@@ -28,6 +28,13 @@ def test_each_command_has_help():
             assert out.returncode == 0, (cmd, flag, out.stderr)
             assert out.stdout.startswith("usage: tanksim " + cmd), (cmd, out.stdout)
     assert "--schedule-mass" in run("tune", "--help").stdout
+    # each option's unit is in its help (session-29 review: tune, run and engine-map
+    # printed only the usage line, without kg / rad / s)
+    tune = run("tune", "--help").stdout
+    assert "[kg]" in tune and "[rad]" in tune
+    assert "--until T" in run("run", "--help").stdout and "[s]" in run("run", "--help").stdout
+    em = run("engine-map", "--help").stdout
+    assert "--spool" in em and "[g/kWh]" in em
     assert "--preset NAME" in run("run", "--preset", "m1", "--help").stdout
 
 
