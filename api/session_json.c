@@ -197,8 +197,8 @@ ts_rc tsa_read_numbers(const json_t *obj, const tsa_num_field *f, int nf, json_t
         }
         double x = json_number_value(v);
         if (!(x >= f[i].min && x <= f[i].max)) {
-            snprintf(msg, sizeof msg, "%s: number in [%g, %g] expected, got %g", ptr, f[i].min,
-                     f[i].max, x);
+            snprintf(msg, sizeof msg, "%s: number in [%g, %g]%s%s expected, got %g", ptr, f[i].min,
+                     f[i].max, f[i].unit ? " " : "", f[i].unit ? f[i].unit : "", x);
             if (!count) first = TS_ERR_RANGE;
             add_error(errors, err, &count, TS_ERR_RANGE, ptr, msg);
             continue;

@@ -51,6 +51,7 @@ typedef struct tsa_num_field {
     double min, max;  /* closed range */
     double *out;      /* receives the value when present */
     int *present;     /* may be NULL; set to 1 when present */
+    const char *unit; /* SI unit for the range message ("s"); NULL: none */
 } tsa_num_field;
 
 /* Read the fields from obj; unknown members, wrong types, missing required

@@ -82,7 +82,10 @@ int tsc_cmd_render(int argc, char **argv)
     ts_err err;
     if ((text_s && tsr_view_set_text(&v, text_s, &err) != TS_OK) ||
         tsr_view_check(&v, &err) != TS_OK) {
-        fprintf(stderr, "tanksim: render: %s: %s\n", err.pointer, err.msg);
+        /* the view's checks name its field; say the option (only --text can
+         * reach them: the numbers are checked above) */
+        fprintf(stderr, "tanksim: render: %s: %s\n",
+                strcmp(err.pointer, "/text") == 0 ? "--text" : err.pointer, err.msg);
         return TSC_EXIT_USAGE;
     }
 

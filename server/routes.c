@@ -557,7 +557,7 @@ static enum MHD_Result post_step(tsd_request *r)
 {
     enum MHD_Result ret = MHD_NO;
     double duration = 0;
-    tsa_num_field f[] = {{"duration", 1, 0.0, 1e9, &duration, NULL}};
+    tsa_num_field f[] = {{"duration", 1, 0.0, 1e9, &duration, NULL, "s"}};
     if (body_numbers(r, 0, f, 1, &ret) < 0) return ret;
     if (check_on_grid(r, "duration", duration, 1, &ret) < 0) return ret;
     if (duration > r->srv->opt.max_step) {
@@ -589,8 +589,8 @@ static enum MHD_Result post_run(tsd_request *r)
     enum MHD_Result ret = MHD_NO;
     tsd_session *s = r->session;
     double until = -1, rtf = 0; /* until: absent unless set (its range starts at 0) */
-    tsa_num_field f[] = {{"until", 0, 0.0, 1e12, &until, NULL},
-                         {"real_time_factor", 0, 1e-3, 1e9, &rtf, NULL}};
+    tsa_num_field f[] = {{"until", 0, 0.0, 1e12, &until, NULL, "s"},
+                         {"real_time_factor", 0, 1e-3, 1e9, &rtf, NULL, NULL}};
     if (body_numbers(r, 1, f, 2, &ret) < 0) return ret;
     double end = s->m ? ts_model_config(s->m)->run.duration : 0;
     if (until < 0)
@@ -1019,6 +1019,11 @@ static int parse_view(tsd_request *r, tsr_view *v, enum MHD_Result *ret)
     const char *text = tsd_arg(r, "text");
     ts_err e;
     if ((text && tsr_view_set_text(v, text, &e) != TS_OK) || tsr_view_check(v, &e) != TS_OK) {
+        /* the view's checks name a field (/text); here it is a query parameter */
+        char msg[sizeof e.msg];
+        snprintf(msg, sizeof msg, "query parameter %.40s: %.300s",
+                 e.pointer[0] ? e.pointer + 1 : "?", e.msg);
+        memcpy(e.msg, msg, sizeof msg);
         *ret = tsd_reply_err(r, &e, NULL);
         return -1;
     }

@@ -59,9 +59,9 @@ static void numbers_report_every_field(void **state)
     json_t *doc = tsa_parse_object(body, strlen(body), &err);
     assert_non_null(doc);
     double d = 0, u = 0;
-    tsa_num_field f[] = {{"duration", 1, 0, 10, &d, NULL},
-                         {"until", 0, 0, 10, &u, NULL},
-                         {"rate", 1, 0, 1, &u, NULL}};
+    tsa_num_field f[] = {{"duration", 1, 0, 10, &d, NULL, "s"},
+                         {"until", 0, 0, 10, &u, NULL, "s"},
+                         {"rate", 1, 0, 1, &u, NULL, NULL}};
     json_t *errors = json_array();
     assert_int_not_equal(tsa_read_numbers(doc, f, 3, errors, &err), TS_OK);
     assert_int_equal(json_array_size(errors), 4);
@@ -365,10 +365,11 @@ static void ranges_names_and_time_digits(void **state)
     (void)state;
     ts_err err;
     double d = 0;
-    tsa_num_field f[] = {{"duration", 1, 0, 10, &d, NULL}};
+    tsa_num_field f[] = {{"duration", 1, 0, 10, &d, NULL, "s"}};
     json_t *doc = json_loads("{\"duration\": 11}", 0, NULL);
     assert_int_equal(tsa_read_numbers(doc, f, 1, NULL, &err), TS_ERR_RANGE);
     assert_string_equal(err.pointer, "/duration");
+    assert_non_null(strstr(err.msg, "[0, 10] s expected, got 11")); /* the unit (review) */
     json_t *p = tsa_problem_from_err(&err, NULL);
     assert_string_equal(json_string_value(json_object_get(p, "title")), "Value out of range");
     json_decref(p);
