@@ -879,6 +879,11 @@ async function main() {
       await setField(page, '/run/duration', 1);
       const pmId = await createSession(page);
       await runToEnd(page);
+      /* session-29 review: a session without frames (the point mass: 422) left Play, the
+       * scrubber and the drawing options enabled, doing nothing; they are disabled now */
+      await waitFor(async () => (await page.locator('#frame-placeholder').getAttribute('data-status')) === '422', 'the point mass has no frames (422)');
+      for (const sel of ['#play-btn', '#scrub', '#frame-view', '#frame-exag'])
+        assert(await page.locator(sel).isDisabled(), `${sel} stays enabled for a session without frames`);
       await page.selectOption('#preset-select', preset);
       await waitFor(async () => (await kind()) !== 'pointmass', `the ${preset} preset in the form again`);
       for (const cb of await page.locator('#session-table input.cmp').all()) await cb.uncheck();

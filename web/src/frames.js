@@ -29,11 +29,17 @@ export class FrameViewer {
     for (const e of [els.view, els.exaggeration, els.tension]) e.addEventListener('change', () => this.request(this.scrubTime()));
   }
 
+  /** The frame controls do something only where frames can be drawn. */
+  setControlsEnabled(on) {
+    for (const e of [this.els.play, this.els.scrub, this.els.view, this.els.exaggeration, this.els.tension]) e.disabled = !on;
+  }
+
   setSession(session) {
     clearTimeout(this.followTimer);
     this.session = session;
     this.pause();
     this.available = null;
+    this.setControlsEnabled(true);
     this.updateRange(session.t || 0);
     this.request(session.t || 0);
   }
@@ -54,6 +60,7 @@ export class FrameViewer {
     this.els.placeholder.hidden = false;
     this.els.placeholder.textContent = 'Open a session to see its frames.';
     this.els.status.textContent = '';
+    this.setControlsEnabled(true);
   }
 
   /** Keep the scrubber's range at [0, latest sample time]. */
@@ -149,6 +156,9 @@ export class FrameViewer {
     this.els.placeholder.dataset.status = String(e.status ?? '');
     this.els.status.textContent = 'frames unavailable';
     this.pause();
+    /* none here (a point mass, an engine on its dynamometer): Play, the time
+     * and the drawing options would do nothing, so they say so (review) */
+    if (unavailable) this.setControlsEnabled(false);
   }
 
   toggle() {

@@ -38,10 +38,15 @@ export function initSessionStream(state) {
     $('stream-status').className = 'pill muted';
   }
 
+  /* The session's stored samples (the last row's index + 1) and, when a long
+   * history was thinned for the charts, how many of them are plotted: a reload
+   * of a 180001-sample run said "45001 samples" (review). */
   function updateCount() {
     const n = state.store?.length || 0;
+    const stored = n ? Math.max(n, (state.store.lastIndex ?? n - 1) + 1) : 0;
     const e = $('sample-count');
-    e.textContent = `${n} samples${n ? ` · t = ${fmt(state.store.t[n - 1])} s` : ''}`;
+    const plural = (k) => `${k} sample${k === 1 ? '' : 's'}`;
+    e.textContent = `${plural(stored)}${n ? ` · t = ${fmt(state.store.t[n - 1])} s` : ''}${stored > n ? ` · ${n} plotted (history thinned)` : ''}`;
     e.dataset.count = String(n);
   }
 

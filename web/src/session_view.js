@@ -37,6 +37,10 @@ export function initSessionView(state, { plots, frames, header, stream, picker, 
     writePageState({ session: s.id }); /* a reload opens it again */
     markRow();
     header.render();
+    /* on a narrow page the session panel sits below the whole create form:
+     * bring it into view, or opening a session seemed to do nothing (review) */
+    const panel = $('session-panel');
+    if (panel.getBoundingClientRect().top > window.innerHeight) panel.scrollIntoView({ block: 'start' });
     const chans = channelsOf(s);
     state.store = new SeriesStore(chans);
     state.picks = defaultPicks(chans);
