@@ -878,7 +878,12 @@ async function main() {
       await waitFor(async () => (await kind()) === 'pointmass', 'the point-mass preset in the form');
       await setField(page, '/run/duration', 1);
       const pmId = await createSession(page);
+      /* session-29 review: figures computed at t = 0 stayed on screen after the run,
+       * unmarked; the note now says they are out of date */
+      await page.click('#figures-btn');
+      await waitFor(async () => /1 rows to t = 0 s/.test(await text(page, '#figures-note')), 'the t = 0 figures');
       await runToEnd(page);
+      await waitFor(async () => /out of date: the session is at t = 1 s now/.test(await text(page, '#figures-note')), 'the figures marked out of date after the run');
       /* session-29 review: a session without frames (the point mass: 422) left Play, the
        * scrubber and the drawing options enabled, doing nothing; they are disabled now */
       await waitFor(async () => (await page.locator('#frame-placeholder').getAttribute('data-status')) === '422', 'the point mass has no frames (422)');

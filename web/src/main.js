@@ -146,6 +146,7 @@ setInterval(() => {
   if (!state.session) return;
   stream.updateCount();
   fftControls.update();
+  figures.update();
   frames.updateRange(state.store?.length ? state.store.t[state.store.length - 1] : state.session.t || 0);
 }, 300);
 setInterval(() => {

@@ -14,11 +14,14 @@ import { fmt } from './units.js';
 
 export function initRunFigures(state) {
   let asked = 0; /* the latest request: an older answer is dropped */
+  let shown = null; /* {session, t, note} of the figures on screen */
 
   /* no figures on screen */
   function blank() {
+    shown = null;
     $('figures-table').replaceChildren();
     $('figures-note').textContent = '';
+    $('figures-note').classList.remove('stale');
   }
 
   function clear() {
@@ -40,6 +43,22 @@ export function initRunFigures(state) {
     if (!doc.complete) parts.push(`the session is ${doc.status}: figures of the rows stored so far`);
     if (!rows.length) parts.push('no figures for this scenario at this length');
     $('figures-note').textContent = parts.join(' · ');
+    $('figures-note').classList.remove('stale');
+    shown = { session: state.session, t: doc.t, note: parts.join(' · ') };
+  }
+
+  /* The session moved on past the figures shown (a step or run since
+   * Compute): say so, or a finished run kept its t = 0 figures (review). */
+  function update() {
+    const s = state.session;
+    if (!shown || shown.session !== s) return;
+    const n = state.store?.length || 0;
+    const t = n ? state.store.t[n - 1] : s.t || 0;
+    if (!(t > shown.t)) return;
+    const e = $('figures-note');
+    const text = `${shown.note} · out of date: the session is at t = ${fmt(t)} s now (Compute again)`;
+    if (e.textContent !== text) e.textContent = text;
+    e.classList.add('stale');
   }
 
   async function compute() {
@@ -68,5 +87,5 @@ export function initRunFigures(state) {
   }
 
   $('figures-btn').addEventListener('click', compute);
-  return { open, clear: open };
+  return { open, clear: open, update };
 }
