@@ -59,6 +59,7 @@
 #include "../api/config_json.h"
 #include "../api/problem.h"
 #include "../api/session_json.h"
+#include "../api/store.h"
 #include "db.h"
 #include "operations.h"
 #include "pool.h"
@@ -723,13 +724,22 @@ static ts_rc refuse_client_files(const ts_config *cfg, json_t *errors, ts_err *e
                      "/terrain/bump_height, /terrain/bump_length)",
                      ptr);
         } else {
+            /* the shipped courses, by name (the review typed one blind) */
+            char names[128] = "";
+            const tsa_file *f;
+            for (int i = 0; (f = tsa_store_nth("sim/data/terrain/", ".txt", i)); i++) {
+                const char *base = f->path + strlen("sim/data/terrain/");
+                int len = (int)(strlen(base) - strlen(".txt"));
+                size_t used = strlen(names);
+                snprintf(names + used, sizeof names - used, "%s'%.*s'", i ? ", " : "", len, base);
+            }
             ptr = "/terrain/course";
             snprintf(msg, sizeof msg,
-                     "%s: no shipped course named '%.64s', and this daemon reads no course "
-                     "file named by a client (started without --client-files yes); give the "
-                     "bumps inline (/terrain/bump_start, /terrain/bump_height, "
+                     "%s: no shipped course named '%.64s' (shipped: %s), and this daemon reads "
+                     "no course file named by a client (started without --client-files yes); "
+                     "give the bumps inline (/terrain/bump_start, /terrain/bump_height, "
                      "/terrain/bump_length)",
-                     ptr, t->course);
+                     ptr, t->course, names);
         }
     }
     return ptr ? refuse(errors, err, ptr, msg) : TS_OK;

@@ -31,6 +31,8 @@ def test_client_named_files_are_refused_by_default(daemon, tmp_path):
            "terrain": {"kind": "bumps", "course": "../../../../etc/hostname"}}
     p = is_problem(create(daemon, doc), 400)
     assert pointers(p) == ["/terrain/course"], p
+    # the answer names the shipped courses (session-29 review: a user typed one blind)
+    assert "(shipped: 'apg4-synth')" in p["errors"][0]["message"], p
     # a course directory of the client's (read from disk since session 20, even
     # for a shipped course name)
     doc = {"preset": "bump-prescribed-static", "run": {"duration": 0.02},

@@ -620,6 +620,13 @@ async function main() {
       } finally {
         rec.stop();
       }
+      /* session-29 review: a step past --max-step (10 s) told the user to "use POST
+       * /v1/sessions/ID/run"; on this page that is the Run button */
+      await page.locator('#step-duration').fill('20');
+      await page.click('#step-btn');
+      await waitFor(async () => /for longer advances/.test(await text(page, '#session-error')), 'the step-too-long error', 5000);
+      const long = await text(page, '#session-error');
+      assert(/use Run to end for longer advances/.test(long) && !/POST/.test(long), `the step-too-long advice: "${long}"`);
       await page.locator('#step-duration').fill('1');
     });
 
