@@ -735,7 +735,7 @@ static ts_rc refuse_client_files(const ts_config *cfg, json_t *errors, ts_err *e
             }
             ptr = "/terrain/course";
             snprintf(msg, sizeof msg,
-                     "%s: no shipped course named '%.64s' (shipped: %s), and this daemon reads "
+                     "%s: no shipped course named '%.64s' (shipped: %.64s), and this daemon reads "
                      "no course file named by a client (started without --client-files yes); "
                      "give the bumps inline (/terrain/bump_start, /terrain/bump_height, "
                      "/terrain/bump_length)",
