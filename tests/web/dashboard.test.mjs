@@ -598,6 +598,11 @@ async function main() {
       await waitFor(async () => (await page.locator('#session-status').innerText()) === 'paused', 'status paused', 15000);
       const t = await page.evaluate(() => window.tanksimDebug.state.session.t);
       assert(Math.abs(t - 0.2) < 1e-9, `session t after the step: ${t}`);
+      /* session-29 review: the header's t had 4 significant digits, so 11.005 s read
+       * "11.01" and 21.005 s "21"; it is shown to the sample grid's decimals now */
+      assert(/t = 0\.2 s/.test(await text(page, '#session-meta')), `header: ${await text(page, '#session-meta')}`);
+      const shown = await page.evaluate(() => [11.005, 21.005, 900].map((x) => window.tanksimDebug.fmtTime(x, 500)));
+      assert(JSON.stringify(shown) === JSON.stringify(['11.005', '21.005', '900']), `fmtTime at 500 Hz: ${shown}`);
     });
 
     await check('review 5: an empty or invalid step duration is an error shown to the user; no 0-s step is sent', async () => {

@@ -37,7 +37,7 @@ import { initStoredAnalyses } from './stored_analyses.js';
 import { drawnTickLabels } from './ticks.js';
 import { followLimits } from './operation.js';
 import { readPageState, writePageState } from './page_state.js';
-import { setDisplay } from './units.js';
+import { setDisplay, fmtTime } from './units.js';
 
 const state = {
   compare: new Set(), /* ids ticked for Compare */
@@ -69,7 +69,7 @@ const frames = new FrameViewer({
 
 /* Handle for the browser test (tests/web/dashboard.test.mjs; compareCached is added below): read-only, but for setUnit (units.js setDisplay)
  * and followLimits (operation.js: the test shortens how long a follower waits for an unreachable daemon). */
-window.tanksimDebug = { state, plots, compare, fft, engineMap, tickLabels: drawnTickLabels, setUnit: setDisplay, followLimits };
+window.tanksimDebug = { state, plots, compare, fft, engineMap, tickLabels: drawnTickLabels, setUnit: setDisplay, followLimits, fmtTime };
 
 initTokenForm(boot);
 const refreshList = () => list.refresh(); /* list is made last: it shows the open session */

@@ -8,7 +8,7 @@ import { api } from './api.js';
 import { channelsOf } from './channels.js';
 import { $, setBar, shortId } from './dom.js';
 import { showError } from './messages.js';
-import { fmt } from './units.js';
+import { fmt, fmtTime } from './units.js';
 
 export function initSessionHeader(state) {
   /* Title, status, time, buttons and progress of the open session; `gone`: what to say when none is. */
@@ -29,7 +29,7 @@ export function initSessionHeader(state) {
           `preset ${s.preset || '—'}`,
           kind && `scenario ${kind}`,
           fid && `track ${fid}`,
-          `t = ${fmt(s.t || 0)} s${dur ? ` of ${fmt(dur)} s` : ''}`,
+          `t = ${fmtTime(s.t || 0, s.config?.run?.sample_rate)} s${dur ? ` of ${fmtTime(dur, s.config?.run?.sample_rate)} s` : ''}`,
           s.error ? `error: ${s.error}` : '',
         ]
           .filter(Boolean)
@@ -57,7 +57,7 @@ export function initSessionHeader(state) {
     const pct = Math.max(0, Math.min(100, frac * 100));
     setBar($('run-progress'), pct, 1);
     let txt = `${pct.toFixed(pct >= 99.95 || pct === 0 ? 0 : 1)} %`;
-    if (meta?.t !== undefined) txt += ` · t = ${fmt(meta.t)} s`;
+    if (meta?.t !== undefined) txt += ` · t = ${fmtTime(meta.t, state.session?.config?.run?.sample_rate)} s`;
     if (meta?.real_time_factor) txt += ` · ${fmt(meta.real_time_factor, 3)}× real time`;
     $('progress-text').textContent = txt;
   }

@@ -98,3 +98,11 @@ export function fmt(v, digits = 4) {
   if (a >= 10 ** digits) return Math.round(v).toString();
   return Number(v.toPrecision(digits)).toString();
 }
+
+/** A time on a run's sample grid [s], to the grid's decimals (500 Hz: 3), so that
+ * 11.005 and 21.005 s both show their last 5 ms (fmt's 4 digits gave 11.01 and 21). */
+export function fmtTime(t, rate) {
+  if (!(rate > 0) || !Number.isFinite(t)) return fmt(t);
+  const dec = Math.min(9, Math.max(0, Math.ceil(Math.log10(rate) - 1e-9)));
+  return Number(t.toFixed(dec)).toString();
+}
