@@ -48,10 +48,13 @@ double ts_drive_torque(const ts_drive_config *c, double t)
     }
 }
 
-double ts_drive_peak_torque(const ts_drive_config *c, const char **pointer, int *row)
+/* Largest |torque| the drive ever asks at each sprocket [N*m] (0 for kind
+ * "powertrain"), and the field that sets it: *pointer "/drive/torque", or
+ * "/drive/table_torque" with the row in *row (else -1). */
+static double peak_torque(const ts_drive_config *c, const char **pointer, int *row)
 {
-    if (pointer) *pointer = "/drive/torque";
-    if (row) *row = -1;
+    *pointer = "/drive/torque";
+    *row = -1;
     switch (c->kind) {
     case TS_DRIVE_CONSTANT:
     case TS_DRIVE_RAMP:
@@ -61,8 +64,8 @@ double ts_drive_peak_torque(const ts_drive_config *c, const char **pointer, int 
         for (int i = 0; i < c->table_n && i < c->table_torque_n; i++)
             if (fabs(c->table_torque[i]) > peak) {
                 peak = fabs(c->table_torque[i]);
-                if (pointer) *pointer = "/drive/table_torque";
-                if (row) *row = i;
+                *pointer = "/drive/table_torque";
+                *row = i;
             }
         return peak;
     }
@@ -76,7 +79,7 @@ ts_rc ts_drive_check_traction(const ts_drive_config *c, double sprocket_radius, 
 {
     const char *ptr;
     int row;
-    double tau = ts_drive_peak_torque(c, &ptr, &row), pull = tau / sprocket_radius;
+    double tau = peak_torque(c, &ptr, &row), pull = tau / sprocket_radius;
     if (pull <= limit * weight) return TS_OK;
     char at[64];
     if (row >= 0)

@@ -15,11 +15,6 @@ ts_rc ts_drive_check(const ts_drive_config *c, ts_err *err);
  * this returns 0: the torque then comes from the powertrain. */
 double ts_drive_torque(const ts_drive_config *c, double t);
 
-/* Largest |torque| the drive ever asks at each sprocket [N*m] (0 for kind
- * "powertrain"), and where it is set (either out may be NULL): *pointer
- * "/drive/torque", or "/drive/table_torque" with the row in *row (else -1). */
-double ts_drive_peak_torque(const ts_drive_config *c, const char **pointer, int *row);
-
 /* The drive's largest pull on a track, peak torque / sprocket_radius, against
  * limit times weight, the weight on that track's ground run [N]. No scenario
  * lets the track slip, so past the limit it would carry a pull the ground

@@ -123,7 +123,7 @@ int vm_channels_traction_metrics(const double *rows, long nrows, int nc, int fir
         double load = 0, fa = fabs(r[VM_CH_ANCHOR]);
         for (int k = 0; k < VM_NRW; k++)
             load += r[VM_CH_LOAD0 + k];
-        if (load > 0) qmax = isnan(qmax) ? fa / load : fmax(qmax, fa / load);
+        if (load > 0) qmax = fmax(qmax, fa / load); /* fmax skips the NaN start */
         over += fa > limit * load;
     }
     n = ts_metric_add(out, n, max, "traction_demand_max", "1", qmax,
