@@ -19,6 +19,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TANKSIM = os.path.join(ROOT, "build", "tanksim")
 MPH = 0.44704
 LBF = 4.44822
+COURSE = 152.4  # m: the bump course is 500 ft long [P II.D]
 
 
 def run(name, preset=None, config=None, out=None):
@@ -41,6 +42,22 @@ def run(name, preset=None, config=None, out=None):
 
 def window(c, key, t0, t1):
     return [v for t, v in zip(c["t"], c[key]) if t0 <= t < t1]
+
+
+def course_end(c):
+    """(t, speed in mph) where vehicle.x first reaches the course's end, or None."""
+    for t, x, v in zip(c["t"], c["vehicle.x"], c["vehicle.speed"]):
+        if x >= COURSE:
+            return t, v / MPH
+    return None
+
+
+def peak_split(c):
+    """Peak rear-roller tension and the quasi-static (massless-track) tension in
+    the same sample, both lbf, and the vehicle's x there."""
+    tn = c["track.tension.rear_roller"]
+    i = max(range(len(tn)), key=tn.__getitem__)
+    return tn[i] / LBF, c["track.tension.quasi_static"][i] / LBF, c["vehicle.x"][i]
 
 
 def shift_ends(c):
@@ -94,6 +111,9 @@ def main():
     print(f"  prescribed torque (no powertrain): top {mp['top_speed_mph']:.1f} mph (paper 27)")
     print(f"  powertrain, 90 % rack: top {mb['top_speed_mph']:.1f} mph, at 30 s "
           f"{mb['final_speed_mph']:.1f} mph")
+    end = course_end(bump)
+    print("  powertrain, 90 % rack, at the course's end (x = 152.4 m): " +
+          (f"{end[1]:.2f} mph at {end[0]:.2f} s" if end else "not reached"))
     print(f"  powertrain + IVS 5 mph: top {mi['top_speed_mph']:.1f} mph")
     print("\nFigs. 33-35 (IVS at 5 mph over the bumps):")
     for k in ["time_to_target", "rack_at_launch", "mean_speed_error_mph",
@@ -106,6 +126,13 @@ def main():
           f" above 0.9 {sum(x > 0.9 for x in r)/len(r):.2f}")
     slip = [p - t for p, t in zip(ivs["tc.pump.speed"], ivs["tc.turbine.speed"])]
     print(f"  converter slip range {min(slip):.1f} .. {max(slip):.1f} rad/s")
+    late = window(ivs, "rack.demand", 10, 1e9)
+    print(f"  rack after 10 s: mean {sum(late)/len(late):.3f}, share above 0.5 "
+          f"{sum(x > 0.5 for x in late)/len(late):.2f}")
+    for label, c in (("IVS 5 mph", ivs), ("prescribed", pres)):
+        pk, qs, x = peak_split(c)
+        print(f"  {label}: peak tension {pk:.0f} lbf at x = {x:.2f} m, quasi-static part there "
+              f"{qs:.0f} lbf")
     print(f"  peak tension: IVS 5 mph {mi['peak_tension']/LBF:.0f} lb, prescribed "
           f"{mp['peak_tension']/LBF:.0f} lb (paper: axis to 35,000 lb, high-speed much higher)")
     # sensitivity runs

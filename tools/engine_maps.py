@@ -21,7 +21,7 @@ filled bin at that speed; empty bins above it (the 1000-rpm spool-up stays on
 the low-boost branch and never fills the high bins) go straight from the
 highest filled bin to factor 1 at ratio 1, the full-load sweep's point (until
 session 20 they held the low branch's value, so the map engine at 1000 rpm
-and full boost reported 2.89 bar with 2755 N*m where the sweep has 6032).
+and full boost reported 2.89 bar with 2755 N*m where the sweep had 6032; 6029 today).
 The bins near ratio 1 average the spool-up's later cycles, when the walls are
 still warming: the factors carry the launch's cold-wall heat loss.
 spool_lag (map fidelity's boost time constant vs spool_speed): per speed, the
