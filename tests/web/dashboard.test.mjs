@@ -55,6 +55,9 @@
 // when the answer comes.
 // Live charts redraw as often as drawing stays within ~5 % of wall time
 // (made dearer on purpose: 36 charts, 2 ms more each), and the last rows are drawn.
+// The third review's defects, each a check that failed before its fix: a
+// stream the daemon refused says so on its pill until the next step streams
+// again.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -1696,6 +1699,39 @@ async function main() {
       assert(labels.every((l) => l.startsWith('track/fidelity=')), `track/fidelity not first: ${JSON.stringify(labels)}`);
       for (const id of ids) await page.uncheck(`#session-table tr[data-id="${id}"] input.cmp`);
       for (const id of ids) await fetch(`${d.url}/v1/sessions/${id}`, { method: 'DELETE' });
+    });
+
+    /* the third review of the dashboard: each check failed before its fix */
+    /* Create a session from the form and wait until it is open (the list's row
+       count may not grow: the check before deleted its sessions meanwhile). */
+    const createOpened = async (p) => {
+      const before = await p.evaluate(() => window.tanksimDebug.state.session?.id ?? null);
+      await p.click('#create-btn');
+      return waitFor(() => p.evaluate((b) => { const id = window.tanksimDebug.state.session?.id; return id && id !== b ? id : null; }, before), 'the new session open');
+    };
+    await check('review 3.1: a stream the daemon refused (503) says so on its pill until the next step streams again (the message stayed and no later rows came)', async () => {
+      let refuse = true;
+      const refusing = (route) =>
+        refuse ? route.fulfill({ status: 503, contentType: 'application/problem+json', body: JSON.stringify({ title: 'test 503', status: 503, detail: 'stream refused by the test' }) }) : route.continue();
+      await page.route('**/v1/sessions/*/stream*', refusing);
+      try {
+        await presetLoaded(page, () => page.selectOption('#preset-select', 'pointmass-prescribed'));
+        await setField(page, '/run/duration', 2);
+        const id = await createOpened(page);
+        await waitFor(async () => /^stream: error: test 503/.test(await text(page, '#stream-status')), 'the refused stream on the pill', 5000);
+        refuse = false;
+        await page.fill('#step-duration', '0.5');
+        await page.click('#step-btn');
+        const stored = async () => (await apiSession(d.url, id)).samples;
+        await waitFor(async () => (await stored()) > 1 && (await sampleCount(page)) === (await stored()), 'the rows of the step after the refusal', 5000).catch(async (e) => {
+          throw new Error(`${e.message}: ${await sampleCount(page)} rows on the page, pill "${await text(page, '#stream-status')}"`);
+        });
+        await waitFor(async () => !/error/.test(await text(page, '#stream-status')), 'the error gone from the pill', 3000).catch(async (e) => {
+          throw new Error(`${e.message}: "${await text(page, '#stream-status')}"`);
+        });
+      } finally {
+        await page.unroute('**/v1/sessions/*/stream*', refusing);
+      }
     });
 
     /* stored analyses outlive their daemon: a map computed by one is listed, shown and deleted by the next on the same --data-dir */

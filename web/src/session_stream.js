@@ -1,8 +1,12 @@
 /*
- * session_stream.js — the open session's SSE stream into state.store, and
- * the sample counter under the charts. The daemon ends a stream when the
- * session is not running; it reconnects only while a run of this session is
- * being polled (state.op).
+ * session_stream.js — the open session's SSE stream into state.store, its
+ * status pill, and the sample counter under the charts. The daemon ends a
+ * stream when the session is not running; it reconnects only while a run of
+ * this session is being polled (state.op). A stream the daemon refused (a
+ * 503 while it restarts, say) is over: the pill says why until the next
+ * start (a step, a run, rows the session list says are missing) opens a new
+ * one, which replaces the message; a refused stream once kept its place and
+ * its message, and no later run was streamed (review).
  */
 import { $ } from './dom.js';
 import { streamSession } from './stream.js';
@@ -14,16 +18,21 @@ export function initSessionStream(state) {
     if (!state.session || state.stream) return;
     const id = state.session.id;
     const handle = streamSession(id, state.store, {
-      onStatus: (st) => {
+      onStatus: (st, detail) => {
         if (state.stream !== handle) return; /* a stopped stream's last words */
-        const e = $('stream-status');
-        e.textContent = `stream: ${st}`;
-        e.className = `pill ${st === 'live' ? 'st-running' : 'muted'}`;
-        if (st === 'ended') state.stream = null;
+        if (st === 'error') pill(`error: ${detail.message}`, 'st-failed');
+        else pill(st, st === 'live' ? 'st-running' : 'muted');
+        if (st === 'ended' || st === 'error') state.stream = null; /* over: the next start opens another */
       },
       isFinished: () => !(state.op && state.op.sessionId === id),
     });
     state.stream = handle;
+  }
+
+  function pill(text, cls) {
+    const e = $('stream-status');
+    e.textContent = `stream: ${text}`;
+    e.className = `pill ${cls}`;
   }
 
   function stop() {

@@ -53,8 +53,10 @@ export class SeriesStore {
 class RetryableClose extends Error {}
 
 /**
- * Stream samples of session id into store. onStatus(text) reports the state
- * ("live", "reconnecting", "ended"). Returns {stop()}.
+ * Stream samples of session id into store. onStatus(state, detail) reports
+ * the state: "live", "waiting for samples", "reconnecting", "ended", or
+ * "error" (detail: the daemon's refusal, an ApiError; the stream is over).
+ * Returns {stop()}.
  * isFinished() (synchronous) is asked when the daemon closes the stream: true ends it,
  * false reconnects (resuming with Last-Event-ID).
  */
@@ -98,7 +100,7 @@ export function streamSession(id, store, { onStatus = () => {}, isFinished = () 
     },
     onerror(err) {
       if (err instanceof ApiError) {
-        onStatus(`error: ${err.message}`);
+        onStatus('error', err);
         throw err;
       }
       if (err instanceof RetryableClose) {
