@@ -57,7 +57,7 @@
 // (made dearer on purpose: 36 charts, 2 ms more each), and the last rows are drawn.
 // The third review's defects, each a check that failed before its fix: a
 // stream the daemon refused says so on its pill until the next step streams
-// again.
+// again; a fresh session's stream says "not started", not "ended".
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -1252,8 +1252,9 @@ async function main() {
       assert(st === 'paused', `status after cancel: ${st}`);
       const pct = Number(await page.locator('#run-progress').getAttribute('data-percent'));
       assert(pct > 0 && pct < 100, `progress after cancel ${pct} %`);
-      /* the daemon ends the stream once the session is not running and its rows are sent */
-      await waitFor(async () => (await text(page, '#stream-status')) === 'stream: ended', 'the stream ended after cancel', 5000);
+      /* the daemon ends the stream once the session is not running and its rows are sent;
+         the session is paused, not over: the pill says idle (review 3.2) */
+      await waitFor(async () => (await text(page, '#stream-status')) === 'stream: idle', 'the stream ended after cancel (idle)', 5000);
       const stored = (await (await fetch(`${d.url}/v1/sessions/${id}`)).json()).samples;
       assert((await sampleCount(page)) === stored, `${await sampleCount(page)} rows on the page, ${stored} stored: samples kept arriving after cancel`);
       assert(!(await page.locator('#run-btn').isDisabled()), 'Run not re-enabled after cancel');
@@ -1732,6 +1733,26 @@ async function main() {
       } finally {
         await page.unroute('**/v1/sessions/*/stream*', refusing);
       }
+    });
+
+    await check("review 3.2: a fresh session's stream says 'not started' (it said 'ended'), 'idle' after a step, 'ended' once its run is over", async () => {
+      await presetLoaded(page, () => page.selectOption('#preset-select', 'pointmass-prescribed'));
+      await setField(page, '/run/duration', 0.5);
+      const id = await createOpened(page);
+      const pill = () => text(page, '#stream-status');
+      await waitFor(async () => (await sampleCount(page)) === 1 && !/live|no stream/.test(await pill()), 'the fresh session streamed', 5000).catch(async (e) => {
+        throw new Error(`${e.message}: pill "${await pill()}"`);
+      });
+      assert((await pill()) === 'stream: not started', `a fresh session's pill says "${await pill()}"`);
+      await page.fill('#step-duration', '0.1');
+      await page.click('#step-btn');
+      await waitFor(async () => (await sampleCount(page)) === (await apiSession(d.url, id)).samples && (await pill()) === 'stream: idle', "'stream: idle' after the step", 5000).catch(async (e) => {
+        throw new Error(`${e.message}: pill "${await pill()}"`);
+      });
+      await runToEnd(page);
+      await waitFor(async () => (await pill()) === 'stream: ended', "'stream: ended' after the run", 5000).catch(async (e) => {
+        throw new Error(`${e.message}: pill "${await pill()}"`);
+      });
     });
 
     /* stored analyses outlive their daemon: a map computed by one is listed, shown and deleted by the next on the same --data-dir */

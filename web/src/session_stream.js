@@ -6,11 +6,19 @@
  * 503 while it restarts, say) is over: the pill says why until the next
  * start (a step, a run, rows the session list says are missing) opens a new
  * one, which replaces the message; a refused stream once kept its place and
- * its message, and no later run was streamed (review).
+ * its message, and no later run was streamed (review). A stream that ended
+ * says why, from the session's status in the daemon's end event: "not
+ * started" (created: nothing has run), "idle" (paused: a step, or a run
+ * cancelled, can go on), "ended" only when the run is over (done, failed,
+ * interrupted, deleted); a fresh session said "ended" (review).
  */
 import { $ } from './dom.js';
 import { streamSession } from './stream.js';
 import { fmt } from './units.js';
+
+/* What the pill says when the daemon ended the stream of a session with `status`. */
+const END_LABEL = { created: 'not started', paused: 'idle' };
+const endLabel = (status) => END_LABEL[status] || 'ended';
 
 export function initSessionStream(state) {
   /* Start streaming the open session's new rows, unless a stream is already on. */
@@ -21,6 +29,7 @@ export function initSessionStream(state) {
       onStatus: (st, detail) => {
         if (state.stream !== handle) return; /* a stopped stream's last words */
         if (st === 'error') pill(`error: ${detail.message}`, 'st-failed');
+        else if (st === 'ended') pill(endLabel(detail ?? state.session?.status), 'muted');
         else pill(st, st === 'live' ? 'st-running' : 'muted');
         if (st === 'ended' || st === 'error') state.stream = null; /* over: the next start opens another */
       },
