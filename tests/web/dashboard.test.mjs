@@ -57,7 +57,8 @@
 // (made dearer on purpose: 36 charts, 2 ms more each), and the last rows are drawn.
 // The third review's defects, each a check that failed before its fix: a
 // stream the daemon refused says so on its pill until the next step streams
-// again; a fresh session's stream says "not started", not "ended".
+// again; a fresh session's stream says "not started", not "ended"; while a
+// run streams, the sample counter and the header's t are the charts' rows'.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -1753,6 +1754,56 @@ async function main() {
       await waitFor(async () => (await pill()) === 'stream: ended', "'stream: ended' after the run", 5000).catch(async (e) => {
         throw new Error(`${e.message}: pill "${await pill()}"`);
       });
+    });
+
+    await check('review 3.3: while a run streams, the sample counter tells the t the charts drew, the header and progress bar no less (they lagged up to a second of a 5x run behind)', async () => {
+      await presetLoaded(page, () => page.selectOption('#preset-select', 'pointmass-prescribed'));
+      await setField(page, '/run/duration', 10);
+      await createOpened(page);
+      await page.selectOption('#run-pace', '5');
+      /* one look at the charts and the labels, in one task of the page; the
+         charts' data are the store's own arrays: what they drew is their x
+         range (its end at most the store's last t; one point drew 0-100) */
+      const look = () =>
+        page.evaluate(() => {
+          const plot = window.tanksimDebug.plots.charts[0]?.plot;
+          const xs = plot?.data[0] || [];
+          const num = (re, id) => Number(re.exec(document.getElementById(id).textContent)?.[1] ?? NaN);
+          const t = plot?.scales.x.max;
+          return {
+            rows: xs.length >= 2 && typeof t === 'number' && t > 0 && t <= xs[xs.length - 1] ? xs.length : 0,
+            t,
+            countT: num(/t = ([\d.e+-]+) s/, 'sample-count'),
+            progressT: num(/t = ([\d.e+-]+) s/, 'progress-text'),
+            metaT: num(/t = ([\d.e+-]+) s/, 'session-meta'),
+            running: !!window.tanksimDebug.state.op,
+          };
+        });
+      const behind = [];
+      let looks = 0;
+      try {
+        await page.click('#run-btn');
+        await waitFor(
+          async () => {
+            const v = await look();
+            if (!v.running || v.rows < 2) return v.rows > 2 && !v.running;
+            looks++;
+            const near = (a) => Math.abs(a - v.t) <= 1e-3 * Math.max(1, v.t); /* the counter's t has 4 digits */
+            if (!near(v.countT)) behind.push(`counter t = ${v.countT} s; charts t = ${v.t} s`);
+            if (!(v.progressT >= v.t - 1e-9)) behind.push(`progress t = ${v.progressT} s; charts t = ${v.t} s`);
+            if (!(v.metaT >= v.t - 1e-9)) behind.push(`header t = ${v.metaT} s; charts t = ${v.t} s`);
+            return false;
+          },
+          'the run over',
+          15000,
+          40,
+        );
+      } finally {
+        await page.selectOption('#run-pace', '');
+      }
+      assert(looks >= 10, `only ${looks} looks while the run streamed`);
+      assert(!behind.length, `${behind.length} of ${looks} looks with a label not at the charts' t: ${behind.slice(0, 4).join('; ')}`);
+      notes.push(`labels and charts: ${looks} looks while a 5x run streamed`);
     });
 
     /* stored analyses outlive their daemon: a map computed by one is listed, shown and deleted by the next on the same --data-dir */

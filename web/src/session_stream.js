@@ -14,13 +14,15 @@
  */
 import { $ } from './dom.js';
 import { streamSession } from './stream.js';
+import { rowsOf } from './plots.js';
 import { fmt } from './units.js';
 
 /* What the pill says when the daemon ended the stream of a session with `status`. */
 const END_LABEL = { created: 'not started', paused: 'idle' };
 const endLabel = (status) => END_LABEL[status] || 'ended';
 
-export function initSessionStream(state) {
+/* plots: the live charts (LivePlots), whose rows drawn the counter shows */
+export function initSessionStream(state, plots) {
   /* Start streaming the open session's new rows, unless a stream is already on. */
   function start() {
     if (!state.session || state.stream) return;
@@ -56,15 +58,19 @@ export function initSessionStream(state) {
     $('stream-status').className = 'pill muted';
   }
 
-  /* The session's stored samples (the last row's index + 1) and, when a long
+  /* The session's samples (the last row's index + 1) and, when a long
    * history was thinned for the charts, how many of them are plotted: a reload
-   * of a 180001-sample run said "45001 samples" (review). */
+   * of a 180001-sample run said "45001 samples" (review). Counted as the
+   * charts drew them (plots.drawnRows; the store's own rows before the
+   * charts show it), so the counter and the charts tell the same t: called
+   * after every redraw (main.js) and every 300 ms. */
   function updateCount() {
-    const n = state.store?.length || 0;
-    const stored = n ? Math.max(n, (state.store.lastIndex ?? n - 1) + 1) : 0;
+    const drawn = state.store && plots.drawnRows?.store === state.store ? plots.drawnRows : rowsOf(state.store);
+    const n = drawn.rows;
+    const stored = n ? Math.max(n, drawn.lastIndex + 1) : 0;
     const e = $('sample-count');
     const plural = (k) => `${k} sample${k === 1 ? '' : 's'}`;
-    e.textContent = `${plural(stored)}${n ? ` · t = ${fmt(state.store.t[n - 1])} s` : ''}${stored > n ? ` · ${n} plotted (history thinned)` : ''}`;
+    e.textContent = `${plural(stored)}${n ? ` · t = ${fmt(drawn.t)} s` : ''}${stored > n ? ` · ${n} plotted (history thinned)` : ''}`;
     e.dataset.count = String(n);
   }
 
