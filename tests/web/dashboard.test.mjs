@@ -58,7 +58,9 @@
 // The third review's defects, each a check that failed before its fix: a
 // stream the daemon refused says so on its pill until the next step streams
 // again; a fresh session's stream says "not started", not "ended"; while a
-// run streams, the sample counter and the header's t are the charts' rows'.
+// run streams, the sample counter and the header's t are the charts' rows';
+// the compare legend names each session and the channel with its unit, and no
+// track field for a point mass.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -1804,6 +1806,42 @@ async function main() {
       assert(looks >= 10, `only ${looks} looks while the run streamed`);
       assert(!behind.length, `${behind.length} of ${looks} looks with a label not at the charts' t: ${behind.slice(0, 4).join('; ')}`);
       notes.push(`labels and charts: ${looks} looks while a 5x run streamed`);
+    });
+
+    await check("review 3.4: each compare legend entry names the session and the channel plotted with its display unit, and a point mass's track fidelity is not named as if it had one ('no track')", async () => {
+      const ids = [];
+      for (const body of [{ preset: 'pointmass-prescribed', run: { duration: 0.1 } }, { preset: 'bump-prescribed-coupled', run: { duration: 0.1 } }]) {
+        const r = await postJson(d.url, '/v1/sessions', body);
+        assert(r.status === 201, `create -> ${r.status} ${JSON.stringify(r.body)}`);
+        ids.push(r.body.id);
+      }
+      const legend = () => page.evaluate(() => window.tanksimDebug.compare.plot.series.slice(1).map((x) => x.label));
+      let unit0;
+      try {
+        await page.click('#refresh-sessions');
+        await waitFor(async () => (await page.locator(`#session-table tr[data-id="${ids[1]}"]`).count()) === 1, 'the sessions listed');
+        for (const id of await page.evaluate(() => [...window.tanksimDebug.state.compare])) await page.uncheck(`#session-table tr[data-id="${id}"] input.cmp`);
+        for (const id of ids) await page.check(`#session-table tr[data-id="${id}"] input.cmp`);
+        await waitFor(async () => (await page.locator('#compare-channel option[value="vehicle.speed"]').count()) === 1, 'vehicle.speed in the channel list');
+        await page.selectOption('#compare-channel', 'vehicle.speed');
+        await page.click('#compare-btn');
+        await waitFor(async () => page.evaluate((ids) => ids.every((id) => window.tanksimDebug.compare.shows(id)), ids), 'the overlay of 2');
+        unit0 = await page.evaluate(() => window.tanksimDebug.compare.plot.axes[1].label);
+        const [pm, coupled] = await legend();
+        for (const [l, id] of [[pm, ids[0]], [coupled, ids[1]]])
+          assert(l.startsWith(id.slice(0, 8)) && l.endsWith(` — vehicle.speed [${unit0}]`), `legend entry "${l}" does not name session ${id.slice(0, 8)} and vehicle.speed [${unit0}]`);
+        assert(/track\/fidelity=coupled/.test(coupled), `the coupled track's entry "${coupled}"`);
+        assert(/no track/.test(pm) && !/track\//.test(pm), `the point mass's entry "${pm}" names a track field`);
+        /* the unit in the legend follows the toggle */
+        await page.evaluate(() => window.tanksimDebug.setUnit('m/s', 'km/h'));
+        await waitFor(async () => (await legend()).every((l) => l.endsWith('vehicle.speed [km/h]')), 'the legend in km/h', 3000).catch(async (e) => {
+          throw new Error(`${e.message}: ${JSON.stringify(await legend())}`);
+        });
+      } finally {
+        if (unit0) await page.evaluate((u) => window.tanksimDebug.setUnit('m/s', u), unit0);
+        for (const id of ids) await page.uncheck(`#session-table tr[data-id="${id}"] input.cmp`).catch(() => {});
+        for (const id of ids) await fetch(`${d.url}/v1/sessions/${id}`, { method: 'DELETE' });
+      }
     });
 
     /* stored analyses outlive their daemon: a map computed by one is listed, shown and deleted by the next on the same --data-dir */
