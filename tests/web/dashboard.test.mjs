@@ -60,7 +60,8 @@
 // again; a fresh session's stream says "not started", not "ended"; while a
 // run streams, the sample counter and the header's t are the charts' rows';
 // the compare legend names each session and the channel with its unit, and no
-// track field for a point mass.
+// track field for a point mass; Show of a stored analysis puts the inputs it
+// was asked with back in its form.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -1842,6 +1843,33 @@ async function main() {
         for (const id of ids) await page.uncheck(`#session-table tr[data-id="${id}"] input.cmp`).catch(() => {});
         for (const id of ids) await fetch(`${d.url}/v1/sessions/${id}`, { method: 'DELETE' });
       }
+    });
+
+    await check("review 3.5: Show of a stored analysis puts the inputs it was asked with back in its form (the form kept the inputs of the last run)", async () => {
+      let r = await postJson(d.url, '/v1/engine-map', { preset: 'engine-map-lhr10', engine: { fidelity: 'mean_value' } });
+      assert(r.status === 202, `engine-map -> ${r.status} ${JSON.stringify(r.body)}`);
+      const map = r.body.id;
+      await opDone(d.url, map);
+      r = await postJson(d.url, '/v1/tune?schedule_grade=0,0.05', { preset: 'flat-coupled-rack90' });
+      assert(r.status === 202, `tune -> ${r.status} ${JSON.stringify(r.body)}`);
+      const tune = r.body.id;
+      await opDone(d.url, tune);
+      /* other inputs in the forms */
+      await page.selectOption('#map-preset', 'engine-map-conventional');
+      await page.selectOption('#map-fidelity', 'crank_angle');
+      await page.selectOption('#tune-preset', 'bump-coupled-ivs5mph');
+      await page.selectOption('#tune-var', 'mass');
+      await page.fill('#tune-values', '50000');
+      await page.click('#refresh-analyses');
+      await waitFor(async () => (await page.locator(`#stored-table tr[data-id="${tune}"]`).count()) === 1, 'the tuning listed');
+      await storedButton(page, map, 'Show').click();
+      await waitFor(() => page.evaluate(() => window.tanksimDebug.engineMap.drawn?.from.variant === 'lhr10'), 'the stored lhr10 map shown');
+      const mapForm = { preset: await page.inputValue('#map-preset'), fidelity: await page.inputValue('#map-fidelity') };
+      assert(mapForm.preset === 'engine-map-lhr10' && mapForm.fidelity === 'mean_value', `the map form after Show: ${JSON.stringify(mapForm)}`);
+      await storedButton(page, tune, 'Show').click();
+      await waitFor(async () => (await page.locator('#tune-result .tune-schedule tbody tr').count()) === 2 && /grade/i.test(await text(page, '#tune-result .tune-schedule')), 'the stored 2-row schedule over grade');
+      const tuneForm = { preset: await page.inputValue('#tune-preset'), var: await page.inputValue('#tune-var'), values: await page.inputValue('#tune-values'), disabled: await page.locator('#tune-values').isDisabled() };
+      assert(tuneForm.preset === 'flat-coupled-rack90' && tuneForm.var === 'grade' && tuneForm.values === '0,0.05' && !tuneForm.disabled, `the tuning form after Show: ${JSON.stringify(tuneForm)}`);
     });
 
     /* stored analyses outlive their daemon: a map computed by one is listed, shown and deleted by the next on the same --data-dir */
