@@ -61,7 +61,8 @@
 // run streams, the sample counter and the header's t are the charts' rows';
 // the compare legend names each session and the channel with its unit, and no
 // track field for a point mass; Show of a stored analysis puts the inputs it
-// was asked with back in its form.
+// was asked with back in its form; run figures are marked out of date when
+// the run's rows come after its end was shown.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -1870,6 +1871,27 @@ async function main() {
       await waitFor(async () => (await page.locator('#tune-result .tune-schedule tbody tr').count()) === 2 && /grade/i.test(await text(page, '#tune-result .tune-schedule')), 'the stored 2-row schedule over grade');
       const tuneForm = { preset: await page.inputValue('#tune-preset'), var: await page.inputValue('#tune-var'), values: await page.inputValue('#tune-values'), disabled: await page.locator('#tune-values').isDisabled() };
       assert(tuneForm.preset === 'flat-coupled-rack90' && tuneForm.var === 'grade' && tuneForm.values === '0,0.05' && !tuneForm.disabled, `the tuning form after Show: ${JSON.stringify(tuneForm)}`);
+    });
+
+    await check("review 3.6: run figures are marked out of date when the run's rows arrive after its end was shown (they were only when a 300-ms tick came in between)", async () => {
+      await presetLoaded(page, () => page.selectOption('#preset-select', 'pointmass-prescribed'));
+      await setField(page, '/run/duration', 0.5);
+      await createOpened(page);
+      await page.click('#figures-btn');
+      await waitFor(async () => /to t = 0 s/.test(await text(page, '#figures-note')), 'the t = 0 figures');
+      /* the run's rows are held until its end is shown (the session read again) */
+      const held = await holdRoute(page, '**/v1/sessions/*/stream*');
+      try {
+        await runToEnd(page);
+        assert((await sampleCount(page)) === 1, 'rows streamed while held');
+        held.release();
+        await waitFor(async () => (await sampleCount(page)) > 1, 'the rows after the release', 5000);
+      } finally {
+        await held.stop();
+      }
+      await waitFor(async () => /out of date: the session is at t = 0\.5 s now/.test(await text(page, '#figures-note')), 'the figures marked out of date', 5000).catch(async (e) => {
+        throw new Error(`${e.message}: note "${await text(page, '#figures-note')}", ${await sampleCount(page)} rows`);
+      });
     });
 
     /* stored analyses outlive their daemon: a map computed by one is listed, shown and deleted by the next on the same --data-dir */
