@@ -55,6 +55,14 @@
 // when the answer comes.
 // Live charts redraw as often as drawing stays within ~5 % of wall time
 // (made dearer on purpose: 36 charts, 2 ms more each), and the last rows are drawn.
+// The third review's defects, each a check that failed before its fix: a
+// stream the daemon refused says so on its pill until the next step streams
+// again; a fresh session's stream says "not started", not "ended"; while a
+// run streams, the sample counter and the header's t are the charts' rows';
+// the compare legend names each session and the channel with its unit, and no
+// track field for a point mass; Show of a stored analysis puts the inputs it
+// was asked with back in its form; run figures are marked out of date when
+// the run's rows come after its end was shown.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -1249,8 +1257,9 @@ async function main() {
       assert(st === 'paused', `status after cancel: ${st}`);
       const pct = Number(await page.locator('#run-progress').getAttribute('data-percent'));
       assert(pct > 0 && pct < 100, `progress after cancel ${pct} %`);
-      /* the daemon ends the stream once the session is not running and its rows are sent */
-      await waitFor(async () => (await text(page, '#stream-status')) === 'stream: ended', 'the stream ended after cancel', 5000);
+      /* the daemon ends the stream once the session is not running and its rows are sent;
+         the session is paused, not over: the pill says idle (review 3.2) */
+      await waitFor(async () => (await text(page, '#stream-status')) === 'stream: idle', 'the stream ended after cancel (idle)', 5000);
       const stored = (await (await fetch(`${d.url}/v1/sessions/${id}`)).json()).samples;
       assert((await sampleCount(page)) === stored, `${await sampleCount(page)} rows on the page, ${stored} stored: samples kept arriving after cancel`);
       assert(!(await page.locator('#run-btn').isDisabled()), 'Run not re-enabled after cancel');
@@ -1696,6 +1705,193 @@ async function main() {
       assert(labels.every((l) => l.startsWith('track/fidelity=')), `track/fidelity not first: ${JSON.stringify(labels)}`);
       for (const id of ids) await page.uncheck(`#session-table tr[data-id="${id}"] input.cmp`);
       for (const id of ids) await fetch(`${d.url}/v1/sessions/${id}`, { method: 'DELETE' });
+    });
+
+    /* the third review of the dashboard: each check failed before its fix */
+    /* Create a session from the form and wait until it is open (the list's row
+       count may not grow: the check before deleted its sessions meanwhile). */
+    const createOpened = async (p) => {
+      const before = await p.evaluate(() => window.tanksimDebug.state.session?.id ?? null);
+      await p.click('#create-btn');
+      return waitFor(() => p.evaluate((b) => { const id = window.tanksimDebug.state.session?.id; return id && id !== b ? id : null; }, before), 'the new session open');
+    };
+    await check('review 3.1: a stream the daemon refused (503) says so on its pill until the next step streams again (the message stayed and no later rows came)', async () => {
+      let refuse = true;
+      const refusing = (route) =>
+        refuse ? route.fulfill({ status: 503, contentType: 'application/problem+json', body: JSON.stringify({ title: 'test 503', status: 503, detail: 'stream refused by the test' }) }) : route.continue();
+      await page.route('**/v1/sessions/*/stream*', refusing);
+      try {
+        await presetLoaded(page, () => page.selectOption('#preset-select', 'pointmass-prescribed'));
+        await setField(page, '/run/duration', 2);
+        const id = await createOpened(page);
+        await waitFor(async () => /^stream: error: test 503/.test(await text(page, '#stream-status')), 'the refused stream on the pill', 5000);
+        refuse = false;
+        await page.fill('#step-duration', '0.5');
+        await page.click('#step-btn');
+        const stored = async () => (await apiSession(d.url, id)).samples;
+        await waitFor(async () => (await stored()) > 1 && (await sampleCount(page)) === (await stored()), 'the rows of the step after the refusal', 5000).catch(async (e) => {
+          throw new Error(`${e.message}: ${await sampleCount(page)} rows on the page, pill "${await text(page, '#stream-status')}"`);
+        });
+        await waitFor(async () => !/error/.test(await text(page, '#stream-status')), 'the error gone from the pill', 3000).catch(async (e) => {
+          throw new Error(`${e.message}: "${await text(page, '#stream-status')}"`);
+        });
+      } finally {
+        await page.unroute('**/v1/sessions/*/stream*', refusing);
+      }
+    });
+
+    await check("review 3.2: a fresh session's stream says 'not started' (it said 'ended'), 'idle' after a step, 'ended' once its run is over", async () => {
+      await presetLoaded(page, () => page.selectOption('#preset-select', 'pointmass-prescribed'));
+      await setField(page, '/run/duration', 0.5);
+      const id = await createOpened(page);
+      const pill = () => text(page, '#stream-status');
+      await waitFor(async () => (await sampleCount(page)) === 1 && !/live|no stream/.test(await pill()), 'the fresh session streamed', 5000).catch(async (e) => {
+        throw new Error(`${e.message}: pill "${await pill()}"`);
+      });
+      assert((await pill()) === 'stream: not started', `a fresh session's pill says "${await pill()}"`);
+      await page.fill('#step-duration', '0.1');
+      await page.click('#step-btn');
+      await waitFor(async () => (await sampleCount(page)) === (await apiSession(d.url, id)).samples && (await pill()) === 'stream: idle', "'stream: idle' after the step", 5000).catch(async (e) => {
+        throw new Error(`${e.message}: pill "${await pill()}"`);
+      });
+      await runToEnd(page);
+      await waitFor(async () => (await pill()) === 'stream: ended', "'stream: ended' after the run", 5000).catch(async (e) => {
+        throw new Error(`${e.message}: pill "${await pill()}"`);
+      });
+    });
+
+    await check('review 3.3: while a run streams, the sample counter tells the t the charts drew, the header and progress bar no less (they lagged up to a second of a 5x run behind)', async () => {
+      await presetLoaded(page, () => page.selectOption('#preset-select', 'pointmass-prescribed'));
+      await setField(page, '/run/duration', 10);
+      await createOpened(page);
+      await page.selectOption('#run-pace', '5');
+      /* one look at the charts and the labels, in one task of the page; the
+         charts' data are the store's own arrays: what they drew is their x
+         range (its end at most the store's last t; one point drew 0-100) */
+      const look = () =>
+        page.evaluate(() => {
+          const plot = window.tanksimDebug.plots.charts[0]?.plot;
+          const xs = plot?.data[0] || [];
+          const num = (re, id) => Number(re.exec(document.getElementById(id).textContent)?.[1] ?? NaN);
+          const t = plot?.scales.x.max;
+          return {
+            rows: xs.length >= 2 && typeof t === 'number' && t > 0 && t <= xs[xs.length - 1] ? xs.length : 0,
+            t,
+            countT: num(/t = ([\d.e+-]+) s/, 'sample-count'),
+            progressT: num(/t = ([\d.e+-]+) s/, 'progress-text'),
+            metaT: num(/t = ([\d.e+-]+) s/, 'session-meta'),
+            running: !!window.tanksimDebug.state.op,
+          };
+        });
+      const behind = [];
+      let looks = 0;
+      try {
+        await page.click('#run-btn');
+        await waitFor(
+          async () => {
+            const v = await look();
+            if (!v.running || v.rows < 2) return v.rows > 2 && !v.running;
+            looks++;
+            const near = (a) => Math.abs(a - v.t) <= 1e-3 * Math.max(1, v.t); /* the counter's t has 4 digits */
+            if (!near(v.countT)) behind.push(`counter t = ${v.countT} s; charts t = ${v.t} s`);
+            if (!(v.progressT >= v.t - 1e-9)) behind.push(`progress t = ${v.progressT} s; charts t = ${v.t} s`);
+            if (!(v.metaT >= v.t - 1e-9)) behind.push(`header t = ${v.metaT} s; charts t = ${v.t} s`);
+            return false;
+          },
+          'the run over',
+          15000,
+          40,
+        );
+      } finally {
+        await page.selectOption('#run-pace', '');
+      }
+      assert(looks >= 10, `only ${looks} looks while the run streamed`);
+      assert(!behind.length, `${behind.length} of ${looks} looks with a label not at the charts' t: ${behind.slice(0, 4).join('; ')}`);
+      notes.push(`labels and charts: ${looks} looks while a 5x run streamed`);
+    });
+
+    await check("review 3.4: each compare legend entry names the session and the channel plotted with its display unit, and a point mass's track fidelity is not named as if it had one ('no track')", async () => {
+      const ids = [];
+      for (const body of [{ preset: 'pointmass-prescribed', run: { duration: 0.1 } }, { preset: 'bump-prescribed-coupled', run: { duration: 0.1 } }]) {
+        const r = await postJson(d.url, '/v1/sessions', body);
+        assert(r.status === 201, `create -> ${r.status} ${JSON.stringify(r.body)}`);
+        ids.push(r.body.id);
+      }
+      const legend = () => page.evaluate(() => window.tanksimDebug.compare.plot.series.slice(1).map((x) => x.label));
+      let unit0;
+      try {
+        await page.click('#refresh-sessions');
+        await waitFor(async () => (await page.locator(`#session-table tr[data-id="${ids[1]}"]`).count()) === 1, 'the sessions listed');
+        for (const id of await page.evaluate(() => [...window.tanksimDebug.state.compare])) await page.uncheck(`#session-table tr[data-id="${id}"] input.cmp`);
+        for (const id of ids) await page.check(`#session-table tr[data-id="${id}"] input.cmp`);
+        await waitFor(async () => (await page.locator('#compare-channel option[value="vehicle.speed"]').count()) === 1, 'vehicle.speed in the channel list');
+        await page.selectOption('#compare-channel', 'vehicle.speed');
+        await page.click('#compare-btn');
+        await waitFor(async () => page.evaluate((ids) => ids.every((id) => window.tanksimDebug.compare.shows(id)), ids), 'the overlay of 2');
+        unit0 = await page.evaluate(() => window.tanksimDebug.compare.plot.axes[1].label);
+        const [pm, coupled] = await legend();
+        for (const [l, id] of [[pm, ids[0]], [coupled, ids[1]]])
+          assert(l.startsWith(id.slice(0, 8)) && l.endsWith(` — vehicle.speed [${unit0}]`), `legend entry "${l}" does not name session ${id.slice(0, 8)} and vehicle.speed [${unit0}]`);
+        assert(/track\/fidelity=coupled/.test(coupled), `the coupled track's entry "${coupled}"`);
+        assert(/no track/.test(pm) && !/track\//.test(pm), `the point mass's entry "${pm}" names a track field`);
+        /* the unit in the legend follows the toggle */
+        await page.evaluate(() => window.tanksimDebug.setUnit('m/s', 'km/h'));
+        await waitFor(async () => (await legend()).every((l) => l.endsWith('vehicle.speed [km/h]')), 'the legend in km/h', 3000).catch(async (e) => {
+          throw new Error(`${e.message}: ${JSON.stringify(await legend())}`);
+        });
+      } finally {
+        if (unit0) await page.evaluate((u) => window.tanksimDebug.setUnit('m/s', u), unit0);
+        for (const id of ids) await page.uncheck(`#session-table tr[data-id="${id}"] input.cmp`).catch(() => {});
+        for (const id of ids) await fetch(`${d.url}/v1/sessions/${id}`, { method: 'DELETE' });
+      }
+    });
+
+    await check("review 3.5: Show of a stored analysis puts the inputs it was asked with back in its form (the form kept the inputs of the last run)", async () => {
+      let r = await postJson(d.url, '/v1/engine-map', { preset: 'engine-map-lhr10', engine: { fidelity: 'mean_value' } });
+      assert(r.status === 202, `engine-map -> ${r.status} ${JSON.stringify(r.body)}`);
+      const map = r.body.id;
+      await opDone(d.url, map);
+      r = await postJson(d.url, '/v1/tune?schedule_grade=0,0.05', { preset: 'flat-coupled-rack90' });
+      assert(r.status === 202, `tune -> ${r.status} ${JSON.stringify(r.body)}`);
+      const tune = r.body.id;
+      await opDone(d.url, tune);
+      /* other inputs in the forms */
+      await page.selectOption('#map-preset', 'engine-map-conventional');
+      await page.selectOption('#map-fidelity', 'crank_angle');
+      await page.selectOption('#tune-preset', 'bump-coupled-ivs5mph');
+      await page.selectOption('#tune-var', 'mass');
+      await page.fill('#tune-values', '50000');
+      await page.click('#refresh-analyses');
+      await waitFor(async () => (await page.locator(`#stored-table tr[data-id="${tune}"]`).count()) === 1, 'the tuning listed');
+      await storedButton(page, map, 'Show').click();
+      await waitFor(() => page.evaluate(() => window.tanksimDebug.engineMap.drawn?.from.variant === 'lhr10'), 'the stored lhr10 map shown');
+      const mapForm = { preset: await page.inputValue('#map-preset'), fidelity: await page.inputValue('#map-fidelity') };
+      assert(mapForm.preset === 'engine-map-lhr10' && mapForm.fidelity === 'mean_value', `the map form after Show: ${JSON.stringify(mapForm)}`);
+      await storedButton(page, tune, 'Show').click();
+      await waitFor(async () => (await page.locator('#tune-result .tune-schedule tbody tr').count()) === 2 && /grade/i.test(await text(page, '#tune-result .tune-schedule')), 'the stored 2-row schedule over grade');
+      const tuneForm = { preset: await page.inputValue('#tune-preset'), var: await page.inputValue('#tune-var'), values: await page.inputValue('#tune-values'), disabled: await page.locator('#tune-values').isDisabled() };
+      assert(tuneForm.preset === 'flat-coupled-rack90' && tuneForm.var === 'grade' && tuneForm.values === '0,0.05' && !tuneForm.disabled, `the tuning form after Show: ${JSON.stringify(tuneForm)}`);
+    });
+
+    await check("review 3.6: run figures are marked out of date when the run's rows arrive after its end was shown (they were only when a 300-ms tick came in between)", async () => {
+      await presetLoaded(page, () => page.selectOption('#preset-select', 'pointmass-prescribed'));
+      await setField(page, '/run/duration', 0.5);
+      await createOpened(page);
+      await page.click('#figures-btn');
+      await waitFor(async () => /to t = 0 s/.test(await text(page, '#figures-note')), 'the t = 0 figures');
+      /* the run's rows are held until its end is shown (the session read again) */
+      const held = await holdRoute(page, '**/v1/sessions/*/stream*');
+      try {
+        await runToEnd(page);
+        assert((await sampleCount(page)) === 1, 'rows streamed while held');
+        held.release();
+        await waitFor(async () => (await sampleCount(page)) > 1, 'the rows after the release', 5000);
+      } finally {
+        await held.stop();
+      }
+      await waitFor(async () => /out of date: the session is at t = 0\.5 s now/.test(await text(page, '#figures-note')), 'the figures marked out of date', 5000).catch(async (e) => {
+        throw new Error(`${e.message}: note "${await text(page, '#figures-note')}", ${await sampleCount(page)} rows`);
+      });
     });
 
     /* stored analyses outlive their daemon: a map computed by one is listed, shown and deleted by the next on the same --data-dir */

@@ -5,7 +5,14 @@
  * uPlot.join aligns the different time bases into one table. Sessions
  * without the channel (another scenario kind) are left out and named; the
  * legend lists the others in the order given (the order they were ticked),
- * each labelled with the config fields that tell them apart (legendFields).
+ * each labelled with the session, the config fields that tell them apart
+ * (legendFields) and the channel plotted with its display unit ("a1b2c3d4 ·
+ * track/fidelity=coupled — vehicle.speed [mph]"). A field of a part of the
+ * model the session does not simulate (a point mass's track, a prescribed
+ * torque's engine: it has no channel of that section, SECTION_CHANNELS) is
+ * not its value: the resolved config carries every section, and the legend
+ * said "track/fidelity=static" for a point mass next to a coupled track
+ * (review); it reads "no track".
  * The chart follows its box's width and is drawn again from the same series
  * when the channel's display unit changes (ChartPanel, plots.js).
  */
@@ -44,10 +51,12 @@ export class ComparePanel extends ChartPanel {
     return { series: labels.length, missing };
   }
 
-  /* Draw overlay.tables ([t, SI values] per session of overlay.ids, in legend order) in the display unit of today. */
+  /* Draw overlay.tables ([t, SI values] per session of overlay.ids, in legend order) in the display unit of today;
+     overlay.labels: each session's part of its legend entry. */
   draw(overlay) {
-    const { channel, unit, labels, tables } = overlay;
+    const { channel, unit, tables } = overlay;
     const d = display(unit);
+    const labels = overlay.labels.map((l) => `${l} — ${channel}${bracket(d.label)}`);
     const data = uPlot.join(tables.map(([t, v]) => [t, toDisplay(v, d)]));
     const opts = {
       title: `${channel}${bracket(d.label)} — ${labels.length} sessions`,
@@ -72,6 +81,20 @@ export class ComparePanel extends ChartPanel {
   }
 }
 
+/* The sections of the config whose fields count for a session only when it
+ * simulates that part (has a channel "section.…"): the resolved config of
+ * every scenario carries them all. */
+const SECTION_CHANNELS = ['track', 'engine', 'control'];
+const sectionOf = (k) => k.split('/')[1];
+const simulates = (s, section) => (s.channels || []).some((c) => c.name.startsWith(`${section}.`));
+
+/* The config fields of session s that describe it: {"/section/field": JSON value}, without the sections it does not simulate. */
+function fieldsOf(s) {
+  const flat = flatten(s.config);
+  for (const k of Object.keys(flat)) if (SECTION_CHANNELS.includes(sectionOf(k)) && !simulates(s, sectionOf(k))) delete flat[k];
+  return flat;
+}
+
 /* Flatten a config document to {"/section/field": value}. */
 function flatten(doc, prefix = '', out = {}) {
   for (const [k, v] of Object.entries(doc || {})) {
@@ -92,7 +115,7 @@ const MOST_FIELDS = 3;
  * before it left together (key fields first, the preset name last), until
  * every session has a label of its own or nothing separates them further. */
 function legendFields(sessions) {
-  const flat = sessions.map((s) => ({ ...flatten(s.config), [PRESET]: JSON.stringify(s.preset ?? null) }));
+  const flat = sessions.map((s) => ({ ...fieldsOf(s), [PRESET]: JSON.stringify(s.preset ?? null) }));
   const others = new Set(flat.flatMap((f) => Object.keys(f)).filter((k) => k !== PRESET && !KEY_FIELDS.includes(k)));
   /* a field with one value for all never separates: the test below skips it */
   const candidates = [...KEY_FIELDS, ...[...others].sort(), PRESET];
@@ -106,12 +129,16 @@ function legendFields(sessions) {
 }
 
 /* "a1b2c3d4 · track/fidelity=coupled · drive/torque=9000" — what tells the sessions apart
- * (fields: legendFields; "preset" adds the preset's name). */
+ * (fields: legendFields; "preset" adds the preset's name; "no track": a section it does not simulate). */
 function describe(s, fields = []) {
   const parts = [shortId(s.id)];
-  const flat = flatten(s.config);
+  const flat = fieldsOf(s);
   for (const k of fields) {
+    const section = sectionOf(k);
     if (k === PRESET) parts.push(s.preset || 'no preset');
+    else if (SECTION_CHANNELS.includes(section) && !simulates(s, section)) {
+      if (!parts.includes(`no ${section}`)) parts.push(`no ${section}`);
+    }
     else parts.push(`${k.slice(1)}=${flat[k] === undefined ? '—' : flat[k].replace(/"/g, '')}`);
   }
   if (!fields.length && s.preset) parts.push(s.preset);

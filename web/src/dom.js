@@ -51,6 +51,13 @@ export function presetOptions(sel, presets, unusable = () => '') {
   });
 }
 
+/* Select `value` in `sel` when it is one of its options (true); else leave it (false). */
+export function selectIf(sel, value) {
+  if (typeof value !== 'string' || ![...sel.options].some((o) => o.value === value)) return false;
+  sel.value = value;
+  return true;
+}
+
 /* Progress bar `el` (role=progressbar, its .bar inside) at `pct` % shown with
    `digits` decimals: the bar's width, data-percent and aria-valuenow; pct
    null: empty, with no data-percent. */

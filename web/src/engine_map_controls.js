@@ -4,10 +4,13 @@
  * setPresets) and the engine fidelity, sent as a run
  * config to POST /v1/engine-map; the operation is followed by analysis_op.js
  * and its map drawn by EngineMapPanel (engine_map.js); changed, showStored,
- * attach, reset, shown: see analysis_op.js.
+ * attach, reset, shown: see analysis_op.js. Showing a stored map puts the
+ * preset and fidelity it was asked with back in the form (its operation's
+ * metadata.request; a fidelity the body left to the preset: the map's own),
+ * or the form said other inputs than those of the map shown (review).
  */
 import { api } from './api.js';
-import { $, presetOptions } from './dom.js';
+import { $, presetOptions, selectIf } from './dom.js';
 import { initAnalysisOp } from './analysis_op.js';
 
 export function initEngineMapControls(state, engineMap, { changed }) {
@@ -18,6 +21,13 @@ export function initEngineMapControls(state, engineMap, { changed }) {
     op.start(() => api.engineMap(doc));
   }
 
+  /* The form's inputs as stored operation `stored` asked (an input the form has no option for is left). */
+  function restore(stored) {
+    const body = stored.metadata?.request?.body || {};
+    selectIf($('map-preset'), body.preset);
+    selectIf($('map-fidelity'), body.engine?.fidelity ?? stored.response?.fidelity);
+  }
+
   $('map-run').addEventListener('click', onRun);
   /* presets: GET /v1/presets' list; the engine-on-dynamometer ones are the engine variants */
   return {
@@ -25,7 +35,10 @@ export function initEngineMapControls(state, engineMap, { changed }) {
       presetOptions($('map-preset'), presets.filter((p) => p.kind === 'engine_dyno'));
       op.presetsSet();
     },
-    showStored: op.showStored,
+    showStored: (stored) => {
+      restore(stored);
+      op.showStored(stored);
+    },
     attach: op.attach,
     reset: op.reset,
     shown: op.shown,

@@ -50,7 +50,8 @@ const state = {
   schema: null, /* GET /v1/schema, once loaded (field ranges) */
 };
 
-const plots = new LivePlots($('plots'));
+/* after each redraw the sample counter and the header's t follow the rows drawn (plots.js) */
+const plots = new LivePlots($('plots'), { onDraw: (drawn) => rowsDrawn(drawn) });
 const fft = new FftPanel($('fft-plot'));
 const compare = new ComparePanel($('compare-plot'));
 const engineMap = new EngineMapPanel($('map-plot'), $('map-summary'));
@@ -74,7 +75,12 @@ window.tanksimDebug = { state, plots, compare, fft, engineMap, tickLabels: drawn
 initTokenForm(boot);
 const refreshList = () => list.refresh(); /* list is made last: it shows the open session */
 const header = initSessionHeader(state);
-const stream = initSessionStream(state);
+const stream = initSessionStream(state, plots);
+function rowsDrawn(drawn) {
+  if (drawn.store !== state.store) return; /* a store the open session no longer has */
+  stream.updateCount();
+  header.rowsDrawn(drawn.t);
+}
 const picker = initChannelPicker(state, plots);
 const fftControls = initFftControls(state, fft);
 const compareControls = initCompareControls(state, compare);

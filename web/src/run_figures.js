@@ -48,10 +48,12 @@ export function initRunFigures(state) {
   }
 
   /* The session moved on past the figures shown (a step or run since
-   * Compute): say so, or a finished run kept its t = 0 figures (review). */
+   * Compute): say so, or a finished run kept its t = 0 figures (review).
+   * The session by its id: the end of a run reads it again (a new object),
+   * and rows streamed after that left the figures unmarked. */
   function update() {
     const s = state.session;
-    if (!shown || shown.session !== s) return;
+    if (!shown || !s || shown.session.id !== s.id) return;
     const n = state.store?.length || 0;
     const t = n ? state.store.t[n - 1] : s.t || 0;
     if (!(t > shown.t)) return;

@@ -2,7 +2,10 @@
  * session_header.js — the open session's header: title, status, the meta
  * line, which run buttons are enabled, and the progress bar (t / run
  * duration). Drawn from state.session and state.op; refresh() re-reads the
- * session from the daemon first.
+ * session from the daemon first. Its t is never less than that of the rows
+ * the live charts drew (rowsDrawn, told after each redraw): it was the run
+ * operation's t, polled every 300 ms, and showed up to a second of a 5x run
+ * less than the charts (review).
  */
 import { api } from './api.js';
 import { channelsOf } from './channels.js';
@@ -11,6 +14,19 @@ import { showError } from './messages.js';
 import { fmt, fmtTime } from './units.js';
 
 export function initSessionHeader(state) {
+  let drawn = { session: null, t: 0 }; /* the last row the charts drew, of that session */
+
+  /* The session's t as shown: its own (the daemon's, the run operation's) or the charts' last row's. */
+  const tOf = (s) => Math.max(s?.t || 0, drawn.session === s ? drawn.t : 0);
+
+  /* The live charts drew rows of the open session up to t: the header follows when that is further. */
+  function rowsDrawn(t) {
+    const s = state.session;
+    if (!s || typeof t !== 'number' || !(t > tOf(s))) return;
+    drawn = { session: s, t };
+    render();
+  }
+
   /* Title, status, time, buttons and progress of the open session; `gone`: what to say when none is. */
   function render(gone) {
     const s = state.session;
@@ -29,14 +45,14 @@ export function initSessionHeader(state) {
           `preset ${s.preset || '—'}`,
           kind && `scenario ${kind}`,
           fid && `track ${fid}`,
-          `t = ${fmtTime(s.t || 0, s.config?.run?.sample_rate)} s${dur ? ` of ${fmtTime(dur, s.config?.run?.sample_rate)} s` : ''}`,
+          `t = ${fmtTime(tOf(s), s.config?.run?.sample_rate)} s${dur ? ` of ${fmtTime(dur, s.config?.run?.sample_rate)} s` : ''}`,
           s.error ? `error: ${s.error}` : '',
         ]
           .filter(Boolean)
           .join(' · ')
       : gone || '';
     const running = s?.status === 'running' || !!state.op;
-    const ended = open && dur !== undefined && (s.t || 0) >= dur - 1e-9;
+    const ended = open && dur !== undefined && tOf(s) >= dur - 1e-9;
     $('step-btn').disabled = !open || running || ended;
     $('run-btn').disabled = !open || running || ended;
     $('cancel-btn').disabled = !state.op;
@@ -49,7 +65,7 @@ export function initSessionHeader(state) {
    * paused run continues, t / duration only moves forward. */
   function renderProgress(meta) {
     const dur = state.session?.config?.run?.duration;
-    if (dur) setProgress((state.session.t || 0) / dur, meta);
+    if (dur) setProgress(tOf(state.session) / dur, meta);
     else resetProgress();
   }
 
@@ -57,7 +73,8 @@ export function initSessionHeader(state) {
     const pct = Math.max(0, Math.min(100, frac * 100));
     setBar($('run-progress'), pct, 1);
     let txt = `${pct.toFixed(pct >= 99.95 || pct === 0 ? 0 : 1)} %`;
-    if (meta?.t !== undefined) txt += ` · t = ${fmtTime(meta.t, state.session?.config?.run?.sample_rate)} s`;
+    /* the run's t: its operation's, or the charts' when they drew further */
+    if (meta?.t !== undefined) txt += ` · t = ${fmtTime(Math.max(meta.t, tOf(state.session)), state.session?.config?.run?.sample_rate)} s`;
     if (meta?.real_time_factor) txt += ` · ${fmt(meta.real_time_factor, 3)}× real time`;
     $('progress-text').textContent = txt;
   }
@@ -81,5 +98,5 @@ export function initSessionHeader(state) {
     }
   }
 
-  return { render, renderProgress, refresh };
+  return { render, renderProgress, refresh, rowsDrawn };
 }

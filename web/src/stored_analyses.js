@@ -5,7 +5,8 @@
  * engine fidelity, schedule; not the body) and its status. Show fetches the operation (GET
  * /v1/operations/{id}) and hands it to the form of its kind
  * (analysis_op.js showStored: the response drawn where the form draws its
- * own, or the error in its error box, and the outcome on its progress bar);
+ * own, or the error in its error box, and the outcome on its progress bar;
+ * the form's inputs set to what the analysis asked);
  * Delete removes a finished one (DELETE /v1/analyses/{id}). The
  * list is drawn again on page load, when a form's analysis starts or ends
  * (refresh / changed) and after a delete, and every POLL_MS while a listed

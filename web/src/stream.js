@@ -53,14 +53,18 @@ export class SeriesStore {
 class RetryableClose extends Error {}
 
 /**
- * Stream samples of session id into store. onStatus(text) reports the state
- * ("live", "reconnecting", "ended"). Returns {stop()}.
+ * Stream samples of session id into store. onStatus(state, detail) reports
+ * the state: "live", "waiting for samples", "reconnecting", "ended" (detail:
+ * the session's status in the daemon's end event, undefined without one), or
+ * "error" (detail: the daemon's refusal, an ApiError; the stream is over).
+ * Returns {stop()}.
  * isFinished() (synchronous) is asked when the daemon closes the stream: true ends it,
  * false reconnects (resuming with Last-Event-ID).
  */
 export function streamSession(id, store, { onStatus = () => {}, isFinished = () => false } = {}) {
   const ctrl = new AbortController();
   const url = api.streamUrl(id, { since: store.lastIndex }); /* rows after `since` */
+  let ended; /* the session's status in this connection's end event */
   fetchEventSource(url, {
     signal: ctrl.signal,
     headers: authHeaders(),
@@ -68,13 +72,17 @@ export function streamSession(id, store, { onStatus = () => {}, isFinished = () 
     async onopen(resp) {
       const ct = resp.headers.get('Content-Type') || '';
       if (resp.ok && ct.startsWith('text/event-stream')) {
+        ended = undefined;
         onStatus('live');
         return;
       }
       throw new ApiError(resp.status, await problemOf(resp)); /* fatal: onerror rethrows */
     },
     onmessage(ev) {
-      if (ev.event === 'end') return; /* the daemon closes the stream next */
+      if (ev.event === 'end') {
+        ended = endStatus(ev.data); /* the daemon closes the stream next */
+        return;
+      }
       if (!ev.data) return;
       let row;
       try {
@@ -91,14 +99,14 @@ export function streamSession(id, store, { onStatus = () => {}, isFinished = () 
       /* must not be async: the library does not await it */
       if (ctrl.signal.aborted) return;
       if (isFinished()) {
-        onStatus('ended');
+        onStatus('ended', ended);
         return;
       }
       throw new RetryableClose('stream closed');
     },
     onerror(err) {
       if (err instanceof ApiError) {
-        onStatus(`error: ${err.message}`);
+        onStatus('error', err);
         throw err;
       }
       if (err instanceof RetryableClose) {
@@ -110,4 +118,13 @@ export function streamSession(id, store, { onStatus = () => {}, isFinished = () 
     },
   }).catch(() => {});
   return { stop: () => ctrl.abort() };
+}
+
+/* The session's status in an end event's data ({status, t, index}); undefined when it has none. */
+function endStatus(data) {
+  try {
+    return JSON.parse(data)?.status;
+  } catch {
+    return undefined;
+  }
 }

@@ -5,10 +5,13 @@
  * (mass or grade) with its comma-separated values, checked here before
  * anything is sent (number_input.js) and by the daemon again; POST /v1/tune,
  * followed by analysis_op.js, its result shown by showTuning (tune.js);
- * changed, showStored, attach, reset, shown: see analysis_op.js.
+ * changed, showStored, attach, reset, shown: see analysis_op.js. Showing a
+ * stored tuning puts the preset and the schedule it was asked with back in
+ * the form (its operation's metadata.request), or the form said other
+ * inputs than those of the tuning shown (review).
  */
 import { api } from './api.js';
-import { $, presetOptions } from './dom.js';
+import { $, presetOptions, selectIf } from './dom.js';
 import { hideError } from './messages.js';
 import { markFromProblem, markInvalid, numberListField } from './number_input.js';
 import { initAnalysisOp } from './analysis_op.js';
@@ -57,6 +60,17 @@ export function initTuneControls(state, { changed }) {
     });
   }
 
+  /* The form's inputs as stored operation `stored` asked: its preset (left when the list has no such
+     option) and its schedule variable and values (the query text), or none. */
+  function restore(stored) {
+    const req = stored.metadata?.request || {};
+    selectIf($('tune-preset'), req.body?.preset);
+    const v = Object.keys(SCHEDULE).find((k) => req[SCHEDULE[k].param] !== undefined) || '';
+    $('tune-var').value = v;
+    onVar();
+    input.value = v ? String(req[SCHEDULE[v].param]) : '';
+  }
+
   $('tune-var').addEventListener('change', onVar);
   $('tune-run').addEventListener('click', onRun);
   onVar();
@@ -65,7 +79,10 @@ export function initTuneControls(state, { changed }) {
       presetOptions($('tune-preset'), presets.filter((p) => p.kind === 'coupled'));
       op.presetsSet();
     },
-    showStored: op.showStored,
+    showStored: (stored) => {
+      restore(stored);
+      op.showStored(stored);
+    },
     attach: op.attach,
     reset: op.reset,
     shown: op.shown,
