@@ -564,6 +564,20 @@ json_t *tsa_config_to_json(const ts_config *cfg)
     return root;
 }
 
+/* The shipped bump courses' names (NAME of SHIPPED_COURSE_DIR/NAME.txt in the
+ * store), /terrain/course's "examples" in the schema: the dashboard offers
+ * them, where a user typed a name blind until the daemon's 400 listed them. */
+static json_t *shipped_courses(void)
+{
+    json_t *names = json_array();
+    const tsa_file *f;
+    for (int i = 0; (f = tsa_store_nth(SHIPPED_COURSE_DIR "/", ".txt", i)); i++) {
+        const char *base = f->path + strlen(SHIPPED_COURSE_DIR "/");
+        json_array_append_new(names, json_stringn(base, strlen(base) - strlen(".txt")));
+    }
+    return names;
+}
+
 json_t *tsa_config_schema(void)
 {
     ts_err e;
@@ -604,6 +618,9 @@ json_t *tsa_config_schema(void)
             }
             case TS_PT_STRING:
                 json_object_set_new(f, "maxLength", json_integer(p->capacity - 1));
+                /* not an enum: with --client-files yes a daemon reads other courses */
+                if (strcmp(p->pointer, "/terrain/course") == 0)
+                    json_object_set_new(f, "examples", shipped_courses());
                 break;
             case TS_PT_DARRAY:
                 json_object_set_new(f, "maxItems", json_integer(p->capacity));

@@ -134,6 +134,11 @@ static void schema_comes_from_the_table(void **state)
         "course");
     assert_int_equal(json_integer_value(json_object_get(course, "maxLength")),
                      ts_param_find("/terrain/course")->capacity - 1);
+    /* the shipped courses as examples (the dashboard offers them), not an enum */
+    json_t *ex = json_object_get(course, "examples");
+    assert_true(json_array_size(ex) >= 1);
+    assert_string_equal(json_string_value(json_array_get(ex, 0)), "apg4-synth");
+    assert_null(json_object_get(course, "enum"));
     json_decref(s);
     /* a number below the double range is refused, not read as 0 */
     double x = -1;

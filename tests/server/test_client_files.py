@@ -49,6 +49,26 @@ def test_client_named_files_are_refused_by_default(daemon, tmp_path):
     assert create(daemon, inline).status_code == 201
 
 
+def test_schema_lists_the_shipped_courses(daemon):
+    """The dashboard's course field was free text (dash4 review): a user typed a
+    name blind until the 400 listed the shipped ones. /v1/schema gives them as
+    /terrain/course's examples (not an enum: --client-files yes reads others),
+    the same names the 400 lists, and each runs."""
+    course = requests.get(daemon.url + "/v1/schema").json()[
+        "properties"]["terrain"]["properties"]["course"]
+    assert "enum" not in course, course
+    assert course["examples"] == ["apg4-synth"], course
+    doc = {"preset": "bump-prescribed-static", "run": {"duration": 0.02},
+           "terrain": {"kind": "bumps", "course": "no-such-course"}}
+    msg = is_problem(create(daemon, doc), 400)["errors"][0]["message"]
+    listed = ", ".join(f"'{n}'" for n in course["examples"])
+    assert f"(shipped: {listed})" in msg, msg
+    for name in course["examples"]:
+        doc["terrain"]["course"] = name
+        r = create(daemon, doc)
+        assert r.status_code == 201, r.text
+
+
 def test_client_files_yes_reads_the_profile(tmp_path):
     csv = tmp_path / "ground.csv"
     csv.write_text("distance_m,height_m\n0,0\n100,1\n")
