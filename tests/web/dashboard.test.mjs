@@ -63,6 +63,9 @@
 // track field for a point mass; Show of a stored analysis puts the inputs it
 // was asked with back in its form; run figures are marked out of date when
 // the run's rows come after its end was shown.
+// The fourth review's defects, each a check that failed before its fix: run
+// figures follow the display-unit toggle (a speed in km/h or m/s; N, lbf, Hz
+// as the daemon gives them).
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -820,6 +823,43 @@ async function main() {
       assert(note.includes(`${doc.rows} rows`) && note.includes(`${doc.dof} DOF`), `note: ${note}`);
       await page.locator('#figures-panel').scrollIntoViewIfNeeded();
       await shot(page, '05c-figures');
+    });
+
+    await check("review 4.1: run figures follow the display-unit toggle (top_speed_mph in km/h, m/s), computed again or shown when the unit changes; N, lbf, Hz stay the daemon's", async () => {
+      const doc = await page.evaluate(async () => (await fetch(`/v1/sessions/${window.tanksimDebug.state.session.id}/summary`)).json());
+      const top = doc.metrics.find((m) => m.name === 'top_speed_mph');
+      assert(top && top.unit === 'mph' && top.value > 0, `no top_speed_mph in mph: ${JSON.stringify(top)}`);
+      const rows = () => page.locator('#figures-table tr').evaluateAll((trs) => Object.fromEntries(trs.map((tr) => [tr.dataset.name, { value: Number(tr.children[1].textContent), unit: tr.children[2].textContent }])));
+      const near = (a, b) => Math.abs(a - b) <= 1e-4 * Math.abs(b);
+      /* what the toggle does not cover is shown as the daemon gives it */
+      const others = (shown) => doc.metrics.filter((m) => m.name !== 'top_speed_mph' && m.value !== null).filter((m) => !(near(shown[m.name].value, m.value) && shown[m.name].unit === (m.unit === '1' ? '' : m.unit)));
+      const note = await text(page, '#figures-note');
+      const unit = (label) => page.click(`#unit-toggles .seg[data-unit="m/s"] button:text-is("${label}")`);
+      try {
+        for (const [label, factor] of [['km/h', 0.44704 * 3.6], ['m/s', 0.44704]]) {
+          await unit(label);
+          const shown = await waitFor(async () => {
+            const r = await rows();
+            return r.top_speed_mph?.unit === label && r;
+          }, `top_speed_mph in ${label}`, 3000).catch(async (e) => {
+            throw new Error(`${e.message}: shown ${JSON.stringify((await rows()).top_speed_mph)}`);
+          });
+          assert(near(shown.top_speed_mph.value, top.value * factor), `top_speed_mph ${top.value} mph shown as ${shown.top_speed_mph.value} ${label}, want ${top.value * factor}`);
+          assert(!others(shown).length, `figures the toggle does not cover changed: ${others(shown).map((m) => `${m.name} ${JSON.stringify(shown[m.name])}`).join(', ')}`);
+          assert((await text(page, '#figures-note')) === note, `the note changed with the unit: "${await text(page, '#figures-note')}"`);
+        }
+        /* Compute with m/s chosen shows m/s too */
+        await page.evaluate(() => document.getElementById('figures-table').replaceChildren());
+        await page.click('#figures-btn');
+        const again = await waitFor(async () => {
+          const r = await rows();
+          return r.top_speed_mph && r;
+        }, 'the figures computed again', 5000);
+        assert(again.top_speed_mph.unit === 'm/s' && near(again.top_speed_mph.value, top.value * 0.44704), `computed with m/s chosen: ${JSON.stringify(again.top_speed_mph)}`);
+      } finally {
+        await unit('mph');
+      }
+      await waitFor(async () => (await rows()).top_speed_mph?.unit === 'mph', 'top_speed_mph in mph again', 3000);
     });
 
     await check("review 7: a failed FFT shows the daemon's message and clears the old spectrum; show-up-to below the first bin is an error", async () => {

@@ -4,17 +4,21 @@
  * spectral peaks, shift times, IVS figures...), the same as `tanksim run`
  * writes to summary.json. Computed on request (Compute), since the daemon
  * reads every stored row for them; a run still going gives the figures of
- * the rows stored so far, and the note says so. Values are shown in the
- * units the daemon names.
+ * the rows stored so far, and the note says so. A value whose unit a
+ * display-unit toggle covers (a speed in mph, km/h or m/s, a rotation in
+ * rad/s) is shown in the unit chosen there, converted as the charts are
+ * (units.js), and shown again when the choice changes: the figures stayed in
+ * the daemon's unit whatever the toggles said (review). The others (N, lbf,
+ * Hz, s...) are shown in the unit the daemon names.
  */
 import { api } from './api.js';
 import { $, cell } from './dom.js';
 import { hideError, showError } from './messages.js';
-import { fmt } from './units.js';
+import { displayFrom, fmt, UNITS_CHANGED } from './units.js';
 
 export function initRunFigures(state) {
   let asked = 0; /* the latest request: an older answer is dropped */
-  let shown = null; /* {session, t, note} of the figures on screen */
+  let shown = null; /* {session, t, note, doc} of the figures on screen */
 
   /* no figures on screen */
   function blank() {
@@ -30,22 +34,34 @@ export function initRunFigures(state) {
     hideError($('figures-error'));
   }
 
+  /* One row: name, value and unit, in the display unit when a toggle covers
+   * the daemon's (the daemon's value and unit then in the tooltip). */
+  function row(m) {
+    const tr = document.createElement('tr');
+    tr.dataset.name = m.name;
+    const d = displayFrom(m.unit);
+    const as = d && d.label !== m.unit && m.value !== null ? `${fmt(m.value, 5)} ${m.unit} as computed` : '';
+    tr.title = [m.description, as].filter(Boolean).join(' · ');
+    const value = m.value === null ? '—' : fmt(d ? m.value * d.factor : m.value, 5);
+    tr.append(cell(m.name, 'mono'), cell(value, 'num'), cell(d ? d.label : m.unit === '1' ? '' : m.unit, 'muted'));
+    return tr;
+  }
+
   function render(doc) {
-    const rows = (doc.metrics || []).map((m) => {
-      const tr = document.createElement('tr');
-      tr.dataset.name = m.name;
-      tr.title = m.description || '';
-      tr.append(cell(m.name, 'mono'), cell(m.value === null ? '—' : fmt(m.value, 5), 'num'), cell(m.unit === '1' ? '' : m.unit, 'muted'));
-      return tr;
-    });
+    const rows = (doc.metrics || []).map(row);
     $('figures-table').replaceChildren(...rows);
     const parts = [`${doc.rows} rows to t = ${fmt(doc.t)} s`, `${doc.dof} DOF`];
     if (!doc.complete) parts.push(`the session is ${doc.status}: figures of the rows stored so far`);
     if (!rows.length) parts.push('no figures for this scenario at this length');
     $('figures-note').textContent = parts.join(' · ');
     $('figures-note').classList.remove('stale');
-    shown = { session: state.session, t: doc.t, note: parts.join(' · ') };
+    shown = { session: state.session, t: doc.t, note: parts.join(' · '), doc };
   }
+
+  /* a display unit changed (units.js): the rows again, the note (out of date or not) as it is */
+  window.addEventListener(UNITS_CHANGED, () => {
+    if (shown) $('figures-table').replaceChildren(...(shown.doc.metrics || []).map(row));
+  });
 
   /* The session moved on past the figures shown (a step or run since
    * Compute): say so, or a finished run kept its t = 0 figures (review).

@@ -73,6 +73,19 @@ export function convertible(siUnit) {
   return (DISPLAY[siUnit] || []).length > 1;
 }
 
+/** How a value the daemon gives in `unit` is shown: {label, factor} (factor:
+ * from `unit` to the chosen display unit), or null when no toggle covers it.
+ * `unit` is an SI unit of the table or one of its display units: the run
+ * figures come in both (engine_speed_max in rad/s, top_speed_mph in mph). */
+export function displayFrom(unit) {
+  const si = convertible(unit) ? unit : Object.keys(DISPLAY).find((k) => convertible(k) && DISPLAY[k].some((c) => c.label === unit));
+  if (!si) return null;
+  const d = display(si);
+  if (d.label === unit) return { label: d.label, factor: 1, si };
+  const toSi = si === unit ? 1 : 1 / DISPLAY[si].find((c) => c.label === unit).factor;
+  return { label: d.label, factor: toSi * d.factor, si };
+}
+
 /** SI values (null = no sample) in the display unit {factor}. */
 export function toDisplay(values, d) {
   return d.factor === 1 ? values : extendDisplay([], values, d);
