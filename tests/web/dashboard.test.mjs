@@ -65,7 +65,8 @@
 // the run's rows come after its end was shown.
 // The fourth review's defects, each a check that failed before its fix: run
 // figures follow the display-unit toggle (a speed in km/h or m/s; N, lbf, Hz
-// as the daemon gives them).
+// as the daemon gives them); the terrain course field offers the shipped
+// courses /v1/schema lists, and free text still.
 // Screenshots go to tests/out/web/. Last line: "N passed, N failed".
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, openSync, readdirSync, rmSync } from 'node:fs';
@@ -507,6 +508,20 @@ async function main() {
       await page.click('#schema-form .all-params summary');
       await shot(page, '01b-all-parameters');
       await page.click('#schema-form .all-params summary');
+    });
+
+    await check('review 4.2: the terrain course field offers the shipped courses /v1/schema lists (it was free text: a name typed blind until the 400 listed them), and takes free text still', async () => {
+      const shipped = schema.properties.terrain?.properties?.course?.examples;
+      assert(Array.isArray(shipped) && shipped.length > 0, `the schema lists no shipped course: ${JSON.stringify(schema.properties.terrain?.properties?.course)}`);
+      const field = '#schema-form .field[data-pointer="/terrain/course"]';
+      const got = await page.locator(`${field} input`).evaluate((e) => ({ type: e.type, offered: e.list ? [...e.list.options].map((o) => o.value) : null }));
+      assert(got.type === 'text' && JSON.stringify(got.offered) === JSON.stringify(shipped), `the course input: ${JSON.stringify(got)}, want a text input offering ${JSON.stringify(shipped)}`);
+      const desc = await text(page, `${field} .desc`);
+      assert(shipped.every((c) => desc.includes(c)), `the course's description does not name the shipped courses: "${desc}"`);
+      /* a daemon started with --client-files yes reads a user's course: any name can be typed */
+      await setField(page, '/terrain/course', 'my-own-course');
+      assert((await page.locator(`${field} input`).inputValue()) === 'my-own-course', 'free text refused');
+      await presetLoaded(page, () => page.click('#reset-form'));
     });
 
     await check("a preset's document that arrives after another preset was chosen is dropped: the form keeps the values of the preset the dropdown shows", async () => {

@@ -5,7 +5,10 @@
  * one nested object per config section; each field carries type, x-unit,
  * minimum/maximum, enum and default. Every input here is made from that: enum
  * -> <select>, boolean -> checkbox, integer/number -> numeric input with the
- * unit and range beside it, number arrays -> comma-separated text. The only
+ * unit and range beside it, number arrays -> comma-separated text, a string
+ * with examples -> free text offering them (a <datalist>: /terrain/course's
+ * shipped courses, typed blind before; a daemon with --client-files yes reads
+ * other course names, so they are not an enum). The only
  * list kept in this file is WHICH fields are shown up front (the paper's key
  * knobs: track fidelity and mode counts, engine variant and fidelity, terrain,
  * speed controller target or rack, duration); all other fields sit under
@@ -176,10 +179,13 @@ export class SchemaForm {
       });
     } else if (prop.type === 'array') {
       input = el('input', { id, type: 'text', placeholder: 'comma-separated numbers' });
+    } else if (Array.isArray(prop.examples) && prop.examples.length) {
+      input = el('input', { id, type: 'text', list: `${id}-list`, autocomplete: 'off' });
     } else {
       input = el('input', { id, type: 'text' });
     }
     input.dataset.pointer = f.pointer;
+    const offered = input.hasAttribute('list') ? el('datalist', { id: `${id}-list` }, ...prop.examples.map((v) => el('option', { value: v }))) : null;
     const unit = prop['x-unit'] && prop['x-unit'] !== '1' ? prop['x-unit'] : '';
     const hint = el('span', { class: 'hint' });
     const msg = el('div', { class: 'field-error', role: 'alert' });
@@ -194,13 +200,14 @@ export class SchemaForm {
       'div',
       { class: 'field', 'data-pointer': f.pointer, title: isKey ? undefined : prop.description },
       label,
-      el('div', { class: 'control' }, input, hint),
+      el('div', { class: 'control' }, input, offered, hint),
       el(
         'div',
         { class: 'desc' },
         prop.description ? el('span', { class: 'd-text', text: prop.description }) : null,
         prop.description && range ? el('span', { class: 'd-text', text: ' · ' }) : null,
         range ? el('span', { class: 'd-range', text: `range ${range}` }) : null,
+        offered ? el('span', { class: 'd-range', text: `${prop.description ? ' · ' : ''}e.g. ${prop.examples.join(', ')}` }) : null,
       ),
       msg,
     );
