@@ -564,14 +564,14 @@ json_t *tsa_config_to_json(const ts_config *cfg)
     return root;
 }
 
-/* The shipped bump courses' names (NAME of SHIPPED_COURSE_DIR/NAME.txt in the
- * store), /terrain/course's "examples" in the schema: the dashboard offers
- * them, where a user typed a name blind until the daemon's 400 listed them. */
-static json_t *shipped_courses(void)
+/* NAME of each SHIPPED_COURSE_DIR/NAME.txt in the store. The schema gives
+ * them as /terrain/course's "examples" (the dashboard offers them: a user
+ * typed a name blind until the daemon's 400 listed them). */
+json_t *tsa_shipped_courses(void)
 {
     json_t *names = json_array();
     const tsa_file *f;
-    for (int i = 0; (f = tsa_store_nth(SHIPPED_COURSE_DIR "/", ".txt", i)); i++) {
+    for (int i = 0; names && (f = tsa_store_nth(SHIPPED_COURSE_DIR "/", ".txt", i)); i++) {
         const char *base = f->path + strlen(SHIPPED_COURSE_DIR "/");
         json_array_append_new(names, json_stringn(base, strlen(base) - strlen(".txt")));
     }
@@ -620,7 +620,7 @@ json_t *tsa_config_schema(void)
                 json_object_set_new(f, "maxLength", json_integer(p->capacity - 1));
                 /* not an enum: with --client-files yes a daemon reads other courses */
                 if (strcmp(p->pointer, "/terrain/course") == 0)
-                    json_object_set_new(f, "examples", shipped_courses());
+                    json_object_set_new(f, "examples", tsa_shipped_courses());
                 break;
             case TS_PT_DARRAY:
                 json_object_set_new(f, "maxItems", json_integer(p->capacity));

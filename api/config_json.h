@@ -91,4 +91,9 @@ ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_o
  * disk. */
 int tsa_course_dir_is_shipped(const ts_terrain_config *t);
 
+/* The shipped bump courses' names, in store order (a new JSON array of
+ * strings; NULL only when out of memory): the schema's /terrain/course
+ * examples and the daemon's unknown-course message. */
+json_t *tsa_shipped_courses(void);
+
 #endif

@@ -59,7 +59,6 @@
 #include "../api/config_json.h"
 #include "../api/problem.h"
 #include "../api/session_json.h"
-#include "../api/store.h"
 #include "db.h"
 #include "operations.h"
 #include "pool.h"
@@ -726,13 +725,16 @@ static ts_rc refuse_client_files(const ts_config *cfg, json_t *errors, ts_err *e
         } else {
             /* the shipped courses, by name (the review typed one blind) */
             char names[128] = "";
-            const tsa_file *f;
-            for (int i = 0; (f = tsa_store_nth("sim/data/terrain/", ".txt", i)); i++) {
-                const char *base = f->path + strlen("sim/data/terrain/");
-                int len = (int)(strlen(base) - strlen(".txt"));
+            json_t *shipped = tsa_shipped_courses();
+            size_t i;
+            json_t *name;
+            json_array_foreach(shipped, i, name)
+            {
                 size_t used = strlen(names);
-                snprintf(names + used, sizeof names - used, "%s'%.*s'", i ? ", " : "", len, base);
+                snprintf(names + used, sizeof names - used, "%s'%s'", i ? ", " : "",
+                         json_string_value(name));
             }
+            json_decref(shipped);
             ptr = "/terrain/course";
             snprintf(msg, sizeof msg,
                      "%s: no shipped course named '%.64s' (shipped: %.64s), and this daemon reads "

@@ -14,16 +14,17 @@ import { showError } from './messages.js';
 import { fmt, fmtTime } from './units.js';
 
 export function initSessionHeader(state) {
-  let drawn = { session: null, t: 0 }; /* the last row the charts drew, of that session */
+  let drawn = { id: null, t: 0 }; /* the last row the charts drew, of session id */
 
-  /* The session's t as shown: its own (the daemon's, the run operation's) or the charts' last row's. */
-  const tOf = (s) => Math.max(s?.t || 0, drawn.session === s ? drawn.t : 0);
+  /* The session's t as shown: its own (the daemon's, the run operation's) or the charts' last row's.
+   * By id, as run_figures.js: a refresh reads the session into a new object. */
+  const tOf = (s) => Math.max(s?.t || 0, s && drawn.id === s.id ? drawn.t : 0);
 
   /* The live charts drew rows of the open session up to t: the header follows when that is further. */
   function rowsDrawn(t) {
     const s = state.session;
     if (!s || typeof t !== 'number' || !(t > tOf(s))) return;
-    drawn = { session: s, t };
+    drawn = { id: s.id, t };
     render();
   }
 
