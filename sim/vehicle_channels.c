@@ -38,7 +38,7 @@ ts_rc vm_channels_declare(ts_model *m, ts_err *err)
     }
     for (int i = 0; i < VM_NRW && rc == TS_OK; i++) {
         snprintf(name, sizeof name, "road_wheel.%d.load", i + 1);
-        snprintf(desc, sizeof desc, "ground load under road wheel %d, one side", i + 1);
+        snprintf(desc, sizeof desc, "ground load under road wheel %d, one side (normal to the ground)", i + 1);
         rc = add(m, name, "N", desc, err);
     }
     for (int s = 0; s < VM_NSPAN && rc == TS_OK; s++) {

@@ -12,7 +12,11 @@
  *     line on both wheels (dl/dc_b = u, the belt-length identity) and as
  *     torques rho T on the spins;
  *   - track–terrain foundation under each road wheel, compression only:
- *     N = k d + k3 d^3 + c d_dot (N >= 0, lift-off allowed), normal to the terrain;
+ *     N_z = k d + k3 d^3 + c d_dot (N_z >= 0, lift-off allowed) of the vertical
+ *     compression d; its elastic part is the gradient of k d^2/2 + k3 d^4/4, so it
+ *     acts along the terrain normal with magnitude N = N_z sqrt(1 + s^2), s the
+ *     slope (until session 31 N_z along the unit normal: not a gradient where s
+ *     varies, +44 J per crossing of the course's small bump without damping);
  *   - no slip under road wheel 4 [P II.C.1]: a stiff tangential spring between
  *     the track under that wheel and the ground; thrust is the tension the
  *     sprocket builds between itself and this anchor;
@@ -653,11 +657,14 @@ static void forces(const vm *v, vm_work *w, geom *g, double t, const double *q, 
         double nload = 0;
         if (d > 0) {
             double dd = slope * k->v[b][0] - k->v[b][1];
-            nload = v->kf * d + v->kf3 * d * d * d + v->dscale * v->cf * dd;
-            if (nload < 0) nload = 0;
-            /* terrain tangent (tx, tz); the normal force acts along (-tz, tx) */
+            double nz = v->kf * d + v->kf3 * d * d * d + v->dscale * v->cf * dd;
+            if (nz < 0) nz = 0;
+            /* -grad of V(d) = k d^2/2 + k3 d^4/4 with d the vertical compression:
+             * nz (-s, 1), along the terrain normal, so the normal force is
+             * nz sqrt(1 + s^2); (tx, tz) is the terrain's unit tangent */
             double tx = 1.0 / sqrt(1.0 + slope * slope), tz = slope * tx;
-            double f[2] = {-slope * nload * tx, nload * tx};
+            double f[2] = {-slope * nz, nz};
+            nload = nz / tx;
             add_force(Q, &k->j[b], f);
             if (nload > 0 && qd) {
                 /* running-gear rolling resistance: f N against the wheel
