@@ -140,14 +140,21 @@ static int client_gone(struct MHD_Connection *conn)
     return poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR));
 }
 
+/* The answer of a draw job whose session was deleted, wherever the job
+ * notices it: between frames, in a rebuild, or at a frame's snapshot that a
+ * DELETE removed meanwhile (the same words whichever comes first). */
+static ts_rc err_deleted(const frames_ctx *f, ts_err *err)
+{
+    return ts_err_set(err, TS_ERR_NOTFOUND, NULL,
+                      "session %s was deleted while its frames were drawn", f->s->id);
+}
+
 /* Whether a draw job should stop: an APNG before its next frame, a state
  * rebuild before its next samples (frames.h); the reason in why. */
 static ts_rc job_interrupted(frames_ctx *f, ts_err *why)
 {
     if (atomic_load(&f->srv->stopping)) return tsd_err_shutdown(why);
-    if (tsd_session_is_deleted(f->s))
-        return ts_err_set(why, TS_ERR_NOTFOUND, NULL,
-                          "session %s was deleted while its frames were drawn", f->s->id);
+    if (tsd_session_is_deleted(f->s)) return err_deleted(f, why);
     if (client_gone(f->conn)) /* nobody reads this answer; it ends the job */
         return ts_err_set(why, TS_ERR_CANCELLED, NULL, "the client closed the connection");
     return TS_OK;
@@ -175,7 +182,7 @@ static ts_rc state_at(frames_ctx *f, long k)
 {
     const ts_model *m = f->s->m;
     if (tsd_session_is_deleted(f->s)) /* also unrestored when deleted before its build */
-        return tsd_session_err_deleted(f->s, &f->err);
+        return err_deleted(f, &f->err);
     if (f->s->unrestored) /* its snapshots do not fit this build (session.c) */
         return ts_err_set(&f->err, TS_ERR_STATE, NULL, "session %s has no frames here: %s",
                           f->s->id, f->s->error);
@@ -186,7 +193,7 @@ static ts_rc state_at(frames_ctx *f, long k)
     if (tsd_db_snapshot_at(f->srv->db, f->s->seq, k, &blob, &n, &sidx) != 0 || !blob) {
         free(blob);
         /* a DELETE took the snapshots meanwhile: not /t's fault */
-        if (tsd_session_is_deleted(f->s)) return tsd_session_err_deleted(f->s, &f->err);
+        if (tsd_session_is_deleted(f->s)) return err_deleted(f, &f->err);
         return ts_err_set(&f->err, TS_ERR_NOTFOUND, "/t",
                           "/t: no stored state at or before t = %g s",
                           (double)k * ts_model_sample_period(m));

@@ -124,7 +124,9 @@ def test_apng_stops_when_the_session_is_deleted(d2, big_apng_seconds):
     t.join()
     took = time.monotonic() - t0
     is_problem(got["r"], 404)
-    # the job's own check between frames, not the next frame's missing snapshot
+    # the draw job's answer, whichever of its checks saw the DELETE first (between
+    # frames, or at a frame's snapshot: session 31 found the latter answering in
+    # other words when the DELETE landed between the two; seen once, under load)
     assert "was deleted while its frames were drawn" in got["r"].json()["detail"], got["r"].text
     assert took < max(0.5, wall / 3), (took, wall)
 
