@@ -188,6 +188,8 @@ struct vm {
     double x0, z0; /* design CG world position */
     double ground_scale; /* terrain heights' factor in the foundation: 1, below 1 only while
                           * the static equilibrium is continued from flat ground */
+    int eq_on_terrain;   /* equilibrium unknowns: 0 the design ones (bar preloads, link
+                          * setting), 1 those on the start's terrain (arm angles) */
     double dscale;
     int no_compression; /* /track/no_compression: slack law on the modal spans */
     /* fidelity extras */
@@ -1322,7 +1324,16 @@ void vm_work_free(vm_work *w)
  * follows from the others: Q_x + sum Q_Phi_b / rho_b = 0 identically) and the
  * tensioner condition T_rear_roller = P0. The anchor reference stays at its
  * design value, so the anchor carries whatever the massive spans' weight along
- * the circuit needs. */
+ * the circuit needs. That is the DESIGN equilibrium, on level ground: the
+ * preloads and the link setting are the vehicle's (bars and adjuster set up
+ * on level ground). On uneven ground (v->eq_on_terrain) they stay as found
+ * there and the arm angles take their place; the tensioner condition goes
+ * with the link setting (the rest tension is what the terrain makes it). */
+static int eq_unknowns(const vm *v)
+{
+    return 3 + VM_NB - 1 + VM_NRW + (v->eq_on_terrain ? 0 : 1) + v->nmodal;
+}
+
 static void eq_apply(vm *v, const double *u, double *q)
 {
     int p = 0;
@@ -1331,11 +1342,31 @@ static void eq_apply(vm *v, const double *u, double *q)
     q[QT] = u[p++];
     for (int b = 0; b < VM_NB; b++)
         if (b != VM_RW1 + v->anchor) q[QS0 + b] = u[p++];
-    for (int i = 0; i < VM_NRW; i++)
-        v->m0[i] = u[p++];
-    v->d_link = u[p++];
+    if (v->eq_on_terrain) {
+        for (int i = 0; i < VM_NRW; i++)
+            q[QA0 + i] = u[p++];
+    } else {
+        for (int i = 0; i < VM_NRW; i++)
+            v->m0[i] = u[p++];
+        v->d_link = u[p++];
+    }
     for (int m = 0; m < v->nmodal; m++)
         q[VM_NQ_RIGID + m] = u[p++];
+}
+
+/* The terrain unknowns of the state q (the inverse of eq_apply's terrain branch). */
+static void eq_terrain_unknowns(const vm *v, const double *q, double *u)
+{
+    int p = 0;
+    u[p++] = q[QX];
+    u[p++] = q[QZ];
+    u[p++] = q[QT];
+    for (int b = 0; b < VM_NB; b++)
+        if (b != VM_RW1 + v->anchor) u[p++] = q[QS0 + b];
+    for (int i = 0; i < VM_NRW; i++)
+        u[p++] = q[QA0 + i];
+    for (int m = 0; m < v->nmodal; m++)
+        u[p++] = q[VM_NQ_RIGID + m];
 }
 
 static void eq_residual(vm *v, vm_work *w, const double *u, double *q, double *r)
@@ -1351,7 +1382,7 @@ static void eq_residual(vm *v, vm_work *w, const double *u, double *q, double *r
         r[p++] = w->Q[QA0 + i];
     for (int b = 0; b < VM_NB; b++)
         if (b != VM_RW1 + v->anchor) r[p++] = w->Q[QS0 + b];
-    r[p++] = dg.tension_end1[0] - v->p0;
+    if (!v->eq_on_terrain) r[p++] = dg.tension_end1[0] - v->p0;
     for (int m = 0; m < v->nmodal; m++)
         r[p++] = w->Q[VM_NQ_RIGID + m];
 }
@@ -1429,7 +1460,8 @@ static void eq_start(const vm *v, double hg, int on_ground, double *u, int nu)
 
 static ts_rc equilibrium(vm *v, ts_err *err)
 {
-    int nu = 3 + VM_NB - 1 + VM_NRW + 1 + v->nmodal, nq = v->nq;
+    v->eq_on_terrain = 0;
+    int nu = eq_unknowns(v), nq = v->nq; /* the design unknowns: the larger set */
     vm_work *w = vm_work_make(v);
     double *u = calloc((size_t)nu, sizeof(double)), *r = calloc((size_t)nu, sizeof(double)),
            *r2 = calloc((size_t)nu, sizeof(double)),
@@ -1456,11 +1488,17 @@ static ts_rc equilibrium(vm *v, ts_err *err)
      * wheel 1 over a 0.3-m bump (review, session 28). There the terrain is
      * raised from flat in steps (below), which follows the branch a vehicle
      * settling onto the ground follows; the level start only where the
-     * wheels stand level (every preset; a uniform grade tilts in steps). */
+     * wheels stand level (every preset; a uniform grade tilts in steps).
+     * The bars' preloads and the link setting are those of the design
+     * equilibrium on level ground (flat, heights scaled by 0); from there
+     * the arm angles are the unknowns instead (eq_apply). */
     int uneven = hmax - hmin > 1e-9;
     for (int on_ground = 0; on_ground < 2; on_ground++) {
         ts_err first;
         if (on_ground && err) first = *err; /* the first start's reason */
+        v->eq_on_terrain = 0;
+        for (int i = 0; i < VM_NRW; i++)
+            q[QA0 + i] = v->arm0;
         eq_start(v, hg, on_ground, u, nu);
         rc = uneven ? ts_err_set(err, TS_ERR_SOLVER, "/terrain",
                                  "static equilibrium: uneven ground under the wheels")
@@ -1475,16 +1513,23 @@ static ts_rc equilibrium(vm *v, ts_err *err)
             v->ground_scale = 0;
             eq_start(v, 0, on_ground, u, nu);
             rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
+            int n = nu;
+            if (rc == TS_OK && uneven) {
+                eq_apply(v, u, q); /* the design preloads and link setting */
+                v->eq_on_terrain = 1;
+                n = eq_unknowns(v);
+                eq_terrain_unknowns(v, q, u);
+            }
             while (rc == TS_OK && s < 1) {
                 double next = fmin(1.0, s + ds);
-                memcpy(ub, u, (size_t)nu * sizeof(double));
+                memcpy(ub, u, (size_t)n * sizeof(double));
                 v->ground_scale = next;
-                rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
+                rc = eq_newton(v, w, u, q, r, r2, J, piv, n, err);
                 if (rc == TS_OK) {
                     s = next;
                     ds = fmin(0.5, 2 * ds);
                 } else if (ds > 1.0 / 4096) {
-                    memcpy(u, ub, (size_t)nu * sizeof(double));
+                    memcpy(u, ub, (size_t)n * sizeof(double));
                     ds /= 2;
                     rc = TS_OK;
                 }
@@ -1501,6 +1546,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
     }
     if (rc != TS_OK) goto done;
     eq_apply(v, u, q);
+    v->eq_on_terrain = 0;
     {
         vm_diag dg;
         forces_at(v, w, 0.0, q, NULL, NULL, w->Q, 0, &dg);

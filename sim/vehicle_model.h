@@ -97,7 +97,12 @@ int vm_nq(const vm *v);  /* generalised coordinates */
 int vm_ny(const vm *v);  /* first-order states, 2 nq */
 int vm_dof(const vm *v); /* = nq */
 
-/* Static-equilibrium state (velocities zero), ny values. */
+/* Static-equilibrium state (velocities zero), ny values. The torsion bars'
+ * preloads (arms at their design angle) and the idler link's setting (rear-
+ * roller tension P0) are those of the design equilibrium on level ground; where
+ * the ground under the road wheels is uneven at t = 0 the vehicle then settles
+ * on it with those preloads and that setting, so its arm angles and rest
+ * tension are the terrain's (vm_static_tension gives that tension). */
 const double *vm_equilibrium(const vm *v);
 /* Each coordinate's own rate sqrt(K_ii / M_ii) at the static equilibrium [1/s]
  * (nq values; K_ii = -dQ_i/dq_i with the other coordinates held, M_ii the mass

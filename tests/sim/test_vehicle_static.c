@@ -659,8 +659,14 @@ static void failure_context_names_the_ground(void **state)
  * ~6 mm) and the build failed with "singular Jacobian"; each of these starts
  * failed for the coupled model. The equilibrium is now continued from flat
  * ground. It must be an equilibrium: the hull's accelerations at t = 0 are
- * nil (below 1e-3 m/s^2), the tensioner holds P0 within 1 % (issue 4), and
- * the bump is felt (the hull pitches or rises by more than 5 mm / 5 mrad
+ * nil (below 1e-3 m/s^2); the torsion bars' preloads are the vehicle's, those
+ * of its design equilibrium on flat ground (to 1e-9), not re-solved for the
+ * bump (until session 31 they were: the arms stayed at their design angle and
+ * the bars took whatever preload that needed, road wheel 4 on a 0.21-m crest
+ * carrying 254 kN and five wheels none, for the whole run), so the arms move
+ * and the tension at rest is the terrain's (112-148 kN on the 0.3-m bump against
+ * P0 = 66.7 kN on flat ground: the loop lengthens; 66.7 kN in every case
+ * before), and the bump is felt (the hull pitches or rises by more than 5 mm / 5 mrad
  * against flat ground). The equilibrium holds the track (the anchor wheel's
  * spin is the gauge, as on flat ground): with a wheel on a slope and no
  * drive the tank then rolls off as a real one with its brakes released
@@ -688,9 +694,18 @@ static void equilibrium_with_a_bump_under_a_wheel(void **state)
             assert_non_null(d);
             assert_int_equal(ts_reset(m, d, &err), TS_OK);
             double z0 = channel(m, d, "hull.z"), th0 = channel(m, d, "hull.pitch");
+            double t_rest = channel(m, d, "track.tension.rear_roller");
             assert_close(channel(m, d, "hull.accel_x"), 0, 0, 1e-3);
             assert_close(channel(m, d, "hull.accel_z"), 0, 0, 1e-3);
-            assert_close(channel(m, d, "track.tension.rear_roller"), c.track.tension, 0.01, 0);
+            {
+                ts_config cf = config(fid[f]);
+                vm *vb = test_vm(&c), *vf = test_vm(&cf);
+                for (int i = 0; i < VM_NRW; i++)
+                    assert_close(vm_preload(vb, i), vm_preload(vf, i), 1e-9, 0);
+                assert_close(vm_static_tension(vf), c.track.tension, 1e-6, 0);
+                vm_free(vb);
+                vm_free(vf);
+            }
             assert_int_equal(ts_advance(m, d, 0.05, NULL, NULL, &err), TS_OK);
             assert_close(channel(m, d, "hull.z"), z0, 0, 5e-3);
             ts_data_free(d);
@@ -704,8 +719,9 @@ static void equilibrium_with_a_bump_under_a_wheel(void **state)
             double felt = fmax(fabs(channel(m, d, "hull.z") - z0),
                                fabs(channel(m, d, "hull.pitch") - th0));
             double dz = z0 - channel(m, d, "hull.z"), dth = th0 - channel(m, d, "hull.pitch");
-            print_message("%s, bump at %.1f m: hull z %+.4f m, pitch %+.4f rad against flat\n",
-                          fid[f], start[b], dz, dth);
+            print_message("%s, bump at %.1f m: hull z %+.4f m, pitch %+.4f rad against flat, "
+                          "tension at rest %.1f kN\n",
+                          fid[f], start[b], dz, dth, t_rest / 1e3);
             assert_true(felt > 5e-3);
             /* and the vehicle settled ON the bump: the hull rises at most the
              * bump's 0.3 m, and pitches at most as a beam whose ground run
@@ -736,8 +752,12 @@ static void equilibrium_with_a_bump_under_a_wheel(void **state)
     if (!m) fail_msg("holes and bump: %s", err.msg);
     ts_data *d = ts_data_make(m, &err);
     assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_close(channel(m, d, "hull.accel_x"), 0, 0, 1e-3);
     assert_close(channel(m, d, "hull.accel_z"), 0, 0, 1e-3);
-    assert_close(channel(m, d, "track.tension.rear_roller"), c.track.tension, 0.01, 0);
+    double t_rest = channel(m, d, "track.tension.rear_roller");
+    print_message("holes and a bump: tension at rest %.1f kN (P0 %.1f kN)\n", t_rest / 1e3,
+                  c.track.tension / 1e3);
+    assert_true(t_rest > 0);
     ts_data_free(d);
     ts_model_free(m);
 }
