@@ -22,7 +22,8 @@ static const ts_param rows[] = {
      "track mass per unit length"},
     {"/track/ea", TS_PT_DOUBLE, F(ea), "N", 1e5, 1e10, NULL, 0, 0, "axial stiffness EA"},
     {"/track/tension", TS_PT_DOUBLE, F(tension), "N", 100, 1e6, NULL, 0, 0,
-     "static track tension P0"},
+     "static track tension P0, set by the idler's adjusting link on level ground (a start on "
+     "uneven ground keeps that setting, so its rest tension differs)"},
     {"/track/damping_ratio", TS_PT_DOUBLE, F(damping_ratio), "1", 0, 1, NULL, 0, 0,
      "modal damping ratio of the span modes"},
     {"/track/translation_terms", TS_PT_BOOL, F(translation_terms), "", 0, 1, NULL, 0, 0,
