@@ -191,8 +191,9 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     n = ts_metric_add(out, n, max, "top_speed_mph", "mph", vmax / TS_MPH, "top speed");
     n = ts_metric_add(out, n, max, "final_speed_mph", "mph", last[CH_SPEED] / TS_MPH,
                       "speed at the end of the run");
-    n = ts_metric_add(out, n, max, "static_tension", "N", vm_static_tension(ts_coupled_vehicle(c)),
-                      "static rear-roller tension (tensioner setting)");
+    n = ts_metric_add(
+        out, n, max, "static_tension", "N", vm_static_tension(ts_coupled_vehicle(c)),
+        "rear-roller tension at rest at t = 0 (the tensioner setting on level ground)");
     n = ts_metric_add(out, n, max, "peak_tension", "N", tmax, "peak rear-roller tension");
     n = ts_metric_add(out, n, max, "peak_tension_lb", "lbf", tmax / TS_LBF, "the same in lbf");
     n = ts_metric_add(out, n, max, "peak_sprocket_torque", "N*m", tq_max,

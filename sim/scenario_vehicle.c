@@ -274,7 +274,8 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
                       "highest speed, here the speed at the end of the run (paper II.D: ~25 mph; the "
                       "prescribed torque is calibrated to it [C II.D])");
     n = ts_metric_add(out, n, max, "static_tension", "N", t0,
-                      "static track tension at the rear roller (tensioner setting P0)");
+                      "track tension at the rear roller at rest at t = 0 (the tensioner setting P0 "
+                      "on level ground)");
     n = ts_metric_add(
         out, n, max, "peak_tension", "N", tmax,
         "peak rear-roller tension (paper Fig. 12: ~30,000 lb = 133 kN; its level rests on "
