@@ -30,6 +30,38 @@ static int rhs(double t, const double *y, double *ydot, void *p)
     return vm_rhs(u->v, u->w, t, y, ydot, NULL);
 }
 
+/* Classic fourth-order Runge-Kutta at a fixed 0.2-ms step (omega dt < 0.2
+ * for the stiffest mode), independent of the production integrator: y (ny
+ * values) advanced over duration [s] from t = 0; returns the largest |E - e0|
+ * seen, E = vm_energy every check_every steps. */
+static double rk4_energy_drift(ud *u, double *y, int ny, double duration, int check_every,
+                               double e0)
+{
+    double dt = 2e-4, t = 0, worst = 0;
+    double *k1 = malloc(sizeof(double) * (size_t)ny * 5), *k2 = k1 + ny, *k3 = k2 + ny,
+           *k4 = k3 + ny, *tmp = k4 + ny;
+    assert_non_null(k1);
+    int nstep = (int)lround(duration / dt);
+    for (int s = 1; s <= nstep; s++) {
+        assert_int_equal(rhs(t, y, k1, u), 0);
+        for (int i = 0; i < ny; i++)
+            tmp[i] = y[i] + 0.5 * dt * k1[i];
+        assert_int_equal(rhs(t + 0.5 * dt, tmp, k2, u), 0);
+        for (int i = 0; i < ny; i++)
+            tmp[i] = y[i] + 0.5 * dt * k2[i];
+        assert_int_equal(rhs(t + 0.5 * dt, tmp, k3, u), 0);
+        for (int i = 0; i < ny; i++)
+            tmp[i] = y[i] + dt * k3[i];
+        assert_int_equal(rhs(t + dt, tmp, k4, u), 0);
+        for (int i = 0; i < ny; i++)
+            y[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+        t += dt;
+        if (s % check_every == 0) worst = fmax(worst, fabs(vm_energy(u->v, u->w, y) - e0));
+    }
+    free(k1);
+    return worst;
+}
+
 static ts_config conservative_slack(const char *fidelity, int no_compression)
 {
     ts_config c;
@@ -93,29 +125,7 @@ static void check_energy_with(const char *fidelity, double tol, double long_pluc
     double e0 = vm_energy(v, u.w, y);
     double disturbance = e0 - e_eq;
     assert_true(disturbance > 10000.0);
-    /* Classic fourth-order Runge-Kutta at a fixed 0.2-ms step (omega dt < 0.2
-     * for the stiffest mode), independent of the production integrator. */
-    double dt = 2e-4, t = 0, worst = 0;
-    double *k1 = malloc(sizeof(double) * (size_t)ny * 5), *k2 = k1 + ny, *k3 = k2 + ny,
-           *k4 = k3 + ny, *tmp = k4 + ny;
-    int nstep = (int)lround(10.0 / dt);
-    for (int s = 1; s <= nstep; s++) {
-        assert_int_equal(rhs(t, y, k1, &u), 0);
-        for (int i = 0; i < ny; i++)
-            tmp[i] = y[i] + 0.5 * dt * k1[i];
-        assert_int_equal(rhs(t + 0.5 * dt, tmp, k2, &u), 0);
-        for (int i = 0; i < ny; i++)
-            tmp[i] = y[i] + 0.5 * dt * k2[i];
-        assert_int_equal(rhs(t + 0.5 * dt, tmp, k3, &u), 0);
-        for (int i = 0; i < ny; i++)
-            tmp[i] = y[i] + dt * k3[i];
-        assert_int_equal(rhs(t + dt, tmp, k4, &u), 0);
-        for (int i = 0; i < ny; i++)
-            y[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
-        t += dt;
-        if (s % 500 == 0) worst = fmax(worst, fabs(vm_energy(v, u.w, y) - e0));
-    }
-    free(k1);
+    double worst = rk4_energy_drift(&u, y, ny, 10.0, 500, e0);
     printf("# %s: disturbance %.1f J, worst energy error over 10 s %.2f J (%.3f %%)\n", fidelity,
            disturbance, worst, 100 * worst / disturbance);
     assert_true(worst <= tol * disturbance);
@@ -466,6 +476,26 @@ static void span_weight_acts_at_the_tangent_line_middle(void **state)
     span_share_free(&p);
 }
 
+/* The largest |Q_j + dV/dq_j| over the coordinates at state y (velocities as
+ * they are: zero in the callers), V = vm_energy by central differences (step
+ * 1e-6); Q (nq values) is scratch. */
+static double gradient_mismatch(const vm *v, vm_work *w, double *y, double *Q)
+{
+    int nq = vm_nq(v);
+    vm_forces(v, w, 0.0, y, 0, Q);
+    double worst = 0;
+    for (int j = 0; j < nq; j++) {
+        const double h = 1e-6, keep = y[j];
+        y[j] = keep + h;
+        double ep = vm_energy(v, w, y);
+        y[j] = keep - h;
+        double em = vm_energy(v, w, y);
+        y[j] = keep;
+        worst = fmax(worst, fabs(Q[j] + (ep - em) / (2 * h)));
+    }
+    return worst;
+}
+
 /* EVIDENCE: closed form (a conservative force is the negative gradient of its
  * potential): with every rate zero, vm_forces must be -dV/dq of vm_energy's
  * potential, by central differences (h = 1e-6), at a general configuration
@@ -494,17 +524,7 @@ static void forces_are_the_potential_gradient(void **state)
             y[3 + i] += 0.02 * (i + 1) * (i % 2 ? 1 : -1);
         for (int i = 21; i < nq; i++)
             y[i] += 0.005 * (i % 2 ? 1 : -0.5);
-        vm_forces(v, w, 0.0, y, 0, Q);
-        double worst = 0;
-        for (int j = 0; j < nq; j++) {
-            const double h = 1e-6, keep = y[j];
-            y[j] = keep + h;
-            double ep = vm_energy(v, w, y);
-            y[j] = keep - h;
-            double em = vm_energy(v, w, y);
-            y[j] = keep;
-            worst = fmax(worst, fabs(Q[j] + (ep - em) / (2 * h)));
-        }
+        double worst = gradient_mismatch(v, w, y, Q);
         printf("# %s: largest |Q + dV/dq| %.3g\n", fid[f], worst);
         assert_true(worst < 0.2);
         free(y), free(Q);
@@ -594,17 +614,7 @@ static void foundation_force_is_the_gradient_on_a_slope(void **state)
         int on_slope = 0;
         for (int i = 0; i < VM_NRW; i++)
             if (fabs(slope[i]) > 0.1 && dg.wheel_load[i] > 1000) on_slope++;
-        vm_forces(v, w, 0.0, y, 0, Q);
-        double worst = 0;
-        for (int j = 0; j < nq; j++) {
-            const double h = 1e-6, keep = y[j];
-            y[j] = keep + h;
-            double ep = vm_energy(v, w, y);
-            y[j] = keep - h;
-            double em = vm_energy(v, w, y);
-            y[j] = keep;
-            worst = fmax(worst, fabs(Q[j] + (ep - em) / (2 * h)));
-        }
+        double worst = gradient_mismatch(v, w, y, Q);
         printf("# %s on a bump: %d loaded wheels on slopes over 0.1, largest |Q + dV/dq| %.3g\n",
                fid[f], on_slope, worst);
         assert_true(on_slope >= 3);
@@ -653,26 +663,8 @@ static void coasting_over_a_bump_conserves_energy(void **state)
         for (int b = 0; b < VM_NB; b++)
             y[nq + 3 + VM_NRW + b] = speed / rb[b];
         double e0 = vm_energy(v, u.w, y), worst = 0, ke = e0 - vm_energy(v, u.w, vm_equilibrium(v));
-        double dt = 2e-4, t = 0;
-        double *k1 = malloc(sizeof(double) * (size_t)ny * 5), *k2 = k1 + ny, *k3 = k2 + ny,
-               *k4 = k3 + ny, *tmp = k4 + ny;
-        int nstep = (int)lround(3.0 / dt);
-        for (int s = 1; s <= nstep; s++) {
-            assert_int_equal(rhs(t, y, k1, &u), 0);
-            for (int i = 0; i < ny; i++)
-                tmp[i] = y[i] + 0.5 * dt * k1[i];
-            assert_int_equal(rhs(t + 0.5 * dt, tmp, k2, &u), 0);
-            for (int i = 0; i < ny; i++)
-                tmp[i] = y[i] + 0.5 * dt * k2[i];
-            assert_int_equal(rhs(t + 0.5 * dt, tmp, k3, &u), 0);
-            for (int i = 0; i < ny; i++)
-                tmp[i] = y[i] + dt * k3[i];
-            assert_int_equal(rhs(t + dt, tmp, k4, &u), 0);
-            for (int i = 0; i < ny; i++)
-                y[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
-            t += dt;
-            if (s % 50 == 0) worst = fmax(worst, fabs(vm_energy(v, u.w, y) - e0));
-        }
+        double t = 3.0;
+        worst = rk4_energy_drift(&u, y, ny, t, 50, e0);
         ts_geom *g = malloc(sizeof *g);
         assert_non_null(g);
         vm_geometry(v, u.w, t, y, g);
@@ -683,7 +675,6 @@ static void coasting_over_a_bump_conserves_energy(void **state)
         assert_true(past > 0);
         assert_true(worst < 1.0);
         free(g);
-        free(k1);
         free(y);
         vm_work_free(u.w);
         vm_free(v);
