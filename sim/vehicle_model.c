@@ -1394,17 +1394,30 @@ static int has_nonfinite(const double *x, int n)
     return 0;
 }
 
+static double eq_norm(const double *r, int nu)
+{
+    double rn = 0;
+    for (int i = 0; i < nu; i++)
+        rn = fmax(rn, fabs(r[i])); /* fmax drops a NaN: callers check */
+    return rn;
+}
+
 /* Newton on eq_residual from u (updated in place): TS_OK, or TS_ERR_SOLVER
- * with the reason. J, r, r2 hold nu values (J nu x nu), q nq, piv nu. */
+ * with the reason. J, r, r2 hold nu values (J nu x nu), q nq, piv nu, ub nu
+ * (the line search's scratch). With the terrain unknowns (the arms free)
+ * the step is cut back (halved up to 10 times) until the largest residual
+ * falls: there wheels lift off and touch down between iterations, and full
+ * steps cycled across those kinks (session-31 review: 55-60 % grades and
+ * 0.5-1.0 m bumps under a wheel). The design unknowns keep the full step,
+ * as every published figure's equilibrium was found with it. */
 static ts_rc eq_newton(vm *v, vm_work *w, double *u, double *q, double *r, double *r2, double *J,
-                       int *piv, int nu, ts_err *err)
+                       int *piv, double *ub, int nu, ts_err *err)
 {
     double scale_f = vm_supported_weight(v);
-    for (int it = 0; it < 40; it++) {
+    int search = v->eq_on_terrain, nit = search ? 100 : 40;
+    for (int it = 0; it < nit; it++) {
         eq_residual(v, w, u, q, r);
-        double rn = 0;
-        for (int i = 0; i < nu; i++)
-            rn = fmax(rn, fabs(r[i])); /* fmax drops a NaN: checked next */
+        double rn = eq_norm(r, nu);
         if (has_nonfinite(r, nu))
             return ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
                               "static equilibrium: residual not finite at Newton step %d "
@@ -1428,11 +1441,22 @@ static ts_rc eq_newton(vm *v, vm_work *w, double *u, double *q, double *r, doubl
             return ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
                               "static equilibrium: singular Jacobian (check the layout)");
         ts_lu_solve(J, nu, piv, r);
-        for (int i = 0; i < nu; i++)
-            u[i] += r[i];
+        if (!search) {
+            for (int i = 0; i < nu; i++)
+                u[i] += r[i];
+            continue;
+        }
+        memcpy(ub, u, (size_t)nu * sizeof(double));
+        double a = 1.0;
+        for (int cut = 0; cut <= 10; cut++, a *= 0.5) {
+            for (int i = 0; i < nu; i++)
+                u[i] = ub[i] + a * r[i];
+            eq_residual(v, w, u, q, r2);
+            if (!has_nonfinite(r2, nu) && eq_norm(r2, nu) < rn) break;
+        }
     }
     return ts_err_set(err, TS_ERR_SOLVER, "/vehicle",
-                      "static equilibrium did not converge in 40 Newton steps");
+                      "static equilibrium did not converge in %d Newton steps", nit);
 }
 
 /* Newton's start: the hull level at x0, the road arms at their design angle
@@ -1466,20 +1490,30 @@ static ts_rc equilibrium(vm *v, ts_err *err)
     double *u = calloc((size_t)nu, sizeof(double)), *r = calloc((size_t)nu, sizeof(double)),
            *r2 = calloc((size_t)nu, sizeof(double)),
            *J = calloc((size_t)nu * (size_t)nu, sizeof(double)),
-           *q = calloc((size_t)nq, sizeof(double)), *ub = calloc((size_t)nu, sizeof(double));
+           *q = calloc((size_t)nq, sizeof(double)), *ub = calloc((size_t)nu, sizeof(double)),
+           *ul = calloc((size_t)nu, sizeof(double));
     int *piv = calloc((size_t)nu, sizeof(int));
     ts_rc rc = TS_OK;
-    if (!w || !u || !r || !r2 || !J || !q || !ub || !piv) {
+    if (!w || !u || !r || !r2 || !J || !q || !ub || !ul || !piv) {
         rc = ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
         goto done;
     }
     for (int i = 0; i < VM_NRW; i++)
         q[QA0 + i] = v->arm0;
-    /* start on the ground under the road wheels, the foundation compressed */
-    double hg = 0, hmin = INFINITY, hmax = -INFINITY;
+    /* start on the ground under the road wheels, the foundation compressed;
+     * the ground is read where the foundation reads it, under the hubs, and
+     * scanned every 5 cm from a wheel radius behind the last hub to one ahead
+     * of the first, so a bump between or under the hubs counts as uneven (the
+     * arm pivots, read until session 31, stand 0.39 m ahead of the hubs) */
+    double hg = 0, hmin = INFINITY, hmax = -INFINITY, xlo = INFINITY, xhi = -INFINITY;
     for (int i = 0; i < VM_NRW; i++) {
-        double h = ts_terrain_height(v->terrain, v->x0 + v->l_pivot[i][0], NULL);
-        hg += h / VM_NRW;
+        double xh = v->x0 + v->l_pivot[i][0] - v->arm_len * cos(v->arm0);
+        hg += ts_terrain_height(v->terrain, xh, NULL) / VM_NRW;
+        xlo = fmin(xlo, xh - v->rho_b[VM_RW1 + i]);
+        xhi = fmax(xhi, xh + v->rho_b[VM_RW1 + i]);
+    }
+    for (double x = xlo; x <= xhi + 1e-9; x += 0.05) {
+        double h = ts_terrain_height(v->terrain, fmin(x, xhi), NULL);
         hmin = fmin(hmin, h);
         hmax = fmax(hmax, h);
     }
@@ -1502,7 +1536,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         eq_start(v, hg, on_ground, u, nu);
         rc = uneven ? ts_err_set(err, TS_ERR_SOLVER, "/terrain",
                                  "static equilibrium: uneven ground under the wheels")
-                    : eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
+                    : eq_newton(v, w, u, q, r, r2, J, piv, ul, nu, err);
         if (rc == TS_ERR_SOLVER) {
             /* A bump under a wheel can leave every wheel off the ground at
              * that start (no wheel, no vertical stiffness: a singular
@@ -1512,7 +1546,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
             double s = 0, ds = 0.25;
             v->ground_scale = 0;
             eq_start(v, 0, on_ground, u, nu);
-            rc = eq_newton(v, w, u, q, r, r2, J, piv, nu, err);
+            rc = eq_newton(v, w, u, q, r, r2, J, piv, ul, nu, err);
             int n = nu;
             if (rc == TS_OK && uneven) {
                 eq_apply(v, u, q); /* the design preloads and link setting */
@@ -1524,7 +1558,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
                 double next = fmin(1.0, s + ds);
                 memcpy(ub, u, (size_t)n * sizeof(double));
                 v->ground_scale = next;
-                rc = eq_newton(v, w, u, q, r, r2, J, piv, n, err);
+                rc = eq_newton(v, w, u, q, r, r2, J, piv, ul, n, err);
                 if (rc == TS_OK) {
                     s = next;
                     ds = fmin(0.5, 2 * ds);
@@ -1539,7 +1573,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
                 snprintf(err->msg + strlen(err->msg), sizeof err->msg - strlen(err->msg),
                          "; also when the terrain was raised from flat in steps: the road "
                          "wheels find no equilibrium on this ground at t = 0 (start the run "
-                         "before the obstacle: /terrain/start_x)");
+                         "on level ground, before the obstacle or grade: /terrain/start_x)");
         }
         if (rc != TS_ERR_SOLVER) break;
         if (on_ground && err) *err = first; /* both failed: the first start's message */
@@ -1584,6 +1618,7 @@ done:
     free(J);
     free(q);
     free(ub);
+    free(ul);
     free(piv);
     return rc;
 }
