@@ -1569,6 +1569,8 @@ static ts_rc equilibrium(vm *v, ts_err *err)
                 }
             }
             v->ground_scale = 1.0;
+            if (rc != TS_OK && err && uneven) /* the ground's fault, not the vehicle's */
+                snprintf(err->pointer, sizeof err->pointer, "/terrain/start_x");
             if (rc != TS_OK && err && v->cfg.terrain.kind != TS_TERRAIN_FLAT)
                 snprintf(err->msg + strlen(err->msg), sizeof err->msg - strlen(err->msg),
                          "; also when the terrain was raised from flat in steps: the road "

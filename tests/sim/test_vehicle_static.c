@@ -810,6 +810,27 @@ static void preloads_are_the_design_ones_on_any_start(void **state)
     }
 }
 
+/* EVIDENCE: behaviour (session 31): a start where the road wheels find no
+ * equilibrium with the bars' level-ground preloads (here a 60 % grade: the
+ * horizontal no-slip anchor presses road wheel 4 into the grade, README) is
+ * refused naming /terrain/start_x, with the advice to start on level ground;
+ * before, the preloads were re-solved for the grade and the run went on with
+ * them. Nothing calibrated. */
+static void steep_grade_start_is_refused_naming_the_start(void **state)
+{
+    (void)state;
+    ts_config c = grade_config("grade60_rest.csv", 0.6, 0.0);
+    ts_err err;
+    vm *v = vm_make(&c, &err);
+    if (v) {
+        vm_free(v);
+        fail_msg("a 60 %% grade start was accepted");
+    }
+    print_message("60 %% grade: %s: %s\n", err.pointer, err.msg);
+    assert_string_equal(err.pointer, "/terrain/start_x");
+    assert_non_null(strstr(err.msg, "start the run on level ground"));
+}
+
 /* A model of track fidelity fid with idler compensation share comp and the
  * link at link_angle, its work area and state buffers, for probing the
  * right-hand side near the equilibrium with road arm 1 turned. */
@@ -1579,6 +1600,7 @@ int main(void)
         cmocka_unit_test(separating_ground_pulls_nothing),
         cmocka_unit_test(grade_equilibrium_balances_the_weight),
         cmocka_unit_test(preloads_are_the_design_ones_on_any_start),
+        cmocka_unit_test(steep_grade_start_is_refused_naming_the_start),
         cmocka_unit_test(quasi_static_tension_cannot_push),
         cmocka_unit_test(bump_stops_act_at_their_stations),
         cmocka_unit_test(anchor_holds_the_configured_wheel),
