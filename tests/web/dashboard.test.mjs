@@ -1710,6 +1710,11 @@ async function main() {
         const labels = await page.evaluate(() => ({ fft: window.tanksimDebug.fft.plot.series[1].label, compare: window.tanksimDebug.compare.plot.axes[1].label, map: window.tanksimDebug.engineMap.plot.series[2].label }));
         labels.live = await liveLabel();
         assert(/km\/h/.test(labels.fft) && labels.compare === 'km/h' && /\[W\]/.test(labels.map) && /\[km\/h\]/.test(labels.live), `labels after the unit change: ${JSON.stringify(labels)}`);
+        /* the rated-point line under the map follows its power axis (session 31: it kept kW) */
+        const rated = await text(page, '#map-summary');
+        const rw = /^rated: (\d+) W \(([\d.]+) hp\) at 2100 rpm$/.exec(rated);
+        const kw = Number(await page.evaluate(() => document.getElementById('map-summary').dataset.powerKw));
+        assert(rw && Math.abs(Number(rw[1]) - 1000 * kw) <= 1, `the rated line with the power in W: '${rated}' (${kw} kW)`);
         /* the live charts were drawn again (km/h) and kept their zoom */
         const after = await xRange();
         assert(after.find((c) => c[0] === speedChart)[1], 'the speed chart no longer zoomed');

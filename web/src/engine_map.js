@@ -52,7 +52,10 @@ export class EngineMapPanel extends ChartPanel {
     };
     this.plotted(opts, [column(speed), column(torque), column(power)], doc, [speed.unit, torque.unit, power.unit]);
     const r = doc.rated || {};
-    this.summary.textContent = `rated: ${fmt(r.power_w / 1000)} kW (${fmt(r.power_hp)} hp) at ${fmt(r.speed_rpm)} rpm`;
+    /* the power in the unit its axis shows (W toggle); the hp beside it and
+       the speed in rpm, as the map's columns give them */
+    const pd = display('W');
+    this.summary.textContent = `rated: ${fmt(r.power_w * pd.factor)} ${pd.label} (${fmt(r.power_hp)} hp) at ${fmt(r.speed_rpm)} rpm`;
     this.summary.dataset.powerKw = String(r.power_w / 1000);
   }
 
