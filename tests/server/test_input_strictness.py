@@ -87,6 +87,18 @@ def test_unsolvable_config_is_422_not_500(daemon):
     assert p["type"] == "/problems/diverged", p
 
 
+def test_start_with_no_equilibrium_is_422_naming_the_start(daemon):
+    # a 0.8 x 2 m bump under the rear road wheels at t = 0: the bars keep their level-ground
+    # preloads (session 31) and the wheels find no equilibrium on it; the request is refused
+    # naming where the run starts, with the advice to start on level ground
+    r = requests.post(daemon.url + "/v1/sessions",
+                      json={"preset": "bump-prescribed-coupled",
+                            "terrain": {"kind": "bumps", "bump_start": [0.0],
+                                        "bump_height": [0.8], "bump_length": [2.0]}})
+    p = is_problem(r, 422, "/terrain/start_x")
+    assert "start the run on level ground" in p["detail"], p
+
+
 def test_layout_out_of_the_circuits_order_is_400(daemon):
     # road-wheel hubs above the support rollers (z 0.84 m): this once reached the static
     # equilibrium and failed there (422); the layout check names the field
