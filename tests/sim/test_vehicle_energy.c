@@ -303,7 +303,18 @@ static void compensating_idler_conserves_energy(void **state)
 }
 
 /* The track's pitch-line radius at each body (sprocket, rollers, idler, road
- * wheels, vm_body order) and free span s's straight run between them, from
+ * wheels, vm_body order) from the configuration, as vm_make sets them. */
+static void pitch_radii(const ts_config *c, double rb[VM_NB])
+{
+    double off = c->vehicle.track_pitch_offset;
+    rb[VM_SPROCKET] = c->vehicle.sprocket_radius;
+    rb[VM_REAR_ROLLER] = rb[VM_FRONT_ROLLER] = c->vehicle.roller_radius + off;
+    rb[VM_IDLER] = c->vehicle.idler_radius + off;
+    for (int i = 0; i < VM_NRW; i++)
+        rb[VM_RW1 + i] = c->vehicle.road_wheel_radius + off;
+}
+
+/* Free span s's straight run between its two bodies (pitch_radii), from
  * the body centres of g alone: the common external tangent of the two pitch
  * circles, from p_a along u for l, with n = u turned +90 deg (from the
  * centres out to the line, p_a = c_a + r_a n), points relative to the hull reference point (y[0],
@@ -316,14 +327,10 @@ typedef struct {
 
 static span_line span_tangent_line(const ts_config *c, const ts_geom *g, const double *y, int s)
 {
-    double off = c->vehicle.track_pitch_offset, rb[11];
-    rb[0] = c->vehicle.sprocket_radius;
-    rb[1] = rb[2] = c->vehicle.roller_radius + off;
-    rb[3] = c->vehicle.idler_radius + off;
-    for (int i = 4; i < 11; i++)
-        rb[i] = c->vehicle.road_wheel_radius + off;
+    double rb[VM_NB];
+    pitch_radii(c, rb);
     span_line t;
-    t.a = vm_span_element[s], t.b = (t.a + 1) % 11;
+    t.a = vm_span_element[s], t.b = (t.a + 1) % VM_NB;
     double ca[2] = {g->wheel[t.a].x - y[0], g->wheel[t.a].z - y[1]};
     double cb[2] = {g->wheel[t.b].x - y[0], g->wheel[t.b].z - y[1]};
     double dx = cb[0] - ca[0], dz = cb[1] - ca[1], D = sqrt(dx * dx + dz * dz);
@@ -652,19 +659,15 @@ static void coasting_over_a_bump_conserves_energy(void **state)
         int ny = vm_ny(v), nq = vm_nq(v);
         double *y = malloc(sizeof(double) * (size_t)ny);
         memcpy(y, vm_equilibrium(v), sizeof(double) * (size_t)ny);
-        const double speed = 2.0, off = c.vehicle.track_pitch_offset;
+        const double speed = 2.0;
         double rb[VM_NB];
-        rb[VM_SPROCKET] = c.vehicle.sprocket_radius;
-        rb[VM_REAR_ROLLER] = rb[VM_FRONT_ROLLER] = c.vehicle.roller_radius + off;
-        rb[VM_IDLER] = c.vehicle.idler_radius + off;
-        for (int i = 0; i < VM_NRW; i++)
-            rb[VM_RW1 + i] = c.vehicle.road_wheel_radius + off;
+        pitch_radii(&c, rb);
         y[nq + 0] = speed;
         for (int b = 0; b < VM_NB; b++)
             y[nq + 3 + VM_NRW + b] = speed / rb[b];
-        double e0 = vm_energy(v, u.w, y), worst = 0, ke = e0 - vm_energy(v, u.w, vm_equilibrium(v));
-        double t = 3.0;
-        worst = rk4_energy_drift(&u, y, ny, t, 50, e0);
+        double e0 = vm_energy(v, u.w, y), ke = e0 - vm_energy(v, u.w, vm_equilibrium(v));
+        const double t = 3.0;
+        double worst = rk4_energy_drift(&u, y, ny, t, 50, e0);
         ts_geom *g = malloc(sizeof *g);
         assert_non_null(g);
         vm_geometry(v, u.w, t, y, g);
