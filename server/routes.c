@@ -572,6 +572,7 @@ static enum MHD_Result post_step(tsd_request *r)
         json_t *p = tsa_problem(422, "/problems/step-too-long", "Step too long", detail, errs);
         json_decref(errs);
         json_object_set_new(p, "run", json_string(run));
+        json_object_set_new(p, "max_duration", json_real(r->srv->opt.max_step));
         return tsd_reply_problem_json(r, 422, p);
     }
     r->async_status = MHD_HTTP_OK;

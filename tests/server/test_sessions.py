@@ -178,6 +178,8 @@ def test_step_longer_than_limit_points_to_run(daemon):
     r = requests.post(daemon.url + s["links"]["step"], json={"duration": 11})
     p = is_problem(r, 422, "/duration")
     assert p["run"] == s["links"]["run"] and "run" in p["detail"]
+    # the limit itself, in s, for clients that word their own advice (the dashboard)
+    assert p["max_duration"] == 10.0
 
 
 def test_run_to_completion_with_rising_progress(daemon):

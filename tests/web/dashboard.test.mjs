@@ -658,6 +658,8 @@ async function main() {
       await waitFor(async () => /for longer advances/.test(await text(page, '#session-error')), 'the step-too-long error', 5000);
       const long = await text(page, '#session-error');
       assert(/use Run to end for longer advances/.test(long) && !/POST/.test(long), `the step-too-long advice: "${long}"`);
+      /* session 32: written from the problem's max_duration (the daemon's --max-step), not by rewriting its text */
+      assert(/a step is at most 10 s, got 20 s/.test(long), `the step-too-long limit: "${long}"`);
       await page.locator('#step-duration').fill('1');
     });
 

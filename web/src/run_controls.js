@@ -32,10 +32,12 @@ export function initRunControls(state, { header, stream, refreshList }) {
     } catch (e) {
       /* the daemon names the field (off the sample grid, longer than --max-step): mark it too */
       markFromProblem(e, { '/duration': $('step-duration') });
-      /* the daemon's advice names its API (POST .../run); here that is the Run button */
-      if (e instanceof ApiError && e.problem?.type === '/problems/step-too-long') {
-        const here = (m) => (typeof m === 'string' ? m.replace(/use POST \S+ for longer advances/, 'use Run to end for longer advances') : m);
-        e = new ApiError(e.status, { ...e.problem, detail: here(e.problem.detail), errors: e.errors.map((x) => ({ ...x, message: here(x.message) })) });
+      /* the daemon's advice names its API (POST .../run); here that is the Run
+       * button: the message is written from the problem's fields, not its text */
+      const p = e instanceof ApiError ? e.problem : null;
+      if (p?.type === '/problems/step-too-long' && typeof p.max_duration === 'number') {
+        const m = `/duration: a step is at most ${fmt(p.max_duration)} s, got ${fmt(duration)} s; use Run to end for longer advances`;
+        e = new ApiError(e.status, { ...p, detail: m, errors: [{ pointer: '/duration', message: m }] });
       }
       showError($('session-error'), e);
     }
