@@ -150,6 +150,12 @@ static json_t *engine_map_doc(const ts_config *cfg, const ts_engine_cycle *rows,
     return doc ? doc : no_json(err, "engine map");
 }
 
+ts_rc tsa_analysis_check(const ts_config *cfg, const char *command, ts_err *err)
+{
+    return strcmp(command, "tune") == 0 ? ts_ivs_tune_check(cfg, err)
+                                        : ts_engine_full_load_sweep_check(cfg, err);
+}
+
 json_t *tsa_engine_map_json(const ts_config *cfg, ts_progress_fn progress, void *ud, ts_err *err)
 {
     ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT];

@@ -57,6 +57,10 @@ json_t *tsa_engine_map_json(const ts_config *cfg, ts_progress_fn progress, void 
 json_t *tsa_tune_json(const ts_config *cfg, const char *var, const double *x, int n,
                       ts_progress_fn progress, void *ud, ts_err *err);
 
+/* The refusals of cfg that tsa_engine_map_json ("engine-map") or tsa_tune_json
+ * ("tune") would make, without running anything: TS_OK or their error. */
+ts_rc tsa_analysis_check(const ts_config *cfg, const char *command, ts_err *err);
+
 /* Read a schedule typed as text, "X1,X2,..." (the CLI's --schedule-mass, the
  * daemon's ?schedule_mass=), for var "mass" or "grade": 1 to
  * TSA_TUNE_SCHEDULE_MAX plain decimals (tsa_is_decimal), each within the

@@ -211,8 +211,7 @@ static void add_error(json_t *errors, ts_err *first, int *count, ts_rc code, con
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
     if (*count == 0) ts_err_set(first, code, pointer, "%s", msg);
-    if (errors)
-        json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", pointer, "message", msg));
+    tsa_errors_add(errors, *count, pointer, msg);
     (*count)++;
 }
 
@@ -284,7 +283,7 @@ static void read_field(const ts_param *p, const json_t *v, char *base, json_t *e
         size_t n = json_string_length(v);
         if (n + 1 > (size_t)p->capacity) {
             add_error(errors, first, count, TS_ERR_RANGE, p->pointer,
-                      "%s: at most %d characters, got %zu", p->pointer, p->capacity - 1, n);
+                      "%s: at most %d bytes of UTF-8, got %zu", p->pointer, p->capacity - 1, n);
             return;
         }
         memcpy(at, json_string_value(v), n + 1);
@@ -617,7 +616,10 @@ json_t *tsa_config_schema(void)
                 break;
             }
             case TS_PT_STRING:
+                /* the limit is in bytes (the C field's size): maxLength, which counts
+                 * characters, is exact for ASCII; x-max-bytes holds for any text */
                 json_object_set_new(f, "maxLength", json_integer(p->capacity - 1));
+                json_object_set_new(f, "x-max-bytes", json_integer(p->capacity - 1));
                 /* not an enum: with --client-files yes a daemon reads other courses */
                 if (strcmp(p->pointer, "/terrain/course") == 0)
                     json_object_set_new(f, "examples", tsa_shipped_courses());

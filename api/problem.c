@@ -151,3 +151,16 @@ char *tsa_pointer_join(char *out, size_t n, const char *parent, const char *key)
     out[k] = '\0';
     return out;
 }
+
+void tsa_errors_add(json_t *errors, int count, const char *pointer, const char *message)
+{
+    if (!errors || count > TSA_ERRORS_MAX) return;
+    if (count == TSA_ERRORS_MAX) {
+        char note[80];
+        snprintf(note, sizeof note, "more errors were found; the first %d are listed",
+                 TSA_ERRORS_MAX);
+        json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", "", "message", note));
+    } else
+        json_array_append_new(errors,
+                              json_pack("{s:s,s:s}", "pointer", pointer, "message", message));
+}

@@ -134,8 +134,7 @@ json_t *tsa_parse_object(const char *body, size_t len, ts_err *err)
 static void add_error(json_t *errors, ts_err *err, int *count, ts_rc code, const char *pointer,
                       const char *msg)
 {
-    if (errors)
-        json_array_append_new(errors, json_pack("{s:s,s:s}", "pointer", pointer, "message", msg));
+    tsa_errors_add(errors, *count, pointer, msg);
     if ((*count)++ == 0) ts_err_set(err, code, pointer, "%s", msg);
 }
 

@@ -31,6 +31,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "../api/analysis_json.h"
 #include "../api/config_json.h"
 #include "../api/modes_json.h"
 #include "../api/problem.h"
@@ -707,6 +708,11 @@ static enum MHD_Result get_series(tsd_request *r)
                      : accept_prefers(accept, "text/csv", "application/json");
     if (format && !csv && strcmp(format, "json") != 0)
         return bad_param(r, "format", "json or csv expected", format);
+    /* a token is a row this query's pages reach: from or after it, on its every grid
+     * (a made-up one read rows before from, or off the grid, as if they were asked) */
+    if (token >= 0 && (token < q.from || (token - q.from) % every != 0))
+        return bad_param(r, "page_token", "the next_page_token of a page of this query expected",
+                         tsd_arg(r, "page_token"));
     long start = token >= 0 ? token : q.from;
     long rows_cap = SERIES_PAGE_CELLS / (q.n + 1); /* q.n <= MAX_CHANNELS_SELECT: >= 1 */
     if (page_size > rows_cap) page_size = rows_cap;
@@ -847,11 +853,13 @@ static enum MHD_Result get_fft(tsd_request *r)
                    want, r->srv->opt.max_samples);
         return reply_err_status(r, &e, 422);
     }
-    if (want < 2) {
+    /* a symmetric Hann window over 2 samples is all zeros (no gain to divide by) */
+    long least = win == TS_FFT_HANN ? 3 : 2;
+    if (want < least) {
         ts_err_set(&e, TS_ERR_PARAM, "/from",
                    "/from: the range holds %ld stored samples (from past the stored end or "
-                   "after to); a spectrum needs at least 2",
-                   want > 0 ? want : 0);
+                   "after to); a spectrum needs at least %ld%s",
+                   want > 0 ? want : 0, least, win == TS_FFT_HANN ? " with the Hann window" : "");
         return tsd_reply_err(r, &e, NULL);
     }
     long *index;
@@ -880,7 +888,9 @@ static enum MHD_Result get_fft(tsd_request *r)
         json_t *fa = json_array(), *aa = json_array();
         for (long k = 0; k < nf; k++) {
             json_array_append_new(fa, json_real(freq[k]));
-            json_array_append_new(aa, json_real(amp[k]));
+            /* a channel with a NaN sample has no spectrum: null, as in rows (json_real
+             * of a non-finite number is NULL, and the append would drop it) */
+            json_array_append_new(aa, isfinite(amp[k]) ? json_real(amp[k]) : json_null());
         }
         const ts_channel *chn = &s->ch.view.v[c];
         out = json_pack("{s:s,s:s,s:s,s:f,s:f,s:I,s:f,s:s,s:s,s:o,s:o}", "session", s->id,
@@ -1093,13 +1103,18 @@ static enum MHD_Result get_frame(tsd_request *r)
             if (!*c) break;
         }
     }
-    snprintf(r->etag, sizeof r->etag, "\"%s-%ld-%016llx-%s\"", s->id, lround(t * rate),
-             (unsigned long long)h, TS_VERSION);
+    /* the sample drawn: the nearest stored one; up to half a period past the
+     * last is the last (lround would name the next, which a later step stores,
+     * and the ETag, immutable, would then stand for two images) */
+    long k = lround(t * rate);
+    if (k > q.to) k = q.to;
+    snprintf(r->etag, sizeof r->etag, "\"%s-%ld-%016llx-%s\"", s->id, k, (unsigned long long)h,
+             TS_VERSION);
     const char *inm = MHD_lookup_connection_value(r->conn, MHD_HEADER_KIND,
                                                   MHD_HTTP_HEADER_IF_NONE_MATCH);
     if (inm && etag_listed(inm, r->etag)) return tsd_reply_not_modified(r);
     if (tsd_reply_budget_full(r, &ret)) return ret; /* not drawn to be refused */
-    return tsd_frames_reply(r, s, &v, t * rate, 0, 1, 1, 0);
+    return tsd_frames_reply(r, s, &v, (double)k, 0, 1, 1, 0);
 }
 
 static enum MHD_Result get_frames(tsd_request *r)
@@ -1169,6 +1184,9 @@ static int analysis_config(tsd_request *r, const char *command, ts_config *cfg,
     json_t *errors = json_array();
     ts_rc rc = tsa_config_load(doc, cfg, NULL, errors, &e);
     if (rc == TS_OK) rc = tsa_config_runnable(doc, command, &e);
+    /* the analysis' own refusals of the config (an engine table, the tune's
+     * window), answered now as a session's are, not by an operation that fails */
+    if (rc == TS_OK) rc = tsa_analysis_check(cfg, command, &e);
     if (rc != TS_OK) {
         json_decref(doc);
         *ret = reply_body_err(r, &e, errors);

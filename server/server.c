@@ -442,6 +442,16 @@ static int cross_site(tsd_request *r)
     return 1;
 }
 
+/* MHD_KeyValueIterator: counts the Content-Length headers into *cls. */
+static enum MHD_Result count_length_header(void *cls, enum MHD_ValueKind kind, const char *key,
+                                           const char *value)
+{
+    (void)kind;
+    (void)value;
+    if (strcasecmp(key, MHD_HTTP_HEADER_CONTENT_LENGTH) == 0) ++*(int *)cls;
+    return MHD_YES;
+}
+
 static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, const char *url,
                                       const char *method, const char *version,
                                       const char *upload_data, size_t *upload_data_size,
@@ -474,6 +484,18 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
                                      "Bad request path",
                                      "the path holds an encoded NUL (%00) or slash (%2F); "
                                      "neither is part of any route",
+                                     NULL);
+        /* two Content-Length headers: libmicrohttpd 0.9.75 frames the body by
+         * one of them; a proxy in front may have taken the other, and the
+         * rest of the body would be read as the next request (RFC 9112 6.3:
+         * an invalid message, 400, and the connection closed) */
+        int lengths = 0;
+        MHD_get_connection_values(conn, MHD_HEADER_KIND, count_length_header, &lengths);
+        if (lengths > 1)
+            return tsd_reply_problem(r, MHD_HTTP_BAD_REQUEST, "/problems/bad-framing",
+                                     "Bad message framing",
+                                     "more than one Content-Length header: the body's length "
+                                     "is ambiguous",
                                      NULL);
         /* a declared length past the limit too (a chunked body is counted as
          * it arrives, below) */
@@ -512,6 +534,24 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
     return tsd_route(r);
 }
 
+/* The request's path as one log line's field: libmicrohttpd hands it decoded,
+ * so a %0A in it would start a line of the client's choosing; control bytes,
+ * blanks and '%' are written percent-encoded again. */
+static void log_path(char *out, size_t n, const char *url)
+{
+    static const char hex[] = "0123456789ABCDEF";
+    size_t k = 0;
+    for (const unsigned char *c = (const unsigned char *)url; *c && k + 4 < n; c++) {
+        if (*c <= 0x20 || *c == 0x7f || *c == '%') {
+            out[k++] = '%';
+            out[k++] = hex[*c >> 4];
+            out[k++] = hex[*c & 15];
+        } else
+            out[k++] = (char)*c;
+    }
+    out[k] = 0;
+}
+
 static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
                       enum MHD_RequestTerminationCode toe)
 {
@@ -530,9 +570,13 @@ static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     struct tm tm;
     gmtime_r(&now, &tm);
     strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", &tm);
-    fprintf(stderr, "%s %s %s %u %zu %.1fms%s\n", when, r->method, r->url, r->status, r->bytes,
-            1e3 * (tsd_now() - r->t_start),
+    size_t np = 3 * strlen(r->url) + 5; /* every byte escaped at worst */
+    char *path = malloc(np);
+    if (path) log_path(path, np, r->url);
+    fprintf(stderr, "%s %s %s %u %zu %.1fms%s\n", when, r->method, path ? path : "?", r->status,
+            r->bytes, 1e3 * (tsd_now() - r->t_start),
             toe == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " (aborted)");
+    free(path);
     tsd_session_put(r->session);
     json_decref(r->async_result);
     json_decref(r->async_errors);

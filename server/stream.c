@@ -44,6 +44,8 @@ static void damaged_end(stream_ctx *c, long bad)
     c->cut = 1;
 }
 
+static void finish(stream_ctx *c);
+
 static void refill(stream_ctx *c)
 {
     tsd_session *s = c->s;
@@ -66,8 +68,13 @@ static void refill(stream_ctx *c)
         c->failed = 1;
         return;
     }
-    if (got == 0) { /* rows deleted under us (session deleted): end */
-        c->ended = 1;
+    if (got == 0) { /* the rows went with the session (deleted under us): end as the
+                       await path does, with the end event saying so; rows that vanished
+                       otherwise cut the stream (a clean end would claim them sent) */
+        if (tsd_session_is_deleted(s))
+            finish(c);
+        else
+            c->failed = 1;
         return;
     }
     for (long k = 0; k < got; k++) {
@@ -88,7 +95,11 @@ static void refill(stream_ctx *c)
 static void finish(stream_ctx *c)
 {
     c->ended = 1;
-    if (c->ndjson) return;
+    if (c->ndjson) { /* no end line in NDJSON: a deleted session's stream is cut, so the
+                        client does not take the rows it got for all of them */
+        if (tsd_session_is_deleted(c->s)) c->cut = 1;
+        return;
+    }
     json_t *j = tsd_session_json(c->s, 1);
     json_t *st = json_pack("{s:O,s:O,s:O}", "status", json_object_get(j, "status"), "t",
                            json_object_get(j, "t"), "index", json_object_get(j, "index"));

@@ -19,6 +19,15 @@ _Static_assert(TS_ENGINE_SWEEP_NPOINT ==
                    (TS_ENGINE_SWEEP_RPM_HI - TS_ENGINE_SWEEP_RPM_LO) / TS_ENGINE_SWEEP_RPM_STEP + 1,
                "TS_ENGINE_SWEEP_NPOINT does not match the speed range");
 
+ts_rc ts_engine_full_load_sweep_check(const ts_config *cfg, ts_err *err)
+{
+    if (ts_param_validate(cfg, err) != TS_OK) return err ? err->code : TS_ERR_PARAM;
+    ts_engine *e = ts_engine_make(cfg, err);
+    if (!e) return err ? err->code : TS_ERR_PARAM;
+    ts_engine_free(e);
+    return TS_OK;
+}
+
 ts_rc ts_engine_full_load_sweep(const ts_config *cfg, ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT],
                                 ts_progress_fn progress, void *ud, ts_err *err)
 {

@@ -21,6 +21,8 @@ ts_rc ts_fft_amplitude(const double *x, int n, double fs, ts_fft_detrend detrend
 {
     if (n < 2 || !(fs > 0))
         return ts_err_set(err, TS_ERR_PARAM, NULL, "fft: need n >= 2 samples and fs > 0");
+    if (window == TS_FFT_HANN && n < 3) /* the symmetric window over 2 points is 0, 0 */
+        return ts_err_set(err, TS_ERR_PARAM, NULL, "fft: the Hann window needs n >= 3 samples");
     int nb = ts_fft_nbins(n);
     double *in = fftw_malloc(sizeof(double) * (size_t)n);
     fftw_complex *out = fftw_malloc(sizeof(fftw_complex) * (size_t)nb);

@@ -94,8 +94,9 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err)
     return ts_ivs_tune_polled(cfg, out, NULL, NULL, 0, 0, err);
 }
 
-ts_rc ts_ivs_tune_polled(const ts_config *cfg, ts_ivs_tune_result *out, ts_progress_fn poll,
-                         void *ud, int done, int total, ts_err *err)
+/* The refusals made before any run, and the plant's config (*plant: the point
+ * mass at the low rack over cfg's settle + duration). */
+static ts_rc plant_config(const ts_config *cfg, ts_config *plant, ts_err *err)
 {
     ts_config c = *cfg;
     const ts_control_config *cc = &cfg->control;
@@ -118,7 +119,28 @@ ts_rc ts_ivs_tune_polled(const ts_config *cfg, ts_ivs_tune_result *out, ts_progr
     c.control.mode = TS_CONTROL_RACK;
     c.control.rack = cc->tune_rack_low;
     c.run.duration = cc->tune_settle + cc->tune_duration;
-    ts_rc rc = TS_OK;
+    *plant = c;
+    return TS_OK;
+}
+
+ts_rc ts_ivs_tune_check(const ts_config *cfg, ts_err *err)
+{
+    ts_config c;
+    ts_rc rc = plant_config(cfg, &c, err);
+    if (rc != TS_OK) return rc;
+    ts_model *m = ts_model_make(&c, err); /* the plant's own refusals (engine, driveline) */
+    if (!m) return err ? err->code : TS_ERR_PARAM;
+    ts_model_free(m);
+    return TS_OK;
+}
+
+ts_rc ts_ivs_tune_polled(const ts_config *cfg, ts_ivs_tune_result *out, ts_progress_fn poll,
+                         void *ud, int done, int total, ts_err *err)
+{
+    const ts_control_config *cc = &cfg->control;
+    ts_config c;
+    ts_rc rc = plant_config(cfg, &c, err);
+    if (rc != TS_OK) return rc;
     ts_model *m1 = NULL;
     ts_data *d0 = NULL, *d1 = NULL;
     series s = {NULL, NULL, 0, 0, -1, 0, poll, ud, done, total, 0};

@@ -50,4 +50,9 @@ ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err);
 ts_rc ts_ivs_tune_polled(const ts_config *cfg, ts_ivs_tune_result *out, ts_progress_fn poll,
                          void *ud, int done, int total, ts_err *err);
 
+/* ts_ivs_tune's refusals of cfg itself, without its runs (the fields checked
+ * before them, the point-mass plant's ts_model_make): what a server answers
+ * before queueing a tune. */
+ts_rc ts_ivs_tune_check(const ts_config *cfg, ts_err *err);
+
 #endif

@@ -134,6 +134,9 @@ static void schema_comes_from_the_table(void **state)
         "course");
     assert_int_equal(json_integer_value(json_object_get(course, "maxLength")),
                      ts_param_find("/terrain/course")->capacity - 1);
+    /* in bytes: maxLength counts characters, exact for ASCII only (session 32) */
+    assert_int_equal(json_integer_value(json_object_get(course, "x-max-bytes")),
+                     ts_param_find("/terrain/course")->capacity - 1);
     /* the shipped courses as examples (the dashboard offers them), not an enum */
     json_t *ex = json_object_get(course, "examples");
     assert_true(json_array_size(ex) >= 1);

@@ -220,12 +220,18 @@ def test_a_changed_unit_is_served_as_stored(tmp_path):
 
 
 def test_a_tune_its_range_refuses_fails_as_invalid_argument(daemon):
-    # settle + step response past a run's longest (3600 s): refused by the tune
-    # itself once started (TS_ERR_RANGE), an invalid argument (code 3) like a
-    # TS_ERR_PARAM, not an internal error (13)
+    # settle + step response past a run's longest (3600 s): refused before the
+    # tune is queued (session 32; it was a 202 and an operation that failed)
     r = requests.post(daemon.url + "/v1/tune",
                       json={"preset": "bump-coupled-ivs5mph",
                             "control": {"tune_settle": 3000, "tune_duration": 1000}}, timeout=30)
+    is_problem(r, 400, "/control/tune_duration")
+    # a range refusal only the runs can find (the full-rack speed still rising
+    # after 2 s): TS_ERR_RANGE in the operation, an invalid argument (code 3)
+    # like a TS_ERR_PARAM, not an internal error (13)
+    r = requests.post(daemon.url + "/v1/tune",
+                      json={"preset": "bump-coupled-ivs5mph", "control": {"tune_duration": 2}},
+                      timeout=30)
     assert r.status_code == 202, r.text
     op = wait_op(daemon.url, r.json()["id"], timeout=60)
     e = op["error"]

@@ -133,12 +133,32 @@ static void peak_band_is_closed_and_the_parabola_exact(void **state)
     assert_true(isnan(A));
 }
 
+/* EVIDENCE: the symmetric Hann window w_i = (1 - cos(2 pi i / (n - 1))) / 2 is
+ * 0, 0 for n = 2: no gain to divide by (every amplitude was NaN, and the
+ * daemon's /fft answered an empty amplitude list). n = 2 is refused with the
+ * Hann window, answered with the rectangular one; n = 3 (window 0, 1, 0) is
+ * a spectrum with finite amplitudes (session-32 review). */
+static void hann_window_needs_three_samples(void **state)
+{
+    (void)state;
+    const double x[3] = {1.0, 2.0, 0.5};
+    double f[2], a[2];
+    ts_err err;
+    assert_int_equal(ts_fft_amplitude(x, 2, 100, TS_FFT_MEAN, TS_FFT_HANN, f, a, &err),
+                     TS_ERR_PARAM);
+    assert_int_equal(ts_fft_amplitude(x, 2, 100, TS_FFT_MEAN, TS_FFT_RECT, f, a, &err), TS_OK);
+    assert_true(isfinite(a[0]) && isfinite(a[1]));
+    assert_int_equal(ts_fft_amplitude(x, 3, 100, TS_FFT_MEAN, TS_FFT_HANN, f, a, &err), TS_OK);
+    assert_true(isfinite(a[0]) && isfinite(a[1]));
+}
+
 int main(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(finds_frequencies_and_amplitudes),
-        cmocka_unit_test(end_bins_are_not_doubled), cmocka_unit_test(linear_detrend_removes_a_line),
-        cmocka_unit_test(peak_between_bins_is_interpolated),
-        cmocka_unit_test(peak_band_is_closed_and_the_parabola_exact)};
+    const struct CMUnitTest tests[] = {cmocka_unit_test(finds_frequencies_and_amplitudes),
+                                       cmocka_unit_test(end_bins_are_not_doubled),
+                                       cmocka_unit_test(linear_detrend_removes_a_line),
+                                       cmocka_unit_test(peak_between_bins_is_interpolated),
+                                       cmocka_unit_test(peak_band_is_closed_and_the_parabola_exact),
+                                       cmocka_unit_test(hann_window_needs_three_samples)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
