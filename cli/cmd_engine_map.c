@@ -271,7 +271,7 @@ int tsc_cmd_engine_map(int argc, char **argv)
     if (!out == !spool_out) { /* the usage's alternatives: one of them */
         fprintf(stderr, "tanksim engine-map: %s\n",
                 out ? "give --out FILE.csv (the map) or --spool FILE.csv (the spool-ups), not both"
-                    : "--out FILE.csv is required");
+                    : "--out FILE.csv (the map) or --spool FILE.csv (the spool-ups) is required");
         json_decref(resolved);
         return TSC_EXIT_USAGE;
     }

@@ -455,13 +455,16 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     int nc = m->nchannel, n = 0;
     double t20 = ts_rows_first_crossing(rows, nrows, nc, CH_SPEED, 20 * KMH);
     double t60 = ts_rows_first_crossing(rows, nrows, nc, CH_SPEED, 60 * KMH);
-    n = ts_metric_add(out, n, max, "speed_at_20s_kmh", "km/h",
-                      value_at(rows, nrows, nc, CH_SPEED, 20.0) * 3.6,
-                      "vehicle speed 20 s after the start (Table 2 column 1)");
+    n = ts_metric_add(
+        out, n, max, "speed_at_20s_kmh", "km/h", value_at(rows, nrows, nc, CH_SPEED, 20.0) * 3.6,
+        "vehicle speed 20 s after the start (Table 2 column 1; the conventional row is "
+        "calibrated to it [C Table 2]: final ratio, constant rolling resistance)");
     n = ts_metric_add(out, n, max, "t_0_60_kmh_s", "s", t60,
-                      "time from standstill to 60 km/h (Table 2 column 2)");
+                      "time from standstill to 60 km/h (Table 2 column 2; conventional: same "
+                      "calibration [C Table 2])");
     n = ts_metric_add(out, n, max, "t_20_60_kmh_s", "s", t60 - t20,
-                      "time from 20 to 60 km/h (Table 2 column 3)");
+                      "time from 20 to 60 km/h (Table 2 column 3; conventional: same calibration "
+                      "[C Table 2])");
     n = ts_metric_add(out, n, max, "speed_at_end_kmh", "km/h",
                       rows[(nrows - 1) * nc + CH_SPEED] * 3.6,
                       "vehicle speed at the end of the run");

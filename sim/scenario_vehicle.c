@@ -306,8 +306,8 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     f = spectrum_peak(m, rows, nrows, CH_T_RR, -1, 13.0, 20.0, &a);
     n = ts_metric_add(
         out, n, max, "tension_peak_13_20hz", "Hz", f,
-        "tension spectrum peak in 13-20 Hz (paper Fig. 13b-c: 14.0 Hz; EA is calibrated "
-        "to put the longitudinal circuit mode there)");
+        "tension spectrum peak in 13-20 Hz (paper Fig. 13b-c: 14.0 Hz; on the bump course "
+        "the course's line v / 2 ft, not a calibrated track mode: README)");
     n = ts_metric_add(out, n, max, "tension_peak_13_20hz_amp", "N", a, "its amplitude");
     /* the same on the dynamic part alone (tension less the quasi-static tension
      * of the same support positions): what the track's own vibration adds, free

@@ -137,6 +137,9 @@ def test_what_cannot_be_done_exactly_is_refused(tmp_path):
     out = run("engine-map", "--preset", "engine-map-conventional", "--out", str(tmp_path / "m.csv"),
               "--spool", str(tmp_path / "s.csv"))
     assert out.returncode == 2 and "not both" in out.stderr, out.stderr
+    # neither: the message names both (it named --out alone, session-32 review)
+    out = run("engine-map", "--preset", "engine-map-conventional")
+    assert out.returncode == 2 and "--out" in out.stderr and "--spool" in out.stderr, out.stderr
     # output that cannot be written is a failure (modes and tune exited 0)
     with open("/dev/full", "w") as full:
         r = subprocess.run([TANKSIM, "modes", "--preset", "m1"], stdout=full, stderr=subprocess.PIPE,
