@@ -5,7 +5,6 @@
 #include "frames.h"
 
 #include <math.h>
-#include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -131,14 +130,6 @@ static void frames_free(void *cls)
 }
 
 /* The client closed its end: a half-closed or reset socket polls as hung up. */
-static int client_gone(struct MHD_Connection *conn)
-{
-    const union MHD_ConnectionInfo *ci =
-        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
-    if (!ci) return 0;
-    struct pollfd p = {.fd = ci->connect_fd, .events = POLLRDHUP};
-    return poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR));
-}
 
 /* The answer of a draw job whose session was deleted, wherever the job
  * notices it: between frames, in a rebuild, or at a frame's snapshot that a
@@ -155,7 +146,7 @@ static ts_rc job_interrupted(frames_ctx *f, ts_err *why)
 {
     if (atomic_load(&f->srv->stopping)) return tsd_err_shutdown(why);
     if (tsd_session_is_deleted(f->s)) return err_deleted(f, why);
-    if (client_gone(f->conn)) /* nobody reads this answer; it ends the job */
+    if (tsd_client_gone(f->conn)) /* nobody reads this answer; it ends the job */
         return ts_err_set(why, TS_ERR_CANCELLED, NULL, "the client closed the connection");
     return TS_OK;
 }

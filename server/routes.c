@@ -578,8 +578,8 @@ static enum MHD_Result post_step(tsd_request *r)
     }
     r->async_status = MHD_HTTP_OK;
     tsd_request_defer(r, reply_async);
-    if (tsd_session_step(r->session, duration, &r->async_result, &r->async_err, step_done, r) !=
-        TS_OK) {
+    if (tsd_session_step(r->session, r->conn, duration, &r->async_result, &r->async_err, step_done,
+                         r) != TS_OK) {
         /* nothing queued: r->async_err holds why; reply from the resume path */
         tsd_request_resume(r);
     }

@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <poll.h>
 #include <strings.h>
 #include <sys/socket.h>
 #include <time.h>
@@ -264,6 +265,15 @@ ts_rc tsd_long_job_take(tsd_server *s, int *retry_after, ts_err *err)
 void tsd_long_job_give(tsd_server *s)
 {
     atomic_fetch_sub(&s->long_jobs, 1);
+}
+
+int tsd_client_gone(struct MHD_Connection *conn)
+{
+    const union MHD_ConnectionInfo *ci =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+    if (!ci) return 0;
+    struct pollfd p = {.fd = ci->connect_fd, .events = POLLRDHUP};
+    return poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR));
 }
 
 ts_rc tsd_err_shutdown(ts_err *err)

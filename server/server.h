@@ -65,6 +65,11 @@ typedef struct tsd_options {
 /* Fill err with TSD_ERR_SHUTDOWN and TSD_SHUTDOWN_MSG; returns the code. */
 ts_rc tsd_err_shutdown(ts_err *err);
 
+/* Whether the client of conn has closed its side (poll POLLRDHUP, no wait):
+ * long jobs ask it between units of work, so nobody's abandoned request
+ * holds a worker (frames between drawings, a step every 16 samples). */
+int tsd_client_gone(struct MHD_Connection *conn);
+
 typedef struct tsd_server {
     tsd_options opt;
     struct MHD_Daemon *mhd;

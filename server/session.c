@@ -969,7 +969,7 @@ static int flush(tsd_session *s, const char *status, const char *error)
     return rc;
 }
 
-typedef enum { ADV_NONE, ADV_YIELD, ADV_PACE, ADV_CANCEL, ADV_STOP, ADV_IO } adv_reason;
+typedef enum { ADV_NONE, ADV_YIELD, ADV_PACE, ADV_CANCEL, ADV_STOP, ADV_IO, ADV_GONE } adv_reason;
 
 typedef struct advance_ctx {
     tsd_session *s;
@@ -982,6 +982,7 @@ typedef struct advance_ctx {
     double pace_wall0;  /* monotonic time the run started */
     double until;       /* the run's end [s] */
     double resume_at;   /* when paced out: monotonic time to continue */
+    struct MHD_Connection *client; /* a step's request: stop when it hangs up (NULL: run) */
     adv_reason reason;
 } advance_ctx;
 
@@ -1016,6 +1017,10 @@ static int on_sample(void *ud, long index, double t, const double *v, int n)
     }
     if (atomic_load(&s->srv->stopping)) {
         a->reason = ADV_STOP;
+        return 1;
+    }
+    if (a->client && index % 16 == 0 && tsd_client_gone(a->client)) {
+        a->reason = ADV_GONE; /* nobody reads the step's answer: stop, paused here */
         return 1;
     }
     double now = a->slice_end > 0 || a->rtf > 0 ? tsd_now() : 0;
@@ -1119,6 +1124,7 @@ static tsd_status roll_back_to_store(tsd_session *s, int dbrc, ts_err *err)
 
 typedef struct step_job_arg {
     tsd_session *s;
+    struct MHD_Connection *client;
     double duration;
     json_t **result;
     ts_err *err;
@@ -1142,7 +1148,7 @@ static void step_job(void *arg)
              "the daemon stopped (killed or crashed) during a step of this session to t = %g s; "
              "it is paused at its last stored row: step again to go on",
              t0 + j->duration);
-    advance_ctx a = {.s = s, .status = "paused", .error = why};
+    advance_ctx a = {.s = s, .status = "paused", .error = why, .client = j->client};
     pthread_mutex_lock(&s->mu);
     s->status = TSD_PAUSED;
     pthread_mutex_unlock(&s->mu);
@@ -1170,6 +1176,11 @@ static void step_job(void *arg)
     else if (rc == TS_OK && cut && a.reason == ADV_CANCEL)
         rc = ts_err_set(&err, TS_ERR_NOTFOUND, NULL, "session %s was deleted during the step",
                         s->id);
+    else if (rc == TS_OK && cut && a.reason == ADV_GONE) /* for the log; no one reads it */
+        rc = ts_err_set(&err, TS_ERR_CANCELLED, NULL,
+                        "the client closed the connection during the step: session %s stopped "
+                        "at t = %g s (rows up to it are stored)",
+                        s->id, t);
     if (rc == TS_OK) {
         pthread_mutex_lock(&s->mu);
         *j->result = json_pack("{s:s,s:s,s:f,s:I,s:o}", "id", s->id, "status",
@@ -1218,8 +1229,8 @@ static ts_rc acquire(tsd_session *s, ts_err *err)
     return rc;
 }
 
-ts_rc tsd_session_step(tsd_session *s, double duration, json_t **result, ts_err *err,
-                       void (*done)(void *ud), void *ud)
+ts_rc tsd_session_step(tsd_session *s, struct MHD_Connection *client, double duration,
+                       json_t **result, ts_err *err, void (*done)(void *ud), void *ud)
 {
     ts_rc rc = acquire(s, err);
     if (rc != TS_OK) return rc;
@@ -1229,7 +1240,7 @@ ts_rc tsd_session_step(tsd_session *s, double duration, json_t **result, ts_err 
         return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     }
     tsd_session_hold(s);
-    *j = (step_job_arg){s, duration, result, err, done, ud};
+    *j = (step_job_arg){s, client, duration, result, err, done, ud};
     if (tsd_pool_submit(s->srv->pool, step_job, j, 0) != 0) {
         free(j);
         unbusy(s);

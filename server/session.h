@@ -129,9 +129,11 @@ json_t *tsd_session_list(tsd_server *srv, long page_size, long after_seq);
 
 /* Advance by duration on the pool, then call done(ud) from the worker after
  * filling *result ({"id","status","t","index","values"}) or *err. TS_ERR_STATE
- * when busy/done/failed; the callback is not called when this fails. */
-ts_rc tsd_session_step(tsd_session *s, double duration, json_t **result, ts_err *err,
-                       void (*done)(void *ud), void *ud);
+ * when busy/done/failed; the callback is not called when this fails. client
+ * (may be NULL) is the request's connection: when its client hangs up the
+ * step stops, the session paused at its last row (TS_ERR_CANCELLED). */
+ts_rc tsd_session_step(tsd_session *s, struct MHD_Connection *client, double duration,
+                       json_t **result, ts_err *err, void (*done)(void *ud), void *ud);
 
 /* Start a run to `until` (<= run.duration), at most rtf x real time when
  * rtf > 0. Returns the operation document (new reference). */

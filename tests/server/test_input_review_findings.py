@@ -19,7 +19,10 @@ against the daemon before its fix:
   bytes) got "at most 63 characters, got 80";
 - a request with two different Content-Length headers was taken (201):
   RFC 9112 6.3 makes it invalid, and behind a proxy that framed the body by
-  the other one its tail would be read as a request of its own.
+  the other one its tail would be read as a request of its own;
+- a synchronous step went on after its client hung up (a 10-s step of a
+  session with max_step 1 us holds a worker for minutes, and every other
+  step of the session got 409 meanwhile).
 """
 import socket
 import time
@@ -198,3 +201,25 @@ def test_two_content_length_headers_are_refused(daemon):
     assert text.startswith("HTTP/1.1 400"), text
     assert "/problems/bad-framing" in text and "Content-Length" in text, text
     assert len(requests.get(daemon.url + "/v1/sessions").json()["sessions"]) == before
+
+
+def test_a_step_stops_when_its_client_hangs_up(daemon):
+    url = daemon.url
+    # ~1 us steps: a 10-s step would take minutes of worker time
+    r = requests.post(url + "/v1/sessions",
+                      json={"preset": "bump-prescribed-static", "run": {"max_step": 1e-6}})
+    sid = r.json()["id"]
+    try:
+        requests.post(f"{url}/v1/sessions/{sid}/step", json={"duration": 10}, timeout=1.5)
+        assert False, "the step answered within 1.5 s"
+    except requests.exceptions.ReadTimeout:
+        pass  # the client gives up and closes the connection
+    deadline = time.time() + 10
+    while time.time() < deadline:
+        r = requests.post(f"{url}/v1/sessions/{sid}/step", json={"duration": 0.005}, timeout=30)
+        if r.status_code != 409:
+            break
+        time.sleep(0.1)
+    assert r.status_code == 200, r.text  # the abandoned step let go of the session
+    s = requests.get(f"{url}/v1/sessions/{sid}").json()
+    assert s["status"] == "paused" and s["t"] < 5, s
