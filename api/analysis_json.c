@@ -19,6 +19,7 @@
 #include "../sim/ivs_tune.h"
 #include "../sim/param.h"
 #include "config_json.h"
+#include "session_json.h"
 
 /* ---- engine map ---- */
 
@@ -101,8 +102,7 @@ static json_t *no_json(ts_err *err, const char *what)
  * value (e.g. bsfc at zero brake power) as null. NULL only when out of memory. */
 static json_t *number(double v, int integer)
 {
-    if (!isfinite(v)) return json_null();
-    return integer ? json_integer((json_int_t)llround(v)) : json_real(v);
+    return integer && isfinite(v) ? json_integer((json_int_t)llround(v)) : tsa_json_real(v);
 }
 
 /* Append a new value to an array (a NULL value or array fails); 0 on success. */

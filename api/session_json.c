@@ -242,11 +242,16 @@ json_t *tsa_channels_json(const tsa_channels *c, const int *idx, int n)
     return a;
 }
 
+json_t *tsa_json_real(double v)
+{
+    return isfinite(v) ? json_real(v) : json_null();
+}
+
 json_t *tsa_values_json(const tsa_channels *c, const double *row)
 {
     json_t *o = json_object();
     for (int i = 0; i < c->n; i++)
-        json_object_set_new(o, c->v[i].name, isfinite(row[i]) ? json_real(row[i]) : json_null());
+        json_object_set_new(o, c->v[i].name, tsa_json_real(row[i]));
     return o;
 }
 
@@ -419,8 +424,7 @@ json_t *tsa_metrics_json(const ts_metric *mt, int n)
     json_t *a = json_array();
     for (int i = 0; a && i < n; i++) {
         json_t *o = json_pack("{s:s,s:s,s:o,s:s}", "name", mt[i].name, "unit", mt[i].unit, "value",
-                              isfinite(mt[i].value) ? json_real(mt[i].value) : json_null(),
-                              "description", mt[i].description);
+                              tsa_json_real(mt[i].value), "description", mt[i].description);
         if (!o || json_array_append_new(a, o) != 0) {
             json_decref(a);
             return NULL;

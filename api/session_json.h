@@ -94,6 +94,10 @@ json_t *tsa_channels_json(const tsa_channels *c, const int *idx, int n);
 /* {"name": value, ...} of one row of c->n values. */
 json_t *tsa_values_json(const tsa_channels *c, const double *row);
 
+/* A JSON number, or null for NaN and infinities (json_real would give NULL,
+ * which an append or a pack drops or fails on). New reference. */
+json_t *tsa_json_real(double v);
+
 /* Parse a comma-separated channel list ("vehicle.speed,sprocket.torque") into
  * channel indexes; "t" (index 0) is always first and never repeated. NULL or ""
  * selects every channel. param names where the list came from (the query

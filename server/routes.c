@@ -853,8 +853,7 @@ static enum MHD_Result get_fft(tsd_request *r)
                    want, r->srv->opt.max_samples);
         return reply_err_status(r, &e, 422);
     }
-    /* a symmetric Hann window over 2 samples is all zeros (no gain to divide by) */
-    long least = win == TS_FFT_HANN ? 3 : 2;
+    long least = ts_fft_min_samples((ts_fft_window)win);
     if (want < least) {
         ts_err_set(&e, TS_ERR_PARAM, "/from",
                    "/from: the range holds %ld stored samples (from past the stored end or "
@@ -888,9 +887,7 @@ static enum MHD_Result get_fft(tsd_request *r)
         json_t *fa = json_array(), *aa = json_array();
         for (long k = 0; k < nf; k++) {
             json_array_append_new(fa, json_real(freq[k]));
-            /* a channel with a NaN sample has no spectrum: null, as in rows (json_real
-             * of a non-finite number is NULL, and the append would drop it) */
-            json_array_append_new(aa, isfinite(amp[k]) ? json_real(amp[k]) : json_null());
+            json_array_append_new(aa, tsa_json_real(amp[k])); /* NaN samples: null */
         }
         const ts_channel *chn = &s->ch.view.v[c];
         out = json_pack("{s:s,s:s,s:s,s:f,s:f,s:I,s:f,s:s,s:s,s:o,s:o}", "session", s->id,

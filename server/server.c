@@ -544,22 +544,37 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
     return tsd_route(r);
 }
 
-/* The request's path as one log line's field: libmicrohttpd hands it decoded,
- * so a %0A in it would start a line of the client's choosing; control bytes,
- * blanks and '%' are written percent-encoded again. */
-static void log_path(char *out, size_t n, const char *url)
+/* Bytes of a decoded path that the log writes percent-encoded again:
+ * libmicrohttpd hands the path decoded, so a %0A in it would start a line of
+ * the client's choosing; blanks would split the line's fields. */
+static int log_escaped(unsigned char c)
 {
+    return c <= 0x20 || c == 0x7f || c == '%';
+}
+
+/* The path as one log line's field: url itself when it holds no byte to
+ * escape (every ordinary request), else the escaped copy, also put in *owned
+ * for the caller to free; "?" when that copy cannot be made. */
+static const char *log_path(const char *url, char **owned)
+{
+    size_t n = 0, esc = 0;
+    for (; url[n]; n++)
+        esc += log_escaped((unsigned char)url[n]);
+    *owned = NULL;
+    if (!esc) return url;
+    char *out = malloc(n + 2 * esc + 1);
+    if (!out) return "?";
     static const char hex[] = "0123456789ABCDEF";
-    size_t k = 0;
-    for (const unsigned char *c = (const unsigned char *)url; *c && k + 4 < n; c++) {
-        if (*c <= 0x20 || *c == 0x7f || *c == '%') {
-            out[k++] = '%';
-            out[k++] = hex[*c >> 4];
-            out[k++] = hex[*c & 15];
+    char *o = out;
+    for (const unsigned char *c = (const unsigned char *)url; *c; c++)
+        if (log_escaped(*c)) {
+            *o++ = '%';
+            *o++ = hex[*c >> 4];
+            *o++ = hex[*c & 15];
         } else
-            out[k++] = (char)*c;
-    }
-    out[k] = 0;
+            *o++ = (char)*c;
+    *o = 0;
+    return *owned = out;
 }
 
 static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
@@ -580,13 +595,12 @@ static void completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     struct tm tm;
     gmtime_r(&now, &tm);
     strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", &tm);
-    size_t np = 3 * strlen(r->url) + 5; /* every byte escaped at worst */
-    char *path = malloc(np);
-    if (path) log_path(path, np, r->url);
-    fprintf(stderr, "%s %s %s %u %zu %.1fms%s\n", when, r->method, path ? path : "?", r->status,
-            r->bytes, 1e3 * (tsd_now() - r->t_start),
+    char *owned;
+    const char *path = log_path(r->url, &owned);
+    fprintf(stderr, "%s %s %s %u %zu %.1fms%s\n", when, r->method, path, r->status, r->bytes,
+            1e3 * (tsd_now() - r->t_start),
             toe == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " (aborted)");
-    free(path);
+    free(owned);
     tsd_session_put(r->session);
     json_decref(r->async_result);
     json_decref(r->async_errors);

@@ -44,7 +44,23 @@ static void damaged_end(stream_ctx *c, long bad)
     c->cut = 1;
 }
 
-static void finish(stream_ctx *c);
+static void finish(stream_ctx *c)
+{
+    c->ended = 1;
+    if (c->ndjson) { /* no end line in NDJSON: a deleted session's stream is cut, so the
+                        client does not take the rows it got for all of them */
+        if (tsd_session_is_deleted(c->s)) c->cut = 1;
+        return;
+    }
+    json_t *j = tsd_session_json(c->s, 1);
+    json_t *st = json_pack("{s:O,s:O,s:O}", "status", json_object_get(j, "status"), "t",
+                           json_object_get(j, "t"), "index", json_object_get(j, "index"));
+    char *text = st ? json_dumps(st, JSON_COMPACT) : NULL;
+    tsa_buf_printf(&c->buf, "event: end\ndata: %s\n\n", text ? text : "{}");
+    free(text);
+    json_decref(st);
+    json_decref(j);
+}
 
 static void refill(stream_ctx *c)
 {
@@ -90,24 +106,6 @@ static void refill(stream_ctx *c)
     }
     c->next = c->index[got - 1] + 1;
     if (bad >= 0) damaged_end(c, bad);
-}
-
-static void finish(stream_ctx *c)
-{
-    c->ended = 1;
-    if (c->ndjson) { /* no end line in NDJSON: a deleted session's stream is cut, so the
-                        client does not take the rows it got for all of them */
-        if (tsd_session_is_deleted(c->s)) c->cut = 1;
-        return;
-    }
-    json_t *j = tsd_session_json(c->s, 1);
-    json_t *st = json_pack("{s:O,s:O,s:O}", "status", json_object_get(j, "status"), "t",
-                           json_object_get(j, "t"), "index", json_object_get(j, "index"));
-    char *text = st ? json_dumps(st, JSON_COMPACT) : NULL;
-    tsa_buf_printf(&c->buf, "event: end\ndata: %s\n\n", text ? text : "{}");
-    free(text);
-    json_decref(st);
-    json_decref(j);
 }
 
 static ssize_t reader(void *cls, uint64_t pos, char *out, size_t max)

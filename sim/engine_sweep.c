@@ -19,10 +19,17 @@ _Static_assert(TS_ENGINE_SWEEP_NPOINT ==
                    (TS_ENGINE_SWEEP_RPM_HI - TS_ENGINE_SWEEP_RPM_LO) / TS_ENGINE_SWEEP_RPM_STEP + 1,
                "TS_ENGINE_SWEEP_NPOINT does not match the speed range");
 
+/* The sweep's engine; NULL with err filled when cfg is refused. ts_engine_make
+ * indexes its tables by the enum fields: validate as ts_model_make does. */
+static ts_engine *sweep_engine(const ts_config *cfg, ts_err *err)
+{
+    if (ts_param_validate(cfg, err) != TS_OK) return NULL;
+    return ts_engine_make(cfg, err);
+}
+
 ts_rc ts_engine_full_load_sweep_check(const ts_config *cfg, ts_err *err)
 {
-    if (ts_param_validate(cfg, err) != TS_OK) return err ? err->code : TS_ERR_PARAM;
-    ts_engine *e = ts_engine_make(cfg, err);
+    ts_engine *e = sweep_engine(cfg, err);
     if (!e) return err ? err->code : TS_ERR_PARAM;
     ts_engine_free(e);
     return TS_OK;
@@ -31,9 +38,7 @@ ts_rc ts_engine_full_load_sweep_check(const ts_config *cfg, ts_err *err)
 ts_rc ts_engine_full_load_sweep(const ts_config *cfg, ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT],
                                 ts_progress_fn progress, void *ud, ts_err *err)
 {
-    /* ts_engine_make indexes its tables by the enum fields: validate as ts_model_make does */
-    if (ts_param_validate(cfg, err) != TS_OK) return err ? err->code : TS_ERR_PARAM;
-    ts_engine *e = ts_engine_make(cfg, err);
+    ts_engine *e = sweep_engine(cfg, err);
     if (!e) return err ? err->code : TS_ERR_PARAM;
     double *x = calloc((size_t)ts_engine_nstate(e), sizeof *x);
     if (!x) {

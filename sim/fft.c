@@ -16,13 +16,18 @@ int ts_fft_nbins(int n)
     return n / 2 + 1;
 }
 
+int ts_fft_min_samples(ts_fft_window window)
+{
+    return window == TS_FFT_HANN ? 3 : 2;
+}
+
 ts_rc ts_fft_amplitude(const double *x, int n, double fs, ts_fft_detrend detrend,
                        ts_fft_window window, double *freq, double *amp, ts_err *err)
 {
-    if (n < 2 || !(fs > 0))
-        return ts_err_set(err, TS_ERR_PARAM, NULL, "fft: need n >= 2 samples and fs > 0");
-    if (window == TS_FFT_HANN && n < 3) /* the symmetric window over 2 points is 0, 0 */
-        return ts_err_set(err, TS_ERR_PARAM, NULL, "fft: the Hann window needs n >= 3 samples");
+    if (n < ts_fft_min_samples(window) || !(fs > 0))
+        return ts_err_set(
+            err, TS_ERR_PARAM, NULL, "fft: need n >= %d samples (%s window) and fs > 0",
+            ts_fft_min_samples(window), window == TS_FFT_HANN ? "Hann" : "rectangular");
     int nb = ts_fft_nbins(n);
     double *in = fftw_malloc(sizeof(double) * (size_t)n);
     fftw_complex *out = fftw_malloc(sizeof(fftw_complex) * (size_t)nb);

@@ -17,6 +17,10 @@ typedef enum ts_fft_window { TS_FFT_RECT, TS_FFT_HANN } ts_fft_window;
 /* Number of spectrum bins for n samples: n/2 + 1. */
 int ts_fft_nbins(int n);
 
+/* Fewest samples ts_fft_amplitude takes with this window: 2, or 3 for Hann
+ * (its symmetric window over 2 points is 0, 0: no gain to divide by). */
+int ts_fft_min_samples(ts_fft_window window);
+
 /* Amplitude spectrum of x[n] sampled at fs [Hz] after detrending and
  * windowing: freq[k] = k fs / n [Hz], amp[k] the amplitude of a sinusoid at
  * that frequency (window gain corrected; a pure A sin(2 pi f t) on a bin gives
