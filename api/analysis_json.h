@@ -59,7 +59,7 @@ json_t *tsa_tune_json(const ts_config *cfg, const char *var, const double *x, in
 
 /* The refusals of cfg that tsa_engine_map_json ("engine-map") or tsa_tune_json
  * ("tune") would make, without running anything: TS_OK or their error. */
-ts_rc tsa_analysis_check(const ts_config *cfg, const char *command, ts_err *err);
+TS_MUST_CHECK ts_rc tsa_analysis_check(const ts_config *cfg, const char *command, ts_err *err);
 
 /* Read a schedule typed as text, "X1,X2,..." (the CLI's --schedule-mass, the
  * daemon's ?schedule_mass=), for var "mass" or "grade": 1 to
@@ -67,6 +67,7 @@ ts_rc tsa_analysis_check(const ts_config *cfg, const char *command, ts_err *err)
  * range of /vehicle/mass or /vehicle/grade, into x[*n]. TS_ERR_PARAM with
  * that field's pointer and a message saying what is expected (not the text,
  * which the caller quotes) otherwise. */
-ts_rc tsa_tune_schedule_parse(const char *text, const char *var, double *x, int *n, ts_err *err);
+TS_MUST_CHECK ts_rc tsa_tune_schedule_parse(const char *text, const char *var, double *x, int *n,
+                                            ts_err *err);
 
 #endif

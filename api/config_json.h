@@ -38,12 +38,13 @@ json_t *tsa_config_resolve(const json_t *doc, ts_err *err);
 
 /* Read a resolved document into cfg. errors (may be NULL) is a JSON array that
  * receives every violation; returns the first one's code. */
-ts_rc tsa_config_read(const json_t *resolved, ts_config *cfg, json_t *errors, ts_err *err);
+TS_MUST_CHECK ts_rc tsa_config_read(const json_t *resolved, ts_config *cfg, json_t *errors,
+                                    ts_err *err);
 
 /* Resolve + read in one call; *resolved_out (if non-NULL) gets the resolved
  * document (new reference) on success. */
-ts_rc tsa_config_load(const json_t *doc, ts_config *cfg, json_t **resolved_out, json_t *errors,
-                      ts_err *err);
+TS_MUST_CHECK ts_rc tsa_config_load(const json_t *doc, ts_config *cfg, json_t **resolved_out,
+                                    json_t *errors, ts_err *err);
 
 /* Write a config back as a document {section: {field: value}}. */
 json_t *tsa_config_to_json(const ts_config *cfg);
@@ -63,7 +64,7 @@ json_t *tsa_preset_get(const char *name, ts_err *err);
  * No (TS_ERR_PARAM, pointer /preset) when its preset chain reaches a preset
  * whose "commands" list leaves command out (m1 and table1-span are for
  * "modes" only) before any document of the chain sets /run/kind itself. */
-ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err);
+TS_MUST_CHECK ts_rc tsa_config_runnable(const json_t *doc, const char *command, ts_err *err);
 
 /* 1 when v is a plain decimal numeral: [+-] digits [. digits] [(e|E) [+-]
  * digits], a digit before or after the point, no point or exponent when
@@ -75,16 +76,16 @@ int tsa_is_decimal(const char *v, int integer);
  * decimal integer (tsa_is_decimal with integer: "640.5", "6.4e2", " 640",
  * "640px" are refused, not cut) or is outside [lo, hi]. The daemon's query
  * integers and the CLI's integer options. */
-int tsa_parse_integer(const char *v, long lo, long hi, long *out);
+TS_MUST_CHECK int tsa_parse_integer(const char *v, long lo, long hi, long *out);
 /* v as a number in [lo, hi] into *out: 0, or -1 when v is not a plain decimal
  * numeral (tsa_is_decimal), is beyond a double or below its normal range
  * (ERANGE), or is outside [lo, hi]. The daemon's query numbers and flags, the
  * CLI's number options, the tune schedule lists. */
-int tsa_parse_number(const char *v, double lo, double hi, double *out);
+TS_MUST_CHECK int tsa_parse_number(const char *v, double lo, double hi, double *out);
 
 /* Read a config from a file path (a JSON document as above). */
-ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out,
-                           json_t *errors, ts_err *err);
+TS_MUST_CHECK ts_rc tsa_config_load_path(const char *path, ts_config *cfg, json_t **resolved_out,
+                                         json_t *errors, ts_err *err);
 
 /* 1 when /terrain/course_dir is the shipped courses' directory (whose courses
  * come from the embedded store), 0 for a directory of the user's, read from

@@ -57,8 +57,8 @@ typedef struct tsa_num_field {
 /* Read the fields from obj; unknown members, wrong types, missing required
  * members and out-of-range values each append {pointer, message} to errors
  * (may be NULL) and the first goes to err. TS_OK, TS_ERR_PARAM or TS_ERR_RANGE. */
-ts_rc tsa_read_numbers(const json_t *obj, const tsa_num_field *f, int nf, json_t *errors,
-                       ts_err *err);
+TS_MUST_CHECK ts_rc tsa_read_numbers(const json_t *obj, const tsa_num_field *f, int nf,
+                                     json_t *errors, ts_err *err);
 
 /* ---- channel tables ------------------------------------------------------- */
 
@@ -81,8 +81,8 @@ typedef struct tsa_channels {
  * store (cap entries, the caller's), their strings stay m's. So c is valid
  * while both store and m live. TS_ERR_LIMIT when m has more than cap channels
  * (c is then left empty). */
-ts_rc tsa_channels_from_model(tsa_channels *c, ts_channel *store, int cap, const ts_model *m,
-                              ts_err *err);
+TS_MUST_CHECK ts_rc tsa_channels_from_model(tsa_channels *c, ts_channel *store, int cap,
+                                            const ts_model *m, ts_err *err);
 
 /* Column of the channel named name, -1 when c has none. */
 int tsa_channel_index(const tsa_channels *c, const char *name);
@@ -104,8 +104,8 @@ json_t *tsa_json_real(double v);
  * parameter, e.g. "channels"): errors carry pointer "/<param>" and name it.
  * Unknown names -> TS_ERR_NOTFOUND. Writes at most max indexes to idx, the
  * count to *n. */
-ts_rc tsa_channel_select(const tsa_channels *c, const char *param, const char *list, int *idx,
-                         int max, int *n, ts_err *err);
+TS_MUST_CHECK ts_rc tsa_channel_select(const tsa_channels *c, const char *param, const char *list,
+                                       int *idx, int max, int *n, ts_err *err);
 
 /* ---- sample rows as text --------------------------------------------------- */
 
@@ -144,8 +144,8 @@ json_t *tsa_integrators_json(const ts_integrator_stats *s, int n);
  * is 0), *n their count. TS_ERR_NOMEM, or TS_ERR_INTERNAL when the count
  * changed between the two calls. Threads: as ts_model_metrics (serialise it
  * with every FFT user). */
-ts_rc tsa_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metric **out, int *n,
-                        ts_err *err);
+TS_MUST_CHECK ts_rc tsa_model_metrics(const ts_model *m, const double *rows, long nrows,
+                                      ts_metric **out, int *n, ts_err *err);
 
 /* [{"name","unit","value","description"}] of n figures in order, value null
  * when not finite (the run did not reach it). New reference. */

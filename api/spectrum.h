@@ -23,7 +23,8 @@
 
 /* x: n >= 2 samples at rate fs [Hz]. freq and amp receive n/2 + 1 values each
  * (caller allocates). TS_ERR_PARAM for n < 2 or fs <= 0, TS_ERR_NOMEM. */
-ts_rc tsa_amplitude_spectrum(const double *x, long n, double fs, ts_fft_detrend detrend,
-                             ts_fft_window window, double *freq, double *amp, ts_err *err);
+TS_MUST_CHECK ts_rc tsa_amplitude_spectrum(const double *x, long n, double fs,
+                                           ts_fft_detrend detrend, ts_fft_window window,
+                                           double *freq, double *amp, ts_err *err);
 
 #endif

@@ -20,8 +20,8 @@
 
 /* Assemble n >= 1 PNG frames (pngs[i], lens[i] bytes) into one APNG that loops
  * forever, each frame shown delay_num/delay_den seconds. */
-ts_rc tsr_apng_assemble(const unsigned char *const *pngs, const size_t *lens, int n,
-                        unsigned delay_num, unsigned delay_den, unsigned char **out,
-                        size_t *out_len, ts_err *err);
+TS_MUST_CHECK ts_rc tsr_apng_assemble(const unsigned char *const *pngs, const size_t *lens, int n,
+                                      unsigned delay_num, unsigned delay_den, unsigned char **out,
+                                      size_t *out_len, ts_err *err);
 
 #endif

@@ -18,18 +18,19 @@ typedef struct tsr_png_opts {
 
 /* Encode width x height RGBA8 pixels, rows top-down, stride bytes apart.
  * opts may be NULL for the defaults. On success *out and *out_len hold the PNG. */
-ts_rc tsr_png_encode(const unsigned char *rgba, int width, int height, size_t stride,
-                     const tsr_png_opts *opts, unsigned char **out, size_t *out_len, ts_err *err);
+TS_MUST_CHECK ts_rc tsr_png_encode(const unsigned char *rgba, int width, int height, size_t stride,
+                                   const tsr_png_opts *opts, unsigned char **out, size_t *out_len,
+                                   ts_err *err);
 
 /* As tsr_png_encode, but writes an RGB PNG, dropping every pixel's alpha byte:
  * for opaque frames (the renderer's), a quarter less data to compress. */
-ts_rc tsr_png_encode_opaque(const unsigned char *rgba, int width, int height, size_t stride,
-                            const tsr_png_opts *opts, unsigned char **out, size_t *out_len,
-                            ts_err *err);
+TS_MUST_CHECK ts_rc tsr_png_encode_opaque(const unsigned char *rgba, int width, int height,
+                                          size_t stride, const tsr_png_opts *opts,
+                                          unsigned char **out, size_t *out_len, ts_err *err);
 
 /* Decode a PNG (any colour type) into malloc'd RGBA8 top-down rows; for tests
  * and for re-reading cached frames. */
-ts_rc tsr_png_decode(const unsigned char *png, size_t len, unsigned char **rgba, int *width,
-                     int *height, ts_err *err);
+TS_MUST_CHECK ts_rc tsr_png_decode(const unsigned char *png, size_t len, unsigned char **rgba,
+                                   int *width, int *height, ts_err *err);
 
 #endif

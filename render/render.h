@@ -111,11 +111,11 @@ typedef struct tsr_view {
 void tsr_view_default(tsr_view *v);
 
 /* TS_OK, or TS_ERR_RANGE / TS_ERR_PARAM naming the bad field ("/width", ...). */
-ts_rc tsr_view_check(const tsr_view *v, ts_err *err);
+TS_MUST_CHECK ts_rc tsr_view_check(const tsr_view *v, ts_err *err);
 
 /* Copy text into v->text: TS_OK, or TS_ERR_RANGE naming "/text" when it does
  * not fit (it is not cut: a cut text would pass tsr_view_check's length). */
-ts_rc tsr_view_set_text(tsr_view *v, const char *text, ts_err *err);
+TS_MUST_CHECK ts_rc tsr_view_set_text(tsr_view *v, const char *text, ts_err *err);
 
 /* "side" / "three_quarter" -> tsr_view_kind, -1 if unknown; and back (never NULL). */
 int tsr_view_kind_parse(const char *name);
@@ -135,7 +135,8 @@ void tsr_scene_free(tsr_scene *s);
  * shape the track). TS_ERR_PARAM if g is inconsistent (counts out of range,
  * non-finite values, fewer than 3 track points, no sprocket or idler);
  * TS_ERR_RANGE from tsr_view_check. The scene keeps no pointer to g. */
-ts_rc tsr_scene_update(tsr_scene *s, const ts_geom *g, const tsr_view *v, ts_err *err);
+TS_MUST_CHECK ts_rc tsr_scene_update(tsr_scene *s, const ts_geom *g, const tsr_view *v,
+                                     ts_err *err);
 
 /* Pixel coordinates (x right, y down, pixel i covers [i, i+1)) of world point
  * (x, y, z) [m] in the image of scene s seen with view v, as tsr_render draws
@@ -143,8 +144,8 @@ ts_rc tsr_scene_update(tsr_scene *s, const ts_geom *g, const tsr_view *v, ts_err
  * Side view: with (cx, cz) the world position of the hull box centre and
  * k = width / span (span 13 m when 0): px = width/2 + k (x - cx),
  * py = height/2 - k (z - cz), whatever y. */
-ts_rc tsr_project(const tsr_scene *s, const tsr_view *v, double x, double y, double z,
-                  double *px, double *py, ts_err *err);
+TS_MUST_CHECK ts_rc tsr_project(const tsr_scene *s, const tsr_view *v, double x, double y, double z,
+                                double *px, double *py, ts_err *err);
 
 /* Box of the drawn hull (placement rule above) in the body frame: x forward,
  * z up, relative to the hull reference point (hull_x, hull_z) before pitch
@@ -177,12 +178,14 @@ typedef struct tsr_image {
  * tension colours (and, for the side view, span and aspect: it leaves out what
  * that view cannot see); size at the same aspect, shading, overlay, text and
  * antialias may differ from the view the scene was updated with. */
-ts_rc tsr_render(tsr_ctx *c, const tsr_scene *s, const tsr_view *v, tsr_image *out, ts_err *err);
+TS_MUST_CHECK ts_rc tsr_render(tsr_ctx *c, const tsr_scene *s, const tsr_view *v, tsr_image *out,
+                               ts_err *err);
 
 /* Snapshot -> PNG in one call, using a scene owned by the ctx: update, render,
  * encode with png (NULL: tsr_png_fast). *png is malloc'd; the caller frees it. */
-ts_rc tsr_render_png(tsr_ctx *c, const ts_geom *g, const tsr_view *v, const tsr_png_opts *png,
-                     unsigned char **out, size_t *out_len, ts_err *err);
+TS_MUST_CHECK ts_rc tsr_render_png(tsr_ctx *c, const ts_geom *g, const tsr_view *v,
+                                   const tsr_png_opts *png, unsigned char **out, size_t *out_len,
+                                   ts_err *err);
 
 /* The PNG settings frames use (see render.c for the measurement behind the
  * choice); tsr_render_png writes opaque RGB PNGs (tsr_png_encode_opaque). */

@@ -47,12 +47,12 @@ typedef struct tsd_analysis_req {
  * are stored, or when the long jobs are at their cap (then *retry_after is
  * set, server.h tsd_long_job_take), TSD_ERR_SHUTDOWN once shutdown began,
  * TS_ERR_NOMEM. */
-ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **opdoc,
-                         int *retry_after, ts_err *err);
+TS_MUST_CHECK ts_rc tsd_analysis_start(tsd_server *srv, const tsd_analysis_req *req, json_t **opdoc,
+                                       int *retry_after, ts_err *err);
 
 /* Start-up: store every analysis left not done as done with an error.
  * Returns how many, -1 on a store error (logged). */
-int tsd_analyses_recover(tsd_server *srv);
+TS_MUST_CHECK int tsd_analyses_recover(tsd_server *srv);
 
 /* The stored operation document of analysis id (for one the daemon no
  * longer holds in memory: tsd_op_json first). New reference, or NULL with
@@ -74,6 +74,6 @@ json_t *tsd_analysis_json(tsd_server *srv, const char *id, ts_err *err);
 
 /* Remove a finished analysis from the store and from memory:
  * TS_ERR_STATE while it runs, TS_ERR_NOTFOUND when not stored. */
-ts_rc tsd_analysis_delete(tsd_server *srv, const char *id, ts_err *err);
+TS_MUST_CHECK ts_rc tsd_analysis_delete(tsd_server *srv, const char *id, ts_err *err);
 
 #endif

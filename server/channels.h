@@ -41,11 +41,11 @@ typedef struct tsd_channels {
 char *tsd_channels_dump(const tsa_channels *c);
 
 /* Fill c from m (strings borrowed from m). 0, or -1 on no memory. */
-int tsd_channels_from_model(tsd_channels *c, const ts_model *m);
+TS_MUST_CHECK int tsd_channels_from_model(tsd_channels *c, const ts_model *m);
 
 /* Fill c from stored text (tsd_channels_dump's form). 0, or -1 with the
  * reason in why (malformed, no channels, first channel not "t"). */
-int tsd_channels_parse(tsd_channels *c, const char *text, char *why, size_t whylen);
+TS_MUST_CHECK int tsd_channels_parse(tsd_channels *c, const char *text, char *why, size_t whylen);
 
 /* 1 when c lists exactly m's channels (names and units, in order) and sample period. */
 int tsd_channels_match(const tsd_channels *c, const ts_model *m);

@@ -37,6 +37,8 @@
 
 #include <stddef.h>
 
+#include "../sim/errors.h"
+
 typedef struct tsd_db tsd_db;
 
 #define TSD_DB_FULL (-3) /* a write refused: the disk is full (SQLITE_FULL) */
@@ -45,18 +47,19 @@ typedef struct tsd_db tsd_db;
 tsd_db *tsd_db_open(const char *dir, char *err, size_t errlen);
 void tsd_db_close(tsd_db *db); /* NULL is a no-op */
 
-int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created, const char *preset,
-                          const char *config_json, int nchannel, const char *channels_json,
-                          const char *status);
-int tsd_db_session_status(tsd_db *db, long seq, const char *status, const char *error);
-int tsd_db_session_delete(tsd_db *db, long seq);
+TS_MUST_CHECK int tsd_db_session_insert(tsd_db *db, long seq, const char *id, double created,
+                                        const char *preset, const char *config_json, int nchannel,
+                                        const char *channels_json, const char *status);
+TS_MUST_CHECK int tsd_db_session_status(tsd_db *db, long seq, const char *status,
+                                        const char *error);
+TS_MUST_CHECK int tsd_db_session_delete(tsd_db *db, long seq);
 
 /* One batch: rows[nrows][nchannel] with indexes first..first+nrows-1, then
  * the state snapshot (may be NULL) taken at the last row, and the session's
  * status/error/t/idx (error NULL: none) — all in one transaction. */
-int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel, const double *rows,
-                  const void *state, size_t state_size, double t, long idx, const char *status,
-                  const char *error);
+TS_MUST_CHECK int tsd_db_append(tsd_db *db, long seq, long first, long nrows, int nchannel,
+                                const double *rows, const void *state, size_t state_size, double t,
+                                long idx, const char *status, const char *error);
 
 /* Visit every stored session in seq order (startup recovery). Its t and idx
  * are not passed: the state snapshot (tsd_db_state) is what a session
@@ -65,26 +68,27 @@ typedef void (*tsd_db_session_fn)(void *ud, long seq, const char *id, double cre
                                   const char *preset, const char *config_json,
                                   const char *status, const char *error,
                                   const char *channels_json /* "" when none stored */);
-int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud);
+TS_MUST_CHECK int tsd_db_sessions(tsd_db *db, tsd_db_session_fn fn, void *ud);
 
 /* Store (insert or replace) analysis id: its kind, creation time [Unix s],
  * whether it is done, its error's google.rpc code (0: none), the request
  * (JSON text) and the operation document (JSON text). The request is kept
  * once, in its own column: the caller leaves metadata.request out of the
  * document (analyses.c puts it back when reading). */
-int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double created, int done,
-                        int error_code, const char *request_json, const char *document_json);
+TS_MUST_CHECK int tsd_db_analysis_put(tsd_db *db, const char *id, const char *kind, double created,
+                                      int done, int error_code, const char *request_json,
+                                      const char *document_json);
 
 /* The stored operation document of analysis id and its request: *doc and
  * *request malloc'd JSON text (caller frees), both NULL when there is no
  * such analysis. */
-int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc, char **request);
+TS_MUST_CHECK int tsd_db_analysis_get(tsd_db *db, const char *id, char **doc, char **request);
 
 /* How many analyses are stored (*n). */
-int tsd_db_analysis_count(tsd_db *db, long *n);
+TS_MUST_CHECK int tsd_db_analysis_count(tsd_db *db, long *n);
 
 /* Remove analysis id; *deleted = 1 when there was one. */
-int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted);
+TS_MUST_CHECK int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted);
 
 /* Visit the stored analyses, newest first (id NULL), or analysis id only
  * (the rows are copied out before the first call, so fn may use the
@@ -97,26 +101,28 @@ int tsd_db_analysis_delete(tsd_db *db, const char *id, int *deleted);
 typedef void (*tsd_db_analysis_fn)(void *ud, const char *id, const char *kind, double created,
                                    int done, int error_code, const char *asked_json,
                                    const char *request_json);
-int tsd_db_analyses(tsd_db *db, const char *id, tsd_db_analysis_fn fn, void *ud);
+TS_MUST_CHECK int tsd_db_analyses(tsd_db *db, const char *id, tsd_db_analysis_fn fn, void *ud);
 
 /* Visit the ids of the analyses stored as not done (start-up recovery),
  * without reading their requests or documents (copied out first, as above). */
 typedef void (*tsd_db_analysis_id_fn)(void *ud, const char *id);
-int tsd_db_analyses_unfinished(tsd_db *db, tsd_db_analysis_id_fn fn, void *ud);
+TS_MUST_CHECK int tsd_db_analyses_unfinished(tsd_db *db, tsd_db_analysis_id_fn fn, void *ud);
 
 /* The stored state snapshot: *blob malloc'd (caller frees), *idx its index;
  * *blob = NULL when there is none. */
-int tsd_db_state(tsd_db *db, long seq, void **blob, size_t *size, long *idx);
+TS_MUST_CHECK int tsd_db_state(tsd_db *db, long seq, void **blob, size_t *size, long *idx);
 
 /* The latest snapshot with index <= at (same contract as tsd_db_state). */
-int tsd_db_snapshot_at(tsd_db *db, long seq, long at, void **blob, size_t *size, long *idx);
+TS_MUST_CHECK int tsd_db_snapshot_at(tsd_db *db, long seq, long at, void **blob, size_t *size,
+                                     long *idx);
 
 /* The stored row with the highest index of a session: *idx (-1 when it has
  * none), *t its first value (the time channel), and, when row is not NULL,
  * its nchannel values. 0, -1 on a store error, -2 when that row is not
  * nchannel doubles wide (damaged; logged; *idx and, if it has one, *t set,
  * row zeroed). */
-int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row, int nchannel);
+TS_MUST_CHECK int tsd_db_last_row(tsd_db *db, long seq, long *idx, double *t, double *row,
+                                  int nchannel);
 
 /* Read rows with from <= index <= to and (index - from) % every == 0, in
  * index order, at most max rows: index[] and rows[max][ncol] (caller

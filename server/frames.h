@@ -43,7 +43,7 @@
 #define TSD_MAX_FRAMES 3000      /* frames per multipart animation request */
 #define TSD_MAX_APNG_FRAMES 600  /* frames per APNG (held in memory until sent) */
 
-int tsd_renderers_init(tsd_server *srv);
+TS_MUST_CHECK int tsd_renderers_init(tsd_server *srv);
 void tsd_renderers_free(tsd_server *srv); /* after the pool has stopped */
 
 /* Start drawing frames of session s for sample indexes k0, k0 + dk, ... (n

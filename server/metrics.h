@@ -21,6 +21,8 @@ typedef struct tsd_metrics {
     atomic_llong sim_microseconds;  /* simulated time advanced [us] */
     atomic_llong wall_microseconds; /* wall time spent advancing [us] */
     atomic_long replies_busy;       /* answers refused 503 /problems/busy (tsd_reply_busy) */
+    atomic_long store_writes_refused; /* best-effort status and removal writes the store
+                                         refused (session.c store_status, store_delete) */
 } tsd_metrics;
 
 extern const char *const tsd_run_result_names[TSD_NRUN_RESULTS];

@@ -26,7 +26,7 @@
 
 typedef struct tsd_op tsd_op;
 
-int tsd_ops_init(tsd_server *srv);
+TS_MUST_CHECK int tsd_ops_init(tsd_server *srv);
 void tsd_ops_free(tsd_server *srv);
 
 /* A new operation for a run of session sid from t_start to until. NULL on oom

@@ -21,6 +21,8 @@
 
 #include <stddef.h>
 
+#include "../sim/errors.h"
+
 typedef struct tsd_pool tsd_pool;
 typedef void (*tsd_job_fn)(void *arg);
 
@@ -29,7 +31,7 @@ tsd_pool *tsd_pool_start(int nthreads);
 
 /* Queue fn(arg) to run at or after monotonic time not_before (0 = now).
  * 0 on success, -1 when the pool is stopping (the job is not run). */
-int tsd_pool_submit(tsd_pool *p, tsd_job_fn fn, void *arg, double not_before);
+TS_MUST_CHECK int tsd_pool_submit(tsd_pool *p, tsd_job_fn fn, void *arg, double not_before);
 
 /* Jobs queued or running (for /metrics). */
 int tsd_pool_pending(tsd_pool *p);

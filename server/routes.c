@@ -390,6 +390,10 @@ static enum MHD_Result get_metrics(tsd_request *r)
                    "# HELP tanksimd_samples_stored_total Sample rows written to the database.\n"
                    "# TYPE tanksimd_samples_stored_total counter\n"
                    "tanksimd_samples_stored_total %ld\n"
+                   "# HELP tanksimd_store_writes_refused_total Session status and removal "
+                   "writes the store refused (each logged; the session goes on as in memory).\n"
+                   "# TYPE tanksimd_store_writes_refused_total counter\n"
+                   "tanksimd_store_writes_refused_total %ld\n"
                    "# HELP tanksimd_jobs_pending Worker-pool jobs queued or running.\n"
                    "# TYPE tanksimd_jobs_pending gauge\n"
                    "tanksimd_jobs_pending %d\n"
@@ -412,9 +416,9 @@ static enum MHD_Result get_metrics(tsd_request *r)
                    "# TYPE tanksimd_http_requests_total counter\n",
                    atomic_load(&m->steps), 1e-6 * (double)atomic_load(&m->sim_microseconds),
                    1e-6 * (double)atomic_load(&m->wall_microseconds),
-                   atomic_load(&m->samples_stored), tsd_pool_pending(s->pool),
-                   atomic_load(&s->long_jobs), TSD_REPLY_BUDGET, atomic_load(&s->reply_bytes),
-                   atomic_load(&m->replies_busy));
+                   atomic_load(&m->samples_stored), atomic_load(&m->store_writes_refused),
+                   tsd_pool_pending(s->pool), atomic_load(&s->long_jobs), TSD_REPLY_BUDGET,
+                   atomic_load(&s->reply_bytes), atomic_load(&m->replies_busy));
     for (int c = 1; c < 6; c++)
         for (int k = 0; k < 100; k++) {
             long n = atomic_load(&m->requests[c][k]);

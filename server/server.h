@@ -149,7 +149,7 @@ typedef struct tsd_request {
  * *retry_after set to the Retry-After of its 429; every take that
  * succeeded is given back once, when the job ends. */
 #define TSD_RETRY_AFTER_BUSY_S 2 /* [s] Retry-After of the 429 at the long-job cap */
-ts_rc tsd_long_job_take(tsd_server *s, int *retry_after, ts_err *err);
+TS_MUST_CHECK ts_rc tsd_long_job_take(tsd_server *s, int *retry_after, ts_err *err);
 void tsd_long_job_give(tsd_server *s);
 
 /* Answers made whole before they are sent (a /series page, a spectrum, a
@@ -181,14 +181,14 @@ int tsd_reply_budget_full(tsd_request *r, enum MHD_Result *ret);
  * port the kernel chose), not listening yet: done first, before the store is
  * created or locked, so that a bad --bind or a port in use leaves nothing
  * behind. 0, or -1 with a message in err. unbind closes it (a later failure). */
-int tsd_server_bind(tsd_server *s, char *err, size_t errlen);
+TS_MUST_CHECK int tsd_server_bind(tsd_server *s, char *err, size_t errlen);
 void tsd_server_unbind(tsd_server *s);
 /* Listen on the bound socket and serve it (libmicrohttpd, which owns the
  * socket from the call on); 0 on success, -1 with a message in err. Until
  * here a client's connection is refused, as before the daemon ran.
  * libmicrohttpd's own error messages go into err while it starts, and to
  * stderr as "tanksimd: libmicrohttpd: ..." once it serves. */
-int tsd_server_start(tsd_server *s, char *err, size_t errlen);
+TS_MUST_CHECK int tsd_server_start(tsd_server *s, char *err, size_t errlen);
 void tsd_server_stop(tsd_server *s);
 /* Wait (at most timeout seconds, polling) until no request is in flight — at
  * shutdown, so that replies of deferred requests that workers resumed (a step

@@ -101,6 +101,22 @@ static tsd_status status_from_name(const char *s, char *error, size_t n)
     return TSD_FAILED;
 }
 
+/* Best-effort store writes. A status or a removal the store refuses is
+ * logged (db.c) and counted (/metrics tanksimd_store_writes_refused_total),
+ * and the session goes on as it is in memory; what each caller relies on
+ * when the write fails is said where it is called. */
+static void store_status(tsd_server *srv, long seq, tsd_status st, const char *error)
+{
+    if (tsd_db_session_status(srv->db, seq, tsd_status_name(st), error) != 0)
+        atomic_fetch_add(&srv->metrics.store_writes_refused, 1);
+}
+
+static void store_delete(tsd_server *srv, long seq)
+{
+    if (tsd_db_session_delete(srv->db, seq) != 0)
+        atomic_fetch_add(&srv->metrics.store_writes_refused, 1);
+}
+
 /* ---- lifetime ---------------------------------------------------------------- */
 
 static void session_free(tsd_session *s)
@@ -373,7 +389,8 @@ static void load_session(void *ud, long seq, const char *id, double created, con
                  "the daemon stopped (killed or crashed) during a run of this session; run it "
                  "again to go on from its last stored row");
         lc->interrupted++;
-        tsd_db_session_status(srv->db, seq, tsd_status_name(s->status), s->error);
+        /* refused: the next start finds it running and marks it again */
+        store_status(srv, seq, s->status, s->error);
     }
     char why[TS_ERR_MSG_LEN] = "";
     int ok;
@@ -669,7 +686,7 @@ static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolve
     int inserted = dbrc == 0;
     if (dbrc == 0) dbrc = store_first_row(s);
     if (dbrc != 0) {
-        if (inserted) tsd_db_session_delete(srv->db, s->seq); /* only what this create stored */
+        if (inserted) store_delete(srv, s->seq); /* only what this create stored */
         session_free(s);
         return tsd_err_store(srv, err, dbrc, "cannot store the session");
     }
@@ -678,7 +695,7 @@ static ts_rc create_reserved(tsd_server *srv, const json_t *doc, json_t *resolve
     if (ok) srv->reg->reserved--; /* the place is taken now */
     pthread_mutex_unlock(&srv->reg->mu);
     if (!ok) {
-        tsd_db_session_delete(srv->db, s->seq);
+        store_delete(srv, s->seq);
         session_free(s);
         return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     }
@@ -853,7 +870,7 @@ ts_rc tsd_session_delete(tsd_session *s, ts_err *err)
     wake_locked(s);
     pthread_mutex_unlock(&s->mu);
     if (idle) /* if this fails, the mark has the next start purge the rows */
-        tsd_db_session_delete(srv->db, s->seq);
+        store_delete(srv, s->seq);
     tsd_registry *g = srv->reg;
     pthread_mutex_lock(&g->mu);
     int i = registry_find_locked(g, s->id); /* there: only this, once, under build_mu, removes */
@@ -1055,7 +1072,7 @@ static void unbusy(tsd_session *s)
     int deleted = s->deleted;
     wake_locked(s);
     pthread_mutex_unlock(&s->mu);
-    if (deleted) tsd_db_session_delete(s->srv->db, s->seq); /* invariant 5 */
+    if (deleted) store_delete(s->srv, s->seq); /* invariant 5 */
 }
 
 /* Release busy with the new status and error (NULL: none — the stored error
@@ -1076,8 +1093,7 @@ static void unbusy(tsd_session *s)
  * the holder's (e.g. "running") for the time of one UPDATE. */
 static void release(tsd_session *s, tsd_status st, const char *error)
 {
-    if (!tsd_session_is_deleted(s))
-        tsd_db_session_status(s->srv->db, s->seq, tsd_status_name(st), error);
+    if (!tsd_session_is_deleted(s)) store_status(s->srv, s->seq, st, error);
     pthread_mutex_lock(&s->mu);
     s->status = st;
     snprintf(s->error, sizeof s->error, "%s", error ? error : "");
@@ -1085,7 +1101,7 @@ static void release(tsd_session *s, tsd_status st, const char *error)
     int deleted = s->deleted;
     wake_locked(s);
     pthread_mutex_unlock(&s->mu);
-    if (deleted) tsd_db_session_delete(s->srv->db, s->seq); /* invariant 5 */
+    if (deleted) store_delete(s->srv, s->seq); /* invariant 5 */
 }
 
 /* ---- step -------------------------------------------------------------------- */
@@ -1395,7 +1411,9 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
     s->error[0] = '\0';
     snprintf(s->op_id, sizeof s->op_id, "%s", tsd_op_id(op));
     pthread_mutex_unlock(&s->mu);
-    tsd_db_session_status(s->srv->db, s->seq, "running", NULL);
+    /* refused: the run's first stored batch writes it with its rows; a crash
+     * before that brings the session back as stored, not interrupted */
+    store_status(s->srv, s->seq, TSD_RUNNING, NULL);
     *opdoc = tsd_op_json_of(s->srv, op);
     if (tsd_pool_submit(s->srv->pool, run_slice, j, 0) != 0) {
         /* Nothing ran: the session goes back as it was, the operation ends
@@ -1412,7 +1430,7 @@ ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **opdoc, 
         memcpy(s->error, before_error, sizeof before_error);
         memcpy(s->op_id, before_op, sizeof before_op);
         pthread_mutex_unlock(&s->mu);
-        tsd_db_session_status(s->srv->db, s->seq, tsd_status_name(before), before_error);
+        store_status(s->srv, s->seq, before, before_error);
         unbusy(s);
         tsd_session_put(s); /* the job's reference */
         free(j);

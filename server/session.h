@@ -90,7 +90,7 @@ typedef struct tsd_session {
 } tsd_session;
 
 /* Registry: make, load what the database holds (running -> interrupted), free. */
-int tsd_sessions_init(tsd_server *srv, char *err, size_t errlen);
+TS_MUST_CHECK int tsd_sessions_init(tsd_server *srv, char *err, size_t errlen);
 void tsd_sessions_wake_all(tsd_server *srv); /* resume every waiting stream */
 void tsd_sessions_free(tsd_server *srv);
 void tsd_sessions_count(tsd_server *srv, long counts[TSD_NSTATUS]);
@@ -99,8 +99,8 @@ void tsd_sessions_count(tsd_server *srv, long counts[TSD_NSTATUS]);
  * TS_ERR_PARAM/RANGE with every violation in errors; unknown preset ->
  * TS_ERR_NOTFOUND; scenario not built -> TS_ERR_UNSUPPORTED; too many
  * sessions -> TS_ERR_LIMIT. *out gets a reference. */
-ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out, json_t *errors,
-                         ts_err *err);
+TS_MUST_CHECK ts_rc tsd_session_create(tsd_server *srv, const json_t *doc, tsd_session **out,
+                                       json_t *errors, ts_err *err);
 tsd_session *tsd_session_get(tsd_server *srv, const char *id); /* NULL if unknown */
 /* A session loaded at start-up is deferred: listed and its rows served from
  * the stored channel table, its model not built. tsd_session_build (on the
@@ -120,7 +120,7 @@ int tsd_session_is_deleted(tsd_session *s);
 ts_rc tsd_session_err_deleted(const tsd_session *s, ts_err *err);
 /* Delete s (the caller holds a reference): 404 when it already is, IO when the
  * store will not record it (the session is kept). */
-ts_rc tsd_session_delete(tsd_session *s, ts_err *err);
+TS_MUST_CHECK ts_rc tsd_session_delete(tsd_session *s, ts_err *err);
 
 /* Session object (session_json.h shape), taken under the lock. */
 json_t *tsd_session_json(tsd_session *s, int summary);
@@ -132,12 +132,14 @@ json_t *tsd_session_list(tsd_server *srv, long page_size, long after_seq);
  * when busy/done/failed; the callback is not called when this fails. client
  * (may be NULL) is the request's connection: when its client hangs up the
  * step stops, the session paused at its last row (TS_ERR_CANCELLED). */
-ts_rc tsd_session_step(tsd_session *s, struct MHD_Connection *client, double duration,
-                       json_t **result, ts_err *err, void (*done)(void *ud), void *ud);
+TS_MUST_CHECK ts_rc tsd_session_step(tsd_session *s, struct MHD_Connection *client, double duration,
+                                     json_t **result, ts_err *err, void (*done)(void *ud),
+                                     void *ud);
 
 /* Start a run to `until` (<= run.duration), at most rtf x real time when
  * rtf > 0. Returns the operation document (new reference). */
-ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **op, ts_err *err);
+TS_MUST_CHECK ts_rc tsd_session_run(tsd_session *s, double until, double rtf, json_t **op,
+                                    ts_err *err);
 
 /* Ask the run of operation op_id to stop (run -> paused). A no-op unless
  * that run is the one in progress: a cancel that arrives after its run ended
@@ -148,7 +150,7 @@ void tsd_session_cancel(tsd_session *s, const char *op_id);
 /* Streams: 1 when rows with index >= next are stored; 0 when none are yet
  * and the caller's connection has been suspended and queued in w (it is
  * resumed when rows arrive or the run ends); -1 when no more rows will come. */
-int tsd_session_await(tsd_session *s, long next, tsd_waiter *w);
+TS_MUST_CHECK int tsd_session_await(tsd_session *s, long next, tsd_waiter *w);
 void tsd_session_unwait(tsd_session *s, tsd_waiter *w);
 
 #endif

@@ -81,7 +81,7 @@ typedef struct ts_cosim ts_cosim;
 
 /* TS_OK when o can be kept: steps > 0, the lead at least both steps,
  * predictor order 0 or 1; else TS_ERR_PARAM naming the /coupling field. */
-ts_rc ts_cosim_check(const ts_cosim_opts *o, ts_err *err);
+TS_MUST_CHECK ts_rc ts_cosim_check(const ts_cosim_opts *o, ts_err *err);
 
 /* initial: the follower's state at t0 (ω, α) and the leader's torque at t0. */
 ts_cosim *ts_cosim_make(const ts_cosim_opts *o, ts_cosim_leader leader, ts_cosim_follower follower,
@@ -93,7 +93,7 @@ ts_cosim *ts_cosim_make_sample(const ts_cosim_opts *o, ts_cosim_leader leader,
 void ts_cosim_free(ts_cosim *c);
 
 /* Run both sides until the follower reaches t_end. */
-ts_rc ts_cosim_advance(ts_cosim *c, double t_end, ts_err *err);
+TS_MUST_CHECK ts_rc ts_cosim_advance(ts_cosim *c, double t_end, ts_err *err);
 
 double ts_cosim_follower_time(const ts_cosim *c);
 double ts_cosim_leader_time(const ts_cosim *c);

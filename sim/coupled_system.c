@@ -519,21 +519,26 @@ static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, in
     }
     if (rc == TS_OK) {
         ts_powertrain_out o;
-        pt_side(c, &r->ps, r->rack_fixed, r->lead_t, r->yp, lead_w(r, r->lead_t), r->ylead_scratch,
-                &o, NULL);
-        *out = publish(r, r->lead_t, r->yp, lead_w(r, r->lead_t), &o);
+        if (pt_side(c, &r->ps, r->rack_fixed, r->lead_t, r->yp, lead_w(r, r->lead_t),
+                    r->ylead_scratch, &o, NULL) != 0)
+            rc = ts_powertrain_rhs_failed(r->lead_t, err);
+        else
+            *out = publish(r, r->lead_t, r->yp, lead_w(r, r->lead_t), &o);
     }
     r->st.powertrain_wall += ts_monotonic_seconds() - w0;
     return rc;
 }
 
-static void vehicle_report(ts_coupled_run *r, double t, ts_cosim_sample s, ts_cosim_report *rep)
+static ts_rc vehicle_report(ts_coupled_run *r, double t, ts_cosim_sample s, ts_cosim_report *rep,
+                            ts_err *err)
 {
     const ts_coupled *c = r->c;
-    vm_rhs_torque(c->v, r->w, t, r->yv, s.torque, s.inertia, r->ydv, NULL);
+    if (vm_rhs_torque(c->v, r->w, t, r->yv, s.torque, s.inertia, r->ydv, NULL) != 0)
+        return vm_rhs_failed(c->v, t, r->yv, err);
     rep->t = t;
     rep->omega = sprocket_rel(c, r->yv);
     rep->alpha = r->ydv[c->nq + SPIN_SPROCKET] - r->ydv[c->nq + Q_THETA];
+    return TS_OK;
 }
 
 static ts_rc follow_advance(void *ud, double t_to, const ts_cosim_torque *src, ts_cosim_report *out,
@@ -560,8 +565,8 @@ static ts_rc follow_advance(void *ud, double t_to, const ts_cosim_torque *src, t
         memcpy(r->yv, ts_ode_y(r->follow_ode), sizeof(double) * (size_t)r->c->nv);
         r->t = t_to;
         ts_cosim_sample s = {t_to, ts_cosim_torque_at(src, t_to), ts_cosim_inertia_at(src, t_to)};
-        vehicle_report(r, t_to, s, out);
-        r->rep = *out;
+        rc = vehicle_report(r, t_to, s, out, err);
+        if (rc == TS_OK) r->rep = *out;
     }
     r->src = NULL;
     r->st.vehicle_wall += ts_monotonic_seconds() - w0;
@@ -712,22 +717,20 @@ ts_rc ts_coupled_run_reset(ts_coupled_run *r, ts_err *err)
      * converter torque in a ~50-us boundary layer after t = 0 that a torque
      * sample at t = 0 cannot represent: the follower would interpolate a step
      * over the first macro step and lose half its impulse (O(h) forever). */
-    for (int it = 0; it < 4; it++) {
-        for (int k = 0; k < 8; k++) {
+    for (int it = 0; it <= 4; it++) { /* four corrections, then the start's exchange */
+        for (int k = 0; it < 4 && k < 8; k++) {
             turbine_lin l = linearise_turbine(r, 0.0, r->yp, w0);
             if (!(fabs(l.f_wt) > 0)) break;
             double g = l.f + l.f_w / l.f_wt * rep.alpha;
             r->yp[c->npt - 1] -= g / l.f_wt;
         }
-        pt_side(c, &r->ps, r->rack_fixed, 0.0, r->yp, w0, r->ydp, &o, NULL);
+        if (pt_side(c, &r->ps, r->rack_fixed, 0.0, r->yp, w0, r->ydp, &o, NULL) != 0)
+            return ts_powertrain_rhs_failed(0.0, err);
         pub = publish(r, 0.0, r->yp, w0, &o);
-        vehicle_report(r, 0.0, pub, &rep);
+        rc = vehicle_report(r, 0.0, pub, &rep, err);
+        if (rc != TS_OK) return rc;
         r->last = rep;
     }
-    pt_side(c, &r->ps, r->rack_fixed, 0.0, r->yp, w0, r->ydp, &o, NULL);
-    pub = publish(r, 0.0, r->yp, w0, &o);
-    vehicle_report(r, 0.0, pub, &rep);
-    r->last = rep;
     if (r->method != TS_COUPLING_LEADING_FOLLOWING)
         pub = (ts_cosim_sample){0.0, o.sprocket_torque, 0.0};
     return restart(r, rep, rep, pub, err);
@@ -776,7 +779,7 @@ ts_rc ts_coupled_run_set_rack(ts_coupled_run *r, double rack, ts_err *err)
     return TS_OK;
 }
 
-void ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o)
+ts_rc ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o, ts_err *err)
 {
     const ts_coupled *c = r->c;
     memset(o, 0, sizeof *o);
@@ -788,10 +791,12 @@ void ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o)
         w_pt = lead_w(r, r->lead_t); /* the leader's view of the sprocket */
     }
     drive_cmd d;
-    pt_side(c, &r->ps, r->rack_fixed, r->t, r->yp, w_pt, r->ydp, &o->pt, &d);
+    if (pt_side(c, &r->ps, r->rack_fixed, r->t, r->yp, w_pt, r->ydp, &o->pt, &d) != 0)
+        return ts_powertrain_rhs_failed(r->t, err);
     ts_cosim_sample s = {r->t, o->pt.sprocket_torque, 0.0};
     if (r->method == TS_COUPLING_LEADING_FOLLOWING) s = r->pub;
-    vm_rhs_torque(c->v, r->w, r->t, r->yv, s.torque, s.inertia, r->ydv, &o->diag);
+    if (vm_rhs_torque(c->v, r->w, r->t, r->yv, s.torque, s.inertia, r->ydv, &o->diag) != 0)
+        return vm_rhs_failed(c->v, r->t, r->yv, err);
     o->diag.drive_torque = o->pt.sprocket_torque;
     o->y_vehicle = r->yv;
     o->ydot_vehicle = r->ydv;
@@ -804,6 +809,7 @@ void ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o)
     o->rack_demand = d.demand;
     o->rack = d.rack;
     o->ps = r->ps;
+    return TS_OK;
 }
 
 void ts_coupled_run_stats(const ts_coupled_run *r, ts_coupled_stats *s)

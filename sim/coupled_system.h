@@ -125,14 +125,15 @@ void ts_coupled_run_free(ts_coupled_run *r);
 
 /* t = 0: vehicle at its static equilibrium, at rest; powertrain reset (idle,
  * 1st gear); controller integral 0. */
-ts_rc ts_coupled_run_reset(ts_coupled_run *r, ts_err *err);
+TS_MUST_CHECK ts_rc ts_coupled_run_reset(ts_coupled_run *r, ts_err *err);
 /* Integrate to exactly t_to. */
-ts_rc ts_coupled_run_advance(ts_coupled_run *r, double t_to, ts_err *err);
+TS_MUST_CHECK ts_rc ts_coupled_run_advance(ts_coupled_run *r, double t_to, ts_err *err);
 double ts_coupled_run_time(const ts_coupled_run *r);
 /* Rack demand of mode "rack" from now on (a driver's step; `tanksim tune`). */
-ts_rc ts_coupled_run_set_rack(ts_coupled_run *r, double rack, ts_err *err);
-/* Observation at the current time (evaluates both right-hand sides). */
-void ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o);
+TS_MUST_CHECK ts_rc ts_coupled_run_set_rack(ts_coupled_run *r, double rack, ts_err *err);
+/* Observation at the current time (evaluates both right-hand sides; fails,
+ * TS_ERR_DIVERGED, when either cannot be evaluated there). */
+TS_MUST_CHECK ts_rc ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o, ts_err *err);
 void ts_coupled_run_stats(const ts_coupled_run *r, ts_coupled_stats *s);
 /* The run's integrators as ts_integrator_stats entries (model.h): the
  * monolithic one, or the follower (vehicle) and the leader (powertrain; its
@@ -143,6 +144,6 @@ int ts_coupled_run_integrators(const ts_coupled_run *r, ts_integrator_stats *out
 /* Saved-state size (bytes), the same for every run of c. */
 size_t ts_coupled_state_size(const ts_coupled *c);
 void ts_coupled_run_save(const ts_coupled_run *r, void *buf);
-ts_rc ts_coupled_run_restore(ts_coupled_run *r, const void *buf, ts_err *err);
+TS_MUST_CHECK ts_rc ts_coupled_run_restore(ts_coupled_run *r, const void *buf, ts_err *err);
 
 #endif

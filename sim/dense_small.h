@@ -16,10 +16,12 @@
 #ifndef TS_DENSE_SMALL_H
 #define TS_DENSE_SMALL_H
 
+#include "errors.h"
+
 /* LU with partial pivoting of the n x n column-major a, in place: P a = L U,
  * piv[k] = row swapped with k at step k. Returns 0, or k + 1 when the pivot of
  * column k is exactly zero. */
-int ts_lu_factor(double *a, int n, int *piv);
+TS_MUST_CHECK int ts_lu_factor(double *a, int n, int *piv);
 /* Solve (L U) x = P b in place in b with the output of ts_lu_factor. */
 void ts_lu_solve(const double *a, int n, const int *piv, double *b);
 
@@ -29,7 +31,7 @@ void ts_lu_solve(const double *a, int n, const int *piv, double *b);
  * caller's: pat[j (n + 1)] = count, then the rows). The skipped terms are
  * exact zeros, so L is that of the dense right-looking loop bit for bit.
  * Returns 0, or j + 1 when the leading minor of order j + 1 is not positive. */
-int ts_chol_factor(double *a, int n, int *pat);
+TS_MUST_CHECK int ts_chol_factor(double *a, int n, int *pat);
 /* Solve L L^T x = b in place in b with the output of ts_chol_factor, sweeping
  * only the recorded rows (again the dense sweeps' result). */
 void ts_chol_solve(const double *a, int n, const int *pat, double *b);
@@ -42,7 +44,7 @@ void ts_chol_solve(const double *a, int n, const int *pat, double *b);
  * Bit for bit the results of reversing, calling ts_chol_factor /
  * ts_chol_solve and reversing back. For a matrix whose dense rows come first
  * (e.g. a vehicle's hull coordinates): eliminated last, they fill in little. */
-int ts_chol_factor_rev(double *a, int n, int *pat);
+TS_MUST_CHECK int ts_chol_factor_rev(double *a, int n, int *pat);
 void ts_chol_solve_rev(const double *a, int n, const int *pat, double *b);
 
 /* For a matrix with a fixed sparsity: the rows where column j of the
@@ -53,6 +55,6 @@ void ts_chol_solve_rev(const double *a, int n, const int *pat, double *b);
  * instead of scanning every row of every column for nonzeros: the same L and
  * pat bit for bit, provided a's nonzeros lie within mask. */
 void ts_chol_symbolic_rev(unsigned char *mask, int n, int *cand);
-int ts_chol_factor_rev_cand(double *a, int n, const int *cand, int *pat);
+TS_MUST_CHECK int ts_chol_factor_rev_cand(double *a, int n, const int *cand, int *pat);
 
 #endif

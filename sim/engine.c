@@ -456,6 +456,15 @@ static ts_rc step_diverged(const ts_engine *e, double t, double h, const double 
                            : "");
 }
 
+ts_rc ts_engine_rhs_failed(const ts_engine *e, double t, const double *x, ts_err *err)
+{
+    char why[160] = "";
+    en_domain_fault(e, x, why, sizeof why);
+    return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                      "the engine's equations cannot be evaluated at t = %.6f s: %s", t,
+                      why[0] ? why : "its state is outside the model's domain");
+}
+
 /* Load torque on the crankshaft as a function of (t, speed) at every stage. */
 typedef struct stage_load {
     ts_engine_load_fn fn; /* NULL: in->load_torque held */

@@ -131,8 +131,9 @@ void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double
  * Returns TS_OK, TS_ERR_NOMEM, or TS_ERR_DIVERGED (also when the secant ends
  * without meeting the load, e.g. a load above the full-rack torque; x then
  * holds the last search's state). */
-ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque, double p_amb,
-                           double T_amb, double *x, double *rack, ts_err *err);
+TS_MUST_CHECK ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque,
+                                         double p_amb, double T_amb, double *x, double *rack,
+                                         ts_err *err);
 
 /* Set both turbocharger rotor speeds in x [rad/s] (no-op for the map
  * fidelity). With the constant-phi fuel law the turbo match can settle on a
@@ -146,8 +147,13 @@ void ts_engine_atol(const ts_engine *e, double atol, double *atol_v);
 /* xdot = f(t, x, inputs); out (may be NULL) receives the outputs at (t, x).
  * Returns 0, or > 0 when x is outside the model's domain (e.g. a negative
  * mass: a CVODE-style recoverable failure; retry with a smaller step). */
-int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
-                  double *xdot, ts_engine_outputs *out);
+TS_MUST_CHECK int ts_engine_rhs(const ts_engine *e, double t, const double *x,
+                                const ts_engine_inputs *in, double *xdot, ts_engine_outputs *out);
+
+/* The error of a ts_engine_rhs that failed at (t, x) outside an integrator's
+ * step (a sample): TS_ERR_DIVERGED naming the state outside the domain.
+ * Returns the code. */
+ts_rc ts_engine_rhs_failed(const ts_engine *e, double t, const double *x, ts_err *err);
 
 /* Explicit integration of x from t over dt for callers that do not
  * integrate the engine themselves (engine_dyno, engine-map, vehicle runs
@@ -167,8 +173,8 @@ int ts_engine_rhs(const ts_engine *e, double t, const double *x, const ts_engine
  * torque are unchanged, and then exactly equal to a fresh evaluation).
  * Returns TS_OK or TS_ERR_DIVERGED. */
 size_t ts_engine_work_size(const ts_engine *e);
-ts_rc ts_engine_advance(const ts_engine *e, double *x, double t, double dt,
-                        const ts_engine_inputs *in, double *work, ts_err *err);
+TS_MUST_CHECK ts_rc ts_engine_advance(const ts_engine *e, double *x, double t, double dt,
+                                      const ts_engine_inputs *in, double *work, ts_err *err);
 
 /* Load torque on the crankshaft [N*m] at time t [s] and crank speed omega
  * [rad/s], for ts_engine_advance_load. */
@@ -195,9 +201,9 @@ typedef double (*ts_engine_load_fn)(void *ud, double t, double omega);
  * time constant ~ J / 45 N*m*s ~ 0.2 s), so the explicit exchange every H is
  * stable and first-order accurate in H. work: ts_engine_work_size(e)
  * doubles. Returns TS_OK or TS_ERR_DIVERGED. */
-ts_rc ts_engine_advance_load(const ts_engine *e, double *x, double t, double dt,
-                             const ts_engine_inputs *in, ts_engine_load_fn load, void *ud,
-                             double *work, ts_err *err);
+TS_MUST_CHECK ts_rc ts_engine_advance_load(const ts_engine *e, double *x, double t, double dt,
+                                           const ts_engine_inputs *in, ts_engine_load_fn load,
+                                           void *ud, double *work, ts_err *err);
 
 /* Cumulative integrals carried in x (crank_angle and mean_value; zeros for map):
  * energy and mass book-keeping for balance checks. Differences between two
@@ -235,8 +241,8 @@ typedef struct ts_engine_cycle {
 
 /* Run one engine cycle (4 pi of crank) from x with the given inputs and return
  * its means in cyc (may be NULL). speed_held: dynamometer. */
-ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in, double *work,
-                          ts_engine_cycle *cyc, ts_err *err);
+TS_MUST_CHECK ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in,
+                                        double *work, ts_engine_cycle *cyc, ts_err *err);
 
 /* Steady state on the dynamometer: integrate with speed held at omega and the
  * given inputs until the cycle-mean brake torque changes by less than tol
@@ -247,7 +253,8 @@ ts_rc ts_engine_cycle_run(const ts_engine *e, double *x, const ts_engine_inputs 
  * steady state depends on none of these); the final cycle is run with the
  * real model. x holds the start (e.g. a previous steady state) and
  * receives the final state; cyc (may be NULL) the last cycle's means. */
-ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega, const ts_engine_inputs *in,
-                       int max_cycles, double tol, ts_engine_cycle *cyc, ts_err *err);
+TS_MUST_CHECK ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega,
+                                     const ts_engine_inputs *in, int max_cycles, double tol,
+                                     ts_engine_cycle *cyc, ts_err *err);
 
 #endif

@@ -435,15 +435,15 @@ double en_spool_lag(const ts_engine *e, double omega);
 double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double air_flow,
                        double omega);
 
-int en_crank_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
-                 double *xdot, ts_engine_outputs *out);
+TS_MUST_CHECK int en_crank_rhs(const ts_engine *e, double t, const double *x,
+                               const ts_engine_inputs *in, double *xdot, ts_engine_outputs *out);
 /* The crank-angle right-hand side with the walls FROZEN (multirate stepping,
  * engine.c): the wall nodes' derivatives are NOT written and q_wall receives
  * the gas-side heat flux into each wall [W/m^2 of the wall's full area]
  * (EN_NCYL x EN_NSURF, layout of the wall states); the coolant and oil see the
  * frozen walls' back-side heat. With q_wall NULL this is en_crank_rhs. */
-int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *in, double *xdot,
-                  ts_engine_outputs *out, double *q_wall);
+TS_MUST_CHECK int en_crank_eval(const ts_engine *e, const double *x, const ts_engine_inputs *in,
+                                double *xdot, ts_engine_outputs *out, double *q_wall);
 /* Gas temperatures en_crank_eval runs between [K] (its domain guards; outside
  * them the gas-property fits and the heat transfer mean nothing). */
 #define EN_T_DOMAIN_MIN 100.0
@@ -470,8 +470,9 @@ typedef struct en_crank_part {
 } en_crank_part;
 /* en_crank_eval that also returns the wall- and load-independent part in pc
  * (may be NULL). */
-int en_crank_eval_part(const ts_engine *e, const double *x, const ts_engine_inputs *in,
-                       double *xdot, ts_engine_outputs *out, double *q_wall, en_crank_part *pc);
+TS_MUST_CHECK int en_crank_eval_part(const ts_engine *e, const double *x,
+                                     const ts_engine_inputs *in, double *xdot,
+                                     ts_engine_outputs *out, double *q_wall, en_crank_part *pc);
 /* Re-evaluate only what depends on the wall temperatures and the load torque
  * (dT/dt of the cylinders, the wall ledger, coolant, oil, crank speed, q_wall)
  * in an xdot computed by en_crank_eval_part at the same non-wall states and
@@ -497,10 +498,10 @@ double en_crank_valve_lift(const ts_engine *e, int v, int i, double th);
 void en_walls_step(const ts_engine *e, double *x, const double *q, double h);
 /* Crank-angle states at rest gas (p, T) in every cylinder, walls, coolant and oil. */
 void en_crank_init(const ts_engine *e, double p, double T, double *x);
-int en_mean_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
-                double *xdot, ts_engine_outputs *out);
-int en_map_rhs(const ts_engine *e, double t, const double *x, const ts_engine_inputs *in,
-               double *xdot, ts_engine_outputs *out);
+TS_MUST_CHECK int en_mean_rhs(const ts_engine *e, double t, const double *x,
+                              const ts_engine_inputs *in, double *xdot, ts_engine_outputs *out);
+TS_MUST_CHECK int en_map_rhs(const ts_engine *e, double t, const double *x,
+                             const ts_engine_inputs *in, double *xdot, ts_engine_outputs *out);
 /* Bank states shared by crank and mean: derivative of the manifolds and rotor
  * given the cylinders' flows into/out of the bank. */
 typedef struct en_bank_flows {

@@ -28,11 +28,12 @@
  * engine's (ts_engine_make,
  * ts_engine_steady, with their pointer and message), TS_ERR_NOMEM, TS_ERR_CANCELLED when
  * progress returned non-zero; rows are then only partly filled. */
-ts_rc ts_engine_full_load_sweep(const ts_config *cfg, ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT],
-                                ts_progress_fn progress, void *ud, ts_err *err);
+TS_MUST_CHECK ts_rc ts_engine_full_load_sweep(const ts_config *cfg,
+                                              ts_engine_cycle rows[TS_ENGINE_SWEEP_NPOINT],
+                                              ts_progress_fn progress, void *ud, ts_err *err);
 
 /* The sweep's refusals of cfg itself, without running it (ts_param_validate,
  * ts_engine_make): what a server answers before queueing the sweep. */
-ts_rc ts_engine_full_load_sweep_check(const ts_config *cfg, ts_err *err);
+TS_MUST_CHECK ts_rc ts_engine_full_load_sweep_check(const ts_config *cfg, ts_err *err);
 
 #endif

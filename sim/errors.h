@@ -12,6 +12,9 @@
 
 #include <stddef.h>
 
+/* A result code the caller must look at (-Werror makes an unchecked call a build error). */
+#define TS_MUST_CHECK __attribute__((warn_unused_result))
+
 typedef enum ts_rc {
     TS_OK = 0,          /* success */
     TS_ERR_PARAM,       /* a parameter has the wrong type, is unknown or missing */

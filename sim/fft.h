@@ -25,8 +25,8 @@ int ts_fft_min_samples(ts_fft_window window);
  * windowing: freq[k] = k fs / n [Hz], amp[k] the amplitude of a sinusoid at
  * that frequency (window gain corrected; a pure A sin(2 pi f t) on a bin gives
  * amp = A). freq and amp hold ts_fft_nbins(n) values. n >= 2. */
-ts_rc ts_fft_amplitude(const double *x, int n, double fs, ts_fft_detrend detrend,
-                       ts_fft_window window, double *freq, double *amp, ts_err *err);
+TS_MUST_CHECK ts_rc ts_fft_amplitude(const double *x, int n, double fs, ts_fft_detrend detrend,
+                                     ts_fft_window window, double *freq, double *amp, ts_err *err);
 
 /* Frequency of the largest amplitude with fmin <= f <= fmax (parabolic
  * interpolation between bins); *peak (may be NULL) gets that amplitude.

@@ -23,8 +23,8 @@ typedef struct ts_final_drive {
     double output_inertia;  /* transmission output .. both sprockets, at the sprocket [kg*m^2] */
 } ts_final_drive;
 
-ts_rc ts_final_drive_init(ts_final_drive *fd, const ts_driveline_config *c,
-                          const ts_vehicle_config *v, ts_err *err);
+TS_MUST_CHECK ts_rc ts_final_drive_init(ts_final_drive *fd, const ts_driveline_config *c,
+                                        const ts_vehicle_config *v, ts_err *err);
 
 /* Transmission output speed for a sprocket speed [rad/s]. */
 double ts_final_drive_output_speed(const ts_final_drive *fd, double w_sprocket);

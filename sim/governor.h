@@ -30,6 +30,6 @@ double ts_governor_rack(const ts_governor *g, double rack, double w);
 /* The governor /control describes (its four speeds into *g), for every run
  * kind that fuels an engine. TS_ERR_PARAM naming /control/governor_high_idle
  * when /control/governor is on and high idle does not exceed low idle. */
-ts_rc ts_governor_of_config(const ts_control_config *cc, ts_governor *g, ts_err *err);
+TS_MUST_CHECK ts_rc ts_governor_of_config(const ts_control_config *cc, ts_governor *g, ts_err *err);
 
 #endif

@@ -50,6 +50,6 @@ double ts_ivs_rack(ts_ivs_gains g, double e, double integral);
 double ts_ivs_integral_rate(const ts_ivs *c, ts_ivs_gains g, double e, double integral);
 
 /* Check a controller description (positive gains, increasing table). */
-ts_rc ts_ivs_check(const ts_ivs *c, ts_err *err);
+TS_MUST_CHECK ts_rc ts_ivs_check(const ts_ivs *c, ts_err *err);
 
 #endif

@@ -41,18 +41,19 @@ typedef struct ts_ivs_tune_result {
  * /control/tune_settle when the settle gives fewer than two samples, and at
  * /control/tune_settle or tune_duration when either speed is not steady;
  * ts_zn_reaction_curve's when the response is not S-shaped; TS_ERR_NOMEM. */
-ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err);
+TS_MUST_CHECK ts_rc ts_ivs_tune(const ts_config *cfg, ts_ivs_tune_result *out, ts_err *err);
 
 /* ts_ivs_tune that also calls poll(ud, done, total) every few samples of its
  * runs (done and total passed through unchanged: the caller's own count of
  * parts) and stops with TS_ERR_CANCELLED when it returns non-zero, so that a
  * long step response can be cancelled while it runs. poll may be NULL. */
-ts_rc ts_ivs_tune_polled(const ts_config *cfg, ts_ivs_tune_result *out, ts_progress_fn poll,
-                         void *ud, int done, int total, ts_err *err);
+TS_MUST_CHECK ts_rc ts_ivs_tune_polled(const ts_config *cfg, ts_ivs_tune_result *out,
+                                       ts_progress_fn poll, void *ud, int done, int total,
+                                       ts_err *err);
 
 /* ts_ivs_tune's refusals of cfg itself, without its runs (the fields checked
  * before them, the point-mass plant's ts_model_make): what a server answers
  * before queueing a tune. */
-ts_rc ts_ivs_tune_check(const ts_config *cfg, ts_err *err);
+TS_MUST_CHECK ts_rc ts_ivs_tune_check(const ts_config *cfg, ts_err *err);
 
 #endif

@@ -201,10 +201,11 @@ void ts_data_free(ts_data *d)
     free(d);
 }
 
-static void take_sample(const ts_model *m, ts_data *d)
+static ts_rc take_sample(const ts_model *m, ts_data *d, ts_err *err)
 {
-    m->ops->sample(m, d, d->latest);
+    ts_rc rc = m->ops->sample(m, d, d->latest, err);
     d->latest[0] = d->t;
+    return rc;
 }
 
 ts_rc ts_reset(const ts_model *m, ts_data *d, ts_err *err)
@@ -215,9 +216,9 @@ ts_rc ts_reset(const ts_model *m, ts_data *d, ts_err *err)
     d->ready = 0;
     d->sticky = TS_OK;
     ts_rc rc = m->ops->reset(m, d, err);
+    if (rc == TS_OK) rc = take_sample(m, d, err);
     if (rc != TS_OK) return rc;
     d->ready = 1;
-    take_sample(m, d);
     return TS_OK;
 }
 
@@ -245,7 +246,11 @@ ts_rc ts_advance(const ts_model *m, ts_data *d, double t_end, ts_sample_fn fn, v
         }
         d->t = tk;
         d->index = k;
-        take_sample(m, d);
+        rc = take_sample(m, d, err);
+        if (rc != TS_OK) {
+            d->sticky = rc;
+            break;
+        }
         for (int i = 0; i < m->nchannel; i++) {
             if (!isfinite(d->latest[i])) {
                 rc = ts_err_set(err, TS_ERR_DIVERGED, NULL,
@@ -395,12 +400,12 @@ ts_rc ts_state_restore(const ts_model *m, ts_data *d, const void *buf, size_t n,
     d->index = h.index;
     d->sticky = TS_OK;
     ts_rc rc = m->ops->state_restore(m, d, (const char *)buf + sizeof h, err);
+    if (rc == TS_OK) rc = take_sample(m, d, err);
     if (rc != TS_OK) {
         d->ready = 0;
         return rc;
     }
     d->ready = 1;
-    take_sample(m, d);
     return TS_OK;
 }
 

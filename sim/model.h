@@ -59,7 +59,7 @@ double ts_model_sample_period(const ts_model *m);  /* 1 / run.sample_rate [s] */
 /* Sample rows are dt apart: TS_OK if t is a whole number of them (relative
  * slack 1e-9), else TS_ERR_PARAM naming pointer with the two nearest times.
  * ts_model_make checks /run/duration with it; callers their own end times. */
-ts_rc ts_on_sample_grid(double t, double dt, const char *pointer, ts_err *err);
+TS_MUST_CHECK ts_rc ts_on_sample_grid(double t, double dt, const char *pointer, ts_err *err);
 /* Index of the last sample row at or before t, a time within that slack of a
  * row counting as the row: the row ts_advance(t) ends on (a time that
  * ts_on_sample_grid accepts ends exactly there). */
@@ -72,7 +72,7 @@ void ts_data_free(ts_data *d);
 
 /* Initial conditions (static equilibrium where the scenario has one), t = 0,
  * sample row 0 computed. Must be called before ts_advance. */
-ts_rc ts_reset(const ts_model *m, ts_data *d, ts_err *err);
+TS_MUST_CHECK ts_rc ts_reset(const ts_model *m, ts_data *d, ts_err *err);
 
 /* Called once per sample row: index counts from 0 at t = 0; values holds
  * ts_model_nchannel numbers in channel order. Return non-zero to stop the run
@@ -86,8 +86,8 @@ typedef int (*ts_progress_fn)(void *ud, int done, int total);
 /* Integrate up to t_end (clamped to run.duration), calling fn (may be NULL) for
  * every sample row after the current one. On error the data keeps the last good
  * sample time and the error is sticky until ts_reset or ts_state_restore. */
-ts_rc ts_advance(const ts_model *m, ts_data *d, double t_end, ts_sample_fn fn, void *ud,
-                 ts_err *err);
+TS_MUST_CHECK ts_rc ts_advance(const ts_model *m, ts_data *d, double t_end, ts_sample_fn fn,
+                               void *ud, ts_err *err);
 
 double ts_time(const ts_data *d);            /* time of the latest sample row [s] */
 long ts_sample_index(const ts_data *d);      /* index of the latest sample row */
@@ -160,13 +160,15 @@ int ts_model_metrics(const ts_model *m, const double *rows, long nrows, ts_metri
 /* ---- state snapshots (persistence, re-rendering past times) --------------- */
 
 size_t ts_state_size(const ts_model *m);  /* bytes of a saved state */
-ts_rc ts_state_save(const ts_model *m, const ts_data *d, void *buf, size_t n, ts_err *err);
-ts_rc ts_state_restore(const ts_model *m, ts_data *d, const void *buf, size_t n, ts_err *err);
+TS_MUST_CHECK ts_rc ts_state_save(const ts_model *m, const ts_data *d, void *buf, size_t n,
+                                  ts_err *err);
+TS_MUST_CHECK ts_rc ts_state_restore(const ts_model *m, ts_data *d, const void *buf, size_t n,
+                                     ts_err *err);
 
 /* ---- geometry for renderers ----------------------------------------------- */
 
 /* Fill a read-only geometric snapshot of the current state (see geometry.h).
  * TS_ERR_UNSUPPORTED for scenarios without running gear (engine_dyno). */
-ts_rc ts_geometry(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err);
+TS_MUST_CHECK ts_rc ts_geometry(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err);
 
 #endif

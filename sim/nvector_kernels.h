@@ -22,9 +22,11 @@
 
 #include <sundials/sundials_nvector.h>
 
+#include "errors.h"
+
 /* Replace the per-step compute operations of v, a serial N_Vector
  * (N_VNew_Serial); fused operations only where v has them (they stay off
  * unless enabled on v first). Returns 0, or -1 if v is not a serial vector. */
-int ts_nvector_use_kernels(N_Vector v);
+TS_MUST_CHECK int ts_nvector_use_kernels(N_Vector v);
 
 #endif

@@ -71,7 +71,7 @@ const char *ts_param_type_name(ts_param_type t);
 
 /* Check one numeric value against a row's range; fills err (naming the field)
  * and returns TS_ERR_RANGE when outside [min, max] or not finite. */
-ts_rc ts_param_check_number(const ts_param *p, double v, ts_err *err);
+TS_MUST_CHECK ts_rc ts_param_check_number(const ts_param *p, double v, ts_err *err);
 
 /* A parameter's unit for a message: ts_param_unit_gap gives " " and
  * ts_param_unit_shown the unit, or both "" for a dimensionless ("1") or
@@ -92,6 +92,6 @@ void ts_param_set_int(void *cfg, size_t offset, int v);
 
 /* Validate a whole config struct against the table (ranges, enum indices,
  * array counts). Used after programmatic edits; JSON input is checked on read. */
-ts_rc ts_param_validate(const void *cfg, ts_err *err);
+TS_MUST_CHECK ts_rc ts_param_validate(const void *cfg, ts_err *err);
 
 #endif

@@ -348,9 +348,9 @@ int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, do
     return 0;
 }
 
-int ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
-                                const double *y, double w_sprocket, double rack, double *ydot,
-                                ts_powertrain_out *out)
+void ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
+                                 const double *y, double w_sprocket, double rack, double *ydot,
+                                 ts_powertrain_out *out)
 {
     int ne = pt->engine.nstate;
     double w_e = y[pt->engine.speed_index], w_t = y[ne];
@@ -364,7 +364,14 @@ int ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_sta
         ts_engine_obs obs = {.speed = w_e};
         fill_out(pt, w_sprocket, rack, w_e, w_t, w_out, &tc, &tp, &obs, out);
     }
-    return 0;
+}
+
+ts_rc ts_powertrain_rhs_failed(double t, ts_err *err)
+{
+    return ts_err_set(err, TS_ERR_DIVERGED, NULL,
+                      "the powertrain's equations cannot be evaluated at t = %.6f s (the "
+                      "engine's state is outside its domain)",
+                      t);
 }
 
 void ts_powertrain_roots(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
@@ -629,6 +636,14 @@ static ts_rc sim_advance_cosim(ts_powertrain_sim *s, double t_to, ts_err *err)
     return TS_OK;
 }
 
+/* The outputs at the end of an advance (out may be NULL). */
+static ts_rc sim_out(ts_powertrain_sim *s, double rack, ts_powertrain_out *out, ts_err *err)
+{
+    if (out && ts_powertrain_rhs(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), rack, s->tmp, out) != 0)
+        return ts_powertrain_rhs_failed(s->t, err);
+    return TS_OK;
+}
+
 ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_speed_fn w,
                                 void *ud, double rack, ts_powertrain_out *out, ts_err *err)
 {
@@ -639,9 +654,7 @@ ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_s
         s->rack = rack;
         ts_rc rc = s->pt->macro_step > 0 ? sim_advance_cosim(s, t_to, err)
                                          : sim_advance_explicit(s, t_to, err);
-        if (rc == TS_OK && out)
-            ts_powertrain_rhs(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), rack, s->tmp, out);
-        return rc;
+        return rc == TS_OK ? sim_out(s, rack, out, err) : rc;
     }
     int inputs_changed = s->w != w || s->w_ud != ud || s->rack != rack;
     s->w = w;
@@ -658,9 +671,7 @@ ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_s
         memcpy(s->y, ts_ode_y(s->ode), sizeof *s->y * (size_t)n);
         if (root) rc = sim_settle(s, err);
     }
-    if (rc == TS_OK && out)
-        ts_powertrain_rhs(s->pt, &s->ps, s->t, s->y, sim_w(s, s->t), rack, s->tmp, out);
-    return rc;
+    return rc == TS_OK ? sim_out(s, rack, out, err) : rc;
 }
 
 double ts_powertrain_sim_time(const ts_powertrain_sim *s) { return s->t; }

@@ -142,16 +142,16 @@ double ts_powertrain_macro_step(const ts_powertrain *pt); /* H [s]; 0: no co-sim
 size_t ts_powertrain_work_size(const ts_powertrain *pt);  /* doubles for work */
 /* Step 1 above. y: the powertrain's states (the engine block is advanced, the
  * rest read). Returns TS_OK or TS_ERR_DIVERGED / the engine's error. */
-ts_rc ts_powertrain_engine_advance(const ts_powertrain *pt, double t, double H, double *y,
-                                   double rack, double *work, ts_err *err);
+TS_MUST_CHECK ts_rc ts_powertrain_engine_advance(const ts_powertrain *pt, double t, double H,
+                                                 double *y, double rack, double *work, ts_err *err);
 /* Derivative of the driveline states only (engine states held): writes
  * ydot[ts_powertrain_nstate - 1] (turbine) and NOT the engine entries; out
  * (may be NULL) as ts_powertrain_rhs but with the engine's own observations
  * (torque, boost, temperatures, fuel) zero — take those from ts_powertrain_rhs
- * when sampling. Returns 0. */
-int ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
-                                const double *y, double w_sprocket, double rack, double *ydot,
-                                ts_powertrain_out *out);
+ * when sampling. Cannot fail (the engine is not evaluated). */
+void ts_powertrain_rhs_driveline(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
+                                 const double *y, double w_sprocket, double rack, double *ydot,
+                                 ts_powertrain_out *out);
 
 /* Per-state magnitudes for absolute tolerances (nstate values). */
 void ts_powertrain_scale(const ts_powertrain *pt, double *scale);
@@ -165,19 +165,23 @@ void ts_powertrain_scale(const ts_powertrain *pt, double *scale);
  * cycles), so run once per powertrain, by callers that start from standstill.
  * No-op for the map fidelity (no such states) and for engines bound through
  * ts_powertrain_make_port. Returns TS_OK, TS_ERR_NOMEM or the engine's error. */
-ts_rc ts_powertrain_idle_start(ts_powertrain *pt, ts_err *err);
+TS_MUST_CHECK ts_rc ts_powertrain_idle_start(ts_powertrain *pt, ts_err *err);
 
 /* Initial state: engine from its reset (idle), 1st gear applied, turbine
  * turning with the output at sprocket speed w_sprocket. */
-ts_rc ts_powertrain_reset(const ts_powertrain *pt, ts_powertrain_state *ps, double *y,
-                          double w_sprocket, ts_err *err);
+TS_MUST_CHECK ts_rc ts_powertrain_reset(const ts_powertrain *pt, ts_powertrain_state *ps, double *y,
+                                        double w_sprocket, ts_err *err);
 
 /* Derivatives of the powertrain states for sprocket speed w_sprocket and rack;
  * out (may be NULL) receives every shaft's speed and torque. Same return
  * convention as ts_rhs_fn. */
-int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps, double t,
-                      const double *y, double w_sprocket, double rack, double *ydot,
-                      ts_powertrain_out *out);
+TS_MUST_CHECK int ts_powertrain_rhs(const ts_powertrain *pt, const ts_powertrain_state *ps,
+                                    double t, const double *y, double w_sprocket, double rack,
+                                    double *ydot, ts_powertrain_out *out);
+
+/* The error of a ts_powertrain_rhs that failed at t outside an integrator's
+ * step (a sample, a published torque): TS_ERR_DIVERGED. Returns the code. */
+ts_rc ts_powertrain_rhs_failed(double t, ts_err *err);
 
 /* Root functions (ts_powertrain_nroots values) at sprocket speed w_sprocket
  * [rad/s]. */
@@ -204,18 +208,20 @@ ts_powertrain_sim *ts_powertrain_sim_make(const ts_powertrain *pt, double rtol, 
                                           double max_step, ts_err *err);
 void ts_powertrain_sim_free(ts_powertrain_sim *s);
 /* Initial state (ts_powertrain_reset) at time t0 for sprocket speed w0. */
-ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0, ts_err *err);
+TS_MUST_CHECK ts_rc ts_powertrain_sim_reset(ts_powertrain_sim *s, double t0, double w0,
+                                            ts_err *err);
 /* Integrate to t_to with sprocket speed w(ud, t) and the rack; out (may be
  * NULL) receives the shafts at t_to. */
-ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to, ts_sprocket_speed_fn w,
-                                void *ud, double rack, ts_powertrain_out *out, ts_err *err);
+TS_MUST_CHECK ts_rc ts_powertrain_sim_advance(ts_powertrain_sim *s, double t_to,
+                                              ts_sprocket_speed_fn w, void *ud, double rack,
+                                              ts_powertrain_out *out, ts_err *err);
 double ts_powertrain_sim_time(const ts_powertrain_sim *s);
 const double *ts_powertrain_sim_y(const ts_powertrain_sim *s);            /* nstate values */
 const ts_powertrain_state *ts_powertrain_sim_state(const ts_powertrain_sim *s);
 /* Snapshot (states, discrete state, time): ts_powertrain_sim_state_size bytes. */
 size_t ts_powertrain_sim_state_size(const ts_powertrain_sim *s);
 void ts_powertrain_sim_save(const ts_powertrain_sim *s, void *buf);
-ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *err);
+TS_MUST_CHECK ts_rc ts_powertrain_sim_restore(ts_powertrain_sim *s, const void *buf, ts_err *err);
 
 /* Output channels of pt's engine: names, units and descriptions in channel
  * order (ts_powertrain_nchannel of them), and the values of one row from a

@@ -29,8 +29,10 @@ typedef struct ts_scenario_ops {
     ts_rc (*reset)(const ts_model *m, ts_data *d, ts_err *err);
     /* Integrate from the current time to exactly t. */
     ts_rc (*step_to)(const ts_model *m, ts_data *d, double t, ts_err *err);
-    /* Write nchannel values for the current state at the current time. */
-    void (*sample)(const ts_model *m, const ts_data *d, double *values);
+    /* Write nchannel values for the current state at the current time; fails
+     * when the model's equations cannot be evaluated there (values are then
+     * unspecified and the advance stops with the error). */
+    ts_rc (*sample)(const ts_model *m, const ts_data *d, double *values, ts_err *err);
     /* Saved-state size and (de)serialisation; restore re-initialises the integrator. */
     size_t (*state_size)(const ts_model *m);
     ts_rc (*state_save)(const ts_model *m, const ts_data *d, void *buf, ts_err *err);
@@ -70,12 +72,12 @@ struct ts_data {
 
 /* Declare a channel during model_init. Names and units are copied. Returns its
  * index or -1 (err filled) when the registry is full or the name is taken. */
-int ts_model_add_channel(ts_model *m, const char *name, const char *unit,
-                         const char *description, ts_err *err);
+TS_MUST_CHECK int ts_model_add_channel(ts_model *m, const char *name, const char *unit,
+                                       const char *description, ts_err *err);
 
 /* Declare n channels from a table (name, unit, description) in order; the
  * first failure's code, with err filled. */
-ts_rc ts_model_add_channels(ts_model *m, const ts_channel *rows, int n, ts_err *err);
+TS_MUST_CHECK ts_rc ts_model_add_channels(ts_model *m, const ts_channel *rows, int n, ts_err *err);
 
 /* Helpers for a scenario's metrics (ts_scenario_ops.metrics). */
 /* out[n] = {name, unit, value, desc} (strings truncated to the fields) when

@@ -127,13 +127,14 @@ static ts_rc step_to(const ts_model *m, ts_data *d, double t, ts_err *err)
     return ts_coupled_run_advance(p->r, t, err);
 }
 
-static void sample(const ts_model *m, const ts_data *d, double *out)
+static ts_rc sample(const ts_model *m, const ts_data *d, double *out, ts_err *err)
 {
     const ts_coupled *c = m->impl;
     cpl_data *p = d->impl;
     const vm *v = ts_coupled_vehicle(c);
     ts_coupled_obs *o = &p->obs;
-    ts_coupled_run_observe(p->r, o);
+    ts_rc rc = ts_coupled_run_observe(p->r, o, err);
+    if (rc != TS_OK) return rc;
     vm_channels_fill(v, o->y_vehicle, o->ydot_vehicle, &o->diag, out + CH_V0);
     out[CH_TORQUE] = o->sprocket_torque;
     out[CH_SPR_SPEED] = o->sprocket_speed;
@@ -143,6 +144,7 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     out[CH_ERR] = o->speed_error;
     out[CH_INTEGRAL] = o->integral;
     ts_powertrain_channel_values(ts_coupled_powertrain(c), &o->pt, out + CH_PT0);
+    return TS_OK;
 }
 
 static int integrator_stats(const ts_model *m, const ts_data *d, ts_integrator_stats *out,
@@ -245,11 +247,11 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
 
 static ts_rc geometry(const ts_model *m, const ts_data *d, ts_geom *out, ts_err *err)
 {
-    (void)err;
     const ts_coupled *c = m->impl;
     cpl_data *p = d->impl;
     ts_coupled_obs *o = &p->obs;
-    ts_coupled_run_observe(p->r, o);
+    ts_rc rc = ts_coupled_run_observe(p->r, o, err);
+    if (rc != TS_OK) return rc;
     vm_work *w = vm_work_make(ts_coupled_vehicle(c));
     if (!w) return ts_err_set(err, TS_ERR_NOMEM, NULL, "out of memory");
     vm_geometry(ts_coupled_vehicle(c), w, d->t, o->y_vehicle, out);

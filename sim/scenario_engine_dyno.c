@@ -185,12 +185,13 @@ static ts_rc step_to(const ts_model *m, ts_data *d, double t, ts_err *err)
     return ts_engine_advance(m->impl, p->x, d->t, t - d->t, &in, p->work, err);
 }
 
-static void sample(const ts_model *m, const ts_data *d, double *out)
+static ts_rc sample(const ts_model *m, const ts_data *d, double *out, ts_err *err)
 {
     dyno_data *p = d->impl;
     ts_engine_inputs in = inputs(m);
     ts_engine_outputs o;
-    ts_engine_rhs(m->impl, d->t, p->x, &in, p->xdot, &o);
+    if (ts_engine_rhs(m->impl, d->t, p->x, &in, p->xdot, &o) != 0)
+        return ts_engine_rhs_failed(m->impl, d->t, p->x, err);
     double row[CH_RACK + 1] = {
         [CH_SPEED] = o.speed,
         [CH_TORQUE] = o.brake_torque,
@@ -211,6 +212,7 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     };
     for (int c = CH_SPEED, k = CH_SPEED; c <= CH_RACK; c++)
         if (modelled(m, c)) out[k++] = row[c]; /* k: column(m, c) */
+    return TS_OK;
 }
 
 static size_t state_size(const ts_model *m) { return sizeof(double) * (size_t)m->nstate; }

@@ -382,12 +382,13 @@ static ts_rc step_to(const ts_model *m, ts_data *d, double t, ts_err *err)
     }
 }
 
-static void sample(const ts_model *m, const ts_data *d, double *out)
+static ts_rc sample(const ts_model *m, const ts_data *d, double *out, ts_err *err)
 {
     const pm_model *pm = m->impl;
     pm_data *p = d->impl;
     double thrust = 0.0, t_s = 0.0;
-    derivs(m, &p->ps, d->t, p->y, p->ydot, &p->out, &thrust, &t_s);
+    if (derivs(m, &p->ps, d->t, p->y, p->ydot, &p->out, &thrust, &t_s) != 0)
+        return ts_powertrain_rhs_failed(d->t, err);
     out[CH_X] = p->y[X];
     out[CH_SPEED] = p->y[V];
     out[CH_ACCEL] = p->ydot[V];
@@ -395,6 +396,7 @@ static void sample(const ts_model *m, const ts_data *d, double *out)
     out[CH_SPROCKET_SPEED] = p->y[V] / m->cfg.vehicle.sprocket_radius;
     out[CH_TRACTION] = thrust;
     if (pm->pt) ts_powertrain_channel_values(pm->pt, &p->out, out + NCH);
+    return TS_OK;
 }
 
 /* The CVODE path only: the explicit and co-simulated powertrain paths step by

@@ -179,17 +179,18 @@ static ts_rc step_to(const ts_model *m, ts_data *d, double t, ts_err *err)
     return rc;
 }
 
-static void sample(const ts_model *m, const ts_data *d, double *out)
+static ts_rc sample(const ts_model *m, const ts_data *d, double *out, ts_err *err)
 {
     const veh_model *vmm = m->impl;
     veh_data *p = d->impl;
     const vm *v = vmm->v;
     vm_diag dg;
     memset(&dg, 0, sizeof dg);
-    vm_rhs(v, p->w, d->t, p->y, p->ydot, &dg);
+    if (vm_rhs(v, p->w, d->t, p->y, p->ydot, &dg) != 0) return vm_rhs_failed(v, d->t, p->y, err);
     vm_channels_fill(v, p->y, p->ydot, &dg, out + CH_V0);
     out[CH_TORQUE] = dg.drive_torque;
     out[CH_SPR_SPEED] = p->y[vm_nq(v) + 10 + VM_SPROCKET] - p->y[vm_nq(v) + 2];
+    return TS_OK;
 }
 
 static int integrator_stats(const ts_model *m, const ts_data *d, ts_integrator_stats *out,

@@ -57,21 +57,21 @@ ts_ode *ts_ode_make(int n, ts_rhs_fn f, void *ud, const ts_ode_opts *opts, ts_er
 void ts_ode_free(ts_ode *o);
 
 /* (Re)start at t0 from y0 (n values). Use after any discontinuity of f. */
-ts_rc ts_ode_init(ts_ode *o, double t0, const double *y0, ts_err *err);
+TS_MUST_CHECK ts_rc ts_ode_init(ts_ode *o, double t0, const double *y0, ts_err *err);
 
 /* Integrate towards tout. On return *t holds the time reached: tout, or the
  * time of a root when *root_found is set (pass NULL to ignore roots; then
  * integration continues through them). */
-ts_rc ts_ode_advance(ts_ode *o, double tout, double *t, int *root_found, ts_err *err);
+TS_MUST_CHECK ts_rc ts_ode_advance(ts_ode *o, double tout, double *t, int *root_found, ts_err *err);
 
 /* Never step past tstop (> the current time) in the following advances: the
  * integrator lands exactly on it instead of stepping beyond tout and
  * interpolating back (for a right-hand side known only up to tstop, e.g. a
  * co-simulation follower's input). Cleared once reached. */
-ts_rc ts_ode_set_stop(ts_ode *o, double tstop, ts_err *err);
+TS_MUST_CHECK ts_rc ts_ode_set_stop(ts_ode *o, double tstop, ts_err *err);
 
 /* Which roots fired at the last root return (nroots ints, -1/0/+1 direction). */
-ts_rc ts_ode_root_info(ts_ode *o, int *dirs, ts_err *err);
+TS_MUST_CHECK ts_rc ts_ode_root_info(ts_ode *o, int *dirs, ts_err *err);
 
 double *ts_ode_y(ts_ode *o); /* current state (n values), owned by the handle */
 int ts_ode_n(const ts_ode *o);
@@ -82,7 +82,8 @@ void ts_ode_get_stats(ts_ode *o, ts_ode_stats *s);
  * explicit paths (the crank-angle engine's macro-stepped powertrain). work holds
  * 5 n doubles. Returns 0, or non-zero if f failed or y left the finite numbers
  * (y is then unspecified). */
-int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y, double *work);
+TS_MUST_CHECK int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y,
+                              double *work);
 
 /* The same step for the m states y[idx[0..m-1]] only, every other state of y
  * held (the macro-stepped engine's driveline sub-steps: the engine's states
@@ -90,7 +91,7 @@ int ts_rk4_step(int n, ts_rhs_fn f, void *ud, double t, double h, double *y, dou
  * ydot (n doubles, scratch); work holds 5 m doubles. Same arithmetic as
  * ts_rk4_step on those states. Returns 0, or non-zero if f failed or one of
  * those states left the finite numbers (those states are then unspecified). */
-int ts_rk4_step_subset(int m, const int *idx, ts_rhs_fn f, void *ud, double t, double h,
-                       double *y, double *ydot, double *work);
+TS_MUST_CHECK int ts_rk4_step_subset(int m, const int *idx, ts_rhs_fn f, void *ud, double t,
+                                     double h, double *y, double *ydot, double *work);
 
 #endif

@@ -38,7 +38,8 @@ double ts_terrain_length(const ts_terrain *t);
 
 /* Parse a course text (the .txt format above) into at most cap bumps.
  * *n gets the bump count, *length the course length (0 if not given). */
-ts_rc ts_terrain_parse_course(const char *text, double *start, double *height, double *len, int cap,
-                              int *n, double *length, ts_err *err);
+TS_MUST_CHECK ts_rc ts_terrain_parse_course(const char *text, double *start, double *height,
+                                            double *len, int cap, int *n, double *length,
+                                            ts_err *err);
 
 #endif

@@ -36,8 +36,8 @@ typedef struct ts_tc_point {
 
 /* Build from the driveline config: checks table lengths, SR starts at 0 and
  * increases below 1, TR >= 1 at the last row. TS_ERR_PARAM naming the field. */
-ts_rc ts_torque_converter_init(ts_torque_converter *tc, const ts_driveline_config *c,
-                               ts_err *err);
+TS_MUST_CHECK ts_rc ts_torque_converter_init(ts_torque_converter *tc, const ts_driveline_config *c,
+                                             ts_err *err);
 
 /* Torques at pump speed w_pump and turbine speed w_turbine [rad/s].
  *  - forward flow (0 <= w_turbine < w_pump): T_p = (w_p / K(SR))^2, T_t = TR(SR) T_p;

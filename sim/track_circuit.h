@@ -71,12 +71,14 @@ typedef struct ts_circuit {
  * modes per span /track/n_long, /track/n_trans (n_long = 0: quasi-static
  * uniform-tension stretch), track speed /track/modes_speed when
  * /track/translation_terms. TS_ERR_PARAM naming the field on bad input. */
-ts_rc ts_circuit_params_from_config(const ts_config *cfg, ts_circuit_params *p, ts_err *err);
+TS_MUST_CHECK ts_rc ts_circuit_params_from_config(const ts_config *cfg, ts_circuit_params *p,
+                                                  ts_err *err);
 
 /* Parameters of the i-th single span of /track/span_length (chord angle
  * /track/span_inclination[i] above horizontal; track data and mode counts as
  * above). TS_ERR_PARAM naming /track/span_inclination when the counts differ. */
-ts_rc ts_span_params_from_config(const ts_config *cfg, int i, ts_span_params *p, ts_err *err);
+TS_MUST_CHECK ts_rc ts_span_params_from_config(const ts_config *cfg, int i, ts_span_params *p,
+                                               ts_err *err);
 
 ts_circuit *ts_circuit_make(const ts_circuit_params *p, ts_err *err);
 void ts_circuit_free(ts_circuit *c);

@@ -125,8 +125,8 @@ typedef struct ts_span_geometry {
 
 /* Tangent points, chord length and angle from two support circles.
  * TS_ERR_RANGE when the circles overlap so that no such tangent exists.   */
-ts_rc ts_span_tangent(const ts_span_support *a, const ts_span_support *b, ts_span_geometry *g,
-                      ts_err *err);
+TS_MUST_CHECK ts_rc ts_span_tangent(const ts_span_support *a, const ts_span_support *b,
+                                    ts_span_geometry *g, ts_err *err);
 
 /* What a span is built from. */
 typedef struct ts_span_params {

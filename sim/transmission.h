@@ -94,7 +94,8 @@ typedef struct ts_tr_point {
     double gear;           /* gear as a number; between a and b during a shift (by tau) [1] */
 } ts_tr_point;
 
-ts_rc ts_transmission_init(ts_transmission *tr, const ts_driveline_config *c, ts_err *err);
+TS_MUST_CHECK ts_rc ts_transmission_init(ts_transmission *tr, const ts_driveline_config *c,
+                                         ts_err *err);
 
 /* Capacity of the engaged clutch at t outside a shift [N*m] (rising after a
  * shift, see above); 0 during a shift. */

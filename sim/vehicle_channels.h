@@ -36,7 +36,7 @@ enum {
 };
 
 /* Declare the VM_NCH channels, in block order, at the model's next indices. */
-ts_rc vm_channels_declare(ts_model *m, ts_err *err);
+TS_MUST_CHECK ts_rc vm_channels_declare(ts_model *m, ts_err *err);
 
 /* Write the block's VM_NCH values for state y (positions then velocities),
  * its derivative ydot and the diagnostics of the vm_rhs call that made ydot. */

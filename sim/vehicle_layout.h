@@ -16,6 +16,6 @@
 #include "errors.h"
 
 /* TS_OK, or TS_ERR_PARAM naming the field of the first body out of order. */
-ts_rc ts_vehicle_layout_check(const ts_vehicle_config *vc, ts_err *err);
+TS_MUST_CHECK ts_rc ts_vehicle_layout_check(const ts_vehicle_config *vc, ts_err *err);
 
 #endif

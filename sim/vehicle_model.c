@@ -2261,6 +2261,16 @@ void vm_err_add_state(const vm *v, const double *y, ts_err *err)
     vm_describe_state(v, y, err->msg + len + 2, sizeof err->msg - len - 2);
 }
 
+ts_rc vm_rhs_failed(const vm *v, double t, const double *y, ts_err *err)
+{
+    ts_err_set(err, TS_ERR_DIVERGED, NULL,
+               "the vehicle's equations cannot be evaluated at t = %.6f s (its mass matrix is "
+               "not positive definite)",
+               t);
+    vm_err_add_state(v, y, err);
+    return TS_ERR_DIVERGED;
+}
+
 void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
 {
     const ts_vehicle_config *vc = &v->cfg.vehicle;

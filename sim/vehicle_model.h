@@ -131,7 +131,8 @@ void vm_work_free(vm_work *w);
 
 /* dy/dt at (t, y). Returns 0, or > 0 for a recoverable failure (bad geometry).
  * diag (may be NULL) receives the element forces of this evaluation. */
-int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot, vm_diag *diag);
+TS_MUST_CHECK int vm_rhs(const vm *v, vm_work *w, double t, const double *y, double *ydot,
+                         vm_diag *diag);
 
 /* Total mechanical energy (kinetic + elastic + gravity) of state y [J], with
  * the same consistent approximations as vm_rhs (see vehicle_model.c). */
@@ -160,12 +161,18 @@ void vm_describe_state(const vm *v, const double *y, char *out, size_t n);
  * NULL err is left alone. */
 void vm_err_add_state(const vm *v, const double *y, ts_err *err);
 
+/* The error of a vm_rhs / vm_rhs_torque that failed at (t, y) outside an
+ * integrator's step (a sample, a coupling report): TS_ERR_DIVERGED, the
+ * state described. Returns the code. */
+ts_rc vm_rhs_failed(const vm *v, double t, const double *y, ts_err *err);
+
 /* vm_rhs with the torque at EACH sprocket given by the caller [N*m] instead of
  * the prescribed /drive (which is then not applied), and an extra hull-mounted
  * inertia turning with the sprocket relative to the hull [kg*m^2] (0: none):
  * the powertrain coupling (coupled_system.h). Added by the coupled branch
  * (issue 10). */
-int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y, double sprocket_torque,
-                  double sprocket_inertia, double *ydot, vm_diag *diag);
+TS_MUST_CHECK int vm_rhs_torque(const vm *v, vm_work *w, double t, const double *y,
+                                double sprocket_torque, double sprocket_inertia, double *ydot,
+                                vm_diag *diag);
 
 #endif

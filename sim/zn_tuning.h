@@ -31,8 +31,9 @@ typedef struct ts_zn_result {
  * increasing times t[i] (n >= 5 samples, uniform or not), step applied at
  * t_step. The slope is a least-squares line over `window` samples (odd, >= 3)
  * to ride over track-vibration ripple. ti_factor is f above. */
-ts_rc ts_zn_reaction_curve(const double *t, const double *v, int n, double t_step, int window,
-                           double ti_factor, ts_zn_result *out, ts_err *err);
+TS_MUST_CHECK ts_rc ts_zn_reaction_curve(const double *t, const double *v, int n, double t_step,
+                                         int window, double ti_factor, ts_zn_result *out,
+                                         ts_err *err);
 
 /* 1 when a slope window of `window` samples is centred on one (odd): the
  * rule ts_zn_reaction_curve applies, and ts_ivs_tune before its runs. */

@@ -68,7 +68,8 @@ static result run(const ts_coupled *cm, int method, double t_end, double dt, dou
         if (k > 0) rc = ts_coupled_run_advance(run, k * dt, &err);
         if (rc != TS_OK) break;
         if (w || tens || speed) {
-            ts_coupled_run_observe(run, &o);
+            rc = ts_coupled_run_observe(run, &o, &err);
+            if (rc != TS_OK) break;
             if (w) w[k] = o.sprocket_speed;
             if (tens) tens[k] = o.diag.tension_end1[0];
             if (speed) speed[k] = o.y_vehicle[vm_nq(ts_coupled_vehicle(cm))];

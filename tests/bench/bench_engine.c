@@ -108,13 +108,20 @@ int main(void)
             while (t < Tr) { /* classical RK4 of all 512 states, as a caller would */
                 double h = c.engine.ca_step / x[0], *k1 = k, *k2 = k + n, *k3 = k + 2 * n;
                 double *k4 = k + 3 * n, *xt = k + 4 * n;
-                ts_engine_rhs(e, t, x, &in, k1, NULL);
+                int bad = ts_engine_rhs(e, t, x, &in, k1, NULL);
                 for (int i = 0; i < n; i++) xt[i] = x[i] + 0.5 * h * k1[i];
-                ts_engine_rhs(e, t, xt, &in, k2, NULL);
+                bad |= ts_engine_rhs(e, t, xt, &in, k2, NULL);
                 for (int i = 0; i < n; i++) xt[i] = x[i] + 0.5 * h * k2[i];
-                ts_engine_rhs(e, t, xt, &in, k3, NULL);
+                bad |= ts_engine_rhs(e, t, xt, &in, k3, NULL);
                 for (int i = 0; i < n; i++) xt[i] = x[i] + h * k3[i];
-                ts_engine_rhs(e, t, xt, &in, k4, NULL);
+                bad |= ts_engine_rhs(e, t, xt, &in, k4, NULL);
+                if (bad) {
+                    fprintf(stderr,
+                            "bench_engine: the caller's RK4 left the engine's domain at "
+                            "t = %g s\n",
+                            t);
+                    return 1;
+                }
                 for (int i = 0; i < n; i++) x[i] += h / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
                 t += h;
             }

@@ -95,7 +95,10 @@ static double bare_frame_ms(bare *b, tsr_png_opts o, size_t *png_len)
     OSMesaMakeCurrent(NULL, NULL, GL_UNSIGNED_BYTE, 0, 0);
     unsigned char *png;
     ts_err err;
-    tsr_png_encode_opaque(b->px, W, H, (size_t)W * 4, &o, &png, png_len, &err);
+    if (tsr_png_encode_opaque(b->px, W, H, (size_t)W * 4, &o, &png, png_len, &err) != TS_OK) {
+        fprintf(stderr, "bench_render: %s\n", err.msg);
+        exit(1);
+    }
     free(png);
     return (now() - t0) * 1e3;
 }

@@ -13,7 +13,7 @@ import time
 
 import requests
 
-from conftest import Daemon
+from conftest import Daemon, metric
 
 
 def test_kill_9_before_a_paced_runs_first_row_comes_back_interrupted(tmp_path):
@@ -163,6 +163,26 @@ def test_a_delete_the_store_refuses_to_finish_leaves_the_store_writable(tmp_path
         assert r.status_code == 200, r.text
     with Daemon(data_dir=str(tmp_path)) as d2:  # b's rows were committed
         assert requests.get(f"{d2.url}/v1/sessions/{b}").json()["t"] > 0
+
+
+def test_a_removal_the_store_refuses_is_counted(tmp_path):
+    """Session 33: the status and removal writes are best effort (the
+    session goes on as it is in memory; a deleted one's mark has the next
+    start purge its rows), and their failures were only logged. They are
+    counted now, so an operator can alert on a store that refuses them:
+    /metrics tanksimd_store_writes_refused_total (0 before, 1 after a
+    removal a trigger refuses)."""
+    with Daemon(data_dir=str(tmp_path)) as d:
+        a = requests.post(d.url + "/v1/sessions", json={"preset": "pointmass-prescribed"}).json()["id"]
+        assert metric(d.url, "tanksimd_store_writes_refused_total") == 0
+        db = sqlite3.connect(str(tmp_path / "tanksimd.db"))
+        db.execute("CREATE TRIGGER keep_rows BEFORE DELETE ON samples "
+                   "BEGIN SELECT RAISE(ABORT, 'kept by the test'); END")
+        db.commit()
+        db.close()
+        assert requests.delete(f"{d.url}/v1/sessions/{a}").status_code == 204
+        assert metric(d.url, "tanksimd_store_writes_refused_total") == 1
+        assert requests.get(f"{d.url}/v1/sessions/{a}").status_code == 404
 
 
 def test_a_batch_the_store_refuses_does_not_block_other_sessions(tmp_path):

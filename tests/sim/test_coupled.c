@@ -54,7 +54,7 @@ static ts_rc run(const ts_config *c, int method, double t_end, double dt, hist *
     for (int k = 0; rc == TS_OK && k * dt <= t_end + 1e-9 && k < NMAX; k++) {
         if (k > 0) rc = ts_coupled_run_advance(r, k * dt, err);
         if (rc != TS_OK) break;
-        ts_coupled_run_observe(r, &o);
+        assert_int_equal(ts_coupled_run_observe(r, &o, NULL), TS_OK);
         h->t[k] = o.t;
         h->w[k] = o.sprocket_speed;
         h->v[k] = o.y_vehicle[nq];
@@ -368,7 +368,7 @@ static void launch_starts_from_idle_steady_state(void **state)
     for (int k = 0; k <= 50; k++) {
         if (k > 0) assert_int_equal(ts_coupled_run_advance(r, 1e-3 * k, &err), TS_OK);
         ts_coupled_obs o;
-        ts_coupled_run_observe(r, &o);
+        assert_int_equal(ts_coupled_run_observe(r, &o, NULL), TS_OK);
         if (k == 0) t0_torque = o.pt.engine_torque;
         if (o.pt.boost < 1.2e5)
             worst = fmax(worst, o.pt.engine_torque * 4.0 * pi / v_d);
@@ -405,11 +405,11 @@ static void ivs_integral_tracks_the_saturated_rack(void **state)
         const double kp = ts_coupled_kp(cm), ti = ts_coupled_ti(cm), dt = 5e-3;
         ts_err err;
         ts_coupled_obs o;
-        ts_coupled_run_observe(r, &o);
+        assert_int_equal(ts_coupled_run_observe(r, &o, NULL), TS_OK);
         double e_prev = o.speed_error, plain = 0;
         for (int k = 1; k <= 100; k++) {
             assert_int_equal(ts_coupled_run_advance(r, k * dt, &err), TS_OK);
-            ts_coupled_run_observe(r, &o);
+            assert_int_equal(ts_coupled_run_observe(r, &o, NULL), TS_OK);
             plain += 0.5 * dt * (e_prev + o.speed_error);
             e_prev = o.speed_error;
             assert_true(kp * (o.speed_error + o.integral / ti) > 1.0); /* saturated */
@@ -453,7 +453,7 @@ static void governor_acts_in_the_coupled_run(void **state)
     for (int k = 1; k <= 150; k++) {
         assert_int_equal(ts_coupled_run_advance(r, 0.01 * k, &err), TS_OK);
         ts_coupled_obs o;
-        ts_coupled_run_observe(r, &o);
+        assert_int_equal(ts_coupled_run_observe(r, &o, NULL), TS_OK);
         assert_close(o.rack_demand, 0.9, 0, 0);
         assert_close(o.rack, ts_governor_rack(&g, o.rack_demand, o.pt.engine_speed), 0, 1e-12);
         assert_close(o.pt.rack, o.rack, 0, 0);
@@ -546,12 +546,12 @@ static void save_restore_reproduces(void **state)
         ts_coupled_run_save(r, buf);
         assert_int_equal(ts_coupled_run_advance(r, 0.8, &err), TS_OK);
         ts_coupled_obs o1, o2;
-        ts_coupled_run_observe(r, &o1);
+        assert_int_equal(ts_coupled_run_observe(r, &o1, NULL), TS_OK);
         double w1 = o1.sprocket_speed, we1 = o1.pt.engine_speed;
         assert_int_equal(ts_coupled_run_restore(r, buf, &err), TS_OK);
         assert_close(ts_coupled_run_time(r), 0.5, 0, 1e-12);
         assert_int_equal(ts_coupled_run_advance(r, 0.8, &err), TS_OK);
-        ts_coupled_run_observe(r, &o2);
+        assert_int_equal(ts_coupled_run_observe(r, &o2, NULL), TS_OK);
         assert_close(o2.sprocket_speed, w1, 1e-6, 1e-9);
         assert_close(o2.pt.engine_speed, we1, 1e-6, 1e-9);
         free(buf);
@@ -586,7 +586,7 @@ static void reported_sprocket_state_is_hull_relative(void **state)
     for (int k = 1; k <= 50; k++) {
         assert_int_equal(ts_coupled_run_advance(r, 0.01 * k, &err), TS_OK);
         ts_coupled_obs o;
-        ts_coupled_run_observe(r, &o);
+        assert_int_equal(ts_coupled_run_observe(r, &o, NULL), TS_OK);
         ts_coupled_run_save(r, buf);
         assert_close(buf[2], o.t, 0, 1e-12);
         assert_close(buf[3], o.sprocket_speed, 1e-12, 1e-12);

@@ -152,7 +152,7 @@ static void crank_angle_trace_is_a_diesel_cycle(void **state)
     print_message("      deg   p[bar]   T[K]   dQ/dth[J/deg]\n");
     for (int k = -180; k <= 240; k++) {
         ts_engine_outputs o;
-        ts_engine_rhs(e, 0, x, &in, xd, &o);
+        assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
         if (k % 30 == 0 || k == -10 || k == 5 || k == 10)
             print_message("      %4d %8.1f %6.0f %10.1f\n", k, o.cyl_pressure / 1e5, o.cyl_temp,
                           o.heat_release * dt);
@@ -212,11 +212,11 @@ static void indicated_work_is_the_pressure_loop(void **state)
     ts_engine_ledger l0, l1;
     ts_engine_ledger_get(e, x, &l0);
     ts_engine_outputs o;
-    ts_engine_rhs(e, 0, x, &in, xd, &o);
+    assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
     double loop = 0, p_prev = o.cyl_pressure, v_prev = cylinder_volume(&g, th);
     for (int k = 1; k <= 720 * 4; k++) {
         assert_int_equal(ts_engine_advance(e, x, 0, step / w, &in, work, &err), TS_OK);
-        ts_engine_rhs(e, 0, x, &in, xd, &o);
+        assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
         double v = cylinder_volume(&g, th + k * step);
         loop += 0.5 * (o.cyl_pressure + p_prev) * (v - v_prev);
         p_prev = o.cyl_pressure, v_prev = v;

@@ -43,7 +43,7 @@ static void map_boost_lag_closed_form(void **state)
     assert_int_equal(ts_engine_advance(e, x, 0, tau, &in, work, &err), TS_OK);
     double z = 1 - exp(-1.0);
     ts_engine_outputs o;
-    ts_engine_rhs(e, 0, x, &in, xd, &o);
+    assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
     double t_fl = c.engine.map[0].torque[8], p_fl = c.engine.map[0].boost[8];
     double tf = o.friction_torque;
     assert_close(x[2], z, 1e-4, 0); /* tau interpolated at w, not exactly the node */
@@ -53,7 +53,7 @@ static void map_boost_lag_closed_form(void **state)
     assert_close(o.brake_torque, fmin(1.0, a) * (t_fl + tf) - tf, 1e-9, 0);
     assert_true(a > 0.3 && a < 1.0); /* part boost: less than full-load torque */
     assert_int_equal(ts_engine_advance(e, x, 0, 20 * tau, &in, work, &err), TS_OK);
-    ts_engine_rhs(e, 0, x, &in, xd, &o);
+    assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
     a = en_pb_interp(e, c.engine.map[0].pb_torque, w, o.boost / p_fl);
     assert_close(o.brake_torque, fmin(1.0, a) * (t_fl + tf) - tf, 1e-9, 0);
     assert_close(o.brake_torque, t_fl, 0.01, 0); /* spool-up end ~ full-load sweep */
@@ -84,7 +84,7 @@ static void map_air_flow_follows_boost(void **state)
     for (int k = 0; k < 3; k++) {
         double x[3] = {w, 0, zs[k]}, xd[3];
         ts_engine_outputs o;
-        ts_engine_rhs(e, 0, x, &in, xd, &o);
+        assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
         double boost = in.p_amb + zs[k] * (p_fl - in.p_amb);
         assert_close(o.boost, boost, 1e-12, 0);
         assert_close(o.air_flow * phi / c.engine.afr_stoich, fuel_fl * boost / p_fl, 1e-12, 0);
@@ -97,7 +97,7 @@ static void map_air_flow_follows_boost(void **state)
     double cycles_per_s = w / (4 * ET_PI); /* four-stroke: one cycle per 4 pi rad */
     in.fuel_per_cycle = 0.5 * fuel_fl / (12 * cycles_per_s);
     ts_engine_outputs o;
-    ts_engine_rhs(e, 0, x, &in, xd, &o);
+    assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
     assert_close(o.fuel_flow, 0.5 * fuel_fl, 1e-12, 0);
     assert_close(o.fuel_per_cycle, in.fuel_per_cycle, 1e-12, 0);
     assert_close(o.indicated_torque, 0.5 * (c.engine.map[0].torque[8] + o.friction_torque), 1e-12,
@@ -179,7 +179,7 @@ static void map_crank_dynamics_settle_on_load(void **state)
         double mid = 0.5 * (lo + hi), xs[3] = {mid, 0, 1.0}, xd[3];
         ts_engine_outputs o;
         ts_engine_inputs held = et_full_load();
-        ts_engine_rhs(e, 0, xs, &held, xd, &o);
+        assert_int_equal(ts_engine_rhs(e, 0, xs, &held, xd, &o), 0);
         if (o.brake_torque > 5400) lo = mid; else hi = mid;
         want = 0.5 * (lo + hi);
     }
@@ -240,7 +240,7 @@ static void map_full_boost_matches_the_sweep_at_every_speed(void **state)
         double xs[3] = {c.engine.map_speed[i], 0, 1.0}, xd[3];
         ts_engine_outputs o;
         ts_engine_inputs held = et_full_load();
-        ts_engine_rhs(e, 0, xs, &held, xd, &o);
+        assert_int_equal(ts_engine_rhs(e, 0, xs, &held, xd, &o), 0);
         double ratio = o.brake_torque / c.engine.map[0].torque[i];
         if (fabs(ratio - 1) > fabs(worst - 1)) worst = ratio, worst_rpm = c.engine.map_speed[i];
         assert_close(o.brake_torque, c.engine.map[0].torque[i], 0.03, 0);
@@ -356,8 +356,8 @@ static void caller_integrates_crank_angle_with_cvode(void **state)
     assert_int_equal(ts_ode_advance(ode, 0.015, NULL, NULL, &err), TS_OK);
     assert_int_equal(ts_engine_advance(e, x2, 0, 0.015, &u.in, work, &err), TS_OK);
     ts_engine_outputs oc, orr;
-    ts_engine_rhs(e, 0, ts_ode_y(ode), &u.in, xd, &oc);
-    ts_engine_rhs(e, 0, x2, &u.in, xd, &orr);
+    assert_int_equal(ts_engine_rhs(e, 0, ts_ode_y(ode), &u.in, xd, &oc), 0);
+    assert_int_equal(ts_engine_rhs(e, 0, x2, &u.in, xd, &orr), 0);
     ts_ode_stats st;
     ts_ode_get_stats(ode, &st);
     print_message("      CVODE %ld steps: speed %.4f vs %.4f rad/s, p_cyl %.2f vs %.2f bar\n",
@@ -421,7 +421,7 @@ static void dyno_scenario_map_fidelity(void **state)
     double xs[3] = {ET_RPM(2100), 0, 1.0}, xd[3];
     ts_engine_outputs o;
     ts_engine_inputs full = et_full_load();
-    ts_engine_rhs(e, 0, xs, &full, xd, &o);
+    assert_int_equal(ts_engine_rhs(e, 0, xs, &full, xd, &o), 0);
     assert_int_equal(ts_engine_models(e), 0);
     assert_true(isnan(o.intake_temp) && isnan(o.exhaust_temp) && isnan(o.turbo_speed));
     double a = fmin(1.0, en_pb_interp(e, c.engine.map[0].pb_torque, ET_RPM(2100), 1.0));

@@ -37,13 +37,13 @@ static idle idle_of(int variant, int fidelity)
     ts_engine_outputs o;
     double *xd = calloc((size_t)ts_engine_nstate(e), sizeof *xd);
     assert_non_null(xd);
-    ts_engine_rhs(e, 0, x, &in, xd, &o);
+    assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
     r.turbo = o.turbo_speed;
     r.piston_t = o.piston_surface_temp;
     ts_engine_cycle cyc;
     assert_int_equal(ts_engine_cycle_run(e, x, &in, work, &cyc, &err), TS_OK);
     r.torque = cyc.mean.brake_torque;
-    ts_engine_rhs(e, 0, x, &in, xd, &o);
+    assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
     r.turbo_next = o.turbo_speed;
     free(xd);
     free(work);
@@ -119,7 +119,7 @@ static void pointmass_launch_starts_at_idle(void **state)
     double *xd = calloc((size_t)ts_engine_nstate(e), sizeof *xd);
     assert_non_null(xd);
     ts_engine_outputs o;
-    ts_engine_rhs(e, 0, x, &in, xd, &o);
+    assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
     print_message("      launch row 0: turbo %.0f rad/s (idle steady %.0f, reset guess %.0f)\n",
                   row[it], o.turbo_speed, c.engine.turbo_idle_speed);
     assert_close(row[it], o.turbo_speed, 0.01, 0);

@@ -32,7 +32,7 @@ static double surface_swing(const ts_engine *e, double *x)
     double lo = 1e9, hi = 0, dt = ET_PI / 180 / x[TS_ENGINE_X_SPEED];
     for (int k = 0; k < 720; k++) {
         ts_engine_outputs o;
-        ts_engine_rhs(e, 0, x, &in, xd, &o);
+        assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
         lo = fmin(lo, o.piston_surface_temp);
         hi = fmax(hi, o.piston_surface_temp);
         assert_int_equal(ts_engine_advance(e, x, 0, dt, &in, work, &err), TS_OK);

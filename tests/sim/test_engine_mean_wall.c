@@ -39,7 +39,7 @@ static void mean_value_wall_fraction_scales_with_density(void **state)
     ts_engine_inputs in = et_full_load();
     ts_engine_init_state(e, w, in.p_amb, in.T_amb, x);
     ts_engine_outputs o;
-    ts_engine_rhs(e, 0, x, &in, xd, &o);
+    assert_int_equal(ts_engine_rhs(e, 0, x, &in, xd, &o), 0);
     ts_engine_ledger l0, l1;
     ts_engine_ledger_get(e, x, &l0);
     assert_int_equal(ts_engine_advance(e, x, 0, 2e-4, &in, work, &err), TS_OK);

@@ -130,7 +130,7 @@ static void stall_statics_of_the_chain(void **state)
     assert_int_equal(ns, 0); /* stall is below the 1850-rpm shift speed */
     double ydot[2];
     ts_powertrain_out out;
-    ts_powertrain_rhs(pt, &d.ps, 10.0, ts_ode_y(ode), 0.0, 1.0, ydot, &out);
+    assert_int_equal(ts_powertrain_rhs(pt, &d.ps, 10.0, ts_ode_y(ode), 0.0, 1.0, ydot, &out), 0);
     double k0 = c.driveline.tc_k_factor[0];
     assert_close(out.engine_speed, k0 * sqrt(5000.0), 5e-3, 0);
     assert_close(out.turbine_torque, 2.8 * 5000, 5e-3, 0);
@@ -199,7 +199,8 @@ static void upshifts_at_shift_speed_and_unity_fourth(void **state)
     assert_int_equal(d.ps.shift.shifts, 3);
     ts_powertrain_out out;
     double ydot[2];
-    ts_powertrain_rhs(pt, &d.ps, 20.0, ts_ode_y(ode), d.a * 20.0, 1.0, ydot, &out);
+    assert_int_equal(ts_powertrain_rhs(pt, &d.ps, 20.0, ts_ode_y(ode), d.a * 20.0, 1.0, ydot, &out),
+                     0);
     assert_close(out.turbine_speed, out.out_speed, 5e-3, 0);
     ts_ode_free(ode);
     ts_powertrain_free(pt);
@@ -229,7 +230,7 @@ static void update_sets_shift_capacity_and_chains_shifts(void **state)
     y[0] = c.driveline.shift_speed + 1.0; /* engine above the upshift speed */
     y[1] = r1 * i_f * w_s + 1.0;          /* 1st-gear clutch slipping by 1 rad/s */
     ts_powertrain_out out;
-    ts_powertrain_rhs(pt, &ps, 1.0, y, w_s, 1.0, ydot, &out);
+    assert_int_equal(ts_powertrain_rhs(pt, &ps, 1.0, y, w_s, 1.0, ydot, &out), 0);
     double t_in = out.clutch_offgoing + out.clutch_oncoming;
     assert_close(t_in, c.driveline.clutch_capacity * tanh(1.0 / c.driveline.clutch_slip_speed),
                  1e-12, 0);
