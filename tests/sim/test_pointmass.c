@@ -293,6 +293,56 @@ static void cancel_from_callback(void **state)
     ts_model_free(m);
 }
 
+/* A sample that fails from t = fail_at on (the scenario's own otherwise). */
+static ts_rc (*real_sample)(const ts_model *, const ts_data *, double *, ts_err *);
+static double fail_at;
+
+static ts_rc failing_sample(const ts_model *m, const ts_data *d, double *values, ts_err *err)
+{
+    if (ts_time(d) >= fail_at)
+        return ts_err_set(err, TS_ERR_DIVERGED, NULL, "test: cannot evaluate at t = %g s",
+                          ts_time(d));
+    return real_sample(m, d, values, err);
+}
+
+/* EVIDENCE: scenario.h — a sample that cannot evaluate the model's equations
+ * stops the advance with its error (sticky, as a failed step), and a reset or
+ * restore whose first sample fails leaves the data not ready: until session
+ * 33 sample returned nothing, and a failed evaluation left stale or unset
+ * values in the row (22 dropped result codes found by TS_MUST_CHECK). */
+static void failed_sample_stops_the_advance(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    ts_data *d = ts_data_make(m, &err);
+    assert_non_null(d);
+    ts_scenario_ops ops = *m->ops;
+    real_sample = ops.sample;
+    ops.sample = failing_sample;
+    m->ops = &ops;
+    fail_at = 0.05;
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    size_t n = ts_state_size(m);
+    void *saved = malloc(n);
+    assert_int_equal(ts_state_save(m, d, saved, n, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, 1, NULL, NULL, &err), TS_ERR_DIVERGED);
+    assert_non_null(strstr(err.msg, "test: cannot evaluate at t = 0.05 s"));
+    assert_true(fabs(ts_time(d) - 0.05) < 1e-12);
+    assert_int_equal(ts_advance(m, d, 1, NULL, NULL, &err), TS_ERR_STATE); /* sticky */
+    assert_int_equal(ts_state_restore(m, d, saved, n, &err), TS_OK);       /* t = 0 */
+    assert_int_equal(ts_advance(m, d, 0.04, NULL, NULL, &err), TS_OK);
+    fail_at = 0.0;
+    assert_int_equal(ts_state_restore(m, d, saved, n, &err), TS_ERR_DIVERGED);
+    assert_int_equal(ts_advance(m, d, 1, NULL, NULL, &err), TS_ERR_STATE); /* not ready */
+    assert_int_equal(ts_reset(m, d, &err), TS_ERR_DIVERGED);
+    assert_int_equal(ts_advance(m, d, 1, NULL, NULL, &err), TS_ERR_STATE);
+    free(saved);
+    ts_data_free(d); /* through the copy: the scenario's own fini functions */
+    ts_model_free(m);
+}
+
 /* EVIDENCE: model.h ts_model_metrics — "returns how many figures the
  * scenario has ... and writes the first min(that, max)" (as snprintf): with
  * room for one figure the count is still all of them and only out[0] is
@@ -361,6 +411,7 @@ int main(void)
         cmocka_unit_test(state_save_restore_reproduces_the_run),
         cmocka_unit_test(drive_histories),
         cmocka_unit_test(cancel_from_callback),
+        cmocka_unit_test(failed_sample_stops_the_advance),
         cmocka_unit_test(metrics_count_past_max_and_crossings_reach_the_level),
         cmocka_unit_test(prescribed_pull_past_the_traction_limit_is_refused),
     };
