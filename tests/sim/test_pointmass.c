@@ -343,6 +343,40 @@ static void failed_sample_stops_the_advance(void **state)
     ts_model_free(m);
 }
 
+/* A sample that writes +Inf into the speed channel from t = fail_at on. */
+static ts_rc infinite_sample(const ts_model *m, const ts_data *d, double *values, ts_err *err)
+{
+    ts_rc rc = real_sample(m, d, values, err);
+    int k = ts_model_channel_index(m, "vehicle.speed");
+    assert_true(k > 0);
+    if (rc == TS_OK && ts_time(d) >= fail_at) values[k] = INFINITY;
+    return rc;
+}
+
+/* EVIDENCE: model.h ts_advance — a channel that is not finite ends the run
+ * with TS_ERR_DIVERGED naming it, +Inf as well as NaN (the check weakened to
+ * isnan survived the session-28 mutation pass: no shipped model makes +Inf;
+ * tests/MUTATION.md). */
+static void infinite_channel_ends_the_run(void **state)
+{
+    (void)state;
+    ts_config c = defaults();
+    ts_err err;
+    ts_model *m = ts_model_make(&c, &err);
+    ts_data *d = ts_data_make(m, &err);
+    assert_non_null(d);
+    ts_scenario_ops ops = *m->ops;
+    real_sample = ops.sample;
+    ops.sample = infinite_sample;
+    m->ops = &ops;
+    fail_at = 0.1;
+    assert_int_equal(ts_reset(m, d, &err), TS_OK);
+    assert_int_equal(ts_advance(m, d, 1, NULL, NULL, &err), TS_ERR_DIVERGED);
+    assert_non_null(strstr(err.msg, "channel 'vehicle.speed' became inf at t = 0.1 s"));
+    ts_data_free(d);
+    ts_model_free(m);
+}
+
 /* EVIDENCE: model.h ts_model_metrics — "returns how many figures the
  * scenario has ... and writes the first min(that, max)" (as snprintf): with
  * room for one figure the count is still all of them and only out[0] is
@@ -412,6 +446,7 @@ int main(void)
         cmocka_unit_test(drive_histories),
         cmocka_unit_test(cancel_from_callback),
         cmocka_unit_test(failed_sample_stops_the_advance),
+        cmocka_unit_test(infinite_channel_ends_the_run),
         cmocka_unit_test(metrics_count_past_max_and_crossings_reach_the_level),
         cmocka_unit_test(prescribed_pull_past_the_traction_limit_is_refused),
     };
