@@ -170,17 +170,18 @@ static json_t *tune_doc(const ts_config *cfg, const char *fidelity, const ts_ivs
                         ts_err *err)
 {
     json_t *doc = json_pack(
-        "{s:s, s:s, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f}", "plant",
-        "pointmass+powertrain", "engine_fidelity", fidelity, "rack_low", cfg->control.tune_rack_low,
-        "rack_rated", 1.0, "v0", o->v0, "vb", o->vb, "settle_slope", o->settle_slope, "final_slope",
-        o->final_slope, "t_inflection", o->zn.t_inflection - cfg->control.tune_settle, "slope",
-        o->zn.slope, "x", o->zn.x, "y", o->zn.y, "kp_norm", o->zn.kp_norm, "kp", o->kp, "ti",
-        o->zn.ti, "ti_factor", cfg->control.ti_factor);
+        "{s:s, s:s, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f}",
+        "plant", "pointmass+powertrain", "engine_fidelity", fidelity, "rack_low",
+        cfg->control.tune_rack_low, "rack_rated", 1.0, "v0", o->v0, "vb", o->vb, "settle_slope",
+        o->settle_slope, "final_slope", o->final_slope, "t_inflection",
+        o->zn.t_inflection - cfg->control.tune_settle, "slope", o->zn.slope, "x", o->zn.x, "y",
+        o->zn.y, "kp_norm", o->zn.kp_norm, "kp", o->kp, "ti", o->zn.ti, "kp_factor",
+        cfg->control.kp_factor, "ti_factor", cfg->control.ti_factor);
     json_t *units =
-        json_pack("{s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s}", "rack_low", "1",
+        json_pack("{s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s,s:s}", "rack_low", "1",
                   "rack_rated", "1", "v0", "m/s", "vb", "m/s", "settle_slope", "m/s^2",
                   "final_slope", "m/s^2", "t_inflection", "s", "slope", "1/s", "x", "s", "y", "1",
-                  "kp_norm", "1", "kp", "1/(m/s)", "ti", "s", "ti_factor", "1");
+                  "kp_norm", "1", "kp", "1/(m/s)", "ti", "s", "kp_factor", "1", "ti_factor", "1");
     if (!doc || json_object_set_new(doc, "units", units) != 0) {
         json_decref(doc);
         return no_json(err, "tune");

@@ -9,8 +9,8 @@
  *    "rated": {"speed_rpm", "power_w", "power_hp", "torque"}}  (the 2100-rpm row)
  * IVS tuning (Section IV.B.1, Eqs. 11-12, Fig. 26-27; sim/ivs_tune.h):
  *   {"plant", "engine_fidelity", "rack_low", "rack_rated", "v0", "vb", "settle_slope",
- *    "final_slope", "t_inflection", "slope", "x", "y", "kp_norm", "kp", "ti", "ti_factor",
- *    "units": {...}, "schedule": {"var", "x": [...], "kp": [...], "ti": [...]}}
+ *    "final_slope", "t_inflection", "slope", "x", "y", "kp_norm", "kp", "ti", "kp_factor",
+ * "ti_factor", "units": {...}, "schedule": {"var", "x": [...], "kp": [...], "ti": [...]}}
  *   t_inflection is measured from the rack step; "schedule" only with a schedule; its
  *   arrays fit /control/schedule_*. All numbers SI, at full double precision.
  */

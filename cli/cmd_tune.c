@@ -12,11 +12,11 @@
  * the state, restore it into a second model at full rack and run
  * /control/tune_duration s more; the final speed is the rated steady state b.
  * The speed is normalised by Eq. 11 and ts_zn_reaction_curve builds the
- * tangent (X, Y); K_p = 0.9/|Y| (normalised) and T_I = ti_factor |X| (Eq. 12).
+ * tangent (X, Y); K_p = kp_factor/|Y| (normalised) and T_I = ti_factor |X| (Eq. 12).
  *
  * Prints one JSON document:
  *   {"plant", "rack_low", "rack_rated", "v0", "vb", "settle_slope", "final_slope",
- *    "t_inflection", "slope", "x", "y", "kp_norm", "kp", "ti", "ti_factor",
+ *    "t_inflection", "slope", "x", "y", "kp_norm", "kp", "ti", "kp_factor", "ti_factor",
  *    "schedule": {"var", "x": [...], "kp": [...], "ti": [...]}}   (SI units)
  * The schedule block is there with --schedule-mass M1,M2,... [kg] or
  * --schedule-grade G1,G2,... [rad]; its arrays fit /control/schedule_*.

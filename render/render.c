@@ -33,6 +33,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../sim/constants.h"
 #include "font.h"
 #include "scene.h"
 
@@ -379,7 +380,7 @@ static void draw_overlay(const tsr_scene *s, const tsr_view *v, unsigned char *p
     int nl = 0;
     if (v->overlay) {
         int n = snprintf(line[0], sizeof line[0], "t %.2f s   v %.1f km/h (%.1f mph)", s->t,
-                         s->speed * 3.6, s->speed / 0.44704);
+                         s->speed * 3.6, s->speed / TS_MPH);
         if (s->gear != 0 && n >= 0 && (size_t)n < sizeof line[0]) /* not truncated already */
             snprintf(line[0] + n, sizeof line[0] - (size_t)n, "   gear %d", s->gear);
         nl = 1;

@@ -34,10 +34,11 @@
 static const double OVERALL_WIDTH = 3.66;   /* [m] M1 width over the tracks */
 static const double TRACK_WIDTH = 0.635;    /* [m] T-156/T-158 shoe width */
 static const double LOWER_HULL_HALF = 1.05; /* [m] lower hull between the tracks */
-static const double SHOE_INNER = 0.045;     /* [m] shoe body inside the pitch line */
+static const double SHOE_INNER = 0.045;     /* [m] shoe body inside the pitch line, unless the
+                                               geometry gives its pitch offset */
 static const double SHOE_OUTER = 0.045;     /* [m] shoe body outside the pitch line */
 static const double SHOE_GAP = 0.06;        /* fraction of a pitch left open at each end */
-static const int SPROCKET_TEETH = 11;       /* vehicle.json: 11-tooth sprocket */
+static const int SPROCKET_TEETH = 11;       /* unless the track's pitch fixes the count */
 static const double GROUND_HALF = 6.0;      /* [m] ground strip half-width */
 static const double GROUND_REACH = 40.0;    /* [m] ground drawn ahead of/behind the hull */
 static const double GROUND_STEP = 0.25;     /* [m] ground sampling step (divides the stripes) */
@@ -279,6 +280,23 @@ static ts_rc check_geom(const ts_geom *g, int *isprocket, int *iidler, ts_err *e
 
 /* ---- the parts ------------------------------------------------------------- */
 
+/* Shoe body inside the pitch line: the geometry's pitch offset (the shoes ride
+ * on the wheels' rims), else the drawing's default. */
+static double shoe_inner(const ts_geom *g)
+{
+    return g->track_pitch_offset > 0 ? g->track_pitch_offset : SHOE_INNER;
+}
+
+/* Teeth of a sprocket of pitch radius r meshing with shoes of this pitch:
+ * r = pitch / (2 sin(pi / n)), the nearest whole n (the M1's 0.180 m pitch on
+ * its 0.327 m radius: 11); the drawing's default without a pitch. */
+static int sprocket_teeth(double pitch, double r)
+{
+    if (!(pitch > 0 && pitch < 2.0 * r)) return SPROCKET_TEETH;
+    long n = lround(TSR_PI / asin(0.5 * pitch / r));
+    return n < 6 ? 6 : n > 16 ? 16 : (int)n; /* the drawing holds at most 16 */
+}
+
 static double terrain_at(const ts_geom *g, double x)
 {
     int n = g->nterrain;
@@ -401,6 +419,7 @@ static void build_track(mb *b, const ts_geom *g, const tsr_view *v, double phase
      * clockwise round the loop: shoes advance by -orient * angle * radius. */
     double s0 = fmod(-orient * phase_angle * phase_radius, p);
     double yc = yc_sign * (OVERALL_WIDTH - TRACK_WIDTH) / 2;
+    const double inner = shoe_inner(g);
     for (int i = 0; i < nshoe; i++) {
         double sa = s0 + i * p, ax, az, bx, bz, mx, mz, segf;
         loop_point(lp, sa, &ax, &az, NULL);
@@ -413,8 +432,8 @@ static void build_track(mb *b, const ts_geom *g, const tsr_view *v, double phase
         double nx = orient * tz, nz = -orient * tx; /* outward */
         double gx = tx * SHOE_GAP * l, gz = tz * SHOE_GAP * l;
         double poly[4][2] = {
-            {ax + gx - nx * SHOE_INNER, az + gz - nz * SHOE_INNER},
-            {bx - gx - nx * SHOE_INNER, bz - gz - nz * SHOE_INNER},
+            {ax + gx - nx * inner, az + gz - nz * inner},
+            {bx - gx - nx * inner, bz - gz - nz * inner},
             {bx - gx + nx * SHOE_OUTER, bz - gz + nz * SHOE_OUTER},
             {ax + gx + nx * SHOE_OUTER, az + gz + nz * SHOE_OUTER},
         };
@@ -479,11 +498,11 @@ static void dual_wheel(mb *b, const ts_geom_wheel *w, int part, double yc, doubl
     wheel_face(b, w, yo, out, nholes);
 }
 
-static void sprocket(mb *b, const ts_geom_wheel *w, double yc, double out)
+static void sprocket(mb *b, const ts_geom_wheel *w, double pitch, double yc, double out)
 {
     /* toothed rings just outboard of the track edge, hub disc inside */
     double r = w->radius, rt = r + 0.075, rr = r - 0.035;
-    int nt = SPROCKET_TEETH;
+    int nt = sprocket_teeth(pitch, r);
     double poly[4 * 16][2];
     int np = 0;
     for (int k = 0; k < nt && np + 4 <= 64; k++) {
@@ -529,7 +548,7 @@ static void build_hull(mb *b, tsr_scene *s, const ts_geom *g, int isp, int iid)
     for (int i = 0; i < g->nwheel; i++)
         if (g->wheel[i].role == TS_WHEEL_ROLLER)
             zf = fmax(zf, BZ(g->wheel[i].x, g->wheel[i].z) + g->wheel[i].radius);
-    zf += SHOE_INNER + SHOE_OUTER + 0.06;
+    zf += shoe_inner(g) + SHOE_OUTER + 0.06;
     if (zf > zb + DECK * Hh - 0.05) zf = zb + DECK * Hh - 0.05;
     if (zf < zb + 0.1) zf = zb + 0.1;
 #undef BX
@@ -636,7 +655,9 @@ static void build_running_gear(mb *b, const ts_geom *g, int side)
         }
         case TS_WHEEL_IDLER: dual_wheel(b, w, TSR_PART_IDLER, yc, wheel_half, out, 6); break;
         case TS_WHEEL_ROLLER: dual_wheel(b, w, TSR_PART_ROLLER, yc, 0.2, out, 3); break;
-        case TS_WHEEL_SPROCKET: sprocket(b, w, yc, out); break;
+        case TS_WHEEL_SPROCKET:
+            sprocket(b, w, g->track_pitch, yc, out);
+            break;
         default: break;
         }
     }

@@ -49,6 +49,8 @@ static const ts_param control_rows[] = {
      "tune: simulated time to settle at the low rack before the step"},
     {"/control/tune_duration", TS_PT_DOUBLE, F(tune_duration), "s", 1, 1e4, NULL, 0, 0,
      "tune: simulated time after the step (to the full-rack steady state)"},
+    {"/control/kp_factor", TS_PT_DOUBLE, F(kp_factor), "1", 0.01, 100, NULL, 0, 0,
+     "tune: K_p = kp_factor / |Y| in normalised units (Eq. 12a: 0.9)"},
     {"/control/ti_factor", TS_PT_DOUBLE, F(ti_factor), "1", 0.1, 100, NULL, 0, 0,
      "tune: T_I = ti_factor |X| (Eq. 12b; paper prints 3, classical rule 3.33)"},
     {"/control/tune_window", TS_PT_INT, F(tune_window), "1", 3, 1001, NULL, 0, 0,

@@ -44,6 +44,7 @@ typedef struct ts_control_config {
     double tune_rack_low; /* rack of the steady state before the step [1] */
     double tune_settle;   /* time to reach that steady state [s] */
     double tune_duration; /* simulated time after the step [s] */
+    double kp_factor;     /* K_p = kp_factor / |Y| (normalised) [1] */
     double ti_factor;     /* T_I = ti_factor |X| [1] */
     int tune_window;      /* samples in the slope fit (odd) */
 } ts_control_config;

@@ -119,6 +119,8 @@ static const ts_param engine_rows[] = {
     D(oil_capacity, "J/K", 1e3, 1e7, "oil lumped heat capacity"),
     D(coolant_ua, "W/K", 10, 1e6, "radiator conductance at full thermostat opening"),
     D(oil_ua, "W/K", 10, 1e6, "oil cooler conductance at full opening"),
+    D(thermostat_band, "K", 0.1, 50,
+      "coolant and oil thermostats open linearly over this band centred on their set points"),
     D(fmep_a, "Pa", 0, 1e5, "Millington-Hartles: fmep = a (r_c - 4) + b omega + c S_p^2: a"),
     D(fmep_b, "Pa*s/rad", 0, 1e4, "Millington-Hartles b (per rad/s: the per-rpm b x 30/pi)"),
     D(fmep_c, "Pa*s^2/m^2", 0, 1e4, "Millington-Hartles c"),

@@ -28,6 +28,7 @@ typedef enum ts_engine_fidelity {
 extern const char *const ts_engine_fidelity_names[];
 
 #define TS_ENGINE_MAP_MAX 32 /* points of a map table */
+#define TS_ENGINE_NCYL      12 /* cylinders of the V-12, two banks of six [P III.A] */
 #define TS_ENGINE_SPOOL_MAX 96 /* points of a part-boost table (spool_speed x spool_ratio) */
 
 /* Full-load steady-state tables of one variant vs /engine/map_speed, written by
@@ -98,6 +99,7 @@ typedef struct ts_engine_config {
     double coolant_temp, oil_temp;         /* thermostat set points [K] */
     double coolant_capacity, oil_capacity; /* lumped heat capacities [J/K] */
     double coolant_ua, oil_ua;             /* radiator / oil cooler at full opening [W/K] */
+    double thermostat_band;                /* opening band around each set point [K] */
     /* friction and inertia */
     double fmep_a, fmep_b, fmep_c; /* Millington-Hartles [Pa], [Pa*s/rad], [Pa/(m/s)^2] */
     double inertia;                /* engine + flywheel, rotating [kg*m^2] */

@@ -257,4 +257,13 @@ TS_MUST_CHECK ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega
                                      const ts_engine_inputs *in, int max_cycles, double tol,
                                      ts_engine_cycle *cyc, ts_err *err);
 
+/* The full-load sweep's and the dynamometer's steady searches: their cycle
+ * cap and relative tolerance of the cycle-mean brake torque, and the rotor
+ * speed a search from ts_engine_init_state starts at (~76 krpm; the turbo
+ * match has a low-boost and a high-boost branch, and this start finds the
+ * high-boost one, which the paper's Fig. 18 shows: engine.json's notes). */
+#define TS_ENGINE_STEADY_CYCLES 80
+#define TS_ENGINE_STEADY_TOL    2e-4
+#define TS_ENGINE_SEARCH_TURBO  8000.0 /* [rad/s] */
+
 #endif

@@ -399,9 +399,11 @@ static void wall_part(const ts_engine *e, const double *x, const ts_engine_input
     }
     if (out) out->piston_surface_temp = x[e->off_wall + EN_PISTON * EN_WALL_NODES];
     xdot[e->off_ledger + LX_WALL] = led_wall;
-    /* coolant and oil: thermostat opens over 4 K around the set point */
-    double open_c = en_atmost(en_atleast((T_cool - c->coolant_temp + 2.0) / 4.0, 0.0), 1.0);
-    double open_o = en_atmost(en_atleast((T_oil - c->oil_temp + 2.0) / 4.0, 0.0), 1.0);
+    /* coolant and oil: each thermostat opens over /engine/thermostat_band
+     * centred on its set point */
+    const double band = c->thermostat_band, half = 0.5 * band;
+    double open_c = en_atmost(en_atleast((T_cool - c->coolant_temp + half) / band, 0.0), 1.0);
+    double open_o = en_atmost(en_atleast((T_oil - c->oil_temp + half) / band, 0.0), 1.0);
     xdot[e->off_coolant] = (q_cool - open_c * c->coolant_ua * (T_cool - in->T_amb)) /
                            (c->coolant_capacity * e->thermal_scale);
     xdot[e->off_coolant + 1] = (q_oil - open_o * c->oil_ua * (T_oil - in->T_amb)) /

@@ -27,7 +27,7 @@
 #include "fuel_actuator.h"
 
 #define EN_PI    TS_PI
-#define EN_NCYL  12
+#define EN_NCYL          TS_ENGINE_NCYL
 #define EN_NBANK 2
 #define EN_CYCLE (4.0 * EN_PI)  /* crank angle of one four-stroke cycle [rad] */
 #define EN_RPM   (30.0 / EN_PI) /* rpm per rad/s */

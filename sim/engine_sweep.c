@@ -11,10 +11,6 @@
 #include "constants.h"
 #include "param.h"
 
-#define STEADY_CYCLES 80     /* cycle limit of each steady state */
-#define STEADY_TOL    2e-4   /* relative brake-torque change between cycles */
-#define SEARCH_TURBO  8000.0 /* rotor speed the lug-down starts from [rad/s] */
-
 _Static_assert(TS_ENGINE_SWEEP_NPOINT ==
                    (TS_ENGINE_SWEEP_RPM_HI - TS_ENGINE_SWEEP_RPM_LO) / TS_ENGINE_SWEEP_RPM_STEP + 1,
                "TS_ENGINE_SWEEP_NPOINT does not match the speed range");
@@ -51,11 +47,12 @@ ts_rc ts_engine_full_load_sweep(const ts_config *cfg, ts_engine_cycle rows[TS_EN
                            .T_amb = cfg->driveline.ambient_temperature,
                            .hold_speed = 1};
     ts_engine_init_state(e, TS_ENGINE_SWEEP_RPM_HI * TS_PI / 30, in.p_amb, in.T_amb, x);
-    ts_engine_set_turbo_speed(e, x, SEARCH_TURBO);
+    ts_engine_set_turbo_speed(e, x, TS_ENGINE_SEARCH_TURBO);
     ts_rc rc = TS_OK;
     for (int k = TS_ENGINE_SWEEP_NPOINT - 1; k >= 0; k--) {
         double w = (TS_ENGINE_SWEEP_RPM_LO + k * TS_ENGINE_SWEEP_RPM_STEP) * TS_PI / 30;
-        rc = ts_engine_steady(e, x, w, &in, STEADY_CYCLES, STEADY_TOL, &rows[k], err);
+        rc = ts_engine_steady(e, x, w, &in, TS_ENGINE_STEADY_CYCLES, TS_ENGINE_STEADY_TOL, &rows[k],
+                              err);
         if (rc != TS_OK) break;
         int done = TS_ENGINE_SWEEP_NPOINT - k;
         if (progress && progress(ud, done, TS_ENGINE_SWEEP_NPOINT) != 0) {

@@ -12,7 +12,8 @@
 
 ts_fuel_law ts_fuel_law_from_config(const ts_engine_config *c)
 {
-    ts_fuel_law f = {c->phi_rated, c->phi_curvature, c->phi_speed, c->phi_max, c->afr_stoich, 12};
+    ts_fuel_law f = {c->phi_rated, c->phi_curvature, c->phi_speed,
+                     c->phi_max,   c->afr_stoich,    TS_ENGINE_NCYL};
     return f;
 }
 

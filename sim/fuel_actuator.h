@@ -20,10 +20,10 @@ typedef struct ts_fuel_law {
     double speed_rated;   /* Eq. 13 reference speed [rad/s] */
     double phi_max;       /* cap on phi_tgt [1] */
     double afr_stoich;    /* (A/F)_s [1] */
-    int n_cyl;            /* cylinders (12) */
+    int n_cyl;            /* cylinders (TS_ENGINE_NCYL) */
 } ts_fuel_law;
 
-/* Law from the engine section (n_cyl = 12). */
+/* Law from the engine section (n_cyl = TS_ENGINE_NCYL). */
 ts_fuel_law ts_fuel_law_from_config(const ts_engine_config *c);
 
 /* Eq. 13: target equivalence ratio at speed omega [rad/s]. */

@@ -46,6 +46,8 @@ typedef struct ts_geom {
     double track_tension[TS_GEOM_MAX_TRACK]; /* total tension P0 + tau at each point [N] */
     double track_static_tension; /* for colour scaling [N] */
     double track_pitch;          /* shoe pitch, for drawing the shoes [m]; 0: a band, no shoes */
+    double track_pitch_offset;   /* pitch line outside the wheels' rims, the shoe body inside
+                                    it [m]; 0: not given (a renderer's default) */
     int nterrain;              /* terrain profile under and around the vehicle */
     double terrain_x[TS_GEOM_MAX_TERRAIN], terrain_z[TS_GEOM_MAX_TERRAIN]; /* [m] */
 } ts_geom;

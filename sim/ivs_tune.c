@@ -220,8 +220,8 @@ ts_rc ts_ivs_tune_polled(const ts_config *cfg, ts_ivs_tune_result *out, ts_progr
     if (rc != TS_OK) goto done;
     for (long i = 0; i < s.n; i++)
         s.v[i] = (s.v[i] - out->v0) / span; /* Eq. 11 */
-    rc = ts_zn_reaction_curve(s.t, s.v, (int)s.n, cc->tune_settle, cc->tune_window, cc->ti_factor,
-                              &out->zn, err);
+    rc = ts_zn_reaction_curve(s.t, s.v, (int)s.n, cc->tune_settle, cc->tune_window, cc->kp_factor,
+                              cc->ti_factor, &out->zn, err);
     if (rc == TS_OK)
         out->kp = ts_zn_kp_physical(out->zn.kp_norm, cc->tune_rack_low, 1.0, out->v0, out->vb);
 done:

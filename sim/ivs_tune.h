@@ -14,7 +14,7 @@
  * rack and run /control/tune_duration s more; the final speed is the rated
  * steady state b. The speed is normalised by Eq. 11 and ts_zn_reaction_curve
  * builds the tangent (X, Y) over /control/tune_window samples;
- * K_p = 0.9/|Y| (normalised) and T_I = /control/ti_factor |X| (Eq. 12).
+ * K_p = /control/kp_factor / |Y| (normalised) and T_I = /control/ti_factor |X| (Eq. 12).
  */
 #ifndef TS_IVS_TUNE_H
 #define TS_IVS_TUNE_H

@@ -7,10 +7,10 @@
  * rack (ts_engine_steady: turbo, manifolds, walls, coolant and oil settled),
  * so a run shows steady operation: at a high sample rate (12.6 kHz = one
  * sample per deg CA at 2100 rpm) the cylinder channels trace the diesel cycle
- * of cylinder 1. The search starts with the rotors spun up (SEARCH_TURBO) so
- * it finds the full-load high-boost turbo match (see ts_engine_set_turbo_speed). Integration: the engine's fixed crank-angle RK4
- * (ts_engine_advance), any fidelity.
- * Metrics: cycle-mean brake torque and power, peak cylinder pressure.
+ * of cylinder 1. The search starts with the rotors spun up (TS_ENGINE_SEARCH_TURBO) so
+ * it finds the full-load high-boost turbo match (see ts_engine_set_turbo_speed). Integration: the
+ * engine's fixed crank-angle RK4 (ts_engine_advance), any fidelity. Metrics: cycle-mean brake
+ * torque and power, peak cylinder pressure.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -19,10 +19,6 @@
 #include "constants.h"
 #include "engine.h"
 #include "scenario.h"
-
-#define STEADY_CYCLES 80 /* cap of the steady-state search [cycles] */
-#define STEADY_TOL 2e-4  /* relative change of cycle-mean torque */
-#define SEARCH_TURBO 8000.0 /* rotor speed the search starts from [rad/s] (~76 krpm) */
 
 enum {
     CH_SPEED = 1,
@@ -171,8 +167,9 @@ static ts_rc reset(const ts_model *m, ts_data *d, ts_err *err)
     ts_engine_inputs in = inputs(m);
     double w = m->cfg.engine.dyno_speed;
     ts_engine_init_state(e, w, in.p_amb, in.T_amb, p->x);
-    ts_engine_set_turbo_speed(e, p->x, SEARCH_TURBO);
-    ts_rc rc = ts_engine_steady(e, p->x, w, &in, STEADY_CYCLES, STEADY_TOL, NULL, err);
+    ts_engine_set_turbo_speed(e, p->x, TS_ENGINE_SEARCH_TURBO);
+    ts_rc rc =
+        ts_engine_steady(e, p->x, w, &in, TS_ENGINE_STEADY_CYCLES, TS_ENGINE_STEADY_TOL, NULL, err);
     if (rc != TS_OK) return rc;
     p->x[TS_ENGINE_X_ANGLE] = fmod(p->x[TS_ENGINE_X_ANGLE], 4.0 * TS_PI);
     return TS_OK;
@@ -251,10 +248,10 @@ static int metrics(const ts_model *m, const double *rows, long nrows, ts_metric 
     ts_metric mt[3] = {
         {"brake_torque_mean", "N*m", tq,
          "mean brake torque over the sampled rows (predicted but for the conventional "
-         "engine at 2100 rpm, full rack: calibrated to 1484 hp)"},
+         "engine at 2100 rpm, full rack: calibrated to the paper's 1484 hp, 9.9 % over 1350 hp)"},
         {"brake_power_mean", "W", pw,
          "mean brake power over the sampled rows (predicted but for the conventional "
-         "engine at 2100 rpm, full rack: calibrated to 1484 hp)"},
+         "engine at 2100 rpm, full rack: calibrated to the paper's 1484 hp, 9.9 % over 1350 hp)"},
         {"peak_cylinder_pressure", "Pa", pk, "largest sampled cylinder 1 pressure (predicted)"},
     };
     if (max > 0) memcpy(out, mt, sizeof mt[0] * (size_t)(max < n ? max : n));

@@ -64,5 +64,14 @@ ts_rc ts_vehicle_layout_check(const ts_vehicle_config *vc, ts_err *err)
                           "/vehicle/cg_x: the hull CG (x = %g m) must lie over the ground contact, "
                           "between road wheels %d and 1 (x = %g .. %g m)",
                           vc->cg_x, n, w[n - 1], w[0]);
+    /* the arm's own inertia about its centre, at mid-length (vehicle_model.c),
+     * is the pivot's less m (a/2)^2 by the parallel-axis theorem */
+    double i_min = vc->road_arm_mass * 0.25 * vc->road_arm_length * vc->road_arm_length;
+    if (!(vc->road_arm_inertia > i_min))
+        return ts_err_set(err, TS_ERR_PARAM, "/vehicle/road_arm_inertia",
+                          "/vehicle/road_arm_inertia: %g kg*m^2 about the pivot is not more than "
+                          "the arm's mass at its mid-length gives, m (a/2)^2 = %g kg*m^2 "
+                          "(/vehicle/road_arm_mass, road_arm_length)",
+                          vc->road_arm_inertia, i_min);
     return TS_OK;
 }

@@ -6,8 +6,9 @@
  * multibody model (vehicle_model.c) and the circuit eigenanalysis
  * (track_circuit.c) both assemble, Fig. 1 of the paper — a rear sprocket, road
  * wheels 1 (front) .. n (rear) under the hull, the idler at the front and the
- * two support rollers on the upper run between them — and that the hull's CG
- * lies over the ground contact.
+ * two support rollers on the upper run between them — that the hull's CG
+ * lies over the ground contact, and that a road arm's inertia about its pivot
+ * exceeds what its mass alone at mid-length gives.
  */
 #ifndef TANKSIM_VEHICLE_LAYOUT_H
 #define TANKSIM_VEHICLE_LAYOUT_H

@@ -1903,8 +1903,8 @@ vm *vm_make(const ts_config *cfg, ts_err *err)
     v->m_arm = vc->road_arm_mass;
     v->arm_len = vc->road_arm_length;
     v->arm0 = vc->road_arm_angle;
+    /* > 0: ts_vehicle_layout_check */
     v->i_arm_cg = vc->road_arm_inertia - v->m_arm * 0.25 * v->arm_len * v->arm_len;
-    if (v->i_arm_cg <= 0) v->i_arm_cg = 1e-3 * vc->road_arm_inertia;
     v->k_bar = vc->torsion_bar_rate;
     for (int i = 0; i < VM_NRW; i++) {
         v->c_damp[i] =
@@ -2309,6 +2309,7 @@ void vm_geometry(const vm *v, vm_work *w, double t, const double *y, ts_geom *g)
     }
     g->track_static_tension = v->t_static;
     g->track_pitch = v->cfg.track.pitch;
+    g->track_pitch_offset = vc->track_pitch_offset;
     elem e[VM_NB];
     for (int el = 0; el < VM_NB; el++)
         tangent(v, &k, el, &e[el]);

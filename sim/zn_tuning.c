@@ -11,11 +11,12 @@ int ts_zn_window_centred(int window)
 }
 
 ts_rc ts_zn_reaction_curve(const double *t, const double *v, int n, double t_step, int window,
-                           double ti_factor, ts_zn_result *out, ts_err *err)
+                           double kp_factor, double ti_factor, ts_zn_result *out, ts_err *err)
 {
     if (n < 5) return ts_err_set(err, TS_ERR_PARAM, NULL, "step response: need >= 5 samples");
     if (window < 3 || !ts_zn_window_centred(window) || window > n)
         return ts_err_set(err, TS_ERR_PARAM, NULL, "step response: window must be odd, 3..n");
+    if (!(kp_factor > 0)) return ts_err_set(err, TS_ERR_PARAM, NULL, "kp_factor must be > 0");
     if (!(ti_factor > 0)) return ts_err_set(err, TS_ERR_PARAM, NULL, "ti_factor must be > 0");
     int h = window / 2;
     double best = -INFINITY, tb = 0, vb = 0;
@@ -53,7 +54,7 @@ ts_rc ts_zn_reaction_curve(const double *t, const double *v, int n, double t_ste
     out->slope = best;
     out->x = x;
     out->y = y;
-    out->kp_norm = 0.9 / fabs(y);      /* Eq. 12a */
+    out->kp_norm = kp_factor / fabs(y); /* Eq. 12a */
     out->ti = ti_factor * fabs(x);     /* Eq. 12b */
     return TS_OK;
 }

@@ -9,9 +9,10 @@
  * rack). The tangent at the point of steepest slope (the inflection of the
  * S-shaped V_ar(t)) meets the time axis at X (measured from the step) and the
  * speed axis at Y = −slope·X. Gains (Eq. 12; Ziegler & Nichols 1942 PI rule):
- *   K_p = 0.9/|Y|  (normalised units),   T_I = f·|X|
- * The paper prints f = 3; the classical rule is 3.33 (= 1/0.3): f is a
- * parameter. K_p converts to rack per m/s through the normalisation.
+ *   K_p = e/|Y|  (normalised units),   T_I = f·|X|
+ * with e = 0.9 (paper and classical rule alike) and f printed 3 by the paper
+ * against the classical 3.33 (= 1/0.3): both are parameters (/control/kp_factor,
+ * /control/ti_factor). K_p converts to rack per m/s through the normalisation.
  */
 #ifndef TS_ZN_TUNING_H
 #define TS_ZN_TUNING_H
@@ -23,17 +24,17 @@ typedef struct ts_zn_result {
     double slope;        /* steepest slope of V_ar [1/s] */
     double x;            /* X: dead time, tangent's time-axis intercept after the step [s] */
     double y;            /* Y: tangent's speed-axis intercept at the step time [1], negative */
-    double kp_norm;      /* 0.9/|Y| [1] */
+    double kp_norm;      /* e/|Y| [1] */
     double ti;           /* f |X| [s] */
 } ts_zn_result;
 
 /* Reaction-curve construction on a sampled normalised response v[i] at
  * increasing times t[i] (n >= 5 samples, uniform or not), step applied at
  * t_step. The slope is a least-squares line over `window` samples (odd, >= 3)
- * to ride over track-vibration ripple. ti_factor is f above. */
+ * to ride over track-vibration ripple. kp_factor is e and ti_factor f above. */
 TS_MUST_CHECK ts_rc ts_zn_reaction_curve(const double *t, const double *v, int n, double t_step,
-                                         int window, double ti_factor, ts_zn_result *out,
-                                         ts_err *err);
+                                         int window, double kp_factor, double ti_factor,
+                                         ts_zn_result *out, ts_err *err);
 
 /* 1 when a slope window of `window` samples is centred on one (odd): the
  * rule ts_zn_reaction_curve applies, and ts_ivs_tune before its runs. */

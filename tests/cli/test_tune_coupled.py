@@ -13,7 +13,7 @@ def run(*args):
 
 
 def test_tune_prints_reaction_curve_and_gains():
-    # EVIDENCE: Eq. 12 as implemented: kp_norm = 0.9/|Y|, T_I = ti_factor |X|, and the
+    # EVIDENCE: Eq. 12 as implemented: kp_norm = kp_factor/|Y| (0.9, Eq. 12a), T_I = ti_factor |X|, and the
     # physical gain kp = kp_norm (R_b - R_0)/(V_b - V_0) (Eq. 11 scalings). Closed-form
     # relations between the printed numbers; the plant response itself is predicted.
     out = run("tune", "--preset", "bump-coupled-ivs5mph")
@@ -21,6 +21,7 @@ def test_tune_prints_reaction_curve_and_gains():
     r = json.loads(out.stdout)
     assert r["plant"] == "pointmass+powertrain"
     assert r["y"] < 0 and r["x"] > 0 and r["vb"] > r["v0"] > 0
+    assert r["kp_factor"] == 0.9
     assert abs(r["kp_norm"] - 0.9 / abs(r["y"])) < 1e-4 * r["kp_norm"]
     assert abs(r["ti"] - r["ti_factor"] * r["x"]) < 1e-4 * r["ti"]
     kp = r["kp_norm"] * (r["rack_rated"] - r["rack_low"]) / (r["vb"] - r["v0"])

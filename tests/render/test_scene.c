@@ -427,6 +427,61 @@ static void wheels_turn_with_their_spin(void **state)
     tsr_scene_free(sb);
 }
 
+/* EVIDENCE: geometry.h track_pitch_offset — the shoes ride on the wheels'
+ * rims, so a shoe's body reaches the pitch offset inside the pitch line (on
+ * the ground run: that far above it); and a sprocket of pitch radius r meshes
+ * with shoes of pitch p with n = pi / asin(p / 2r) teeth (11 for the M1's
+ * 0.180 m on 0.327 m). Until session 33 the drawing wrote 0.045 m and 11
+ * teeth whatever the config said. */
+static void shoes_ride_on_the_rims_and_the_teeth_follow_the_pitch(void **state)
+{
+    (void)state;
+    static m1_state s;
+    m1_flat(&s, 0);
+    double zlo = INFINITY, xs = 0;
+    int nlo = 0;
+    for (int i = 0; i < s.g.ntrack; i++)
+        zlo = fmin(zlo, s.g.track_z[i]);
+    for (int i = 0; i < s.g.ntrack; i++)
+        if (s.g.track_z[i] < zlo + 1e-9) xs += s.g.track_x[i], nlo++;
+    assert_true(nlo >= 2);
+    xs /= nlo; /* the middle of the ground run */
+    const double offset[2] = {0.045, 0.08};
+    for (int c = 0; c < 2; c++) {
+        s.g.track_pitch_offset = offset[c];
+        tsr_view v = side_view();
+        tsr_scene *sc = scene_of(&s.g, &v);
+        double top = -INFINITY;
+        for (int i = 0; i < sc->nv; i++) {
+            const tsr_vertex *p = &sc->v[i];
+            if (part_of(p) == TSR_PART_TRACK && fabs(p->pos[0] - xs) < 0.3 && p->pos[2] < zlo + 0.2)
+                top = fmax(top, p->pos[2]);
+        }
+        assert_close(top - zlo, offset[c], 0, 1e-5); /* vertices are floats */
+        tsr_scene_free(sc);
+    }
+    int isp = -1;
+    for (int i = 0; i < s.g.nwheel; i++)
+        if (s.g.wheel[i].role == TS_WHEEL_SPROCKET && isp < 0) isp = i;
+    assert_true(isp >= 0);
+    const ts_geom_wheel *w = &s.g.wheel[isp];
+    const double pitch[3] = {0.180, 2.0 * w->radius * sin(TSR_PI / 9), 0.0};
+    const int teeth[3] = {11, 9, 11}; /* no pitch: the drawing's 11 */
+    for (int c = 0; c < 3; c++) {
+        s.g.track_pitch = pitch[c];
+        tsr_view v = side_view();
+        tsr_scene *sc = scene_of(&s.g, &v);
+        double a[512];
+        int n = angles_at_radius(sc, TSR_PART_SPROCKET, w->x, w->z, w->radius + 0.075, a, 512);
+        double distinct[64];
+        int nd = 0;
+        for (int i = 0; i < n; i++)
+            if (nearest_angle(a[i], distinct, nd) > 1e-6 && nd < 64) distinct[nd++] = a[i];
+        assert_int_equal(nd, 2 * teeth[c]); /* each tooth's two tip corners */
+        tsr_scene_free(sc);
+    }
+}
+
 /* EVIDENCE: render.h tsr_project — a point behind the camera has no pixel:
  * TS_ERR_RANGE. The three-quarter camera sits on the line from the hull
  * centre towards (0.62, -0.72, 0.32); a point 1 km out along that line is
@@ -539,6 +594,7 @@ int main(void)
         cmocka_unit_test(ground_held_at_the_profile_start),
         cmocka_unit_test(ground_keeps_the_profile_points),
         cmocka_unit_test(wheels_turn_with_their_spin),
+        cmocka_unit_test(shoes_ride_on_the_rims_and_the_teeth_follow_the_pitch),
         cmocka_unit_test(project_refuses_a_point_behind_the_camera),
         cmocka_unit_test(view_limits_are_inclusive),
     };

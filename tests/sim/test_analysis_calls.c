@@ -263,7 +263,7 @@ static void ivs_tune_normalises_by_eq11(void **state)
     }
     ts_zn_result zn;
     assert_int_equal(ts_zn_reaction_curve(t, v, (int)step.n, cc->tune_settle, cc->tune_window,
-                                          cc->ti_factor, &zn, &err),
+                                          cc->kp_factor, cc->ti_factor, &zn, &err),
                      TS_OK);
     assert_close(o.zn.t_inflection, zn.t_inflection, 1e-12, 0);
     assert_close(o.zn.slope, zn.slope, 1e-12, 0);

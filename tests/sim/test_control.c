@@ -122,7 +122,7 @@ static void zn_first_order_dead_time(void **state)
     }
     ts_zn_result r;
     ts_err err;
-    assert_int_equal(ts_zn_reaction_curve(t, v, N, t_step, 3, 3.33, &r, &err), TS_OK);
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, t_step, 3, 0.9, 3.33, &r, &err), TS_OK);
     assert_close(r.x, L, 0.02, 2e-3);
     assert_close(r.y, -L / T, 0.02, 0);
     assert_close(r.kp_norm, 0.9 / (L / T), 0.02, 0);
@@ -133,7 +133,7 @@ static void zn_first_order_dead_time(void **state)
     for (int i = 0; i < N; i++)
         if (t[i] > 0.2 && t[i] < 0.4) v[i] = 0.5 * (t[i] - 0.2);
     ts_zn_result q;
-    assert_int_equal(ts_zn_reaction_curve(t, v, N, t_step, 3, 3.33, &q, &err), TS_OK);
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, t_step, 3, 0.9, 3.33, &q, &err), TS_OK);
     assert_close(q.x, r.x, 1e-12, 0);
     assert_close(q.y, r.y, 1e-12, 0);
     /* EVIDENCE: a first-order lag with NO dead time, v = 1 - exp(-(t - t_step)/T):
@@ -146,18 +146,18 @@ static void zn_first_order_dead_time(void **state)
         double s = t[i] - t_step;
         v[i] = s > 0 ? 1 - exp(-s / T) : 0;
     }
-    assert_int_equal(ts_zn_reaction_curve(t, v, N, t_step, 3, 3.33, &q, &err), TS_ERR_STATE);
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, t_step, 3, 0.9, 3.33, &q, &err), TS_ERR_STATE);
     assert_non_null(strstr(err.msg, "no dead time"));
     /* EVIDENCE: the window may span all n samples (3..n): t = 0..4 s, v = 0, 0,
      * 0, 1, 2, window 5: least squares by hand, t_m = 2, v_m = 0.6, slope
      * sum (t - 2)(v - 0.6) / sum (t - 2)^2 = 5 / 10 = 0.5, so X = 2 - 0.6/0.5
      * = 0.8 s, Y = 0.6 - 0.5 x 2 = -0.4 (1e-12). */
     const double t5[5] = {0, 1, 2, 3, 4}, v5[5] = {0, 0, 0, 1, 2};
-    assert_int_equal(ts_zn_reaction_curve(t5, v5, 5, 0.0, 5, 3.0, &q, &err), TS_OK);
+    assert_int_equal(ts_zn_reaction_curve(t5, v5, 5, 0.0, 5, 0.9, 3.0, &q, &err), TS_OK);
     assert_close(q.slope, 0.5, 1e-12, 0);
     assert_close(q.x, 0.8, 1e-12, 0);
     assert_close(q.y, -0.4, 1e-12, 0);
-    assert_int_equal(ts_zn_reaction_curve(t5, v5, 5, 0.0, 7, 3.0, &q, &err), TS_ERR_PARAM);
+    assert_int_equal(ts_zn_reaction_curve(t5, v5, 5, 0.0, 7, 0.9, 3.0, &q, &err), TS_ERR_PARAM);
 }
 
 /* EVIDENCE: two-lag S-curve v = 1 - (T1 e^{-t/T1} - T2 e^{-t/T2})/(T1 - T2):
@@ -180,25 +180,25 @@ static void zn_two_lag_inflection(void **state)
     double X = ts - vs / s, Y = vs - s * ts;
     ts_zn_result r;
     ts_err err;
-    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 11, 3.0, &r, &err), TS_OK);
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 11, 0.9, 3.0, &r, &err), TS_OK);
     assert_close(r.t_inflection, ts, 0.01, 0);
     assert_close(r.x, X, 0.01, 0);
     assert_close(r.y, Y, 0.01, 0);
     /* a response that never rises is an error, not a number */
     for (int i = 0; i < N; i++) v[i] = 0;
-    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 11, 3.0, &r, &err), TS_ERR_STATE);
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 11, 0.9, 3.0, &r, &err), TS_ERR_STATE);
     assert_non_null(strstr(err.msg, "never rises"));
     /* nor one that only falls (its steepest slope is negative; mutation pass
      * ctl: without the slope > 0 check it fell through to the dead-time test,
      * which a falling curve can pass) */
     for (int i = 0; i < N; i++)
         v[i] = -(1 - exp(-t[i] / T1));
-    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 11, 3.0, &r, &err), TS_ERR_STATE);
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 11, 0.9, 3.0, &r, &err), TS_ERR_STATE);
     assert_non_null(strstr(err.msg, "never rises"));
     /* the window is centred on a sample (ts_zn_window_centred, which
      * ts_ivs_tune also applies to /control/tune_window): an even one is refused */
     assert_true(ts_zn_window_centred(11) && !ts_zn_window_centred(10));
-    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 10, 3.0, &r, &err), TS_ERR_PARAM);
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 10, 0.9, 3.0, &r, &err), TS_ERR_PARAM);
 }
 
 /* ---- co-simulation on a linear two-inertia drive ------------------------ */
@@ -490,7 +490,7 @@ static void zn_gain_scalings(void **state)
     }
     ts_zn_result r;
     ts_err err;
-    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 5, 3.33, &r, &err), TS_OK);
+    assert_int_equal(ts_zn_reaction_curve(t, v, N, 0.0, 5, 0.9, 3.33, &r, &err), TS_OK);
     assert_close(r.kp_norm, 0.9 / fabs(r.y), 1e-12, 0);
     assert_close(r.ti, 3.33 * fabs(r.x), 1e-12, 0);
     assert_close(r.y, -r.slope * r.x, 1e-9, 0); /* the tangent passes through (X, 0) and (0, Y) */

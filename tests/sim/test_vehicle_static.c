@@ -500,6 +500,28 @@ static void arm_inertia_enters_by_the_absolute_rate(void **state)
     vm_free(v1), vm_free(v2);
 }
 
+/* EVIDENCE: parallel-axis theorem — an arm of mass m whose centre of mass is
+ * at mid-length a/2 has I_pivot = I_cg + m (a/2)^2 with I_cg > 0, so an
+ * inertia about the pivot at or below m (a/2)^2 (90 x 0.45^2 / 4 = 4.56
+ * kg m^2 with the default arm) describes no arm: refused naming the field.
+ * Until session 33 I_cg was silently set to 0.1 % of the input. */
+static void arm_inertia_below_its_mass_at_mid_length_is_refused(void **state)
+{
+    (void)state;
+    ts_config c = config("static");
+    double i_min =
+        c.vehicle.road_arm_mass * 0.25 * c.vehicle.road_arm_length * c.vehicle.road_arm_length;
+    ts_err err;
+    c.vehicle.road_arm_inertia = 0.99 * i_min;
+    assert_null(vm_make(&c, &err));
+    assert_int_equal(err.code, TS_ERR_PARAM);
+    assert_string_equal(err.pointer, "/vehicle/road_arm_inertia");
+    c.vehicle.road_arm_inertia = 1.01 * i_min;
+    vm *v = vm_make(&c, &err);
+    assert_non_null(v);
+    vm_free(v);
+}
+
 /* EVIDENCE: the speed term of the rolling resistance, f1 |v_t| N, takes the
  * wheel centre's speed ALONG the terrain: on a constant grade s the centres
  * move along (1, s), so |v_t| = v_x sqrt(1 + s^2), not v_x (session-25
@@ -1588,6 +1610,7 @@ int main(void)
         cmocka_unit_test(rolling_resistance_speed_is_along_the_grade),
         cmocka_unit_test(drive_is_an_internal_torque_pair),
         cmocka_unit_test(arm_inertia_enters_by_the_absolute_rate),
+        cmocka_unit_test(arm_inertia_below_its_mass_at_mid_length_is_refused),
         cmocka_unit_test(drag_decelerates_by_its_closed_form),
         cmocka_unit_test(rolling_resistance_acts_along_the_grade),
         cmocka_unit_test(span_mid_deflection_is_the_midspan_value),
