@@ -86,6 +86,9 @@ typedef struct ts_engine_config {
     double r_air, r_burned; /* gas constants [J/kg/K] */
     /* heat transfer */
     double nu_coeff, nu_exp;  /* Nu = a Re^b */
+    double gas_mu_coeff, gas_mu_exp; /* gas viscosity mu = coeff T^exp [Pa*s, T in K] */
+    double gas_prandtl;              /* [1] */
+    double htc_piston_speed_share;   /* share of the mean piston speed in the velocity [1] */
     double cascade_cbeta;     /* energy-cascade production constant [1] */
     double cascade_rdt;       /* rapid-distortion (compression) coefficient [1] */
     double emissivity;        /* radiation during combustion [1] */

@@ -165,6 +165,8 @@ ts_engine *ts_engine_make(const ts_config *cfg, ts_err *err)
     e->c = *c;
     e->fuel = ts_fuel_law_from_config(c);
     en_gas_init(&e->gas, c->cp_air, c->cp_burned, c->r_air, c->r_burned);
+    e->htc =
+        (en_htc_law){c->nu_coeff, c->nu_exp, log(c->gas_mu_coeff), c->gas_mu_exp, c->gas_prandtl};
     en_geom *g = &e->geom;
     g->bore = c->bore;
     g->stroke = c->stroke;

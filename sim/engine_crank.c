@@ -134,7 +134,9 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
     double w = x[TS_ENGINE_X_SPEED], th = x[TS_ENGINE_X_ANGLE];
     double wp = en_atleast(w, 1.0);
     double n_rpm = wp * EN_RPM;
-    double sp_half = c->stroke * wp / EN_PI / 2.0; /* half the mean piston speed */
+    /* the piston-speed term of the heat-transfer velocity: a share of the mean
+     * piston speed S_p = 2 stroke N */
+    double sp_term = c->stroke * wp / EN_PI * c->htc_piston_speed_share;
     en_bank_out bo[EN_NBANK];
     /* the manifolds' gas (handed on to en_bank_rhs with the compressor) */
     en_bank_flows bf[EN_NBANK]; /* every field set below (no memset: a rep stos per call) */
@@ -262,10 +264,10 @@ static int gas_part(const ts_engine *e, const double *x, const ts_engine_inputs 
                             .k = xc[CX_KTURB] > K_FLOOR ? xc[CX_KTURB] : K_FLOOR};
         double dK, dk, Lh, up, Um;
         en_cascade(&ci, c->cascade_cbeta, c->cascade_rdt, &dK, &dk, &Lh, &up, &Um);
-        double uch = sqrt(Um * Um + up * up + sp_half * sp_half);
+        double uch = sqrt(Um * Um + up * up + sp_term * sp_term);
         /* what the walls need (wall_part) */
         cp_->T = T;
-        cp_->h = en_htc(c->nu_coeff, c->nu_exp, rho, uch, Lh, T, cp);
+        cp_->h = en_htc(&e->htc, rho, uch, Lh, T, cp);
         cp_->burning = burning;
         cp_->T4 = burning ? T * T * T * T : 0.0;
         cp_->liner_area = geo->circ * (kin.xp + geo->clear_h); /* exposed liner */

@@ -7,10 +7,11 @@
  *   P = 0.3307 c_beta (K / L) sqrt(k / m),  eps = u'^3 / L,
  *   L = instantaneous chamber height V / A_bore, at most B / 2;
  * the convective coefficient follows a turbulent pipe-flow Nusselt law
- *   Nu = h L / lambda = a Re^b,  Re = rho u L / mu,  u = sqrt(U^2 + u'^2 + (S_p/2)^2)
- * (the piston-speed term is an estimate, engine.json). Radiation during
- * combustion is added in engine_crank.c. Gas viscosity mu = 3.3e-7 T^0.7 Pa s
- * (air, within ~5 % 300-2500 K), Prandtl number 0.7.
+ *   Nu = h L / lambda = a Re^b,  Re = rho u L / mu,  u = sqrt(U^2 + u'^2 + (s S_p)^2)
+ * (s = /engine/htc_piston_speed_share, 1/2, an estimate). Radiation during
+ * combustion is added in engine_crank.c. Gas viscosity mu = c T^n
+ * (/engine/gas_mu_coeff 3.3e-7 Pa s, gas_mu_exp 0.7: Heywood's air law, within
+ * ~5 % over 300-2500 K), lambda = mu cp / Pr (/engine/gas_prandtl 0.7).
  */
 #include <math.h>
 

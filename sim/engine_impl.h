@@ -250,7 +250,10 @@ typedef struct en_cascade_in {
  * pointers. Convective coefficient [W/m^2/K]: Nu = a Re^b on length L with
  * velocity u. Inline (engine_heat.c describes them): twelve calls each per
  * crank-angle right-hand side evaluation. */
-#define EN_PRANDTL 0.7 /* gas Prandtl number (engine_heat.c) */
+/* The Nusselt law's constants: Nu = a Re^b, mu = exp(log_mu) T^mu_exp, Pr. */
+typedef struct en_htc_law {
+    double a, b, log_mu, mu_exp, prandtl;
+} en_htc_law;
 
 static inline void en_cascade(const en_cascade_in *c, double cbeta, double rdt, double *dK,
                               double *dk, double *L, double *u_turb, double *U_mean)
@@ -271,13 +274,13 @@ static inline void en_cascade(const en_cascade_in *c, double cbeta, double rdt, 
     *U_mean = sqrt(2.0 * K * im);
 }
 
-static inline double en_htc(double a, double b, double rho, double u, double L, double T,
+static inline double en_htc(const en_htc_law *h, double rho, double u, double L, double T,
                             double cp)
 {
-    /* h = a Re^b lambda / L with lambda = mu cp / Pr, mu = 3.3e-7 T^0.7:
+    /* h = a Re^b lambda / L with lambda = mu cp / Pr, mu = c T^n:
      *   h = (a cp / (Pr L)) (rho u L)^b mu^(1 - b), one exp and two logs */
-    double lmu = log(3.3e-7) + 0.7 * log(T > 200.0 ? T : 200.0);
-    return a * cp / (EN_PRANDTL * L) * exp(b * log(rho * u * L) + (1.0 - b) * lmu);
+    double lmu = h->log_mu + h->mu_exp * log(T > 200.0 ? T : 200.0);
+    return h->a * cp / (h->prandtl * L) * exp(h->b * log(rho * u * L) + (1.0 - h->b) * lmu);
 }
 
 /* ---- walls (engine_wall.c) ------------------------------------------------ */
@@ -359,6 +362,7 @@ struct ts_engine {
     int nx; /* length of the state vector */
     int off_bank, off_ledger, off_cyl, off_wall, off_coolant, off_lag; /* -1 when absent */
     en_gas gas;
+    en_htc_law htc; /* the in-cylinder Nusselt law (en_htc) */
     en_geom geom;
     en_watson watson;
     en_turbo turbo;
