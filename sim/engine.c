@@ -322,6 +322,11 @@ double en_fuel_command(const ts_engine *e, const ts_engine_inputs *in, double ai
     return ts_fuel_per_cycle(&e->fuel, air_flow, omega, in->rack); /* Eqs. 13-14 */
 }
 
+/* The start's exhaust manifolds: warm, half burned gas (starting guesses:
+ * any value settles in a few cycles) */
+#define INIT_EXHAUST_T      600.0 /* [K] */
+#define INIT_EXHAUST_BURNED 0.5   /* burned-gas fraction [1] */
+
 void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double T_amb, double *x)
 {
     memset(x, 0, sizeof(double) * (size_t)e->nx);
@@ -340,9 +345,9 @@ void ts_engine_init_state(const ts_engine *e, double omega, double p_amb, double
         xb[BX_IMT] = T_amb;
         xb[BX_IMM] = p_amb * e->c.intake_volume / (R * T_amb);
         xb[BX_IMF] = 0.0;
-        xb[BX_EMT] = 600.0; /* warm exhaust manifold, any value settles in a few cycles */
+        xb[BX_EMT] = INIT_EXHAUST_T;
         xb[BX_EMM] = p_amb * e->c.exhaust_volume / (R * xb[BX_EMT]);
-        xb[BX_EMF] = 0.5;
+        xb[BX_EMF] = INIT_EXHAUST_BURNED;
         xb[BX_TC] = e->c.turbo_idle_speed;
     }
     if (e->c.fidelity == TS_ENGINE_CRANK_ANGLE) en_crank_init(e, p_amb, T_amb, x);
@@ -417,7 +422,7 @@ size_t ts_engine_work_size(const ts_engine *e)
 static double step_size(const ts_engine *e, const double *x)
 {
     if (e->c.fidelity != TS_ENGINE_CRANK_ANGLE) return MV_STEP;
-    double w = fmax(fabs(x[TS_ENGINE_X_SPEED]), 30.0);
+    double w = fmax(fabs(x[TS_ENGINE_X_SPEED]), TS_ENGINE_MIN_STEP_SPEED);
     return e->c.ca_step / w;
 }
 
@@ -661,7 +666,7 @@ static ts_rc bs23_advance(const ts_engine *e, double *x, double t, double dt, st
     int have_k1 = carry_get(e, x, at(sl, t, x), carry, k1, q1), stepped = 0, rejected = 0;
     carry[0] = 0.0; /* invalid until this call ends */
     while (t < t_end - 1e-15) {
-        double w = fmax(fabs(x[TS_ENGINE_X_SPEED]), 30.0);
+        double w = fmax(fabs(x[TS_ENGINE_X_SPEED]), TS_ENGINE_MIN_STEP_SPEED);
         if (!have_k1 && en_crank_eval(e, x, at(sl, t, x), k1, NULL, q1)) goto diverged;
         have_k1 = 1;
         double d_ign, d_sw = en_crank_next_switch(e, x, k1, &d_ign);
@@ -829,7 +834,7 @@ static ts_rc cycle_run(const ts_engine *e, double *x, const ts_engine_inputs *in
     double *xdot = work + 4 * (size_t)e->nx; /* the steppers use this slot only inside a step */
     ts_engine_outputs o;
     while (x[TS_ENGINE_X_ANGLE] < th0 + EN_CYCLE - 1e-9) {
-        double w = fmax(fabs(x[TS_ENGINE_X_SPEED]), 30.0);
+        double w = fmax(fabs(x[TS_ENGINE_X_SPEED]), TS_ENGINE_MIN_STEP_SPEED);
         double h = step_size(e, x);
         double left = (th0 + EN_CYCLE - x[TS_ENGINE_X_ANGLE]) / w;
         if (h > left) h = left;

@@ -257,6 +257,10 @@ TS_MUST_CHECK ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega
                                      const ts_engine_inputs *in, int max_cycles, double tol,
                                      ts_engine_cycle *cyc, ts_err *err);
 
+/* Speed floor of the crank-angle model's time step (ca_step / speed) [rad/s]:
+ * the engine's own steppers and the powertrain's explicit path use it alike. */
+#define TS_ENGINE_MIN_STEP_SPEED 30.0
+
 /* The full-load sweep's and the dynamometer's steady searches: their cycle
  * cap and relative tolerance of the cycle-mean brake torque, and the rotor
  * speed a search from ts_engine_init_state starts at (~76 krpm; the turbo

@@ -49,6 +49,13 @@ static double wrap(double a)
     return a < 0 ? a + EN_CYCLE : a;
 }
 
+/* The start's wall temperatures (ts_engine_init_state): a warm engine's,
+ * piston crowns above the oil and head and liner above the coolant [K].
+ * Starting guesses only: the steady searches and the idle start settle the
+ * walls (ts_engine_steady moves them to each cycle's conduction profile). */
+#define INIT_PISTON_OVER_OIL   150.0
+#define INIT_WALL_OVER_COOLANT 60.0
+
 void en_crank_init(const ts_engine *e, double p, double T, double *x)
 {
     const ts_engine_config *c = &e->c;
@@ -67,7 +74,8 @@ void en_crank_init(const ts_engine *e, double p, double T, double *x)
         xc[CX_KTURB] = 1e-3;
         for (int s = 0; s < EN_NSURF; s++) {
             double *xw = x + e->off_wall + (i * EN_NSURF + s) * EN_WALL_NODES;
-            double tw = s == EN_PISTON ? c->oil_temp + 150 : c->coolant_temp + 60;
+            double tw = s == EN_PISTON ? c->oil_temp + INIT_PISTON_OVER_OIL
+                                       : c->coolant_temp + INIT_WALL_OVER_COOLANT;
             for (int n = 0; n < EN_WALL_NODES; n++) xw[n] = tw;
         }
     }

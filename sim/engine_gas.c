@@ -26,9 +26,10 @@ static double h1(const double *c, double T)
     return 1000.0 * (a - b);
 }
 
-static double clampF(double F) { return F < 0 ? 0 : F > 1 ? 1 : F; }
-/* Polynomials are fitted to 300-2500 K; clamp the argument to a safe range. */
-static double clampT(double T) { return T < 150 ? 150 : T > 3500 ? 3500 : T; }
+static double clampF(double F)
+{
+    return F < 0 ? 0 : F > 1 ? 1 : F;
+}
 
 double en_gas_r(const en_gas *g, double F)
 {
@@ -39,7 +40,7 @@ double en_gas_r(const en_gas *g, double F)
 double en_gas_cp(const en_gas *g, double T, double F)
 {
     F = clampF(F);
-    T = clampT(T);
+    T = en_gas_clamp_T(T);
     return (1 - F) * cp1(g->cp_a, T) + F * cp1(g->cp_b, T);
 }
 

@@ -58,12 +58,20 @@ double en_gas_r(const en_gas *g, double F);
 double en_gas_cp(const en_gas *g, double T, double F);
 double en_gas_h(const en_gas *g, double T, double F);
 double en_gas_u(const en_gas *g, double T, double F);
+/* The cp fits are used over [150, 3500] K (fitted over 300-2500 K): a
+ * temperature outside is clamped for cp (h keeps its polynomial). */
+#define EN_GAS_T_MIN 150.0
+#define EN_GAS_T_MAX 3500.0
+static inline double en_gas_clamp_T(double T)
+{
+    return T < EN_GAS_T_MIN ? EN_GAS_T_MIN : T > EN_GAS_T_MAX ? EN_GAS_T_MAX : T;
+}
 /* Fresh air's sensible enthalpy h [J/kg] and cp [J/kg/K] at T: the air half
  * of en_gas_eval (which calls it), alone for the compressor's outlet, solved
  * for on every right-hand side. */
 static inline void en_air_eval(const en_gas *g, double T, double *h, double *cp)
 {
-    double Tc = T < 150 ? 150 : T > 3500 ? 3500 : T; /* clampT, as en_gas_eval */
+    double Tc = en_gas_clamp_T(T);
     const double *a = g->cpT_a, *ha = g->hT_a;
     *cp = a[0] + Tc * (a[1] + Tc * (a[2] + Tc * a[3]));
     *h = ha[0] + T * (ha[1] + T * (ha[2] + T * (ha[3] + T * ha[4])));
@@ -79,7 +87,7 @@ typedef struct en_gas_state {
 static inline void en_gas_eval(const en_gas *g, double T, double F, en_gas_state *s)
 {
     F = F < 0 ? 0 : F > 1 ? 1 : F;
-    double Tc = T < 150 ? 150 : T > 3500 ? 3500 : T; /* clampT */
+    double Tc = en_gas_clamp_T(T);
     const double *b = g->cpT_b, *hb_ = g->hT_b;
     double ha, cpa;
     en_air_eval(g, T, &ha, &cpa);

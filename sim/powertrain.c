@@ -51,8 +51,6 @@ typedef struct engine_ctx {
     double *idle;   /* idle steady state (ts_powertrain_idle_start), or NULL */
 } engine_ctx;
 
-#define MIN_STEP_SPEED 30.0 /* speed floor of the crank-angle step [rad/s], as in engine.c */
-
 static ts_rc engine_reset(void *ctx, double *y, ts_err *err)
 {
     (void)err;
@@ -89,7 +87,7 @@ static double engine_explicit_step(void *ctx, const double *y)
 {
     const engine_ctx *c = ctx;
     if (ts_engine_get_fidelity(c->e) != TS_ENGINE_CRANK_ANGLE) return 0.0;
-    return c->ca_step / fmax(fabs(y[TS_ENGINE_X_SPEED]), MIN_STEP_SPEED);
+    return c->ca_step / fmax(fabs(y[TS_ENGINE_X_SPEED]), TS_ENGINE_MIN_STEP_SPEED);
 }
 
 static ts_rc engine_advance(void *ctx, double *y, double t, double dt, double rack,
