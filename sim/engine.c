@@ -921,12 +921,31 @@ static void wall_jump(const ts_engine *e, double *x, const double *x0, const dou
         }
 }
 
+/* The steady searches' numerics: the slow capacities (turbo rotors, walls,
+ * coolant and oil) shrunk by this factor in the search's cycles, and the
+ * floor of the convergence test's scale (tol x max(|torque|, floor)). */
+#define STEADY_SLOW_SCALE   0.01
+#define STEADY_TORQUE_FLOOR 100.0 /* [N*m] */
+
+/* The idle search (ts_engine_idle_state): a secant on the rack from this
+ * start, each point a steady search of at most IDLE_CYCLES to IDLE_TOL, until
+ * the brake torque matches the load within IDLE_MATCH_REL or IDLE_MATCH_ABS;
+ * without a usable slope the rack is scaled up or down. */
+#define IDLE_RACK_START 0.15
+#define IDLE_CYCLES     40
+#define IDLE_TOL        2e-3
+#define IDLE_SEARCHES   6
+#define IDLE_MATCH_REL  0.02
+#define IDLE_MATCH_ABS  5.0 /* [N*m] */
+#define IDLE_RACK_UP    1.5
+#define IDLE_RACK_DOWN  0.6
+
 ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega, const ts_engine_inputs *in,
                        int max_cycles, double tol, ts_engine_cycle *cyc, ts_err *err)
 {
     ts_engine fast = *e; /* private copy with shrunk slow capacities */
-    fast.turbo_inertia_scale = 0.01;
-    fast.thermal_scale = 0.01;
+    fast.turbo_inertia_scale = STEADY_SLOW_SCALE;
+    fast.thermal_scale = STEADY_SLOW_SCALE;
     ts_engine_inputs held = *in;
     held.hold_speed = 1;
     x[TS_ENGINE_X_SPEED] = omega;
@@ -952,7 +971,7 @@ ts_rc ts_engine_steady(const ts_engine *e, double *x, double omega, const ts_eng
         if (rc != TS_OK) break;
         if (nw) wall_jump(e, x, x0, wmean, span);
         double tq = c.mean.brake_torque;
-        if (isfinite(prev) && fabs(tq - prev) <= tol * fmax(fabs(tq), 100.0)) {
+        if (isfinite(prev) && fabs(tq - prev) <= tol * fmax(fabs(tq), STEADY_TORQUE_FLOOR)) {
             if (++calm >= 2) break;
         } else {
             calm = 0;
@@ -975,23 +994,23 @@ ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque,
     ts_engine_init_state(e, omega, p_amb, T_amb, x);
     if (rack) *rack = 0.0;
     if (e->c.fidelity == TS_ENGINE_MAP) return TS_OK;
-    ts_engine_inputs in = {.rack = 0.15, .fuel_per_cycle = -1.0, .p_amb = p_amb, .T_amb = T_amb};
+    ts_engine_inputs in = {
+        .rack = IDLE_RACK_START, .fuel_per_cycle = -1.0, .p_amb = p_amb, .T_amb = T_amb};
     ts_engine_cycle cyc;
-    /* secant on the rack: brake torque is nearly linear in it at fixed speed
-     * (40 cycles and 0.2 % per cycle: the numerical settings of the search) */
+    /* secant on the rack: brake torque is nearly linear in it at fixed speed */
     double r_prev = NAN, tq_prev = NAN, r = in.rack, tq = NAN;
     int found = 0;
-    for (int it = 0; it < 6 && !found; it++) {
-        ts_rc rc = ts_engine_steady(e, x, omega, &in, 40, 2e-3, &cyc, err);
+    for (int it = 0; it < IDLE_SEARCHES && !found; it++) {
+        ts_rc rc = ts_engine_steady(e, x, omega, &in, IDLE_CYCLES, IDLE_TOL, &cyc, err);
         if (rc != TS_OK) return rc;
         tq = cyc.mean.brake_torque;
         r = in.rack;
-        found = fabs(tq - load_torque) <= fmax(0.02 * fabs(load_torque), 5.0);
+        found = fabs(tq - load_torque) <= fmax(IDLE_MATCH_REL * fabs(load_torque), IDLE_MATCH_ABS);
         if (found) break;
         double slope = isfinite(r_prev) && fabs(r - r_prev) > 1e-6 ? (tq - tq_prev) / (r - r_prev)
                                                                    : 0.0;
         double r_new = slope > 0 ? r + (load_torque - tq) / slope
-                                 : r * (tq < load_torque ? 1.5 : 0.6);
+                                 : r * (tq < load_torque ? IDLE_RACK_UP : IDLE_RACK_DOWN);
         r_prev = r;
         tq_prev = tq;
         in.rack = fmin(fmax(r_new, 0.01), 1.0);
@@ -999,8 +1018,8 @@ ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque,
     if (!found) /* e.g. a load beyond the full-rack torque at this speed */
         return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                           "idle steady state: no rack in [0.01, 1] found that gives %.6g N*m at "
-                          "%.6g rpm in 6 steady searches (last: rack %.4g, %.6g N*m)",
-                          load_torque, omega * 30.0 / EN_PI, r, tq);
+                          "%.6g rpm in %d steady searches (last: rack %.4g, %.6g N*m)",
+                          load_torque, omega * 30.0 / EN_PI, IDLE_SEARCHES, r, tq);
     x[TS_ENGINE_X_SPEED] = omega;
     if (rack) *rack = r;
     return TS_OK;

@@ -1317,6 +1317,8 @@ void vm_work_free(vm_work *w)
     free(w);
 }
 
+#define EQ_GROUND_SCAN_STEP 0.05 /* [m] the start's scan of the ground under the wheels */
+
 /* Static unknowns: x, z, theta, every spin but the anchor wheel's (gauge: the
  * vehicle rolling with its track is a null mode of the potential), the
  * preloads (arms held at the design angle), the link setting and the span
@@ -1499,7 +1501,8 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         q[QA0 + i] = v->arm0;
     /* start on the ground under the road wheels, the foundation compressed;
      * the ground is read where the foundation reads it, under the hubs, and
-     * scanned every 5 cm from a wheel radius behind the last hub to one ahead
+     * scanned every EQ_GROUND_SCAN_STEP (5 cm: a bump narrower than that can
+     * fall between the samples) from a wheel radius behind the last hub to one ahead
      * of the first, so a bump between or under the hubs counts as uneven (the
      * arm pivots, read until session 31, stand 0.39 m ahead of the hubs) */
     double hg = 0, hmin = INFINITY, hmax = -INFINITY, xlo = INFINITY, xhi = -INFINITY;
@@ -1509,7 +1512,7 @@ static ts_rc equilibrium(vm *v, ts_err *err)
         xlo = fmin(xlo, xh - v->rho_b[VM_RW1 + i]);
         xhi = fmax(xhi, xh + v->rho_b[VM_RW1 + i]);
     }
-    for (double x = xlo; x <= xhi + 1e-9; x += 0.05) {
+    for (double x = xlo; x <= xhi + 1e-9; x += EQ_GROUND_SCAN_STEP) {
         double h = ts_terrain_height(v->terrain, fmin(x, xhi), NULL);
         hmin = fmin(hmin, h);
         hmax = fmax(hmax, h);
