@@ -293,10 +293,40 @@ static void cancel_from_callback(void **state)
     ts_model_free(m);
 }
 
-/* A sample that fails from t = fail_at on (the scenario's own otherwise). */
-static ts_rc (*real_sample)(const ts_model *, const ts_data *, double *, ts_err *);
+/* The point mass run through a copy of its operations whose sample is
+ * replaced (scenario.h), the scenario's own sample kept in real_sample. */
+typedef ts_rc (*sample_fn)(const ts_model *, const ts_data *, double *, ts_err *);
+static sample_fn real_sample;
 static double fail_at;
 
+typedef struct {
+    ts_scenario_ops ops;
+    ts_model *m;
+    ts_data *d;
+} patched;
+
+static void patched_make(patched *p, sample_fn sample, double at)
+{
+    ts_config c = defaults();
+    ts_err err;
+    p->m = ts_model_make(&c, &err);
+    assert_non_null(p->m);
+    p->d = ts_data_make(p->m, &err);
+    assert_non_null(p->d);
+    p->ops = *p->m->ops;
+    real_sample = p->ops.sample;
+    p->ops.sample = sample;
+    p->m->ops = &p->ops;
+    fail_at = at;
+}
+
+static void patched_free(patched *p)
+{
+    ts_data_free(p->d); /* through the copy: the scenario's own fini functions */
+    ts_model_free(p->m);
+}
+
+/* A sample that fails from t = fail_at on (the scenario's own otherwise). */
 static ts_rc failing_sample(const ts_model *m, const ts_data *d, double *values, ts_err *err)
 {
     if (ts_time(d) >= fail_at)
@@ -313,16 +343,11 @@ static ts_rc failing_sample(const ts_model *m, const ts_data *d, double *values,
 static void failed_sample_stops_the_advance(void **state)
 {
     (void)state;
-    ts_config c = defaults();
+    static patched p;
+    patched_make(&p, failing_sample, 0.05);
+    ts_model *m = p.m;
+    ts_data *d = p.d;
     ts_err err;
-    ts_model *m = ts_model_make(&c, &err);
-    ts_data *d = ts_data_make(m, &err);
-    assert_non_null(d);
-    ts_scenario_ops ops = *m->ops;
-    real_sample = ops.sample;
-    ops.sample = failing_sample;
-    m->ops = &ops;
-    fail_at = 0.05;
     assert_int_equal(ts_reset(m, d, &err), TS_OK);
     size_t n = ts_state_size(m);
     void *saved = malloc(n);
@@ -339,8 +364,7 @@ static void failed_sample_stops_the_advance(void **state)
     assert_int_equal(ts_reset(m, d, &err), TS_ERR_DIVERGED);
     assert_int_equal(ts_advance(m, d, 1, NULL, NULL, &err), TS_ERR_STATE);
     free(saved);
-    ts_data_free(d); /* through the copy: the scenario's own fini functions */
-    ts_model_free(m);
+    patched_free(&p);
 }
 
 /* A sample that writes +Inf into the speed channel from t = fail_at on. */
@@ -360,21 +384,13 @@ static ts_rc infinite_sample(const ts_model *m, const ts_data *d, double *values
 static void infinite_channel_ends_the_run(void **state)
 {
     (void)state;
-    ts_config c = defaults();
+    static patched p;
+    patched_make(&p, infinite_sample, 0.1);
     ts_err err;
-    ts_model *m = ts_model_make(&c, &err);
-    ts_data *d = ts_data_make(m, &err);
-    assert_non_null(d);
-    ts_scenario_ops ops = *m->ops;
-    real_sample = ops.sample;
-    ops.sample = infinite_sample;
-    m->ops = &ops;
-    fail_at = 0.1;
-    assert_int_equal(ts_reset(m, d, &err), TS_OK);
-    assert_int_equal(ts_advance(m, d, 1, NULL, NULL, &err), TS_ERR_DIVERGED);
+    assert_int_equal(ts_reset(p.m, p.d, &err), TS_OK);
+    assert_int_equal(ts_advance(p.m, p.d, 1, NULL, NULL, &err), TS_ERR_DIVERGED);
     assert_non_null(strstr(err.msg, "channel 'vehicle.speed' became inf at t = 0.1 s"));
-    ts_data_free(d);
-    ts_model_free(m);
+    patched_free(&p);
 }
 
 /* EVIDENCE: model.h ts_model_metrics — "returns how many figures the
