@@ -409,7 +409,7 @@ static enum MHD_Result get_metrics(tsd_request *r)
                    "# TYPE tanksimd_reply_held_bytes gauge\n"
                    "tanksimd_reply_held_bytes %zu\n"
                    "# HELP tanksimd_reply_busy_total Answers refused 503 /problems/busy: the "
-                   "reply budget full, or another summary being computed.\n"
+                   "reply budget full, or the summaries' row bound.\n"
                    "# TYPE tanksimd_reply_busy_total counter\n"
                    "tanksimd_reply_busy_total %ld\n"
                    "# HELP tanksimd_http_requests_total HTTP requests answered, by status.\n"
@@ -928,11 +928,27 @@ static enum MHD_Result get_fft(tsd_request *r)
  * spectral figures plan FFTs). Printed with 17 digits: the same doubles as
  * the CLI's summary.json over the same rows.
  * It reads every stored row of every channel (200,001 rows x 65 channels:
- * 104 MB, 0.1 s; --max-rows 1e6: ~520 MB) on an HTTP thread, so one at a
- * time: 8 at once held /v1/health 0.3-0.6 s and the rows of all 8 at once.
- * Another that comes meanwhile is answered 503 /problems/busy with
+ * 104 MB, 0.1 s; --max-rows 1e6: ~520 MB) on an HTTP thread: 8 such at once
+ * held /v1/health 0.3-0.6 s and the rows of all 8. So the rows summaries
+ * hold together are bounded (TSD_SUMMARY_BUDGET; one alone always goes, however
+ * large): one that would pass the bound is answered 503 /problems/busy with
  * Retry-After rather than waiting, as a waiting HTTP thread would stall the
- * other connections it serves (Retry-After: TSD_RETRY_AFTER_BUSY_S). */
+ * other connections it serves (Retry-After: TSD_RETRY_AFTER_BUSY_S). Small
+ * summaries run side by side (until session 33 one at a time: a soak test's
+ * 19-ms summaries of short runs refused each other). */
+#define TSD_SUMMARY_BUDGET ((size_t)128 << 20)
+
+/* Reserve bytes of rows for a summary: 1, or 0 when others hold rows and
+ * these would take the total past TSD_SUMMARY_BUDGET. */
+static int summary_reserve(tsd_server *srv, size_t bytes)
+{
+    size_t held = atomic_load(&srv->summary_bytes);
+    for (;;) {
+        if (held > 0 && held + bytes > TSD_SUMMARY_BUDGET) return 0;
+        if (atomic_compare_exchange_weak(&srv->summary_bytes, &held, held + bytes)) return 1;
+    }
+}
+
 static enum MHD_Result get_summary(tsd_request *r)
 {
     tsd_session *s = r->session;
@@ -943,15 +959,16 @@ static enum MHD_Result get_summary(tsd_request *r)
                    s->error[0] ? s->error : "its model cannot be built by this build");
         return tsd_reply_err(r, &e, NULL);
     }
-    int idle = 0;
-    if (!atomic_compare_exchange_strong(&r->srv->summary_running, &idle, 1)) {
-        return tsd_reply_busy(r, "Another summary is being computed",
-                              "the daemon computes one run summary at a time: retry shortly");
-    }
     pthread_mutex_lock(&s->mu);
     tsd_status status = s->status;
     long last = s->index;
     pthread_mutex_unlock(&s->mu);
+    /* the rows and their indexes, as read_rows allocates them */
+    size_t bytes = (size_t)(last + 1) * ((size_t)s->nch + 1) * sizeof(double);
+    if (!summary_reserve(r->srv, bytes))
+        return tsd_reply_busy(r, "Other summaries are being computed",
+                              "the rows of the summaries being computed fill their bound: retry "
+                              "shortly");
     long *index;
     double *rows;
     int more;
@@ -988,7 +1005,7 @@ static enum MHD_Result get_summary(tsd_request *r)
     free(index);
     free(rows);
     free(mt);
-    atomic_store(&r->srv->summary_running, 0); /* its rows are freed: the next may read */
+    atomic_fetch_sub(&r->srv->summary_bytes, bytes); /* its rows are freed */
     if (rc != TS_OK) return tsd_reply_err(r, &e, NULL);
     return tsd_reply_owned(r, MHD_HTTP_OK, "application/json", text, strlen(text));
 }

@@ -90,7 +90,7 @@ typedef struct tsd_server {
                                         waits for them, bounded, before stopping MHD) */
     atomic_int long_jobs;            /* analyses and APNG animations holding a worker */
     atomic_size_t reply_bytes;       /* bytes of counted answers not yet sent (server.c) */
-    atomic_int summary_running;      /* a /summary holds its rows (routes.c get_summary) */
+    atomic_size_t summary_bytes;     /* rows held by /summary answers (routes.c get_summary) */
 } tsd_server;
 
 /* Fill err for a write the store refused with dbrc (db.h): the message fmt
