@@ -23,6 +23,8 @@ typedef struct tsd_metrics {
     atomic_long replies_busy;       /* answers refused 503 /problems/busy (tsd_reply_busy) */
     atomic_long store_writes_refused; /* best-effort status and removal writes the store
                                          refused (session.c store_status, store_delete) */
+    atomic_long answers_cut;          /* answers whose client closed before they were sent
+                                         (libmicrohttpd's send errors, server.c mhd_log) */
 } tsd_metrics;
 
 extern const char *const tsd_run_result_names[TSD_NRUN_RESULTS];

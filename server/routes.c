@@ -390,6 +390,10 @@ static enum MHD_Result get_metrics(tsd_request *r)
                    "# HELP tanksimd_samples_stored_total Sample rows written to the database.\n"
                    "# TYPE tanksimd_samples_stored_total counter\n"
                    "tanksimd_samples_stored_total %ld\n"
+                   "# HELP tanksimd_answers_cut_total Answers whose client closed the "
+                   "connection before they were sent (abandoned streams, animations).\n"
+                   "# TYPE tanksimd_answers_cut_total counter\n"
+                   "tanksimd_answers_cut_total %ld\n"
                    "# HELP tanksimd_store_writes_refused_total Session status and removal "
                    "writes the store refused (each logged; the session goes on as in memory).\n"
                    "# TYPE tanksimd_store_writes_refused_total counter\n"
@@ -416,7 +420,8 @@ static enum MHD_Result get_metrics(tsd_request *r)
                    "# TYPE tanksimd_http_requests_total counter\n",
                    atomic_load(&m->steps), 1e-6 * (double)atomic_load(&m->sim_microseconds),
                    1e-6 * (double)atomic_load(&m->wall_microseconds),
-                   atomic_load(&m->samples_stored), atomic_load(&m->store_writes_refused),
+                   atomic_load(&m->samples_stored), atomic_load(&m->answers_cut),
+                   atomic_load(&m->store_writes_refused),
                    tsd_pool_pending(s->pool), atomic_load(&s->long_jobs), TSD_REPLY_BUDGET,
                    atomic_load(&s->reply_bytes), atomic_load(&m->replies_busy));
     for (int c = 1; c < 6; c++)
