@@ -22,26 +22,29 @@ def test_a_client_that_hangs_up_is_counted_not_logged(tmp_path):
     with Daemon(data_dir=str(tmp_path)) as d:
         sid = requests.post(d.url + "/v1/sessions", json={"preset": "pointmass-prescribed",
                                                           "run": {"duration": 60}}).json()["id"]
-        assert requests.post(f"{d.url}/v1/sessions/{sid}/run", json={}).status_code == 202
-        deadline = time.time() + 60
-        while requests.get(f"{d.url}/v1/sessions/{sid}").json()["status"] != "done":
-            assert time.time() < deadline
-            time.sleep(0.05)  # 30,001 rows to stream
+        # a run paced at real time: the stream has rows to send after the reset
+        assert requests.post(f"{d.url}/v1/sessions/{sid}/run",
+                             json={"real_time_factor": 1}).status_code == 202
         assert metric(d.url, "tanksimd_answers_cut_total") == 0
         host, port = d.url.split("//")[1].split(":")
-        for _ in range(3):
+        # libmicrohttpd reports a send error only when it writes into the reset
+        # connection before it sees the reset itself (then it closes quietly):
+        # about half the tries here; the test resets until one was counted
+        for _ in range(20):
             s = socket.create_connection((host, int(port)))
             s.sendall(f"GET /v1/sessions/{sid}/stream HTTP/1.1\r\nHost: {host}\r\n"
                       "Accept: text/event-stream\r\n\r\n".encode())
             assert s.recv(4096).startswith(b"HTTP/1.1 200")
             s.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
-            s.close()  # a reset, with most of the rows unsent
-        deadline = time.time() + 10
-        # a reset after the kernel took the whole answer cuts nothing: at least one of three
-        while metric(d.url, "tanksimd_answers_cut_total") < 1 and time.time() < deadline:
-            time.sleep(0.05)
+            s.close()  # a reset; the run's next rows find the connection gone
+            deadline = time.time() + 1
+            while metric(d.url, "tanksimd_answers_cut_total") < 1 and time.time() < deadline:
+                time.sleep(0.05)
+            if metric(d.url, "tanksimd_answers_cut_total") >= 1:
+                break
         assert metric(d.url, "tanksimd_answers_cut_total") >= 1
         assert requests.get(d.url + "/v1/health").status_code == 200
+        requests.delete(f"{d.url}/v1/sessions/{sid}")
         log = d.stderr()
     assert "closed by remote peer" not in log, log
     assert "libmicrohttpd" not in log, log
