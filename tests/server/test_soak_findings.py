@@ -2,8 +2,9 @@
 sessions, ~203,000 requests, a SIGTERM and a kill -9 restart; tools/soak.py):
 memory, descriptors, threads and the store stayed bounded and nothing the
 README promises was lost. Two things a user running the daemon would meet
-were changed; each test here fails on the daemon before the change (the
-third, summaries refusing each other, is in test_summary_bound.py)."""
+were changed, each with a test that fails on the daemon before the change:
+the log filled with clients' hang-ups (here), and small summaries refusing
+each other 503 (test_summary_bound.py)."""
 import socket
 import struct
 import time
