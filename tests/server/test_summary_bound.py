@@ -16,6 +16,28 @@ from conftest import is_problem
 BURSTS = 5  # bursts of eight summaries asked at once, until one overlaps
 
 
+def ask_at_once(path, n, meanwhile=None):
+    """GET path from n threads released together (meanwhile, if given, runs
+    on this thread once they are released); the n answers."""
+    answers = []
+    go = threading.Barrier(n + 1)
+
+    def ask():
+        go.wait()
+        answers.append(requests.get(path, timeout=60))
+
+    threads = [threading.Thread(target=ask) for _ in range(n)]
+    for t in threads:
+        t.start()
+    go.wait()
+    if meanwhile:
+        meanwhile()
+    for t in threads:
+        t.join(60)
+    assert len(answers) == n
+    return answers
+
+
 def test_one_summary_at_a_time_the_others_busy(daemon):
     r = requests.post(daemon.url + "/v1/sessions",
                       json={"preset": "bump-coupled-rack90", "run": {"sample_rate": 20000, "duration": 5}})
@@ -29,25 +51,13 @@ def test_one_summary_at_a_time_the_others_busy(daemon):
 
     def burst():
         """Eight summaries at once and a /v1/health meanwhile: the answers."""
-        answers = []
-        go = threading.Barrier(9)
+        def probe():
+            time.sleep(0.01)
+            t0 = time.time()
+            assert requests.get(daemon.url + "/v1/health", timeout=10).status_code == 200
+            health.append(time.time() - t0)
 
-        def ask():
-            go.wait()
-            answers.append(requests.get(path, timeout=60))
-
-        threads = [threading.Thread(target=ask) for _ in range(8)]
-        for t in threads:
-            t.start()
-        go.wait()
-        time.sleep(0.01)
-        t0 = time.time()
-        assert requests.get(daemon.url + "/v1/health", timeout=10).status_code == 200
-        health.append(time.time() - t0)
-        for t in threads:
-            t.join(60)
-        assert len(answers) == 8
-        return answers
+        return ask_at_once(path, 8, probe)
 
     # Whether the eight overlap is up to the scheduler: on a loaded 2-core
     # machine they were answered one after another (eight 200s, nothing to
@@ -77,9 +87,9 @@ def test_one_summary_at_a_time_the_others_busy(daemon):
 def test_small_summaries_at_once_are_all_answered(daemon):
     """Eight summaries of a short run asked at once (a 3-s crank-angle
     dynamometer run: 37,801 rows x 17 channels, 5.4 MB each, 44 MB together)
-    are all computed, in each of five bursts, and
-    each is the same as alone. On the one-at-a-time daemon overlapping ones
-    were refused 503 (the soak test's reproduction: three of four)."""
+    are all computed, in each of five bursts, and each is the same as alone.
+    On the one-at-a-time daemon overlapping ones were refused 503 (the soak
+    test's reproduction: three of four)."""
     r = requests.post(daemon.url + "/v1/sessions",
                       json={"preset": "engine-map-conventional", "run": {"duration": 3}})
     assert r.status_code == 201, r.text
@@ -90,18 +100,7 @@ def test_small_summaries_at_once_are_all_answered(daemon):
     alone = requests.get(path)
     assert alone.status_code == 200, alone.text
     for _ in range(BURSTS):
-        answers = []
-        go = threading.Barrier(8)
-
-        def ask():
-            go.wait()
-            answers.append(requests.get(path, timeout=60))
-
-        threads = [threading.Thread(target=ask) for _ in range(8)]
-        for t in threads:
-            t.start()
-        for t in threads:
-            t.join(60)
+        answers = ask_at_once(path, 8)
         assert [a.status_code for a in answers] == [200] * 8, [a.text for a in answers]
         for a in answers:
             assert a.content == alone.content
