@@ -180,6 +180,17 @@ static int pt_side(const ts_coupled *c, const ts_powertrain_state *ps, double ra
     return rc;
 }
 
+/* pt_side outside an integrator's step (an observation, a published torque,
+ * the start): its failure is the run's error. */
+static ts_rc pt_side_at(const ts_coupled *c, const ts_powertrain_state *ps, double rack_fixed,
+                        double t, const double *yp, double w, double *ypdot, ts_powertrain_out *out,
+                        drive_cmd *cmd_out, ts_err *err)
+{
+    return pt_side(c, ps, rack_fixed, t, yp, w, ypdot, out, cmd_out) != 0
+               ? ts_powertrain_rhs_failed(t, err)
+               : TS_OK;
+}
+
 static double sprocket_rel(const ts_coupled *c,
                            const double *yv) /* qd of the sprocket - qd of theta */
 {
@@ -519,11 +530,9 @@ static ts_rc lead_advance(void *ud, double t_to, const ts_cosim_report *last, in
     }
     if (rc == TS_OK) {
         ts_powertrain_out o;
-        if (pt_side(c, &r->ps, r->rack_fixed, r->lead_t, r->yp, lead_w(r, r->lead_t),
-                    r->ylead_scratch, &o, NULL) != 0)
-            rc = ts_powertrain_rhs_failed(r->lead_t, err);
-        else
-            *out = publish(r, r->lead_t, r->yp, lead_w(r, r->lead_t), &o);
+        rc = pt_side_at(c, &r->ps, r->rack_fixed, r->lead_t, r->yp, lead_w(r, r->lead_t),
+                        r->ylead_scratch, &o, NULL, err);
+        if (rc == TS_OK) *out = publish(r, r->lead_t, r->yp, lead_w(r, r->lead_t), &o);
     }
     r->st.powertrain_wall += ts_monotonic_seconds() - w0;
     return rc;
@@ -724,8 +733,8 @@ ts_rc ts_coupled_run_reset(ts_coupled_run *r, ts_err *err)
             double g = l.f + l.f_w / l.f_wt * rep.alpha;
             r->yp[c->npt - 1] -= g / l.f_wt;
         }
-        if (pt_side(c, &r->ps, r->rack_fixed, 0.0, r->yp, w0, r->ydp, &o, NULL) != 0)
-            return ts_powertrain_rhs_failed(0.0, err);
+        rc = pt_side_at(c, &r->ps, r->rack_fixed, 0.0, r->yp, w0, r->ydp, &o, NULL, err);
+        if (rc != TS_OK) return rc;
         pub = publish(r, 0.0, r->yp, w0, &o);
         rc = vehicle_report(r, 0.0, pub, &rep, err);
         if (rc != TS_OK) return rc;
@@ -791,8 +800,8 @@ ts_rc ts_coupled_run_observe(ts_coupled_run *r, ts_coupled_obs *o, ts_err *err)
         w_pt = lead_w(r, r->lead_t); /* the leader's view of the sprocket */
     }
     drive_cmd d;
-    if (pt_side(c, &r->ps, r->rack_fixed, r->t, r->yp, w_pt, r->ydp, &o->pt, &d) != 0)
-        return ts_powertrain_rhs_failed(r->t, err);
+    ts_rc rc = pt_side_at(c, &r->ps, r->rack_fixed, r->t, r->yp, w_pt, r->ydp, &o->pt, &d, err);
+    if (rc != TS_OK) return rc;
     ts_cosim_sample s = {r->t, o->pt.sprocket_torque, 0.0};
     if (r->method == TS_COUPLING_LEADING_FOLLOWING) s = r->pub;
     if (vm_rhs_torque(c->v, r->w, r->t, r->yv, s.torque, s.inertia, r->ydv, &o->diag) != 0)

@@ -1019,7 +1019,7 @@ ts_rc ts_engine_idle_state(const ts_engine *e, double omega, double load_torque,
         return ts_err_set(err, TS_ERR_DIVERGED, NULL,
                           "idle steady state: no rack in [0.01, 1] found that gives %.6g N*m at "
                           "%.6g rpm in %d steady searches (last: rack %.4g, %.6g N*m)",
-                          load_torque, omega * 30.0 / EN_PI, IDLE_SEARCHES, r, tq);
+                          load_torque, omega * EN_RPM, IDLE_SEARCHES, r, tq);
     x[TS_ENGINE_X_SPEED] = omega;
     if (rack) *rack = r;
     return TS_OK;

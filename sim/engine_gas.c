@@ -26,27 +26,22 @@ static double h1(const double *c, double T)
     return 1000.0 * (a - b);
 }
 
-static double clampF(double F)
-{
-    return F < 0 ? 0 : F > 1 ? 1 : F;
-}
-
 double en_gas_r(const en_gas *g, double F)
 {
-    F = clampF(F);
+    F = en_gas_clamp_F(F);
     return (1 - F) * g->r_a + F * g->r_b;
 }
 
 double en_gas_cp(const en_gas *g, double T, double F)
 {
-    F = clampF(F);
+    F = en_gas_clamp_F(F);
     T = en_gas_clamp_T(T);
     return (1 - F) * cp1(g->cp_a, T) + F * cp1(g->cp_b, T);
 }
 
 double en_gas_h(const en_gas *g, double T, double F)
 {
-    F = clampF(F);
+    F = en_gas_clamp_F(F);
     return (1 - F) * h1(g->cp_a, T) + F * h1(g->cp_b, T);
 }
 

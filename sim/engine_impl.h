@@ -66,6 +66,11 @@ static inline double en_gas_clamp_T(double T)
 {
     return T < EN_GAS_T_MIN ? EN_GAS_T_MIN : T > EN_GAS_T_MAX ? EN_GAS_T_MAX : T;
 }
+/* A burned-gas mass fraction held in [0, 1]. */
+static inline double en_gas_clamp_F(double F)
+{
+    return F < 0 ? 0 : F > 1 ? 1 : F;
+}
 /* Fresh air's sensible enthalpy h [J/kg] and cp [J/kg/K] at T: the air half
  * of en_gas_eval (which calls it), alone for the compressor's outlet, solved
  * for on every right-hand side. */
@@ -86,7 +91,7 @@ typedef struct en_gas_state {
 /* inline: 16 calls per crank-angle right-hand side evaluation */
 static inline void en_gas_eval(const en_gas *g, double T, double F, en_gas_state *s)
 {
-    F = F < 0 ? 0 : F > 1 ? 1 : F;
+    F = en_gas_clamp_F(F);
     double Tc = en_gas_clamp_T(T);
     const double *b = g->cpT_b, *hb_ = g->hT_b;
     double ha, cpa;
